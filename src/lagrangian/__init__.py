@@ -1,0 +1,72 @@
+"""lagrangian — analytical mechanics, from energies to motion.
+
+Describe a system by its generalized coordinates, energies, elements and forces; get its
+Euler–Lagrange equations with every step, the matrix form M q_ddot = forcing, and more.
+
+>>> import lagrangian as lg
+>>> eom = lg.derive(lg.examples.simple_pendulum())
+>>> eom.equations[0]
+g*l*m*sin(theta) + l**2*m*theta_ddot
+"""
+
+from lagrangian import examples
+from lagrangian.derive import CoordinateSteps, EquationsOfMotion, derive
+from lagrangian.errors import (
+    AnalysisError,
+    ConstraintError,
+    DerivationError,
+    ExpressionError,
+    LagrangianError,
+    ModelError,
+    SimulationError,
+)
+from lagrangian.model import (
+    Capacitor,
+    Damper,
+    Force,
+    Inductor,
+    MutualInductance,
+    Particle,
+    Resistor,
+    RigidBody,
+    Spring,
+    System,
+    Torque,
+    VoltageSource,
+    acceleration,
+    coordinates,
+    t,
+    velocity,
+)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "AnalysisError",
+    "Capacitor",
+    "ConstraintError",
+    "CoordinateSteps",
+    "Damper",
+    "DerivationError",
+    "EquationsOfMotion",
+    "ExpressionError",
+    "Force",
+    "Inductor",
+    "LagrangianError",
+    "ModelError",
+    "MutualInductance",
+    "Particle",
+    "Resistor",
+    "RigidBody",
+    "SimulationError",
+    "Spring",
+    "System",
+    "Torque",
+    "VoltageSource",
+    "acceleration",
+    "coordinates",
+    "derive",
+    "examples",
+    "t",
+    "velocity",
+]

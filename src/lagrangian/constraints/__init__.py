@@ -1,0 +1,1 @@
+"""The constraints layer (see DESIGN.md)."""

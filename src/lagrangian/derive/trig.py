@@ -1,0 +1,131 @@
+"""Combine trigonometric products early (issue: "structure, not brute force").
+
+Mass-matrix entries built as sums of m J^T J contain products such as
+cos a cos b + sin a sin b.  Writing every product of sines and cosines as a sum of single
+sines and cosines of combined angles (product-to-sum, the "Fourier form") is canonical for
+trigonometric polynomials, so identities such as sin^2 + cos^2 = 1 or
+cos a cos b + sin a sin b = cos(a - b) collapse by ordinary term collection, without a
+general-purpose simplify.  :func:`combine_trig` keeps whichever form is shortest.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from typing import Any
+
+import symengine as se
+import sympy as sp
+
+MAX_TRIG_DEGREE = 8  # beyond this a term is left as it is (2**(d-1) Fourier terms)
+
+
+def _split(term: Any) -> tuple[Any, list[Any]] | None:
+    """term = coefficient * product(trig factors); None when a trig power is not a small
+    positive integer."""
+    factors = term.args if term.is_Mul else (term,)
+    coefficient, trig = se.Integer(1), []
+    for factor in factors:
+        base, power = (factor.args if factor.is_Pow else (factor, se.Integer(1)))
+        if isinstance(base, (se.sin, se.cos)):
+            if not (power.is_Integer and 0 < int(power) <= MAX_TRIG_DEGREE):
+                return None
+            trig.extend([base] * int(power))
+        else:
+            coefficient = coefficient * factor
+    if len(trig) > MAX_TRIG_DEGREE:
+        return None
+    return coefficient, trig
+
+
+def _product_to_sum(a: Any, b: Any) -> list[tuple[Any, Any]]:
+    """(coefficient, trig) pairs with a*b = sum(coefficient * trig)."""
+    x, y = a.args[0], b.args[0]
+    half = se.Rational(1, 2)
+    if isinstance(a, se.cos) and isinstance(b, se.cos):
+        return [(half, se.cos(x - y)), (half, se.cos(x + y))]
+    if isinstance(a, se.sin) and isinstance(b, se.sin):
+        return [(half, se.cos(x - y)), (-half, se.cos(x + y))]
+    if isinstance(a, se.cos):
+        x, y = y, x  # now a = sin x, b = cos y
+    return [(half, se.sin(x + y)), (half, se.sin(x - y))]
+
+
+def _linearize(trig: list[Any]) -> list[tuple[Any, Any]]:
+    """Product of trig factors as a list of (coefficient, single trig or 1)."""
+    if not trig:
+        return [(se.Integer(1), se.Integer(1))]
+    terms = [(se.Integer(1), trig[0])]
+    for factor in trig[1:]:
+        new = []
+        for coefficient, current in terms:
+            if current == 1:
+                new.append((coefficient, factor))
+                continue
+            for c, f in _product_to_sum(current, factor):
+                new.append((coefficient * c, f))
+        terms = new
+    return terms
+
+
+def fourier_form(expr: Any) -> Any:
+    """Every product of sines and cosines rewritten as a sum of single sines and cosines."""
+    expanded = se.expand(expr)
+    terms = expanded.args if expanded.is_Add else (expanded,)
+    collected: dict[Any, Any] = defaultdict(lambda: se.Integer(0))
+    for term in terms:
+        split = _split(term)
+        if split is None or len(split[1]) < 2:
+            collected[se.Integer(1)] += term
+            continue
+        coefficient, trig = split
+        for c, f in _linearize(trig):
+            collected[f] += coefficient * c
+    return se.Add(*[se.expand(c) * f for f, c in collected.items()])
+
+
+def _multiple_angles(expr: Any) -> bool:
+    """True when some sin/cos argument contains a symbol with a coefficient other than +-1."""
+    for atom in _trig_atoms(expr):
+        argument = se.expand(atom.args[0])
+        for term in argument.args if argument.is_Add else (argument,):
+            if term.is_Mul and term.args[0].is_Number and abs(term.args[0]) != 1:
+                return True
+    return False
+
+
+def _trig_atoms(expr: Any) -> set[Any]:
+    found: set[Any] = set()
+    stack = [expr]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, (se.sin, se.cos)):
+            found.add(node)
+        stack.extend(node.args)
+    return found
+
+
+def size(expr: Any) -> int:
+    """A cheap size measure: the number of nodes in the expression tree."""
+    count, stack = 0, [expr]
+    while stack:
+        node = stack.pop()
+        count += 1
+        stack.extend(node.args)
+    return count
+
+
+SMALL_FOR_TRIGSIMP = 120  # trigsimp is only tried on small entries (it is slow)
+
+
+def combine_trig(expr: Any) -> Any:
+    """The shortest of: the expanded expression, its Fourier form, and (for small entries whose
+    Fourier form has multiple angles such as cos(2 theta)) SymPy's trigsimp of it."""
+    expanded = se.expand(expr)
+    if not _trig_atoms(expanded):
+        return expanded
+    candidates = [expanded]
+    fourier = fourier_form(expanded)
+    candidates.append(fourier)
+    if _multiple_angles(fourier) and size(expanded) <= SMALL_FOR_TRIGSIMP:
+        candidates.append(se.sympify(sp.trigsimp(sp.sympify(expanded))))
+    return min(candidates, key=size)

@@ -1,0 +1,148 @@
+"""Turn what a user passed to :class:`System` into canonical values, then validate them.
+
+Canonical means: coordinates and parameters are SymPy Symbols (one object per name),
+time functions ``x(t)`` and their derivatives are the plain symbols ``x``, ``x_dot``,
+``x_ddot``, numbers are exact SymPy numbers, and every expression uses the canonical symbol
+objects (a user's ``Symbol('m', positive=True)`` and ``Symbol('m')`` are one parameter ``m``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import fields, is_dataclass, replace
+from typing import TYPE_CHECKING, Any
+
+import sympy as sp
+
+from lagrangian.errors import ModelError, Problem, raise_if_problems
+from lagrangian.model.elements import _expr
+from lagrangian.model.symbols import as_coordinate, from_time_functions, t
+from lagrangian.model.validation import validate
+
+if TYPE_CHECKING:
+    from lagrangian.model.system import System
+
+EXPRESSION_FIELDS = ("kinetic", "potential", "lagrangian", "velocity_potential", "dissipation")
+ELEMENT_FIELDS = ("particles", "rigid_bodies", "springs", "dampers", "forces", "torques", "circuit")
+
+
+class _Canonicalizer:
+    """Maps every symbol to the one canonical object of its name."""
+
+    def __init__(self, symbols: list[sp.Symbol]) -> None:
+        self.by_name = {s.name: s for s in symbols}
+        self.by_name["t"] = t
+
+    def __call__(self, value: Any) -> Any:
+        value = _expr(value)
+        if isinstance(value, tuple):
+            return tuple(self(v) for v in value)
+        if not isinstance(value, sp.Basic):
+            return value
+        value = from_time_functions(value)
+        swap = {
+            s: self.by_name[s.name]
+            for s in value.free_symbols
+            if isinstance(s, sp.Symbol) and s.name in self.by_name and self.by_name[s.name] != s
+        }
+        return value.xreplace(swap) if swap else value
+
+
+def _coordinates(raw: Any, problems: list[Problem]) -> tuple[sp.Symbol, ...]:
+    if isinstance(raw, (str, sp.Basic)):
+        raw = raw.replace(",", " ").split() if isinstance(raw, str) else [raw]
+    result = []
+    for i, item in enumerate(raw):
+        symbol = as_coordinate(item)
+        if symbol is None:
+            problems.append(Problem(f"coordinates[{i}]", f"{item!r} is not a coordinate",
+                                    "give a name, a Symbol or a time function x(t)"))
+        else:
+            result.append(symbol)
+    return tuple(result)
+
+
+def _parameter_value(name: str, value: Any, problems: list[Problem]) -> float | None:
+    if value is None:
+        return None
+    try:
+        number = sp.sympify(value) if isinstance(value, (int, float, sp.Basic)) else None
+    except (TypeError, sp.SympifyError):
+        number = None
+    if number is None or not number.is_number or not number.is_real:
+        problems.append(Problem(f"parameters.{name}", f"value {value!r} is not a real number",
+                                "give a number such as 9.81, or None for no default"))
+        return None
+    return float(number)
+
+
+def _parameters(raw: Any, problems: list[Problem]) -> dict[sp.Symbol, float | None]:
+    if isinstance(raw, str):
+        raw = raw.replace(",", " ").split()
+    items = raw.items() if isinstance(raw, Mapping) else ((name, None) for name in raw)
+    result: dict[sp.Symbol, float | None] = {}
+    for key, value in items:
+        symbol = sp.Symbol(key) if isinstance(key, str) else key
+        if not isinstance(symbol, sp.Symbol):
+            problems.append(Problem("parameters", f"{key!r} is not a parameter name",
+                                    "use a name or a SymPy Symbol"))
+            continue
+        if symbol in result or any(s.name == symbol.name for s in result):
+            problems.append(Problem(f"parameters.{symbol.name}", "declared twice",
+                                    "declare each parameter once"))
+            continue
+        result[symbol] = _parameter_value(symbol.name, value, problems)
+    return result
+
+
+def _element(item: Any, canon: _Canonicalizer) -> Any:
+    if not is_dataclass(item) or isinstance(item, type):
+        return item
+    changes = {}
+    for f in fields(item):
+        value = getattr(item, f.name)
+        if f.name in ("name", "body"):
+            continue
+        if f.name == "coordinate":  # a voltage source names the charge it drives
+            changes[f.name] = as_coordinate(value) if value is not None else value
+            continue
+        if f.name in ("between", "at"):
+            value = tuple(v if isinstance(v, str) else canon(v) for v in value) \
+                if f.name == "between" else (value if isinstance(value, str) else canon(value))
+            changes[f.name] = value
+            continue
+        changes[f.name] = canon(value)
+    return replace(item, **changes)
+
+
+def normalize_system(system: System) -> dict[str, Any]:
+    """Canonical field values for ``system``; raises ModelError listing every problem."""
+    problems: list[Problem] = []
+    coordinates = _coordinates(system.coordinates, problems)
+    parameters = _parameters(system.parameters, problems)
+    canon = _Canonicalizer([*coordinates, *parameters])
+    values: dict[str, Any] = {"coordinates": coordinates, "parameters": parameters}
+    for name in EXPRESSION_FIELDS:
+        values[name] = canon(getattr(system, name))
+    forces = {}
+    for key, value in dict(system.generalized_forces).items():
+        coordinate = as_coordinate(key)
+        forces[coordinate if coordinate is not None else key] = canon(value)
+    values["generalized_forces"] = forces
+    values["gravity"] = None if system.gravity is None else canon(_as_vector(system.gravity))
+    for name in ELEMENT_FIELDS:
+        values[name] = tuple(_element(item, canon) for item in getattr(system, name))
+    values["initial"] = {(as_coordinate(k) or k): v for k, v in dict(system.initial).items()}
+    raise_if_problems(problems, "The system's coordinates or parameters are not valid", ModelError)
+    problems.extend(validate(values))
+    raise_if_problems(problems, f"The system {system.name or ''} is not valid".replace("  ", " "),
+                      ModelError)
+    return values
+
+
+def _as_vector(value: Any) -> Any:
+    if isinstance(value, sp.MatrixBase):
+        return tuple(value)
+    if isinstance(value, (list, tuple)):
+        return tuple(_expr(v) for v in value)
+    return value

@@ -1,0 +1,91 @@
+"""Names of the generalized coordinates, their velocities and accelerations, and time.
+
+Internally a coordinate ``theta`` has the plain symbols ``theta``, ``theta_dot`` and
+``theta_ddot`` (DESIGN.md: plain symbols make differentiation cheap; d/dt is the chain rule).
+Users may also write SymPy ``dynamicsymbols`` / ``Function('x')(t)`` with ``.diff(t)``;
+:func:`from_time_functions` turns those into the plain symbols.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+import sympy as sp
+
+#: The time symbol every expression of lagrangian uses.
+t = sp.Symbol("t")
+
+DOT_SUFFIX = "_dot"
+DDOT_SUFFIX = "_ddot"
+
+
+def velocity(coordinate: sp.Symbol) -> sp.Symbol:
+    """The generalized velocity symbol of ``coordinate``: ``theta`` -> ``theta_dot``."""
+    return sp.Symbol(coordinate.name + DOT_SUFFIX)
+
+
+def acceleration(coordinate: sp.Symbol) -> sp.Symbol:
+    """The generalized acceleration symbol of ``coordinate``: ``theta`` -> ``theta_ddot``."""
+    return sp.Symbol(coordinate.name + DDOT_SUFFIX)
+
+
+def coordinates(names: str | Iterable[str]) -> tuple[sp.Symbol, ...]:
+    """Coordinate symbols from a space-separated string or an iterable of names.
+
+    >>> coordinates("x y")
+    (x, y)
+    """
+    if isinstance(names, str):
+        names = names.replace(",", " ").split()
+    return tuple(sp.Symbol(name) for name in names)
+
+
+def _time_function_name(expr: sp.Basic) -> str | None:
+    """The name of an applied undefined function of time only, ``x(t)`` -> ``x``."""
+    if isinstance(expr, sp.core.function.AppliedUndef) and len(expr.args) == 1:
+        (arg,) = expr.args
+        if isinstance(arg, sp.Symbol) and arg.name == "t":
+            return str(expr.func.__name__)
+    return None
+
+
+def from_time_functions(expr: sp.Basic) -> sp.Basic:
+    """Replace ``x(t)``, ``x(t).diff(t)`` and ``x(t).diff(t, 2)`` by ``x``, ``x_dot``, ``x_ddot``.
+
+    Any other symbol named ``t`` is replaced by :data:`t`.  Higher derivatives are left for
+    the validator to refuse.
+    """
+    if not isinstance(expr, sp.Basic):
+        return expr
+    replacements: dict[sp.Basic, sp.Basic] = {}
+    for derivative in expr.atoms(sp.Derivative):
+        name = _time_function_name(derivative.expr)
+        if name is None or len(derivative.variables) > 2:
+            continue
+        if not all(getattr(v, "name", None) == "t" for v in derivative.variables):
+            continue
+        suffix = DOT_SUFFIX if len(derivative.variables) == 1 else DDOT_SUFFIX
+        replacements[derivative] = sp.Symbol(name + suffix)
+    if replacements:
+        expr = expr.xreplace(replacements)
+    functions = {
+        f: sp.Symbol(name)
+        for f in expr.atoms(sp.core.function.AppliedUndef)
+        if (name := _time_function_name(f)) is not None
+    }
+    if functions:
+        expr = expr.xreplace(functions)
+    times = {s: t for s in expr.free_symbols if s.name == "t" and s != t}
+    if times:
+        expr = expr.xreplace(times)
+    return expr
+
+
+def as_coordinate(item: str | sp.Basic) -> sp.Symbol | None:
+    """A coordinate symbol from a name, a Symbol or a time function ``x(t)``; None if not one."""
+    if isinstance(item, str):
+        return sp.Symbol(item) if item.isidentifier() else None
+    if isinstance(item, sp.Symbol):
+        return item
+    name = _time_function_name(item) if isinstance(item, sp.Basic) else None
+    return sp.Symbol(name) if name else None

@@ -1,0 +1,136 @@
+"""The System: everything a user says about a mechanical or electromechanical system.
+
+A System is an immutable value.  Its contributions add up (DESIGN.md, "The model file"):
+explicit energies T, V (or L directly), a velocity-dependent potential U, a Rayleigh
+dissipation function F, generalized forces Q, particles and planar rigid bodies under uniform
+gravity, springs, dampers, applied forces and torques, and circuit elements.
+
+Example:
+
+>>> import sympy as sp
+>>> from lagrangian.model import System, Particle
+>>> m, g, l = sp.symbols("m g l")
+>>> theta = sp.Symbol("theta")
+>>> pendulum = System(
+...     coordinates=[theta],
+...     parameters={m: 1.0, g: 9.81, l: 1.0},
+...     particles=[Particle("bob", m, (l * sp.sin(theta), -l * sp.cos(theta)))],
+...     gravity=(0, -g),
+... )
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field, fields
+from typing import Any
+
+import sympy as sp
+
+from lagrangian.model.circuit import CircuitElement
+from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque, as_tuple
+from lagrangian.model.normalize import normalize_system
+from lagrangian.model.symbols import acceleration, t, velocity
+
+
+@dataclass(frozen=True)
+class System:
+    """A mechanical or electromechanical system described by energies and elements.
+
+    Parameters
+    ----------
+    coordinates:
+        Generalized coordinates: names, Symbols or time functions ``x(t)``.
+    parameters:
+        Parameter symbols (or names) with default values (``None`` for no default); a plain
+        sequence of names declares parameters without values.
+    kinetic, potential, lagrangian, velocity_potential, dissipation:
+        Scalar expressions T(q, q_dot, t), V(q, t), L, U(q, q_dot, t) and F(q, q_dot, t).
+        All given pieces add up: L = T - V - U + lagrangian.
+    generalized_forces:
+        Coordinate -> Q_j(q, q_dot, t), forces not derivable from a potential.
+    gravity:
+        Uniform field (components) acting on every particle and body.
+    particles, rigid_bodies, springs, dampers, forces, torques, circuit:
+        Elements, see :mod:`lagrangian.model.elements` and :mod:`lagrangian.model.circuit`.
+    initial:
+        Initial values of coordinates and velocities (``theta``, ``theta_dot``), for simulation.
+    """
+
+    coordinates: tuple[sp.Symbol, ...]
+    parameters: Mapping[sp.Symbol, float | None] = field(default_factory=dict)
+    kinetic: sp.Expr = sp.Integer(0)
+    potential: sp.Expr = sp.Integer(0)
+    lagrangian: sp.Expr = sp.Integer(0)
+    velocity_potential: sp.Expr = sp.Integer(0)
+    dissipation: sp.Expr = sp.Integer(0)
+    generalized_forces: Mapping[sp.Symbol, sp.Expr] = field(default_factory=dict)
+    gravity: tuple[sp.Expr, ...] | None = None
+    particles: tuple[Particle, ...] = ()
+    rigid_bodies: tuple[RigidBody, ...] = ()
+    springs: tuple[Spring, ...] = ()
+    dampers: tuple[Damper, ...] = ()
+    forces: tuple[Force, ...] = ()
+    torques: tuple[Torque, ...] = ()
+    circuit: tuple[CircuitElement, ...] = ()
+    initial: Mapping[sp.Symbol, float] = field(default_factory=dict)
+    name: str = ""
+    description: str = ""
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            if f.name in ("particles", "rigid_bodies", "springs", "dampers", "forces", "torques",
+                          "circuit"):
+                object.__setattr__(self, f.name, as_tuple(getattr(self, f.name)))
+        for name, value in normalize_system(self).items():
+            object.__setattr__(self, name, value)
+
+    # -- vocabulary derived from the description (cheap, pure) --------------------------
+    @property
+    def velocities(self) -> tuple[sp.Symbol, ...]:
+        """The generalized velocity symbols, ``theta_dot`` for ``theta``."""
+        return tuple(velocity(q) for q in self.coordinates)
+
+    @property
+    def accelerations(self) -> tuple[sp.Symbol, ...]:
+        """The generalized acceleration symbols, ``theta_ddot`` for ``theta``."""
+        return tuple(acceleration(q) for q in self.coordinates)
+
+    @property
+    def time(self) -> sp.Symbol:
+        """The time symbol ``t``."""
+        return t
+
+    @property
+    def dimension(self) -> int:
+        """Number of spatial components of positions (0 when there are no points)."""
+        for item in (*self.particles, *self.rigid_bodies):
+            return len(item.position)
+        return len(self.gravity) if self.gravity else 0
+
+    def points(self) -> dict[str, tuple[sp.Expr, ...]]:
+        """Named points: particles, body centres of mass and the origin."""
+        named = {p.name: p.position for p in (*self.particles, *self.rigid_bodies)}
+        named.setdefault("origin", tuple(sp.Integer(0) for _ in range(self.dimension)))
+        return named
+
+    def replace(self, **changes: Any) -> System:
+        """A copy with some fields changed (the System itself never changes)."""
+        values = {f.name: getattr(self, f.name) for f in fields(self)}
+        values.update(changes)
+        return System(**values)
+
+    def with_parameters(self, values: Mapping[Any, float]) -> System:
+        """A copy with new default values for some parameters (names or symbols)."""
+        by_name = {p.name: p for p in self.parameters}
+        new = dict(self.parameters)
+        for key, value in values.items():
+            new[by_name[str(key)]] = value
+        return self.replace(parameters=new)
+
+
+def sequence_of_names(items: Iterable[Any] | str) -> Sequence[Any]:
+    """A space/comma separated string or an iterable, as a list."""
+    if isinstance(items, str):
+        return items.replace(",", " ").split()
+    return list(items)

@@ -1,0 +1,1 @@
+"""The numerics layer (see DESIGN.md)."""
