@@ -10,7 +10,7 @@ g*l*m*sin(theta) + l**2*m*theta_ddot
 """
 
 from lagrangian import examples
-from lagrangian.derive import CoordinateSteps, EquationsOfMotion, derive
+from lagrangian.derive import CoordinateSteps, EquationsOfMotion, derive, nielsen_equations
 from lagrangian.errors import (
     AnalysisError,
     ConstraintError,
@@ -67,6 +67,7 @@ __all__ = [
     "coordinates",
     "derive",
     "examples",
+    "nielsen_equations",
     "t",
     "velocity",
 ]

@@ -2,6 +2,7 @@
 
 from lagrangian.derive.eom import EquationsOfMotion
 from lagrangian.derive.lagrange import derive
+from lagrangian.derive.nielsen import nielsen_equations
 from lagrangian.derive.steps import CoordinateSteps
 
-__all__ = ["CoordinateSteps", "EquationsOfMotion", "derive"]
+__all__ = ["CoordinateSteps", "EquationsOfMotion", "derive", "nielsen_equations"]

@@ -1,0 +1,44 @@
+"""The Nielsen form of Lagrange's equations (seed 000):
+
+    Q_j = dT_dot/dq_dot_j - 2 dT/dq_j,
+
+with T_dot = dT/dt the total time derivative (it contains the accelerations) and Q_j every
+generalized force: -dV/dq_j, the applied forces, -dF/dq_dot_j and the forces of a
+velocity-dependent potential, d/dt dU/dq_dot_j - dU/dq_j.  It is an independent route to the
+same equations, used to check the Euler–Lagrange form.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from lagrangian.derive.eom import EquationsOfMotion
+
+
+def _total_time_derivative(expr: sp.Expr, eom: EquationsOfMotion) -> sp.Expr:
+    """d/dt by the chain rule over q, q_dot and t."""
+    result = sp.diff(expr, eom.time)
+    for q, v, a in zip(eom.coordinates, eom.velocities, eom.accelerations):
+        result += sp.diff(expr, q) * v + sp.diff(expr, v) * a
+    return result
+
+
+def nielsen_equations(eom: EquationsOfMotion) -> sp.ImmutableMatrix:
+    """Residuals dT_dot/dq_dot_j - 2 dT/dq_j - Q_j (each = 0), Q_j all generalized forces.
+
+    >>> import lagrangian as lg
+    >>> eom = lg.derive(lg.examples.simple_pendulum())
+    >>> nielsen_equations(eom)[0]
+    g*l*m*sin(theta) + l**2*m*theta_ddot
+    """
+    kinetic = eom.kinetic_energy
+    kinetic_rate = _total_time_derivative(kinetic, eom)
+    u = eom.velocity_potential
+    residuals = []
+    for j, (q, v) in enumerate(zip(eom.coordinates, eom.velocities)):
+        potential_force = -sp.diff(eom.potential_energy, q)
+        u_force = _total_time_derivative(sp.diff(u, v), eom) - sp.diff(u, q)
+        forces = (potential_force + eom.generalized_forces[j] + eom.dissipation_forces[j]
+                  + u_force)
+        residuals.append(sp.expand(sp.diff(kinetic_rate, v) - 2 * sp.diff(kinetic, q) - forces))
+    return sp.ImmutableMatrix(residuals)
