@@ -9,7 +9,7 @@ Euler–Lagrange equations with every step, the matrix form M q_ddot = forcing, 
 g*l*m*sin(theta) + l**2*m*theta_ddot
 """
 
-from lagrangian import examples
+from lagrangian import examples, render
 from lagrangian.derive import CoordinateSteps, EquationsOfMotion, derive, nielsen_equations
 from lagrangian.errors import (
     AnalysisError,
@@ -67,6 +67,7 @@ __all__ = [
     "coordinates",
     "derive",
     "examples",
+    "render",
     "nielsen_equations",
     "t",
     "velocity",

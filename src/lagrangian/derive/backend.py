@@ -68,3 +68,9 @@ class SympyView:
 
     def matrix(self, rows: Sequence[Sequence[Backend]]) -> sp.ImmutableMatrix:
         return sp.ImmutableMatrix([[self(v) for v in row] for row in rows])
+
+    def symmetric_matrix(self, rows: Sequence[Sequence[Backend]]) -> sp.ImmutableMatrix:
+        """Convert the upper triangle only and mirror it."""
+        n = len(rows)
+        upper = {(j, k): self(rows[j][k]) for j in range(n) for k in range(j, n)}
+        return sp.ImmutableMatrix(n, n, lambda j, k: upper[(min(j, k), max(j, k))])

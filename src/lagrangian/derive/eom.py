@@ -57,21 +57,56 @@ class EquationsOfMotion:
     accelerations: tuple[sp.Symbol, ...]
     parameters: Mapping[sp.Symbol, float | None]
     time: sp.Symbol
-    kinetic_energy: sp.Expr
-    potential_energy: sp.Expr
-    velocity_potential: sp.Expr
-    dissipation_function: sp.Expr
     mass_matrix: sp.ImmutableMatrix
-    coriolis: sp.ImmutableMatrix
-    time_terms: sp.ImmutableMatrix
-    gravity: sp.ImmutableMatrix
-    generalized_forces: sp.ImmutableMatrix
-    dissipation_forces: sp.ImmutableMatrix
-    velocity_potential_forces: sp.ImmutableMatrix
     forcing: sp.ImmutableMatrix
     coordinate_orders: Mapping[sp.Symbol, int]
     name: str = ""
     _work: Any = field(default=None, repr=False, compare=False)
+
+    # The other pieces are converted from the backend on first use (they are pure and cached).
+    @cached_property
+    def kinetic_energy(self) -> sp.Expr:
+        """T = 1/2 q_dot^T M q_dot + T1 + T0 (or the general T)."""
+        return self._work.scalar("kinetic_energy")
+
+    @cached_property
+    def potential_energy(self) -> sp.Expr:
+        """V, every potential contribution (given V, gravity, springs, capacitors)."""
+        return self._work.scalar("potential_energy")
+
+    @cached_property
+    def velocity_potential(self) -> sp.Expr:
+        """U(q, q_dot, t), the velocity-dependent potential."""
+        return self._work.scalar("velocity_potential")
+
+    @cached_property
+    def dissipation_function(self) -> sp.Expr:
+        """F, the Rayleigh dissipation function (given F, dampers, resistors)."""
+        return self._work.scalar("dissipation_function")
+
+    @cached_property
+    def coriolis(self) -> sp.ImmutableMatrix:
+        return self._work.vector("coriolis")
+
+    @cached_property
+    def time_terms(self) -> sp.ImmutableMatrix:
+        return self._work.vector("time_terms")
+
+    @cached_property
+    def gravity(self) -> sp.ImmutableMatrix:
+        return self._work.vector("gravity")
+
+    @cached_property
+    def generalized_forces(self) -> sp.ImmutableMatrix:
+        return self._work.vector("generalized_forces")
+
+    @cached_property
+    def dissipation_forces(self) -> sp.ImmutableMatrix:
+        return self._work.vector("dissipation_forces")
+
+    @cached_property
+    def velocity_potential_forces(self) -> sp.ImmutableMatrix:
+        return self._work.vector("velocity_potential_forces")
 
     @property
     def lagrangian(self) -> sp.Expr:

@@ -46,6 +46,7 @@ def _point_terms(asm: Assembly) -> tuple[Matrix, Backend]:
     n = len(asm.q)
     mass = [[se.Integer(0)] * n for _ in range(n)]
     low_degree = se.Integer(0)
+    combined: dict[Backend, Backend] = {}  # the same column pairs recur for every point below
     for point in asm.points:
         columns = [(point.mass, point.position)]
         if point.angle is not None and point.inertia != 0:
@@ -57,7 +58,9 @@ def _point_terms(asm: Assembly) -> tuple[Matrix, Backend]:
                 for k in range(j, n):
                     term = se.Add(*[row[j] * row[k] for row in jac])
                     if term != 0:
-                        mass[j][k] += weight * term
+                        if term not in combined:
+                            combined[term] = combine_trig(term)
+                        mass[j][k] += weight * combined[term]
             if any(d != 0 for d in drift):
                 moving = [se.Add(*[row[k] * asm.q_dot[k] for k in range(n)]) for row in jac]
                 low_degree += weight * se.Add(*[v * d for v, d in zip(moving, drift)])

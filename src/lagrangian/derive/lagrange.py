@@ -9,6 +9,7 @@ step-by-step form differentiates L itself, lazily, when asked for.
 from __future__ import annotations
 
 import random
+from functools import cached_property
 
 import symengine as se
 import sympy as sp
@@ -18,7 +19,7 @@ from lagrangian.derive.backend import Backend, SympyView, depends_on
 from lagrangian.derive.eom import EquationsOfMotion
 from lagrangian.derive.kinetic import KineticForm, kinetic_form
 from lagrangian.derive.steps import CoordinateSteps
-from lagrangian.derive.trig import combine_trig
+from lagrangian.derive.trig import combine_trig, tidy
 from lagrangian.model import System
 from lagrangian.model.symbols import acceleration, t, velocity
 
@@ -34,45 +35,15 @@ def derive(system: System) -> EquationsOfMotion:
     >>> eom.mass_matrix, eom.forcing
     (Matrix([[m]]), Matrix([[-k*x]]))
     """
-    asm = assemble(system)
-    kinetic = kinetic_form(asm)
-    view = SympyView([*system.coordinates, *system.parameters, t])
-    n = len(asm.q)
-    rest = {a: 0 for a in asm.q_ddot}
-    u_hessian = [[asm.velocity_potential.diff(a).diff(b) for b in asm.q_dot] for a in asm.q_dot]
-    u_forces = [
-        se.expand((asm.time_derivative(asm.velocity_potential.diff(v))
-                   - asm.velocity_potential.diff(q)).subs(rest))
-        for q, v in zip(asm.q, asm.q_dot)
-    ]
-    mass = [[combine_trig(kinetic.mass_matrix[j][k] - u_hessian[j][k]) for k in range(n)]
-            for j in range(n)]
-    gravity = [combine_trig(asm.potential.diff(q)) for q in asm.q]
-    dissipation = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
-    forcing = [
-        combine_trig(asm.applied[j] + dissipation[j] + u_forces[j] - kinetic.coriolis[j]
-                     - kinetic.time_terms[j] - gravity[j])
-        for j in range(n)
-    ]
-    work = _Derivation(system, asm, kinetic, view, mass, forcing)
+    work = _Derivation(system)
     return EquationsOfMotion(
         coordinates=system.coordinates,
         velocities=system.velocities,
         accelerations=system.accelerations,
         parameters=dict(system.parameters),
         time=t,
-        kinetic_energy=view(kinetic.kinetic_energy),
-        potential_energy=view(asm.potential),
-        velocity_potential=view(asm.velocity_potential),
-        dissipation_function=view(asm.dissipation),
-        mass_matrix=view.matrix(mass),
-        coriolis=view.vector(kinetic.coriolis),
-        time_terms=view.vector(kinetic.time_terms),
-        gravity=view.vector(gravity),
-        generalized_forces=view.vector(asm.applied),
-        dissipation_forces=view.vector(dissipation),
-        velocity_potential_forces=view.vector(u_forces),
-        forcing=view.vector(forcing),
+        mass_matrix=work.view.symmetric_matrix(work.mass),
+        forcing=work.view.vector(work.forcing),
         coordinate_orders=work.orders,
         name=system.name,
         _work=work,
@@ -80,14 +51,65 @@ def derive(system: System) -> EquationsOfMotion:
 
 
 class _Derivation:
-    """Backend state an EquationsOfMotion keeps for what it computes on demand."""
+    """The backend pieces of one derivation, and what an EquationsOfMotion computes from them
+    on demand (conversion to SymPy, steps, Christoffel matrix, solved form)."""
 
-    def __init__(self, system: System, asm: Assembly, kinetic: KineticForm, view: SympyView,
-                 mass: list[list[Backend]], forcing: list[Backend]) -> None:
-        self.system, self.asm, self.kinetic, self.view = system, asm, kinetic, view
-        self.mass, self.forcing = mass, forcing
+    def __init__(self, system: System) -> None:
+        self.system = system
+        self.asm = asm = assemble(system)
+        self.kinetic: KineticForm = kinetic_form(asm)
+        self.view = SympyView([*system.coordinates, *system.parameters, t])
+        self.state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
+        n = len(asm.q)
+        u = asm.velocity_potential
+        at_rest = {a: 0 for a in asm.q_ddot}
+        self.velocity_potential_forces = [
+            se.expand((asm.time_derivative(u.diff(v)) - u.diff(q)).subs(at_rest))
+            for q, v in zip(asm.q, asm.q_dot)
+        ]
+        self.mass = self._mass_matrix()
+        self.gravity = [combine_trig(asm.potential.diff(q)) for q in asm.q]
+        self.dissipation_forces = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
+        self.forcing = [
+            self.tidy(asm.applied[j] + self.dissipation_forces[j]
+                      + self.velocity_potential_forces[j] - self.kinetic.coriolis[j]
+                      - self.kinetic.time_terms[j] - self.gravity[j])
+            for j in range(n)
+        ]
         self.orders = self._orders()
-        self.generic_rank = self._generic_rank()
+
+    def _mass_matrix(self) -> list[list[Backend]]:
+        """M = d2T/dq_dot2 - d2U/dq_dot2 (symmetric: each entry tidied once)."""
+        asm, kinetic, n = self.asm, self.kinetic.mass_matrix, len(self.asm.q)
+        u_momentum = [asm.velocity_potential.diff(v) for v in asm.q_dot]
+        mass = [[se.Integer(0)] * n for _ in range(n)]
+        for j in range(n):
+            for k in range(j, n):
+                mass[j][k] = mass[k][j] = self.tidy(kinetic[j][k] - u_momentum[j].diff(asm.q_dot[k]))
+        return mass
+
+    def tidy(self, expr: Backend) -> Backend:
+        return tidy(expr, self.state)
+
+    def scalar(self, name: str) -> sp.Expr:
+        expr = {
+            "kinetic_energy": self.kinetic.kinetic_energy,
+            "potential_energy": self.asm.potential,
+            "velocity_potential": self.asm.velocity_potential,
+            "dissipation_function": self.asm.dissipation,
+        }[name]
+        return self.view(self.tidy(expr))
+
+    def vector(self, name: str) -> sp.ImmutableMatrix:
+        values = {
+            "coriolis": self.kinetic.coriolis,
+            "time_terms": self.kinetic.time_terms,
+            "gravity": self.gravity,
+            "generalized_forces": self.asm.applied,
+            "dissipation_forces": self.dissipation_forces,
+            "velocity_potential_forces": self.velocity_potential_forces,
+        }[name]
+        return self.view.vector([self.tidy(v) for v in values])
 
     def _orders(self) -> dict[sp.Symbol, int]:
         """2 with inertia; without, 1 if the equation has velocities of such coordinates."""
@@ -102,7 +124,8 @@ class _Derivation:
                 orders[q] = 1 if depends_on(self.forcing[j], inert_velocities) else 0
         return orders
 
-    def _generic_rank(self) -> int:
+    @cached_property
+    def generic_rank(self) -> int:
         """Rank of M at a random point (parameters and state drawn at random)."""
         rng = random.Random(12345)
         symbols: set[Backend] = set()
@@ -122,16 +145,15 @@ class _Derivation:
             rate = asm.time_derivative(momentum)
             slope = lagrangian.diff(q)
             friction = asm.dissipation.diff(v)
-            equation = combine_trig(rate - slope + friction - asm.applied[j])
             result.append(CoordinateSteps(
                 coordinate=self.system.coordinates[j],
                 velocity=velocity(self.system.coordinates[j]),
-                dL_dvelocity=view(combine_trig(momentum)),
-                ddt_dL_dvelocity=view(combine_trig(rate)),
-                dL_dcoordinate=view(combine_trig(slope)),
-                dF_dvelocity=view(se.expand(friction)),
+                dL_dvelocity=view(self.tidy(momentum)),
+                ddt_dL_dvelocity=view(self.tidy(rate)),
+                dL_dcoordinate=view(self.tidy(slope)),
+                dF_dvelocity=view(self.tidy(friction)),
                 generalized_force=view(asm.applied[j]),
-                equation=view(equation),
+                equation=view(self.tidy(rate - slope + friction - asm.applied[j])),
             ))
         return tuple(result)
 
@@ -146,7 +168,7 @@ class _Derivation:
                     gamma = (mass[j][k].diff(asm.q[ell]) + mass[j][ell].diff(asm.q[k])
                              - mass[k][ell].diff(asm.q[j])) / 2
                     entry += gamma * asm.q_dot[ell]
-                row.append(combine_trig(entry))
+                row.append(self.tidy(entry))
             rows.append(row)
         return self.view.matrix(rows)
 
@@ -159,21 +181,18 @@ class _Derivation:
         solved: dict[sp.Symbol, sp.Expr] = {}
         if first:
             unknowns = [velocity(coords[j]) for j in first]
-            system_ = [forcing[j] for j in first]
-            a, b = sp.linear_eq_to_matrix(system_, unknowns)
-            values = a.LUsolve(b)
-            solved.update({u: sp.simplify(v) for u, v in zip(unknowns, values)})
+            a, b = sp.linear_eq_to_matrix([forcing[j] for j in first], unknowns)
+            solved.update({u: sp.simplify(v) for u, v in zip(unknowns, a.LUsolve(b))})
             forcing = [f.xreplace(solved) for f in forcing]
         if second:
             mass = sp.Matrix([[self.view(self.mass[j][k]) for k in second] for j in second])
-            rhs = sp.Matrix([forcing[j] for j in second])
-            values = _solve_linear(mass, rhs)
+            values = _solve_linear(mass, sp.Matrix([forcing[j] for j in second]))
             solved.update({acceleration(coords[j]): v for j, v in zip(second, values)})
         return solved
 
 
 def _solve_linear(mass: sp.Matrix, rhs: sp.Matrix) -> list[sp.Expr]:
-    """M x = rhs; a diagonal M is divided directly, small ones solved by LU."""
+    """M x = rhs; a diagonal M is divided directly, small ones solved by LU and simplified."""
     if mass.is_diagonal():
         return [sp.expand(rhs[i] / mass[i, i]) for i in range(mass.rows)]
     return [sp.simplify(v) if mass.rows <= 3 else v for v in mass.LUsolve(rhs)]

@@ -68,12 +68,15 @@ def _linearize(trig: list[Any]) -> list[tuple[Any, Any]]:
 
 
 def fourier_form(expr: Any) -> Any:
-    """Every product of sines and cosines rewritten as a sum of single sines and cosines."""
+    """Every product of sines and cosines rewritten as a sum of single sines and cosines
+    (``expr`` itself when it has no such product)."""
     expanded = se.expand(expr)
     terms = expanded.args if expanded.is_Add else (expanded,)
+    split_terms = [_split(term) for term in terms]
+    if all(split is None or len(split[1]) < 2 for split in split_terms):
+        return expanded
     collected: dict[Any, Any] = defaultdict(lambda: se.Integer(0))
-    for term in terms:
-        split = _split(term)
+    for term, split in zip(terms, split_terms):
         if split is None or len(split[1]) < 2:
             collected[se.Integer(1)] += term
             continue
@@ -94,38 +97,32 @@ def _multiple_angles(expr: Any) -> bool:
 
 
 def _trig_atoms(expr: Any) -> set[Any]:
-    found: set[Any] = set()
-    stack = [expr]
-    while stack:
-        node = stack.pop()
-        if isinstance(node, (se.sin, se.cos)):
-            found.add(node)
-        stack.extend(node.args)
-    return found
+    return set(expr.atoms(se.sin, se.cos))
 
 
 def size(expr: Any) -> int:
-    """A cheap size measure: the number of nodes in the expression tree."""
-    count, stack = 0, [expr]
-    while stack:
-        node = stack.pop()
-        count += 1
-        stack.extend(node.args)
-    return count
+    """The number of operations in ``expr`` (SymEngine's count_ops)."""
+    return int(se.count_ops(expr))
 
 
 SMALL_FOR_TRIGSIMP = 120  # trigsimp is only tried on small entries (it is slow)
+
+
+def tidy(expr: Any, state: Any) -> Any:
+    """:func:`combine_trig`, then terms grouped by state monomial with parameters factored."""
+    from lagrangian.derive.collect import collect_state
+
+    return collect_state(combine_trig(expr), state)
 
 
 def combine_trig(expr: Any) -> Any:
     """The shortest of: the expanded expression, its Fourier form, and (for small entries whose
     Fourier form has multiple angles such as cos(2 theta)) SymPy's trigsimp of it."""
     expanded = se.expand(expr)
-    if not _trig_atoms(expanded):
-        return expanded
-    candidates = [expanded]
     fourier = fourier_form(expanded)
-    candidates.append(fourier)
-    if _multiple_angles(fourier) and size(expanded) <= SMALL_FOR_TRIGSIMP:
+    if fourier is expanded:
+        return expanded
+    candidates = [expanded, fourier]
+    if size(expanded) <= SMALL_FOR_TRIGSIMP and _multiple_angles(fourier):
         candidates.append(se.sympify(sp.trigsimp(sp.sympify(expanded))))
     return min(candidates, key=size)

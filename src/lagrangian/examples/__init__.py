@@ -16,10 +16,10 @@ from types import ModuleType
 from typing import Any
 
 from lagrangian.errors import ModelError
-from lagrangian.examples import pendulums
+from lagrangian.examples import bodies, circuits, machines, particles, pendulums
 from lagrangian.model import System
 
-_MODULES: tuple[ModuleType, ...] = (pendulums,)
+_MODULES: tuple[ModuleType, ...] = (pendulums, circuits, machines, particles, bodies)
 
 #: Example name -> function building the System (scalable ones take a size argument).
 CATALOG: dict[str, Callable[..., System]] = {

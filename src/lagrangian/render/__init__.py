@@ -1,1 +1,26 @@
-"""The render layer (see DESIGN.md)."""
+"""The render layer: equations, derivation steps and systems as LaTeX and plain text, and
+rich display in Jupyter (see DESIGN.md).
+
+>>> import lagrangian as lg
+>>> from lagrangian import render
+>>> eom = lg.derive(lg.examples.simple_pendulum())
+>>> print(render.steps_text(eom).splitlines()[-1])
+⇒ g*l*m*sin(theta) + l**2*m*theta_ddot = 0
+"""
+
+from lagrangian.render.jupyter import Latex, register
+from lagrangian.render.jupyter import display_steps as steps
+from lagrangian.render.latex import equations_latex, steps_latex, system_latex
+from lagrangian.render.text import equations_text, matrix_form_text, steps_text
+
+__all__ = [
+    "Latex",
+    "equations_latex",
+    "equations_text",
+    "matrix_form_text",
+    "register",
+    "steps",
+    "steps_latex",
+    "steps_text",
+    "system_latex",
+]

@@ -1,0 +1,79 @@
+"""What each command does, from parsed arguments to the text it prints (no exit codes here)."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+
+from lagrangian import examples, render
+from lagrangian.derive import derive
+from lagrangian.errors import ModelError, Problem
+from lagrangian.model import System
+from lagrangian.render.json import eom_document
+
+EXAMPLE_PREFIX = "examples/"
+
+
+def load_system(reference: str) -> System:
+    """A System from ``examples/NAME`` (or a bare example name)."""
+    name = reference.removeprefix(EXAMPLE_PREFIX)
+    if name in examples.CATALOG:
+        return examples.get(name)()
+    if reference.startswith(EXAMPLE_PREFIX) or "/" not in reference and "." not in reference:
+        examples.get(name)  # raises ModelError with the closest names
+    raise ModelError("Reading model files is not available in this version; use a built-in "
+                     "example, examples/NAME (see `lagrangian examples`).")
+
+
+def apply_settings(system: System, settings: Sequence[str]) -> System:
+    """``--set NAME=VALUE`` overrides of parameters and initial values."""
+    if not settings:
+        return system
+    parameters = {p.name: p for p in system.parameters}
+    initial_names = {q.name: q for q in (*system.coordinates, *system.velocities)}
+    new_parameters, new_initial = dict(system.parameters), dict(system.initial)
+    problems = []
+    for item in settings:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        try:
+            value = float(text)
+        except ValueError:
+            value = None
+        if not sep or value is None:
+            problems.append(Problem(f"--set {item}", "expected NAME=NUMBER", "e.g. --set m=2.5"))
+        elif name in parameters:
+            new_parameters[parameters[name]] = value
+        elif name in initial_names:
+            new_initial[initial_names[name]] = value
+        else:
+            problems.append(Problem(f"--set {item}", f"{name!r} is not a parameter, coordinate "
+                                    "or velocity of the system",
+                                    "choose one of: " + ", ".join(sorted(
+                                        [*parameters, *initial_names]))))
+    if problems:
+        raise ModelError("Bad --set option:", problems)
+    return system.replace(parameters=new_parameters, initial=new_initial)
+
+
+def derive_command(reference: str, *, fmt: str, steps: bool, matrix: bool,
+                   settings: Sequence[str]) -> str:
+    system = apply_settings(load_system(reference), settings)
+    eom = derive(system)
+    if fmt == "json":
+        return json.dumps(eom_document(eom, steps=steps), indent=2, ensure_ascii=False)
+    if fmt == "latex":
+        return render.steps_latex(eom) if steps else render.equations_latex(eom)
+    parts = [render.steps_text(eom) if steps else render.equations_text(eom)]
+    if matrix:
+        parts.append(render.matrix_form_text(eom))
+    return "\n\n".join(parts)
+
+
+def examples_command(name: str | None) -> str:
+    if name is None:
+        width = max(len(n) for n in examples.names())
+        return "\n".join(f"{n:<{width}}  {examples.describe(n)}" for n in examples.names())
+    name = name.removeprefix(EXAMPLE_PREFIX)
+    builder = examples.get(name)
+    return f"{name}\n\n{(builder.__doc__ or '').strip()}"

@@ -1,0 +1,82 @@
+"""Rich display in Jupyter: typeset equations, steps and systems.
+
+IPython is optional: :func:`register` does nothing when it is not installed or not running.
+The render layer adds no methods to the model and derive types; it registers formatters.
+
+>>> import lagrangian as lg
+>>> shown = display_steps(lg.derive(lg.examples.simple_pendulum()))
+>>> shown._repr_latex_().startswith("$$\\\\begin{aligned}")
+True
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from lagrangian.derive import CoordinateSteps, EquationsOfMotion
+from lagrangian.model import System
+from lagrangian.render.latex import (
+    coordinate_steps_latex,
+    equations_latex,
+    steps_latex,
+    system_latex,
+)
+
+# MathJax 3 and KaTeX refuse align* inside $$...$$ ("erroneous nesting"); aligned works.
+_NESTED = "aligned"
+
+
+@dataclass(frozen=True)
+class Latex:
+    """LaTeX math that Jupyter typesets (``display(Latex(...))``) and ``print`` shows as is.
+
+    >>> str(Latex(r"\\dot{x} = v"))
+    '\\\\dot{x} = v'
+    """
+
+    text: str
+
+    def _repr_latex_(self) -> str:
+        return f"$${self.text}$$"
+
+    def __str__(self) -> str:
+        return self.text
+
+
+def display_steps(eom: EquationsOfMotion) -> Latex:
+    """The derivation of ``eom`` as a displayable :class:`Latex` (``display(...)`` it)."""
+    return Latex(steps_latex(eom, environment=_NESTED))
+
+
+def _eom_latex(eom: EquationsOfMotion) -> str:
+    return Latex(equations_latex(eom, environment=_NESTED))._repr_latex_()
+
+
+def _coordinate_steps_latex(steps: CoordinateSteps) -> str:
+    return Latex(coordinate_steps_latex(steps, environment=_NESTED))._repr_latex_()
+
+
+def _system_latex(system: System) -> str:
+    return Latex(system_latex(system, environment=_NESTED))._repr_latex_()
+
+
+def register() -> bool:
+    """Register 'text/latex' formatters for EquationsOfMotion, CoordinateSteps and System.
+
+    Returns True when registered, False (doing nothing) when IPython is missing or not running.
+
+    >>> register()  # outside IPython
+    False
+    """
+    try:
+        from IPython import get_ipython
+    except ImportError:
+        return False
+    shell = get_ipython()
+    if shell is None:
+        return False
+    formatter = shell.display_formatter.formatters["text/latex"]
+    formatter.for_type(EquationsOfMotion, _eom_latex)
+    formatter.for_type(CoordinateSteps, _coordinate_steps_latex)
+    formatter.for_type(System, _system_latex)
+    return True

@@ -1,0 +1,132 @@
+"""Plain text for a terminal: equations of motion, derivation steps and the matrix form.
+
+Labels use unicode (``∂L/∂θ̇``, a combining dot U+0307 or diaeresis U+0308 after the name);
+expressions are ``sympy.sstr`` with the input's names (``theta_dot``), so they parse back.
+
+>>> import lagrangian as lg
+>>> print(equations_text(lg.derive(lg.examples.simple_pendulum())))
+g*l*m*sin(theta) + l**2*m*theta_ddot = 0
+"""
+
+from __future__ import annotations
+
+import re
+
+import sympy as sp
+
+from lagrangian.derive import CoordinateSteps, EquationsOfMotion
+
+DOT = "\u0307"
+DDOT = "\u0308"
+
+_GREEK = {
+    "alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "epsilon": "ε", "zeta": "ζ",
+    "eta": "η", "theta": "θ", "iota": "ι", "kappa": "κ", "lambda": "λ", "lamda": "λ",
+    "mu": "μ", "nu": "ν", "xi": "ξ", "rho": "ρ", "sigma": "σ", "tau": "τ",
+    "upsilon": "υ", "phi": "φ", "chi": "χ", "psi": "ψ", "omega": "ω",
+    "Gamma": "Γ", "Delta": "Δ", "Theta": "Θ", "Lambda": "Λ", "Xi": "Ξ", "Pi": "Π",
+    "Sigma": "Σ", "Phi": "Φ", "Psi": "Ψ", "Omega": "Ω",
+}  # fmt: skip
+
+
+def label(symbol: sp.Symbol, mark: str = "") -> str:
+    """A display name: Greek words as letters, ``mark`` (a combining accent) on the letters.
+
+    >>> label(sp.Symbol("theta1"), DOT)
+    'θ̇1'
+    """
+    name = re.sub(r"[A-Za-z]+", lambda m: _GREEK.get(m.group(), m.group()), symbol.name)
+    split = re.search(r"[\d_]", name[1:])
+    end = split.start() + 1 if split else len(name)
+    return name[:end] + mark + name[end:]
+
+
+def _rows(matrix: sp.MatrixBase) -> list[str]:
+    """One ``[a, b, ...]`` line per row, each entry ``sympy.sstr``."""
+    return ["[" + ", ".join(sp.sstr(e) for e in matrix.row(i)) + "]" for i in range(matrix.rows)]
+
+
+def equations_text(eom: EquationsOfMotion) -> str:
+    """One line ``residual = 0`` per coordinate, d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q."""
+    return "\n".join(f"{sp.sstr(e)} = 0" for e in eom.equations)
+
+
+def energy_text(eom: EquationsOfMotion) -> list[str]:
+    """``T = ...``, ``V = ...``, (``U = ...``), ``L = T − V (− U) = ...``, (``F = ...``)."""
+    lines = [f"T = {sp.sstr(eom.kinetic_energy)}", f"V = {sp.sstr(eom.potential_energy)}"]
+    definition = "T − V"
+    if eom.velocity_potential != 0:
+        lines.append(f"U = {sp.sstr(eom.velocity_potential)}")
+        definition += " − U"
+    lines.append(f"L = {definition} = {sp.sstr(eom.lagrangian)}")
+    if eom.dissipation_function != 0:
+        lines.append(f"F = {sp.sstr(eom.dissipation_function)}")
+    return lines
+
+
+def coordinate_steps_text(steps: CoordinateSteps) -> list[str]:
+    """One coordinate's derivation, as the notes write it (seed 001, "Do the derivatives").
+
+    >>> import lagrangian as lg
+    >>> (s,) = lg.derive(lg.examples.simple_pendulum()).steps
+    >>> coordinate_steps_text(s)[0]
+    '∂L/∂θ̇ = l**2*m*theta_dot'
+    """
+    q, v = label(steps.coordinate), label(steps.coordinate, DOT)
+    lines = [
+        f"∂L/∂{v} = {sp.sstr(steps.dL_dvelocity)}",
+        f"d/dt(∂L/∂{v}) = {sp.sstr(steps.ddt_dL_dvelocity)}",
+        f"∂L/∂{q} = {sp.sstr(steps.dL_dcoordinate)}",
+    ]
+    if steps.dF_dvelocity != 0:
+        lines.append(f"∂F/∂{v} = {sp.sstr(steps.dF_dvelocity)}")
+    if steps.generalized_force != 0:
+        lines.append(f"Q_{q} = {sp.sstr(steps.generalized_force)}")
+    lines.append(f"⇒ {sp.sstr(steps.equation)} = 0")
+    return lines
+
+
+def steps_text(eom: EquationsOfMotion) -> str:
+    """T, V, L = T − V (and F), then each coordinate's steps, blocks separated by blank lines.
+
+    >>> import lagrangian as lg
+    >>> print(steps_text(lg.derive(lg.examples.simple_pendulum())).splitlines()[-1])
+    ⇒ g*l*m*sin(theta) + l**2*m*theta_ddot = 0
+    """
+    blocks = ["\n".join(energy_text(eom))]
+    blocks.extend("\n".join(coordinate_steps_text(s)) for s in eom.steps)
+    return "\n\n".join(blocks)
+
+
+def matrix_form_text(eom: EquationsOfMotion) -> str:
+    """The matrix form, one block per term (DESIGN.md vocabulary):
+
+        M q̈ + C q̇ + G = Q − ∂F/∂q̇,    M q̈ = forcing
+
+    Time terms and velocity-potential forces appear only when non-zero.
+
+    >>> import lagrangian as lg
+    >>> print(matrix_form_text(lg.derive(lg.examples.simple_pendulum())).splitlines()[3])
+    [l**2*m]
+    """
+    q_dot, q_ddot = "q" + DOT, "q" + DDOT
+    lhs, rhs = f"M {q_ddot} + C {q_dot}", f"Q − ∂F/∂{q_dot}"
+    parts: list[tuple[str, sp.MatrixBase]] = [
+        ("mass_matrix M", eom.mass_matrix),
+        (f"coriolis C {q_dot}", eom.coriolis),
+    ]
+    if any(e != 0 for e in eom.time_terms):
+        parts.append(("time_terms", eom.time_terms))
+        lhs += " + time_terms"
+    parts += [
+        ("gravity G = ∂V/∂q", eom.gravity),
+        ("generalized_forces Q", eom.generalized_forces),
+        (f"dissipation_forces −∂F/∂{q_dot}", eom.dissipation_forces),
+    ]
+    if any(e != 0 for e in eom.velocity_potential_forces):
+        parts.append(("velocity_potential_forces", eom.velocity_potential_forces))
+        rhs += " + velocity_potential_forces"
+    parts.append((f"forcing (M {q_ddot} = forcing)", eom.forcing))
+    blocks = [f"{lhs} + G = {rhs}"]
+    blocks.extend("\n".join([f"{title} =", *_rows(matrix)]) for title, matrix in parts)
+    return "\n\n".join(blocks)
