@@ -9,10 +9,13 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "lagrangian"
 
 # Layer ranks, top to bottom: a module may import its own layer or lower ranks only.
 RANKS = {
-    "cli": 9, "web": 9, "sweep": 9,
+    "cli": 9,
+    "web": 9,
+    "sweep": 9,
     "simulate": 8,
     "numerics": 7,
-    "analysis": 6, "constraints": 6,
+    "analysis": 6,
+    "constraints": 6,
     "derive": 5,
     "model": 4,
     "errors": 0,
@@ -22,8 +25,16 @@ RANKS = {
 ALLOWED_SIDE = {
     "io": {"io", "model", "errors"},
     "examples": {"examples", "model", "io", "errors"},
-    "render": {"render", "model", "derive", "constraints", "analysis", "numerics", "simulate",
-               "errors"},
+    "render": {
+        "render",
+        "model",
+        "derive",
+        "constraints",
+        "analysis",
+        "numerics",
+        "simulate",
+        "errors",
+    },
 }
 
 
@@ -57,8 +68,9 @@ def _violations() -> list[str]:
             if own in ALLOWED_SIDE:
                 ok = target in ALLOWED_SIDE[own]
             elif target in ALLOWED_SIDE:
-                ok = target == "io" and own in {"cli", "web", "sweep"} or target in {
-                    "examples", "render"} and own in {"cli", "web", "sweep"}
+                ok = (target == "io" and own in {"cli", "web", "sweep"}) or (
+                    target in {"examples", "render"} and own in {"cli", "web", "sweep"}
+                )
             else:
                 ok = RANKS.get(target, 99) <= RANKS.get(own, -1)
             if not ok:

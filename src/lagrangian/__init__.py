@@ -67,8 +67,8 @@ __all__ = [
     "coordinates",
     "derive",
     "examples",
-    "render",
     "nielsen_equations",
+    "render",
     "t",
     "velocity",
 ]

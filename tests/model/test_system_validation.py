@@ -44,31 +44,49 @@ def test_non_scalar_energy() -> None:
 
 def test_positions_of_inconsistent_dimension() -> None:
     with pytest.raises(ModelError, match=r"inconsistent dimensions"):
-        lg.System(coordinates=[x, y], parameters=[m, g],
-                  particles=[lg.Particle("a", m, (x, y)), lg.Particle("b", m, (x, y, 0))],
-                  gravity=(0, -g))
+        lg.System(
+            coordinates=[x, y],
+            parameters=[m, g],
+            particles=[lg.Particle("a", m, (x, y)), lg.Particle("b", m, (x, y, 0))],
+            gravity=(0, -g),
+        )
 
 
 def test_force_on_an_unknown_point() -> None:
-    with pytest.raises(ModelError, match=r"forces\[0\]\.at: unknown point 'bobb' — did you mean "
-                                         r"'bob'\?"):
-        lg.System(coordinates=[x], parameters=[m, k],
-                  particles=[lg.Particle("bob", m, (x,))], forces=[lg.Force("bobb", (k,))])
+    with pytest.raises(
+        ModelError,
+        match=r"forces\[0\]\.at: unknown point 'bobb' — did you mean "
+        r"'bob'\?",
+    ):
+        lg.System(
+            coordinates=[x],
+            parameters=[m, k],
+            particles=[lg.Particle("bob", m, (x,))],
+            forces=[lg.Force("bobb", (k,))],
+        )
 
 
 def test_circuit_element_on_an_unknown_coordinate() -> None:
     q1, q1_dot = sp.symbols("q1 q1_dot")
     big_l, u = sp.symbols("L u")
     with pytest.raises(ModelError, match=r"circuit\[1\]\.coordinate: unknown coordinate q2"):
-        lg.System(coordinates=[q1], parameters=[big_l, u],
-                  circuit=[lg.Inductor(big_l, q1_dot), lg.VoltageSource(u, "q2")])
+        lg.System(
+            coordinates=[q1],
+            parameters=[big_l, u],
+            circuit=[lg.Inductor(big_l, q1_dot), lg.VoltageSource(u, "q2")],
+        )
 
 
 def test_every_problem_is_reported_at_once() -> None:
     kk = sp.Symbol("kk")
     with pytest.raises(ModelError, match=r"\(3 problems\)") as caught:
-        lg.System(coordinates=[x], parameters=[m], kinetic=m * x_dot**2 / 2 + kk,
-                  potential=x_dot, generalized_forces={"z": 1})
+        lg.System(
+            coordinates=[x],
+            parameters=[m],
+            kinetic=m * x_dot**2 / 2 + kk,
+            potential=x_dot,
+            generalized_forces={"z": 1},
+        )
     fields = [p.field for p in caught.value.problems]
     assert fields == ["kinetic", "potential", "generalized_forces.z"]
     assert all(p.fix for p in caught.value.problems)
@@ -88,8 +106,12 @@ def test_model_error_is_a_value_error_and_a_lagrangian_error() -> None:
 def test_time_functions_become_plain_symbols() -> None:
     t = sp.Symbol("t")
     xf = sp.Function("x")(t)
-    system = lg.System(coordinates=[xf], parameters=[m, k],
-                       kinetic=m * xf.diff(t) ** 2 / 2, potential=k * xf**2 / 2)
+    system = lg.System(
+        coordinates=[xf],
+        parameters=[m, k],
+        kinetic=m * xf.diff(t) ** 2 / 2,
+        potential=k * xf**2 / 2,
+    )
     assert system.coordinates == (x,)
     assert system.kinetic == m * x_dot**2 / 2
     assert system.potential == k * x**2 / 2

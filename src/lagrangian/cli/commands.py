@@ -19,10 +19,12 @@ def load_system(reference: str) -> System:
     name = reference.removeprefix(EXAMPLE_PREFIX)
     if name in examples.CATALOG:
         return examples.get(name)()
-    if reference.startswith(EXAMPLE_PREFIX) or "/" not in reference and "." not in reference:
+    if reference.startswith(EXAMPLE_PREFIX) or ("/" not in reference and "." not in reference):
         examples.get(name)  # raises ModelError with the closest names
-    raise ModelError("Reading model files is not available in this version; use a built-in "
-                     "example, examples/NAME (see `lagrangian examples`).")
+    raise ModelError(
+        "Reading model files is not available in this version; use a built-in "
+        "example, examples/NAME (see `lagrangian examples`)."
+    )
 
 
 def apply_settings(system: System, settings: Sequence[str]) -> System:
@@ -47,17 +49,21 @@ def apply_settings(system: System, settings: Sequence[str]) -> System:
         elif name in initial_names:
             new_initial[initial_names[name]] = value
         else:
-            problems.append(Problem(f"--set {item}", f"{name!r} is not a parameter, coordinate "
-                                    "or velocity of the system",
-                                    "choose one of: " + ", ".join(sorted(
-                                        [*parameters, *initial_names]))))
+            problems.append(
+                Problem(
+                    f"--set {item}",
+                    f"{name!r} is not a parameter, coordinate or velocity of the system",
+                    "choose one of: " + ", ".join(sorted([*parameters, *initial_names])),
+                )
+            )
     if problems:
         raise ModelError("Bad --set option:", problems)
     return system.replace(parameters=new_parameters, initial=new_initial)
 
 
-def derive_command(reference: str, *, fmt: str, steps: bool, matrix: bool,
-                   settings: Sequence[str]) -> str:
+def derive_command(
+    reference: str, *, fmt: str, steps: bool, matrix: bool, settings: Sequence[str]
+) -> str:
     system = apply_settings(load_system(reference), settings)
     eom = derive(system)
     if fmt == "json":

@@ -1,8 +1,8 @@
 """The ``lagrangian`` command.  Exit codes are decided here only: 0 ok, 1 failure, 2 bad input.
 
-    lagrangian examples                       list the built-in examples
-    lagrangian examples NAME                  describe one
-    lagrangian derive examples/NAME --steps   derive with every step
+lagrangian examples                       list the built-in examples
+lagrangian examples NAME                  describe one
+lagrangian derive examples/NAME --steps   derive with every step
 """
 
 from __future__ import annotations
@@ -12,6 +12,7 @@ import json
 import sys
 import traceback
 from collections.abc import Sequence
+from typing import NoReturn
 
 from lagrangian.cli.commands import derive_command, examples_command
 from lagrangian.errors import ExpressionError, LagrangianError, ModelError
@@ -27,30 +28,45 @@ EPILOG = """examples:
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> None:  # argparse exits 2 on bad usage, as we do
+    def error(self, message: str) -> NoReturn:  # argparse exits 2 on bad usage, as we do
         self.print_usage(sys.stderr)
         self.exit(BAD_INPUT, f"{self.prog}: error: {message}\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="lagrangian", description="Analytical mechanics, from energies to "
-                     "motion.", epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = _Parser(
+        prog="lagrangian",
+        description="Analytical mechanics, from energies to motion.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("--debug", action="store_true", help="show tracebacks")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
-    derive = sub.add_parser("derive", help="Euler–Lagrange equations of a system",
-                            epilog="example: lagrangian derive examples/double_pendulum --steps",
-                            formatter_class=argparse.RawDescriptionHelpFormatter)
+    derive = sub.add_parser(
+        "derive",
+        help="Euler–Lagrange equations of a system",
+        epilog="example: lagrangian derive examples/double_pendulum --steps",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     derive.add_argument("model", help="examples/NAME (a built-in example)")
     derive.add_argument("--format", choices=["text", "latex", "json"], default="text")
     derive.add_argument("--steps", action="store_true", help="show every step of the derivation")
     derive.add_argument("--matrix", action="store_true", help="also show M, C q_dot, G, Q")
-    derive.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                        help="override a parameter or an initial value (repeatable)")
+    derive.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="override a parameter or an initial value (repeatable)",
+    )
     derive.add_argument("--debug", action="store_true", help="show tracebacks")
 
-    examples = sub.add_parser("examples", help="list or describe the built-in examples",
-                              epilog="example: lagrangian examples double_pendulum")
+    examples = sub.add_parser(
+        "examples",
+        help="list or describe the built-in examples",
+        epilog="example: lagrangian examples double_pendulum",
+    )
     examples.add_argument("name", nargs="?", help="an example to describe")
     examples.add_argument("--debug", action="store_true", help="show tracebacks")
     return parser
@@ -61,8 +77,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         if args.command == "derive":
-            output = derive_command(args.model, fmt=args.format, steps=args.steps,
-                                    matrix=args.matrix, settings=args.set)
+            output = derive_command(
+                args.model, fmt=args.format, steps=args.steps, matrix=args.matrix, settings=args.set
+            )
         else:
             output = examples_command(args.name)
         sys.stdout.write(output if output.endswith("\n") else output + "\n")

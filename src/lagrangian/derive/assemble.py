@@ -89,8 +89,9 @@ def _spring_potential(system: System, asm_points: dict[str, tuple[Backend, ...]]
     return total
 
 
-def _applied_forces(system: System, asm: Assembly,
-                    named: dict[str, tuple[Backend, ...]]) -> list[Backend]:
+def _applied_forces(
+    system: System, asm: Assembly, named: dict[str, tuple[Backend, ...]]
+) -> list[Backend]:
     """Q_j = user Q_j + sum F . dr/dq_j (virtual work) + torques + voltage sources."""
     n = len(asm.q)
     applied = [se.Integer(0)] * n
@@ -127,8 +128,9 @@ def _circuit_energies(system: System) -> tuple[Backend, Backend, Backend]:
     return magnetic, electric, resistive
 
 
-def _damper_dissipation(system: System, asm: Assembly,
-                        named: dict[str, tuple[Backend, ...]]) -> Backend:
+def _damper_dissipation(
+    system: System, asm: Assembly, named: dict[str, tuple[Backend, ...]]
+) -> Backend:
     total = se.Integer(0)
     for damper in system.dampers:
         a, b = (_resolve(ref, named) for ref in damper.between)
@@ -152,24 +154,38 @@ def assemble(system: System) -> Assembly:
     static_part = lagrangian.subs({v: 0 for v in q_dot})  # L(q, 0, t) acts as -V
     magnetic, electric, resistive = _circuit_energies(system)
     points = tuple(
-        InertialPoint(to_backend(p.mass), tuple(vector_to_backend(p.position)), se.Integer(0),
-                      None)
+        InertialPoint(to_backend(p.mass), tuple(vector_to_backend(p.position)), se.Integer(0), None)
         for p in system.particles
     ) + tuple(
-        InertialPoint(to_backend(b.mass), tuple(vector_to_backend(b.position)),
-                      to_backend(b.inertia), to_backend(b.angle))
+        InertialPoint(
+            to_backend(b.mass),
+            tuple(vector_to_backend(b.position)),
+            to_backend(b.inertia),
+            to_backend(b.angle),
+        )
         for b in system.rigid_bodies
     )
     named = _points(system)
-    base = Assembly(q, q_dot, q_ddot, to_backend(t),
-                    explicit_kinetic=to_backend(system.kinetic) + (lagrangian - static_part)
-                    + magnetic,
-                    points=points,
-                    potential=to_backend(system.potential) - static_part + electric
-                    + _gravity_potential(system, points) + _spring_potential(system, named),
-                    velocity_potential=to_backend(system.velocity_potential),
-                    dissipation=to_backend(system.dissipation) + resistive,
-                    applied=())
-    return Assembly(**{**base.__dict__,
-                       "dissipation": base.dissipation + _damper_dissipation(system, base, named),
-                       "applied": tuple(_applied_forces(system, base, named))})
+    base = Assembly(
+        q,
+        q_dot,
+        q_ddot,
+        to_backend(t),
+        explicit_kinetic=to_backend(system.kinetic) + (lagrangian - static_part) + magnetic,
+        points=points,
+        potential=to_backend(system.potential)
+        - static_part
+        + electric
+        + _gravity_potential(system, points)
+        + _spring_potential(system, named),
+        velocity_potential=to_backend(system.velocity_potential),
+        dissipation=to_backend(system.dissipation) + resistive,
+        applied=(),
+    )
+    return Assembly(
+        **{
+            **base.__dict__,
+            "dissipation": base.dissipation + _damper_dissipation(system, base, named),
+            "applied": tuple(_applied_forces(system, base, named)),
+        }
+    )

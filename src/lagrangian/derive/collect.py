@@ -16,7 +16,8 @@ import symengine as se
 
 def _powers(expr: Any) -> tuple[Any, dict[Any, Any]]:
     """(numeric coefficient, {base: exponent}) of a product of parameters."""
-    number, powers = se.Integer(1), {}
+    number = se.Integer(1)
+    powers: dict[Any, Any] = {}
     for factor in expr.args if expr.is_Mul else (expr,):
         if factor.is_Number:
             number *= factor
@@ -45,10 +46,12 @@ def factor_common(terms: list[Any]) -> Any:
     if not common and scale == 1:
         return se.Add(*terms)
     outside = scale * se.Mul(*[b**e for b, e in common.items()])
-    inside = se.Add(*[
-        number / scale * se.Mul(*[b ** (e - common.get(b, 0)) for b, e in powers.items()])
-        for number, powers in split
-    ])
+    inside = se.Add(
+        *[
+            number / scale * se.Mul(*[b ** (e - common.get(b, 0)) for b, e in powers.items()])
+            for number, powers in split
+        ]
+    )
     return outside * inside
 
 
@@ -59,7 +62,8 @@ def collect_state(expr: Any, state: Iterable[Any]) -> Any:
     groups: dict[Any, list[Any]] = defaultdict(list)
     for term in terms:
         factors = term.args if term.is_Mul else (term,)
-        key, coefficient = [], []
+        key: list[Any] = []
+        coefficient: list[Any] = []
         for factor in factors:
             (key if factor.free_symbols & state else coefficient).append(factor)
         groups[se.Mul(*key)].append(se.Mul(*coefficient))

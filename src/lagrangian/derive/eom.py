@@ -157,7 +157,8 @@ class EquationsOfMotion:
     def algebraic_equations(self) -> tuple[sp.Expr, ...]:
         """Equations (= 0) of coordinates with neither inertia nor dissipation."""
         return tuple(
-            self.forcing[j] for j, q in enumerate(self.coordinates)
+            self.forcing[j]
+            for j, q in enumerate(self.coordinates)
             if self.coordinate_orders[q] == 0
         )
 

@@ -99,8 +99,9 @@ def kinetic_form(asm: Assembly) -> KineticForm:
             mass[j][k] = combine_trig(explicit[j][k] + point_mass[j][k])
             mass[k][j] = mass[j][k]
     low = _linear_part(asm.explicit_kinetic, asm) + point_low
-    quadratic_t = se.Add(*[mass[j][k] * asm.q_dot[j] * asm.q_dot[k] / 2
-                           for j in range(n) for k in range(n)])
+    quadratic_t = se.Add(
+        *[mass[j][k] * asm.q_dot[j] * asm.q_dot[k] / 2 for j in range(n) for k in range(n)]
+    )
     time_terms = []
     for j in range(n):
         explicit_time = se.Add(*[mass[j][k].diff(asm.t) * asm.q_dot[k] for k in range(n)])

@@ -14,7 +14,7 @@ from functools import cached_property
 import symengine as se
 import sympy as sp
 
-from lagrangian.derive.assemble import Assembly, assemble
+from lagrangian.derive.assemble import assemble
 from lagrangian.derive.backend import Backend, SympyView, depends_on
 from lagrangian.derive.eom import EquationsOfMotion
 from lagrangian.derive.kinetic import KineticForm, kinetic_form
@@ -37,7 +37,7 @@ def derive(system: System) -> EquationsOfMotion:
     """
     work = _Derivation(system)
     return EquationsOfMotion(
-        coordinates=system.coordinates,
+        coordinates=tuple(system.coordinates),
         velocities=system.velocities,
         accelerations=system.accelerations,
         parameters=dict(system.parameters),
@@ -71,9 +71,14 @@ class _Derivation:
         self.gravity = [combine_trig(asm.potential.diff(q)) for q in asm.q]
         self.dissipation_forces = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
         self.forcing = [
-            self.tidy(asm.applied[j] + self.dissipation_forces[j]
-                      + self.velocity_potential_forces[j] - self.kinetic.coriolis[j]
-                      - self.kinetic.time_terms[j] - self.gravity[j])
+            self.tidy(
+                asm.applied[j]
+                + self.dissipation_forces[j]
+                + self.velocity_potential_forces[j]
+                - self.kinetic.coriolis[j]
+                - self.kinetic.time_terms[j]
+                - self.gravity[j]
+            )
             for j in range(n)
         ]
         self.orders = self._orders()
@@ -85,7 +90,8 @@ class _Derivation:
         mass = [[se.Integer(0)] * n for _ in range(n)]
         for j in range(n):
             for k in range(j, n):
-                mass[j][k] = mass[k][j] = self.tidy(kinetic[j][k] - u_momentum[j].diff(asm.q_dot[k]))
+                entry = kinetic[j][k] - u_momentum[j].diff(asm.q_dot[k])
+                mass[j][k] = mass[k][j] = self.tidy(entry)
         return mass
 
     def tidy(self, expr: Backend) -> Backend:
@@ -145,16 +151,18 @@ class _Derivation:
             rate = asm.time_derivative(momentum)
             slope = lagrangian.diff(q)
             friction = asm.dissipation.diff(v)
-            result.append(CoordinateSteps(
-                coordinate=self.system.coordinates[j],
-                velocity=velocity(self.system.coordinates[j]),
-                dL_dvelocity=view(self.tidy(momentum)),
-                ddt_dL_dvelocity=view(self.tidy(rate)),
-                dL_dcoordinate=view(self.tidy(slope)),
-                dF_dvelocity=view(self.tidy(friction)),
-                generalized_force=view(asm.applied[j]),
-                equation=view(self.tidy(rate - slope + friction - asm.applied[j])),
-            ))
+            result.append(
+                CoordinateSteps(
+                    coordinate=self.system.coordinates[j],
+                    velocity=velocity(self.system.coordinates[j]),
+                    dL_dvelocity=view(self.tidy(momentum)),
+                    ddt_dL_dvelocity=view(self.tidy(rate)),
+                    dL_dcoordinate=view(self.tidy(slope)),
+                    dF_dvelocity=view(self.tidy(friction)),
+                    generalized_force=view(asm.applied[j]),
+                    equation=view(self.tidy(rate - slope + friction - asm.applied[j])),
+                )
+            )
         return tuple(result)
 
     def coriolis_matrix(self) -> sp.ImmutableMatrix:
@@ -165,8 +173,11 @@ class _Derivation:
             for k in range(n):
                 entry = se.Integer(0)
                 for ell in range(n):
-                    gamma = (mass[j][k].diff(asm.q[ell]) + mass[j][ell].diff(asm.q[k])
-                             - mass[k][ell].diff(asm.q[j])) / 2
+                    gamma = (
+                        mass[j][k].diff(asm.q[ell])
+                        + mass[j][ell].diff(asm.q[k])
+                        - mass[k][ell].diff(asm.q[j])
+                    ) / 2
                     entry += gamma * asm.q_dot[ell]
                 row.append(self.tidy(entry))
             rows.append(row)

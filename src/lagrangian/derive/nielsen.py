@@ -38,7 +38,6 @@ def nielsen_equations(eom: EquationsOfMotion) -> sp.ImmutableMatrix:
     for j, (q, v) in enumerate(zip(eom.coordinates, eom.velocities)):
         potential_force = -sp.diff(eom.potential_energy, q)
         u_force = _total_time_derivative(sp.diff(u, v), eom) - sp.diff(u, q)
-        forces = (potential_force + eom.generalized_forces[j] + eom.dissipation_forces[j]
-                  + u_force)
+        forces = potential_force + eom.generalized_forces[j] + eom.dissipation_forces[j] + u_force
         residuals.append(sp.expand(sp.diff(kinetic_rate, v) - 2 * sp.diff(kinetic, q) - forces))
     return sp.ImmutableMatrix(residuals)

@@ -1,7 +1,7 @@
 """The derivation of each equation, step by step, as the notes write it (seed 000/001):
 
-    dL/dq_dot_j,  d/dt (dL/dq_dot_j),  dL/dq_j,  dF/dq_dot_j,  Q_j,
-    and the equation  d/dt (dL/dq_dot_j) - dL/dq_j + dF/dq_dot_j - Q_j = 0.
+dL/dq_dot_j,  d/dt (dL/dq_dot_j),  dL/dq_j,  dF/dq_dot_j,  Q_j,
+and the equation  d/dt (dL/dq_dot_j) - dL/dq_j + dF/dq_dot_j - Q_j = 0.
 """
 
 from __future__ import annotations

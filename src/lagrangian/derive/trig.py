@@ -25,7 +25,7 @@ def _split(term: Any) -> tuple[Any, list[Any]] | None:
     factors = term.args if term.is_Mul else (term,)
     coefficient, trig = se.Integer(1), []
     for factor in factors:
-        base, power = (factor.args if factor.is_Pow else (factor, se.Integer(1)))
+        base, power = factor.args if factor.is_Pow else (factor, se.Integer(1))
         if isinstance(base, (se.sin, se.cos)):
             if not (power.is_Integer and 0 < int(power) <= MAX_TRIG_DEGREE):
                 return None

@@ -46,8 +46,9 @@ def get(name: str) -> Callable[..., System]:
 
         close = difflib.get_close_matches(name, CATALOG, n=3)
         hint = f" Did you mean {', '.join(close)}?" if close else ""
-        raise ModelError(f"There is no example named {name!r}.{hint} "
-                         "lagrangian.examples.names() lists them.") from None
+        raise ModelError(
+            f"There is no example named {name!r}.{hint} lagrangian.examples.names() lists them."
+        ) from None
 
 
 def __getattr__(name: str) -> Any:

@@ -10,12 +10,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Union
+from typing import Any
 
 import sympy as sp
 
 #: A point: the name of a particle or body, ``"origin"``, or a position vector.
-PointRef = Union[str, tuple[sp.Expr, ...]]
+PointRef = str | tuple[sp.Expr, ...]
 
 ORIGIN = "origin"
 

@@ -55,8 +55,13 @@ def _coordinates(raw: Any, problems: list[Problem]) -> tuple[sp.Symbol, ...]:
     for i, item in enumerate(raw):
         symbol = as_coordinate(item)
         if symbol is None:
-            problems.append(Problem(f"coordinates[{i}]", f"{item!r} is not a coordinate",
-                                    "give a name, a Symbol or a time function x(t)"))
+            problems.append(
+                Problem(
+                    f"coordinates[{i}]",
+                    f"{item!r} is not a coordinate",
+                    "give a name, a Symbol or a time function x(t)",
+                )
+            )
         else:
             result.append(symbol)
     return tuple(result)
@@ -70,8 +75,13 @@ def _parameter_value(name: str, value: Any, problems: list[Problem]) -> float | 
     except (TypeError, sp.SympifyError):
         number = None
     if number is None or not number.is_number or not number.is_real:
-        problems.append(Problem(f"parameters.{name}", f"value {value!r} is not a real number",
-                                "give a number such as 9.81, or None for no default"))
+        problems.append(
+            Problem(
+                f"parameters.{name}",
+                f"value {value!r} is not a real number",
+                "give a number such as 9.81, or None for no default",
+            )
+        )
         return None
     return float(number)
 
@@ -84,12 +94,18 @@ def _parameters(raw: Any, problems: list[Problem]) -> dict[sp.Symbol, float | No
     for key, value in items:
         symbol = sp.Symbol(key) if isinstance(key, str) else key
         if not isinstance(symbol, sp.Symbol):
-            problems.append(Problem("parameters", f"{key!r} is not a parameter name",
-                                    "use a name or a SymPy Symbol"))
+            problems.append(
+                Problem(
+                    "parameters", f"{key!r} is not a parameter name", "use a name or a SymPy Symbol"
+                )
+            )
             continue
         if symbol in result or any(s.name == symbol.name for s in result):
-            problems.append(Problem(f"parameters.{symbol.name}", "declared twice",
-                                    "declare each parameter once"))
+            problems.append(
+                Problem(
+                    f"parameters.{symbol.name}", "declared twice", "declare each parameter once"
+                )
+            )
             continue
         result[symbol] = _parameter_value(symbol.name, value, problems)
     return result
@@ -107,8 +123,11 @@ def _element(item: Any, canon: _Canonicalizer) -> Any:
             changes[f.name] = as_coordinate(value) if value is not None else value
             continue
         if f.name in ("between", "at"):
-            value = tuple(v if isinstance(v, str) else canon(v) for v in value) \
-                if f.name == "between" else (value if isinstance(value, str) else canon(value))
+            value = (
+                tuple(v if isinstance(v, str) else canon(v) for v in value)
+                if f.name == "between"
+                else (value if isinstance(value, str) else canon(value))
+            )
             changes[f.name] = value
             continue
         changes[f.name] = canon(value)
@@ -135,8 +154,9 @@ def normalize_system(system: System) -> dict[str, Any]:
     values["initial"] = {(as_coordinate(k) or k): v for k, v in dict(system.initial).items()}
     raise_if_problems(problems, "The system's coordinates or parameters are not valid", ModelError)
     problems.extend(validate(values))
-    raise_if_problems(problems, f"The system {system.name or ''} is not valid".replace("  ", " "),
-                      ModelError)
+    raise_if_problems(
+        problems, f"The system {system.name or ''} is not valid".replace("  ", " "), ModelError
+    )
     return values
 
 

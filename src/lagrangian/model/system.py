@@ -37,6 +37,10 @@ from lagrangian.model.symbols import acceleration, t, velocity
 class System:
     """A mechanical or electromechanical system described by energies and elements.
 
+    Every field accepts what is convenient (lists, names, numbers); after construction the
+    fields hold canonical values: tuples of SymPy Symbols and expressions, a dict of parameter
+    symbols to defaults.
+
     Parameters
     ----------
     coordinates:
@@ -57,30 +61,37 @@ class System:
         Initial values of coordinates and velocities (``theta``, ``theta_dot``), for simulation.
     """
 
-    coordinates: tuple[sp.Symbol, ...]
-    parameters: Mapping[sp.Symbol, float | None] = field(default_factory=dict)
-    kinetic: sp.Expr = sp.Integer(0)
-    potential: sp.Expr = sp.Integer(0)
-    lagrangian: sp.Expr = sp.Integer(0)
-    velocity_potential: sp.Expr = sp.Integer(0)
-    dissipation: sp.Expr = sp.Integer(0)
-    generalized_forces: Mapping[sp.Symbol, sp.Expr] = field(default_factory=dict)
-    gravity: tuple[sp.Expr, ...] | None = None
-    particles: tuple[Particle, ...] = ()
-    rigid_bodies: tuple[RigidBody, ...] = ()
-    springs: tuple[Spring, ...] = ()
-    dampers: tuple[Damper, ...] = ()
-    forces: tuple[Force, ...] = ()
-    torques: tuple[Torque, ...] = ()
-    circuit: tuple[CircuitElement, ...] = ()
-    initial: Mapping[sp.Symbol, float] = field(default_factory=dict)
+    coordinates: Sequence[Any]
+    parameters: Mapping[Any, float | None] = field(default_factory=dict)
+    kinetic: Any = sp.Integer(0)
+    potential: Any = sp.Integer(0)
+    lagrangian: Any = sp.Integer(0)
+    velocity_potential: Any = sp.Integer(0)
+    dissipation: Any = sp.Integer(0)
+    generalized_forces: Mapping[Any, Any] = field(default_factory=dict)
+    gravity: Sequence[Any] | None = None
+    particles: Sequence[Particle] = ()
+    rigid_bodies: Sequence[RigidBody] = ()
+    springs: Sequence[Spring] = ()
+    dampers: Sequence[Damper] = ()
+    forces: Sequence[Force] = ()
+    torques: Sequence[Torque] = ()
+    circuit: Sequence[CircuitElement] = ()
+    initial: Mapping[Any, float] = field(default_factory=dict)
     name: str = ""
     description: str = ""
 
     def __post_init__(self) -> None:
         for f in fields(self):
-            if f.name in ("particles", "rigid_bodies", "springs", "dampers", "forces", "torques",
-                          "circuit"):
+            if f.name in (
+                "particles",
+                "rigid_bodies",
+                "springs",
+                "dampers",
+                "forces",
+                "torques",
+                "circuit",
+            ):
                 object.__setattr__(self, f.name, as_tuple(getattr(self, f.name)))
         for name, value in normalize_system(self).items():
             object.__setattr__(self, name, value)
@@ -104,13 +115,15 @@ class System:
     @property
     def dimension(self) -> int:
         """Number of spatial components of positions (0 when there are no points)."""
-        for item in (*self.particles, *self.rigid_bodies):
+        bodies: tuple[Particle | RigidBody, ...] = (*self.particles, *self.rigid_bodies)
+        for item in bodies:
             return len(item.position)
         return len(self.gravity) if self.gravity else 0
 
     def points(self) -> dict[str, tuple[sp.Expr, ...]]:
         """Named points: particles, body centres of mass and the origin."""
-        named = {p.name: p.position for p in (*self.particles, *self.rigid_bodies)}
+        bodies: tuple[Particle | RigidBody, ...] = (*self.particles, *self.rigid_bodies)
+        named = {p.name: tuple(p.position) for p in bodies}
         named.setdefault("origin", tuple(sp.Integer(0) for _ in range(self.dimension)))
         return named
 

@@ -39,41 +39,62 @@ class _Scope:
 
     def check(self, value: Any, field: str, kind: str, problems: list[Problem]) -> None:
         if isinstance(value, (sp.MatrixBase, list, tuple)):
-            problems.append(Problem(field, "must be a scalar expression, got a vector or matrix",
-                                    "give one expression (sum the components yourself)"))
+            problems.append(
+                Problem(
+                    field,
+                    "must be a scalar expression, got a vector or matrix",
+                    "give one expression (sum the components yourself)",
+                )
+            )
             return
         if not isinstance(value, sp.Expr):
-            problems.append(Problem(field, f"{value!r} is not an expression",
-                                    "give a SymPy expression or a number"))
+            problems.append(
+                Problem(
+                    field, f"{value!r} is not an expression", "give a SymPy expression or a number"
+                )
+            )
             return
         allowed = self.configuration if kind == CONFIGURATION else self.state
         for symbol in sorted(value.free_symbols - allowed, key=str):
             problems.append(self._diagnose(symbol, field, kind))
         for derivative in value.atoms(sp.Derivative):
-            problems.append(Problem(field, f"{derivative} is not allowed",
-                                    "write velocities as NAME_dot; higher derivatives are not "
-                                    "part of a Lagrangian model"))
+            problems.append(
+                Problem(
+                    field,
+                    f"{derivative} is not allowed",
+                    "write velocities as NAME_dot; higher derivatives are not "
+                    "part of a Lagrangian model",
+                )
+            )
 
     def _diagnose(self, symbol: Any, field: str, kind: str) -> Problem:
         name = str(symbol)
         if symbol in self.velocities:
-            return Problem(field, f"the velocity {name} may not appear here",
-                           "positions and potentials depend on coordinates and time only; put "
-                           "velocity-dependent terms in kinetic, velocity_potential or dissipation")
+            return Problem(
+                field,
+                f"the velocity {name} may not appear here",
+                "positions and potentials depend on coordinates and time only; put "
+                "velocity-dependent terms in kinetic, velocity_potential or dissipation",
+            )
         if symbol in self.accelerations:
-            return Problem(field, f"the acceleration {name} may not appear in a model",
-                           "energies and forces depend on q, q_dot and t only")
+            return Problem(
+                field,
+                f"the acceleration {name} may not appear in a model",
+                "energies and forces depend on q, q_dot and t only",
+            )
         close = difflib.get_close_matches(name, self.names, n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
-        return Problem(field, f"unknown name {name!r}",
-                       hint + "declare it in parameters (or coordinates)")
+        return Problem(
+            field, f"unknown name {name!r}", hint + "declare it in parameters (or coordinates)"
+        )
 
 
 def _check_names(values: dict[str, Any], problems: list[Problem]) -> None:
     coordinates = values["coordinates"]
     if not coordinates:
-        problems.append(Problem("coordinates", "no generalized coordinates",
-                                "list at least one coordinate"))
+        problems.append(
+            Problem("coordinates", "no generalized coordinates", "list at least one coordinate")
+        )
     seen: set[str] = set()
     for q in coordinates:
         if q.name in seen:
@@ -81,28 +102,47 @@ def _check_names(values: dict[str, Any], problems: list[Problem]) -> None:
         seen.add(q.name)
         if q.name == "t":
             problems.append(Problem("coordinates.t", "t is time", "rename the coordinate"))
-    reserved = {velocity(q).name for q in coordinates} | {acceleration(q).name for q in coordinates}
+    reserved = {velocity(q).name for q in coordinates}
+    reserved |= {acceleration(q).name for q in coordinates}
     for q in coordinates:
         if q.name in reserved:
-            problems.append(Problem(f"coordinates.{q.name}", "clashes with a velocity name",
-                                    f"names ending in {DOT_SUFFIX} or {DDOT_SUFFIX} are velocities"))
+            problems.append(
+                Problem(
+                    f"coordinates.{q.name}",
+                    "clashes with a velocity name",
+                    f"names ending in {DOT_SUFFIX} or {DDOT_SUFFIX} are velocities",
+                )
+            )
     for p in values["parameters"]:
         if p.name in seen:
-            problems.append(Problem(f"parameters.{p.name}",
-                                    "is also a coordinate", "a name is either a coordinate or a "
-                                    "parameter; rename one of them"))
+            problems.append(
+                Problem(
+                    f"parameters.{p.name}",
+                    "is also a coordinate",
+                    "a name is either a coordinate or a parameter; rename one of them",
+                )
+            )
         elif p.name in reserved:
-            problems.append(Problem(f"parameters.{p.name}", "clashes with a velocity name",
-                                    "rename the parameter"))
+            problems.append(
+                Problem(
+                    f"parameters.{p.name}", "clashes with a velocity name", "rename the parameter"
+                )
+            )
         elif p.name == "t":
             problems.append(Problem("parameters.t", "t is time", "rename the parameter"))
 
 
-def _vector(value: Any, field: str, kind: str, scope: _Scope,
-            problems: list[Problem]) -> int | None:
+def _vector(
+    value: Any, field: str, kind: str, scope: _Scope, problems: list[Problem]
+) -> int | None:
     if not isinstance(value, tuple) or not 1 <= len(value) <= 3:
-        problems.append(Problem(field, f"{value!r} is not a vector of 1 to 3 components",
-                                "give a list of expressions such as [l*sin(theta), -l*cos(theta)]"))
+        problems.append(
+            Problem(
+                field,
+                f"{value!r} is not a vector of 1 to 3 components",
+                "give a list of expressions such as [l*sin(theta), -l*cos(theta)]",
+            )
+        )
         return None
     for i, component in enumerate(value):
         scope.check(component, f"{field}[{i}]", kind, problems)
@@ -118,8 +158,13 @@ def _check_points(values: dict[str, Any], scope: _Scope, problems: list[Problem]
             if not isinstance(item.name, str) or not item.name:
                 problems.append(Problem(f"{field}.name", "missing name", "give each a name"))
             elif item.name in names or item.name == ORIGIN:
-                problems.append(Problem(f"{field}.name", f"name {item.name!r} is taken",
-                                        "give each particle and body its own name"))
+                problems.append(
+                    Problem(
+                        f"{field}.name",
+                        f"name {item.name!r} is taken",
+                        "give each particle and body its own name",
+                    )
+                )
             names.add(item.name)
             scope.check(item.mass, f"{field}.mass", CONFIGURATION, problems)
             dim = _vector(item.position, f"{field}.position", CONFIGURATION, scope, problems)
@@ -129,41 +174,59 @@ def _check_points(values: dict[str, Any], scope: _Scope, problems: list[Problem]
                 scope.check(item.inertia, f"{field}.inertia", CONFIGURATION, problems)
                 scope.check(item.angle, f"{field}.angle", CONFIGURATION, problems)
                 if dim is not None and dim != 2:
-                    problems.append(Problem(f"{field}.position", "a planar rigid body needs 2 "
-                                            "components", "give [x_c, y_c]"))
+                    problems.append(
+                        Problem(
+                            f"{field}.position",
+                            "a planar rigid body needs 2 components",
+                            "give [x_c, y_c]",
+                        )
+                    )
     if values["gravity"] is not None:
         dim = _vector(values["gravity"], "gravity", CONFIGURATION, scope, problems)
         if dim is not None:
             dims["gravity"] = dim
     if len(set(dims.values())) > 1:
         listing = ", ".join(f"{k} has {v}" for k, v in dims.items())
-        problems.append(Problem("positions", f"inconsistent dimensions: {listing}",
-                                "give every position and the gravity vector the same number of "
-                                "components"))
+        problems.append(
+            Problem(
+                "positions",
+                f"inconsistent dimensions: {listing}",
+                "give every position and the gravity vector the same number of components",
+            )
+        )
     return names | {ORIGIN}
 
 
-def _check_point_ref(ref: Any, field: str, points: set[str], scope: _Scope,
-                     problems: list[Problem]) -> None:
+def _check_point_ref(
+    ref: Any, field: str, points: set[str], scope: _Scope, problems: list[Problem]
+) -> None:
     if isinstance(ref, str):
         if ref not in points:
             close = difflib.get_close_matches(ref, sorted(points), n=1)
             hint = f"did you mean {close[0]!r}? " if close else ""
-            problems.append(Problem(field, f"unknown point {ref!r}",
-                                    hint + "name a particle, a rigid body or 'origin', or give "
-                                    "a position vector"))
+            problems.append(
+                Problem(
+                    field,
+                    f"unknown point {ref!r}",
+                    hint + "name a particle, a rigid body or 'origin', or give a position vector",
+                )
+            )
     else:
         _vector(ref, field, CONFIGURATION, scope, problems)
 
 
-def _check_elements(values: dict[str, Any], scope: _Scope, points: set[str],
-                    problems: list[Problem]) -> None:
+def _check_elements(
+    values: dict[str, Any], scope: _Scope, points: set[str], problems: list[Problem]
+) -> None:
     for group, attr in (("springs", "stiffness"), ("dampers", "coefficient")):
         for i, item in enumerate(values[group]):
             field = f"{group}[{i}]"
             if len(item.between) != 2:
-                problems.append(Problem(f"{field}.between", "needs exactly two points",
-                                        "give [point_a, point_b]"))
+                problems.append(
+                    Problem(
+                        f"{field}.between", "needs exactly two points", "give [point_a, point_b]"
+                    )
+                )
             for j, ref in enumerate(item.between):
                 _check_point_ref(ref, f"{field}.between[{j}]", points, scope, problems)
             scope.check(getattr(item, attr), f"{field}.{attr}", CONFIGURATION, problems)
@@ -175,8 +238,13 @@ def _check_elements(values: dict[str, Any], scope: _Scope, points: set[str],
     bodies = {b.name for b in values["rigid_bodies"]}
     for i, item in enumerate(values["torques"]):
         if item.body not in bodies:
-            problems.append(Problem(f"torques[{i}].body", f"unknown rigid body {item.body!r}",
-                                    "name one of the rigid_bodies"))
+            problems.append(
+                Problem(
+                    f"torques[{i}].body",
+                    f"unknown rigid body {item.body!r}",
+                    "name one of the rigid_bodies",
+                )
+            )
         scope.check(item.torque, f"torques[{i}].torque", STATE, problems)
 
 
@@ -199,13 +267,21 @@ def _check_circuit(values: dict[str, Any], scope: _Scope, problems: list[Problem
         elif isinstance(item, VoltageSource):
             scope.check(item.voltage, f"{field}.voltage", STATE, problems)
             if item.coordinate not in scope.coordinates:
-                problems.append(Problem(f"{field}.coordinate",
-                                        f"unknown coordinate {item.coordinate!s}",
-                                        "name one of the coordinates (a charge)"))
+                problems.append(
+                    Problem(
+                        f"{field}.coordinate",
+                        f"unknown coordinate {item.coordinate!s}",
+                        "name one of the coordinates (a charge)",
+                    )
+                )
         else:
-            problems.append(Problem(field, f"{type(item).__name__} is not a circuit element",
-                                    "use Inductor, MutualInductance, Capacitor, Resistor or "
-                                    "VoltageSource"))
+            problems.append(
+                Problem(
+                    field,
+                    f"{type(item).__name__} is not a circuit element",
+                    "use Inductor, MutualInductance, Capacitor, Resistor or VoltageSource",
+                )
+            )
 
 
 def validate(values: dict[str, Any]) -> Iterable[Problem]:
@@ -218,14 +294,24 @@ def validate(values: dict[str, Any]) -> Iterable[Problem]:
     scope.check(values["potential"], "potential", CONFIGURATION, problems)
     for key, value in values["generalized_forces"].items():
         if key not in scope.coordinates:
-            problems.append(Problem(f"generalized_forces.{key}", f"unknown coordinate {key!s}",
-                                    "generalized forces are keyed by coordinate"))
+            problems.append(
+                Problem(
+                    f"generalized_forces.{key}",
+                    f"unknown coordinate {key!s}",
+                    "generalized forces are keyed by coordinate",
+                )
+            )
         scope.check(value, f"generalized_forces.{key}", STATE, problems)
     points = _check_points(values, scope, problems)
     _check_elements(values, scope, points, problems)
     _check_circuit(values, scope, problems)
     for key in values["initial"]:
         if key not in scope.coordinates and key not in scope.velocities:
-            problems.append(Problem(f"initial.{key}", f"{key!s} is not a coordinate or velocity",
-                                    "give initial values of coordinates and NAME_dot velocities"))
+            problems.append(
+                Problem(
+                    f"initial.{key}",
+                    f"{key!s} is not a coordinate or velocity",
+                    "give initial values of coordinates and NAME_dot velocities",
+                )
+            )
     return problems

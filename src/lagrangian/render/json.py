@@ -23,8 +23,9 @@ def _vector(matrix: sp.MatrixBase) -> list[str]:
 
 
 def _matrix(matrix: sp.MatrixBase) -> list[list[str]]:
-    return [[expression_string(matrix[i, j]) for j in range(matrix.cols)]
-            for i in range(matrix.rows)]
+    return [
+        [expression_string(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)
+    ]
 
 
 def eom_document(eom: EquationsOfMotion, *, steps: bool = False) -> dict[str, Any]:
