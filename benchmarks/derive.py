@@ -224,6 +224,17 @@ def import_for(method: str) -> None:
 
         lagrangian.derive  # noqa: B018
         lagrangian.examples.n_link_pendulum  # noqa: B018
+    warm_up_sympy()
+
+
+def warm_up_sympy() -> None:
+    """Trigger SymPy's lazy first-use imports (its first Add imports sympy.tensor and
+    sympy.combinatorics, about 50 ms) the same way for every method, so none pays import
+    time inside the timed region."""
+    import sympy as sp
+
+    a, b = sp.symbols("warm_a warm_b")
+    _ = (a * sp.sin(b) + b * sp.cos(a)) ** 2
 
 
 def worker(method: str, n: int, measure: bool) -> int:

@@ -2,12 +2,12 @@
 are what users see, SymEngine does the work).
 
 Expressions go in with :func:`to_backend` and come back with a :class:`SympyView`, which
-restores the user's own symbol objects by name.
+rebuilds them as SymPy with the user's own symbol objects.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from typing import Any
 
 import symengine as se
@@ -25,36 +25,50 @@ def vector_to_backend(values: Iterable[Any]) -> list[Backend]:
     return [se.sympify(v) for v in values]
 
 
-def diff(expr: Backend, symbol: Backend) -> Backend:
-    return expr.diff(symbol)
-
-
-def gradient(expr: Backend, symbols: Sequence[Backend]) -> list[Backend]:
-    """[d expr / d s for s in symbols]."""
-    return [expr.diff(s) for s in symbols]
-
-
-def jacobian(vector: Sequence[Backend], symbols: Sequence[Backend]) -> list[list[Backend]]:
-    """J[i][j] = d vector_i / d symbols_j."""
-    return [[v.diff(s) for s in symbols] for v in vector]
-
-
-def is_zero(expr: Backend) -> bool:
-    return bool(expr == 0)
-
-
 def depends_on(expr: Backend, symbols: Iterable[Backend]) -> bool:
     free = expr.free_symbols
     return any(s in free for s in symbols)
 
 
+_TRIG: dict[type, Callable[..., sp.Expr]] = {se.sin: sp.sin, se.cos: sp.cos}
+
+
 class SympyView:
-    """Converts SymEngine results back to SymPy with the user's symbol objects."""
+    """Converts SymEngine results back to SymPy, with the user's symbol objects.
+
+    Sines and cosines of a difference of two symbols, which pendulum-like systems have by
+    the hundred, are built directly in SymPy's canonical form (the first symbol in SymPy's
+    order positive) instead of through SymPy's general evaluation; everything else goes
+    through SymPy's own constructors.
+    """
 
     def __init__(self, symbols: Iterable[sp.Symbol]) -> None:
         self.by_name = {s.name: s for s in symbols}
+        self._memo: dict[Backend, sp.Expr] = {}
 
     def __call__(self, expr: Backend) -> sp.Expr:
+        memo = self._memo
+        if expr in memo:
+            return memo[expr]
+        if isinstance(expr, se.Symbol):
+            result = self.by_name.get(expr.name) or sp.Symbol(expr.name)
+        elif expr.is_Add:
+            result = sp.Add(*[self(a) for a in expr.args])
+        elif expr.is_Mul:
+            result = sp.Mul(*[self(a) for a in expr.args])
+        elif expr.is_Pow:
+            base, exponent = expr.args
+            result = sp.Pow(self(base), self(exponent))
+        elif type(expr) in _TRIG:
+            result = self._trig(_TRIG[type(expr)], self(expr.args[0]))
+        elif expr.is_Number:
+            result = sp.sympify(expr)
+        else:
+            result = self._fallback(expr)
+        memo[expr] = result
+        return result
+
+    def _fallback(self, expr: Backend) -> sp.Expr:
         result = sp.sympify(expr)
         swap = {
             s: self.by_name[s.name]
@@ -62,6 +76,16 @@ class SympyView:
             if s.name in self.by_name and self.by_name[s.name] is not s
         }
         return result.xreplace(swap) if swap else result
+
+    @staticmethod
+    def _trig(function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.Expr:
+        difference = _symbol_difference(argument)
+        if difference is None:
+            return function(argument)
+        first, second, flipped = difference
+        canonical = sp.Add(first, -second)
+        value = function(canonical, evaluate=False)
+        return -value if flipped and function is sp.sin else value
 
     def vector(self, values: Iterable[Backend]) -> sp.ImmutableMatrix:
         return sp.ImmutableMatrix([self(v) for v in values])
@@ -74,3 +98,22 @@ class SympyView:
         n = len(rows)
         upper = {(j, k): self(rows[j][k]) for j in range(n) for k in range(j, n)}
         return sp.ImmutableMatrix(n, n, lambda j, k: upper[(min(j, k), max(j, k))])
+
+
+def _symbol_difference(argument: sp.Expr) -> tuple[sp.Symbol, sp.Symbol, bool] | None:
+    """For a +- (x - y) with x, y symbols: (first, second, flipped) with first before second
+    in SymPy's order, ``flipped`` when the argument is second - first; else None."""
+    if not (argument.is_Add and len(argument.args) == 2):
+        return None
+    a, b = argument.args
+    positive = [term for term in (a, b) if term.is_Symbol]
+    negative = [
+        -term
+        for term in (a, b)
+        if term.is_Mul and term.args[0] == -1 and len(term.args) == 2 and term.args[1].is_Symbol
+    ]
+    if len(positive) != 1 or len(negative) != 1:
+        return None
+    x, y = positive[0], negative[0]
+    first, second = sorted((x, y), key=sp.default_sort_key)
+    return first, second, x is not first

@@ -81,7 +81,7 @@ def _coriolis(mass: Matrix, asm: Assembly) -> list[Backend]:
     result = []
     for j in range(n):
         rate = se.Add(*[momentum[j].diff(q) * qd for q, qd in zip(asm.q, asm.q_dot)])
-        result.append(combine_trig(rate - twice_t.diff(asm.q[j]) / 2))
+        result.append(se.expand(rate - twice_t.diff(asm.q[j]) / 2))  # tidied by the caller
     return result
 
 
@@ -106,7 +106,7 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     for j in range(n):
         explicit_time = se.Add(*[mass[j][k].diff(asm.t) * asm.q_dot[k] for k in range(n)])
         low_terms = asm.time_derivative(low.diff(asm.q_dot[j])) - low.diff(asm.q[j])
-        time_terms.append(combine_trig(explicit_time + low_terms))
+        time_terms.append(se.expand(explicit_time + low_terms))
     return KineticForm(mass, _coriolis(mass, asm), time_terms, quadratic_t + low, True)
 
 

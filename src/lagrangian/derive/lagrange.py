@@ -68,7 +68,7 @@ class _Derivation:
             for q, v in zip(asm.q, asm.q_dot)
         ]
         self.mass = self._mass_matrix()
-        self.gravity = [combine_trig(asm.potential.diff(q)) for q in asm.q]
+        self.gravity = [asm.potential.diff(q) for q in asm.q]
         self.dissipation_forces = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
         self.forcing = [
             self.tidy(

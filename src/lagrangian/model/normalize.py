@@ -152,6 +152,7 @@ def normalize_system(system: System) -> dict[str, Any]:
     for name in ELEMENT_FIELDS:
         values[name] = tuple(_element(item, canon) for item in getattr(system, name))
     values["initial"] = {(as_coordinate(k) or k): v for k, v in dict(system.initial).items()}
+    values["simulation"] = dict(system.simulation)
     raise_if_problems(problems, "The system's coordinates or parameters are not valid", ModelError)
     problems.extend(validate(values))
     raise_if_problems(

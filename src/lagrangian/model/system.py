@@ -59,6 +59,8 @@ class System:
         Elements, see :mod:`lagrangian.model.elements` and :mod:`lagrangian.model.circuit`.
     initial:
         Initial values of coordinates and velocities (``theta``, ``theta_dot``), for simulation.
+    simulation:
+        Default simulation settings (``t_end``, ``method``, ``rtol``, ``atol``, ``samples``).
     """
 
     coordinates: Sequence[Any]
@@ -78,6 +80,7 @@ class System:
     torques: Sequence[Torque] = ()
     circuit: Sequence[CircuitElement] = ()
     initial: Mapping[Any, float] = field(default_factory=dict)
+    simulation: Mapping[str, Any] = field(default_factory=dict)
     name: str = ""
     description: str = ""
 
