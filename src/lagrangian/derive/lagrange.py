@@ -19,7 +19,7 @@ from lagrangian.derive.backend import Backend, SympyView, depends_on
 from lagrangian.derive.eom import EquationsOfMotion
 from lagrangian.derive.kinetic import KineticForm, kinetic_form
 from lagrangian.derive.steps import CoordinateSteps
-from lagrangian.derive.trig import combine_trig, tidy
+from lagrangian.derive.trig import tidy
 from lagrangian.model import System
 from lagrangian.model.symbols import acceleration, t, velocity
 
