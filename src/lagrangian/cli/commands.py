@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
+from pathlib import Path
 
 from lagrangian import examples, render
 from lagrangian.derive import derive
 from lagrangian.errors import ModelError, Problem
 from lagrangian.model import System
+from lagrangian.numerics.export import export
 from lagrangian.render.json import eom_document
 
 EXAMPLE_PREFIX = "examples/"
@@ -74,6 +76,21 @@ def derive_command(
     if matrix:
         parts.append(render.matrix_form_text(eom))
     return "\n\n".join(parts)
+
+
+def export_command(reference: str, *, language: str, out: str, settings: Sequence[str]) -> str:
+    """Generated code for ``language``: printed (``out`` is ``-``) or written into a folder."""
+    system = apply_settings(load_system(reference), settings)
+    files = export(derive(system), language)
+    if out == "-":
+        return "\n".join(
+            f"// ---- {name}\n{text}" if len(files) > 1 else text for name, text in files.items()
+        )
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, text in files.items():
+        (folder / name).write_text(text, encoding="utf-8")
+    return "\n".join(str(folder / name) for name in files)
 
 
 def examples_command(name: str | None) -> str:

@@ -14,7 +14,7 @@ import traceback
 from collections.abc import Sequence
 from typing import NoReturn
 
-from lagrangian.cli.commands import derive_command, examples_command
+from lagrangian.cli.commands import derive_command, examples_command, export_command
 from lagrangian.errors import ExpressionError, LagrangianError, ModelError
 
 OK, FAILURE, BAD_INPUT = 0, 1, 2
@@ -24,6 +24,7 @@ EPILOG = """examples:
   lagrangian derive examples/double_pendulum --steps
   lagrangian derive examples/robot_arm --format json
   lagrangian derive examples/simple_pendulum --format latex --set m=2
+  lagrangian export examples/double_pendulum --language c --out build/
 """
 
 
@@ -62,6 +63,23 @@ def build_parser() -> argparse.ArgumentParser:
     )
     derive.add_argument("--debug", action="store_true", help="show tracebacks")
 
+    export = sub.add_parser(
+        "export",
+        help="generate code: NumPy, C, MATLAB/Octave, Julia",
+        epilog="example: lagrangian export examples/double_pendulum --language c --out build/",
+    )
+    export.add_argument("model", help="examples/NAME (a built-in example)")
+    export.add_argument("--language", choices=["numpy", "c", "matlab", "julia"], default="numpy")
+    export.add_argument("--out", default="-", help="a folder for the files, or - for stdout")
+    export.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="override a parameter value (repeatable)",
+    )
+    export.add_argument("--debug", action="store_true", help="show tracebacks")
+
     examples = sub.add_parser(
         "examples",
         help="list or describe the built-in examples",
@@ -79,6 +97,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == "derive":
             output = derive_command(
                 args.model, fmt=args.format, steps=args.steps, matrix=args.matrix, settings=args.set
+            )
+        elif args.command == "export":
+            output = export_command(
+                args.model, language=args.language, out=args.out, settings=args.set
             )
         else:
             output = examples_command(args.name)

@@ -1,0 +1,136 @@
+"""The declaring sections of a model file: coordinates and parameters (which fix the names
+expressions may use), initial values, simulation settings, and the refused constraints.
+
+>>> from lagrangian.io.document import Document
+>>> from lagrangian.io.reader import Reader
+>>> reader = Reader(Document({}, "<string>"))
+>>> sorted(expression_names(["x"], {"m": 1.0}))
+['m', 't', 'x', 'x_dot']
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Any
+
+import sympy as sp
+
+from lagrangian.io.document import child
+from lagrangian.io.reader import Reader, describe, suggestion
+from lagrangian.model import t, velocity
+
+
+def expression_names(coordinates: Iterable[str], parameters: Iterable[str]) -> dict[str, sp.Symbol]:
+    """The names an expression may use: coordinates, NAME_dot, parameters and ``t``."""
+    names: dict[str, sp.Symbol] = {}
+    for name in coordinates:
+        q = sp.Symbol(name)
+        names[name] = q
+        names[velocity(q).name] = velocity(q)
+    names.update({name: sp.Symbol(name) for name in parameters})
+    names["t"] = t
+    return names
+
+
+def read_coordinates(reader: Reader, data: dict[str, Any]) -> list[str]:
+    """The coordinate names, each once; none at all is a problem."""
+    if "coordinates" not in data:
+        return []  # reported as a missing section
+    items = reader.items(data["coordinates"], "coordinates")
+    names: dict[str, int] = {}
+    for i, item in enumerate(items):
+        name = reader.name(item, child("coordinates", i))
+        if name is None:
+            continue
+        if name in names:
+            reader.problem(
+                child("coordinates", i),
+                f"coordinate {name!r} is listed twice (also coordinates[{names[name]}])",
+                "list each coordinate once",
+            )
+            continue
+        names[name] = i
+    if isinstance(data["coordinates"], list) and not items:
+        reader.problem("coordinates", "no generalized coordinates", "list at least one: [theta]")
+    return list(names)
+
+
+def read_parameters(
+    reader: Reader, data: dict[str, Any], coordinates: list[str]
+) -> dict[str, float | None]:
+    """Parameter names with their default values (``None``: no default)."""
+    raw = reader.mapping(data.get("parameters", {}), "parameters") or {}
+    parameters: dict[str, float | None] = {}
+    for key, value in raw.items():
+        path = child("parameters", key)
+        name = reader.name(key, path)
+        if name in coordinates:
+            reader.problem(
+                path,
+                f"{name!r} is both a coordinate and a parameter",
+                "a name is either a coordinate or a parameter; rename one of them",
+                key=True,
+            )
+        elif name is not None and (value is None or reader.number(value, path) is not None):
+            parameters[name] = None if value is None else float(value)
+    return parameters
+
+
+def read_initial(
+    reader: Reader, data: dict[str, Any], coordinates: list[str]
+) -> dict[sp.Symbol, float]:
+    """Initial values of coordinates and velocities."""
+    raw = reader.mapping(data.get("initial", {}), "initial") or {}
+    known = [*coordinates, *(velocity(sp.Symbol(q)).name for q in coordinates)]
+    initial: dict[sp.Symbol, float] = {}
+    for key, value in raw.items():
+        path = child("initial", key)
+        if key not in known:
+            reader.problem(
+                path,
+                f"{key!r} is not a coordinate or a velocity",
+                suggestion(key, known, "give values of coordinates and NAME_dot velocities"),
+                key=True,
+            )
+            continue
+        number = reader.number(value, path)
+        if number is not None:
+            initial[sp.Symbol(key)] = number
+    return initial
+
+
+def read_simulate(reader: Reader, data: dict[str, Any]) -> dict[str, Any]:
+    """Simulation settings, checked: positive t_end, rtol, atol; a positive integer samples."""
+    entry = reader.entry(data.get("simulate", {}), "simulate", "simulate") or {}
+    settings: dict[str, Any] = {}
+    for key, value in entry.items():
+        path = child("simulate", key)
+        if key == "method":
+            if reader.text(value, path) is not None:
+                settings[key] = value
+        elif key == "samples":
+            if isinstance(value, int) and not isinstance(value, bool) and value >= 1:
+                settings[key] = value
+            else:
+                reader.problem(
+                    path, f"{describe(value)} is not a positive whole number", "e.g. 1000"
+                )
+        elif key in ("t_end", "rtol", "atol"):
+            number = reader.number(value, path)
+            if number is not None and number <= 0:
+                reader.problem(path, f"must be positive, got {value!r}", "give a number > 0")
+            elif number is not None:
+                settings[key] = value
+    return settings
+
+
+def refuse_constraints(reader: Reader, data: dict[str, Any]) -> None:
+    """Constraints are not supported in this version: say so rather than drop them."""
+    if "constraints" in data and data["constraints"] != []:
+        reader.problem(
+            "constraints",
+            "constraints are not supported yet",
+            "remove the constraints section; holonomic, velocity and unilateral constraints "
+            "come in a later version",
+            key=True,
+        )

@@ -1,0 +1,197 @@
+"""Load a model file (YAML, TOML or JSON) into a :class:`~lagrangian.model.System`.
+
+Every problem of the file is collected (unknown sections and keys, wrong types, duplicate
+names, bad expressions, ...) and raised once as a :class:`~lagrangian.errors.ModelError`
+whose problems name the file, the field, the line and the column.  The System's own checks
+are reported the same way, at the place in the file they come from.
+
+>>> system = loads("coordinates: [x]\\nparameters: {k: 2}\\npotential: k*x**2/2\\n")
+>>> system.potential
+k*x**2/2
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import sympy as sp
+
+from lagrangian.errors import ExpressionError, ModelError, Problem, raise_if_problems
+from lagrangian.io.declarations import (
+    expression_names,
+    read_coordinates,
+    read_initial,
+    read_parameters,
+    read_simulate,
+    refuse_constraints,
+)
+from lagrangian.io.document import Document
+from lagrangian.io.reader import Reader
+from lagrangian.io.sections import (
+    MECHANICAL_SECTIONS,
+    check_body_names,
+    read_circuit,
+    read_elements,
+    read_energies,
+    read_generalized_forces,
+)
+from lagrangian.io.toml_tree import read_toml
+from lagrangian.io.yaml_tree import read_json, read_yaml
+from lagrangian.model import System
+
+FORMATS = ("yaml", "toml", "json")
+SUFFIXES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml", ".json": "json"}
+_NOT_A_PATH = re.compile(r"[\n{}\[\]]|: ")
+
+
+def load(path_or_text: str | os.PathLike[str], *, format: str | None = None) -> System:
+    """The System described by a model file, given its path or its text.
+
+    A ``Path`` or the name of an existing file is read (format from the extension .yaml,
+    .yml, .toml or .json); anything else is the text itself (JSON if it starts with ``{``,
+    else YAML).  ``format`` ("yaml", "toml" or "json") overrides the guess.
+
+    >>> load('{"coordinates": ["x"], "kinetic": "x_dot**2/2"}').kinetic
+    x_dot**2/2
+    """
+    path = _as_path(path_or_text)
+    if path is None:
+        text = str(path_or_text)
+        return loads(text, format or _guess_format(text))
+    text = path.read_text(encoding="utf-8")
+    chosen = format or SUFFIXES.get(path.suffix.lower()) or _guess_format(text)
+    return _load_text(text, chosen, str(path), path.stem)
+
+
+def loads(text: str, format: str = "yaml", source: str = "<string>") -> System:
+    """The System described by the model text ``text`` in ``format`` ("yaml", "toml", "json").
+
+    ``source`` names the text in messages.
+
+    >>> loads('coordinates = ["x"]', format="toml").coordinates
+    (x,)
+    """
+    return _load_text(text, format, source, "")
+
+
+def _as_path(value: str | os.PathLike[str]) -> Path | None:
+    if isinstance(value, os.PathLike):
+        return Path(value)
+    if _NOT_A_PATH.search(value) or len(value) > 4096:
+        return None
+    if os.path.isfile(value) or Path(value).suffix.lower() in SUFFIXES:
+        return Path(value)  # a missing model file raises FileNotFoundError
+    return None
+
+
+def _guess_format(text: str) -> str:
+    return "json" if text.lstrip().startswith("{") else "yaml"
+
+
+def _load_text(text: str, format: str, source: str, default_name: str) -> System:
+    document, problems = _read_document(text, format, source)
+    fields, system_paths = _read_model(document, problems, default_name)
+    try:
+        return System(**fields)
+    except ModelError as exc:
+        located = [_locate(p, document, system_paths) for p in exc.problems]
+        raise_if_problems(located, f"{source} does not describe a valid system", ModelError)
+        raise  # pragma: no cover - a ModelError always has problems
+
+
+def _read_document(text: str, format: str, source: str) -> tuple[Document, list[Problem]]:
+    if format == "yaml":
+        return read_yaml(text, source)
+    if format == "json":
+        return read_json(text, source)
+    if format == "toml":
+        return read_toml(text, source), []
+    problem = Problem("format", f"unknown format {format!r}", "use one of " + ", ".join(FORMATS))
+    raise ModelError(f"{source} cannot be read:", [problem])
+
+
+def _read_model(
+    document: Document, problems: list[Problem], default_name: str
+) -> tuple[dict[str, Any], dict[str, str]]:
+    """System keyword arguments read from the file, and System field -> path in the file."""
+    reader = Reader(document)
+    reader.problems.extend(problems)
+    data = _top_level(reader, document.data)
+    coordinates = read_coordinates(reader, data)
+    parameters = read_parameters(reader, data, coordinates)
+    reader.names = dict(expression_names(coordinates, parameters))
+    refuse_constraints(reader, data)
+    check_body_names(reader, data)
+    fields: dict[str, Any] = {
+        "name": _text(reader, data, "name", default_name),
+        "description": _text(reader, data, "description", ""),
+        "coordinates": [sp.Symbol(q) for q in coordinates],
+        "parameters": {sp.Symbol(p): value for p, value in parameters.items()},
+        **read_energies(reader, data),
+        "generalized_forces": read_generalized_forces(reader, data, coordinates),
+        "initial": read_initial(reader, data, coordinates),
+        "simulation": read_simulate(reader, data),
+    }
+    if "gravity" in data:
+        fields["gravity"] = reader.vector(data["gravity"], "gravity")
+    for section, definition in MECHANICAL_SECTIONS.items():
+        elements = read_elements(reader, data.get(section, []), section, definition, coordinates)
+        fields[section] = [element for _, element in elements]
+    circuit = read_circuit(reader, data, coordinates)
+    fields["circuit"] = [element for _, element in circuit]
+    _raise_problems(reader)
+    paths = {f"circuit[{i}]": path for i, (path, _) in enumerate(circuit)}
+    paths.update({f"coordinates.{q}": f"coordinates[{i}]" for i, q in enumerate(coordinates)})
+    return fields, paths
+
+
+def _top_level(reader: Reader, data: Any) -> dict[str, Any]:
+    """The mapping of sections, or raise: nothing else can be read without it."""
+    if data is None:
+        reader.problem("", "the model is empty", "give at least coordinates: [q]")
+    elif (entry := reader.entry(data, "", None)) is not None:
+        return entry
+    else:
+        reader.problems[-1] = replace(
+            reader.problems[-1],
+            message=f"a model is a mapping of sections, got {_kind(data)}",
+            fix="start with coordinates: [q] (for TOML text pass format='toml')",
+        )
+    _raise_problems(reader)
+    return {}  # pragma: no cover - _raise_problems raised
+
+
+def _kind(data: Any) -> str:
+    return "a list" if isinstance(data, list) else f"the value {data!r}"
+
+
+def _text(reader: Reader, data: dict[str, Any], key: str, default: str) -> str:
+    return (reader.text(data[key], key) or "") if key in data else default
+
+
+def _raise_problems(reader: Reader) -> None:
+    """Raise every problem found, in file order; an ExpressionError if all are expressions."""
+    problems = sorted(reader.problems, key=lambda p: (p.line is None, p.line or 0, p.column or 0))
+    only_expressions = bool(problems) and reader.expression_problems == len(problems)
+    kind = ExpressionError if only_expressions else ModelError
+    raise_if_problems(problems, f"{reader.document.source} is not a valid model file", kind)
+
+
+def _locate(problem: Problem, document: Document, paths: dict[str, str]) -> Problem:
+    """A System problem moved to the file: its path there, line, column and source."""
+    path = _file_path(problem.field, paths)
+    section = re.split(r"[.\[]", path, maxsplit=1)[0]
+    line, column = document.value_at(path) if section in document.data else (None, None)
+    return replace(problem, field=path, line=line, column=column, source=document.source)
+
+
+def _file_path(field: str, paths: dict[str, str]) -> str:
+    """``circuit[2].charge`` -> ``circuit.capacitors[0].charge`` (prefixes from ``paths``)."""
+    for system_path, file_path in paths.items():
+        if field == system_path or field.startswith((system_path + ".", system_path + "[")):
+            return file_path + field[len(system_path) :]
+    return field

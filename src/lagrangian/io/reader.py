@@ -1,0 +1,186 @@
+"""Typed reading of a model file's values, collecting every problem instead of stopping.
+
+Each reading method takes a value and its path in the file and returns the value in model
+terms (a SymPy expression, a vector, a name...), or ``None`` after recording a problem that
+names the path, its line and column, and the fix.
+
+>>> from lagrangian.io.document import Document
+>>> reader = Reader(Document({}, "<string>"))
+>>> reader.number("heavy", "parameters.m") is None, reader.problems[0].message
+(True, "value 'heavy' is not a number")
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Callable, Iterable, Mapping
+from typing import Any, TypeVar
+
+import sympy as sp
+
+from lagrangian.errors import ExpressionError, Problem
+from lagrangian.io.document import Document, child
+from lagrangian.io.spec import entry_keys
+from lagrangian.model.expressions import parse_expression
+
+T = TypeVar("T")
+_EXAMPLE_VECTOR = 'a list such as ["l*sin(theta)", "-l*cos(theta)"]'
+
+
+def describe(value: Any) -> str:
+    """How a value of the wrong type is named in messages: ``describe([1]) == "a list"``."""
+    if isinstance(value, dict):
+        return "a mapping"
+    if isinstance(value, list):
+        return "a list"
+    if value is None:
+        return "nothing (null)"
+    if isinstance(value, bool):
+        return str(value).lower()
+    if isinstance(value, (str, int, float)):
+        return repr(value)
+    return f"a {type(value).__name__}"
+
+
+def suggestion(word: str, choices: Iterable[str], fix: str = "") -> str:
+    """``"did you mean 'x'?"`` for the closest of ``choices`` (if any), then ``fix``.
+
+    >>> suggestion("stifness", ["stiffness", "name"])
+    "did you mean 'stiffness'?"
+    """
+    close = difflib.get_close_matches(word, sorted(choices), n=1)
+    hint = f"did you mean {close[0]!r}?" if close else ""
+    return " ".join(part for part in (hint, fix) if part)
+
+
+class Reader:
+    """Reads values of a Document; ``problems`` collects everything wrong."""
+
+    def __init__(self, document: Document, names: Mapping[str, sp.Basic] | None = None) -> None:
+        self.document = document
+        self.names: dict[str, sp.Basic] = dict(names or {})
+        self.problems: list[Problem] = []
+        self.expression_problems = 0
+
+    def problem(self, path: str, message: str, fix: str = "", *, key: bool = False) -> None:
+        """Record a problem at ``path`` (at its key when ``key``)."""
+        self.problems.append(self.document.problem(path, message, fix, key=key))
+
+    def get(
+        self, entry: Mapping[str, Any], path: str, key: str, kind: Callable[[Any, str], T | None]
+    ) -> T | None:
+        """``kind(entry[key], path.key)``, or ``None`` when the key is absent."""
+        return kind(entry[key], child(path, key)) if key in entry else None
+
+    # -- structure ----------------------------------------------------------------------
+    def mapping(self, value: Any, path: str) -> dict[str, Any] | None:
+        """A mapping of keys to values."""
+        if isinstance(value, dict):
+            return value
+        self.problem(path, f"must be a mapping of keys to values, got {describe(value)}", "")
+        return None
+
+    def items(self, value: Any, path: str) -> list[Any]:
+        """A list (an empty list after a problem)."""
+        if isinstance(value, list):
+            return value
+        self.problem(path, f"must be a list, got {describe(value)}", "write [ ... ] or - items")
+        return []
+
+    def entry(self, value: Any, path: str, definition: str | None) -> dict[str, Any] | None:
+        """A mapping with the keys the schema allows for ``definition``; unknown and missing
+        keys are reported (the top level, ``definition=None``, calls them sections)."""
+        entry = self.mapping(value, path)
+        if entry is None:
+            return None
+        keys = entry_keys(definition)
+        word = "section" if definition is None else "key"
+        for key in entry:
+            if key not in keys.allowed:
+                fix = suggestion(key, keys.allowed) or "allowed: " + ", ".join(keys.allowed)
+                self.problem(child(path, key), f"unknown {word} {key!r}", fix, key=True)
+        for key in keys.required:
+            if key not in entry:
+                self.problem(path or key, f"missing required {word} {key!r}", f"add {key}")
+        return entry
+
+    def entries(self, value: Any, path: str, definition: str) -> list[tuple[str, dict[str, Any]]]:
+        """The entries of a list of mappings, each with its path."""
+        found = []
+        for i, item in enumerate(self.items(value, path)):
+            entry = self.entry(item, child(path, i), definition)
+            if entry is not None:
+                found.append((child(path, i), entry))
+        return found
+
+    # -- scalars ------------------------------------------------------------------------
+    def expression(self, value: Any, path: str) -> sp.Expr | None:
+        """An expression (text or number) parsed with the declared names."""
+        if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+            self.problem(
+                path,
+                f"expected an expression (text or a number), got {describe(value)}",
+                'write one expression such as "m*g*l*cos(theta)"',
+            )
+            return None
+        line, column = self.document.value_at(path)
+        try:
+            return parse_expression(
+                value, self.names, field=path, source=self.document.source, line=line, column=column
+            )
+        except ExpressionError as exc:
+            self.problems.extend(exc.problems)
+            self.expression_problems += len(exc.problems)
+            return None
+
+    def vector(self, value: Any, path: str) -> tuple[sp.Expr, ...] | None:
+        """A list of expressions (components)."""
+        if not isinstance(value, list):
+            self.problem(
+                path,
+                f"must be a list of expressions, got {describe(value)}",
+                "give " + _EXAMPLE_VECTOR,
+            )
+            return None
+        components = [self.expression(v, child(path, i)) for i, v in enumerate(value)]
+        parsed = [c for c in components if c is not None]
+        return tuple(parsed) if len(parsed) == len(components) else None
+
+    def point(self, value: Any, path: str) -> str | tuple[sp.Expr, ...] | None:
+        """A point: the name of a particle, body or ``origin``, or a position vector."""
+        if isinstance(value, str):
+            return self.name(value, path)
+        if isinstance(value, list):
+            return self.vector(value, path)
+        self.problem(
+            path,
+            f"must be a point, got {describe(value)}",
+            "name a particle, a rigid body or origin, or give " + _EXAMPLE_VECTOR,
+        )
+        return None
+
+    def name(self, value: Any, path: str) -> str | None:
+        """A name: letters, digits and underscores, not starting with a digit."""
+        if isinstance(value, str) and value.isidentifier():
+            return value
+        self.problem(
+            path,
+            f"{describe(value)} is not a name",
+            "use letters, digits and underscores, starting with a letter",
+        )
+        return None
+
+    def text(self, value: Any, path: str) -> str | None:
+        """Free text (a name or description)."""
+        if isinstance(value, str):
+            return value
+        self.problem(path, f"must be text, got {describe(value)}", "quote it")
+        return None
+
+    def number(self, value: Any, path: str) -> float | None:
+        """A finite real number."""
+        if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value):
+            return float(value)
+        self.problem(path, f"value {value!r} is not a number", "give a number such as 9.81")
+        return None

@@ -1,0 +1,211 @@
+"""Builders for the sections of a model file that become System fields: energies,
+generalized forces, gravity, mechanical elements and circuit elements.
+
+Each builder reads one section through a :class:`Reader` (which records every problem) and
+returns model values; an element whose fields could not all be read is left out (its problems
+are already recorded, so no System is built from the file).
+
+>>> from lagrangian.io.document import Document
+>>> from lagrangian.io.reader import Reader
+>>> from lagrangian.io.declarations import expression_names
+>>> reader = Reader(Document({}, "<string>"), expression_names(["x"], ["k"]))
+>>> read_energies(reader, {"potential": "k*x**2/2"})
+{'potential': k*x**2/2}
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import sympy as sp
+
+from lagrangian.io.document import child
+from lagrangian.io.reader import Reader, describe, suggestion
+from lagrangian.io.spec import entry_keys
+from lagrangian.model import (
+    Capacitor,
+    Damper,
+    Force,
+    Inductor,
+    MutualInductance,
+    Particle,
+    Resistor,
+    RigidBody,
+    Spring,
+    Torque,
+    VoltageSource,
+)
+
+ENERGIES = ("kinetic", "potential", "lagrangian", "velocity_potential", "dissipation")
+ORIGIN = "origin"
+
+#: Section -> schema definition of its entries.
+MECHANICAL_SECTIONS = {
+    "particles": "particle",
+    "rigid_bodies": "rigid_body",
+    "springs": "spring",
+    "dampers": "damper",
+    "forces": "force",
+    "torques": "torque",
+}
+#: circuit key -> schema definition; System.circuit lists them in this order.
+CIRCUIT_SECTIONS = {
+    "inductors": "inductor",
+    "mutual": "mutual_inductance",
+    "capacitors": "capacitor",
+    "resistors": "resistor",
+    "sources": "voltage_source",
+}
+#: Schema definition -> the model type it becomes.
+ELEMENT_TYPES: dict[str, type] = {
+    "particle": Particle,
+    "rigid_body": RigidBody,
+    "spring": Spring,
+    "damper": Damper,
+    "force": Force,
+    "torque": Torque,
+    "inductor": Inductor,
+    "mutual_inductance": MutualInductance,
+    "capacitor": Capacitor,
+    "resistor": Resistor,
+    "voltage_source": VoltageSource,
+}
+
+#: Element key -> the Reader method that reads it (special keys are read in read_fields).
+_READ_AS = {
+    "mass": "expression",
+    "inertia": "expression",
+    "angle": "expression",
+    "stiffness": "expression",
+    "rest_length": "expression",
+    "coefficient": "expression",
+    "torque": "expression",
+    "inductance": "expression",
+    "capacitance": "expression",
+    "resistance": "expression",
+    "current": "expression",
+    "charge": "expression",
+    "voltage": "expression",
+    "position": "vector",
+    "force": "vector",
+    "at": "point",
+    "body": "name",
+}
+
+
+def read_energies(reader: Reader, data: dict[str, Any]) -> dict[str, sp.Expr]:
+    """T, V, L, U and F, where given."""
+    found = {key: reader.expression(data[key], key) for key in ENERGIES if key in data}
+    return {key: value for key, value in found.items() if value is not None}
+
+
+def read_generalized_forces(
+    reader: Reader, data: dict[str, Any], coordinates: list[str]
+) -> dict[sp.Symbol, sp.Expr]:
+    """Coordinate -> Q(q, q_dot, t)."""
+    raw = reader.mapping(data.get("generalized_forces", {}), "generalized_forces") or {}
+    forces = {}
+    for key, value in raw.items():
+        path = child("generalized_forces", key)
+        if key not in coordinates:
+            fix = suggestion(key, coordinates, "generalized forces are keyed by coordinate")
+            reader.problem(path, f"unknown coordinate {key!r}", fix, key=True)
+            continue
+        expression = reader.expression(value, path)
+        if expression is not None:
+            forces[sp.Symbol(key)] = expression
+    return forces
+
+
+def read_fields(
+    reader: Reader, entry: dict[str, Any], path: str, coordinates: list[str]
+) -> dict[str, Any] | None:
+    """Every key of an element entry read by its kind; ``None`` if any could not be read."""
+    values: dict[str, Any] = {}
+    for key, value in entry.items():
+        where = child(path, key)
+        if key == "between":
+            values[key] = _between(reader, value, where)
+        elif key == "currents":
+            values[key] = _pair(reader, value, where)
+        elif key == "coordinate":
+            values[key] = _coordinate(reader, value, where, coordinates)
+        elif key == "name":
+            values[key] = reader.text(value, where)
+        elif key in _READ_AS:
+            values[key] = getattr(reader, _READ_AS[key])(value, where)
+    # unknown keys are skipped here: the entry check reported them
+    return None if None in values.values() else values
+
+
+def _between(reader: Reader, value: Any, path: str) -> tuple[Any, ...] | None:
+    items = reader.items(value, path)
+    if isinstance(value, list) and len(items) != 2:
+        reader.problem(path, f"needs two points, got {len(items)}", "give [point_a, point_b]")
+        return None
+    points = [reader.point(item, child(path, i)) for i, item in enumerate(items)]
+    return tuple(points) if points and None not in points else None
+
+
+def _pair(reader: Reader, value: Any, path: str) -> tuple[sp.Expr, ...] | None:
+    if isinstance(value, list) and len(value) != 2:
+        reader.problem(path, f"needs two currents, got {len(value)}", "give [i_a, i_b]")
+        return None
+    return reader.vector(value, path)
+
+
+def _coordinate(reader: Reader, value: Any, path: str, coordinates: list[str]) -> Any:
+    if isinstance(value, str) and value in coordinates:
+        return sp.Symbol(value)
+    fix = suggestion(str(value), coordinates, "name one of the coordinates (a charge)")
+    reader.problem(path, f"{describe(value)} is not a coordinate", fix)
+    return None
+
+
+def read_elements(
+    reader: Reader, value: Any, section: str, definition: str, coordinates: list[str]
+) -> list[tuple[str, Any]]:
+    """The elements of the list ``value`` of a section (``particles``, ``circuit.inductors``)
+    with the path of each entry in the file."""
+    kind = ELEMENT_TYPES[definition]
+    required = set(entry_keys(definition).required)
+    elements = []
+    for path, entry in reader.entries(value, section, definition):
+        values = read_fields(reader, entry, path, coordinates)
+        if values is not None and required <= set(values):
+            elements.append((path, kind(**values)))
+    return elements
+
+
+def check_body_names(reader: Reader, data: dict[str, Any]) -> None:
+    """Each particle and rigid body has its own name; ``origin`` is taken."""
+    taken: dict[str, str] = {ORIGIN: "the fixed origin"}
+    for section in ("particles", "rigid_bodies"):
+        entries = data.get(section)
+        for i, entry in enumerate(entries if isinstance(entries, list) else []):
+            name = entry.get("name") if isinstance(entry, dict) else None
+            if not isinstance(name, str):
+                continue
+            if name in taken:
+                reader.problem(
+                    child(child(section, i), "name"),
+                    f"name {name!r} is taken (by {taken[name]})",
+                    "give each particle and rigid body its own name",
+                )
+            else:
+                taken[name] = child(section, i)
+
+
+def read_circuit(
+    reader: Reader, data: dict[str, Any], coordinates: list[str]
+) -> list[tuple[str, Any]]:
+    """Circuit elements in System order: inductors, mutual, capacitors, resistors, sources."""
+    if "circuit" not in data:
+        return []
+    circuit = reader.entry(data["circuit"], "circuit", "circuit") or {}
+    elements = []
+    for key, definition in CIRCUIT_SECTIONS.items():
+        if key in circuit:
+            path = child("circuit", key)
+            elements += read_elements(reader, circuit[key], path, definition, coordinates)
+    return elements

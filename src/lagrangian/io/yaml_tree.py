@@ -1,0 +1,136 @@
+"""Read YAML (and JSON, which is YAML flow syntax) into a :class:`Document` with positions.
+
+The text is composed into PyYAML's node tree (SafeLoader) so that every value keeps its start
+mark; duplicate keys, which PyYAML would silently resolve to the last one, are reported.
+
+>>> doc, problems = read_yaml("coordinates: [x]\\nkinetic: 'x_dot**2/2'\\n", "<string>")
+>>> doc.data["kinetic"], doc.value_at("kinetic")
+('x_dot**2/2', (2, 11))
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from typing import Any
+
+import yaml
+from yaml.constructor import SafeConstructor
+
+from lagrangian.errors import Problem
+from lagrangian.io.document import Document, Position, child, syntax_error
+
+_MAX_DEPTH = 64
+
+
+class _Loader(yaml.SafeLoader):
+    """SafeLoader that also reads ``1e-8`` as a number (YAML 1.2, JSON), not as text."""
+
+
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
+    list("-+0123456789"),
+)
+
+
+def _position(node: yaml.Node) -> Position:
+    """Line and column (from 1) where the node's text starts, inside the quotes if quoted."""
+    mark = node.start_mark
+    quoted = isinstance(node, yaml.ScalarNode) and node.style in ('"', "'")
+    return (mark.line + 1, mark.column + 1 + int(quoted))
+
+
+class _TreeBuilder:
+    """Turns composed nodes into plain data, recording positions and duplicate keys."""
+
+    def __init__(self, source: str) -> None:
+        self.source = source
+        self.values: dict[str, Position] = {}
+        self.keys: dict[str, Position] = {}
+        self.problems: list[Problem] = []
+        self._constructor = SafeConstructor()
+
+    def build(self, node: yaml.Node, path: str, depth: int = 0) -> Any:
+        self.values[path] = _position(node)
+        if depth > _MAX_DEPTH:
+            self._problem(path, "is nested too deeply (a recursive alias?)", "flatten it")
+            return None
+        if isinstance(node, yaml.MappingNode):
+            return self._mapping(node, path, depth)
+        if isinstance(node, yaml.SequenceNode):
+            return [
+                self.build(item, child(path, i), depth + 1) for i, item in enumerate(node.value)
+            ]
+        return self._constructor.construct_object(node, deep=True)
+
+    def _mapping(self, node: yaml.MappingNode, path: str, depth: int) -> dict[str, Any]:
+        result: dict[str, Any] = {}
+        for key_node, value_node in node.value:
+            if not isinstance(key_node, yaml.ScalarNode):
+                where = path or "the file"
+                self._problem(path, f"{where} has a key that is not a name", "use plain names")
+                continue
+            key = str(key_node.value)  # the key as written: `1:` or `on:` stay names
+            key_path = child(path, key)
+            if key in result:
+                first = self.keys[key_path][0]
+                self._problem(
+                    key_path,
+                    f"duplicate key {key!r} (first given on line {first})",
+                    "give each key once (YAML would silently keep only the last)",
+                    _position(key_node),
+                )
+                continue
+            self.keys[key_path] = _position(key_node)
+            result[key] = self.build(value_node, key_path, depth + 1)
+        return result
+
+    def _problem(self, path: str, message: str, fix: str, where: Position | None = None) -> None:
+        line, column = where or self.values.get(path, (None, None))
+        self.problems.append(Problem(path, message, fix, line, column, self.source))
+
+
+def _compose(text: str, source: str, language: str) -> yaml.Node | None:
+    try:
+        return yaml.compose(text, Loader=_Loader)  # a SafeLoader subclass
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        line, column = (mark.line + 1, mark.column + 1) if mark else (None, None)
+        detail = " ".join(str(p) for p in (exc.context, exc.problem) if p)
+        raise syntax_error(source, language, detail, line, column) from None
+    except yaml.YAMLError as exc:
+        raise syntax_error(source, language, str(exc), None, None) from None
+
+
+def _tree(node: yaml.Node | None, source: str) -> tuple[Document, list[Problem]]:
+    if node is None:
+        return Document(None, source), []
+    builder = _TreeBuilder(source)
+    data = builder.build(node, "")
+    return Document(data, source, builder.values, builder.keys), builder.problems
+
+
+def read_yaml(text: str, source: str) -> tuple[Document, list[Problem]]:
+    """The Document of a YAML text and its duplicate-key problems; ModelError on bad syntax."""
+    return _tree(_compose(text, source, "YAML"), source)
+
+
+def read_json(text: str, source: str) -> tuple[Document, list[Problem]]:
+    """The Document of a JSON text, checked by :func:`json.loads`, positions from YAML.
+
+    >>> read_json('{"coordinates": ["x"]}', "<string>")[0].value_at("coordinates[0]")
+    (1, 18)
+    """
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise syntax_error(source, "JSON", exc.msg, exc.lineno, exc.colno) from None
+    try:
+        # Raw tabs can only be whitespace in valid JSON; YAML refuses them in places.
+        document, problems = _tree(_compose(text.replace("\t", " "), source, "JSON"), source)
+    except ValueError:
+        return Document(data, source), []
+    if not problems and document.data != data:  # they disagree: trust json, drop positions
+        return Document(data, source), []
+    return document, problems

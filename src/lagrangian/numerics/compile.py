@@ -1,0 +1,209 @@
+"""compile_equations(eom) -> CompiledEquations: the equations of motion as NumPy functions.
+
+    M(q, t) q_ddot = forcing(q, q_dot, t)        x = [q; q_dot],  dx/dt = [q_dot; q_ddot]
+
+(with first-order coordinates the state is x = [q; q_dot_S], see :mod:`lagrangian.numerics.state`)
+
+    E = T + V                                     energy
+    h = sum_j q_dot_j dL/dq_dot_j - L             energy function, conserved when dL/dt = 0
+
+Every function takes the parameters as an array ``p`` in the order of ``eom.parameters``, so a
+new mass needs no new compilation, and works on one state (q of shape (n,)) or a batch (q of
+shape (k, n)).  Compilation is cached per EquationsOfMotion object.
+
+>>> import numpy as np, lagrangian as lg
+>>> compiled = compile_equations(lg.derive(lg.examples.simple_pendulum()))
+>>> compiled.state_names, compiled.parameters
+(('theta', 'theta_dot'), ('m', 'g', 'l'))
+>>> compiled.rhs(0.0, np.array([np.pi / 2, 0.0]), np.array([1.0, 9.81, 1.0]))
+array([ 0.  , -9.81])
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.errors import SimulationError
+from lagrangian.numerics.cache import IdentityCache
+from lagrangian.numerics.evaluate import NumericFunction
+from lagrangian.numerics.state import StateEquations, state_equations
+
+_CACHE: IdentityCache[EquationsOfMotion, CompiledEquations] = IdentityCache()
+
+
+def compile_equations(eom: EquationsOfMotion) -> CompiledEquations:
+    """The numeric functions of ``eom``, compiled once per EquationsOfMotion object.
+
+    Raises SimulationError when ``eom`` has algebraic coordinates (not supported yet).
+    """
+    return _CACHE.get(eom, _compile)
+
+
+@dataclass(frozen=True)
+class CompiledEquations:
+    """NumPy functions of one system's equations of motion.
+
+    Attributes
+    ----------
+    coordinates, parameters:
+        Names, in the order of the arrays q, q_dot and p.
+    defaults:
+        Default parameter values (None where the model gives none).
+    orders:
+        2 or 1 per coordinate (1: no inertia, its velocity is not part of the state).
+    state_names:
+        Names of the state x: every coordinate, then ``NAME_dot`` of the second-order ones.
+    energy_function_differs:
+        Whether h = sum q_dot dL/dq_dot - L differs from T + V (moving constraints, velocity
+        potentials, parts of T of degree 0 or 1 in the velocities).
+    """
+
+    coordinates: tuple[str, ...]
+    parameters: tuple[str, ...]
+    defaults: tuple[float | None, ...]
+    orders: tuple[int, ...]
+    state_names: tuple[str, ...]
+    energy_function_differs: bool
+    _second: np.ndarray = field(repr=False)
+    _first: np.ndarray = field(repr=False)
+    _system: NumericFunction = field(repr=False)
+    _mass_matrix: NumericFunction = field(repr=False)
+    _forcing: NumericFunction = field(repr=False)
+    _energy: NumericFunction = field(repr=False)
+    _energy_function: NumericFunction = field(repr=False)
+
+    @property
+    def regular(self) -> bool:
+        """True when every coordinate is of second order (x = [q; q_dot])."""
+        return len(self._first) == 0
+
+    def mass_matrix(
+        self, q: np.ndarray, t: float, p: np.ndarray, qd: np.ndarray | None = None
+    ) -> np.ndarray:
+        """M(q, t), shape (n, n) or (k, n, n); ``qd`` only when M depends on the velocities."""
+        if qd is None:
+            qd = np.zeros_like(np.asarray(q, dtype=float))
+        return self._mass_matrix(q, qd, t, p)
+
+    def forcing(self, q: np.ndarray, qd: np.ndarray, t: float, p: np.ndarray) -> np.ndarray:
+        """forcing(q, q_dot, t) of M q_ddot = forcing, shape (n,) or (k, n)."""
+        return self._forcing(q, qd, t, p)
+
+    def energy(self, q: np.ndarray, qd: np.ndarray, t: float, p: np.ndarray) -> np.ndarray:
+        """E = T + V, a 0-d array or shape (k,)."""
+        return self._energy(q, qd, t, p)
+
+    def energy_function(
+        self, q: np.ndarray, qd: np.ndarray, t: float, p: np.ndarray
+    ) -> np.ndarray:
+        """h = sum_j q_dot_j dL/dq_dot_j - L, a 0-d array or shape (k,)."""
+        return self._energy_function(q, qd, t, p)
+
+    def rhs(self, t: float, x: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """dx/dt for a state x of shape (len(state_names),) or a batch (k, len(state_names)).
+
+        Raises SimulationError when the matrix of the state equations is singular at x.
+        """
+        q_dot, q_ddot = self._rates(t, x, p)
+        return np.concatenate((q_dot, q_ddot), axis=-1)
+
+    def velocities(self, t: float, x: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """Every q_dot at state x (first-order ones solved from their equations)."""
+        x = np.asarray(x, dtype=float)
+        if self.regular:
+            return x[..., len(self.coordinates) :]
+        return self._rates(t, x, p)[0]
+
+    def state(self, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+        """The state x = [q; q_dot_S] from every q and q_dot."""
+        q, qd = np.asarray(q, dtype=float), np.asarray(qd, dtype=float)
+        return np.concatenate((q, qd[..., self._second]), axis=-1)
+
+    def _rates(self, t: float, x: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(q_dot, q_ddot_S) at x: one lambdified call and one linear solve."""
+        n = len(self.coordinates)
+        x = np.asarray(x, dtype=float)
+        q, qd_second = x[..., :n], x[..., n:]
+        if x.ndim == 1:
+            values = np.array(self._system.raw(q, qd_second, t, p), dtype=float)
+            matrix, vector = values[: n * n].reshape(n, n), values[n * n :]
+        else:
+            values = self._system(q, qd_second, t, p)
+            matrix, vector = values[..., : n * n].reshape(-1, n, n), values[..., n * n :]
+        z = self._solve(matrix, vector, t, x)
+        if self.regular:
+            return qd_second, z
+        s = len(self._second)
+        q_dot = np.empty_like(q)
+        q_dot[..., self._second] = qd_second
+        q_dot[..., self._first] = z[..., s:]
+        return q_dot, z[..., :s]
+
+    def _solve(
+        self, matrix: np.ndarray, vector: np.ndarray, t: float, x: np.ndarray
+    ) -> np.ndarray:
+        try:
+            return np.linalg.solve(matrix, vector[..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            state = ", ".join(f"{name}={value:.6g}" for name, value in zip(self.state_names, x))
+            where = f"at t = {t:.6g}, {state}" if x.ndim == 1 else "in this batch of states"
+            raise SimulationError(
+                f"The mass matrix is singular {where}: the equations of motion do not "
+                "determine the accelerations there (a coordinate singularity, or a body "
+                "without inertia)."
+            ) from None
+
+
+def _compile(eom: EquationsOfMotion) -> CompiledEquations:
+    equations = state_equations(eom)
+    q, qd, t = list(eom.coordinates), list(eom.velocities), eom.time
+    p = list(eom.parameters)
+    n = len(q)
+    kinetic, potential = eom.kinetic_energy, eom.potential_energy
+    energy = kinetic + potential
+    energy_function = _energy_function(eom)
+    _require_known_symbols(eom, equations, energy, energy_function)
+    qd_second = [qd[j] for j in equations.second]
+    full = (q, qd, t, p)
+    return CompiledEquations(
+        coordinates=tuple(s.name for s in q),
+        parameters=tuple(s.name for s in p),
+        defaults=tuple(None if v is None else float(v) for v in eom.parameters.values()),
+        orders=tuple(eom.coordinate_orders[s] for s in q),
+        state_names=(*(s.name for s in q), *(s.name for s in qd_second)),
+        energy_function_differs=sp.expand(energy_function - energy) != 0,
+        _second=np.array(equations.second, dtype=int),
+        _first=np.array(equations.first, dtype=int),
+        _system=NumericFunction(
+            (q, qd_second, t, p), [*equations.matrix, *equations.vector], (n * n + n,)
+        ),
+        _mass_matrix=NumericFunction(full, list(eom.mass_matrix), (n, n)),
+        _forcing=NumericFunction(full, list(eom.forcing), (n,)),
+        _energy=NumericFunction(full, [energy], ()),
+        _energy_function=NumericFunction(full, [energy_function], ()),
+    )
+
+
+def _energy_function(eom: EquationsOfMotion) -> sp.Expr:
+    """h = sum_j q_dot_j dL/dq_dot_j - L (seed 002, conservation)."""
+    lagrangian = eom.lagrangian
+    return sp.Add(*(v * lagrangian.diff(v) for v in eom.velocities)) - lagrangian
+
+
+def _require_known_symbols(
+    eom: EquationsOfMotion, equations: StateEquations, *scalars: sp.Expr
+) -> None:
+    known = {*eom.coordinates, *eom.velocities, eom.time, *eom.parameters}
+    used = equations.matrix.free_symbols | equations.vector.free_symbols
+    for expr in scalars:
+        used |= expr.free_symbols
+    unknown = sorted(s.name for s in used - known)
+    if unknown:
+        raise SimulationError(
+            f"The equations use {', '.join(unknown)}, which are neither coordinates nor "
+            "parameters: declare them as parameters of the System to give them values."
+        )

@@ -1,0 +1,111 @@
+"""export_julia: a Julia module of the equations of motion.
+
+Indices count from 1 (``q[1]``). Results take the element type of the arguments (so
+ForwardDiff dual numbers pass through); ``rhs`` solves M q_ddot = forcing with ``M \\ f``.
+For DifferentialEquations.jl wrap it as ``(u, p, t) -> rhs(t, u, p)``.
+"""
+
+from __future__ import annotations
+
+import json
+
+from sympy.printing.julia import JuliaCodePrinter
+
+from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.numerics.export.common import (
+    RHS_SUMMARY,
+    ExportPlan,
+    Routine,
+    camel_case,
+    comment,
+    literal,
+    plan_export,
+    print_code,
+)
+
+
+class _Printer(JuliaCodePrinter):
+    """Julia printer spelling Euler's number ``exp(1)``: Julia has no plain ``e``."""
+
+    def _print_Exp1(self, expr: object) -> str:
+        return "exp(1)"
+
+
+def export_julia(eom: EquationsOfMotion) -> str:
+    """The source of a Julia module with M, C qd, G, Q, forcing and rhs.
+
+    >>> import lagrangian as lg
+    >>> source = export_julia(lg.derive(lg.examples.simple_pendulum()))
+    >>> "module SimplePendulum" in source
+    True
+    """
+    plan = plan_export(eom, first_index=1)
+    names = [r.name for r in plan.routines] + (["rhs"] if plan.has_rhs else [])
+    parts = [
+        comment(plan.header(lambda base, i: f"{base}[{i + 1}]"), "#"),
+        f"module {camel_case(plan.base)}",
+        f"export {', '.join(names)}",
+        _constants(plan),
+        *(_function(r) for r in plan.routines),
+        _rhs(plan) if plan.has_rhs else "# No rhs: the mass matrix is singular (see the top).",
+        "end # module",
+    ]
+    return "\n\n".join(parts) + "\n"
+
+
+def _constants(plan: ExportPlan) -> str:
+    coordinates = [json.dumps(q) for q in plan.coordinates]
+    names = [json.dumps(name) for name, _ in plan.parameters]
+    values = [literal(v, "NaN", "Inf") for _, v in plan.parameters]
+    return "\n".join(
+        [
+            f"const COORDINATES = {_vector(coordinates, 'String[]')}",
+            f"const PARAMETERS = {_vector(names, 'String[]')}",
+            f"const DEFAULTS = {_vector(values, 'Float64[]')}  # NaN: no default",
+        ]
+    )
+
+
+def _vector(items: list[str], empty: str) -> str:
+    return f"[{', '.join(items)}]" if items else empty
+
+
+def _docstring(signature: str, summary: str) -> str:
+    return f'"""\n    {signature}\n\n{summary}\n"""'
+
+
+def _function(routine: Routine) -> str:
+    printer = _Printer()
+    signature = f"{routine.name}({', '.join(routine.arguments)})"
+    lines = [_docstring(signature, routine.summary), f"function {signature}"]
+    for symbol, expr in routine.temporaries:
+        lines.append(f"    {symbol} = {print_code(printer, expr, 'Julia')}")
+    rows, cols = routine.outputs.shape
+    shape = f"{rows}, {cols}" if routine.is_matrix else f"{rows}"
+    element = "promote_type(eltype(q), typeof(t), eltype(p)" + (
+        ", eltype(qd))" if "qd" in routine.arguments else ")"
+    )
+    lines.append(f"    {routine.output} = zeros({element}, {shape})")
+    for i, j, expr in routine.entries():
+        if expr != 0:
+            index = f"{i + 1}, {j + 1}" if routine.is_matrix else f"{i + 1}"
+            code = print_code(printer, expr, "Julia")
+            lines.append(f"    {routine.output}[{index}] = {code}")
+    lines += [f"    return {routine.output}", "end"]
+    return "\n".join(lines)
+
+
+def _rhs(plan: ExportPlan) -> str:
+    n = plan.n
+    m_args = ", ".join(plan.routine("mass_matrix").arguments)
+    return "\n".join(
+        [
+            _docstring("rhs(t, x, p)", RHS_SUMMARY),
+            "function rhs(t, x, p)",
+            f"    q = x[1:{n}]",
+            f"    qd = x[{n + 1}:{2 * n}]",
+            f"    M = mass_matrix({m_args})",
+            "    return vcat(qd, M \\ forcing(q, qd, t, p))",
+            "end",
+        ]
+    )

@@ -1,0 +1,121 @@
+"""The lagrangian command, run in-process through its entry point (exit codes, output)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+import sympy as sp
+
+import lagrangian as lg
+from lagrangian.cli.main import main
+
+EXAMPLES = [n for n in lg.examples.names() if n != "n_link_pendulum"]
+
+
+def run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_every_example_derives_as_json_following_the_contract(
+    capsys: pytest.CaptureFixture[str], name: str
+) -> None:
+    code, out, err = run(capsys, "derive", f"examples/{name}", "--format", "json")
+    assert code == 0, err
+    document = json.loads(out)
+    for key in (
+        "coordinates",
+        "parameters",
+        "lagrangian",
+        "equations",
+        "mass_matrix",
+        "forcing",
+        "coriolis",
+        "gravity",
+        "generalized_forces",
+        "dissipation_forces",
+    ):
+        assert key in document
+    eom = lg.derive(lg.examples.get(name)())
+    # Parseable strings (DESIGN.md); names such as I or LM must be declared as symbols, since
+    # SymPy's own namespace uses them.
+    names = [
+        *document["coordinates"],
+        *document["velocities"],
+        *document["accelerations"],
+        *document["parameters"],
+        "t",
+    ]
+    local = {name: sp.Symbol(name) for name in names}
+    parsed = [sp.parse_expr(e, local_dict=local) for e in document["equations"]]
+    assert all(sp.expand(a - b) == 0 for a, b in zip(parsed, eom.equations, strict=True))
+    assert document["coordinates"] == [q.name for q in eom.coordinates]
+
+
+def test_steps_text_for_the_double_pendulum(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "derive", "examples/double_pendulum", "--steps")
+    assert code == 0
+    assert "∂L/∂θ̇ = " in out and "d/dt(∂L/∂φ̇) = " in out
+    assert out.count("⇒ ") == 2
+
+
+def test_latex_and_matrix_outputs(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "derive", "examples/robot_arm", "--format", "latex", "--steps")
+    assert code == 0 and r"\frac{\partial L}{\partial \dot{\theta}}" in out
+    code, out, _ = run(capsys, "derive", "examples/robot_arm", "--matrix")
+    assert (code == 0 and "M =" in out) or "mass matrix" in out.lower()
+
+
+def test_set_overrides_a_parameter(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(
+        capsys, "derive", "examples/simple_pendulum", "--format", "json", "--set", "m=2.5"
+    )
+    assert code == 0 and json.loads(out)["parameters"]["m"] == 2.5
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["derive", "examples/double_pendulm"], "Did you mean double_pendulum"),
+        (["derive", "examples/simple_pendulum", "--set", "mass=2"], "'mass' is not a parameter"),
+        (["derive", "examples/simple_pendulum", "--set", "m=heavy"], "expected NAME=NUMBER"),
+        (["examples", "nothing_like_this"], "There is no example named"),
+    ],
+)
+def test_bad_input_exits_2_without_traceback(
+    capsys: pytest.CaptureFixture[str], argv: list[str], message: str
+) -> None:
+    code, _, err = run(capsys, *argv)
+    assert code == 2
+    assert message in err and "Traceback" not in err
+
+
+def test_bad_usage_exits_2(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit, match="2"):
+        main(["derive", "examples/simple_pendulum", "--format", "pdf"])
+
+
+def test_debug_shows_the_traceback(capsys: pytest.CaptureFixture[str]) -> None:
+    code, _, err = run(capsys, "derive", "examples/nope", "--debug")
+    assert code == 2 and "Traceback" in err
+
+
+def test_examples_lists_and_describes(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "examples")
+    assert code == 0 and len(out.splitlines()) == len(lg.examples.names())
+    code, out, _ = run(capsys, "examples", "atwood_machine")
+    assert code == 0 and out.startswith("atwood_machine")
+
+
+def test_export_writes_files(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    code, out, _ = run(
+        capsys, "export", "examples/double_pendulum", "--language", "c", "--out", str(tmp_path)
+    )
+    assert code == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["double_pendulum.c", "double_pendulum.h"]
+    code, out, _ = run(capsys, "export", "examples/simple_pendulum")
+    assert code == 0 and "def rhs(" in out
