@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import pytest
@@ -110,6 +109,11 @@ def test_positions_on_a_later_line_of_a_multiline_text() -> None:
     assert (problem.line, problem.column) == (4, 3)
 
 
+def test_a_long_sum_is_not_deep_nesting() -> None:
+    assert parse(" + ".join(["x"] * 2000)) == 2000 * x
+    assert parse("*".join(["x"] * 500) + "/x") == x**499
+
+
 def test_many_expressions_report_every_problem_at_once() -> None:
     with pytest.raises(ExpressionError, match=r"\(2 problems\)") as caught:
         parse_expressions([("a", "x + 1"), ("b", "x ^ 2"), ("c", "zz")], NAMES)
@@ -136,7 +140,7 @@ def test_code_is_never_run(tmp_path: Path) -> None:
         f"[c for c in ().__class__.__base__.__subclasses__()] or open('{marker}', 'w')",
     ]
     for text in attempts:
-        with pytest.raises(ExpressionError, match="not allowed|unknown"):
+        with pytest.raises(ExpressionError, match=r"not allowed|unknown"):
             parse(text)
     assert not marker.exists()
 
@@ -179,11 +183,7 @@ def test_hostile_inputs_are_refused_quickly() -> None:
         "x" + "**x" * 3000,
         "+".join(["x"] * 4000),
     ]
-    start = time.perf_counter()
+    # Each is refused (a hang would show as a test that never ends, not as a timing failure).
     for text in hostile:
-        try:
+        with pytest.raises(ExpressionError, match=r"\w"):
             parse(text)
-        except ExpressionError:
-            pass
-    # Not a timing assertion on a shared machine: a generous bound that only a hang breaks.
-    assert time.perf_counter() - start < 60

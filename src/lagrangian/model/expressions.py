@@ -59,6 +59,7 @@ _BINARY = {
     ast.Div: lambda a, b: a / b,
     ast.Pow: sp.Pow,
 }
+_CHAINED = (ast.Add, ast.Sub, ast.Mult, ast.Div)
 _REFUSED_OPERATORS = {
     ast.BitXor: ("'^' is not a power", "use ** for powers"),
     ast.MatMult: ("'@' is not allowed", ALLOWED),
@@ -126,7 +127,7 @@ class _Builder:
                 "names may not start with an underscore",
             )
         if node.id in self.names:
-            return self.names[node.id]  # type: ignore[return-value]
+            return self.names[node.id]
         if node.id in FUNCTIONS:
             raise _Refusal(node, f"{node.id} is a function", f"call it: {node.id}(...)")
         close = difflib.get_close_matches(node.id, sorted(self.names), n=1)
@@ -140,6 +141,21 @@ class _Builder:
         )
 
     def _binary(self, node: ast.BinOp, depth: int) -> sp.Expr:
+        """A left-leaning chain a + b - c + ... (or * and /) is walked as one level, so a long
+        sum is not mistaken for deep nesting."""
+        chain: list[ast.BinOp] = []
+        current: ast.AST = node
+        while isinstance(current, ast.BinOp) and type(current.op) in _CHAINED:
+            chain.append(current)
+            current = current.left
+        if not chain:
+            return self._single(node, depth)
+        result = self.build(current, depth + 1)
+        for link in reversed(chain):
+            result = _BINARY[type(link.op)](result, self.build(link.right, depth + 1))
+        return result
+
+    def _single(self, node: ast.BinOp, depth: int) -> sp.Expr:
         if type(node.op) in _REFUSED_OPERATORS:
             message, fix = _REFUSED_OPERATORS[type(node.op)]
             raise _Refusal(node, message, fix)
