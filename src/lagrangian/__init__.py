@@ -41,6 +41,9 @@ from lagrangian.model import (
 
 __version__ = "0.1.0"
 
+if "IPython" in __import__("sys").modules:  # inside IPython/Jupyter: typeset results
+    render.register()
+
 __all__ = [
     "AnalysisError",
     "Capacitor",

@@ -20,6 +20,7 @@ import sympy as sp
 from lagrangian.derive import CoordinateSteps, EquationsOfMotion
 from lagrangian.model import System
 from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, velocity
+from lagrangian.render.rows import Row, step_rows
 
 _TEXT_ESCAPES = {c: "\\" + c for c in "_&%#${}"}
 
@@ -122,17 +123,17 @@ def coordinate_steps_lines(steps: CoordinateSteps, names: dict[sp.Symbol, str]) 
 
     q, v = tex(steps.coordinate), tex(steps.velocity)
     dl_dv = rf"\frac{{\partial L}}{{\partial {v}}}"
-    lines = [
-        f"{dl_dv} &= {tex(steps.dL_dvelocity)}",
-        rf"\frac{{d}}{{dt}}\left({dl_dv}\right) &= {tex(steps.ddt_dL_dvelocity)}",
-        rf"\frac{{\partial L}}{{\partial {q}}} &= {tex(steps.dL_dcoordinate)}",
+    labels = {
+        Row.MOMENTUM: f"{dl_dv} &= ",
+        Row.RATE: rf"\frac{{d}}{{dt}}\left({dl_dv}\right) &= ",
+        Row.SLOPE: rf"\frac{{\partial L}}{{\partial {q}}} &= ",
+        Row.FRICTION: rf"\frac{{\partial F}}{{\partial {v}}} &= ",
+        Row.FORCE: f"Q_{{{q}}} &= ",
+    }
+    return [
+        rf"\Rightarrow\; {tex(expr)} &= 0" if row is Row.EQUATION else labels[row] + tex(expr)
+        for row, expr in step_rows(steps)
     ]
-    if steps.dF_dvelocity != 0:
-        lines.append(rf"\frac{{\partial F}}{{\partial {v}}} &= {tex(steps.dF_dvelocity)}")
-    if steps.generalized_force != 0:
-        lines.append(f"Q_{{{q}}} &= {tex(steps.generalized_force)}")
-    lines.append(rf"\Rightarrow\; {tex(steps.equation)} &= 0")
-    return lines
 
 
 def steps_latex(eom: EquationsOfMotion, environment: str = "align*") -> str:

@@ -15,6 +15,7 @@ import re
 import sympy as sp
 
 from lagrangian.derive import CoordinateSteps, EquationsOfMotion
+from lagrangian.render.rows import Row, step_rows
 
 DOT = "\u0307"
 DDOT = "\u0308"
@@ -73,17 +74,17 @@ def coordinate_steps_text(steps: CoordinateSteps) -> list[str]:
     '∂L/∂θ̇ = l**2*m*theta_dot'
     """
     q, v = label(steps.coordinate), label(steps.coordinate, DOT)
-    lines = [
-        f"∂L/∂{v} = {sp.sstr(steps.dL_dvelocity)}",
-        f"d/dt(∂L/∂{v}) = {sp.sstr(steps.ddt_dL_dvelocity)}",
-        f"∂L/∂{q} = {sp.sstr(steps.dL_dcoordinate)}",
+    labels = {
+        Row.MOMENTUM: f"∂L/∂{v} = ",
+        Row.RATE: f"d/dt(∂L/∂{v}) = ",
+        Row.SLOPE: f"∂L/∂{q} = ",
+        Row.FRICTION: f"∂F/∂{v} = ",
+        Row.FORCE: f"Q_{q} = ",
+    }
+    return [
+        f"⇒ {sp.sstr(expr)} = 0" if row is Row.EQUATION else labels[row] + sp.sstr(expr)
+        for row, expr in step_rows(steps)
     ]
-    if steps.dF_dvelocity != 0:
-        lines.append(f"∂F/∂{v} = {sp.sstr(steps.dF_dvelocity)}")
-    if steps.generalized_force != 0:
-        lines.append(f"Q_{q} = {sp.sstr(steps.generalized_force)}")
-    lines.append(f"⇒ {sp.sstr(steps.equation)} = 0")
-    return lines
 
 
 def steps_text(eom: EquationsOfMotion) -> str:

@@ -1,0 +1,112 @@
+"""Plots of a Trajectory with matplotlib: time series, phase portraits, energy drift.
+
+matplotlib is imported only when a plot is made (``pip install lagrangian[plot]``).  Without an
+``ax`` each function draws on a new :class:`matplotlib.figure.Figure` (no pyplot state);
+every function returns the Axes it drew on.  The energy drift is
+
+    (E(t) - E(t_0)) / |E(t_0)|      (E(t) - E(t_0) when E(t_0) = 0)
+
+>>> import lagrangian as lg
+>>> from lagrangian.simulate import simulate
+>>> trajectory = simulate(lg.examples.simple_pendulum(), t_span=1.0, samples=50)
+>>> plot_phase_portrait(trajectory, "theta").get_xlabel()
+'theta'
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from lagrangian.simulate.trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+
+def plot_time_series(
+    trajectory: Trajectory, names: Sequence[str] | None = None, ax: Axes | None = None
+) -> Axes:
+    """Columns ``names`` (default: every coordinate) against t."""
+    ax = ax if ax is not None else _new_axes()
+    for name in names if names is not None else trajectory.coordinates:
+        ax.plot(trajectory.t, trajectory[name], label=name)
+    ax.set_xlabel("t")
+    ax.set_title("Time series")
+    ax.legend(loc="best")
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+def plot_phase_portrait(trajectory: Trajectory, coordinate: str, ax: Axes | None = None) -> Axes:
+    """``coordinate_dot`` against ``coordinate``, the start marked."""
+    ax = ax if ax is not None else _new_axes()
+    q, q_dot = trajectory[coordinate], trajectory[coordinate + "_dot"]
+    ax.plot(q, q_dot, linewidth=1.0)
+    if len(q):
+        ax.plot(q[:1], q_dot[:1], "o", label="start")
+        ax.legend(loc="best")
+    ax.set_xlabel(coordinate)
+    ax.set_ylabel(coordinate + "_dot")
+    ax.set_title(f"Phase portrait of {coordinate}")
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+def plot_energy_drift(trajectory: Trajectory, ax: Axes | None = None) -> Axes:
+    """Relative drift of E = T + V (and of h when it differs) against t."""
+    ax = ax if ax is not None else _new_axes()
+    series = {"E = T + V": trajectory.energy}
+    if trajectory.energy_function is not None:
+        series["h"] = trajectory.energy_function
+    relative = True
+    for label, values in series.items():
+        change, scaled = _drift(values)
+        relative = relative and scaled
+        ax.plot(trajectory.t, change, label=label)
+    ax.set_xlabel("t")
+    ax.set_ylabel("(E - E0) / |E0|" if relative else "E - E0")
+    ax.set_title("Energy drift")
+    ax.legend(loc="best")
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+def save_plots(
+    trajectory: Trajectory, path: str | os.PathLike[str], coordinate: str | None = None
+) -> Path:
+    """One PNG with the time series, the phase portrait of ``coordinate`` (default: the first)
+    and the energy drift, side by side; returns the path written."""
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(15, 4.5), layout="constrained")
+    left, middle, right = figure.subplots(1, 3)
+    plot_time_series(trajectory, ax=left)
+    plot_phase_portrait(trajectory, coordinate or trajectory.coordinates[0], ax=middle)
+    plot_energy_drift(trajectory, ax=right)
+    if trajectory.method:
+        figure.suptitle(f"{', '.join(trajectory.coordinates)} ({trajectory.method})")
+    target = Path(path)
+    figure.savefig(target, format="png", dpi=100)
+    return target
+
+
+def _new_axes() -> Axes:
+    from matplotlib.figure import Figure
+
+    figure: Figure = Figure(figsize=(6.4, 4.8), layout="constrained")
+    return figure.add_subplot()
+
+
+def _drift(values: np.ndarray) -> tuple[Any, bool]:
+    """(values - v0) / |v0|, or values - v0 when v0 = 0; and whether it is relative."""
+    if len(values) == 0:
+        return values, True
+    initial = float(values[0])
+    change = values - initial
+    return (change / abs(initial), True) if initial != 0 else (change, False)

@@ -1,0 +1,39 @@
+"""What a derivation shows, independent of the format: the rows of one coordinate's steps.
+
+Both the text and the LaTeX renderers lay out these rows; only the labels differ.
+"""
+
+from __future__ import annotations
+
+from enum import Enum
+
+import sympy as sp
+
+from lagrangian.derive import CoordinateSteps
+
+
+class Row(Enum):
+    """One line of a coordinate's derivation (seed 001, "Do the derivatives")."""
+
+    MOMENTUM = "dL/dq_dot"
+    RATE = "d/dt dL/dq_dot"
+    SLOPE = "dL/dq"
+    FRICTION = "dF/dq_dot"
+    FORCE = "Q"
+    EQUATION = "equation"
+
+
+def step_rows(steps: CoordinateSteps) -> list[tuple[Row, sp.Expr]]:
+    """dL/dq_dot, d/dt(dL/dq_dot), dL/dq always; dF/dq_dot and Q_j when non-zero; then the
+    equation d/dt(dL/dq_dot) - dL/dq + dF/dq_dot - Q_j (= 0)."""
+    rows = [
+        (Row.MOMENTUM, steps.dL_dvelocity),
+        (Row.RATE, steps.ddt_dL_dvelocity),
+        (Row.SLOPE, steps.dL_dcoordinate),
+    ]
+    if steps.dF_dvelocity != 0:
+        rows.append((Row.FRICTION, steps.dF_dvelocity))
+    if steps.generalized_force != 0:
+        rows.append((Row.FORCE, steps.generalized_force))
+    rows.append((Row.EQUATION, steps.equation))
+    return rows
