@@ -1,9 +1,6 @@
 """The declaring sections of a model file: coordinates and parameters (which fix the names
 expressions may use), initial values, simulation settings, and the refused constraints.
 
->>> from lagrangian.io.document import Document
->>> from lagrangian.io.reader import Reader
->>> reader = Reader(Document({}, "<string>"))
 >>> sorted(expression_names(["x"], {"m": 1.0}))
 ['m', 't', 'x', 'x_dot']
 """
@@ -63,7 +60,7 @@ def read_parameters(
     parameters: dict[str, float | None] = {}
     for key, value in raw.items():
         path = child("parameters", key)
-        name = reader.name(key, path)
+        name = reader.name(key, path, key=True)
         if name in coordinates:
             reader.problem(
                 path,
@@ -71,8 +68,9 @@ def read_parameters(
                 "a name is either a coordinate or a parameter; rename one of them",
                 key=True,
             )
-        elif name is not None and (value is None or reader.number(value, path) is not None):
-            parameters[name] = None if value is None else float(value)
+        elif name is not None:
+            # A bad value is reported, but the name stays declared for the expressions.
+            parameters[name] = None if value is None else reader.number(value, path)
     return parameters
 
 
@@ -113,7 +111,9 @@ def read_simulate(reader: Reader, data: dict[str, Any]) -> dict[str, Any]:
                 settings[key] = value
             else:
                 reader.problem(
-                    path, f"{describe(value)} is not a positive whole number", "e.g. 1000"
+                    path,
+                    f"{describe(value)} is not a positive whole number",
+                    "give one such as 1000",
                 )
         elif key in ("t_end", "rtol", "atol"):
             number = reader.number(value, path)

@@ -96,11 +96,13 @@ def _load_text(text: str, format: str, source: str, default_name: str) -> System
     document, problems = _read_document(text, format, source)
     fields, system_paths = _read_model(document, problems, default_name)
     try:
-        return System(**fields)
-    except ModelError as exc:
+        system = System(**fields)
+    except ModelError as exc:  # the System's own checks, moved to their place in the file
         located = [_locate(p, document, system_paths) for p in exc.problems]
-        raise_if_problems(located, f"{source} does not describe a valid system", ModelError)
-        raise  # pragma: no cover - a ModelError always has problems
+    else:
+        return system
+    raise_if_problems(located, f"{source} does not describe a valid system", ModelError)
+    raise AssertionError("a ModelError lists its problems")  # pragma: no cover
 
 
 def _read_document(text: str, format: str, source: str) -> tuple[Document, list[Problem]]:
@@ -185,7 +187,8 @@ def _locate(problem: Problem, document: Document, paths: dict[str, str]) -> Prob
     """A System problem moved to the file: its path there, line, column and source."""
     path = _file_path(problem.field, paths)
     section = re.split(r"[.\[]", path, maxsplit=1)[0]
-    line, column = document.value_at(path) if section in document.data else (None, None)
+    at = document.key_at if section == "parameters" else document.value_at  # about the name
+    line, column = at(path) if section in document.data else (None, None)
     return replace(problem, field=path, line=line, column=column, source=document.source)
 
 

@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import difflib
 import math
-from collections.abc import Callable, Iterable, Mapping
-from typing import Any, TypeVar
+from collections.abc import Iterable, Mapping
+from typing import Any
 
 import sympy as sp
 
@@ -24,7 +24,6 @@ from lagrangian.io.document import Document, child
 from lagrangian.io.spec import entry_keys
 from lagrangian.model.expressions import parse_expression
 
-T = TypeVar("T")
 _EXAMPLE_VECTOR = 'a list such as ["l*sin(theta)", "-l*cos(theta)"]'
 
 
@@ -67,18 +66,16 @@ class Reader:
         """Record a problem at ``path`` (at its key when ``key``)."""
         self.problems.append(self.document.problem(path, message, fix, key=key))
 
-    def get(
-        self, entry: Mapping[str, Any], path: str, key: str, kind: Callable[[Any, str], T | None]
-    ) -> T | None:
-        """``kind(entry[key], path.key)``, or ``None`` when the key is absent."""
-        return kind(entry[key], child(path, key)) if key in entry else None
-
     # -- structure ----------------------------------------------------------------------
     def mapping(self, value: Any, path: str) -> dict[str, Any] | None:
         """A mapping of keys to values."""
         if isinstance(value, dict):
             return value
-        self.problem(path, f"must be a mapping of keys to values, got {describe(value)}", "")
+        self.problem(
+            path,
+            f"must be a mapping of keys to values, got {describe(value)}",
+            "write it as key: value pairs, e.g. {m: 1.0, g: 9.81}",
+        )
         return None
 
     def items(self, value: Any, path: str) -> list[Any]:
@@ -96,12 +93,15 @@ class Reader:
             return None
         keys = entry_keys(definition)
         word = "section" if definition is None else "key"
+        meant = set()  # keys a misspelling stands for: not reported missing as well
         for key in entry:
             if key not in keys.allowed:
+                close = difflib.get_close_matches(key, keys.allowed, n=1)
+                meant.update(close)
                 fix = suggestion(key, keys.allowed) or "allowed: " + ", ".join(keys.allowed)
                 self.problem(child(path, key), f"unknown {word} {key!r}", fix, key=True)
         for key in keys.required:
-            if key not in entry:
+            if key not in entry and key not in meant:
                 self.problem(path or key, f"missing required {word} {key!r}", f"add {key}")
         return entry
 
@@ -125,6 +125,10 @@ class Reader:
             )
             return None
         line, column = self.document.value_at(path)
+        if isinstance(value, str) and column is not None:
+            text = value.lstrip(" \t")  # so that columns count from the first character
+            column += len(value) - len(text)
+            value = text
         try:
             return parse_expression(
                 value, self.names, field=path, source=self.document.source, line=line, column=column
@@ -160,7 +164,7 @@ class Reader:
         )
         return None
 
-    def name(self, value: Any, path: str) -> str | None:
+    def name(self, value: Any, path: str, *, key: bool = False) -> str | None:
         """A name: letters, digits and underscores, not starting with a digit."""
         if isinstance(value, str) and value.isidentifier():
             return value
@@ -168,6 +172,7 @@ class Reader:
             path,
             f"{describe(value)} is not a name",
             "use letters, digits and underscores, starting with a letter",
+            key=key,
         )
         return None
 

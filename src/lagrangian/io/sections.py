@@ -35,9 +35,9 @@ from lagrangian.model import (
     Torque,
     VoltageSource,
 )
+from lagrangian.model.elements import ORIGIN
 
 ENERGIES = ("kinetic", "potential", "lagrangian", "velocity_potential", "dissipation")
-ORIGIN = "origin"
 
 #: Section -> schema definition of its entries.
 MECHANICAL_SECTIONS = {

@@ -35,10 +35,16 @@ _Loader.add_implicit_resolver(
 
 
 def _position(node: yaml.Node) -> Position:
-    """Line and column (from 1) where the node's text starts, inside the quotes if quoted."""
+    """Line and column (from 1) where the node's text starts: inside the quotes if quoted,
+    on the line after the ``|`` or ``>`` of a block scalar."""
     mark = node.start_mark
-    quoted = isinstance(node, yaml.ScalarNode) and node.style in ('"', "'")
-    return (mark.line + 1, mark.column + 1 + int(quoted))
+    style = node.style if isinstance(node, yaml.ScalarNode) else None
+    if style in ("|", ">") and isinstance(mark.buffer, str):
+        start = mark.buffer.find("\n", mark.pointer) + 1
+        if start > 0:
+            indent = len(mark.buffer[start:]) - len(mark.buffer[start:].lstrip(" "))
+            return (mark.line + 2, indent + 1)
+    return (mark.line + 1, mark.column + 1 + int(style in ('"', "'")))
 
 
 class _TreeBuilder:
@@ -70,6 +76,9 @@ class _TreeBuilder:
             if not isinstance(key_node, yaml.ScalarNode):
                 where = path or "the file"
                 self._problem(path, f"{where} has a key that is not a name", "use plain names")
+                continue
+            if key_node.tag == "tag:yaml.org,2002:merge":
+                self._problem(path, "YAML merge keys (<<) are not supported", "write the keys out")
                 continue
             key = str(key_node.value)  # the key as written: `1:` or `on:` stay names
             key_path = child(path, key)
@@ -120,7 +129,7 @@ def read_json(text: str, source: str) -> tuple[Document, list[Problem]]:
     """The Document of a JSON text, checked by :func:`json.loads`, positions from YAML.
 
     >>> read_json('{"coordinates": ["x"]}', "<string>")[0].value_at("coordinates[0]")
-    (1, 18)
+    (1, 19)
     """
     try:
         data = json.loads(text)

@@ -1,0 +1,161 @@
+"""Write a System as a model file (YAML or JSON), the inverse of :func:`lagrangian.io.load`.
+
+Expressions are written with SymPy's string printer, which the safe expression language
+reads back (``l1*sin(theta1)``, ``m*x_dot**2/2``).
+
+>>> import lagrangian as lg
+>>> text = dumps(lg.examples.simple_pendulum())
+>>> text.splitlines()[0]
+'name: simple_pendulum'
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable
+from typing import Any
+
+import sympy as sp
+import yaml
+
+from lagrangian.model import (
+    Capacitor,
+    Inductor,
+    MutualInductance,
+    Resistor,
+    System,
+    VoltageSource,
+)
+
+CIRCUIT_SECTIONS = (
+    ("inductors", Inductor),
+    ("mutual", MutualInductance),
+    ("capacitors", Capacitor),
+    ("resistors", Resistor),
+    ("sources", VoltageSource),
+)
+
+
+def _expr(value: Any) -> str | int | float:
+    """An expression as model-file text; plain integers stay numbers."""
+    if isinstance(value, sp.Integer):
+        return int(value)
+    return sp.sstr(value, order="none")
+
+
+def _point(value: Any) -> Any:
+    return value if isinstance(value, str) else [_expr(v) for v in value]
+
+
+def _named(entry: dict[str, Any], name: str) -> dict[str, Any]:
+    return {"name": name, **entry} if name else entry
+
+
+def _mechanics(system: System) -> dict[str, Any]:
+    sections: dict[str, Any] = {}
+    if system.gravity is not None:
+        sections["gravity"] = [_expr(g) for g in system.gravity]
+    sections["particles"] = [
+        {"name": p.name, "mass": _expr(p.mass), "position": _point(p.position)}
+        for p in system.particles
+    ]
+    sections["rigid_bodies"] = [
+        {
+            "name": b.name,
+            "mass": _expr(b.mass),
+            "inertia": _expr(b.inertia),
+            "position": _point(b.position),
+            "angle": _expr(b.angle),
+        }
+        for b in system.rigid_bodies
+    ]
+    sections["springs"] = [
+        _named(
+            {
+                "between": [_point(p) for p in s.between],
+                "stiffness": _expr(s.stiffness),
+                **({"rest_length": _expr(s.rest_length)} if s.rest_length != 0 else {}),
+            },
+            s.name,
+        )
+        for s in system.springs
+    ]
+    sections["dampers"] = [
+        _named(
+            {"between": [_point(p) for p in d.between], "coefficient": _expr(d.coefficient)}, d.name
+        )
+        for d in system.dampers
+    ]
+    sections["forces"] = [
+        _named({"at": _point(f.at), "force": _point(f.force)}, f.name) for f in system.forces
+    ]
+    sections["torques"] = [
+        _named({"body": tq.body, "torque": _expr(tq.torque)}, tq.name) for tq in system.torques
+    ]
+    return {key: value for key, value in sections.items() if value}
+
+
+def _circuit_entry(element: Any) -> dict[str, Any]:
+    entry: dict[str, Any]
+    if isinstance(element, Inductor):
+        entry = {"inductance": _expr(element.inductance), "current": _expr(element.current)}
+    elif isinstance(element, MutualInductance):
+        entry = {
+            "inductance": _expr(element.inductance),
+            "currents": [_expr(c) for c in element.currents],
+        }
+    elif isinstance(element, Capacitor):
+        entry = {"capacitance": _expr(element.capacitance), "charge": _expr(element.charge)}
+    elif isinstance(element, Resistor):
+        entry = {"resistance": _expr(element.resistance), "current": _expr(element.current)}
+    else:
+        entry = {"voltage": _expr(element.voltage), "coordinate": str(element.coordinate)}
+    return _named(entry, element.name)
+
+
+def _circuit(elements: Iterable[Any]) -> dict[str, list[dict[str, Any]]]:
+    grouped: dict[str, list[dict[str, Any]]] = {}
+    for section, kind in CIRCUIT_SECTIONS:
+        entries = [_circuit_entry(e) for e in elements if isinstance(e, kind)]
+        if entries:
+            grouped[section] = entries
+    return grouped
+
+
+def model_document(system: System) -> dict[str, Any]:
+    """The model-file mapping of ``system`` (the sections of DESIGN.md, empty ones left out)."""
+    document: dict[str, Any] = {"name": system.name or "system"}
+    if system.description:
+        document["description"] = system.description
+    document["coordinates"] = [q.name for q in system.coordinates]
+    document["parameters"] = {p.name: value for p, value in system.parameters.items()}
+    for field in ("kinetic", "potential", "lagrangian", "velocity_potential", "dissipation"):
+        value = getattr(system, field)
+        if value != 0:
+            document[field] = _expr(value)
+    if system.generalized_forces:
+        document["generalized_forces"] = {
+            q.name: _expr(v) for q, v in system.generalized_forces.items()
+        }
+    document.update(_mechanics(system))
+    circuit = _circuit(system.circuit)
+    if circuit:
+        document["circuit"] = circuit
+    if system.initial:
+        document["initial"] = {s.name: float(v) for s, v in system.initial.items()}
+    if system.simulation:
+        document["simulate"] = dict(system.simulation)
+    return document
+
+
+def dumps(system: System, format: str = "yaml", header: str = "") -> str:
+    """``system`` as model-file text in ``format`` (yaml or json); ``header`` becomes leading
+    comment lines (YAML only)."""
+    document = model_document(system)
+    if format == "json":
+        return json.dumps(document, indent=2, ensure_ascii=False) + "\n"
+    body = yaml.safe_dump(
+        document, sort_keys=False, default_flow_style=None, width=100, allow_unicode=True
+    )
+    comments = "".join(f"# {line}".rstrip() + "\n" for line in header.splitlines())
+    return comments + body
