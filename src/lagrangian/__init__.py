@@ -38,6 +38,7 @@ from lagrangian.model import (
     t,
     velocity,
 )
+from lagrangian.simulate import Trajectory, simulate
 
 __version__ = "0.1.0"
 
@@ -65,6 +66,7 @@ __all__ = [
     "Spring",
     "System",
     "Torque",
+    "Trajectory",
     "VoltageSource",
     "acceleration",
     "coordinates",
@@ -72,6 +74,7 @@ __all__ = [
     "examples",
     "nielsen_equations",
     "render",
+    "simulate",
     "t",
     "velocity",
 ]

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import io
 import json
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from lagrangian import examples, render
 from lagrangian.derive import derive
@@ -12,6 +14,8 @@ from lagrangian.errors import ModelError, Problem
 from lagrangian.model import System
 from lagrangian.numerics.export import export
 from lagrangian.render.json import eom_document
+from lagrangian.render.plots import save_plots
+from lagrangian.simulate import simulate
 
 EXAMPLE_PREFIX = "examples/"
 
@@ -91,6 +95,32 @@ def export_command(reference: str, *, language: str, out: str, settings: Sequenc
     for name, text in files.items():
         (folder / name).write_text(text, encoding="utf-8")
     return "\n".join(str(folder / name) for name in files)
+
+
+def simulate_command(
+    reference: str, *, options: dict[str, Any], out: str, plot: str | None, settings: Sequence[str]
+) -> str:
+    """Simulate; the CSV of DESIGN.md goes to ``out`` (``-``: returned for standard output)."""
+    system = apply_settings(load_system(reference), settings)
+    given = {key: value for key, value in options.items() if value is not None}
+    t_end = given.pop("t_end", None)
+    trajectory = simulate(system, t_span=t_end, **given)
+    messages = []
+    if plot:
+        save_plots(trajectory, plot)
+        messages.append(f"plot written to {plot}")
+    if out == "-":
+        buffer = io.StringIO()
+        trajectory.to_csv(buffer)
+        return buffer.getvalue()  # the CSV alone on standard output; the plot is on disk
+    trajectory.to_csv(out)
+    drift = trajectory.drift()
+    messages.insert(
+        0,
+        f"{len(trajectory.t)} samples written to {out}; "
+        f"max |dE/E0| = {drift.get('energy_relative')}",
+    )
+    return "\n".join(messages)
 
 
 def examples_command(name: str | None) -> str:

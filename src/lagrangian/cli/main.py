@@ -8,13 +8,17 @@ lagrangian derive examples/NAME --steps   derive with every step
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import traceback
 from collections.abc import Sequence
 from typing import NoReturn
 
-from lagrangian.cli.commands import derive_command, examples_command, export_command
+from lagrangian.cli.commands import (
+    derive_command,
+    examples_command,
+    export_command,
+    simulate_command,
+)
 from lagrangian.errors import ExpressionError, LagrangianError, ModelError
 
 OK, FAILURE, BAD_INPUT = 0, 1, 2
@@ -25,6 +29,8 @@ EPILOG = """examples:
   lagrangian derive examples/robot_arm --format json
   lagrangian derive examples/simple_pendulum --format latex --set m=2
   lagrangian export examples/double_pendulum --language c --out build/
+  lagrangian simulate examples/double_pendulum --t-end 10 --out traj.csv --plot traj.png
+  lagrangian derive my_model.yaml --steps
 """
 
 
@@ -50,7 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example: lagrangian derive examples/double_pendulum --steps",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    derive.add_argument("model", help="examples/NAME (a built-in example)")
+    derive.add_argument("model", help="examples/NAME, a model file, or - for stdin")
     derive.add_argument("--format", choices=["text", "latex", "json"], default="text")
     derive.add_argument("--steps", action="store_true", help="show every step of the derivation")
     derive.add_argument("--matrix", action="store_true", help="also show M, C q_dot, G, Q")
@@ -68,7 +74,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="generate code: NumPy, C, MATLAB/Octave, Julia",
         epilog="example: lagrangian export examples/double_pendulum --language c --out build/",
     )
-    export.add_argument("model", help="examples/NAME (a built-in example)")
+    export.add_argument("model", help="examples/NAME, a model file, or - for stdin")
     export.add_argument("--language", choices=["numpy", "c", "matlab", "julia"], default="numpy")
     export.add_argument("--out", default="-", help="a folder for the files, or - for stdout")
     export.add_argument(
@@ -79,6 +85,29 @@ def build_parser() -> argparse.ArgumentParser:
         help="override a parameter value (repeatable)",
     )
     export.add_argument("--debug", action="store_true", help="show tracebacks")
+
+    simulate = sub.add_parser(
+        "simulate",
+        help="integrate the motion; CSV of t, coordinates, velocities, energy",
+        epilog="example: lagrangian simulate examples/double_pendulum --t-end 10 "
+        "--out traj.csv --plot traj.png",
+    )
+    simulate.add_argument("model", help="examples/NAME, a model file, or - for stdin")
+    simulate.add_argument("--t-end", type=float, help="end time (default: the model's)")
+    simulate.add_argument("--method", help="RK45, RK23, DOP853, Radau, BDF, LSODA or RK4")
+    simulate.add_argument("--rtol", type=float, help="relative tolerance")
+    simulate.add_argument("--atol", type=float, help="absolute tolerance")
+    simulate.add_argument("--samples", type=int, help="number of evenly spaced output times")
+    simulate.add_argument("--out", default="-", help="CSV file, or - for standard output")
+    simulate.add_argument("--plot", help="write time series, phase portrait and energy (PNG)")
+    simulate.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="override a parameter or an initial value (repeatable)",
+    )
+    simulate.add_argument("--debug", action="store_true", help="show tracebacks")
 
     examples = sub.add_parser(
         "examples",
@@ -98,6 +127,17 @@ def main(argv: Sequence[str] | None = None) -> int:
             output = derive_command(
                 args.model, fmt=args.format, steps=args.steps, matrix=args.matrix, settings=args.set
             )
+        elif args.command == "simulate":
+            options = {
+                "t_end": args.t_end,
+                "method": args.method,
+                "rtol": args.rtol,
+                "atol": args.atol,
+                "samples": args.samples,
+            }
+            output = simulate_command(
+                args.model, options=options, out=args.out, plot=args.plot, settings=args.set
+            )
         elif args.command == "export":
             output = export_command(
                 args.model, language=args.language, out=args.out, settings=args.set
@@ -106,9 +146,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             output = examples_command(args.name)
         sys.stdout.write(output if output.endswith("\n") else output + "\n")
         return OK
-    except (ModelError, ExpressionError) as error:
+    except (ModelError, ExpressionError, FileNotFoundError, IsADirectoryError) as error:
         return _report(error, BAD_INPUT, args.debug)
-    except LagrangianError as error:
+    except LagrangianError as error:  # listed problems are the input's; otherwise it failed
+        return _report(error, BAD_INPUT if error.problems else FAILURE, args.debug)
+    except OSError as error:
         return _report(error, FAILURE, args.debug)
     except Exception as error:  # a bug: say so plainly, traceback only with --debug
         return _report(error, FAILURE, args.debug, prefix="internal error: ")
@@ -119,10 +161,6 @@ def _report(error: BaseException, code: int, debug: bool, prefix: str = "") -> i
         traceback.print_exception(error)
     sys.stderr.write(f"lagrangian: {prefix}{error}\n")
     return code
-
-
-def json_text(document: object) -> str:
-    return json.dumps(document, indent=2, ensure_ascii=False)
 
 
 if __name__ == "__main__":

@@ -1,15 +1,20 @@
 """The safe expression language of model files (DESIGN.md, "Expression language").
 
-Allowed: numbers, names (coordinates, ``NAME_dot``, parameters, ``t``, ``pi``, ``E``),
-``+ - * / **``, parentheses, and calls of sin cos tan asin acos atan atan2 sinh cosh tanh exp
-log sqrt Abs sign Heaviside.  The text is parsed by Python's ``ast`` and every node is checked
-against an allow-list and turned into SymPy directly: nothing is ever evaluated as code
-(no ``eval``, no ``sympify`` of the text).  Decimal literals become exact rationals
-(``0.1`` -> 1/10) so derivations stay exact.  Sizes are bounded so no input can hang.
+Grammar, and nothing else::
+
+    expr := number | name | expr OP expr | ("+" | "-") expr | "(" expr ")" | FUNC "(" args ")"
+    OP   := + - * / **
+    FUNC := sin cos tan asin acos atan atan2 sinh cosh tanh exp log sqrt Abs sign Heaviside
+
+The text is read by :func:`ast.parse` and the tree is walked against an allow-list, building
+SymPy objects directly: nothing is evaluated as code (no ``eval``, no ``sympify`` of text).
+Decimals are exact (``0.1`` is ``Rational(1, 10)``).  Bounds on the text, nesting, numbers and
+numeric powers keep every input fast.  Refusals are ``ExpressionError``s pointing at the file,
+the field, the line and the column.
 
 >>> import sympy as sp
->>> x = sp.Symbol("x")
->>> parse_expression("0.5*k*x**2", {"x": x, "k": sp.Symbol("k")}, field="potential")
+>>> k, x = sp.symbols("k x")
+>>> parse_expression("0.5*k*x**2", {"k": k, "x": x}, field="potential")
 k*x**2/2
 """
 
@@ -17,10 +22,10 @@ from __future__ import annotations
 
 import ast
 import difflib
+import re
 import warnings
 from collections.abc import Callable, Iterable, Mapping
-from fractions import Fraction
-from typing import Any
+from typing import NoReturn
 
 import sympy as sp
 
@@ -30,223 +35,317 @@ MAX_LENGTH = 10_000
 MAX_DEPTH = 100
 MAX_DIGITS = 1000
 MAX_EXPONENT = 1000
+_NUMBER_LIMIT = 10**MAX_DIGITS
+# Cost guards, in bits.  A power of numbers is computed only when it is small (the estimate
+# may exceed the size by a bit per factor; the exact size is checked after).  Roots cost more:
+# SymPy raises the base to the exponent's numerator and hunts for exact roots, and products may
+# merge roots of one base, so roots have a small budget of their own.  All numbers of one
+# expression together stay below the budget, so sums and products of numbers stay cheap.
+_POWER_BITS = 4 * MAX_DIGITS
+_ROOT_BITS = 512
+_BUDGET_BITS = 50_000
 
+_ONE_ARGUMENT = (sp.sin, sp.cos, sp.tan, sp.asin, sp.acos, sp.atan, sp.sinh, sp.cosh, sp.tanh)
 FUNCTIONS: dict[str, tuple[Callable[..., sp.Expr], tuple[int, ...]]] = {
-    "sin": (sp.sin, (1,)),
-    "cos": (sp.cos, (1,)),
-    "tan": (sp.tan, (1,)),
-    "asin": (sp.asin, (1,)),
-    "acos": (sp.acos, (1,)),
-    "atan": (sp.atan, (1,)),
+    **{f.__name__: (f, (1,)) for f in _ONE_ARGUMENT},
     "atan2": (sp.atan2, (2,)),
-    "sinh": (sp.sinh, (1,)),
-    "cosh": (sp.cosh, (1,)),
-    "tanh": (sp.tanh, (1,)),
-    "exp": (sp.exp, (1,)),
+    **{f.__name__: (f, (1,)) for f in (sp.exp, sp.sqrt, sp.Abs, sp.sign, sp.Heaviside)},
     "log": (sp.log, (1, 2)),
-    "sqrt": (sp.sqrt, (1,)),
-    "Abs": (sp.Abs, (1,)),
-    "sign": (sp.sign, (1,)),
-    "Heaviside": (sp.Heaviside, (1,)),
 }
 CONSTANTS: dict[str, sp.Expr] = {"pi": sp.pi, "E": sp.E}
-ALLOWED = "numbers, names, + - * / **, parentheses and the functions " + " ".join(FUNCTIONS)
+ALLOWED = "allowed: numbers, names, + - * / **, parentheses and calls of " + ", ".join(FUNCTIONS)
 
-_BINARY = {
-    ast.Add: sp.Add,
-    ast.Sub: lambda a, b: a - b,
-    ast.Mult: sp.Mul,
-    ast.Div: lambda a, b: a / b,
-    ast.Pow: sp.Pow,
+_REFUSED_NODES: dict[type, tuple[str, str]] = {
+    ast.Attribute: ("attribute access", "write plain names, without dots"),
+    ast.Subscript: ("indexing ('[...]')", "use one name per component, such as x1"),
+    ast.Lambda: ("a lambda", ALLOWED),
+    **dict.fromkeys(
+        (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp), ("a comprehension", ALLOWED)
+    ),
+    ast.Compare: ("a comparison", "write the expression itself; a constraint h is h = 0"),
+    ast.BoolOp: ("a boolean operator ('and', 'or')", ALLOWED),
+    ast.NamedExpr: ("an assignment (':=')", ALLOWED),
+    ast.JoinedStr: ("an f-string", ALLOWED),
+    ast.Starred: ("a starred argument ('*')", "pass each argument on its own"),
+    ast.IfExp: ("an if-expression", "use Heaviside or sign for piecewise terms"),
+    ast.Tuple: ("a tuple (values separated by commas)", "give one expression per field"),
+    **{
+        kind: (f"a {kind.__name__.lower()}", "give one expression per field")
+        for kind in (ast.List, ast.Dict, ast.Set)
+    },
 }
-_CHAINED = (ast.Add, ast.Sub, ast.Mult, ast.Div)
-_REFUSED_OPERATORS = {
-    ast.BitXor: ("'^' is not a power", "use ** for powers"),
-    ast.MatMult: ("'@' is not allowed", ALLOWED),
-    ast.Mod: ("'%' is not allowed", ALLOWED),
-    ast.FloorDiv: ("'//' is not allowed", "use / for division"),
+_OPERATORS: dict[type, str] = {
+    ast.BitXor: "^",
+    ast.MatMult: "@",
+    ast.Mod: "%",
+    ast.FloorDiv: "//",
+    ast.LShift: "<<",
+    ast.RShift: ">>",
+    ast.BitOr: "|",
+    ast.BitAnd: "&",
 }
+_OPERATOR_REFUSALS = {
+    "^": ("'^' is not a power", "use ** for powers, such as x**2"),
+    "//": ("the operator '//' is not allowed", "use / for division"),
+}
+_DECIMAL = re.compile(r"(\d*)\.?(\d*)(?:[eE]([+-]?\d+))?")
+_UNDEFINED = (sp.zoo, sp.nan, sp.oo, -sp.oo)
+_TOO_BIG = (f"a number of more than {MAX_DIGITS} digits", "use smaller numbers")
 
 
 class _Refusal(Exception):
-    """Raised inside the walk; turned into an ExpressionError with the position."""
+    """Raised inside the walk; the caller turns it into a positioned ExpressionError."""
 
-    def __init__(self, node: ast.AST | None, message: str, fix: str = ALLOWED) -> None:
+    def __init__(self, message: str, fix: str, at: tuple[int, int] | None = None) -> None:
         super().__init__(message)
-        self.node, self.message, self.fix = node, message, fix
+        self.message, self.fix, self.at = message, fix, at
 
 
-def _number(node: ast.Constant) -> sp.Expr:
-    value = node.value
+def _locate(
+    at: tuple[int, int], prefix: str, line: int | None, column: int | None
+) -> tuple[int | None, int | None]:
+    """File (line, column) of ``at``, a line and 0-based column in the text after the skipped
+    leading ``prefix``; the text starts at ``line``, ``column`` (1-based, 1 when unknown)."""
+    at_line, at_column = at[0] + prefix.count("\n"), at[1]
+    if at[0] == 1:  # the skipped prefix shifts the columns of its own last line only
+        at_column += len(prefix) - prefix.rfind("\n") - 1
+    return (line or 1) + at_line - 1, at_column + ((column or 1) if at_line == 1 else 1)
+
+
+def _bits(number: sp.Rational) -> int:
+    return max(int(number.p).bit_length(), int(number.q).bit_length())
+
+
+def _power_cost(base: sp.Basic) -> tuple[int, bool]:
+    """Bits of the numbers SymPy computes in ``base**n`` per unit of ``n``, and whether a root
+    is involved: powers of powers and of products combine, ``(2*3**(1/7))**7 == 2**7*3``."""
+    if isinstance(base, sp.Rational):
+        return _bits(base), False
+    if isinstance(base, sp.Pow) and isinstance(base.exp, sp.Rational):
+        bits, root = _power_cost(base.base)
+        return bits * abs(int(base.exp.p)), root or not base.exp.is_Integer
+    if isinstance(base, sp.Mul):
+        costs = [_power_cost(factor) for factor in base.args]
+        return max(bits for bits, _ in costs), any(root for _, root in costs)
+    return 0, False
+
+
+def _check_size(number: sp.Rational) -> sp.Rational:
+    if abs(number.p) >= _NUMBER_LIMIT or number.q >= _NUMBER_LIMIT:
+        raise _Refusal(*_TOO_BIG)
+    return number
+
+
+def _decimal(text: str) -> sp.Rational:
+    """The exact rational a decimal literal means: ``"1.5e-3"`` -> 3/2000."""
+    match = _DECIMAL.fullmatch(text.replace("_", ""))
+    whole, fraction, exponent = match.groups() if match else ("", "", "")
+    if not (whole or fraction):  # ast accepted it, so this is not expected
+        raise _Refusal(f"the number {text[:20]!r} is not understood", "write it like 1e-3")
+    if len(whole + fraction) > MAX_DIGITS or len(exponent or "") > 5:
+        raise _Refusal(*_TOO_BIG)
+    if abs(int(exponent or 0)) > MAX_EXPONENT:
+        raise _Refusal(f"the exponent of {text!r} is beyond ±{MAX_EXPONENT}", "use a smaller one")
+    shift = int(exponent or 0) - len(fraction)
+    mantissa = int(whole + fraction)
+    return _check_size(sp.Rational(mantissa * 10 ** max(shift, 0), 10 ** max(-shift, 0)))
+
+
+def _number(value: object) -> sp.Rational:
+    """An exact SymPy number for a bare int or float (a float by its shortest decimal text)."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        kind = "a string" if isinstance(value, (str, bytes)) else repr(value)
-        raise _Refusal(node, f"{kind} is not a number or a name")
+        raise _Refusal(f"{value!r} is not an expression", "write a number or a formula")
     if isinstance(value, int):
-        if len(str(abs(value))) > MAX_DIGITS:
-            raise _Refusal(
-                node, f"an integer of more than {MAX_DIGITS} digits", "use a smaller number"
-            )
-        return sp.Integer(value)
-    if value != value or value in (float("inf"), float("-inf")):
-        raise _Refusal(node, "not a finite number")
-    # The decimal text the user wrote, exactly: repr gives the shortest round-trip form.
-    return sp.Rational(Fraction(repr(value)))
+        return _check_size(sp.Integer(value))
+    if value != value or abs(value) == float("inf"):
+        raise _Refusal(f"{value!r} is not a finite number", "write a finite number")
+    magnitude = _decimal(repr(abs(value)))
+    return -magnitude if value < 0 else magnitude
 
 
 class _Builder:
     """Turns an allow-listed ``ast`` tree into SymPy, refusing everything else."""
 
-    def __init__(self, names: Mapping[str, sp.Basic]) -> None:
+    def __init__(self, text: str, names: Mapping[str, sp.Basic]) -> None:
+        self.lines = text.split("\n")
         self.names = {**CONSTANTS, **names}
+        self.budget, self.root_budget = _BUDGET_BITS, _ROOT_BITS
 
-    def build(self, node: ast.AST, depth: int = 0) -> sp.Expr:
+    def at(self, node: ast.AST, end: bool = False) -> tuple[int, int]:
+        """(line, 0-based character column) of a node; ast columns count UTF-8 bytes."""
+        line = getattr(node, "end_lineno" if end else "lineno")
+        offset = getattr(node, "end_col_offset" if end else "col_offset")
+        return line, len(self.lines[line - 1].encode()[:offset].decode(errors="ignore"))
+
+    def segment(self, node: ast.expr) -> str:
+        """The source text of a node on one line (a number literal)."""
+        line = self.lines[node.lineno - 1].encode()
+        return line[node.col_offset : node.end_col_offset].decode()
+
+    def refuse(self, node: ast.AST, message: str, fix: str = ALLOWED) -> NoReturn:
+        raise _Refusal(message, fix, self.at(node))
+
+    def spend(self, bits: int, root: bool = False) -> None:
+        self.budget -= bits
+        self.root_budget -= bits if root else 0
+        if self.budget < 0 or self.root_budget < 0:
+            raise _Refusal("the numbers in this expression are too large", "use smaller numbers")
+
+    def build(self, node: ast.AST, depth: int) -> sp.Expr:
         if depth > MAX_DEPTH:
-            raise _Refusal(
-                node, f"nested more than {MAX_DEPTH} levels deep", "simplify the expression"
-            )
-        if isinstance(node, ast.Expression):
-            return self.build(node.body, depth + 1)
-        if isinstance(node, ast.Constant):
-            return _number(node)
-        if isinstance(node, ast.Name):
-            return self._name(node)
+            self.refuse(node, f"nested more than {MAX_DEPTH} levels deep", "simplify it")
+        try:
+            value = self._dispatch(node, depth)
+            if value in _UNDEFINED:
+                raise _Refusal(f"this part is undefined ({value})", "check the formula")
+            if isinstance(value, sp.Rational):
+                _check_size(value)
+        except _Refusal as refusal:
+            refusal.at = refusal.at or self.at(node)
+            raise
+        except Exception as error:  # SymPy's own refusals, such as Heaviside(asin(2))
+            message = f"SymPy cannot form this part: {str(error)[:120]}"
+            raise _Refusal(message, "check the formula", self.at(node)) from None
+        return value
+
+    def _dispatch(self, node: ast.AST, depth: int) -> sp.Expr:
+        if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub)):
+            return self._chain(node, depth, (ast.Add, ast.Sub))
+        if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Mult, ast.Div)):
+            return self._chain(node, depth, (ast.Mult, ast.Div))
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+            return self._power(self.build(node.left, depth + 1), self.build(node.right, depth + 1))
+        if isinstance(node, ast.BinOp):
+            symbol = _OPERATORS[type(node.op)]
+            line, start = self.at(node.left, end=True)  # point at the operator itself
+            found = self.lines[line - 1].find(symbol, start)
+            at = (line, found) if found >= 0 else self.at(node)
+            default = (f"the operator '{symbol}' is not allowed", ALLOWED)
+            raise _Refusal(*_OPERATOR_REFUSALS.get(symbol, default), at)
         if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.UAdd, ast.USub)):
             operand = self.build(node.operand, depth + 1)
-            return -operand if isinstance(node.op, ast.USub) else operand
-        if isinstance(node, ast.BinOp):
-            return self._binary(node, depth)
+            return sp.Mul(sp.S.NegativeOne, operand) if isinstance(node.op, ast.USub) else operand
         if isinstance(node, ast.Call):
             return self._call(node, depth)
-        raise _Refusal(node, f"{_describe(node)} is not allowed")
+        if isinstance(node, ast.Name):
+            return self._name(node)
+        if isinstance(node, ast.Constant):
+            return self._constant(node)
+        what, fix = _REFUSED_NODES.get(type(node), (f"'{type(node).__name__}'", ALLOWED))
+        if isinstance(node, ast.UnaryOp):
+            what = "the operator 'not'" if isinstance(node.op, ast.Not) else "the operator '~'"
+        self.refuse(node, f"{what} is not allowed", fix)
 
-    def _name(self, node: ast.Name) -> sp.Expr:
-        if node.id.startswith("_"):
-            raise _Refusal(
-                node,
-                f"the name {node.id!r} is not allowed",
-                "names may not start with an underscore",
-            )
-        if node.id in self.names:
-            return self.names[node.id]
-        if node.id in FUNCTIONS:
-            raise _Refusal(node, f"{node.id} is a function", f"call it: {node.id}(...)")
-        close = difflib.get_close_matches(node.id, sorted(self.names), n=1)
-        hint = f"did you mean {close[0]!r}? " if close else ""
-        return _raise(
-            _Refusal(
-                node,
-                f"unknown name {node.id!r}",
-                hint + "declare it in parameters (or coordinates)",
-            )
-        )
-
-    def _binary(self, node: ast.BinOp, depth: int) -> sp.Expr:
-        """A left-leaning chain a + b - c + ... (or * and /) is walked as one level, so a long
-        sum is not mistaken for deep nesting."""
-        chain: list[ast.BinOp] = []
-        current: ast.AST = node
-        while isinstance(current, ast.BinOp) and type(current.op) in _CHAINED:
-            chain.append(current)
+    def _chain(self, node: ast.BinOp, depth: int, ops: tuple[type, ...]) -> sp.Expr:
+        """A left-leaning chain ``a + b - c ...`` (or of ``*`` and ``/``) is one level deep,
+        so a long sum is not mistaken for deep nesting."""
+        links: list[tuple[ast.operator, ast.expr]] = []
+        current: ast.expr = node
+        while isinstance(current, ast.BinOp) and isinstance(current.op, ops):
+            links.append((current.op, current.right))
             current = current.left
-        if not chain:
-            return self._single(node, depth)
-        result = self.build(current, depth + 1)
-        for link in reversed(chain):
-            result = _BINARY[type(link.op)](result, self.build(link.right, depth + 1))
-        return result
+        terms = [self.build(current, depth + 1)]
+        for op, operand in reversed(links):
+            value = self.build(operand, depth + 1)
+            if isinstance(op, ast.Div) and value == sp.S.Zero:
+                self.refuse(operand, "division by zero", "check the denominator")
+            if isinstance(op, ast.Sub):
+                value = sp.Mul(sp.S.NegativeOne, value)
+            terms.append(sp.Pow(value, -1) if isinstance(op, ast.Div) else value)
+        return sp.Add(*terms) if ops[0] is ast.Add else sp.Mul(*terms)
 
-    def _single(self, node: ast.BinOp, depth: int) -> sp.Expr:
-        if type(node.op) in _REFUSED_OPERATORS:
-            message, fix = _REFUSED_OPERATORS[type(node.op)]
-            raise _Refusal(node, message, fix)
-        if type(node.op) not in _BINARY:
-            raise _Refusal(node, f"the operator {type(node.op).__name__} is not allowed")
-        left = self.build(node.left, depth + 1)
-        right = self.build(node.right, depth + 1)
-        if isinstance(node.op, ast.Pow):
-            _check_power(node, left, right)
-        return _BINARY[type(node.op)](left, right)
+    def _power(self, base: sp.Expr, exponent: sp.Expr) -> sp.Expr:
+        """``base**exponent``, refused when a power of numbers would be too costly to compute."""
+        if exponent.is_Number and abs(exponent) > MAX_EXPONENT:
+            raise _Refusal(f"the exponent {exponent} is beyond ±{MAX_EXPONENT}", "make it smaller")
+        if base == sp.S.Zero and exponent.is_Number and exponent.is_negative:
+            raise _Refusal("zero to a negative power (division by zero)", "check the formula")
+        if isinstance(exponent, sp.Rational):
+            bits, root = _power_cost(base)
+            cost, root = bits * abs(int(exponent.p)), root or not exponent.is_Integer
+            if cost > (_ROOT_BITS if root else _POWER_BITS):
+                raise _Refusal("this power of numbers is too large to compute", "use smaller ones")
+            self.spend(cost, root)
+        return sp.Pow(base, exponent)
 
     def _call(self, node: ast.Call, depth: int) -> sp.Expr:
         if not isinstance(node.func, ast.Name):
-            raise _Refusal(node, f"calling {_describe(node.func)} is not allowed")
+            self.refuse(node.func, "only the listed functions can be called, by name", ALLOWED)
         name = node.func.id
+        if name.startswith("_") or name in self.names:
+            self._name(node.func)  # refuses names with '_'; the others are values
+            self.refuse(node.func, f"{name!r} is not a function", f"for a product: {name}*(...)")
         if name not in FUNCTIONS:
-            close = difflib.get_close_matches(name, sorted(FUNCTIONS), n=1)
-            hint = f"did you mean {close[0]}? " if close else ""
-            raise _Refusal(node, f"unknown function {name!r}", hint + "allowed: " + ALLOWED)
-        if node.keywords or any(isinstance(a, ast.Starred) for a in node.args):
-            raise _Refusal(node, f"{name}() takes plain arguments only")
+            close = difflib.get_close_matches(name, list(FUNCTIONS), n=1)
+            fix = f"did you mean {close[0]!r}?" if close else ALLOWED
+            self.refuse(node.func, f"unknown function {name!r}", fix)
+        if node.keywords:
+            self.refuse(node.keywords[0], "keyword arguments are not allowed", "pass x, not x=...")
         function, arities = FUNCTIONS[name]
         if len(node.args) not in arities:
-            expected = " or ".join(str(a) for a in arities)
-            raise _Refusal(
-                node,
-                f"{name}() takes {expected} argument(s), got {len(node.args)}",
-                f"write {name}(x)" if arities == (1,) else f"write {name}(y, x)",
-            )
-        return function(*[self.build(a, depth + 1) for a in node.args])
+            counts = " or ".join(map(str, arities))
+            noun = "argument" if arities == (1,) else "arguments"
+            self.refuse(node, f"{name} takes {counts} {noun}, got {len(node.args)}", ALLOWED)
+        args = [self.build(arg, depth + 1) for arg in node.args]
+        if name == "sqrt":  # through the power guard: roots of big numbers are costly
+            return self._power(args[0], sp.Rational(1, 2))
+        return function(*args)
+
+    def _name(self, node: ast.Name) -> sp.Expr:
+        name = node.id
+        if name.startswith("_"):
+            self.refuse(node, f"the name {name!r} is not allowed", "names cannot start with '_'")
+        if name in self.names:
+            return self.names[name]
+        if name in FUNCTIONS:
+            self.refuse(node, f"{name!r} is a function", f"call it, such as {name}(x)")
+        close = difflib.get_close_matches(name, [n for n in self.names if n[:1] != "_"], n=1)
+        known = ", ".join(sorted(self.names)[:20]) + (", ..." if len(self.names) > 20 else "")
+        fix = f"did you mean {close[0]!r}?" if close else f"declare it; known names: {known}"
+        self.refuse(node, f"unknown name {name!r}", fix)
+
+    def _constant(self, node: ast.Constant) -> sp.Expr:
+        value = node.value
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            kinds = {str: "text in quotes", bytes: "text in quotes", complex: "a complex number"}
+            what = kinds.get(type(value), repr(value))
+            self.refuse(node, f"{what} is not allowed", "write a number or a formula")
+        number = _decimal(self.segment(node)) if isinstance(value, float) else _number(value)
+        self.spend(_bits(number))
+        return number
 
 
-def _raise(refusal: _Refusal) -> sp.Expr:
-    raise refusal
+def _read(text: str) -> ast.Expression:
+    """The syntax tree of ``text``, or a refusal positioned where Python's parser stopped."""
+    if not text.strip():
+        raise _Refusal("the expression is empty", "write a number or a formula")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return ast.parse(text, mode="eval")
+    except SyntaxError as error:
+        at = (max(error.lineno or 1, 1), max(error.offset or 1, 1) - 1)
+        if "integer string conversion" in error.msg:  # Python's own limit, 4300 digits
+            raise _Refusal(*_TOO_BIG, at) from None
+        fix = "check for a missing operator (2*x, not 2x) or an unbalanced parenthesis"
+        if "\n" in text.rstrip():
+            fix += "; wrap an expression of several lines in parentheses"
+        raise _Refusal(f"cannot read the expression: {error.msg}", fix, at) from None
+    except (RecursionError, MemoryError):  # the parser's own stack limit
+        raise _Refusal("too deeply nested or too long to read", "split the expression") from None
+    except ValueError as error:  # such as text that cannot be encoded
+        raise _Refusal(f"cannot read the expression: {error}", "remove odd characters") from None
 
 
-def _check_power(node: ast.BinOp, base: sp.Expr, exponent: sp.Expr) -> None:
-    """Refuse numeric exponents too large to compute (``9**9**9``)."""
-    if exponent.is_number and exponent.is_finite is not False:
-        size = abs(exponent)
-        if size.is_number and bool(size > MAX_EXPONENT):
-            raise _Refusal(
-                node,
-                f"the exponent {exponent} is larger than {MAX_EXPONENT}",
-                "use a smaller exponent",
-            )
-    if base.is_number and base.is_finite and exponent.is_number:
-        magnitude = abs(base)
-        if bool(magnitude > 1) and bool(abs(exponent) * sp.log(magnitude, 10) > MAX_DIGITS):
-            raise _Refusal(node, "the power is too large a number", "use a smaller number")
-
-
-def _describe(node: ast.AST) -> str:
-    names = {
-        ast.Attribute: "attribute access",
-        ast.Subscript: "indexing",
-        ast.Lambda: "a lambda",
-        ast.ListComp: "a comprehension",
-        ast.SetComp: "a comprehension",
-        ast.DictComp: "a comprehension",
-        ast.GeneratorExp: "a comprehension",
-        ast.Compare: "a comparison",
-        ast.BoolOp: "a boolean operator",
-        ast.NamedExpr: "an assignment",
-        ast.JoinedStr: "an f-string",
-        ast.List: "a list",
-        ast.Tuple: "a tuple",
-        ast.Dict: "a dict",
-        ast.Set: "a set",
-        ast.IfExp: "an if-expression",
-        ast.Starred: "a starred argument",
-        ast.Call: "a call",
-        ast.Await: "await",
-        ast.Yield: "yield",
-    }
-    return names.get(type(node), type(node).__name__)
-
-
-def _position(
-    node: ast.AST | None, line: int | None, column: int | None
-) -> tuple[int | None, int | None]:
-    """File position of ``node``: its line/column in the text shifted by where the text is."""
-    node_line = getattr(node, "lineno", None)
-    node_column = getattr(node, "col_offset", None)
-    if node_line is None:
-        return line, column
-    file_line = node_line if line is None else line + node_line - 1
-    file_column = node_column + 1 if node_column is not None else None
-    if node_line == 1 and column is not None and file_column is not None:
-        file_column += column - 1
-    return file_line, file_column
+def _check_result(value: sp.Basic) -> None:
+    """Products and powers merge numbers and exponents (``x**999*x**9``): check the result."""
+    for part in sp.preorder_traversal(value):
+        if part in _UNDEFINED:
+            raise _Refusal(f"the expression is undefined ({part})", "check the formula")
+        if isinstance(part, sp.Rational):
+            _check_size(part)
+        if isinstance(part, sp.Pow) and part.exp.is_Number and abs(part.exp) > MAX_EXPONENT:
+            raise _Refusal(f"a power {part.exp} beyond ±{MAX_EXPONENT}", "use smaller exponents")
 
 
 def parse_expression(
@@ -258,49 +357,50 @@ def parse_expression(
     line: int | None = None,
     column: int | None = None,
 ) -> sp.Expr:
-    """A SymPy expression from user text, or ExpressionError naming field, line and column.
+    """The SymPy expression a model file's text means, or an ExpressionError saying why not.
 
-    ``names`` maps every allowed identifier to its SymPy object; ``line``/``column`` say where
-    the text starts in its file (1-based) so errors point into the file.
+    ``names`` maps every allowed identifier to its SymPy object (``pi`` and ``E`` are added
+    unless given).  ``field`` is the dotted path of the field, ``source`` the file name, and
+    ``line``/``column`` where the text starts in the file (1-based); without them positions
+    are counted from the start of the text.  A bare int or float becomes an exact number.
+
+    >>> import sympy as sp
+    >>> theta = sp.Symbol("theta")
+    >>> parse_expression("1 - cos(theta)", {"theta": theta}, field="potential")
+    1 - cos(theta)
     """
-
-    def refuse(node: ast.AST | None, message: str, fix: str = ALLOWED) -> ExpressionError:
-        at_line, at_column = _position(node, line, column)
-        return ExpressionError(problems=[Problem(field, message, fix, at_line, at_column, source)])
-
-    if isinstance(text, bool) or not isinstance(text, (str, int, float)):
-        raise refuse(None, f"{text!r} is not an expression", "write a number or a formula")
-    if isinstance(text, (int, float)):
-        return _number(ast.Constant(value=text))
-    if len(text) > MAX_LENGTH:
-        raise refuse(None, f"longer than {MAX_LENGTH} characters", "shorten the expression")
-    if not text.strip():
-        raise refuse(None, "empty expression", "write a number or a formula")
+    prefix = ""
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            tree = ast.parse(text.strip(), mode="eval")
-    except SyntaxError as error:
-        node = ast.Constant(value=0, lineno=error.lineno or 1, col_offset=(error.offset or 1) - 1)
-        raise refuse(node, f"syntax error: {error.msg}", ALLOWED) from None
-    except (RecursionError, MemoryError, ValueError):
-        raise refuse(
-            None, f"nested more than {MAX_DEPTH} levels deep", "simplify the expression"
-        ) from None
-    try:
-        return _Builder(names).build(tree)
+        if not isinstance(text, str):
+            return _number(text)
+        if len(text) > MAX_LENGTH:
+            raise _Refusal(f"{len(text)} characters, more than {MAX_LENGTH}", "shorten it")
+        text = text.replace("\r\n", "\n").replace("\r", "\n")
+        body = text.lstrip(" \t\f\n")  # Python refuses leading indentation
+        prefix = text[: len(text) - len(body)]
+        value = _Builder(body, names).build(_read(body).body, 1)
+        _check_result(value)
+        return value
     except _Refusal as refusal:
-        raise refuse(refusal.node, refusal.message, refusal.fix) from None
-    except RecursionError:
-        raise refuse(
-            None, f"nested more than {MAX_DEPTH} levels deep", "simplify the expression"
-        ) from None
+        at_line, at_column = (
+            (line, column) if refusal.at is None else _locate(refusal.at, prefix, line, column)
+        )
+        problem = Problem(field, refusal.message, refusal.fix, at_line, at_column, source)
+        raise ExpressionError(problems=[problem]) from None
 
 
 def parse_expressions(
-    items: Iterable[tuple[str, Any]], names: Mapping[str, sp.Basic], *, source: str | None = None
+    items: Iterable[tuple[str, str | int | float]],
+    names: Mapping[str, sp.Basic],
+    *,
+    source: str | None = None,
 ) -> list[sp.Expr]:
-    """Parse many ``(field, text)`` pairs; raise one ExpressionError listing every problem."""
+    """Parse many ``(field, text)`` pairs; raise one ExpressionError listing every problem.
+
+    >>> x = sp.Symbol("x")
+    >>> parse_expressions([("a", "x + 1"), ("b", "2*x")], {"x": x})
+    [x + 1, 2*x]
+    """
     results: list[sp.Expr] = []
     problems: list[Problem] = []
     for field, text in items:
@@ -308,5 +408,5 @@ def parse_expressions(
             results.append(parse_expression(text, names, field=field, source=source))
         except ExpressionError as error:
             problems.extend(error.problems)
-    raise_if_problems(problems, "Some expressions are not valid", ExpressionError)
+    raise_if_problems(problems, "Some expressions cannot be read", ExpressionError)
     return results

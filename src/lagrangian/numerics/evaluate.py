@@ -18,32 +18,36 @@ array([6., 0.])
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import Any
+from functools import cached_property
+from typing import Any, TypeAlias
 
 import numpy as np
 import sympy as sp
 
 #: An argument group: a list of symbols (an array argument) or one symbol (a scalar argument).
-Group = Sequence[sp.Symbol] | sp.Symbol
+Group: TypeAlias = "Sequence[sp.Symbol] | sp.Symbol"
 
 
 class NumericFunction:
     """``expressions`` as a NumPy function of the argument ``groups``, reshaped to ``shape``.
 
     ``raw`` is the lambdified function itself (it returns a list of numbers), for callers that
-    have already unpacked one state and want no overhead beyond that one call.
+    have already unpacked one state and want no overhead beyond that one call.  It is built on
+    first use, so functions nobody calls cost nothing.
     """
 
     def __init__(
         self, groups: Sequence[Group], expressions: Sequence[sp.Expr], shape: tuple[int, ...]
     ) -> None:
-        args = [list(g) if isinstance(g, Sequence) else g for g in groups]
-        self.raw: Callable[..., list[Any]] = sp.lambdify(
-            args, list(expressions), modules="numpy", cse=True
-        )
+        self._args: list[Any] = [list(g) if isinstance(g, Sequence) else g for g in groups]
+        self._expressions = list(expressions)
         self.shape = shape
         # the number of dimensions of each argument when it carries a batch
-        self._batch_ndim = tuple(2 if isinstance(g, list) else 1 for g in args)
+        self._batch_ndim = tuple(2 if isinstance(g, list) else 1 for g in self._args)
+
+    @cached_property
+    def raw(self) -> Callable[..., list[Any]]:
+        return sp.lambdify(self._args, self._expressions, modules="numpy", cse=True)
 
     def __call__(self, *arguments: Any) -> np.ndarray:
         size: int | None = None

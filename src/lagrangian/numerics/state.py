@@ -74,10 +74,10 @@ def _refuse_algebraic(eom: EquationsOfMotion, orders: list[int]) -> None:
     algebraic = [q.name for q, order in zip(eom.coordinates, orders) if order == 0]
     if algebraic:
         raise SimulationError(
-            f"Coordinates {', '.join(algebraic)} are algebraic (order 0: no inertia and no "
-            "dissipation), so their equations are constraints rather than equations of motion; "
-            "simulating such differential-algebraic systems is not supported yet. Give them "
-            "an inertia or a dissipation term, or eliminate them by hand."
+            f"{_the_coordinates(algebraic)} algebraic (order 0: no inertia and no "
+            "dissipation), so its equation is a constraint rather than an equation of motion; "
+            "simulating such differential-algebraic systems is not supported yet. Give it "
+            "an inertia or a dissipation term, or eliminate it by hand."
         )
 
 
@@ -89,14 +89,19 @@ def _require_linear(
     rates: list[sp.Symbol],
 ) -> None:
     """First-order coordinates must have no inertia and appear linearly in the forcing."""
-    names = ", ".join(eom.coordinates[j].name for j in first)
+    names = [eom.coordinates[j].name for j in first]
     coupled = any(mass[i, j] != 0 or mass[j, i] != 0 for j in first for i in range(mass.rows))
-    nonlinear = bool(
-        (jacobian.free_symbols | mass.free_symbols) & set(rates)
-    )
+    nonlinear = bool((jacobian.free_symbols | mass.free_symbols) & set(rates))
     if coupled or nonlinear:
         raise SimulationError(
-            f"The first-order coordinates {names} enter the equations nonlinearly in their "
-            "velocities (or with inertia); only equations linear in those velocities, like a "
-            "resistor's R q_dot, are supported yet."
+            f"The equations of the first-order coordinates ({', '.join(names)}) are not "
+            "linear in their velocities, or those coordinates have inertia; only first-order "
+            "equations linear in the velocities, like a resistor's R q_dot, are supported yet."
         )
+
+
+def _the_coordinates(names: list[str]) -> str:
+    """'The coordinate y is' or 'The coordinates y, z are'."""
+    if len(names) == 1:
+        return f"The coordinate {names[0]} is"
+    return f"The coordinates {', '.join(names)} are"

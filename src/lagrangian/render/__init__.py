@@ -11,6 +11,12 @@ rich display in Jupyter (see DESIGN.md).
 from lagrangian.render.jupyter import Latex, register
 from lagrangian.render.jupyter import display_steps as steps
 from lagrangian.render.latex import equations_latex, steps_latex, system_latex
+from lagrangian.render.plots import (
+    plot_energy_drift,
+    plot_phase_portrait,
+    plot_time_series,
+    save_plots,
+)
 from lagrangian.render.text import equations_text, matrix_form_text, steps_text
 
 __all__ = [
@@ -18,7 +24,11 @@ __all__ = [
     "equations_latex",
     "equations_text",
     "matrix_form_text",
+    "plot_energy_drift",
+    "plot_phase_portrait",
+    "plot_time_series",
     "register",
+    "save_plots",
     "steps",
     "steps_latex",
     "steps_text",

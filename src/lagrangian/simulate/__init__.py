@@ -1,1 +1,14 @@
-"""The simulate layer (see DESIGN.md)."""
+"""The simulate layer: integrate the equations of motion into a Trajectory (see DESIGN.md).
+
+>>> import lagrangian as lg
+>>> from lagrangian.simulate import simulate
+>>> trajectory = simulate(lg.examples.double_pendulum(), t_span=2.0, method="DOP853")
+>>> trajectory.q.shape[1], trajectory.status
+(2, 'success')
+"""
+
+from lagrangian.simulate.events import EventFunction
+from lagrangian.simulate.run import simulate
+from lagrangian.simulate.trajectory import Event, Trajectory
+
+__all__ = ["Event", "EventFunction", "Trajectory", "simulate"]

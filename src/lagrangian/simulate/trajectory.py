@@ -104,7 +104,7 @@ class Trajectory:
     def __getitem__(self, name: str) -> np.ndarray:
         """The column ``name``: ``"t"``, a coordinate, ``NAME_dot``, ``"energy"``."""
         if name in ("t", "energy") or (name == "energy_function" and name in self.names):
-            return getattr(self, name)  # type: ignore[no-any-return]
+            return getattr(self, name)
         if name in self.coordinates:
             return self.q[:, self.coordinates.index(name)]
         if name.endswith(DOT) and name[: -len(DOT)] in self.coordinates:

@@ -1,0 +1,143 @@
+"""The energy function and when it is conserved (seed 000 "Conserved Quantities", seed 002).
+
+    h = sum_j q_dot_j dL/dq_dot_j - L
+    dh/dt = -sum_j q_dot_j dF/dq_dot_j + sum_j Q_j q_dot_j - dL/dt|explicit
+
+(from the Euler–Lagrange equations d/dt dL/dq_dot = dL/dq + Q - dF/dq_dot).  With
+L = L2 + L1 + L0 homogeneous in the velocities, h = L2 - L0: it is T + V exactly when T is a
+quadratic form in the velocities (scleronomic coordinates) and U at most linear in them.
+
+>>> import lagrangian as lg
+>>> energy_conservation(lg.examples.planet()).conserved
+True
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from lagrangian.analysis.calculus import depends_on, homogeneous_parts, is_zero, tidy
+from lagrangian.analysis.subject import Subject, equations_of
+from lagrangian.derive import EquationsOfMotion
+
+
+def energy_function(subject: Subject) -> sp.Expr:
+    """h = sum_j q_dot_j dL/dq_dot_j - L.
+
+    >>> import lagrangian as lg
+    >>> energy_function(lg.examples.simple_pendulum())
+    -g*l*m*cos(theta) + l**2*m*theta_dot**2/2
+    """
+    eom = equations_of(subject)
+    momenta = [s.dL_dvelocity for s in eom.steps]
+    h = sum((v * p for v, p in zip(eom.velocities, momenta)), sp.Integer(0)) - eom.lagrangian
+    return sp.expand(h)
+
+
+@dataclass(frozen=True)
+class EnergyConservation:
+    """Whether h is a constant of the motion and whether it is T + V, each with its reason.
+
+    ``rate`` is dh/dt along the motion; ``total_energy`` is T + V (+ U(q, 0, t), the scalar
+    potential of a velocity-dependent potential such as q phi).
+    """
+
+    energy_function: sp.Expr
+    conserved: bool
+    reason: str
+    rate: sp.Expr
+    total_energy: sp.Expr
+    equals_total_energy: bool
+    total_energy_reason: str
+
+
+def _power_terms(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str]]:
+    """dh/dt and, for every contribution that does not vanish, why."""
+    reasons = []
+    explicit = eom.lagrangian.diff(eom.time)
+    if not is_zero(explicit):
+        reasons.append(f"L depends explicitly on t (dL/dt|explicit = {tidy(explicit)})")
+    friction = sum(
+        (-v * f for v, f in zip(eom.velocities, eom.dissipation_forces)), sp.Integer(0)
+    )
+    if not is_zero(friction):
+        f = eom.dissipation_function
+        quadratic = is_zero(friction - 2 * f)
+        reasons.append(
+            f"the dissipation function F = {f} removes energy at the rate "
+            + ("2F" if quadratic else "sum q_dot dF/dq_dot")
+        )
+    work = sp.Integer(0)
+    for q, v, force in zip(eom.coordinates, eom.velocities, eom.generalized_forces):
+        if is_zero(force):
+            continue
+        work += force * v
+        timed = " (it depends on t)" if depends_on(force, [eom.time]) else ""
+        reasons.append(
+            f"the applied force Q_{q.name} = {force}{timed} does work at the rate {force * v}"
+        )
+    return sp.expand(work - friction - explicit), reasons
+
+
+def _total_energy_reason(eom: EquationsOfMotion, equal: bool) -> str:
+    velocities = eom.velocities
+    u_parts = homogeneous_parts(eom.velocity_potential, velocities)
+    scalar = " + U(q, 0, t)" if u_parts and 0 in u_parts else ""
+    if equal:
+        return (
+            f"T is a quadratic form in the velocities and U at most linear in them, so "
+            f"h = T + V{scalar}"
+        )
+    t_parts = homogeneous_parts(eom.kinetic_energy, velocities)
+    if t_parts is None:
+        return "T is not a polynomial of degree 2 in the velocities, so h is not T + V"
+    higher = [d for d in sorted(t_parts) if d > 2]
+    if higher:
+        degrees = ", ".join(str(d) for d in higher)
+        return (
+            f"T has terms of degree {degrees} in the velocities (not a quadratic form), "
+            "so h is not T + V"
+        )
+    causes = [f"degree {d} (T{d} = {tidy(t_parts[d])})" for d in (0, 1) if d in t_parts]
+    if causes:
+        return (
+            "T has terms of " + " and ".join(causes) + " in the velocities (the coordinates "
+            "move with time: rheonomic), so h = T2 - T0 + V is not T + V"
+        )
+    if u_parts is None or any(d >= 2 for d in u_parts):
+        return "the velocity-dependent potential U is not linear in the velocities"
+    return "h differs from T + V"
+
+
+def energy_conservation(subject: Subject) -> EnergyConservation:
+    """Is h conserved (no explicit t, no dissipation, no working applied force), and is it
+    T + V?  Each answer with its reason, and dh/dt as an expression.
+
+    >>> import lagrangian as lg
+    >>> energy_conservation(lg.examples.mass_spring_damper()).rate
+    -B*x_dot**2 + f*x_dot
+    """
+    eom = equations_of(subject)
+    h = energy_function(eom)
+    rate, reasons = _power_terms(eom)
+    conserved = is_zero(rate)
+    if conserved:
+        reason = "dh/dt = 0: L has no explicit time, and no dissipation or applied force works"
+        if reasons:
+            reason += " (the contributions " + "; ".join(reasons) + " cancel)"
+    else:
+        reason = "h is not conserved: " + "; ".join(reasons)
+    scalar = eom.velocity_potential.xreplace({v: 0 for v in eom.velocities})
+    total = tidy(eom.kinetic_energy + eom.potential_energy + scalar)
+    equal = is_zero(h - total)
+    return EnergyConservation(
+        energy_function=h,
+        conserved=conserved,
+        reason=reason,
+        rate=rate,
+        total_energy=total,
+        equals_total_energy=equal,
+        total_energy_reason=_total_energy_reason(eom, equal),
+    )

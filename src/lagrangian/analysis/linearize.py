@@ -1,0 +1,199 @@
+"""Linearization about any state: x_dot = A x + B u, x = [q; q_dot] (deviations).
+
+With q_ddot = a(q, q_dot, u, t) = M^-1 forcing, about x0, u0 (a0 = a there):
+
+    A = [[0, I], [da/dq, da/dq_dot]],    B = [[0], [da/du]],
+    da/dz = M^-1 (d forcing/dz - dM/dz a0)        (z any of q, q_dot, u)
+
+The state may be a steady motion with non-zero velocities (a conical pendulum: theta fixed,
+phi_dot constant); it is a solution when a0 = 0 and the equations do not depend on the
+coordinates that move.  Otherwise the linearization still holds at that instant, and the note
+says so.  Eigenvalues of A: frequencies are the positive imaginary parts (rad/s), growth
+rates the positive real parts (1/s).
+
+>>> import lagrangian as lg
+>>> lin = linearize(lg.examples.simple_pendulum(), {"theta": 0})
+>>> lin.A
+Matrix([
+[     0, 1],
+[-g/l, 0]])
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import sympy as sp
+
+from lagrangian.analysis.calculus import QUICK, depends_on, is_zero, tidy, tidy_matrix
+from lagrangian.analysis.spectrum import eigenvalues, frequencies, growth_rates
+from lagrangian.analysis.subject import (
+    Subject,
+    Values,
+    equations_of,
+    evaluate,
+    numeric_values,
+    operating_state,
+    positive_parameters,
+    substitutions,
+)
+from lagrangian.derive import EquationsOfMotion
+from lagrangian.errors import AnalysisError
+
+SYMBOLIC_SIZE = 6  # largest A whose eigenvalues are computed symbolically on request
+
+
+@dataclass(frozen=True)
+class Linearization:
+    """x_dot = A x + B u about ``state`` (and the inputs at their parameter values)."""
+
+    state: Mapping[sp.Symbol, sp.Expr]
+    state_vector: tuple[sp.Symbol, ...]
+    inputs: tuple[sp.Symbol, ...]
+    A: sp.ImmutableMatrix
+    B: sp.ImmutableMatrix
+    eigenvalues: tuple[sp.Expr, ...]
+    frequencies: tuple[sp.Expr, ...]
+    growth_rates: tuple[sp.Expr, ...]
+    is_solution: bool
+    note: str
+
+
+def _inputs(eom: EquationsOfMotion, inputs: Sequence[Any]) -> tuple[sp.Symbol, ...]:
+    by_name = {p.name: p for p in eom.parameters}
+    names = [u.name if isinstance(u, sp.Symbol) else str(u) for u in inputs]
+    unknown = [n for n in names if n not in by_name]
+    if unknown:
+        raise AnalysisError(
+            f"Inputs must be parameters of the system: {', '.join(unknown)} are not "
+            f"(parameters: {', '.join(sorted(by_name))})."
+        )
+    return tuple(by_name[n] for n in names)
+
+
+def _rate_jacobian(m, f, variables, point, acc0, m0_inv) -> sp.Matrix:
+    """M^-1 (df/dz - dM/dz a0) at the point, one column per variable z."""
+    columns = []
+    for z in variables:
+        column = f.diff(z).xreplace(point) - m.diff(z).xreplace(point) * acc0
+        columns.append(m0_inv * column)
+    return sp.Matrix.hstack(*columns) if columns else sp.zeros(m.rows, 0)
+
+
+def _at_rest(acc0: sp.MatrixBase, numbers: Mapping[sp.Symbol, sp.Expr]) -> bool:
+    """a0 = 0 identically, or at the parameter values."""
+    if all(is_zero(a) for a in acc0):
+        return True
+    numeric = evaluate(acc0, numbers)
+    return not numeric.free_symbols and all(abs(complex(a)) < 1e-9 for a in numeric)
+
+
+def _solution_note(eom, m, f, state, acc0, numbers) -> tuple[bool, list[str]]:
+    notes = []
+    if not _at_rest(acc0, numbers):
+        values = ", ".join(f"{a.name} = {tidy(v)}" for a, v in zip(eom.accelerations, acc0))
+        notes.append(f"not a solution: at this state {values} (linearized at this instant)")
+    moving = [q for q, v in zip(eom.coordinates, eom.velocities) if not is_zero(state[v])]
+    drifting = [q.name for q in moving if depends_on(m, [q]) or depends_on(f, [q])]
+    if drifting:
+        notes.append(
+            f"the equations depend on {', '.join(drifting)}, which moves: A changes along "
+            "the motion"
+        )
+    if depends_on(f, [eom.time]) or depends_on(m, [eom.time]):
+        notes.append(f"the equations depend on time: linearized at t = {state[eom.time]}")
+    if not notes:
+        notes.append("the state is a solution (equilibrium or steady motion)")
+    return len(notes) == 1 and notes[0].startswith("the state is"), notes
+
+
+def _symbolic_spectrum(a: sp.MatrixBase, eom: EquationsOfMotion):
+    forward = positive_parameters(eom)
+    backward = {v: k for k, v in forward.items()}
+    roots = sp.Matrix(a).xreplace(forward).eigenvals()
+    values = [r for r, count in roots.items() for _ in range(count)]
+    parts = [(sp.simplify(sp.im(r)), sp.simplify(sp.re(r))) for r in values]
+
+    def positive(xs):
+        kept = []
+        for x in xs:
+            x = x if x.is_positive else (sp.Abs(x) if x.is_positive is None and x != 0 else None)
+            if x is not None and x not in kept:
+                kept.append(x)
+        return tuple(k.xreplace(backward) for k in kept)
+
+    return (
+        tuple(v.xreplace(backward) for v in values),
+        positive(im for im, _ in parts),
+        positive(re for _, re in parts),
+    )
+
+
+def linearize(
+    subject: Subject,
+    about: Values | None = None,
+    inputs: Sequence[Any] = (),
+    parameters: Values | None = None,
+    symbolic: bool = False,
+) -> Linearization:
+    """x_dot = A x + B u about ``about`` (coordinate, ``NAME_dot`` and ``t`` values; the rest
+    0); ``inputs`` are parameters treated as inputs u.  Eigenvalues are numeric at the
+    parameter values, or symbolic when ``symbolic`` and A is at most 6 x 6.
+
+    >>> import lagrangian as lg
+    >>> linearize(lg.examples.simple_pendulum(), {"theta": 0}).frequencies
+    (3.13209195267317,)
+    """
+    eom = equations_of(subject)
+    subs = substitutions(eom, parameters)
+    numbers = numeric_values(eom, parameters)
+    state = operating_state(eom, about)
+    u = _inputs(eom, inputs)
+    if not eom.mass_matrix_is_regular:
+        raise AnalysisError(
+            "The mass matrix is singular, so x = [q; q_dot] is not a state: coordinate "
+            f"orders {eom.orders_by_name()} (a coordinate without inertia)."
+        )
+    m = sp.Matrix(eom.mass_matrix).xreplace(subs)
+    f = sp.Matrix(eom.forcing).xreplace(subs)
+    point = {**state, **{p: numbers.get(p, p) for p in u}}
+    m0 = m.xreplace(point)
+    if is_zero(m0.det()):
+        raise AnalysisError(
+            f"The mass matrix is singular at this state ({m0.tolist()}): a singular point of "
+            "the coordinates; linearize about another state."
+        )
+    m0_inv = m0.inv()
+    acc0 = sp.Matrix([tidy(a, QUICK) for a in m0_inv * f.xreplace(point)])
+    x = (*eom.coordinates, *eom.velocities)
+    n = len(eom.coordinates)
+    lower = _rate_jacobian(m, f, x, point, acc0, m0_inv)
+    a = tidy_matrix(sp.Matrix.vstack(sp.Matrix.hstack(sp.zeros(n), sp.eye(n)), lower), QUICK)
+    b_lower = _rate_jacobian(m, f, u, point, acc0, m0_inv)
+    b = tidy_matrix(sp.Matrix.vstack(sp.zeros(n, len(u)), b_lower), QUICK)
+    is_solution, notes = _solution_note(eom, m, f, state, acc0, numbers)
+    if symbolic and a.rows <= SYMBOLIC_SIZE:
+        values, freqs, growth = _symbolic_spectrum(a, eom)
+    else:
+        numeric = evaluate(a, numbers)
+        if numeric.free_symbols:
+            missing = ", ".join(sorted(s.name for s in numeric.free_symbols))
+            notes.append(f"no eigenvalues: {missing} have no values")
+            values, freqs, growth = (), (), ()
+        else:
+            values = eigenvalues(numeric)
+            freqs, growth = frequencies(values), growth_rates(values)
+    return Linearization(
+        state=state,
+        state_vector=x,
+        inputs=u,
+        A=a,
+        B=b,
+        eigenvalues=values,
+        frequencies=freqs,
+        growth_rates=growth,
+        is_solution=is_solution,
+        note="; ".join(notes),
+    )

@@ -1,0 +1,215 @@
+"""Small oscillations about a stable equilibrium (normal modes).
+
+Near an equilibrium q0, with M = M(q0) and K = -d forcing/dq at rest (the Hessian of the
+effective potential), q = q0 + v cos(omega t) solves
+
+    K v = omega^2 M v          (generalized symmetric eigenproblem),
+
+giving the frequencies omega (rad/s) and the mode shapes v.  Damping and gyroscopic terms
+are left out (see :func:`~lagrangian.analysis.linearize.linearize` for those).
+
+>>> import lagrangian as lg
+>>> normal_modes(lg.examples.simple_pendulum()).frequencies
+(sqrt(g)/sqrt(l),)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import sympy as sp
+
+from lagrangian.analysis.calculus import is_zero, tidy, tidy_matrix
+from lagrangian.analysis.equilibria import Equilibria, Equilibrium, equilibria, static_forces
+from lagrangian.analysis.linearize import linearize
+from lagrangian.analysis.spectrum import generalized_modes, symmetric_eigenvalues
+from lagrangian.analysis.stability import classify, stiffness_matrix
+from lagrangian.analysis.subject import (
+    Subject,
+    Values,
+    assuming_positive,
+    equations_of,
+    evaluate,
+    numeric_values,
+    operating_state,
+    substitutions,
+)
+from lagrangian.derive import EquationsOfMotion
+from lagrangian.errors import AnalysisError
+
+SIMPLE = 30  # count_ops of a symbolic omega^2 or mode-shape entry still worth showing
+
+
+@dataclass(frozen=True)
+class NormalModes:
+    """Frequencies (ascending) and mode shapes about the equilibrium ``about``."""
+
+    about: Mapping[sp.Symbol, sp.Expr]
+    mass_matrix: sp.ImmutableMatrix
+    stiffness_matrix: sp.ImmutableMatrix
+    squared_frequencies: tuple[sp.Expr, ...]
+    frequencies: tuple[sp.Expr, ...]
+    shapes: tuple[sp.ImmutableMatrix, ...]
+    symbolic: bool
+    reason: str
+
+
+def _eigenvalue_text(eom, point, parameters) -> str:
+    try:
+        values = linearize(eom, point, parameters=parameters).eigenvalues
+    except AnalysisError as error:
+        return f"(no linearization: {error})"
+    return "linearization eigenvalues: " + (", ".join(str(v) for v in values) or "unknown")
+
+
+def first_stable(found: Equilibria) -> Equilibrium:
+    """The first stable equilibrium, or AnalysisError listing why none is."""
+    stable = found.stable()
+    if stable:
+        return stable[0]
+    summary = "; ".join(f"{dict(e.state)}: {e.reason}" for e in found) or found.reason
+    raise AnalysisError(f"No stable equilibrium to oscillate about ({summary}).")
+
+
+def _check_rest(eom, state, subs, numbers, parameters) -> None:
+    moving = [v.name for v in eom.velocities if not is_zero(state[v])]
+    if moving:
+        raise AnalysisError(
+            f"Normal modes are small oscillations about a state of rest, but {', '.join(moving)}"
+            " is not 0; use linearize() for steady motions."
+        )
+    residual = static_forces(eom, subs).xreplace(state)
+    numeric = evaluate(residual, numbers)
+    if all(is_zero(r) for r in residual) or (
+        not numeric.free_symbols and all(abs(complex(r)) < 1e-9 for r in numeric)
+    ):
+        return
+    point = {q: state[q] for q in eom.coordinates}
+    raise AnalysisError(
+        f"{point} is not an equilibrium: the static forces there are "
+        f"{[tidy(r) for r in residual]}; {_eigenvalue_text(eom, point, parameters)}"
+    )
+
+
+def _magnitude(expr: sp.Expr, numbers: Mapping[sp.Symbol, sp.Expr]) -> float:
+    """A number to order symbolic roots by: at the parameter values, other symbols at 1."""
+    value = evaluate(expr, numbers)
+    return float(sp.re(value.xreplace({s: 1 for s in value.free_symbols})))
+
+
+def _check_inertia(m: sp.MatrixBase, numeric: sp.MatrixBase | None, point) -> None:
+    if numeric is not None:
+        regular = all(v > 1e-12 * max(1.0, abs(v)) for v in symmetric_eigenvalues(numeric))
+    else:
+        regular = not is_zero(m.det())
+    if not regular:
+        raise AnalysisError(
+            f"The mass matrix at {point} is {m.tolist()}, not positive definite: a singular "
+            "point of the coordinates (or a coordinate without inertia); no normal modes here."
+        )
+
+
+def _rest_point(eom, about, subs, numbers, parameters) -> tuple[dict, bool]:
+    """The coordinates of the equilibrium to oscillate about (a family's free ones at 0),
+    and whether its stability is still to be checked."""
+    if about is None or isinstance(about, Equilibrium):
+        equilibrium = about or first_stable(equilibria(eom, parameters))
+        point = {q: 0 if q in equilibrium.free else v for q, v in equilibrium.state.items()}
+        if equilibrium.stable is not True:
+            raise AnalysisError(
+                f"{point} is not known to be stable ({equilibrium.reason}); "
+                f"{_eigenvalue_text(eom, point, parameters)}"
+            )
+        return point, False
+    state = operating_state(eom, about)
+    _check_rest(eom, state, subs, numbers, parameters)
+    return {q: state[q] for q in eom.coordinates}, True
+
+
+def _symbolic_modes(k: sp.Matrix, m: sp.Matrix, eom: EquationsOfMotion, numbers):
+    """omega^2 from det(K - lambda M) = 0 and v from the null space, when short enough."""
+    lam = sp.Dummy("lambda")
+    pencil = k - lam * m
+    roots = sp.roots(sp.Poly(pencil.det(), lam))
+    if sum(roots.values()) != k.rows:
+        return None
+    squares = sorted(
+        (assuming_positive(r, eom) for r in roots), key=lambda r: _magnitude(r, numbers)
+    )
+    if any(sp.count_ops(s) > SIMPLE for s in squares):
+        return None
+    shapes = []
+    for square in dict.fromkeys(squares):
+        for v in pencil.xreplace({lam: square}).nullspace(simplify=True):
+            pivot = next(x for x in v if x != 0)
+            shapes.append(sp.ImmutableMatrix([tidy(x / pivot) for x in v]))
+    if len(shapes) != k.rows or any(sp.count_ops(x) > SIMPLE for v in shapes for x in v):
+        return None
+    return tuple(squares), tuple(shapes)
+
+
+def normal_modes(
+    subject: Subject,
+    about: Values | Equilibrium | None = None,
+    parameters: Values | None = None,
+) -> NormalModes:
+    """K v = omega^2 M v about ``about`` (a state, an :class:`Equilibrium` found before, or
+    by default the first stable equilibrium); symbolic when 2 x 2 (or 1 x 1) and short,
+    numeric at the parameter values otherwise.
+
+    Refused (AnalysisError) about a non-equilibrium or an unstable point; the message gives
+    the linearization's eigenvalues.
+
+    >>> import lagrangian as lg
+    >>> normal_modes(lg.examples.two_masses_three_springs(),
+    ...              parameters={"m2": "m1", "k2": "k1", "k3": "k1"}).squared_frequencies
+    (k1/m1, 3*k1/m1)
+    """
+    eom = equations_of(subject)
+    subs = substitutions(eom, parameters)
+    numbers = numeric_values(eom, parameters)
+    point, unchecked = _rest_point(eom, about, subs, numbers, parameters)
+    at_point = {**point, **{v: 0 for v in eom.velocities}}
+    k = tidy_matrix(stiffness_matrix(static_forces(eom, subs), eom.coordinates).xreplace(at_point))
+    m = tidy_matrix(sp.Matrix(eom.mass_matrix).xreplace(subs).xreplace(at_point))
+    k_numeric, m_numeric = evaluate(k, numbers), evaluate(m, numbers)
+    known = not (k_numeric.free_symbols or m_numeric.free_symbols)
+    _check_inertia(m, m_numeric if known else None, point)
+    if unchecked and known:
+        stable, why = classify(k_numeric)
+        if not stable:
+            raise AnalysisError(
+                f"{point} is not a stable equilibrium ({why}); "
+                f"{_eigenvalue_text(eom, point, parameters)}"
+            )
+    exact = not (k.atoms(sp.Float) or m.atoms(sp.Float))
+    symbolic = (
+        _symbolic_modes(sp.Matrix(k), sp.Matrix(m), eom, numbers)
+        if exact and k.rows <= 2
+        else None
+    )
+    if symbolic is not None:
+        squares, shapes = symbolic
+        reason = "det(K - omega^2 M) = 0 solved symbolically"
+    elif known:
+        pairs = generalized_modes(k_numeric, m_numeric)
+        squares = tuple(sp.Float(w2, 15) for w2, _ in pairs)
+        shapes = tuple(v for _, v in pairs)
+        reason = "K v = omega^2 M v solved numerically at the parameter values"
+    else:
+        missing = ", ".join(sorted(s.name for s in (k_numeric.free_symbols | m_numeric.free_symbols)))
+        raise AnalysisError(f"No numbers for {missing} and no short symbolic answer.")
+    frequencies = tuple(
+        assuming_positive(sp.sqrt(w2), eom) if symbolic else sp.sqrt(max(w2, 0)) for w2 in squares
+    )
+    return NormalModes(
+        about=point,
+        mass_matrix=m,
+        stiffness_matrix=k,
+        squared_frequencies=squares,
+        frequencies=frequencies,
+        shapes=shapes,
+        symbolic=symbolic is not None,
+        reason=reason + "; damping and gyroscopic terms left out",
+    )

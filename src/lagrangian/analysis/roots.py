@@ -1,0 +1,163 @@
+"""Roots of static equations: numeric search, angles, and when a symbolic branch is real.
+
+An *angle* is a coordinate that the equations contain only as sin(k q), cos(k q) with an
+integer k: its values are taken in (-pi, pi].  A symbolic root such as acos(g/(R omega^2))
+is real only when |g/(R omega^2)| <= 1; :func:`branch_condition` collects such conditions
+(acos/asin arguments in [-1, 1], square roots of non-negative numbers, logarithms of
+positive ones).
+
+>>> x = sp.Symbol("x")
+>>> numeric_roots(sp.Matrix([x**2 - 2]), [x], [])
+[{x: -1.41421356237310}, {x: 1.41421356237310}]
+"""
+
+from __future__ import annotations
+
+import math
+import random
+from collections.abc import Mapping, Sequence
+
+import sympy as sp
+
+from lagrangian.analysis.subject import assuming_positive, evaluate
+from lagrangian.derive import EquationsOfMotion
+
+STARTS = 24
+TOLERANCE = 1e-8
+
+
+def _only_in_trig(expr: sp.Basic, q: sp.Symbol) -> bool:
+    if q not in expr.free_symbols:
+        return True
+    if isinstance(expr, (sp.sin, sp.cos)):
+        argument = expr.args[0]
+        slope = argument.diff(q)
+        return bool(slope.is_Integer and slope != 0 and q not in (argument - slope * q).free_symbols)
+    if expr == q:
+        return False
+    return all(_only_in_trig(a, q) for a in expr.args)
+
+
+def periodic_coordinates(coordinates: Sequence[sp.Symbol], exprs) -> list[sp.Symbol]:
+    """The coordinates that every expression contains only through sin/cos of k q."""
+    return [q for q in coordinates if all(_only_in_trig(sp.sympify(e), q) for e in exprs)]
+
+
+def _occurrences(expr: sp.Basic, q: sp.Symbol, inside: bool, found: set[bool]) -> None:
+    if expr == q:
+        found.add(inside)
+    elif q in expr.free_symbols:
+        wraps = isinstance(expr, sp.Function) or (expr.is_Pow and q in expr.exp.free_symbols)
+        for argument in expr.args:
+            _occurrences(argument, q, inside or wraps, found)
+
+
+def mixes_functions(exprs, unknowns: Sequence[sp.Symbol]) -> bool:
+    """True when some unknown appears both bare and inside a function (k q = sin q): such
+    equations have no closed-form solution and sympy.solve spends seconds saying so."""
+    for q in unknowns:
+        found: set[bool] = set()
+        for e in exprs:
+            _occurrences(sp.sympify(e), q, False, found)
+        if found == {True, False}:
+            return True
+    return False
+
+
+def branch_condition(values: Sequence[sp.Expr], eom: EquationsOfMotion) -> sp.Basic:
+    """When every value is real (positive parameters assumed positive)."""
+    parts = []
+    for value in values:
+        for atom in value.atoms(sp.acos, sp.asin):
+            argument = atom.args[0]
+            parts += [argument >= -1, argument <= 1]
+        for power in value.atoms(sp.Pow):
+            if power.exp.is_Rational and not power.exp.is_Integer and power.exp.q % 2 == 0:
+                parts.append(power.base >= 0)
+        for log in value.atoms(sp.log):
+            parts.append(log.args[0] > 0)
+    if not parts:
+        return sp.true
+    return assuming_positive(sp.And(*parts), eom)
+
+
+def _reduce_angle(value: sp.Expr, number: float) -> sp.Expr:
+    """``value`` shifted by a multiple of 2 pi into (-pi, pi] (``number`` is its value)."""
+    turns = math.ceil((number - math.pi) / (2 * math.pi) - 1e-12)
+    return value - 2 * sp.pi * turns if turns else value
+
+
+def normalize_angles(
+    solutions: list[dict], angles: Sequence[sp.Symbol], numbers: Mapping[sp.Symbol, sp.Expr]
+) -> list[dict]:
+    """Angles brought into (-pi, pi] and duplicate solutions dropped."""
+    result: list[dict] = []
+    seen: list[tuple[dict, dict]] = []
+    for solution in solutions:
+        reduced = dict(solution)
+        numeric = {}
+        for q, value in solution.items():
+            number = evaluate(value, numbers)
+            if q in angles and not number.free_symbols and number.is_real:
+                reduced[q] = _reduce_angle(value, float(number))
+                number = evaluate(reduced[q], numbers)
+            numeric[q] = number
+        if any(_same(numeric, other) for other, _ in seen):
+            continue
+        seen.append((numeric, reduced))
+        result.append(reduced)
+    return result
+
+
+def _same(a: Mapping, b: Mapping) -> bool:
+    if set(a) != set(b):
+        return False
+    for q in a:
+        difference = sp.sympify(a[q] - b[q])
+        if difference.free_symbols:
+            if sp.simplify(difference) != 0:
+                return False
+        elif abs(complex(difference)) > TOLERANCE * max(1.0, abs(complex(a[q]))):
+            return False
+    return True
+
+
+def _starts(unknowns: Sequence[sp.Symbol], angles: Sequence[sp.Symbol]) -> list[list[float]]:
+    rng = random.Random(1729)
+    starts = [[0.0] * len(unknowns)]
+    for i in range(STARTS - 1):
+        scale = (0.5, 2.0, 8.0)[i % 3]
+        starts.append(
+            [
+                rng.uniform(-math.pi, math.pi) if q in angles else rng.uniform(-scale, scale)
+                for q in unknowns
+            ]
+        )
+    return starts
+
+
+def numeric_roots(
+    equations: sp.MatrixBase, unknowns: Sequence[sp.Symbol], angles: Sequence[sp.Symbol]
+) -> list[dict]:
+    """Distinct roots found by sympy.nsolve from several starting points (angles wrapped
+    into (-pi, pi], sorted)."""
+    system = [e for e in equations if e != 0]
+    if len(system) != len(unknowns) or set().union(*[e.free_symbols for e in system]) - set(
+        unknowns
+    ):
+        return []
+    found: list[dict] = []
+    for start in _starts(unknowns, angles):
+        try:
+            root = sp.nsolve(system, list(unknowns), start, prec=20)
+        except (ValueError, ZeroDivisionError, TypeError):
+            continue
+        values = {}
+        for q, value in zip(unknowns, root):
+            number = float(value)
+            if q in angles:
+                number = number - 2 * math.pi * math.ceil((number - math.pi) / (2 * math.pi))
+            values[q] = sp.Float(number, 15)
+        if not any(_same(values, other) for other in found):
+            found.append(values)
+    return sorted(found, key=lambda s: [float(s[q]) for q in unknowns])

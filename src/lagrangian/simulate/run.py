@@ -1,0 +1,204 @@
+"""simulate(system, initial, t_span) -> Trajectory: integrate the equations of motion.
+
+    M(q, t) q_ddot = forcing(q, q_dot, t),    x = [q; q_dot],    dx/dt = [q_dot; M^-1 forcing]
+
+(first-order coordinates keep only q in the state, see :mod:`lagrangian.numerics.state`),
+integrated by any ``scipy.integrate.solve_ivp`` method or the fixed-step RK4.
+
+>>> import lagrangian as lg
+>>> trajectory = simulate(lg.examples.simple_pendulum(), {"theta": 0.1}, 1.0, samples=3)
+>>> trajectory.t
+array([0. , 0.5, 1. ])
+>>> trajectory.drift()["energy_relative"] < 1e-8
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy.integrate import BDF, DOP853, LSODA, RK23, RK45, OdeSolver, Radau
+
+from lagrangian.derive import EquationsOfMotion, derive
+from lagrangian.errors import SimulationError
+from lagrangian.model import System
+from lagrangian.numerics.compile import CompiledEquations, compile_equations
+from lagrangian.simulate.events import EventFunction, EventWatch
+from lagrangian.simulate.inputs import Inputs, resolve_inputs
+from lagrangian.simulate.rk4 import RK4
+from lagrangian.simulate.stepping import Integration, integrate
+from lagrangian.simulate.trajectory import Event, Trajectory
+
+SOLVERS: dict[str, type[OdeSolver]] = {
+    "RK45": RK45,
+    "RK23": RK23,
+    "DOP853": DOP853,
+    "Radau": Radau,
+    "BDF": BDF,
+    "LSODA": LSODA,
+    "RK4": RK4,
+}
+
+
+def simulate(
+    system_or_eom: System | EquationsOfMotion,
+    initial: Mapping[Any, float] | None = None,
+    t_span: float | tuple[float, float] | None = None,
+    *,
+    parameters: Mapping[Any, float] | None = None,
+    method: str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    samples: int | None = None,
+    t_eval: ArrayLike | None = None,
+    dt: float | None = None,
+    max_step: float = np.inf,
+    events: Sequence[EventFunction] = (),
+    raise_on_failure: bool = True,
+) -> Trajectory:
+    """Integrate the motion of a System (derived here) or of its EquationsOfMotion.
+
+    Parameters
+    ----------
+    system_or_eom:
+        What to simulate; pass the EquationsOfMotion to reuse one derivation and compilation.
+    initial:
+        Initial coordinates and velocities by name or symbol (``theta``, ``theta_dot``), over
+        ``System.initial``.  First-order coordinates need no velocity (their equation fixes
+        it; a given one is ignored).
+    t_span:
+        T or (t0, T); default (0, ``System.simulation["t_end"]``).
+    parameters:
+        Parameter values by name or symbol, over the defaults.
+    method:
+        ``RK45`` (default), ``RK23``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA`` (solve_ivp)
+        or ``RK4`` (fixed step ``dt``, or the spacing of ``samples``).
+    rtol, atol, max_step:
+        Tolerances (default 1e-8, 1e-10) and largest step of the adaptive methods.
+    samples, t_eval:
+        ``samples`` evenly spaced output times, or the output times ``t_eval``; neither: every
+        step.  method, rtol, atol, samples and dt also fall back to ``System.simulation``.
+    events:
+        Functions g(t, q, q_dot) whose zeros are recorded (``terminal``, ``direction``
+        attributes as in solve_ivp).
+    raise_on_failure:
+        False: a failed integration returns a Trajectory with status ``"failed"``, the
+        message, and every output computed before the failure.
+
+    Raises
+    ------
+    SimulationError
+        Bad input (every problem listed), unsupported systems, or a failed integration.
+    """
+    eom, fallback_initial, settings = _description(system_or_eom)
+    compiled = compile_equations(eom)
+    given = {
+        "initial": initial,
+        "parameters": parameters,
+        "t_span": t_span,
+        "samples": samples,
+        "t_eval": t_eval,
+        "method": method,
+        "rtol": rtol,
+        "atol": atol,
+        "dt": dt,
+        "max_step": max_step,
+    }
+    inputs = resolve_inputs(compiled, given, fallback_initial, settings)
+
+    def field(t: float, x: np.ndarray) -> np.ndarray:
+        return compiled.rhs(t, x, inputs.p)
+
+    def unpack(t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return x[: len(compiled.coordinates)], compiled.velocities(t, x, inputs.p)
+
+    watch = EventWatch(events, unpack) if events else None
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        run = integrate(_starter(field, inputs), inputs.t_span[0], inputs.x0, inputs.t_out, watch)
+    trajectory = _trajectory(compiled, inputs, run, watch)
+    if run.failure is not None and raise_on_failure:
+        raise SimulationError(
+            f"{trajectory.message} Pass raise_on_failure=False to keep the trajectory "
+            "computed up to the failure."
+        )
+    return trajectory
+
+
+def _description(
+    system_or_eom: System | EquationsOfMotion,
+) -> tuple[EquationsOfMotion, Mapping[Any, float], Mapping[str, Any]]:
+    """The equations, the System's initial values and its simulation settings."""
+    if isinstance(system_or_eom, System):
+        return derive(system_or_eom), system_or_eom.initial, system_or_eom.simulation
+    if isinstance(system_or_eom, EquationsOfMotion):
+        return system_or_eom, {}, {}
+    raise SimulationError(
+        f"simulate needs a System or the EquationsOfMotion of one, not "
+        f"{type(system_or_eom).__name__}."
+    )
+
+
+def _starter(
+    field: Callable[[float, np.ndarray], np.ndarray], inputs: Inputs
+) -> Callable[[], OdeSolver]:
+    """A function building the solver (its first evaluation of the field may fail)."""
+    t0, t1 = inputs.t_span
+    solver = SOLVERS[inputs.method]
+    if inputs.method == "RK4":
+        return lambda: solver(field, t0, inputs.x0, t1, dt=inputs.dt)
+    return lambda: solver(
+        field, t0, inputs.x0, t1, rtol=inputs.rtol, atol=inputs.atol, max_step=inputs.max_step
+    )
+
+
+def _trajectory(
+    compiled: CompiledEquations, inputs: Inputs, run: Integration, watch: EventWatch | None
+) -> Trajectory:
+    n, p = len(compiled.coordinates), inputs.p
+    t, x = run.t, run.x
+    q_dot = compiled.velocities(t, x, p) if len(t) else np.zeros((0, n))
+    q = x[:, :n]
+    energy_function = None
+    if compiled.energy_function_differs:
+        energy_function = compiled.energy_function(q, q_dot, t, p) if len(t) else np.zeros(0)
+    names = watch.names if watch is not None else ()
+    return Trajectory(
+        t=t,
+        q=q,
+        q_dot=q_dot,
+        coordinates=compiled.coordinates,
+        energy=compiled.energy(q, q_dot, t, p) if len(t) else np.zeros(0),
+        energy_function=energy_function,
+        events=tuple(
+            Event(names[i], time, _state(compiled, time, state, p)) for i, time, state in run.events
+        ),
+        status="failed" if run.failure is not None else "success",
+        message=_message(compiled, run, names, p),
+        method=inputs.method,
+        parameters=inputs.parameters,
+    )
+
+
+def _state(compiled: CompiledEquations, t: float, x: np.ndarray, p: np.ndarray) -> dict[str, float]:
+    """Every coordinate and velocity at state x, by name."""
+    q_dot = compiled.velocities(t, x, p)
+    values = dict(zip(compiled.coordinates, x[: len(compiled.coordinates)].tolist()))
+    values.update((name + "_dot", float(v)) for name, v in zip(compiled.coordinates, q_dot))
+    return values
+
+
+def _message(
+    compiled: CompiledEquations, run: Integration, names: tuple[str, ...], p: np.ndarray
+) -> str:
+    if run.failure is not None:
+        state = ", ".join(
+            f"{name}={value:.6g}" for name, value in zip(compiled.state_names, run.x_reached)
+        )
+        return f"Integration failed at t = {run.t_reached:.6g} ({state}): {run.failure}"
+    if run.terminal is not None:
+        time = run.events[-1][1]
+        return f"Stopped by the terminal event {names[run.terminal]} at t = {time:.6g}."
+    return "The integration reached the end of the time span."

@@ -1,0 +1,59 @@
+"""Plots of trajectories: each function draws what it says on the Axes it returns, and
+save_plots writes one PNG (to pytest's tmp_path, never into the repository)."""
+
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+import lagrangian as lg
+from lagrangian.render.plots import (
+    plot_energy_drift,
+    plot_phase_portrait,
+    plot_time_series,
+    save_plots,
+)
+from lagrangian.simulate import Trajectory, simulate
+
+
+@pytest.fixture(scope="module")
+def swing() -> Trajectory:
+    return simulate(lg.examples.double_pendulum(), t_span=5.0, samples=251, method="DOP853")
+
+
+def test_save_plots_writes_one_png_of_the_double_pendulum(swing: Trajectory, tmp_path) -> None:
+    path = save_plots(swing, tmp_path / "double_pendulum.png")
+    data = path.read_bytes()
+    assert data.startswith(b"\x89PNG\r\n\x1a\n") and len(data) > 10_000
+
+
+def test_time_series_draws_each_named_column(swing: Trajectory) -> None:
+    ax = plot_time_series(swing)
+    assert [line.get_label() for line in ax.get_lines()] == ["theta", "phi"]
+    np.testing.assert_array_equal(ax.get_lines()[1].get_ydata(), swing["phi"])
+    ax = plot_time_series(swing, names=["theta_dot"])
+    assert [line.get_label() for line in ax.get_lines()] == ["theta_dot"]
+
+
+def test_phase_portrait_on_a_given_axes(swing: Trajectory) -> None:
+    ax = Figure().add_subplot()
+    assert plot_phase_portrait(swing, "phi", ax=ax) is ax
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("phi", "phi_dot")
+    np.testing.assert_array_equal(ax.get_lines()[0].get_xdata(), swing["phi"])
+
+
+def test_energy_drift_is_relative_unless_the_initial_energy_is_zero(swing: Trajectory) -> None:
+    ax = plot_energy_drift(swing)
+    energy = swing.energy
+    np.testing.assert_allclose(ax.get_lines()[0].get_ydata(), (energy - energy[0]) / abs(energy[0]))
+    assert ax.get_ylabel() == "(E - E0) / |E0|"
+    circuit = simulate(lg.examples.series_rlc(), t_span=0.1, samples=11)  # starts with E = 0
+    assert plot_energy_drift(circuit).get_ylabel() == "E - E0"
+    pivot = simulate(lg.examples.moving_pivot_pendulum(), t_span=1.0, samples=11)
+    labels = [line.get_label() for line in plot_energy_drift(pivot).get_lines()]
+    assert labels == ["E = T + V", "h"]
