@@ -14,7 +14,6 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.examples import circuits, machines
 
 S = sp.Symbol
 
@@ -31,12 +30,19 @@ def assert_same_vector(ours: sp.MatrixBase, expected: list[sp.Expr]) -> None:
 
 @pytest.fixture(scope="module")
 def servo() -> lg.EquationsOfMotion:
-    return lg.derive(machines.servo_system())
+    return lg.derive(lg.examples.servo_system())
 
 
 # -- catalog ----------------------------------------------------------------------------------
 
-EXAMPLES = [*circuits.__all__, *machines.__all__]
+EXAMPLES = [
+    "series_rlc",
+    "two_mesh_circuit",
+    "rc_rl_circuit",
+    "capacitor_microphone",
+    "robot_arm",
+    "servo_system",
+]
 
 
 @pytest.mark.parametrize("name", EXAMPLES)
@@ -56,7 +62,7 @@ def test_example_is_registered_and_described(name: str) -> None:
 def test_series_rlc_is_kvl() -> None:
     q, q_dot, q_ddot = S("q"), S("q_dot"), S("q_ddot")
     L, C, R, u = sp.symbols("L C R u")
-    eom = lg.derive(circuits.series_rlc())
+    eom = lg.derive(lg.examples.series_rlc())
     # Seed 001: L q_ddot + R q_dot + q/C = u.
     assert_same(eom.equations[0], L * q_ddot + R * q_dot + q / C - u)
     step = eom.steps[0]
@@ -72,7 +78,7 @@ def test_two_mesh_equations() -> None:
     q1, q2 = sp.symbols("q1 q2")
     q1d, q2d, q1dd, q2dd = sp.symbols("q1_dot q2_dot q1_ddot q2_ddot")
     L1, L2, L12, C1, C2, R1, R2, U_a = sp.symbols("L1 L2 L12 C1 C2 R1 R2 U_a")
-    eom = lg.derive(circuits.two_mesh_circuit())
+    eom = lg.derive(lg.examples.two_mesh_circuit())
     expected = [
         (L1 + L12) * q1dd - L12 * q2dd + R1 * q1d + q1 / C1 - U_a,
         -L12 * q1dd + (L2 + L12) * q2dd + R2 * q2d + q2 / C2,
@@ -84,7 +90,7 @@ def test_two_mesh_partial_derivatives() -> None:
     q1, q2 = sp.symbols("q1 q2")
     q1d, q2d = sp.symbols("q1_dot q2_dot")
     L1, L2, L12, C1, C2, R1, R2, U_a = sp.symbols("L1 L2 L12 C1 C2 R1 R2 U_a")
-    first, second = lg.derive(circuits.two_mesh_circuit()).steps
+    first, second = lg.derive(lg.examples.two_mesh_circuit()).steps
     # dKe/dq_dot (= dL/dq_dot, V has no velocities).
     assert_same(first.dL_dvelocity, (L1 + L12) * q1d - L12 * q2d)
     assert_same(second.dL_dvelocity, (L2 + L12) * q2d - L12 * q1d)
@@ -101,7 +107,7 @@ def test_two_mesh_accelerations_satisfy_the_notes_solved_form() -> None:
     q1, q2 = sp.symbols("q1 q2")
     q1d, q2d = sp.symbols("q1_dot q2_dot")
     L1, L2, L12, C1, C2, R1, R2, U_a = sp.symbols("L1 L2 L12 C1 C2 R1 R2 U_a")
-    q1dd, q2dd = lg.derive(circuits.two_mesh_circuit()).explicit_accelerations
+    q1dd, q2dd = lg.derive(lg.examples.two_mesh_circuit()).explicit_accelerations
     # The notes solve each equation for its own acceleration, the other one kept.
     assert_same(q1dd, (-q1 / C1 - R1 * q1d + L12 * q2dd + U_a) / (L1 + L12))
     assert_same(q2dd, (L12 * q1dd - q2 / C2 - R2 * q2d) / (L2 + L12))
@@ -114,7 +120,7 @@ def test_rc_rl_equations() -> None:
     q1, q2 = sp.symbols("q1 q2")
     q1d, q2d, q2dd = sp.symbols("q1_dot q2_dot q2_ddot")
     L, C, R, R_L, u_a = sp.symbols("L C R R_L u_a")
-    eom = lg.derive(circuits.rc_rl_circuit())
+    eom = lg.derive(lg.examples.rc_rl_circuit())
     expected = [
         R * q1d + (q1 - q2) / C - u_a,
         L * q2dd + R_L * q2d + (-q1 + q2) / C,
@@ -130,7 +136,7 @@ def test_rc_rl_equations() -> None:
 def test_rc_rl_mass_matrix_is_singular_and_q1_is_first_order() -> None:
     q1, q2 = sp.symbols("q1 q2")
     L = S("L")
-    eom = lg.derive(circuits.rc_rl_circuit())
+    eom = lg.derive(lg.examples.rc_rl_circuit())
     assert eom.mass_matrix == sp.Matrix([[0, 0], [0, L]])
     assert dict(eom.coordinate_orders) == {q1: 1, q2: 2}
     assert not eom.mass_matrix_is_regular
@@ -141,7 +147,7 @@ def test_rc_rl_explicit_form_is_the_notes() -> None:
     q1, q2 = sp.symbols("q1 q2")
     q1d, q2d, q2dd = sp.symbols("q1_dot q2_dot q2_ddot")
     L, C, R, R_L, u_a = sp.symbols("L C R R_L u_a")
-    explicit = lg.derive(circuits.rc_rl_circuit()).explicit
+    explicit = lg.derive(lg.examples.rc_rl_circuit()).explicit
     assert set(explicit) == {q1d, q2dd}
     assert_same(explicit[q1d], ((-q1 + q2) / C + u_a) / R)
     assert_same(explicit[q2dd], (-R_L * q2d + (q1 - q2) / C) / L)
@@ -152,7 +158,7 @@ def test_rc_rl_explicit_form_is_the_notes() -> None:
 
 
 def test_rc_rl_has_no_explicit_accelerations() -> None:
-    eom = lg.derive(circuits.rc_rl_circuit())
+    eom = lg.derive(lg.examples.rc_rl_circuit())
     with pytest.raises(lg.DerivationError, match=r"mass matrix is singular.*q1.: 1"):
         _ = eom.explicit_accelerations
 
@@ -164,7 +170,7 @@ def test_capacitor_microphone_equations() -> None:
     x, q = sp.symbols("x q")
     xd, qd, xdd, qdd = sp.symbols("x_dot q_dot x_ddot q_ddot")
     m, K, B, f, L, R, v, eps, A, x0 = sp.symbols("m K B f L R v eps A x0")
-    eom = lg.derive(circuits.capacitor_microphone())
+    eom = lg.derive(lg.examples.capacitor_microphone())
     expected = [
         m * xdd + B * xd + K * x - q**2 / (2 * eps * A) - f,
         L * qdd + R * qd + (x0 - x) * q / (eps * A) - v,
@@ -176,7 +182,7 @@ def test_capacitor_microphone_energies() -> None:
     x, q = sp.symbols("x q")
     xd, qd = sp.symbols("x_dot q_dot")
     m, K, L, eps, A, x0 = sp.symbols("m K L eps A x0")
-    eom = lg.derive(circuits.capacitor_microphone())
+    eom = lg.derive(lg.examples.capacitor_microphone())
     assert_same(eom.kinetic_energy, m * xd**2 / 2 + L * qd**2 / 2)
     assert_same(eom.potential_energy, K * x**2 / 2 + q**2 * (x0 - x) / (2 * eps * A))
     assert eom.mass_matrix == sp.diag(m, L)
@@ -190,7 +196,7 @@ THETA_D, R_D, THETA_DD, R_DD = sp.symbols("theta_dot r_dot theta_ddot r_ddot")
 
 def test_robot_arm_equations() -> None:
     m, g, B1, B2, tau, f = sp.symbols("m g B1 B2 tau f")
-    eom = lg.derive(machines.robot_arm())
+    eom = lg.derive(lg.examples.robot_arm())
     expected = [
         m * R_**2 * THETA_DD
         + 2 * m * R_ * R_D * THETA_D
@@ -204,7 +210,7 @@ def test_robot_arm_equations() -> None:
 
 def test_robot_arm_partial_derivatives() -> None:
     m, g, B1, B2 = sp.symbols("m g B1 B2")
-    steps = lg.derive(machines.robot_arm()).steps
+    steps = lg.derive(lg.examples.robot_arm()).steps
     assert_same_vector([s.dL_dvelocity for s in steps], [m * R_**2 * THETA_D, m * R_D])
     assert_same_vector(
         [s.dL_dcoordinate for s in steps],
@@ -215,7 +221,7 @@ def test_robot_arm_partial_derivatives() -> None:
 
 def test_robot_arm_matrix_form() -> None:
     m, g, B1, B2, tau, f = sp.symbols("m g B1 B2 tau f")
-    eom = lg.derive(machines.robot_arm())
+    eom = lg.derive(lg.examples.robot_arm())
     assert_same_vector(eom.mass_matrix, [m * R_**2, 0, 0, m])
     assert_same_vector(eom.gravity, [m * g * R_ * sp.cos(THETA), m * g * sp.sin(THETA)])
     # The notes' matrix [[B1, 2 m r theta_dot], [-m r theta_dot, B2]] mixes damping into C;
@@ -230,7 +236,7 @@ def test_robot_arm_matrix_form() -> None:
 
 def test_robot_arm_full_matrix_equation() -> None:
     m, g, B1, B2, tau, f = sp.symbols("m g B1 B2 tau f")
-    eom = lg.derive(machines.robot_arm())
+    eom = lg.derive(lg.examples.robot_arm())
     accelerations = sp.Matrix([THETA_DD, R_DD])
     # M q_ddot + V(q, q_dot) + G = Q, the notes' final matrix equation, as residuals.
     notes = (
@@ -306,7 +312,7 @@ def test_servo_accelerations_match_a_numeric_solve(servo: lg.EquationsOfMotion) 
 
 
 def test_servo_state_space_as_corrected_in_the_module(servo: lg.EquationsOfMotion) -> None:
-    """The state-space formulas of machines.servo_system's comment (the notes' with typos
+    """The state-space formulas of the servo_system model file's comment (the notes' with typos
     fixed) are what the derivation gives."""
     s, c = sp.sin(Q3), sp.cos(Q3)
     det = Ls * Lr - LM**2 * c**2

@@ -14,7 +14,6 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.examples import bodies, particles, pendulums
 
 t = lg.t
 m, g, k, F, f, h = sp.symbols("m g k F f h")
@@ -32,9 +31,27 @@ x1_ddot, y1_ddot, x2_ddot = sp.symbols("x1_ddot y1_ddot x2_ddot")
 
 #: The examples this file covers (one function per worked example of the notes).
 MECHANICAL = [
-    *(getattr(pendulums, n) for n in pendulums.__all__ if n != "n_link_pendulum"),
-    *(getattr(particles, n) for n in particles.__all__),
-    *(getattr(bodies, n) for n in bodies.__all__),
+    lg.examples.get(name)
+    for name in (
+        "simple_pendulum",
+        "compound_pendulum",
+        "spherical_pendulum",
+        "double_pendulum",
+        "moving_pivot_pendulum",
+        "particle_plane_cartesian",
+        "particle_plane_polar",
+        "mass_on_spring",
+        "mass_spring_damper",
+        "projectile_polar",
+        "planet",
+        "two_masses_three_springs",
+        "quartic_lagrangian",
+        "stokes_drag",
+        "charged_particle_em",
+        "dumbbell",
+        "atwood_machine",
+        "atwood_machine_with_pulley",
+    )
 ]
 
 
@@ -59,8 +76,7 @@ def test_example_conventions(build: Callable[[], lg.System]) -> None:
     system = build()
     doc_line = build.__doc__.strip().splitlines()[0]
     assert system.name == build.__name__
-    if build is not pendulums.simple_pendulum:  # kept as it was before this file
-        assert system.description == doc_line
+    assert system.description == doc_line
     assert all(value is not None for value in system.parameters.values())
     state = {*system.coordinates, *system.velocities}
     assert set(system.initial) == state
@@ -70,14 +86,14 @@ def test_example_conventions(build: Callable[[], lg.System]) -> None:
 
 
 def test_simple_pendulum() -> None:
-    (eq,) = _equations(pendulums.simple_pendulum())
+    (eq,) = _equations(lg.examples.simple_pendulum())
     assert _same(eq, m * ell**2 * theta_ddot + m * g * ell * sp.sin(theta))
 
 
 def test_compound_pendulum_inertia_about_the_pivot() -> None:
     # Notes: I theta_ddot + m g l sin(theta) = 0 with I about the pivot, I = I_c + m l^2.
     i_c = sp.Symbol("I_c")
-    eom = lg.derive(pendulums.compound_pendulum())
+    eom = lg.derive(lg.examples.compound_pendulum())
     pivot_inertia = i_c + m * ell**2
     assert _same(eom.equations[0], pivot_inertia * theta_ddot + m * g * ell * sp.sin(theta))
     assert _same(eom.kinetic_energy, pivot_inertia * theta_dot**2 / 2)
@@ -85,7 +101,7 @@ def test_compound_pendulum_inertia_about_the_pivot() -> None:
 
 
 def test_spherical_pendulum() -> None:
-    eom = lg.derive(pendulums.spherical_pendulum())
+    eom = lg.derive(lg.examples.spherical_pendulum())
     eq_theta, eq_phi = eom.equations
     # Notes: m r^2 (theta_ddot - sin cos phi_dot^2 + g/r sin) = 0 (their r is our ell).
     notes_theta = (
@@ -140,7 +156,7 @@ def _double_pendulum_notes() -> dict[str, sp.Expr]:
 
 def test_double_pendulum_equations() -> None:
     notes = _double_pendulum_notes()
-    eom = lg.derive(pendulums.double_pendulum())
+    eom = lg.derive(lg.examples.double_pendulum())
     assert _same(eom.kinetic_energy, notes["T"])
     assert _same(eom.equations[0], l1 * notes["theta equation / l1"])
     assert _same(eom.equations[1], l2 * notes["phi equation / l2"])
@@ -151,7 +167,7 @@ def test_double_pendulum_equations() -> None:
 
 def test_double_pendulum_steps_as_the_notes_write_them() -> None:
     notes = _double_pendulum_notes()
-    step_theta, step_phi = lg.derive(pendulums.double_pendulum()).steps
+    step_theta, step_phi = lg.derive(lg.examples.double_pendulum()).steps
     assert _same(step_theta.dL_dvelocity, notes["dL/dtheta_dot"])
     assert _same(step_theta.ddt_dL_dvelocity, notes["d/dt dL/dtheta_dot"])
     assert _same(step_theta.dL_dcoordinate, notes["dL/dtheta"])
@@ -161,7 +177,7 @@ def test_double_pendulum_steps_as_the_notes_write_them() -> None:
 
 
 def test_double_pendulum_mass_matrix_from_the_notes_kinetic_energy() -> None:
-    eom = lg.derive(pendulums.double_pendulum())
+    eom = lg.derive(lg.examples.double_pendulum())
     velocities = [theta_dot, phi_dot]
     expected = sp.hessian(_double_pendulum_notes()["T"], velocities)
     assert all(_same(a, b) for a, b in zip(eom.mass_matrix, expected, strict=True))
@@ -169,7 +185,7 @@ def test_double_pendulum_mass_matrix_from_the_notes_kinetic_energy() -> None:
 
 def test_moving_pivot_pendulum_is_rheonomic() -> None:
     x0, omega = sp.symbols("x0 omega")
-    eom = lg.derive(pendulums.moving_pivot_pendulum())
+    eom = lg.derive(lg.examples.moving_pivot_pendulum())
     drive = -m * ell * x0 * omega**2 * sp.cos(omega * t) * sp.cos(theta)
     expected = m * ell**2 * theta_ddot + drive + m * g * ell * sp.sin(theta)
     assert _same(eom.equations[0], expected)
@@ -181,14 +197,14 @@ def test_moving_pivot_pendulum_is_rheonomic() -> None:
 
 def test_particle_plane_cartesian() -> None:
     f_x, f_y = sp.symbols("Fx Fy")
-    eom = lg.derive(particles.particle_plane_cartesian())
+    eom = lg.derive(lg.examples.particle_plane_cartesian())
     assert list(eom.generalized_forces) == [f_x, f_y]  # Q_x = Fx, Q_y = Fy
     assert list(eom.equations) == [m * x_ddot - f_x, m * y_ddot - f_y]
 
 
 def test_particle_plane_polar_generalized_forces_by_virtual_work() -> None:
     f_r, f_theta = sp.symbols("F_r F_theta")
-    eom = lg.derive(particles.particle_plane_polar())
+    eom = lg.derive(lg.examples.particle_plane_polar())
     assert _same(eom.generalized_forces[0], f_r)
     assert _same(eom.generalized_forces[1], r * f_theta)
     eq_r, eq_theta = eom.equations
@@ -200,7 +216,7 @@ def test_particle_plane_polar_generalized_forces_by_virtual_work() -> None:
 
 
 def test_mass_on_spring_steps() -> None:
-    eom = lg.derive(particles.mass_on_spring())
+    eom = lg.derive(lg.examples.mass_on_spring())
     step = eom.steps[0]
     assert (step.dL_dvelocity, step.ddt_dL_dvelocity, step.dL_dcoordinate) == (
         m * x_dot,
@@ -212,7 +228,7 @@ def test_mass_on_spring_steps() -> None:
 
 def test_mass_spring_damper_seed_001() -> None:
     big_k, big_b = sp.symbols("K B")
-    eom = lg.derive(particles.mass_spring_damper())
+    eom = lg.derive(lg.examples.mass_spring_damper())
     assert _same(eom.potential_energy, big_k * x**2 / 2 + m * g * (h + x))
     assert _same(eom.dissipation_function, big_b * x_dot**2 / 2)
     step = eom.steps[0]
@@ -222,7 +238,7 @@ def test_mass_spring_damper_seed_001() -> None:
 
 
 def test_projectile_polar() -> None:
-    eq_r, eq_theta = _equations(particles.projectile_polar())
+    eq_r, eq_theta = _equations(lg.examples.projectile_polar())
     assert _same(eq_r, m * (r_ddot - r * theta_dot**2) + m * g * sp.sin(theta))
     # The notes print m (r theta_ddot - 2 r_dot theta_dot) + m g cos(theta) = 0: the Coriolis
     # sign is a typo (d/dt (m r^2 theta_dot) = m r^2 theta_ddot + 2 m r r_dot theta_dot) and
@@ -235,7 +251,7 @@ def test_projectile_polar() -> None:
 
 def test_planet() -> None:
     mu = sp.Symbol("mu")
-    eom = lg.derive(particles.planet())
+    eom = lg.derive(lg.examples.planet())
     assert _same(eom.potential_energy, -m * mu / r)
     # The notes stop at "two Lagrange equations"; the textbook result:
     assert _same(eom.equations[0], m * r_ddot - m * r * theta_dot**2 + m * mu / r**2)
@@ -246,7 +262,7 @@ def test_planet() -> None:
 
 def test_two_masses_three_springs() -> None:
     k1, k2, k3 = sp.symbols("k1 k2 k3")
-    eom = lg.derive(particles.two_masses_three_springs())
+    eom = lg.derive(lg.examples.two_masses_three_springs())
     notes_v = k1 * x1**2 / 2 + k3 * x2**2 / 2 + k2 * (x1 - x2) ** 2 / 2
     assert _same(eom.potential_energy, notes_v)
     assert eom.mass_matrix == sp.diag(m1, m2)
@@ -258,7 +274,7 @@ def test_two_masses_three_springs() -> None:
 def test_quartic_lagrangian() -> None:
     # By hand: dL/dx_dot = m^2 x_dot^3/3 + 2 m V x_dot; its d/dt minus dL/dx factorizes as
     # (m x_ddot + V')(m x_dot^2 + 2 V), the notes' equation without their factor x_dot.
-    eom = lg.derive(particles.quartic_lagrangian())
+    eom = lg.derive(lg.examples.quartic_lagrangian())
     potential = k * x**2 / 2
     force = potential.diff(x)
     assert _same(eom.equations[0], (m * x_ddot + force) * (m * x_dot**2 + 2 * potential))
@@ -271,7 +287,7 @@ def test_quartic_lagrangian() -> None:
 def test_stokes_drag() -> None:
     eta, a = sp.symbols("eta a")
     drag = 6 * sp.pi * eta * a
-    eom = lg.derive(particles.stokes_drag())
+    eom = lg.derive(lg.examples.stokes_drag())
     assert list(eom.dissipation_forces) == [-drag * x_dot, -drag * y_dot]
     assert _same(eom.equations[0], m * x_ddot + drag * x_dot)
     assert _same(eom.equations[1], m * y_ddot + drag * y_dot + m * g)
@@ -291,7 +307,7 @@ def test_charged_particle_lorentz_force() -> None:
         ]
     )
     assert list(field_e) == [e0, 0, 0] and list(field_b) == [0, 0, b0]
-    eom = lg.derive(particles.charged_particle_em())
+    eom = lg.derive(lg.examples.charged_particle_em())
     lorentz = q_e * (field_e + speed.cross(field_b))
     for j, acc in enumerate([x_ddot, y_ddot, z_ddot]):
         assert _same(eom.equations[j], m * acc - lorentz[j])
@@ -303,7 +319,7 @@ def test_charged_particle_lorentz_force() -> None:
 
 
 def test_atwood_machine() -> None:
-    eom = lg.derive(bodies.atwood_machine())
+    eom = lg.derive(lg.examples.atwood_machine())
     assert _same(eom.kinetic_energy, y_dot**2 * (m1 + m2) / 2)
     assert _same(eom.potential_energy, -m1 * g * y - m2 * g * (ell - y))
     assert _same(eom.equations[0], y_ddot * (m1 + m2) - g * (m1 - m2))
@@ -311,7 +327,7 @@ def test_atwood_machine() -> None:
 
 
 def test_atwood_machine_with_pulley_inertia() -> None:
-    eom = lg.derive(bodies.atwood_machine_with_pulley())
+    eom = lg.derive(lg.examples.atwood_machine_with_pulley())
     pulley = big_i * y_dot**2 / (2 * big_r**2)
     assert _same(eom.kinetic_energy, y_dot**2 * (m1 + m2) / 2 + pulley)
     expected = g * (m1 - m2) / (m1 + m2 + big_i / big_r**2)
@@ -321,7 +337,7 @@ def test_atwood_machine_with_pulley_inertia() -> None:
 def test_dumbbell_seed_003() -> None:
     f1x, f1y, f2x, f2y = sp.symbols("f1x f1y f2x f2y")
     s, c = sp.sin(theta), sp.cos(theta)
-    eom = lg.derive(bodies.dumbbell())
+    eom = lg.derive(lg.examples.dumbbell())
     x2_acc = x1_ddot - h * c * theta_dot**2 - h * s * theta_ddot
     y2_acc = y1_ddot - h * s * theta_dot**2 + h * c * theta_ddot
     notes = [
@@ -344,7 +360,7 @@ def test_dumbbell_steps_as_the_notes_write_them() -> None:
     # The notes write these momenta with double dots (x1_ddot for x1_dot): a typo, since the
     # next line differentiates them in time.
     s, c = sp.sin(theta), sp.cos(theta)
-    step_x, _, step_theta = lg.derive(bodies.dumbbell()).steps
+    step_x, _, step_theta = lg.derive(lg.examples.dumbbell()).steps
     assert _same(step_x.dL_dvelocity, m1 * x1_dot + m2 * (x1_dot - h * s * theta_dot))
     expected = m1 * x1_ddot + m2 * (x1_ddot - h * (c * theta_dot**2 + s * theta_ddot))
     assert _same(step_x.ddt_dL_dvelocity, expected)
@@ -361,5 +377,5 @@ def test_dumbbell_mass_matrix() -> None:
             [-m2 * h * s, m2 * h * c, m2 * h**2],
         ]
     )
-    mass = sp.Matrix(lg.derive(bodies.dumbbell()).mass_matrix)
+    mass = sp.Matrix(lg.derive(lg.examples.dumbbell()).mass_matrix)
     assert sp.simplify(mass - expected) == sp.zeros(3, 3)

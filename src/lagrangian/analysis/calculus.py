@@ -37,9 +37,7 @@ def time_derivative(expr: sp.Expr, eom: EquationsOfMotion) -> sp.Expr:
 
 def is_small(expr: sp.Basic, limit: int = SMALL) -> bool:
     """At most ``limit`` operations, found without walking all of a large expression."""
-    nodes = 0
-    for _ in sp.preorder_traversal(expr):
-        nodes += 1
+    for nodes, _ in enumerate(sp.preorder_traversal(expr)):
         if nodes > 4 * limit:
             return False
     return bool(sp.count_ops(expr) <= limit)

@@ -59,9 +59,7 @@ def _power_terms(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str]]:
     explicit = eom.lagrangian.diff(eom.time)
     if not is_zero(explicit):
         reasons.append(f"L depends explicitly on t (dL/dt|explicit = {tidy(explicit)})")
-    friction = sum(
-        (-v * f for v, f in zip(eom.velocities, eom.dissipation_forces)), sp.Integer(0)
-    )
+    friction = sum((-v * f for v, f in zip(eom.velocities, eom.dissipation_forces)), sp.Integer(0))
     if not is_zero(friction):
         f = eom.dissipation_function
         quadratic = is_zero(friction - 2 * f)

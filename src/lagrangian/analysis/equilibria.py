@@ -169,6 +169,23 @@ def _holds(condition: sp.Basic, numbers: Mapping) -> bool | None:
     return bool(verdict) if verdict in (sp.true, sp.false) else None
 
 
+def _solve(static, unknowns, numbers) -> tuple[list[dict] | None, str, str]:
+    """(solutions, method, reason): sympy.solve, else nsolve at the parameter values."""
+    solutions = _symbolic(static, unknowns)
+    if solutions == []:
+        return [], "symbolic", "sympy.solve finds no solution of the static equations"
+    if solutions is not None:
+        return solutions, "symbolic", "every branch sympy.solve finds for the static equations"
+    numeric = evaluate(static, numbers)
+    missing = numeric.free_symbols - set(unknowns)
+    if missing:
+        names = ", ".join(sorted(s.name for s in missing))
+        return None, "none", f"sympy.solve failed and {names} have no values to search with"
+    angles = periodic_coordinates(unknowns, static)
+    roots = numeric_roots(numeric, unknowns, angles)
+    return roots, "numeric", "sympy.nsolve from several starting points at the parameter values"
+
+
 def _no_rest(static: sp.ImmutableMatrix, reason: str) -> Equilibria:
     return Equilibria((), static, None, "none", reason)
 
@@ -192,28 +209,16 @@ def equilibria(subject: Subject, parameters: Values | None = None) -> Equilibria
     unknowns = [q for q in eom.coordinates if depends_on(static, [q])]
     nonzero = [e for e in static if not is_zero(e)]
     if not nonzero:
-        found = (_build(eom, {}, numbers, subs, True),)
-        return Equilibria(found, static, potential, "symbolic", "the static forces vanish")
+        everywhere = (_build(eom, {}, numbers, subs, True),)
+        return Equilibria(everywhere, static, potential, "symbolic", "the static forces vanish")
     constant = [e for e in nonzero if not depends_on(e, unknowns)]
     if constant:
         return _no_rest(
             static, f"the static forces {constant} do not depend on the coordinates: no rest"
         )
-    angles = periodic_coordinates(unknowns, static)
-    solutions = _symbolic(static, unknowns)
-    method, reason = "symbolic", "every branch sympy.solve finds for the static equations"
-    if solutions == []:
-        reason = "sympy.solve finds no solution of the static equations"
+    solutions, method, reason = _solve(static, unknowns, numbers)
     if solutions is None:
-        numeric = evaluate(static, numbers)
-        missing = numeric.free_symbols - set(unknowns)
-        if missing:
-            names = ", ".join(sorted(s.name for s in missing))
-            return _no_rest(static, f"sympy.solve failed and {names} have no values to search")
-        solutions = numeric_roots(numeric, unknowns, angles)
-        method, reason = "numeric", "sympy.nsolve from several starting points at the values"
-    solutions = normalize_angles(solutions, angles, numbers)
-    found = tuple(
-        _build(eom, s, numbers, subs, method == "symbolic") for s in solutions
-    )
+        return _no_rest(static, reason)
+    solutions = normalize_angles(solutions, periodic_coordinates(unknowns, static), numbers)
+    found = tuple(_build(eom, s, numbers, subs, method == "symbolic") for s in solutions)
     return Equilibria(found, static, potential, method, reason)

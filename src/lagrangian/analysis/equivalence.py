@@ -156,7 +156,10 @@ def point_transformation(
     rates = jacobian * sp.Matrix([velocity(p) for p in plain])
     substitution = {q: q_of_s[q] for q in eom.coordinates}
     substitution.update(
-        {v: rates[j] + q_of_s[q].diff(t) for j, (q, v) in enumerate(zip(eom.coordinates, eom.velocities))}
+        {
+            v: rates[j] + q_of_s[q].diff(t)
+            for j, (q, v) in enumerate(zip(eom.coordinates, eom.velocities))
+        }
     )
     back = {s: p for s, p in zip(new, plain)}
 

@@ -119,7 +119,9 @@ def _general(eom: EquationsOfMotion, p: tuple[sp.Symbol, ...]):
     try:
         branches = sp.solve(equations, list(eom.velocities), dict=True)
     except NotImplementedError as error:
-        raise AnalysisError(f"The Legendre map p = dL/dq_dot could not be inverted: {error}")
+        raise AnalysisError(
+            f"The Legendre map p = dL/dq_dot could not be inverted: {error}"
+        ) from error
     symbols = set().union(*[m.free_symbols for m in momenta]) | set(eom.velocities)
     sample = _sample_point(symbols)
     p_sample = {pj: mj.xreplace(sample).evalf(30) for pj, mj in zip(p, momenta)}
@@ -188,4 +190,3 @@ def hamilton_equations(subject: Subject, legendre: Hamiltonian | None = None) ->
         coordinate_rates=sp.ImmutableMatrix(rates),
         momentum_rates=sp.ImmutableMatrix(p_rates),
     )
-

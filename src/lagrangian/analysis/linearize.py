@@ -13,10 +13,8 @@ rates the positive real parts (1/s).
 
 >>> import lagrangian as lg
 >>> lin = linearize(lg.examples.simple_pendulum(), {"theta": 0})
->>> lin.A
-Matrix([
-[     0, 1],
-[-g/l, 0]])
+>>> lin.A.tolist()
+[[0, 1], [-g/l, 0]]
 """
 
 from __future__ import annotations

@@ -185,9 +185,7 @@ def normal_modes(
             )
     exact = not (k.atoms(sp.Float) or m.atoms(sp.Float))
     symbolic = (
-        _symbolic_modes(sp.Matrix(k), sp.Matrix(m), eom, numbers)
-        if exact and k.rows <= 2
-        else None
+        _symbolic_modes(sp.Matrix(k), sp.Matrix(m), eom, numbers) if exact and k.rows <= 2 else None
     )
     if symbolic is not None:
         squares, shapes = symbolic
@@ -198,7 +196,9 @@ def normal_modes(
         shapes = tuple(v for _, v in pairs)
         reason = "K v = omega^2 M v solved numerically at the parameter values"
     else:
-        missing = ", ".join(sorted(s.name for s in (k_numeric.free_symbols | m_numeric.free_symbols)))
+        missing = ", ".join(
+            sorted(s.name for s in (k_numeric.free_symbols | m_numeric.free_symbols))
+        )
         raise AnalysisError(f"No numbers for {missing} and no short symbolic answer.")
     frequencies = tuple(
         assuming_positive(sp.sqrt(w2), eom) if symbolic else sp.sqrt(max(w2, 0)) for w2 in squares

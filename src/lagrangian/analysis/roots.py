@@ -32,7 +32,9 @@ def _only_in_trig(expr: sp.Basic, q: sp.Symbol) -> bool:
     if isinstance(expr, (sp.sin, sp.cos)):
         argument = expr.args[0]
         slope = argument.diff(q)
-        return bool(slope.is_Integer and slope != 0 and q not in (argument - slope * q).free_symbols)
+        return bool(
+            slope.is_Integer and slope != 0 and q not in (argument - slope * q).free_symbols
+        )
     if expr == q:
         return False
     return all(_only_in_trig(a, q) for a in expr.args)

@@ -15,7 +15,7 @@ their defaults are used wherever a number is needed.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any, Union
+from typing import Any
 
 import sympy as sp
 
@@ -23,7 +23,7 @@ from lagrangian.derive import EquationsOfMotion, derive
 from lagrangian.errors import AnalysisError, Problem, raise_if_problems
 from lagrangian.model import System
 
-Subject = Union[System, EquationsOfMotion]
+Subject = System | EquationsOfMotion
 #: Parameter substitutions as a user gives them: name or Symbol -> number or expression.
 Values = Mapping[Any, Any]
 
@@ -40,7 +40,9 @@ def equations_of(subject: Subject) -> EquationsOfMotion:
     )
 
 
-def _lookup(eom: EquationsOfMotion, field: str, names: Mapping[str, sp.Symbol], given: Values):
+def _lookup(
+    eom: EquationsOfMotion, field: str, noun: str, names: Mapping[str, sp.Symbol], given: Values
+) -> dict[sp.Symbol, sp.Expr]:
     """``given`` with keys resolved to symbols of ``names``; every unknown key is a problem."""
     resolved: dict[sp.Symbol, sp.Expr] = {}
     problems = []
@@ -50,7 +52,7 @@ def _lookup(eom: EquationsOfMotion, field: str, names: Mapping[str, sp.Symbol], 
             problems.append(
                 Problem(
                     f"{field}.{name}",
-                    f"{eom.name or 'the system'} has no {field[:-1] or field} named {name!r}",
+                    f"{eom.name or 'the system'} has no {noun} named {name!r}",
                     f"use one of {', '.join(sorted(names))}",
                 )
             )
@@ -63,7 +65,7 @@ def _lookup(eom: EquationsOfMotion, field: str, names: Mapping[str, sp.Symbol], 
 def substitutions(eom: EquationsOfMotion, parameters: Values | None) -> dict[sp.Symbol, sp.Expr]:
     """The user's parameter substitutions, keyed by the parameter symbols."""
     names = {p.name: p for p in eom.parameters}
-    return _lookup(eom, "parameters", names, parameters or {})
+    return _lookup(eom, "parameters", "parameter", names, parameters or {})
 
 
 def numeric_values(eom: EquationsOfMotion, parameters: Values | None = None) -> dict:
@@ -95,7 +97,7 @@ def operating_state(eom: EquationsOfMotion, about: Values | None) -> dict[sp.Sym
     """Every coordinate and velocity with its value in ``about`` (names or symbols of
     coordinates, ``NAME_dot`` velocities, or ``t``); unlisted ones are 0."""
     names = {s.name: s for s in (*eom.coordinates, *eom.velocities, eom.time)}
-    given = _lookup(eom, "state", names, about or {})
+    given = _lookup(eom, "state", "coordinate, velocity or time", names, about or {})
     state: dict[sp.Symbol, sp.Expr] = {s: sp.Integer(0) for s in names.values()}
     state.update(given)
     return state

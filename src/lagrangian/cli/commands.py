@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import json
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -11,6 +12,7 @@ from typing import Any
 from lagrangian import examples, render
 from lagrangian.derive import derive
 from lagrangian.errors import ModelError, Problem
+from lagrangian.io import load
 from lagrangian.model import System
 from lagrangian.numerics.export import export
 from lagrangian.render.json import eom_document
@@ -21,16 +23,20 @@ EXAMPLE_PREFIX = "examples/"
 
 
 def load_system(reference: str) -> System:
-    """A System from ``examples/NAME`` (or a bare example name)."""
+    """A System from ``examples/NAME``, a model file (YAML, TOML, JSON) or ``-`` (stdin)."""
+    if reference == "-":
+        return load(sys.stdin.read())
     name = reference.removeprefix(EXAMPLE_PREFIX)
-    if name in examples.CATALOG:
+    if reference.startswith(EXAMPLE_PREFIX) or name in examples.CATALOG:
         return examples.get(name)()
-    if reference.startswith(EXAMPLE_PREFIX) or ("/" not in reference and "." not in reference):
-        examples.get(name)  # raises ModelError with the closest names
-    raise ModelError(
-        "Reading model files is not available in this version; use a built-in "
-        "example, examples/NAME (see `lagrangian examples`)."
-    )
+    path = Path(reference)
+    if not path.is_file():
+        raise ModelError(
+            f"No model file {reference!r} and no example of that name: give a path to a "
+            ".yaml, .toml or .json file, examples/NAME (see `lagrangian examples`), or - to "
+            "read standard input."
+        )
+    return load(path)
 
 
 def apply_settings(system: System, settings: Sequence[str]) -> System:
@@ -129,4 +135,7 @@ def examples_command(name: str | None) -> str:
         return "\n".join(f"{n:<{width}}  {examples.describe(n)}" for n in examples.names())
     name = name.removeprefix(EXAMPLE_PREFIX)
     builder = examples.get(name)
-    return f"{name}\n\n{(builder.__doc__ or '').strip()}"
+    try:
+        return examples.model_text(name)
+    except ModelError:  # built in Python (it takes a size): describe it instead
+        return f"{name}\n\n{(builder.__doc__ or '').strip()}"

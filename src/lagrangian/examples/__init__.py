@@ -1,8 +1,8 @@
-"""Built-in systems: every worked example of the seed notes, and scalable test systems.
+"""Built-in systems: every worked example of the seed notes, shipped as model files
+(``examples/models/NAME.yaml``), plus scalable test systems built in Python.
 
-Each example is a function returning a fresh :class:`~lagrangian.model.System`;
-:data:`CATALOG` maps every example name to its function, and ``lagrangian.examples.NAME()``
-works for each.
+:data:`CATALOG` maps every example name to a function returning its System, and
+``lagrangian.examples.NAME()`` works for each; :func:`model_text` gives the model file itself.
 
 >>> import lagrangian as lg
 >>> lg.examples.simple_pendulum().coordinates
@@ -11,20 +11,62 @@ works for each.
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Callable
-from types import ModuleType
+from functools import cache
+from importlib.resources import files
 from typing import Any
 
 from lagrangian.errors import ModelError
-from lagrangian.examples import bodies, circuits, machines, particles, pendulums
+from lagrangian.examples.scalable import n_link_pendulum
+from lagrangian.io import loads
 from lagrangian.model import System
 
-_MODULES: tuple[ModuleType, ...] = (pendulums, circuits, machines, particles, bodies)
+MODELS = files("lagrangian.examples").joinpath("models")
+
+
+def model_text(name: str) -> str:
+    """The model file of example ``name`` (YAML, with the notes' equations as comments)."""
+    get(name)  # a clear error for an unknown name
+    resource = MODELS.joinpath(f"{name}.yaml")
+    if not resource.is_file():
+        raise ModelError(
+            f"The example {name!r} is built in Python (it takes a size), so it has no model file."
+        )
+    return resource.read_text(encoding="utf-8")
+
+
+def _header(text: str) -> str:
+    """The leading comment block of a model file, without the '# ' marks."""
+    lines = []
+    for line in text.splitlines():
+        if not line.startswith("#"):
+            break
+        lines.append(line[2:] if line.startswith("# ") else line[1:])
+    return "\n".join(lines)
+
+
+def _file_example(name: str) -> Callable[[], System]:
+    @cache
+    def build() -> System:
+        return loads(model_text(name), format="yaml", source=f"examples/{name}.yaml")
+
+    build.__name__ = build.__qualname__ = name
+    build.__doc__ = _header(MODELS.joinpath(f"{name}.yaml").read_text(encoding="utf-8"))
+    return build
+
+
+def _catalog() -> dict[str, Callable[..., System]]:
+    catalog: dict[str, Callable[..., System]] = {"n_link_pendulum": n_link_pendulum}
+    for resource in MODELS.iterdir():
+        if resource.name.endswith(".yaml"):
+            name = resource.name.removesuffix(".yaml")
+            catalog[name] = _file_example(name)
+    return dict(sorted(catalog.items()))
+
 
 #: Example name -> function building the System (scalable ones take a size argument).
-CATALOG: dict[str, Callable[..., System]] = {
-    name: getattr(module, name) for module in _MODULES for name in module.__all__
-}
+CATALOG: dict[str, Callable[..., System]] = _catalog()
 
 
 def names() -> list[str]:
@@ -42,8 +84,6 @@ def get(name: str) -> Callable[..., System]:
     try:
         return CATALOG[name]
     except KeyError:
-        import difflib
-
         close = difflib.get_close_matches(name, CATALOG, n=3)
         hint = f" Did you mean {', '.join(close)}?" if close else ""
         raise ModelError(
@@ -57,4 +97,4 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'lagrangian.examples' has no attribute {name!r}")
 
 
-__all__ = ["CATALOG", "describe", "get", "names", *CATALOG]
+__all__ = ["CATALOG", "describe", "get", "model_text", "names", *CATALOG]

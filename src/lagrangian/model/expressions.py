@@ -90,6 +90,7 @@ _OPERATOR_REFUSALS = {
 }
 _DECIMAL = re.compile(r"(\d*)\.?(\d*)(?:[eE]([+-]?\d+))?")
 _UNDEFINED = (sp.zoo, sp.nan, sp.oo, -sp.oo)
+_REAL_DOMAINS = "asin and acos take -1..1; log, sqrt and fractional powers take x >= 0"
 _TOO_BIG = (f"a number of more than {MAX_DIGITS} digits", "use smaller numbers")
 
 
@@ -128,6 +129,18 @@ def _power_cost(base: sp.Basic) -> tuple[int, bool]:
         costs = [_power_cost(factor) for factor in base.args]
         return max(bits for bits, _ in costs), any(root for _, root in costs)
     return 0, False
+
+
+def _is_complex_constant(value: sp.Basic) -> bool:
+    """Whether ``value`` is a constant SymPy knows is not real (``asin(2)``, ``log(-1)``).
+
+    Such constants make SymPy's assumptions crawl (``(1/log(asin(3))).is_imaginary`` takes
+    seconds) and a mechanical model never needs them.  The query itself may fail on numbers
+    SymPy cannot evaluate at low precision; those count as real."""
+    try:
+        return bool(value.is_number and value.is_extended_real is False)
+    except Exception:
+        return False
 
 
 def _check_size(number: sp.Rational) -> sp.Rational:
@@ -200,11 +213,13 @@ class _Builder:
                 raise _Refusal(f"this part is undefined ({value})", "check the formula")
             if isinstance(value, sp.Rational):
                 _check_size(value)
+            elif _is_complex_constant(value):
+                raise _Refusal(f"this part is not a real number ({value})", _REAL_DOMAINS)
         except _Refusal as refusal:
             refusal.at = refusal.at or self.at(node)
             raise
         except Exception as error:  # SymPy's own refusals, such as Heaviside(asin(2))
-            message = f"SymPy cannot form this part: {str(error)[:120]}"
+            message = f"SymPy cannot form this part ({type(error).__name__}: {str(error)[:99]})"
             raise _Refusal(message, "check the formula", self.at(node)) from None
         return value
 

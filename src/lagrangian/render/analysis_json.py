@@ -1,0 +1,149 @@
+"""The machine-readable output contract of DESIGN.md: ``lagrangian analyze --format json``.
+
+Keys: ``dof``, ``constraints`` (empty until constraint classification lands), ``momenta``
+(coordinate name -> p), ``cyclic``, ``conserved`` (expressions), ``energy_function``,
+``energy_conserved``, ``hamiltonian``, ``equilibria`` (each with ``state`` and ``stable``),
+``normal_modes`` (frequencies and shapes about a stable equilibrium) and, when the report
+was made about an operating point, ``linearization`` (``A``, ``B``, ``eigenvalues``,
+``frequencies``, ``growth_rates``).  Details (reasons, conditions, dh/dt, Hamilton's
+equations) and ``failures`` (part -> reason) come alongside.  Every expression is a string
+SymPy can parse; a part that could not be computed is null.
+
+>>> import json, lagrangian as lg
+>>> from lagrangian.analysis import analyze
+>>> document = analysis_document(analyze(lg.examples.simple_pendulum()))
+>>> document["momenta"], document["normal_modes"]["frequencies"]
+({'theta': 'm*theta_dot*l**2'}, ['sqrt(g)/sqrt(l)'])
+>>> _ = json.dumps(document)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+import sympy as sp
+
+from lagrangian.analysis import (
+    AnalysisReport,
+    EnergyConservation,
+    Equilibrium,
+    HamiltonEquations,
+    Linearization,
+    NormalModes,
+)
+from lagrangian.render.json import expression_string
+
+
+def _strings(values: Iterable[Any]) -> list[str]:
+    return [expression_string(sp.sympify(v)) for v in values]
+
+
+def _matrix(matrix: sp.MatrixBase) -> list[list[str]]:
+    return [_strings(matrix.row(i)) for i in range(matrix.rows)]
+
+
+def _state(state: Mapping[sp.Symbol, Any]) -> dict[str, str]:
+    return {s.name: expression_string(sp.sympify(v)) for s, v in state.items()}
+
+
+def _named(values: Mapping[str, Any]) -> dict[str, str]:
+    return {name: expression_string(sp.sympify(v)) for name, v in values.items()}
+
+
+def _flag(value: Any) -> bool | None:
+    return None if value is None else bool(value)
+
+
+def _energy(energy: EnergyConservation) -> dict[str, Any]:
+    return {
+        "reason": energy.reason,
+        "rate": expression_string(energy.rate),
+        "total_energy": expression_string(energy.total_energy),
+        "equals_total_energy": bool(energy.equals_total_energy),
+        "total_energy_reason": energy.total_energy_reason,
+    }
+
+
+def _equilibrium(equilibrium: Equilibrium) -> dict[str, Any]:
+    condition = equilibrium.stability_condition
+    return {
+        "state": _state(equilibrium.state),
+        "stable": _flag(equilibrium.stable),
+        "reason": equilibrium.reason,
+        "condition": expression_string(equilibrium.condition),
+        "exists": _flag(equilibrium.exists),
+        "stability_condition": None if condition is None else expression_string(condition),
+        "free": [q.name for q in equilibrium.free],
+        "exact": bool(equilibrium.exact),
+    }
+
+
+def _modes(modes: NormalModes) -> dict[str, Any]:
+    return {
+        "about": _state(modes.about),
+        "frequencies": _strings(modes.frequencies),
+        "squared_frequencies": _strings(modes.squared_frequencies),
+        "shapes": [_strings(shape) for shape in modes.shapes],
+        "symbolic": bool(modes.symbolic),
+        "reason": modes.reason,
+    }
+
+
+def _canonical(canonical: HamiltonEquations) -> dict[str, dict[str, str]]:
+    """q_dot = dH/dp keyed by coordinate, p_dot keyed by momentum name."""
+    return {
+        "coordinate_rates": dict(
+            zip([q.name for q in canonical.coordinates], _strings(canonical.coordinate_rates))
+        ),
+        "momentum_rates": dict(
+            zip([p.name for p in canonical.momenta], _strings(canonical.momentum_rates))
+        ),
+    }
+
+
+def _linearization(linear: Linearization) -> dict[str, Any]:
+    return {
+        "state": _state(linear.state),
+        "state_vector": [s.name for s in linear.state_vector],
+        "inputs": [u.name for u in linear.inputs],
+        "A": _matrix(linear.A),
+        "B": _matrix(linear.B),
+        "eigenvalues": _strings(linear.eigenvalues),
+        "frequencies": _strings(linear.frequencies),
+        "growth_rates": _strings(linear.growth_rates),
+        "is_solution": bool(linear.is_solution),
+        "note": linear.note,
+    }
+
+
+def analysis_document(report: AnalysisReport) -> dict[str, Any]:
+    """The analyze JSON object (see the module docstring) of ``report``."""
+    energy, legendre, canonical = report.energy, report.hamiltonian, report.hamilton_equations
+    document: dict[str, Any] = {
+        "name": report.name,
+        "dof": report.dof,
+        "coordinates": [q.name for q in report.coordinates],
+        "constraints": list(report.constraints),
+        "momenta": None if report.momenta is None else _named(report.momenta.by_name()),
+        "cyclic": [c.coordinate.name for c in report.cyclic],
+        "conserved": _strings(c.expression for c in report.conserved),
+        "conserved_quantities": [
+            {"name": c.name, "expression": expression_string(c.expression), "reason": c.reason}
+            for c in report.conserved
+        ],
+        "energy_function": None if energy is None else expression_string(energy.energy_function),
+        "energy_conserved": None if energy is None else bool(energy.conserved),
+        "energy": None if energy is None else _energy(energy),
+        "hamiltonian": None if legendre is None else expression_string(legendre.hamiltonian),
+        "hamilton_equations": None if canonical is None else _canonical(canonical),
+        "equilibria": None
+        if report.equilibria is None
+        else [_equilibrium(e) for e in report.equilibria],
+        "normal_modes": None if report.normal_modes is None else _modes(report.normal_modes),
+        "failures": {f.part: f.reason for f in report.failures},
+    }
+    if report.linearization is not None or report.failure("linearization"):
+        linear = report.linearization
+        document["linearization"] = None if linear is None else _linearization(linear)
+    return document
