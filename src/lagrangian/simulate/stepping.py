@@ -68,6 +68,12 @@ class _Output:
             self.x.extend(np.atleast_2d(dense()(block)).T)
             self.next = end
 
+    def stop(self, t: float, x: np.ndarray) -> None:
+        """End the output at a terminal event: its time and state are the last row."""
+        if self.times is not None and t > self.t[-1]:
+            self.t.append(t)
+            self.x.append(x)
+
     def arrays(self, size: int) -> tuple[np.ndarray, np.ndarray]:
         x = np.array(self.x, dtype=float).reshape(-1, size)
         return np.array(self.t, dtype=float), x
@@ -112,6 +118,7 @@ def integrate(
                     x_stop = events[-1][2]
             output.reach(t_stop, dense, x_stop)
             if terminal is not None:
+                output.stop(t_stop, x_stop)
                 break
     except FAILURES as error:
         failure = str(error)
