@@ -9,7 +9,7 @@ Euler–Lagrange equations with every step, the matrix form M q_ddot = forcing, 
 g*l*m*sin(theta) + l**2*m*theta_ddot
 """
 
-from lagrangian import examples, render
+from lagrangian import examples, io, render
 from lagrangian.derive import CoordinateSteps, EquationsOfMotion, derive, nielsen_equations
 from lagrangian.errors import (
     AnalysisError,
@@ -20,6 +20,7 @@ from lagrangian.errors import (
     ModelError,
     SimulationError,
 )
+from lagrangian.io import load
 from lagrangian.model import (
     Capacitor,
     Damper,
@@ -72,6 +73,8 @@ __all__ = [
     "coordinates",
     "derive",
     "examples",
+    "io",
+    "load",
     "nielsen_equations",
     "render",
     "simulate",
