@@ -13,8 +13,9 @@ README = Path(__file__).resolve().parents[1] / "README.md"
 
 def test_the_first_commands_are_install_and_run() -> None:
     blocks = re.findall(r"```bash\n(.*?)```", README.read_text(encoding="utf-8"), re.S)
-    assert blocks[0].strip() == ("pip install . && lagrangian derive examples/double_pendulum "
-                                 "--steps")
+    assert blocks[0].strip() == (
+        "pip install . && lagrangian derive examples/double_pendulum --steps"
+    )
     assert blocks[1].strip() == 'pip install -e ".[test]" && python -m pytest -q'
 
 

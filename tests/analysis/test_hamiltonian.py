@@ -109,5 +109,5 @@ def test_velocities_entering_in_fewer_combinations_are_refused() -> None:
     x1, x2 = sp.symbols("x1 x2")
     v1, v2 = sp.symbols("x1_dot x2_dot")
     system = lg.System(coordinates=[x1, x2], kinetic=(v1 + v2) ** 2 / 2)
-    with pytest.raises(lg.AnalysisError, match="rank 1 < 2.*fewer combinations"):
+    with pytest.raises(lg.AnalysisError, match=r"rank 1 < 2.*fewer combinations"):
         hamiltonian(system)

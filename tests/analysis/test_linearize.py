@@ -85,7 +85,7 @@ def test_time_dependent_equations_are_linearized_at_the_given_time() -> None:
 def test_bad_names_are_refused() -> None:
     with pytest.raises(lg.AnalysisError, match="no coordinate, velocity or time named 'psi'"):
         linearize(lg.examples.simple_pendulum(), {"psi": 0})
-    with pytest.raises(lg.AnalysisError, match="Inputs must be parameters.*theta"):
+    with pytest.raises(lg.AnalysisError, match=r"Inputs must be parameters.*theta"):
         linearize(lg.examples.simple_pendulum(), inputs=["theta"])
 
 

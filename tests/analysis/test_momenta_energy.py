@@ -14,7 +14,6 @@ References (written here by hand, not taken from the code under test):
 
 from __future__ import annotations
 
-import pytest
 import sympy as sp
 
 import lagrangian as lg
@@ -126,11 +125,6 @@ def test_hoop_h_conserved_but_not_t_plus_v() -> None:
     assert _same(energy.total_energy, total - m * g * R * sp.cos(theta))
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="derive bug: lagrangian.derive.trig._linearize crashes (IndexError) when a "
-    "product-to-sum step yields sin(0) = 0, e.g. combine_trig(sin(a)*cos(a)**2)",
-)
 def test_hoop_built_from_a_rotating_particle() -> None:
     energy = energy_conservation(hoop_particle())
     assert energy.conserved and not energy.equals_total_energy

@@ -36,7 +36,7 @@ def test_two_equal_masses_three_equal_springs() -> None:
     assert modes.symbolic
     assert modes.squared_frequencies == (k1 / m1, 3 * k1 / m1)
     assert [list(v) for v in modes.shapes] == [[1, 1], [1, -1]]
-    assert _same(modes.frequencies[1], sp.sqrt(3 * k1 / m1))
+    assert _same(modes.frequencies[1] ** 2, 3 * k1 / m1)
 
 
 def test_equal_double_pendulum() -> None:
@@ -57,7 +57,7 @@ def test_equal_double_pendulum_numeric_defaults() -> None:
 
 def test_simple_pendulum() -> None:
     modes = normal_modes(lg.examples.simple_pendulum())
-    assert _same(modes.frequencies[0], sp.sqrt(g / l))
+    assert _same(modes.frequencies[0] ** 2, g / l)
 
 
 def test_hoop_oscillates_about_the_off_axis_equilibrium() -> None:
@@ -68,7 +68,8 @@ def test_hoop_oscillates_about_the_off_axis_equilibrium() -> None:
         potential=-m * g * R * sp.cos(theta),
     )
     modes = normal_modes(hoop)
-    assert abs(modes.about[theta]) == sp.acos(g / (omega**2 * R))
+    branch = sp.acos(g / (omega**2 * R))
+    assert modes.about[theta] in (branch, -branch)
     assert _same(modes.squared_frequencies[0], omega**2 - g**2 / (omega**2 * R**2))
 
 
@@ -101,7 +102,7 @@ def test_unstable_point_is_refused_with_the_eigenvalues() -> None:
 
 
 def test_moving_state_is_refused() -> None:
-    with pytest.raises(lg.AnalysisError, match="state of rest.*linearize"):
+    with pytest.raises(lg.AnalysisError, match=r"state of rest.*linearize"):
         normal_modes(lg.examples.simple_pendulum(), about={"theta_dot": 1})
 
 

@@ -128,7 +128,7 @@ def energy_conservation(subject: Subject) -> EnergyConservation:
     else:
         reason = "h is not conserved: " + "; ".join(reasons)
     scalar = eom.velocity_potential.xreplace({v: 0 for v in eom.velocities})
-    total = tidy(eom.kinetic_energy + eom.potential_energy + scalar)
+    total = sp.expand(eom.kinetic_energy + eom.potential_energy + scalar)
     equal = is_zero(h - total)
     return EnergyConservation(
         energy_function=h,

@@ -11,7 +11,7 @@ otherwise numerically with sympy.nsolve from several starting points at the para
 values.  Stability from K = -d forcing/dq at rest (:mod:`lagrangian.analysis.stability`).
 
 >>> import lagrangian as lg
->>> [e.state for e in equilibria(lg.examples.simple_pendulum())]
+>>> [dict(e.state) for e in equilibria(lg.examples.simple_pendulum())]
 [{theta: 0}, {theta: pi}]
 """
 
@@ -37,6 +37,7 @@ from lagrangian.analysis.subject import (
     assuming_positive,
     equations_of,
     evaluate,
+    frozen,
     numeric_values,
     substitutions,
 )
@@ -96,6 +97,8 @@ def _symbolic(static: sp.MatrixBase, unknowns: list[sp.Symbol]) -> list[dict] | 
         return None
     if mixes_functions(equations, unknowns):
         return None
+    # Factored first, so sympy.solve sees each branch (sin(theta) (R omega^2 cos(theta) - g)).
+    equations = [sp.factor(e) for e in equations]
     try:
         solutions = sp.solve(equations, unknowns, dict=True)
     except (NotImplementedError, ValueError, TypeError):
@@ -149,7 +152,7 @@ def _build(eom, solution, numbers, subs, exact) -> Equilibrium:
     if known and _unwieldy(solution) and not _complex(numeric):
         solution, exact = {q: sp.Float(sp.re(v), 15) for q, v in numeric.items()}, False
     free = tuple(q for q in eom.coordinates if q not in solution)
-    state = {q: solution.get(q, q) for q in eom.coordinates}
+    state = frozen({q: solution.get(q, q) for q in eom.coordinates})
     condition = branch_condition(list(solution.values()), eom) if exact else sp.true
     if known and _complex(numeric):
         exists: bool | None = False

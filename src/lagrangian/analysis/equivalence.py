@@ -87,29 +87,39 @@ def _plain(symbol: Any) -> sp.Symbol:
 
 
 def _validate(eom, mapping, new) -> dict[sp.Symbol, sp.Expr]:
+    """The mapping keyed by the old coordinates; every problem collected, raised once."""
     by_name = {q.name: q for q in eom.coordinates}
-    problems = []
-    resolved = {}
+    allowed = {*new, *eom.parameters, t}
+    problems, resolved = [], {}
     for key, value in mapping.items():
         name = key.name if isinstance(key, sp.Symbol) else str(key)
+        expr = sp.sympify(value)
         if name not in by_name:
             problems.append(Problem(f"mapping.{name}", "is not a coordinate", "map each old one"))
         else:
-            resolved[by_name[name]] = sp.sympify(value)
-    for q in eom.coordinates:
-        if q not in resolved:
-            problems.append(Problem(f"mapping.{q.name}", "is missing", "give q = q(s, t)"))
-    if len(new) != len(eom.coordinates):
-        problems.append(
-            Problem("new_coordinates", f"{len(new)} given for {len(eom.coordinates)}", "match")
-        )
-    allowed = {*new, *eom.parameters, t}
-    for q, value in resolved.items():
-        stray = sorted(s.name for s in value.free_symbols if _plain(s) not in allowed)
+            resolved[by_name[name]] = expr
+        stray = sorted(s.name for s in expr.free_symbols if _plain(s) not in allowed)
         if stray:
             problems.append(
-                Problem(f"mapping.{q.name}", f"uses unknown names {', '.join(stray)}", "")
+                Problem(
+                    f"mapping.{name}",
+                    f"uses unknown names {', '.join(stray)}",
+                    "write q with the new coordinates, parameters and t",
+                )
             )
+    problems += [
+        Problem(f"mapping.{q.name}", "is missing", "give q = q(s, t)")
+        for q in eom.coordinates
+        if q not in resolved
+    ]
+    if len(new) != len(eom.coordinates):
+        problems.append(
+            Problem(
+                "new_coordinates",
+                f"{len(new)} given for {len(eom.coordinates)} coordinates",
+                "give as many new coordinates as old ones",
+            )
+        )
     raise_if_problems(problems, "Invalid point transformation", AnalysisError)
     return resolved
 
@@ -178,5 +188,5 @@ def point_transformation(
             p: _simplified(f, back) for p, f in zip(plain, forces) if not is_zero(f)
         },
         name=f"{system.name} in ({', '.join(p.name for p in plain)})",
-        description=system.description,
+        description=getattr(system, "description", ""),
     )

@@ -27,7 +27,7 @@ import sympy as sp
 
 from lagrangian.analysis.calculus import QUICK, depends_on, tidy
 from lagrangian.analysis.momenta import momentum_symbols
-from lagrangian.analysis.subject import Subject, equations_of
+from lagrangian.analysis.subject import Subject, equations_of, frozen
 from lagrangian.derive import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 
@@ -162,7 +162,7 @@ def hamiltonian(subject: Subject) -> Hamiltonian:
         hamiltonian=h,
         coordinates=tuple(eom.coordinates),
         momenta=p,
-        velocities=velocities,
+        velocities=frozen(velocities),
         reason=reason,
     )
 

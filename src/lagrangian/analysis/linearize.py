@@ -32,6 +32,7 @@ from lagrangian.analysis.subject import (
     Values,
     equations_of,
     evaluate,
+    frozen,
     numeric_values,
     operating_state,
     positive_parameters,
@@ -107,6 +108,40 @@ def _solution_note(eom, m, f, state, acc0, numbers) -> tuple[bool, list[str]]:
     return len(notes) == 1 and notes[0].startswith("the state is"), notes
 
 
+def _state_space(eom, m, f, point, u) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+    """A, B and the accelerations a0 at the operating point."""
+    if not eom.mass_matrix_is_regular:
+        raise AnalysisError(
+            "The mass matrix is singular, so x = [q; q_dot] is not a state: coordinate "
+            f"orders {eom.orders_by_name()} (a coordinate without inertia)."
+        )
+    m0 = m.xreplace(point)
+    if is_zero(m0.det()):
+        raise AnalysisError(
+            f"The mass matrix is singular at this state ({m0.tolist()}): a singular point of "
+            "the coordinates; linearize about another state."
+        )
+    m0_inv = m0.inv()
+    acc0 = sp.Matrix([tidy(a, QUICK) for a in m0_inv * f.xreplace(point)])
+    n = len(eom.coordinates)
+    lower = _rate_jacobian(m, f, (*eom.coordinates, *eom.velocities), point, acc0, m0_inv)
+    a = tidy_matrix(sp.Matrix.vstack(sp.Matrix.hstack(sp.zeros(n), sp.eye(n)), lower), QUICK)
+    b_lower = _rate_jacobian(m, f, u, point, acc0, m0_inv)
+    b = tidy_matrix(sp.Matrix.vstack(sp.zeros(n, len(u)), b_lower), QUICK)
+    return a, b, acc0
+
+
+def _numeric_spectrum(a: sp.MatrixBase, numbers, notes: list[str]):
+    """Eigenvalues, frequencies and growth rates at the parameter values (a note if none)."""
+    numeric = evaluate(a, numbers)
+    if numeric.free_symbols:
+        missing = ", ".join(sorted(s.name for s in numeric.free_symbols))
+        notes.append(f"no eigenvalues: {missing} have no values")
+        return (), (), ()
+    values = eigenvalues(numeric)
+    return values, frequencies(values), growth_rates(values)
+
+
 def _symbolic_spectrum(a: sp.MatrixBase, eom: EquationsOfMotion):
     forward = positive_parameters(eom)
     backward = {v: k for k, v in forward.items()}
@@ -149,43 +184,18 @@ def linearize(
     numbers = numeric_values(eom, parameters)
     state = operating_state(eom, about)
     u = _inputs(eom, inputs)
-    if not eom.mass_matrix_is_regular:
-        raise AnalysisError(
-            "The mass matrix is singular, so x = [q; q_dot] is not a state: coordinate "
-            f"orders {eom.orders_by_name()} (a coordinate without inertia)."
-        )
     m = sp.Matrix(eom.mass_matrix).xreplace(subs)
     f = sp.Matrix(eom.forcing).xreplace(subs)
     point = {**state, **{p: numbers.get(p, p) for p in u}}
-    m0 = m.xreplace(point)
-    if is_zero(m0.det()):
-        raise AnalysisError(
-            f"The mass matrix is singular at this state ({m0.tolist()}): a singular point of "
-            "the coordinates; linearize about another state."
-        )
-    m0_inv = m0.inv()
-    acc0 = sp.Matrix([tidy(a, QUICK) for a in m0_inv * f.xreplace(point)])
-    x = (*eom.coordinates, *eom.velocities)
-    n = len(eom.coordinates)
-    lower = _rate_jacobian(m, f, x, point, acc0, m0_inv)
-    a = tidy_matrix(sp.Matrix.vstack(sp.Matrix.hstack(sp.zeros(n), sp.eye(n)), lower), QUICK)
-    b_lower = _rate_jacobian(m, f, u, point, acc0, m0_inv)
-    b = tidy_matrix(sp.Matrix.vstack(sp.zeros(n, len(u)), b_lower), QUICK)
+    a, b, acc0 = _state_space(eom, m, f, point, u)
     is_solution, notes = _solution_note(eom, m, f, state, acc0, numbers)
     if symbolic and a.rows <= SYMBOLIC_SIZE:
         values, freqs, growth = _symbolic_spectrum(a, eom)
     else:
-        numeric = evaluate(a, numbers)
-        if numeric.free_symbols:
-            missing = ", ".join(sorted(s.name for s in numeric.free_symbols))
-            notes.append(f"no eigenvalues: {missing} have no values")
-            values, freqs, growth = (), (), ()
-        else:
-            values = eigenvalues(numeric)
-            freqs, growth = frequencies(values), growth_rates(values)
+        values, freqs, growth = _numeric_spectrum(a, numbers, notes)
     return Linearization(
-        state=state,
-        state_vector=x,
+        state=frozen(state),
+        state_vector=(*eom.coordinates, *eom.velocities),
         inputs=u,
         A=a,
         B=b,

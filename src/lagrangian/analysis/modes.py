@@ -31,6 +31,7 @@ from lagrangian.analysis.subject import (
     assuming_positive,
     equations_of,
     evaluate,
+    frozen,
     numeric_values,
     operating_state,
     substitutions,
@@ -135,7 +136,8 @@ def _symbolic_modes(k: sp.Matrix, m: sp.Matrix, eom: EquationsOfMotion, numbers)
     if sum(roots.values()) != k.rows:
         return None
     squares = sorted(
-        (assuming_positive(r, eom) for r in roots), key=lambda r: _magnitude(r, numbers)
+        (assuming_positive(r, eom) for r, count in roots.items() for _ in range(count)),
+        key=lambda r: _magnitude(r, numbers),
     )
     if any(sp.count_ops(s) > SIMPLE for s in squares):
         return None
@@ -147,6 +149,23 @@ def _symbolic_modes(k: sp.Matrix, m: sp.Matrix, eom: EquationsOfMotion, numbers)
     if len(shapes) != k.rows or any(sp.count_ops(x) > SIMPLE for v in shapes for x in v):
         return None
     return tuple(squares), tuple(shapes)
+
+
+def _solve(k, m, k_numeric, m_numeric, eom, numbers):
+    """(omega^2 values, shapes, symbolic?, how): symbolic when exact, 2 x 2 and short."""
+    exact = not (k.atoms(sp.Float) or m.atoms(sp.Float))
+    if exact and k.rows <= 2:
+        found = _symbolic_modes(sp.Matrix(k), sp.Matrix(m), eom, numbers)
+        if found is not None:
+            return (*found, True, "det(K - omega^2 M) = 0 solved symbolically")
+    missing = k_numeric.free_symbols | m_numeric.free_symbols
+    if missing:
+        names = ", ".join(sorted(s.name for s in missing))
+        raise AnalysisError(f"No numbers for {names} and no short symbolic answer.")
+    pairs = generalized_modes(k_numeric, m_numeric)
+    squares = tuple(sp.Float(w2, 15) for w2, _ in pairs)
+    shapes = tuple(v for _, v in pairs)
+    return squares, shapes, False, "K v = omega^2 M v solved numerically at the parameter values"
 
 
 def normal_modes(
@@ -183,33 +202,17 @@ def normal_modes(
                 f"{point} is not a stable equilibrium ({why}); "
                 f"{_eigenvalue_text(eom, point, parameters)}"
             )
-    exact = not (k.atoms(sp.Float) or m.atoms(sp.Float))
-    symbolic = (
-        _symbolic_modes(sp.Matrix(k), sp.Matrix(m), eom, numbers) if exact and k.rows <= 2 else None
-    )
-    if symbolic is not None:
-        squares, shapes = symbolic
-        reason = "det(K - omega^2 M) = 0 solved symbolically"
-    elif known:
-        pairs = generalized_modes(k_numeric, m_numeric)
-        squares = tuple(sp.Float(w2, 15) for w2, _ in pairs)
-        shapes = tuple(v for _, v in pairs)
-        reason = "K v = omega^2 M v solved numerically at the parameter values"
-    else:
-        missing = ", ".join(
-            sorted(s.name for s in (k_numeric.free_symbols | m_numeric.free_symbols))
-        )
-        raise AnalysisError(f"No numbers for {missing} and no short symbolic answer.")
+    squares, shapes, symbolic, reason = _solve(k, m, k_numeric, m_numeric, eom, numbers)
     frequencies = tuple(
         assuming_positive(sp.sqrt(w2), eom) if symbolic else sp.sqrt(max(w2, 0)) for w2 in squares
     )
     return NormalModes(
-        about=point,
+        about=frozen(point),
         mass_matrix=m,
         stiffness_matrix=k,
         squared_frequencies=squares,
         frequencies=frequencies,
         shapes=shapes,
-        symbolic=symbolic is not None,
+        symbolic=symbolic,
         reason=reason + "; damping and gyroscopic terms left out",
     )

@@ -15,6 +15,7 @@ their defaults are used wherever a number is needed.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from types import MappingProxyType
 from typing import Any
 
 import sympy as sp
@@ -26,6 +27,11 @@ from lagrangian.model import System
 Subject = System | EquationsOfMotion
 #: Parameter substitutions as a user gives them: name or Symbol -> number or expression.
 Values = Mapping[Any, Any]
+
+
+def frozen(mapping: Mapping[Any, Any]) -> Mapping[Any, Any]:
+    """A read-only copy of ``mapping`` (results are immutable values)."""
+    return MappingProxyType(dict(mapping))
 
 
 def equations_of(subject: Subject) -> EquationsOfMotion:

@@ -14,7 +14,6 @@ from collections import defaultdict
 from typing import Any
 
 import symengine as se
-import sympy as sp
 
 MAX_TRIG_DEGREE = 8  # beyond this a term is left as it is (2**(d-1) Fourier terms)
 
@@ -62,9 +61,23 @@ def _linearize(trig: list[Any]) -> list[tuple[Any, Any]]:
                 new.append((coefficient, factor))
                 continue
             for c, f in _product_to_sum(current, factor):
-                new.append((coefficient * c, f))
+                number, single = _as_single(f)
+                if number != 0:
+                    new.append((coefficient * c * number, single))
         terms = new
     return terms
+
+
+def _as_single(value: Any) -> tuple[Any, Any]:
+    """(number, sin/cos or 1) from what a product-to-sum step gives: SymEngine evaluates
+    sin(0) to 0, cos(0) to 1 and sin(-x) to -sin(x)."""
+    if value.is_Number:
+        return value, se.Integer(1)
+    if value.is_Mul:
+        number = se.Mul(*[a for a in value.args if a.is_Number])
+        rest = se.Mul(*[a for a in value.args if not a.is_Number])
+        return number, rest
+    return se.Integer(1), value
 
 
 def fourier_form(expr: Any) -> Any:
@@ -105,9 +118,6 @@ def size(expr: Any) -> int:
     return int(se.count_ops(expr))
 
 
-SMALL_FOR_TRIGSIMP = 120  # trigsimp is only tried on small entries (it is slow)
-
-
 def tidy(expr: Any, state: Any) -> Any:
     """:func:`combine_trig`, then terms grouped by state monomial with parameters factored."""
     from lagrangian.derive.collect import collect_state
@@ -116,13 +126,37 @@ def tidy(expr: Any, state: Any) -> Any:
 
 
 def combine_trig(expr: Any) -> Any:
-    """The shortest of: the expanded expression, its Fourier form, and (for small entries whose
-    Fourier form has multiple angles such as cos(2 theta)) SymPy's trigsimp of it."""
+    """The shortest of: the expanded expression, its Fourier form, and the Fourier form with
+    double angles written back as squares (cos 2x = 1 - 2 sin^2 x = 2 cos^2 x - 1), which gives
+    the textbook r^2 sin^2(theta) rather than r^2/2 - r^2 cos(2 theta)/2.  No general simplify."""
     expanded = se.expand(expr)
     fourier = fourier_form(expanded)
     if fourier is expanded:
         return expanded
-    candidates = [expanded, fourier]
-    if size(expanded) <= SMALL_FOR_TRIGSIMP and _multiple_angles(fourier):
-        candidates.append(se.sympify(sp.trigsimp(sp.sympify(expanded))))
-    return min(candidates, key=size)
+    candidates = [expanded, fourier, *_half_angle_forms(fourier)]
+    return min(candidates, key=_textbook_size)
+
+
+def _textbook_size(expr: Any) -> int:
+    """Size, with multiple angles counted dearer: sin(x) cos(x) reads better than sin(2x)/2."""
+    return size(expr) + 3 * sum(1 for atom in _trig_atoms(expr) if _multiple_angles(atom))
+
+
+def _half_angle_forms(expr: Any) -> list[Any]:
+    """``expr`` with every cos(2x) written as 1 - 2 sin^2 x, and as 2 cos^2 x - 1
+    (sin(2x) as 2 sin x cos x in both)."""
+    doubled = {}
+    for atom in _trig_atoms(expr):
+        half = se.expand(atom.args[0] / 2)
+        if _multiple_angles(atom) and not _multiple_angles(se.sin(half)):
+            doubled[atom] = half
+    if not doubled:
+        return []
+    forms = []
+    for cosine in (lambda x: 1 - 2 * se.sin(x) ** 2, lambda x: 2 * se.cos(x) ** 2 - 1):
+        swap = {
+            atom: (cosine(half) if isinstance(atom, se.cos) else 2 * se.sin(half) * se.cos(half))
+            for atom, half in doubled.items()
+        }
+        forms.append(se.expand(expr.xreplace(swap)))
+    return forms

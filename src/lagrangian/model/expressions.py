@@ -43,14 +43,37 @@ _NUMBER_LIMIT = 10**MAX_DIGITS
 # expression together stay below the budget, so sums and products of numbers stay cheap.
 _POWER_BITS = 4 * MAX_DIGITS
 _ROOT_BITS = 512
+_ARGUMENT_BITS = 512
 _BUDGET_BITS = 50_000
+
+
+def _by_sign(function: type[sp.Function]) -> Callable[[sp.Expr], sp.Expr]:
+    """``function`` (Abs, sign, Heaviside) evaluated from the sign of its argument only.
+
+    SymPy's own evaluation of a non-constant argument splits it into real and imaginary parts,
+    which for powers of (complex) symbols expands ``(re + i*im)**n``: Heaviside(x**300) takes
+    a minute, Abs(exp(x)) becomes exp(re(x)).  Constants are evaluated as usual, and numeric
+    factors come out as SymPy takes them out: Abs(-2*x) is 2*Abs(x), sign(-x) is -sign(x)."""
+
+    def evaluate(arg: sp.Expr) -> sp.Expr:
+        coefficient, rest = arg.as_coeff_Mul()
+        if arg.is_number or arg.is_extended_negative or arg.is_extended_positive:
+            return function(arg)
+        if function is not sp.Heaviside and coefficient not in (0, 1):
+            return function(coefficient) * evaluate(rest)
+        return function(arg, evaluate=False)
+
+    return evaluate
+
 
 _ONE_ARGUMENT = (sp.sin, sp.cos, sp.tan, sp.asin, sp.acos, sp.atan, sp.sinh, sp.cosh, sp.tanh)
 FUNCTIONS: dict[str, tuple[Callable[..., sp.Expr], tuple[int, ...]]] = {
     **{f.__name__: (f, (1,)) for f in _ONE_ARGUMENT},
     "atan2": (sp.atan2, (2,)),
-    **{f.__name__: (f, (1,)) for f in (sp.exp, sp.sqrt, sp.Abs, sp.sign, sp.Heaviside)},
+    "exp": (sp.exp, (1,)),
     "log": (sp.log, (1, 2)),
+    "sqrt": (sp.sqrt, (1,)),
+    **{f.__name__: (_by_sign(f), (1,)) for f in (sp.Abs, sp.sign, sp.Heaviside)},
 }
 CONSTANTS: dict[str, sp.Expr] = {"pi": sp.pi, "E": sp.E}
 ALLOWED = "allowed: numbers, names, + - * / **, parentheses and calls of " + ", ".join(FUNCTIONS)
@@ -129,6 +152,32 @@ def _power_cost(base: sp.Basic) -> tuple[int, bool]:
         costs = [_power_cost(factor) for factor in base.args]
         return max(bits for bits, _ in costs), any(root for _, root in costs)
     return 0, False
+
+
+def _magnitude_bits(value: sp.Basic) -> int:
+    """About log2|value| of a constant, from a 5-digit evaluation (0 if it cannot be had)."""
+    try:
+        parts = sp.N(value, 5).as_real_imag()
+    except Exception:
+        return 0
+    return max([p._mpf_[2] + p._mpf_[3] for p in parts if isinstance(p, sp.Float)] + [0])
+
+
+def _check_exponent(exponent: sp.Basic) -> None:
+    """Constant exponents (and arguments of exp, sinh, cosh) stay within ±1000."""
+    if exponent.is_Number:
+        too_big = abs(exponent) > MAX_EXPONENT
+    else:
+        too_big = exponent.is_number and _magnitude_bits(exponent) > MAX_EXPONENT.bit_length()
+    if too_big:
+        raise _Refusal(
+            f"the exponent {_short(exponent)} is beyond ±{MAX_EXPONENT}", "make it smaller"
+        )
+
+
+def _short(value: sp.Basic) -> str:
+    text = str(value)
+    return text if len(text) <= 40 else text[:37] + "..."
 
 
 def _is_complex_constant(value: sp.Basic) -> bool:
@@ -214,7 +263,7 @@ class _Builder:
             if isinstance(value, sp.Rational):
                 _check_size(value)
             elif _is_complex_constant(value):
-                raise _Refusal(f"this part is not a real number ({value})", _REAL_DOMAINS)
+                raise _Refusal(f"this part is not a real number ({_short(value)})", _REAL_DOMAINS)
         except _Refusal as refusal:
             refusal.at = refusal.at or self.at(node)
             raise
@@ -271,8 +320,7 @@ class _Builder:
 
     def _power(self, base: sp.Expr, exponent: sp.Expr) -> sp.Expr:
         """``base**exponent``, refused when a power of numbers would be too costly to compute."""
-        if exponent.is_Number and abs(exponent) > MAX_EXPONENT:
-            raise _Refusal(f"the exponent {exponent} is beyond ±{MAX_EXPONENT}", "make it smaller")
+        _check_exponent(exponent)
         if base == sp.S.Zero and exponent.is_Number and exponent.is_negative:
             raise _Refusal("zero to a negative power (division by zero)", "check the formula")
         if isinstance(exponent, sp.Rational):
@@ -281,6 +329,12 @@ class _Builder:
             if cost > (_ROOT_BITS if root else _POWER_BITS):
                 raise _Refusal("this power of numbers is too large to compute", "use smaller ones")
             self.spend(cost, root)
+        # SymPy merges (b**e)**x into b**(e*x) after looking at re(b) and arg(b), expanding
+        # (re + i*im)**n for a power inside b: ((x**999)**E)**E takes minutes.  Unmerged, the
+        # power means the same.
+        nested = isinstance(base, sp.Pow) and not (exponent.is_integer or base.exp.is_integer)
+        if nested and not (base.exp.is_Number and abs(base.exp) < 1):
+            return sp.Pow(base, exponent, evaluate=False)
         return sp.Pow(base, exponent)
 
     def _call(self, node: ast.Call, depth: int) -> sp.Expr:
@@ -302,9 +356,24 @@ class _Builder:
             noun = "argument" if arities == (1,) else "arguments"
             self.refuse(node, f"{name} takes {counts} {noun}, got {len(node.args)}", ALLOWED)
         args = [self.build(arg, depth + 1) for arg in node.args]
+        for arg in args:
+            if name in ("exp", "sinh", "cosh"):
+                _check_exponent(arg)
+            if arg.is_number:
+                self._check_argument(name, arg)
         if name == "sqrt":  # through the power guard: roots of big numbers are costly
             return self._power(args[0], sp.Rational(1, 2))
         return function(*args)
+
+    def _check_argument(self, name: str, arg: sp.Expr) -> None:
+        """SymPy evaluates a function of a constant to as many digits as the constant's size and
+        numbers need (sin(10**900) needs 900 digits of pi), so both are bounded."""
+        if any(_bits(number) > _ARGUMENT_BITS for number in arg.atoms(sp.Rational)):
+            raise _Refusal(f"the argument of {name} has too long a number", "use shorter ones")
+        bits = _magnitude_bits(arg)
+        if bits > _ARGUMENT_BITS:
+            raise _Refusal(f"the argument of {name} is about 2**{bits}", "use a smaller one")
+        self.spend(bits)
 
     def _name(self, node: ast.Name) -> sp.Expr:
         name = node.id
