@@ -10,6 +10,7 @@ g*l*m*sin(theta) + l**2*m*theta_ddot
 """
 
 from lagrangian import examples, io, render
+from lagrangian.analysis import analyze
 from lagrangian.derive import CoordinateSteps, EquationsOfMotion, derive, nielsen_equations
 from lagrangian.errors import (
     AnalysisError,
@@ -70,6 +71,7 @@ __all__ = [
     "Trajectory",
     "VoltageSource",
     "acceleration",
+    "analyze",
     "coordinates",
     "derive",
     "examples",

@@ -209,3 +209,34 @@ def test_a_bad_model_file_names_file_field_line_and_column(
 def test_examples_prints_the_model_file(capsys: pytest.CaptureFixture[str]) -> None:
     code, out, _ = run(capsys, "examples", "double_pendulum")
     assert code == 0 and "particles:" in out and out.startswith("# Double pendulum")
+
+
+@pytest.mark.parametrize("name", lg.examples.names())
+def test_every_example_analyzes(capsys: pytest.CaptureFixture[str], name: str) -> None:
+    code, out, err = run(capsys, "analyze", f"examples/{name}")
+    assert code == 0, err
+    document = json.loads(out)
+    for key in (
+        "dof",
+        "constraints",
+        "momenta",
+        "cyclic",
+        "conserved",
+        "energy_function",
+        "energy_conserved",
+        "hamiltonian",
+        "equilibria",
+        "normal_modes",
+    ):
+        assert key in document
+    assert document["dof"] == len(lg.examples.get(name)().coordinates)
+
+
+def test_analyze_about_an_operating_point(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = run(capsys, "analyze", "examples/simple_pendulum", "--about", "theta=0")
+    assert code == 0
+    linearization = json.loads(out)["linearization"]
+    # small oscillations of the pendulum: omega = sqrt(g/l) = sqrt(9.81)
+    assert float(sp.sympify(linearization["frequencies"][0])) == pytest.approx(9.81**0.5)
+    code, _, err = run(capsys, "analyze", "examples/simple_pendulum", "--about", "theta")
+    assert code == 2 and "expected NAME=NUMBER" in err

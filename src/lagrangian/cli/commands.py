@@ -10,11 +10,13 @@ from pathlib import Path
 from typing import Any
 
 from lagrangian import examples, render
+from lagrangian.analysis import analyze
 from lagrangian.derive import derive
 from lagrangian.errors import ModelError, Problem
 from lagrangian.io import load
 from lagrangian.model import System
 from lagrangian.numerics.export import export
+from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.json import eom_document
 from lagrangian.render.plots import save_plots
 from lagrangian.simulate import simulate
@@ -101,6 +103,42 @@ def export_command(reference: str, *, language: str, out: str, settings: Sequenc
     for name, text in files.items():
         (folder / name).write_text(text, encoding="utf-8")
     return "\n".join(str(folder / name) for name in files)
+
+
+def parse_state(text: str | None) -> dict[str, float]:
+    """``NAME=VALUE[,NAME=VALUE...]`` as a mapping (``--about``)."""
+    if not text:
+        return {}
+    state, problems = {}, []
+    for item in text.split(","):
+        name, sep, value = item.partition("=")
+        try:
+            state[name.strip()] = float(value)
+        except ValueError:
+            problems.append(
+                Problem(
+                    f"--about {item}", "expected NAME=NUMBER", "e.g. --about theta=0.5,phi_dot=2"
+                )
+            )
+        if not sep:
+            problems.append(
+                Problem(
+                    f"--about {item}", "expected NAME=NUMBER", "e.g. --about theta=0.5,phi_dot=2"
+                )
+            )
+    if problems:
+        raise ModelError("Bad --about option:", problems)
+    return state
+
+
+def analyze_command(
+    reference: str, *, about: str | None, inputs: Sequence[str], settings: Sequence[str]
+) -> str:
+    """The analysis JSON of DESIGN.md (with ``linearization`` when ``--about`` is given)."""
+    system = apply_settings(load_system(reference), settings)
+    state = parse_state(about)
+    report = analyze(system, about=state if about else None, inputs=list(inputs))
+    return json.dumps(analysis_document(report), indent=2, ensure_ascii=False)
 
 
 def simulate_command(

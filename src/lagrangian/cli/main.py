@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from lagrangian.cli.commands import (
+    analyze_command,
     derive_command,
     examples_command,
     export_command,
@@ -31,6 +32,8 @@ EPILOG = """examples:
   lagrangian export examples/double_pendulum --language c --out build/
   lagrangian simulate examples/double_pendulum --t-end 10 --out traj.csv --plot traj.png
   lagrangian derive my_model.yaml --steps
+  lagrangian analyze examples/double_pendulum
+  lagrangian analyze examples/spherical_pendulum --about theta=0.5,phi_dot=2
 """
 
 
@@ -86,6 +89,34 @@ def build_parser() -> argparse.ArgumentParser:
     )
     export.add_argument("--debug", action="store_true", help="show tracebacks")
 
+    analyze = sub.add_parser(
+        "analyze",
+        help="momenta, conservation laws, Hamiltonian, equilibria, modes (JSON)",
+        epilog="example: lagrangian analyze examples/spherical_pendulum "
+        "--about theta=0.5,phi_dot=2",
+    )
+    analyze.add_argument("model", help="examples/NAME, a model file, or - for stdin")
+    analyze.add_argument(
+        "--about",
+        metavar="NAME=VALUE[,NAME=VALUE...]",
+        help="linearize about this state (unlisted coordinates and velocities are 0)",
+    )
+    analyze.add_argument(
+        "--input",
+        action="append",
+        default=[],
+        metavar="PARAMETER",
+        help="a parameter taken as an input u of the linearization",
+    )
+    analyze.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="override a parameter value (repeatable)",
+    )
+    analyze.add_argument("--debug", action="store_true", help="show tracebacks")
+
     simulate = sub.add_parser(
         "simulate",
         help="integrate the motion; CSV of t, coordinates, velocities, energy",
@@ -126,6 +157,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.command == "derive":
             output = derive_command(
                 args.model, fmt=args.format, steps=args.steps, matrix=args.matrix, settings=args.set
+            )
+        elif args.command == "analyze":
+            output = analyze_command(
+                args.model, about=args.about, inputs=args.input, settings=args.set
             )
         elif args.command == "simulate":
             options = {
