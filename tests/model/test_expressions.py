@@ -1,6 +1,7 @@
 """The safe expression parser: exact results, refusals that say what and where, bounds that keep
-every input fast, and fuzzing (arbitrary text never raises anything but ExpressionError and never
-runs code; text generated from the grammar always parses to what SymPy builds directly)."""
+every input fast, and fuzzing: arbitrary text never raises anything but ExpressionError and never
+runs code; text generated from the grammar parses to what SymPy's constructors build, or is
+refused only for a bound or for being undefined (1/0, log(0), asin(2))."""
 
 from __future__ import annotations
 

@@ -301,9 +301,11 @@ class _Formatter:
 def test_register_adds_latex_formatters(
     monkeypatch: pytest.MonkeyPatch, pendulum: lg.EquationsOfMotion
 ) -> None:
-    formatter = _Formatter()
+    formatter, pictures = _Formatter(), _Formatter()
     shell = types.SimpleNamespace(
-        display_formatter=types.SimpleNamespace(formatters={"text/latex": formatter})
+        display_formatter=types.SimpleNamespace(
+            formatters={"text/latex": formatter, "image/png": pictures}
+        )
     )
     fake = types.ModuleType("IPython")
     fake.get_ipython = lambda: shell  # type: ignore[attr-defined]
@@ -316,3 +318,5 @@ def test_register_adds_latex_formatters(
     assert r"\ddot{\theta}" in equations
     assert r"\partial L" in printers[lg.CoordinateSteps](pendulum.steps[0])
     assert "simple" in printers[lg.System](lg.examples.simple_pendulum())
+    trajectory = lg.simulate(lg.examples.simple_pendulum(), t_span=1.0, samples=20)
+    assert pictures.printers[lg.Trajectory](trajectory).startswith(b"\x89PNG")

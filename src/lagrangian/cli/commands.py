@@ -11,12 +11,14 @@ from typing import Any
 
 from lagrangian import examples, render
 from lagrangian.analysis import analyze
+from lagrangian.cli.progress import progress_bar
 from lagrangian.derive import derive
 from lagrangian.errors import ModelError, Problem
 from lagrangian.io import load
 from lagrangian.model import System
 from lagrangian.numerics.export import export
 from lagrangian.render.analysis_json import analysis_document
+from lagrangian.render.animation import animate as write_animation
 from lagrangian.render.json import eom_document
 from lagrangian.render.plots import save_plots
 from lagrangian.simulate import simulate
@@ -142,17 +144,29 @@ def analyze_command(
 
 
 def simulate_command(
-    reference: str, *, options: dict[str, Any], out: str, plot: str | None, settings: Sequence[str]
+    reference: str,
+    *,
+    options: dict[str, Any],
+    out: str,
+    plot: str | None,
+    settings: Sequence[str],
+    animate: str | None = None,
+    progress: bool = False,
 ) -> str:
     """Simulate; the CSV of DESIGN.md goes to ``out`` (``-``: returned for standard output)."""
     system = apply_settings(load_system(reference), settings)
     given = {key: value for key, value in options.items() if value is not None}
     t_end = given.pop("t_end", None)
-    trajectory = simulate(system, t_span=t_end, **given)
+    end = t_end if t_end is not None else system.simulation.get("t_end", 0.0)
+    bar = progress_bar(0.0, float(end), force=progress)
+    trajectory = simulate(system, t_span=t_end, progress=bar, **given)
     messages = []
     if plot:
         save_plots(trajectory, plot)
         messages.append(f"plot written to {plot}")
+    if animate:
+        write_animation(system, trajectory, animate)
+        messages.append(f"animation written to {animate}")
     if out == "-":
         buffer = io.StringIO()
         trajectory.to_csv(buffer)

@@ -132,6 +132,14 @@ def build_parser() -> argparse.ArgumentParser:
     simulate.add_argument("--out", default="-", help="CSV file, or - for standard output")
     simulate.add_argument("--plot", help="write time series, phase portrait and energy (PNG)")
     simulate.add_argument(
+        "--animate", metavar="FILE", help="write an animation: .gif, .html, or .mp4 (needs ffmpeg)"
+    )
+    simulate.add_argument(
+        "--progress",
+        action="store_true",
+        help="show a progress bar even when stderr is not a terminal",
+    )
+    simulate.add_argument(
         "--set",
         action="append",
         default=[],
@@ -171,7 +179,13 @@ def main(argv: Sequence[str] | None = None) -> int:
                 "samples": args.samples,
             }
             output = simulate_command(
-                args.model, options=options, out=args.out, plot=args.plot, settings=args.set
+                args.model,
+                options=options,
+                out=args.out,
+                plot=args.plot,
+                settings=args.set,
+                animate=args.animate,
+                progress=args.progress,
             )
         elif args.command == "export":
             output = export_command(

@@ -8,9 +8,12 @@ Grammar, and nothing else::
 
 The text is read by :func:`ast.parse` and the tree is walked against an allow-list, building
 SymPy objects directly: nothing is evaluated as code (no ``eval``, no ``sympify`` of text).
-Decimals are exact (``0.1`` is ``Rational(1, 10)``).  Bounds on the text, nesting, numbers and
-numeric powers keep every input fast.  Refusals are ``ExpressionError``s pointing at the file,
-the field, the line and the column.
+Decimals are exact (``0.1`` is ``Rational(1, 10)``).  Expressions must be real and defined
+(no ``log(0)``, ``1/0``, ``asin(2)``).  Bounds on the text (10,000 characters), the nesting
+(100 levels), numbers (1000 digits), exponents (±1000) and the work SymPy does on numbers keep
+parsing fast; where SymPy's own evaluation is known to crawl (Abs, sign and Heaviside of
+non-constants, powers of powers) it is sidestepped.  Refusals are ``ExpressionError``s that
+name the field, the file, the line and the column, what was found and how to fix it.
 
 >>> import sympy as sp
 >>> k, x = sp.symbols("k x")
@@ -443,6 +446,8 @@ def parse_expression(
 ) -> sp.Expr:
     """The SymPy expression a model file's text means, or an ExpressionError saying why not.
 
+    The language (see the module): numbers, names, ``+ - * / **``, parentheses and calls of
+    sin cos tan asin acos atan atan2 sinh cosh tanh exp log sqrt Abs sign Heaviside.
     ``names`` maps every allowed identifier to its SymPy object (``pi`` and ``E`` are added
     unless given).  ``field`` is the dotted path of the field, ``source`` the file name, and
     ``line``/``column`` where the text starts in the file (1-based); without them positions

@@ -8,6 +8,7 @@ rich display in Jupyter (see DESIGN.md).
 ⇒ g*l*m*sin(theta) + l**2*m*theta_ddot = 0
 """
 
+from lagrangian.render.animation import animate, animation_frame, animation_html
 from lagrangian.render.jupyter import Latex, register
 from lagrangian.render.jupyter import display_steps as steps
 from lagrangian.render.latex import equations_latex, steps_latex, system_latex
@@ -21,6 +22,9 @@ from lagrangian.render.text import equations_text, matrix_form_text, steps_text
 
 __all__ = [
     "Latex",
+    "animate",
+    "animation_frame",
+    "animation_html",
     "equations_latex",
     "equations_text",
     "matrix_form_text",

@@ -21,6 +21,8 @@ from lagrangian.render.latex import (
     steps_latex,
     system_latex,
 )
+from lagrangian.render.plots import overview_png
+from lagrangian.simulate.trajectory import Trajectory
 
 # MathJax 3 and KaTeX refuse align* inside $$...$$ ("erroneous nesting"); aligned works.
 _NESTED = "aligned"
@@ -61,7 +63,9 @@ def _system_latex(system: System) -> str:
 
 
 def register() -> bool:
-    """Register 'text/latex' formatters for EquationsOfMotion, CoordinateSteps and System.
+    """Register 'text/latex' formatters for EquationsOfMotion, CoordinateSteps and System, and
+    an 'image/png' one for Trajectory (time series, phase portrait, energy drift).
+    Animations display with ``IPython.display.HTML(animation_html(system, trajectory))``.
 
     Returns True when registered, False (doing nothing) when IPython is missing or not running.
 
@@ -79,4 +83,5 @@ def register() -> bool:
     formatter.for_type(EquationsOfMotion, _eom_latex)
     formatter.for_type(CoordinateSteps, _coordinate_steps_latex)
     formatter.for_type(System, _system_latex)
+    shell.display_formatter.formatters["image/png"].for_type(Trajectory, overview_png)
     return True

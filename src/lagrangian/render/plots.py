@@ -15,6 +15,7 @@ every function returns the Axes it drew on.  The energy drift is
 
 from __future__ import annotations
 
+import io
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -77,11 +78,9 @@ def plot_energy_drift(trajectory: Trajectory, ax: Axes | None = None) -> Axes:
     return ax
 
 
-def save_plots(
-    trajectory: Trajectory, path: str | os.PathLike[str], coordinate: str | None = None
-) -> Path:
-    """One PNG with the time series, the phase portrait of ``coordinate`` (default: the first)
-    and the energy drift, side by side; returns the path written."""
+def overview(trajectory: Trajectory, coordinate: str | None = None) -> Figure:
+    """One figure with the time series, the phase portrait of ``coordinate`` (default: the
+    first) and the energy drift, side by side."""
     from matplotlib.figure import Figure
 
     figure = Figure(figsize=(15, 4.5), layout="constrained")
@@ -91,9 +90,23 @@ def save_plots(
     plot_energy_drift(trajectory, ax=right)
     if trajectory.method:
         figure.suptitle(f"{', '.join(trajectory.coordinates)} ({trajectory.method})")
+    return figure
+
+
+def save_plots(
+    trajectory: Trajectory, path: str | os.PathLike[str], coordinate: str | None = None
+) -> Path:
+    """:func:`overview` as a PNG file; returns the path written."""
     target = Path(path)
-    figure.savefig(target, format="png", dpi=100)
+    overview(trajectory, coordinate).savefig(target, format="png", dpi=100)
     return target
+
+
+def overview_png(trajectory: Trajectory) -> bytes:
+    """:func:`overview` as PNG bytes (for Jupyter)."""
+    buffer = io.BytesIO()
+    overview(trajectory).savefig(buffer, format="png", dpi=80)
+    return buffer.getvalue()
 
 
 def _new_axes() -> Axes:

@@ -58,6 +58,7 @@ def simulate(
     max_step: float = np.inf,
     events: Sequence[EventFunction] = (),
     raise_on_failure: bool = True,
+    progress: Callable[[float], None] | None = None,
 ) -> Trajectory:
     """Integrate the motion of a System (derived here) or of its EquationsOfMotion.
 
@@ -87,6 +88,8 @@ def simulate(
     raise_on_failure:
         False: a failed integration returns a Trajectory with status ``"failed"``, the
         message, and every output computed before the failure.
+    progress:
+        Called with the time reached after every accepted step (for a progress bar).
 
     Raises
     ------
@@ -117,7 +120,9 @@ def simulate(
 
     watch = EventWatch(events, unpack) if events else None
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        run = integrate(_starter(field, inputs), inputs.t_span[0], inputs.x0, inputs.t_out, watch)
+        run = integrate(
+            _starter(field, inputs), inputs.t_span[0], inputs.x0, inputs.t_out, watch, progress
+        )
     trajectory = _trajectory(compiled, inputs, run, watch)
     if run.failure is not None and raise_on_failure:
         raise SimulationError(

@@ -85,6 +85,7 @@ def integrate(
     x0: np.ndarray,
     times: np.ndarray | None = None,
     watch: EventWatch | None = None,
+    progress: Callable[[float], None] | None = None,
 ) -> Integration:
     """Run the solver ``start()`` to its end, a terminal event or a failure.
 
@@ -117,6 +118,8 @@ def integrate(
                     terminal, t_stop = found[-1][0], found[-1][1]
                     x_stop = events[-1][2]
             output.reach(t_stop, dense, x_stop)
+            if progress is not None:
+                progress(t_stop)
             if terminal is not None:
                 output.stop(t_stop, x_stop)
                 break

@@ -1,0 +1,195 @@
+"""Animate a simulated System: its particles and bodies moving, planar or in 3-D, written to
+GIF, MP4 (when ffmpeg is installed) or HTML, and shown in Jupyter.
+
+What is drawn: every particle and body centre as a dot, with a fading trail; a rod between
+consecutive points (the origin, then the points in order) whose distance never changes — the
+pendulum's rods, found from the positions themselves (|r_b - r_a|^2 free of the coordinates);
+springs and dampers as lines between their points.
+
+>>> import lagrangian as lg
+>>> system = lg.examples.simple_pendulum()
+>>> trajectory = lg.simulate(system, t_span=1.0, samples=11)
+>>> html = animation_html(system, trajectory, frames=5)
+>>> html.startswith("<")
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from itertools import pairwise
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import sympy as sp
+
+from lagrangian.model import System
+from lagrangian.numerics.points import PointPositions, compile_points
+from lagrangian.simulate.trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from matplotlib.animation import FuncAnimation
+    from matplotlib.figure import Figure
+
+MAX_FRAMES = 200
+TRAIL = 40  # samples of trail behind each point
+
+
+def _constant_distance(a: Sequence[Any], b: Sequence[Any], coordinates: set[sp.Symbol]) -> bool:
+    squared = sp.trigsimp(
+        sp.expand(sum((sp.sympify(x) - sp.sympify(y)) ** 2 for x, y in zip(a, b)))
+    )
+    return not (squared.free_symbols & coordinates) and squared != 0
+
+
+def rods(system: System) -> list[tuple[str, str]]:
+    """Pairs of consecutive points (origin first) at a fixed distance: rigid links to draw."""
+    points = system.points()
+    order = ["origin", *(n for n in points if n != "origin")]
+    coordinates = set(system.coordinates)
+    return [
+        (a, b) for a, b in pairwise(order) if _constant_distance(points[a], points[b], coordinates)
+    ]
+
+
+def _links(system: System) -> list[tuple[Any, Any]]:
+    """Rods, springs and dampers, each as a pair of point references."""
+    pairs: list[tuple[Any, Any]] = list(rods(system))
+    pairs += [tuple(s.between) for s in system.springs]  # type: ignore[misc]
+    pairs += [tuple(d.between) for d in system.dampers]  # type: ignore[misc]
+    return pairs
+
+
+def _frames(trajectory: Trajectory, frames: int | None) -> np.ndarray:
+    count = min(len(trajectory.t), frames or MAX_FRAMES)
+    return np.unique(np.linspace(0, len(trajectory.t) - 1, count).round().astype(int))
+
+
+def _positions(system: System, trajectory: Trajectory, points: PointPositions) -> np.ndarray:
+    """(samples, points, 3) positions; planar and 1-D systems padded with zeros."""
+    p = points.parameter_vector(dict(trajectory.parameters))
+    values = np.asarray(points(trajectory.q, trajectory.t, p)).reshape(
+        len(trajectory.t), len(points.names), points.dimension
+    )
+    padded = np.zeros((*values.shape[:2], 3))
+    padded[..., : points.dimension] = values
+    return padded
+
+
+def _anchor(ref: Any, names: tuple[str, ...], positions: np.ndarray, frame: int) -> np.ndarray:
+    if isinstance(ref, str):
+        if ref == "origin":
+            return np.zeros(3)
+        return positions[frame, names.index(ref)]
+    fixed = np.zeros(3)
+    fixed[: len(ref)] = [float(sp.sympify(x)) if sp.sympify(x).is_number else np.nan for x in ref]
+    return fixed
+
+
+def _scene(
+    system: System, trajectory: Trajectory, frames: int | None
+) -> tuple[Figure, Callable[[int], list[Any]], np.ndarray]:
+    """The figure, a function drawing frame ``index``, and the trajectory samples shown.
+    3-D systems are drawn with a 3-D axes, others in the plane."""
+    from matplotlib.figure import Figure
+
+    points = compile_points(system)
+    positions = _positions(system, trajectory, points)
+    links = _links(system)
+    chosen = _frames(trajectory, frames)
+    three_d = points.dimension == 3
+    figure = Figure(figsize=(5, 5))
+    axes: Any = figure.add_subplot(projection="3d" if three_d else None)
+    span = np.nanmax(np.abs(positions)) * 1.1 or 1.0
+    for set_limit in (axes.set_xlim, axes.set_ylim, *([axes.set_zlim] if three_d else [])):
+        set_limit(-span, span)
+    if not three_d:
+        axes.set_aspect("equal")
+    axes.set_title(system.name or "system")
+    dims = 3 if three_d else 2
+    link_lines = [
+        axes.plot(*([[], []] if not three_d else [[], [], []]), "-", color="0.3")[0] for _ in links
+    ]
+    dots = [axes.plot(*([[]] * dims), "o", ms=8)[0] for _ in points.names]
+    trails = [
+        axes.plot(*([[]] * dims), "-", alpha=0.4, lw=1, color=dot.get_color())[0] for dot in dots
+    ]
+    clock = (
+        axes.text2D(0.02, 0.95, "", transform=axes.transAxes)
+        if three_d
+        else axes.text(0.02, 0.95, "", transform=axes.transAxes)
+    )
+
+    def draw(index: int) -> list[Any]:
+        frame = chosen[index]
+        start = max(0, frame - TRAIL)
+        for i, (dot, trail) in enumerate(zip(dots, trails)):
+            here, path_ = positions[frame, i], positions[start : frame + 1, i]
+            _set(dot, [[c] for c in here[:dims]], three_d)
+            _set(trail, [path_[:, k] for k in range(dims)], three_d)
+        for line, (a, b) in zip(link_lines, links):
+            ends = np.array(
+                [
+                    _anchor(a, points.names, positions, frame),
+                    _anchor(b, points.names, positions, frame),
+                ]
+            )
+            _set(line, [ends[:, k] for k in range(dims)], three_d)
+        clock.set_text(f"t = {trajectory.t[frame]:.2f}")
+        return [*dots, *trails, *link_lines, clock]
+
+    return figure, draw, chosen
+
+
+def animate(
+    system: System,
+    trajectory: Trajectory,
+    path: str | Path | None = None,
+    *,
+    frames: int | None = None,
+    fps: int = 30,
+) -> FuncAnimation:
+    """A matplotlib animation of ``trajectory``; written to ``path`` (.gif, .mp4, .html) when
+    given."""
+    import matplotlib.animation as mpl_animation
+
+    figure, draw, chosen = _scene(system, trajectory, frames)
+    animation = mpl_animation.FuncAnimation(
+        figure, draw, frames=len(chosen), interval=1000 / fps, blit=False
+    )
+    if path is not None:
+        _save(animation, Path(path), fps)
+    return animation
+
+
+def _set(line: Any, data: list[Any], three_d: bool) -> None:
+    line.set_data(data[0], data[1])
+    if three_d:
+        line.set_3d_properties(data[2])
+
+
+def _save(animation: FuncAnimation, path: Path, fps: int) -> None:
+    import matplotlib.animation as mpl_animation
+
+    if path.suffix == ".html":
+        path.write_text(animation.to_jshtml(fps=fps), encoding="utf-8")
+    elif path.suffix == ".mp4":
+        animation.save(str(path), writer=mpl_animation.FFMpegWriter(fps=fps))
+    else:
+        animation.save(str(path), writer=mpl_animation.PillowWriter(fps=fps))
+
+
+def animation_frame(
+    system: System, trajectory: Trajectory, path: str | Path, *, time: float | None = None
+) -> None:
+    """One frame of the animation (at ``time``, default the end) as a PNG picture."""
+    figure, draw, chosen = _scene(system, trajectory, None)
+    index = len(chosen) - 1 if time is None else int(np.argmin(np.abs(trajectory.t[chosen] - time)))
+    draw(index)
+    figure.savefig(str(path))
+
+
+def animation_html(system: System, trajectory: Trajectory, *, frames: int | None = None) -> str:
+    """The animation as self-contained HTML (JavaScript player), for Jupyter or a web page."""
+    return animate(system, trajectory, frames=frames).to_jshtml()
