@@ -240,3 +240,12 @@ def test_analyze_about_an_operating_point(capsys: pytest.CaptureFixture[str]) ->
     assert float(sp.sympify(linearization["frequencies"][0])) == pytest.approx(9.81**0.5)
     code, _, err = run(capsys, "analyze", "examples/simple_pendulum", "--about", "theta")
     assert code == 2 and "expected NAME=NUMBER" in err
+
+
+def test_mathml_output(capsys: pytest.CaptureFixture[str]) -> None:
+    import xml.etree.ElementTree as ET
+
+    code, out, _ = run(
+        capsys, "derive", "examples/double_pendulum", "--format", "mathml", "--steps"
+    )
+    assert code == 0 and ET.fromstring(out).tag.endswith("math")

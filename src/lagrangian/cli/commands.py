@@ -84,6 +84,8 @@ def derive_command(
     eom = derive(system)
     if fmt == "json":
         return json.dumps(eom_document(eom, steps=steps), indent=2, ensure_ascii=False)
+    if fmt == "mathml":
+        return render.steps_mathml(eom) if steps else render.equations_mathml(eom)
     if fmt == "latex":
         return render.steps_latex(eom) if steps else render.equations_latex(eom)
     parts = [render.steps_text(eom) if steps else render.equations_text(eom)]

@@ -60,7 +60,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     derive.add_argument("model", help="examples/NAME, a model file, or - for stdin")
-    derive.add_argument("--format", choices=["text", "latex", "json"], default="text")
+    derive.add_argument("--format", choices=["text", "latex", "mathml", "json"], default="text")
     derive.add_argument("--steps", action="store_true", help="show every step of the derivation")
     derive.add_argument("--matrix", action="store_true", help="also show M, C q_dot, G, Q")
     derive.add_argument(

@@ -12,6 +12,7 @@ from lagrangian.render.animation import animate, animation_frame, animation_html
 from lagrangian.render.jupyter import Latex, register
 from lagrangian.render.jupyter import display_steps as steps
 from lagrangian.render.latex import equations_latex, steps_latex, system_latex
+from lagrangian.render.mathml import equations_mathml, steps_mathml
 from lagrangian.render.plots import (
     plot_energy_drift,
     plot_phase_portrait,
@@ -26,6 +27,7 @@ __all__ = [
     "animation_frame",
     "animation_html",
     "equations_latex",
+    "equations_mathml",
     "equations_text",
     "matrix_form_text",
     "plot_energy_drift",
@@ -35,6 +37,7 @@ __all__ = [
     "save_plots",
     "steps",
     "steps_latex",
+    "steps_mathml",
     "steps_text",
     "system_latex",
 ]

@@ -1,0 +1,110 @@
+"""Presentation MathML of the equations and steps (``lagrangian derive --format mathml``),
+with velocities and accelerations as dotted symbols (θ̇, θ̈), as in the notes.
+
+>>> import lagrangian as lg
+>>> text = equations_mathml(lg.derive(lg.examples.simple_pendulum()))
+>>> text.startswith('<math xmlns="http://www.w3.org/1998/Math/MathML" display="block">')
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from string import ascii_lowercase
+
+import sympy as sp
+
+from lagrangian.derive import EquationsOfMotion
+from lagrangian.render.rows import Row, step_rows
+
+DOT, DDOT = "&#729;", "&#168;"  # ˙ and ¨ as accents over the coordinate
+NAMED_ENTITIES = {
+    "&InvisibleTimes;": "&#8290;",
+    "&ApplyFunction;": "&#8289;",
+    "&dd;": "&#8518;",
+    "&ExponentialE;": "&#8519;",
+    "&ImaginaryI;": "&#8520;",
+}
+
+
+def _placeholder(index: int) -> str:
+    """A name SymPy's printer keeps whole (letters only: no sub- or superscripts)."""
+    letters = ""
+    index += 1
+    while index:
+        index, rest = divmod(index - 1, 26)
+        letters = ascii_lowercase[rest] + letters
+    return "lgdotted" + letters
+
+
+class _Dotted:
+    """Prints expressions with q_dot as q̇ and q_ddot as q̈."""
+
+    def __init__(self, eom: EquationsOfMotion) -> None:
+        self.swap: dict[sp.Symbol, sp.Symbol] = {}
+        self.markup: dict[str, str] = {}
+        pairs = [(v, q, DOT) for q, v in zip(eom.coordinates, eom.velocities)]
+        pairs += [(a, q, DDOT) for q, a in zip(eom.coordinates, eom.accelerations)]
+        for index, (symbol, coordinate, accent) in enumerate(pairs):
+            name = _placeholder(index)
+            self.swap[symbol] = sp.Symbol(name)
+            base = sp.mathml(coordinate, printer="presentation")
+            self.markup[f"<mi>{name}</mi>"] = (
+                f'<mover accent="true">{base}<mo>{accent}</mo></mover>'
+            )
+
+    def __call__(self, expr: sp.Basic) -> str:
+        text = sp.mathml(sp.sympify(expr).xreplace(self.swap), printer="presentation")
+        for placeholder, markup in self.markup.items():
+            text = text.replace(placeholder, markup)
+        for entity, code in NAMED_ENTITIES.items():  # numeric, so the output is plain XML
+            text = text.replace(entity, code)
+        return text
+
+
+def _table(rows: Iterable[tuple[str, str]]) -> str:
+    body = "".join(
+        f'<mtr><mtd columnalign="right">{left}</mtd><mtd columnalign="left"><mo>=</mo>{right}'
+        "</mtd></mtr>"
+        for left, right in rows
+    )
+    return (
+        f'<math xmlns="http://www.w3.org/1998/Math/MathML" display="block"><mtable>{body}'
+        "</mtable></math>"
+    )
+
+
+def equations_mathml(eom: EquationsOfMotion) -> str:
+    """Every equation as ``residual = 0``, one table row each."""
+    dotted = _Dotted(eom)
+    return _table((dotted(e), "<mn>0</mn>") for e in eom.equations)
+
+
+def _label(row: Row, q: str, v: str) -> str:
+    def partial(top: str, bottom: str) -> str:
+        d = "<mo>&#8706;</mo>"
+        return f"<mfrac><mrow>{d}{top}</mrow><mrow>{d}{bottom}</mrow></mfrac>"
+
+    labels = {
+        Row.MOMENTUM: partial("<mi>L</mi>", v),
+        Row.RATE: "<mfrac><mi>d</mi><mrow><mi>d</mi><mi>t</mi></mrow></mfrac>"
+        + partial("<mi>L</mi>", v),
+        Row.SLOPE: partial("<mi>L</mi>", q),
+        Row.FRICTION: partial("<mi>F</mi>", v),
+        Row.FORCE: f"<msub><mi>Q</mi>{q}</msub>",
+    }
+    return labels[row]
+
+
+def steps_mathml(eom: EquationsOfMotion) -> str:
+    """The derivation, coordinate by coordinate: the rows of the notes, then the equation."""
+    dotted = _Dotted(eom)
+    rows = [("<mi>L</mi>", dotted(eom.lagrangian))]
+    for steps in eom.steps:
+        q, v = dotted(steps.coordinate), dotted(steps.velocity)
+        for row, expr in step_rows(steps):
+            if row is Row.EQUATION:
+                rows.append((dotted(expr), "<mn>0</mn>"))
+            else:
+                rows.append((_label(row, q, v), dotted(expr)))
+    return _table(rows)
