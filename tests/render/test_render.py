@@ -312,7 +312,14 @@ def test_register_adds_latex_formatters(
     monkeypatch.setitem(sys.modules, "IPython", fake)
     assert render.register() is True
     printers = formatter.printers
-    assert set(printers) == {lg.EquationsOfMotion, lg.CoordinateSteps, lg.System}
+    assert set(printers) == {
+        lg.EquationsOfMotion,
+        lg.CoordinateSteps,
+        lg.System,
+        lg.analysis.AnalysisReport,
+    }
+    report_text = printers[lg.analysis.AnalysisReport](lg.analyze(lg.examples.simple_pendulum()))
+    assert r"p_{\theta}" in report_text and "stable" in report_text
     equations = printers[lg.EquationsOfMotion](pendulum)
     assert equations.startswith(r"$$\begin{aligned}") and equations.endswith(r"\end{aligned}$$")
     assert r"\ddot{\theta}" in equations

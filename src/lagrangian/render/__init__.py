@@ -8,6 +8,7 @@ rich display in Jupyter (see DESIGN.md).
 ⇒ g*l*m*sin(theta) + l**2*m*theta_ddot = 0
 """
 
+from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.animation import animate, animation_frame, animation_html
 from lagrangian.render.jupyter import Latex, register
 from lagrangian.render.jupyter import display_steps as steps
@@ -23,6 +24,7 @@ from lagrangian.render.text import equations_text, matrix_form_text, steps_text
 
 __all__ = [
     "Latex",
+    "analysis_latex",
     "animate",
     "animation_frame",
     "animation_html",

@@ -13,8 +13,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from lagrangian.analysis import AnalysisReport
 from lagrangian.derive import CoordinateSteps, EquationsOfMotion
 from lagrangian.model import System
+from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.latex import (
     coordinate_steps_latex,
     equations_latex,
@@ -62,6 +64,10 @@ def _system_latex(system: System) -> str:
     return Latex(system_latex(system, environment=_NESTED))._repr_latex_()
 
 
+def _analysis_latex(report: AnalysisReport) -> str:
+    return Latex(analysis_latex(report, environment=_NESTED))._repr_latex_()
+
+
 def register() -> bool:
     """Register 'text/latex' formatters for EquationsOfMotion, CoordinateSteps and System, and
     an 'image/png' one for Trajectory (time series, phase portrait, energy drift).
@@ -83,5 +89,6 @@ def register() -> bool:
     formatter.for_type(EquationsOfMotion, _eom_latex)
     formatter.for_type(CoordinateSteps, _coordinate_steps_latex)
     formatter.for_type(System, _system_latex)
+    formatter.for_type(AnalysisReport, _analysis_latex)
     shell.display_formatter.formatters["image/png"].for_type(Trajectory, overview_png)
     return True
