@@ -11,7 +11,7 @@ import argparse
 import sys
 import traceback
 from collections.abc import Sequence
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from lagrangian.cli.commands import (
     analyze_command,
@@ -43,6 +43,27 @@ class _Parser(argparse.ArgumentParser):
         self.exit(BAD_INPUT, f"{self.prog}: error: {message}\n")
 
 
+def _command(sub: Any, name: str, summary: str, example: str) -> argparse.ArgumentParser:
+    """A subcommand taking a model, ``--set`` overrides and ``--debug``, with an example."""
+    command: argparse.ArgumentParser = sub.add_parser(
+        name,
+        help=summary,
+        description=summary,
+        epilog=f"example: {example}",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    command.add_argument("model", help="examples/NAME, a model file, or - for stdin")
+    command.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="override a parameter or an initial value (repeatable)",
+    )
+    command.add_argument("--debug", action="store_true", help="show tracebacks")
+    return command
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="lagrangian",
@@ -53,49 +74,31 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--debug", action="store_true", help="show tracebacks")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
-    derive = sub.add_parser(
+    derive = _command(
+        sub,
         "derive",
-        help="Euler–Lagrange equations of a system",
-        epilog="example: lagrangian derive examples/double_pendulum --steps",
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        "Euler–Lagrange equations of a system",
+        "lagrangian derive examples/double_pendulum --steps",
     )
-    derive.add_argument("model", help="examples/NAME, a model file, or - for stdin")
     derive.add_argument("--format", choices=["text", "latex", "mathml", "json"], default="text")
     derive.add_argument("--steps", action="store_true", help="show every step of the derivation")
     derive.add_argument("--matrix", action="store_true", help="also show M, C q_dot, G, Q")
-    derive.add_argument(
-        "--set",
-        action="append",
-        default=[],
-        metavar="NAME=VALUE",
-        help="override a parameter or an initial value (repeatable)",
-    )
-    derive.add_argument("--debug", action="store_true", help="show tracebacks")
 
-    export = sub.add_parser(
+    export = _command(
+        sub,
         "export",
-        help="generate code: NumPy, C, MATLAB/Octave, Julia",
-        epilog="example: lagrangian export examples/double_pendulum --language c --out build/",
+        "generate code: NumPy, C, MATLAB/Octave, Julia",
+        "lagrangian export examples/double_pendulum --language c --out build/",
     )
-    export.add_argument("model", help="examples/NAME, a model file, or - for stdin")
     export.add_argument("--language", choices=["numpy", "c", "matlab", "julia"], default="numpy")
     export.add_argument("--out", default="-", help="a folder for the files, or - for stdout")
-    export.add_argument(
-        "--set",
-        action="append",
-        default=[],
-        metavar="NAME=VALUE",
-        help="override a parameter value (repeatable)",
-    )
-    export.add_argument("--debug", action="store_true", help="show tracebacks")
 
-    analyze = sub.add_parser(
+    analyze = _command(
+        sub,
         "analyze",
-        help="momenta, conservation laws, Hamiltonian, equilibria, modes (JSON)",
-        epilog="example: lagrangian analyze examples/spherical_pendulum "
-        "--about theta=0.5,phi_dot=2",
+        "momenta, conservation laws, Hamiltonian, equilibria, modes (JSON)",
+        "lagrangian analyze examples/spherical_pendulum --about theta=0.5,phi_dot=2",
     )
-    analyze.add_argument("model", help="examples/NAME, a model file, or - for stdin")
     analyze.add_argument(
         "--about",
         metavar="NAME=VALUE[,NAME=VALUE...]",
@@ -108,22 +111,13 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="PARAMETER",
         help="a parameter taken as an input u of the linearization",
     )
-    analyze.add_argument(
-        "--set",
-        action="append",
-        default=[],
-        metavar="NAME=VALUE",
-        help="override a parameter value (repeatable)",
-    )
-    analyze.add_argument("--debug", action="store_true", help="show tracebacks")
 
-    simulate = sub.add_parser(
+    simulate = _command(
+        sub,
         "simulate",
-        help="integrate the motion; CSV of t, coordinates, velocities, energy",
-        epilog="example: lagrangian simulate examples/double_pendulum --t-end 10 "
-        "--out traj.csv --plot traj.png",
+        "integrate the motion; CSV of t, coordinates, velocities, energy",
+        "lagrangian simulate examples/double_pendulum --t-end 10 --out traj.csv --plot traj.png",
     )
-    simulate.add_argument("model", help="examples/NAME, a model file, or - for stdin")
     simulate.add_argument("--t-end", type=float, help="end time (default: the model's)")
     simulate.add_argument("--method", help="RK45, RK23, DOP853, Radau, BDF, LSODA or RK4")
     simulate.add_argument("--rtol", type=float, help="relative tolerance")
@@ -139,14 +133,6 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="show a progress bar even when stderr is not a terminal",
     )
-    simulate.add_argument(
-        "--set",
-        action="append",
-        default=[],
-        metavar="NAME=VALUE",
-        help="override a parameter or an initial value (repeatable)",
-    )
-    simulate.add_argument("--debug", action="store_true", help="show tracebacks")
 
     examples = sub.add_parser(
         "examples",
