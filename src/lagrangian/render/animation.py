@@ -190,6 +190,14 @@ def animation_frame(
     figure.savefig(str(path))
 
 
-def animation_html(system: System, trajectory: Trajectory, *, frames: int | None = None) -> str:
-    """The animation as self-contained HTML (JavaScript player), for Jupyter or a web page."""
-    return animate(system, trajectory, frames=frames).to_jshtml()
+class Html(str):
+    """HTML text that Jupyter displays as HTML (the animation's player)."""
+
+    def _repr_html_(self) -> str:
+        return str(self)
+
+
+def animation_html(system: System, trajectory: Trajectory, *, frames: int | None = None) -> Html:
+    """The animation as self-contained HTML (JavaScript player): a string for a web page,
+    shown as the player when it is the last value of a Jupyter cell."""
+    return Html(animate(system, trajectory, frames=frames).to_jshtml())
