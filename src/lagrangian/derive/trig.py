@@ -133,8 +133,10 @@ def combine_trig(expr: Any) -> Any:
     fourier = fourier_form(expanded)
     if fourier is expanded:
         return expanded
-    candidates = [expanded, fourier, *_half_angle_forms(fourier)]
-    return min(candidates, key=_textbook_size)
+    halves = _half_angle_forms(fourier)
+    if not halves:  # no double angles to weigh: the plain size decides
+        return min((expanded, fourier), key=size)
+    return min((expanded, fourier, *halves), key=_textbook_size)
 
 
 def _textbook_size(expr: Any) -> int:
