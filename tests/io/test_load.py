@@ -411,16 +411,99 @@ def test_yaml_duplicate_keys_are_reported() -> None:
     assert where(problem) == ("parameters.k", 4, 3)
 
 
-def test_constraints_are_refused_clearly() -> None:
+def test_constraints_load_as_declarations() -> None:
+    system = loads(
+        """\
+        coordinates: [x, y, phi]
+        parameters: {l: 1}
+        constraints:
+          - {name: rod, holonomic: "x**2 + y**2 - l**2"}
+          - {velocity: "x_dot*sin(phi) - y_dot*cos(phi)"}
+          - {unilateral: "y + 2"}
+        """
+    )
+    x, y, phi, l = sp.symbols("x y phi l")
+    x_dot, y_dot = sp.symbols("x_dot y_dot")
+    assert system.constraints == (
+        lg.Holonomic(x**2 + y**2 - l**2, name="rod"),
+        lg.VelocityConstraint(x_dot * sp.sin(phi) - y_dot * sp.cos(phi)),
+        lg.Unilateral(y + 2),
+    )
+
+
+def test_constraints_are_written_back_by_dump() -> None:
+    from lagrangian.io.dump import dumps
+
+    text = """\
+        name: knife
+        coordinates: [x, y, phi]
+        parameters: {l: 1.0}
+        constraints:
+          - {name: rod, holonomic: "x**2 + y**2 - l**2"}
+          - {velocity: "x_dot*sin(phi) - y_dot*cos(phi)"}
+          - {unilateral: "y + 2"}
+        """
+    system = loads(textwrap.dedent(text))
+    assert loads(dumps(system)) == system
+    assert "- {name: rod, holonomic: x**2 + y**2 - l**2}" in dumps(system)
+
+
+def test_bad_constraint_entries_are_refused_at_their_place() -> None:
+    problems = refused(
+        """\
+        coordinates: [x, y]
+        constraints:
+          - {holonmic: "x"}
+          - {holonomic: "x", velocity: "y_dot"}
+          - {unilateral: "zz"}
+        """,
+        r"unknown key 'holonmic'",
+    )
+    assert [where(p) for p in problems] == [
+        ("constraints[0].holonmic", 3, 6),
+        ("constraints[1]", 4, 5),
+        ("constraints[2].unilateral", 5, 19),
+    ]
+    assert "exactly one of holonomic, velocity, unilateral" in problems[1].message
+
+
+def test_ill_formed_constraints_are_refused_by_the_system_at_their_place() -> None:
+    problems = refused(
+        """\
+        coordinates: [x, y]
+        parameters: {l: 1}
+        constraints:
+          - {holonomic: "x_dot"}
+          - {velocity: "x_dot**2", name: v}
+          - {holonomic: "l - 1"}
+          - {velocity: "x"}
+        """,
+        r"not linear in the velocities",
+    )
+    assert [where(p) for p in problems] == [
+        ("constraints[0].holonomic", 4, 18),
+        ("constraints[1].velocity", 5, 17),
+        ("constraints[2].holonomic", 6, 18),
+        ("constraints[3].velocity", 7, 17),
+    ]
+    messages = [p.message for p in problems]
+    assert "uses the velocity x_dot" in messages[0]
+    assert "constraint 'v' (x_dot**2 = 0)" in messages[1]
+    assert "involves no coordinate" in messages[2]
+    assert "uses no velocity" in messages[3]
+
+
+def test_duplicate_constraint_names_are_refused_at_the_name() -> None:
     (problem,) = refused(
         """\
         coordinates: [x, y]
         constraints:
-          - {holonomic: "x**2 + y**2 - 1"}
+          - {holonomic: x, name: a}
+          - {name: a, holonomic: y}
         """,
-        r"constraints \(line 2, column 1\): constraints are not supported yet",
+        r"name 'a' is taken by constraints\[0\]",
     )
-    assert where(problem) == ("constraints", 2, 1)
+    assert where(problem) == ("constraints[1].name", 4, 12)
 
 
 def test_all_problems_of_a_file_at_once() -> None:

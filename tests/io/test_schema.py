@@ -49,7 +49,11 @@ FULL_MODEL = {
     },
     "initial": {"x": 0.1, "theta_dot": 0},
     "simulate": {"t_end": 10, "method": "RK45", "rtol": 1e-8, "atol": 1e-10, "samples": 100},
-    "constraints": [],
+    "constraints": [
+        {"name": "c", "holonomic": "q1 - q2"},
+        {"velocity": "x_dot - l*theta_dot"},
+        {"unilateral": "x + 1"},
+    ],
 }
 
 
@@ -89,7 +93,9 @@ def test_the_examples_in_the_schema_are_valid_and_load() -> None:
         ({"parameters": {"m": "heavy"}}, r"'heavy' is not of type 'number', 'null'"),
         ({"particles": [{"name": "a", "position": ["x"]}]}, r"'mass' is a required property"),
         ({"coordinates": []}, r"\[\] should be non-empty"),
-        ({"constraints": [{"holonomic": "x"}]}, r"is expected to be empty"),
+        ({"constraints": [{"holonomic": "x", "velocity": "x_dot"}]}, r"is valid under each of"),
+        ({"constraints": [{"name": "c"}]}, r"is not valid under any of the given schemas"),
+        ({"constraints": [{"holonomic": "x", "rheonomic": True}]}, r"'rheonomic' was unexpected"),
         ({"kinetic": True}, r"True is not of type 'string', 'number'"),
     ],
 )

@@ -1,5 +1,5 @@
 """The declaring sections of a model file: coordinates and parameters (which fix the names
-expressions may use), initial values, simulation settings, and the refused constraints.
+expressions may use), initial values and simulation settings.
 
 >>> sorted(expression_names(["x"], {"m": 1.0}))
 ['m', 't', 'x', 'x_dot']
@@ -122,15 +122,3 @@ def read_simulate(reader: Reader, data: dict[str, Any]) -> dict[str, Any]:
             elif number is not None:
                 settings[key] = value
     return settings
-
-
-def refuse_constraints(reader: Reader, data: dict[str, Any]) -> None:
-    """Constraints are not supported in this version: say so rather than drop them."""
-    if "constraints" in data and data["constraints"] != []:
-        reader.problem(
-            "constraints",
-            "constraints are not supported yet",
-            "remove the constraints section; holonomic, velocity and unilateral constraints "
-            "come in a later version",
-            key=True,
-        )

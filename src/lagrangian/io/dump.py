@@ -141,6 +141,10 @@ def model_document(system: System) -> dict[str, Any]:
     circuit = _circuit(system.circuit)
     if circuit:
         document["circuit"] = circuit
+    if system.constraints:
+        document["constraints"] = [
+            _named({c.kind: _expr(c.expression)}, c.name) for c in system.constraints
+        ]
     if system.initial:
         document["initial"] = {s.name: float(v) for s, v in system.initial.items()}
     if system.simulation:

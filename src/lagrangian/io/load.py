@@ -27,14 +27,14 @@ from lagrangian.io.declarations import (
     read_initial,
     read_parameters,
     read_simulate,
-    refuse_constraints,
 )
-from lagrangian.io.document import Document
+from lagrangian.io.document import Document, parent
 from lagrangian.io.reader import Reader
 from lagrangian.io.sections import (
     MECHANICAL_SECTIONS,
     check_body_names,
     read_circuit,
+    read_constraints,
     read_elements,
     read_energies,
     read_generalized_forces,
@@ -126,7 +126,6 @@ def _read_model(
     coordinates = read_coordinates(reader, data)
     parameters = read_parameters(reader, data, coordinates)
     reader.names = dict(expression_names(coordinates, parameters))
-    refuse_constraints(reader, data)
     check_body_names(reader, data)
     fields: dict[str, Any] = {
         "name": _text(reader, data, "name", default_name),
@@ -145,8 +144,13 @@ def _read_model(
         fields[section] = [element for _, element in elements]
     circuit = read_circuit(reader, data, coordinates)
     fields["circuit"] = [element for _, element in circuit]
+    constraints = read_constraints(reader, data)
+    fields["constraints"] = [constraint for _, constraint in constraints]
     _raise_problems(reader)
     paths = {f"circuit[{i}]": path for i, (path, _) in enumerate(circuit)}
+    for i, (path, _) in enumerate(constraints):  # the expression sits under its kind
+        paths[f"constraints[{i}].expression"] = path
+        paths[f"constraints[{i}]"] = parent(path) or path
     paths.update({f"coordinates.{q}": f"coordinates[{i}]" for i, q in enumerate(coordinates)})
     return fields, paths
 

@@ -1,5 +1,5 @@
 """Builders for the sections of a model file that become System fields: energies,
-generalized forces, gravity, mechanical elements and circuit elements.
+generalized forces, gravity, mechanical elements, circuit elements and constraints.
 
 Each builder reads one section through a :class:`Reader` (which records every problem) and
 returns model values; an element whose fields could not all be read is left out (its problems
@@ -26,6 +26,7 @@ from lagrangian.model import (
     Capacitor,
     Damper,
     Force,
+    Holonomic,
     Inductor,
     MutualInductance,
     Particle,
@@ -33,6 +34,8 @@ from lagrangian.model import (
     RigidBody,
     Spring,
     Torque,
+    Unilateral,
+    VelocityConstraint,
     VoltageSource,
 )
 from lagrangian.model.elements import ORIGIN
@@ -209,3 +212,35 @@ def read_circuit(
             path = child("circuit", key)
             elements += read_elements(reader, circuit[key], path, definition, coordinates)
     return elements
+
+
+#: Constraint key -> the model type it becomes.
+CONSTRAINT_TYPES: dict[str, type] = {
+    "holonomic": Holonomic,
+    "velocity": VelocityConstraint,
+    "unilateral": Unilateral,
+}
+
+
+def read_constraints(reader: Reader, data: dict[str, Any]) -> list[tuple[str, Any]]:
+    """Constraints, each ``{holonomic: h}``, ``{velocity: a.q_dot + b}`` or
+    ``{unilateral: g}`` with an optional ``name``, and the path of its expression in the file."""
+    constraints = []
+    for path, entry in reader.entries(data.get("constraints", []), "constraints", "constraint"):
+        kinds = [key for key in CONSTRAINT_TYPES if key in entry]
+        if not kinds and set(entry) - set(entry_keys("constraint").allowed):
+            continue  # a misspelt kind: reported as an unknown key with a suggestion
+        if len(kinds) != 1:
+            found = " and ".join(kinds) if kinds else "none"
+            reader.problem(
+                path,
+                f"a constraint has exactly one of holonomic, velocity, unilateral; found {found}",
+                'write one per entry, e.g. {holonomic: "x**2 + y**2 - l**2"}',
+            )
+            continue
+        (kind,) = kinds
+        expression = reader.expression(entry[kind], child(path, kind))
+        name = reader.text(entry["name"], child(path, "name")) if "name" in entry else ""
+        if expression is not None and name is not None:
+            constraints.append((child(path, kind), CONSTRAINT_TYPES[kind](expression, name)))
+    return constraints

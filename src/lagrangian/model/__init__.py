@@ -8,6 +8,7 @@ from lagrangian.model.circuit import (
     Resistor,
     VoltageSource,
 )
+from lagrangian.model.constraints import Holonomic, Unilateral, VelocityConstraint
 from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque
 from lagrangian.model.symbols import acceleration, coordinates, from_time_functions, t, velocity
 from lagrangian.model.system import System
@@ -16,6 +17,7 @@ __all__ = [
     "Capacitor",
     "Damper",
     "Force",
+    "Holonomic",
     "Inductor",
     "MutualInductance",
     "Particle",
@@ -24,6 +26,8 @@ __all__ = [
     "Spring",
     "System",
     "Torque",
+    "Unilateral",
+    "VelocityConstraint",
     "VoltageSource",
     "acceleration",
     "coordinates",

@@ -9,7 +9,7 @@ position vector (a fixed anchor, or one that moves with time).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, is_dataclass
 from typing import Any
 
 import sympy as sp
@@ -146,6 +146,6 @@ def as_tuple(items: Sequence[Any] | None) -> tuple[Any, ...]:
     """``None`` or a sequence as a tuple (a single element becomes a 1-tuple)."""
     if items is None:
         return ()
-    if isinstance(items, (Particle, RigidBody, Spring, Damper, Force, Torque)):
+    if is_dataclass(items) and not isinstance(items, type):  # a single element
         return (items,)
     return tuple(items)

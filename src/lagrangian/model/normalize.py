@@ -23,7 +23,16 @@ if TYPE_CHECKING:
     from lagrangian.model.system import System
 
 EXPRESSION_FIELDS = ("kinetic", "potential", "lagrangian", "velocity_potential", "dissipation")
-ELEMENT_FIELDS = ("particles", "rigid_bodies", "springs", "dampers", "forces", "torques", "circuit")
+ELEMENT_FIELDS = (
+    "particles",
+    "rigid_bodies",
+    "springs",
+    "dampers",
+    "forces",
+    "torques",
+    "circuit",
+    "constraints",
+)
 
 
 class _Canonicalizer:

@@ -3,7 +3,7 @@
 A System is an immutable value.  Its contributions add up (DESIGN.md, "The model file"):
 explicit energies T, V (or L directly), a velocity-dependent potential U, a Rayleigh
 dissipation function F, generalized forces Q, particles and planar rigid bodies under uniform
-gravity, springs, dampers, applied forces and torques, and circuit elements.
+gravity, springs, dampers, applied forces and torques, circuit elements, and constraints.
 
 Example:
 
@@ -28,6 +28,7 @@ from typing import Any
 import sympy as sp
 
 from lagrangian.model.circuit import CircuitElement
+from lagrangian.model.constraints import Constraint
 from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque, as_tuple
 from lagrangian.model.normalize import normalize_system
 from lagrangian.model.symbols import acceleration, t, velocity
@@ -57,6 +58,11 @@ class System:
         Uniform field (components) acting on every particle and body.
     particles, rigid_bodies, springs, dampers, forces, torques, circuit:
         Elements, see :mod:`lagrangian.model.elements` and :mod:`lagrangian.model.circuit`.
+    constraints:
+        Holonomic h(q, t) = 0, velocity a(q, t).q_dot + b(q, t) = 0 and unilateral
+        g(q, t) >= 0 constraints (:mod:`lagrangian.model.constraints`).  They are declarations:
+        :func:`lagrangian.derive` gives the unconstrained equations, and
+        :mod:`lagrangian.constraints` classifies, enforces and eliminates the constraints.
     initial:
         Initial values of coordinates and velocities (``theta``, ``theta_dot``), for simulation.
     simulation:
@@ -79,6 +85,7 @@ class System:
     forces: Sequence[Force] = ()
     torques: Sequence[Torque] = ()
     circuit: Sequence[CircuitElement] = ()
+    constraints: Sequence[Constraint] = ()
     initial: Mapping[Any, float] = field(default_factory=dict)
     simulation: Mapping[str, Any] = field(default_factory=dict)
     name: str = ""
@@ -94,6 +101,7 @@ class System:
                 "forces",
                 "torques",
                 "circuit",
+                "constraints",
             ):
                 object.__setattr__(self, f.name, as_tuple(getattr(self, f.name)))
         for name, value in normalize_system(self).items():

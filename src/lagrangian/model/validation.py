@@ -17,6 +17,7 @@ from lagrangian.model.circuit import (
     Resistor,
     VoltageSource,
 )
+from lagrangian.model.constraints import check_constraints
 from lagrangian.model.elements import ORIGIN
 from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, t, velocity
 
@@ -305,6 +306,7 @@ def validate(values: dict[str, Any]) -> Iterable[Problem]:
     points = _check_points(values, scope, problems)
     _check_elements(values, scope, points, problems)
     _check_circuit(values, scope, problems)
+    check_constraints(values, scope, problems)
     for key in values["initial"]:
         if key not in scope.coordinates and key not in scope.velocities:
             problems.append(

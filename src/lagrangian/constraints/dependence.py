@@ -1,0 +1,151 @@
+"""Redundant and inconsistent constraints, from the rank of the constraint Jacobian.
+
+At a generic point of the constraint set (a random configuration projected onto the holonomic
+constraints, :func:`lagrangian.constraints.probe.project`) the rows a_j of the Jacobian are
+taken in order, holonomic constraints first:
+
+- a row that does not raise the rank of A is *redundant* (a combination of earlier rows:
+  two identical constraints, or x = 0 with 2x = 0);
+- a row that raises the rank of [A | b] but not of A is *inconsistent* at velocity level
+  (x_dot = 0 with x_dot = 1);
+- holonomic constraints that no configuration satisfies (x = 0 with x = 1; least squares
+  leaves a residual from every start) are inconsistent at position level.
+
+Inconsistency raises :class:`~lagrangian.errors.ConstraintError` naming the constraints.
+
+>>> import sympy as sp
+>>> from lagrangian.model import System, Holonomic
+>>> x, y = sp.symbols("x y")
+>>> system = System(coordinates=[x, y], constraints=[Holonomic(x - y), Holonomic(2*x - 2*y)])
+>>> dependence(system).redundant
+(1,)
+"""
+
+from __future__ import annotations
+
+import random
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from lagrangian.constraints.pfaffian import PfaffianForm, pfaffian_form
+from lagrangian.constraints.probe import SEED, NumericFunction, project, random_values, rank
+from lagrangian.errors import ConstraintError, Problem, raise_if_problems
+from lagrangian.model import Holonomic, System, Unilateral, t
+from lagrangian.model.constraints import label, statement
+
+
+@dataclass(frozen=True)
+class Dependence:
+    """Where the constraints were probed, and which of the equality constraints (holonomic and
+    velocity; unilateral ones are inequalities) are redundant.
+
+    ``rows`` are the indices of the equality constraints in probing order (holonomic first);
+    ``jacobian`` and ``rates`` are A and b at ``point`` for every constraint."""
+
+    point: dict[sp.Symbol, float]
+    rows: tuple[int, ...]
+    redundant: tuple[int, ...]
+    jacobian: np.ndarray
+    rates: np.ndarray
+
+    def rank_of(self, indices: list[int] | tuple[int, ...]) -> int:
+        """Rank of the Jacobian rows of the constraints ``indices`` at the generic point."""
+        return rank(self.jacobian[list(indices)]) if indices else 0
+
+
+def equality_rows(system: System, active: bool = False) -> tuple[int, ...]:
+    """Indices of the equality constraints, holonomic ones first (unilateral ones among them
+    when ``active``)."""
+    positional = ("holonomic", "unilateral") if active else ("holonomic",)
+    kinds = [c.kind for c in system.constraints]
+    holonomic = [i for i, k in enumerate(kinds) if k in positional]
+    return (*holonomic, *(i for i, k in enumerate(kinds) if k == "velocity"))
+
+
+def generic_point(system: System, active: bool = False) -> dict[sp.Symbol, float]:
+    """Parameters at their defaults (random without one), t random, and the coordinates
+    projected onto the holonomic constraints (and unilateral ones as g = 0 when ``active``);
+    ConstraintError when no configuration fits."""
+    rng = random.Random(SEED)
+    point = random_values([*system.coordinates, *system.parameters, t], rng)
+    point.update({p: v for p, v in system.parameters.items() if v is not None})
+    kinds = (Holonomic, Unilateral) if active else (Holonomic,)
+    holonomic = [(i, c) for i, c in enumerate(system.constraints) if isinstance(c, kinds)]
+    found = project([c.expression for _, c in holonomic], system.coordinates, point)
+    if not found.satisfied:
+        _raise_inconsistent(system, holonomic, found.residuals)
+    return found.values
+
+
+def _raise_inconsistent(
+    system: System, holonomic: list[tuple[int, Any]], residuals: tuple[float, ...]
+) -> None:
+    n, m = len(system.coordinates), len(system.constraints)
+    problems = [
+        Problem(
+            f"constraints[{i}]",
+            f"{statement(c)} cannot hold together with the others (least-squares residual {r:.3g})",
+            "remove or correct one of the contradicting constraints",
+        )
+        for (i, c), r in zip(holonomic, residuals)
+        if not abs(r) < 1e-8
+    ]
+    count = f"more constraints ({m}) than coordinates ({n}) and " if m > n else ""
+    raise_if_problems(
+        problems,
+        f"The constraints are inconsistent: {count}no configuration satisfies them",
+        ConstraintError,
+    )
+
+
+def dependence(system: System, active: bool = False) -> Dependence:
+    """Redundant equality constraints at a generic point; ConstraintError if inconsistent.
+    With ``active`` the unilateral constraints count as equalities g = 0 (the multiplier form
+    treats them as active)."""
+    point = generic_point(system, active)
+    coordinates = system.coordinates
+    forms: list[PfaffianForm] = [pfaffian_form(c, coordinates) for c in system.constraints]
+    symbols = sorted(point, key=str)
+    a = NumericFunction(sp.Matrix([list(f.coefficients) for f in forms]), symbols)(point)
+    b = NumericFunction(sp.Matrix([f.time_coefficient for f in forms]), symbols)(point)
+    if a is None or b is None:
+        raise ConstraintError(
+            "The constraint Jacobian is not defined at a generic configuration; check the "
+            "constraints for divisions by zero or square roots of negative numbers."
+        )
+    rows = equality_rows(system, active)
+    redundant, inconsistent = [], []
+    kept: list[int] = []
+    for i in rows:
+        if rank(a[[*kept, i]]) > len(kept):
+            kept.append(i)
+        elif rank(np.column_stack([a[[*kept, i]], b[[*kept, i]]])) > len(kept):
+            inconsistent.append(i)
+        else:
+            redundant.append(i)
+    if inconsistent:
+        _raise_velocity_inconsistent(system, inconsistent, kept)
+    return Dependence(point, rows, tuple(sorted(redundant)), a, b.ravel())
+
+
+def _raise_velocity_inconsistent(system: System, bad: list[int], kept: list[int]) -> None:
+    n, m = len(system.coordinates), len(system.constraints)
+    others = ", ".join(label(i, system.constraints[i]) for i in kept)
+    problems = [
+        Problem(
+            f"constraints[{i}]",
+            f"{statement(system.constraints[i])} contradicts {others}: the velocities "
+            "cannot satisfy them all",
+            "remove or correct one of the contradicting constraints",
+        )
+        for i in bad
+    ]
+    count = f"more constraints ({m}) than coordinates ({n}) and " if m > n else ""
+    raise_if_problems(
+        problems,
+        f"The constraints are inconsistent: {count}no velocity satisfies them",
+        ConstraintError,
+    )

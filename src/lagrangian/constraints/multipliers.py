@@ -1,0 +1,243 @@
+"""constrained_equations(system) -> ConstrainedEquations: the equations of motion with the
+constraints enforced by Lagrange multipliers (seed 003, DESIGN.md sign convention).
+
+    d/dt dL/dq_dot - dL/dq + dF/dq_dot = Q + sum_j lambda_j a_j,     a_j = dh_j/dq,
+
+so lambda_j a_j is the force of constraint j.  With the unconstrained M q_ddot = forcing of
+:func:`lagrangian.derive` and the constraints differentiated (holonomic twice, velocity once)
+to A q_ddot = gamma (:mod:`lagrangian.constraints.pfaffian`):
+
+    [ M  -A^T ] [ q_ddot ]   [ forcing ]
+    [ A    0  ] [ lambda ] = [  gamma  ].
+
+When M is regular and small (diagonal, or n <= 4) the system is solved symbolically:
+
+    lambda = (A M^-1 A^T)^-1 (gamma - A M^-1 forcing),   q_ddot = M^-1 (forcing + A^T lambda).
+
+Holonomic constraints are also the augmented Lagrangian L + sum_j lambda_j h_j of seed 003,
+whose Euler–Lagrange equations are the first block row above.  Unilateral constraints are
+treated as active (g = 0) holonomic ones.  sympy.physics.mechanics.LagrangesMethod solved
+through ``mass_matrix_full`` / ``forcing_full`` gives the same multipliers; its ``eom``
+expression has them with the opposite sign (its ``lam_coeffs`` are -A; sympy issue #30215).
+
+>>> import lagrangian as lg, sympy as sp
+>>> x, y, m, g, l = sp.symbols("x y m g l")
+>>> pendulum = lg.System(coordinates=[x, y], parameters=[m, g, l], gravity=(0, -g),
+...     particles=[lg.Particle("bob", m, (x, y))],
+...     constraints=[lg.Holonomic(x**2 + y**2 - l**2)])
+>>> equations = constrained_equations(pendulum)
+>>> equations.constraint_jacobian
+Matrix([[2*x, 2*y]])
+>>> equations.explicit[sp.Symbol("lambda_1")]
+m*(g*y - x_dot**2 - y_dot**2)/(2*(x**2 + y**2))
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from lagrangian.constraints.dependence import dependence
+from lagrangian.constraints.pfaffian import acceleration_terms, pfaffian_form
+from lagrangian.derive import EquationsOfMotion, derive
+from lagrangian.derive.backend import SympyView, to_backend
+from lagrangian.derive.trig import combine_trig
+from lagrangian.errors import ConstraintError, Problem, raise_if_problems
+from lagrangian.model import System
+from lagrangian.model.constraints import Constraint, VelocityConstraint, statement
+
+SMALL = 4  # n up to which a dense M is solved symbolically
+
+
+@dataclass(frozen=True)
+class ConstrainedEquations:
+    """The equations of motion with multipliers (see the module docstring).
+
+    Attributes
+    ----------
+    mass_matrix, forcing:
+        The unconstrained M and forcing of :func:`lagrangian.derive`.
+    constraint_jacobian:
+        A (m x n): dh_j/dq for holonomic (and unilateral) constraints, a_j for velocity ones.
+    gamma:
+        The right side of A q_ddot = gamma.
+    multipliers:
+        lambda_1, ..., lambda_m, one per constraint in order.
+    augmented_lagrangian:
+        L + sum lambda_j h_j over the holonomic and unilateral constraints (velocity
+        constraints have no h; their forces lambda_j a_j appear in the equations only).
+    explicit:
+        q_ddot and lambda solved symbolically, or None when the system is left in augmented
+        form (M singular, or dense with n > 4).
+    """
+
+    coordinates: tuple[sp.Symbol, ...]
+    velocities: tuple[sp.Symbol, ...]
+    accelerations: tuple[sp.Symbol, ...]
+    parameters: Mapping[sp.Symbol, float | None]
+    time: sp.Symbol
+    constraints: tuple[Constraint, ...]
+    multipliers: tuple[sp.Symbol, ...]
+    mass_matrix: sp.ImmutableMatrix
+    forcing: sp.ImmutableMatrix
+    constraint_jacobian: sp.ImmutableMatrix
+    gamma: sp.ImmutableMatrix
+    augmented_lagrangian: sp.Expr
+    explicit: Mapping[sp.Symbol, sp.Expr] | None
+    system: System = field(repr=False, compare=False)
+
+    @property
+    def unknowns(self) -> tuple[sp.Symbol, ...]:
+        """(q_ddot, lambda), the unknowns of the augmented system."""
+        return (*self.accelerations, *self.multipliers)
+
+    @property
+    def augmented_matrix(self) -> sp.ImmutableMatrix:
+        """[[M, -A^T], [A, 0]]."""
+        a, m = self.constraint_jacobian, len(self.multipliers)
+        top = self.mass_matrix.row_join(-a.T)
+        return sp.ImmutableMatrix(top.col_join(a.row_join(sp.zeros(m, m))))
+
+    @property
+    def augmented_rhs(self) -> sp.ImmutableMatrix:
+        """[forcing; gamma]."""
+        return sp.ImmutableMatrix(self.forcing.col_join(self.gamma))
+
+    @property
+    def generalized_constraint_forces(self) -> sp.ImmutableMatrix:
+        """A^T lambda: the generalized force of the constraints on each coordinate."""
+        return sp.ImmutableMatrix(self.constraint_jacobian.T * sp.Matrix(self.multipliers))
+
+    @property
+    def equations(self) -> sp.ImmutableMatrix:
+        """Residuals (each = 0): M q_ddot - forcing - A^T lambda, then A q_ddot - gamma."""
+        unknowns = sp.Matrix(self.unknowns)
+        return sp.ImmutableMatrix(self.augmented_matrix * unknowns - self.augmented_rhs)
+
+
+def multiplier_symbols(count: int) -> tuple[sp.Symbol, ...]:
+    """lambda_1, ..., lambda_count (DESIGN.md names)."""
+    return tuple(sp.Symbol(f"lambda_{j + 1}") for j in range(count))
+
+
+def constrained_equations(
+    subject: System | EquationsOfMotion, constraints: Sequence[Constraint] | None = None
+) -> ConstrainedEquations:
+    """The multiplier form of a System's equations (its own ``constraints``, or those given).
+
+    An EquationsOfMotion (from :func:`lagrangian.derive`) is accepted with ``constraints``.
+    Raises ConstraintError for inconsistent or redundant constraints (the multipliers of
+    redundant ones are not determined: remove them).
+    """
+    if isinstance(subject, System):
+        system = subject if constraints is None else subject.replace(constraints=constraints)
+        eom = derive(system)
+    else:
+        if constraints is None:
+            raise ConstraintError(
+                "An EquationsOfMotion does not carry constraints: pass constraints=[...] or "
+                "give the System."
+            )
+        eom = subject
+        system = System(
+            coordinates=eom.coordinates, parameters=eom.parameters, constraints=constraints
+        )
+    _refuse_redundant(system)
+    coordinates = tuple(system.coordinates)
+    forms = [pfaffian_form(c, coordinates) for c in system.constraints]
+    jacobian = sp.ImmutableMatrix(
+        len(forms), len(coordinates), [a for f in forms for a in f.coefficients]
+    )
+    gamma = sp.ImmutableMatrix(len(forms), 1, [acceleration_terms(f, coordinates) for f in forms])
+    multipliers = _multipliers(system)
+    holonomic = [
+        (lam, c.expression)
+        for lam, c in zip(multipliers, system.constraints)
+        if not isinstance(c, VelocityConstraint)
+    ]
+    augmented = eom.lagrangian + sum((lam * h for lam, h in holonomic), sp.Integer(0))
+    return ConstrainedEquations(
+        coordinates=coordinates,
+        velocities=tuple(eom.velocities),
+        accelerations=tuple(eom.accelerations),
+        parameters=dict(eom.parameters),
+        time=eom.time,
+        constraints=tuple(system.constraints),
+        multipliers=multipliers,
+        mass_matrix=eom.mass_matrix,
+        forcing=eom.forcing,
+        constraint_jacobian=jacobian,
+        gamma=gamma,
+        augmented_lagrangian=augmented,
+        explicit=_solve(eom, jacobian, gamma, multipliers),
+        system=system,
+    )
+
+
+def _multipliers(system: System) -> tuple[sp.Symbol, ...]:
+    symbols = multiplier_symbols(len(system.constraints))
+    taken = {s.name for s in (*system.coordinates, *system.parameters)}
+    clash = [s.name for s in symbols if s.name in taken]
+    if clash:
+        raise ConstraintError(
+            f"The names {', '.join(clash)} are taken by coordinates or parameters; the "
+            "multipliers are lambda_1, lambda_2, ...: rename those."
+        )
+    return symbols
+
+
+def _refuse_redundant(system: System) -> None:
+    found = dependence(system, active=True)  # raises for inconsistent constraints
+    problems = [
+        Problem(
+            f"constraints[{i}]",
+            f"{statement(system.constraints[i])} is redundant: its Jacobian row is a "
+            "combination of earlier ones, so the multipliers are not determined",
+            "remove it (classify() lists the redundant constraints)",
+        )
+        for i in found.redundant
+    ]
+    raise_if_problems(problems, "The constraints are redundant", ConstraintError)
+
+
+def _solve(
+    eom: EquationsOfMotion,
+    jacobian: sp.ImmutableMatrix,
+    gamma: sp.ImmutableMatrix,
+    multipliers: tuple[sp.Symbol, ...],
+) -> dict[sp.Symbol, sp.Expr] | None:
+    """lambda by the Schur complement, then q_ddot; None when not small or M is singular."""
+    mass, n = eom.mass_matrix, len(eom.coordinates)
+    if not eom.mass_matrix_is_regular or not (mass.is_diagonal() or n <= SMALL):
+        return None
+    free = _inverse_times(mass, eom.forcing)  # M^-1 forcing
+    pulled = _inverse_times(mass, jacobian.T)  # M^-1 A^T
+    schur = (jacobian * pulled).applyfunc(_tidy)
+    try:
+        lam = schur.LUsolve(sp.Matrix(gamma) - jacobian * free).applyfunc(_tidy)
+    except ValueError:  # a pivot SymPy cannot prove non-zero: keep the augmented form
+        return None
+    accelerations = (free + pulled * lam).applyfunc(_tidy)
+    solved = dict(zip(multipliers, lam))
+    solved.update(zip(eom.accelerations, accelerations))
+    return solved
+
+
+def _inverse_times(mass: sp.MatrixBase, rhs: sp.MatrixBase) -> sp.Matrix:
+    """M^-1 rhs: a diagonal M divides row by row, a small dense one is solved by LU."""
+    if mass.is_diagonal():
+        return sp.Matrix(rhs.rows, rhs.cols, lambda i, j: rhs[i, j] / mass[i, i])
+    return sp.Matrix(mass).LUsolve(sp.Matrix(rhs))
+
+
+def _tidy(expr: sp.Expr) -> sp.Expr:
+    """One fraction, cancelled, with sin^2 + cos^2 and the like combined in the numerator and
+    the denominator (:func:`lagrangian.derive.trig.combine_trig`); large expressions are left."""
+    if sp.count_ops(expr) > 400:
+        return expr
+    numerator, denominator = sp.fraction(sp.cancel(expr))
+    view = SympyView(expr.free_symbols)
+    numerator, denominator = (view(combine_trig(to_backend(e))) for e in (numerator, denominator))
+    return sp.factor_terms(sp.cancel(numerator / denominator))

@@ -1,0 +1,181 @@
+"""Constraint declarations: holonomic h(q, t) = 0, velocity (Pfaffian) a(q, t).q_dot + b(q, t)
+= 0 and unilateral g(q, t) >= 0 (seed 000 "Constraints"; DESIGN.md, "The model file").
+
+Each declaration is an immutable value holding one SymPy expression (an ``Eq(lhs, rhs)`` is
+taken as ``lhs - rhs``) and an optional name used in messages.  What a constraint *is*
+(holonomic or not, rheonomic, redundant) is decided by :func:`lagrangian.constraints.classify`;
+here a System only checks that each expression is well formed:
+
+- it uses declared names and restricts at least one coordinate;
+- a holonomic or unilateral constraint does not use velocities;
+- a velocity constraint uses velocities and is linear in them (its Hessian in the velocities
+  is zero), so that it has the Pfaffian form a(q, t).q_dot + b(q, t) = 0.
+
+>>> import sympy as sp
+>>> x, y, l = sp.symbols("x y l")
+>>> Holonomic(x**2 + y**2 - l**2, name="rod").expression
+-l**2 + x**2 + y**2
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import sympy as sp
+
+from lagrangian.errors import Problem
+from lagrangian.model.elements import _expr
+
+if TYPE_CHECKING:
+    from lagrangian.model.validation import _Scope
+
+
+def _as_expression(value: Any) -> Any:
+    if isinstance(value, sp.Equality):
+        return value.lhs - value.rhs
+    return _expr(value)
+
+
+@dataclass(frozen=True)
+class Holonomic:
+    """A holonomic constraint h(q, t) = 0 (a rheonomic one when h depends on t)."""
+
+    expression: sp.Expr
+    name: str = ""
+    kind: ClassVar[str] = "holonomic"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "expression", _as_expression(self.expression))
+
+
+@dataclass(frozen=True)
+class VelocityConstraint:
+    """A velocity (Pfaffian) constraint a(q, t).q_dot + b(q, t) = 0, linear in the velocities;
+    ``x_dot*sin(phi) - y_dot*cos(phi)`` is the knife edge."""
+
+    expression: sp.Expr
+    name: str = ""
+    kind: ClassVar[str] = "velocity"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "expression", _as_expression(self.expression))
+
+
+@dataclass(frozen=True)
+class Unilateral:
+    """A unilateral constraint g(q, t) >= 0; while active (g = 0) it acts like a holonomic one."""
+
+    expression: sp.Expr
+    name: str = ""
+    kind: ClassVar[str] = "unilateral"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "expression", _as_expression(self.expression))
+
+
+Constraint = Holonomic | VelocityConstraint | Unilateral
+CONSTRAINT_TYPES = (Holonomic, VelocityConstraint, Unilateral)
+
+
+def label(index: int, constraint: Any) -> str:
+    """How messages name a constraint: ``'rod' (constraints[0])`` or ``constraints[0]``."""
+    where = f"constraints[{index}]"
+    name = getattr(constraint, "name", "")
+    return f"{name!r} ({where})" if name else where
+
+
+def statement(constraint: Any) -> str:
+    """The constraint as a statement: ``x**2 + y**2 - l**2 = 0`` or ``g >= 0``."""
+    relation = ">=" if isinstance(constraint, Unilateral) else "="
+    return f"{constraint.expression} {relation} 0"
+
+
+def check_constraints(values: dict[str, Any], scope: _Scope, problems: list[Problem]) -> None:
+    """Every problem of the canonical ``values["constraints"]`` (see the module docstring)."""
+    names: dict[str, int] = {}
+    for i, item in enumerate(values["constraints"]):
+        field = f"constraints[{i}]"
+        if not isinstance(item, CONSTRAINT_TYPES):
+            problems.append(
+                Problem(
+                    field,
+                    f"{type(item).__name__} is not a constraint",
+                    "use Holonomic, VelocityConstraint or Unilateral",
+                )
+            )
+            continue
+        if item.name:
+            if item.name in names:
+                problems.append(
+                    Problem(
+                        f"{field}.name",
+                        f"name {item.name!r} is taken by constraints[{names[item.name]}]",
+                        "give each constraint its own name",
+                    )
+                )
+            names.setdefault(item.name, i)
+        _check_one(item, i, scope, problems)
+
+
+def _check_one(item: Any, index: int, scope: _Scope, problems: list[Problem]) -> None:
+    field = f"constraints[{index}].expression"
+    who = f"constraint {item.name!r}" if item.name else "the constraint"
+    expression = item.expression
+    before = len(problems)
+    scope.check(expression, field, "state", problems)  # names, shape, derivatives
+    if len(problems) > before:
+        return
+    used = expression.free_symbols
+    velocities = sorted((s for s in used if s in scope.velocities), key=str)
+    if isinstance(item, VelocityConstraint):
+        if not velocities:
+            problems.append(
+                Problem(
+                    field,
+                    f"{who} uses no velocity",
+                    "a condition h(q, t) = 0 on the coordinates is a holonomic constraint; "
+                    "declare it as one",
+                )
+            )
+        elif not _linear(expression, sorted(scope.velocities, key=str)):
+            problems.append(
+                Problem(
+                    field,
+                    f"{who} ({statement(item)}) is not linear in the velocities",
+                    "a velocity constraint must have the Pfaffian form "
+                    "a(q, t).q_dot + b(q, t) = 0; nonlinear ones are not supported",
+                )
+            )
+        return
+    if velocities:
+        names = ", ".join(v.name for v in velocities)
+        noun = "velocity" if len(velocities) == 1 else "velocities"
+        problems.append(
+            Problem(
+                field,
+                f"{who} is {item.kind} but uses the {noun} {names}",
+                f"a {item.kind} constraint depends on the coordinates and t only; declare a "
+                "condition on the velocities as a velocity constraint",
+            )
+        )
+    elif not used & scope.coordinates:
+        problems.append(
+            Problem(
+                field,
+                f"{who} ({statement(item)}) involves no coordinate",
+                "a constraint restricts the coordinates; write it in terms of them or remove it",
+            )
+        )
+
+
+def _linear(expression: sp.Expr, velocities: list[sp.Symbol]) -> bool:
+    """True when the Hessian of ``expression`` in the velocities vanishes."""
+    present = [v for v in velocities if v in expression.free_symbols]
+    first = [expression.diff(v) for v in present]
+    for i, row in enumerate(first):
+        for v in present[i:]:
+            second = row.diff(v)
+            if second != 0 and sp.expand(second) != 0:
+                return False
+    return True
