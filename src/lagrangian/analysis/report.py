@@ -38,7 +38,10 @@ from lagrangian.analysis.momenta import (
     cyclic_coordinates,
 )
 from lagrangian.analysis.subject import Subject, Values, equations_of
+from lagrangian.constraints import classify
+from lagrangian.derive import EquationsOfMotion
 from lagrangian.errors import LagrangianError
+from lagrangian.model import System
 
 T = TypeVar("T")
 
@@ -111,6 +114,37 @@ class _Attempts:
         return None
 
 
+CONSTRAINED = (
+    "not yet computed for a constrained system; eliminate the holonomic constraints first "
+    "(lagrangian.constraints.eliminate) to analyze the reduced system"
+)
+
+
+def _constrained_report(system: System, eom: EquationsOfMotion) -> AnalysisReport:
+    """Classification, degrees of freedom and momenta; the parts that would ignore the
+    constraints are reported as not computed (never silently wrong)."""
+    attempts = _Attempts()
+    report = attempts.run("constraints", lambda: classify(system))
+    for part in ("energy", "hamiltonian", "equilibria", "normal_modes", "linearization"):
+        attempts.failures.append(Failure(part, CONSTRAINED))
+    return AnalysisReport(
+        name=eom.name,
+        dof=report.dof if report is not None else len(eom.coordinates),
+        coordinates=tuple(eom.coordinates),
+        momenta=attempts.run("momenta", lambda: conjugate_momenta(eom)),
+        cyclic=(),
+        conserved=(),
+        energy=None,
+        hamiltonian=None,
+        hamilton_equations=None,
+        equilibria=None,
+        normal_modes=None,
+        linearization=None,
+        failures=tuple(attempts.failures),
+        constraints=tuple(c.as_dict() for c in report.constraints) if report else (),
+    )
+
+
 def analyze(
     subject: Subject,
     about: Values | None = None,
@@ -125,6 +159,9 @@ def analyze(
     as inputs u of the linearization.
     """
     eom = equations_of(subject)
+    system = subject if isinstance(subject, System) else getattr(eom._work, "system", None)
+    if system is not None and system.constraints:
+        return _constrained_report(system, eom)
     attempts = _Attempts()
     run = attempts.run
     cyclic = run("cyclic", lambda: cyclic_coordinates(eom)) or ()

@@ -12,6 +12,7 @@ from typing import Any
 from lagrangian import examples, render
 from lagrangian.analysis import analyze
 from lagrangian.cli.progress import progress_bar
+from lagrangian.constraints import ConstrainedEquations, constrained_equations
 from lagrangian.derive import derive
 from lagrangian.errors import ModelError, Problem
 from lagrangian.io import load
@@ -19,7 +20,7 @@ from lagrangian.model import System
 from lagrangian.numerics.export import export
 from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.animation import animate as write_animation
-from lagrangian.render.json import eom_document
+from lagrangian.render.json import constrained_document, eom_document
 from lagrangian.render.plots import save_plots
 from lagrangian.simulate import simulate
 
@@ -82,16 +83,33 @@ def derive_command(
 ) -> str:
     system = apply_settings(load_system(reference), settings)
     eom = derive(system)
+    constrained = constrained_equations(system) if system.constraints else None
     if fmt == "json":
-        return json.dumps(eom_document(eom, steps=steps), indent=2, ensure_ascii=False)
+        document = eom_document(eom, steps=steps)
+        if constrained is not None:
+            document.update(constrained_document(constrained))
+        return json.dumps(document, indent=2, ensure_ascii=False)
     if fmt == "mathml":
         return render.steps_mathml(eom) if steps else render.equations_mathml(eom)
     if fmt == "latex":
         return render.steps_latex(eom) if steps else render.equations_latex(eom)
     parts = [render.steps_text(eom) if steps else render.equations_text(eom)]
+    if constrained is not None:
+        parts.append(constrained_text(constrained))
     if matrix:
         parts.append(render.matrix_form_text(eom))
     return "\n\n".join(parts)
+
+
+def constrained_text(equations: ConstrainedEquations) -> str:
+    """The constraints and the equations with their multipliers (lambda_j dh_j/dq)."""
+    lines = ["With the constraints (force lambda_j dh_j/dq, DESIGN.md sign convention):"]
+    lines += [
+        f"  {c.expression} = 0" if c.kind != "unilateral" else f"  {c.expression} >= 0"
+        for c in equations.constraints
+    ]
+    lines += [f"{e} = 0" for e in equations.equations]
+    return "\n".join(lines)
 
 
 def export_command(reference: str, *, language: str, out: str, settings: Sequence[str]) -> str:

@@ -10,6 +10,7 @@ from typing import Any
 
 import sympy as sp
 
+from lagrangian.constraints import ConstrainedEquations
 from lagrangian.derive import EquationsOfMotion
 
 
@@ -67,3 +68,18 @@ def eom_document(eom: EquationsOfMotion, *, steps: bool = False) -> dict[str, An
             for s in eom.steps
         ]
     return document
+
+
+def constrained_document(equations: ConstrainedEquations) -> dict[str, Any]:
+    """What constraints add to the derive JSON (DESIGN.md): ``multipliers`` (their names),
+    ``constraint_jacobian`` A, ``gamma`` (A q_ddot = gamma), the residuals with the constraint
+    forces, d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q - A^T lambda (each = 0), and the
+    augmented Lagrangian L + sum lambda_j h_j."""
+    return {
+        "constraints": [expression_string(c.expression) for c in equations.constraints],
+        "multipliers": [lam.name for lam in equations.multipliers],
+        "constraint_jacobian": _matrix(equations.constraint_jacobian),
+        "gamma": _vector(equations.gamma),
+        "constrained_equations": _vector(equations.equations),
+        "augmented_lagrangian": expression_string(equations.augmented_lagrangian),
+    }

@@ -136,6 +136,18 @@ def _description(
     system_or_eom: System | EquationsOfMotion,
 ) -> tuple[EquationsOfMotion, Mapping[Any, float], Mapping[str, Any]]:
     """The equations, the System's initial values and its simulation settings."""
+    system = (
+        system_or_eom
+        if isinstance(system_or_eom, System)
+        else getattr(getattr(system_or_eom, "_work", None), "system", None)
+    )
+    if system is not None and system.constraints:
+        # Integrating the unconstrained equations would be silently wrong.
+        raise SimulationError(
+            "Simulating a system with constraints is not supported yet: eliminate the "
+            "holonomic constraints first (lagrangian.constraints.eliminate) and simulate the "
+            "reduced system; the multiplier form is lagrangian.constraints.constrained_equations."
+        )
     if isinstance(system_or_eom, System):
         return derive(system_or_eom), system_or_eom.initial, system_or_eom.simulation
     if isinstance(system_or_eom, EquationsOfMotion):
