@@ -19,6 +19,7 @@ from typing import Any
 import sympy as sp
 
 from lagrangian.derive.steps import CoordinateSteps
+from lagrangian.errors import DerivationError
 
 
 @dataclass(frozen=True)
@@ -143,8 +144,6 @@ class EquationsOfMotion:
     @property
     def explicit_accelerations(self) -> sp.ImmutableMatrix:
         """q_ddot = M^-1 forcing (only when M is regular)."""
-        from lagrangian.errors import DerivationError
-
         if not self.mass_matrix_is_regular:
             raise DerivationError(
                 "The mass matrix is singular, so there are no explicit accelerations: "

@@ -15,6 +15,8 @@ from typing import Any
 
 import symengine as se
 
+from lagrangian.derive.collect import collect_state
+
 MAX_TRIG_DEGREE = 8  # beyond this a term is left as it is (2**(d-1) Fourier terms)
 
 
@@ -120,8 +122,6 @@ def size(expr: Any) -> int:
 
 def tidy(expr: Any, state: Any) -> Any:
     """:func:`combine_trig`, then terms grouped by state monomial with parameters factored."""
-    from lagrangian.derive.collect import collect_state
-
     return collect_state(combine_trig(expr), state)
 
 
