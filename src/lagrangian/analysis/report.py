@@ -66,7 +66,7 @@ class Failure:
 @dataclass(frozen=True)
 class AnalysisReport:
     """Everything :func:`analyze` found; parts that failed are None and listed in
-    ``failures``.  ``constraints`` is empty until constraint classification lands."""
+    ``failures``.  ``constraints`` holds the classification of each constraint (as_dict)."""
 
     name: str
     dof: int

@@ -1,6 +1,6 @@
 """The machine-readable output contract of DESIGN.md: ``lagrangian analyze --format json``.
 
-Keys: ``dof``, ``constraints`` (empty until constraint classification lands), ``momenta``
+Keys: ``dof``, ``constraints`` (each classified: kind, holonomic, rheonomic, ...), ``momenta``
 (coordinate name -> p), ``cyclic``, ``conserved`` (expressions), ``energy_function``,
 ``energy_conserved``, ``hamiltonian``, ``equilibria`` (each with ``state`` and ``stable``),
 ``normal_modes`` (frequencies and shapes about a stable equilibrium) and, when the report
