@@ -33,6 +33,7 @@ from lagrangian.analysis.momenta import (
     conjugate_momenta,
     cyclic_coordinates,
 )
+from lagrangian.analysis.noether import Symmetry, point_symmetries
 from lagrangian.analysis.report import (
     AnalysisReport,
     ConservedQuantity,
@@ -54,6 +55,7 @@ __all__ = [
     "Hamiltonian",
     "Linearization",
     "NormalModes",
+    "Symmetry",
     "TotalDerivativeEquivalence",
     "analyze",
     "conjugate_momenta",
@@ -67,5 +69,6 @@ __all__ = [
     "hamiltonian",
     "linearize",
     "normal_modes",
+    "point_symmetries",
     "point_transformation",
 ]

@@ -37,6 +37,7 @@ from lagrangian.analysis.momenta import (
     conjugate_momenta,
     cyclic_coordinates,
 )
+from lagrangian.analysis.noether import Symmetry, point_symmetries
 from lagrangian.analysis.subject import Subject, Values, equations_of
 from lagrangian.constraints import classify
 from lagrangian.derive import EquationsOfMotion
@@ -89,10 +90,24 @@ class AnalysisReport:
 
 
 def conserved_quantities(
-    cyclic: Sequence[CyclicCoordinate], energy: EnergyConservation | None
+    cyclic: Sequence[CyclicCoordinate],
+    energy: EnergyConservation | None,
+    symmetries: Sequence[Symmetry] = (),
 ) -> tuple[ConservedQuantity, ...]:
-    """The momenta of cyclic coordinates, and h when it is conserved."""
+    """The momenta of cyclic coordinates, the Noether charges of the other point symmetries,
+    and h when it is conserved."""
     found = [ConservedQuantity(f"p_{c.coordinate.name}", c.momentum, c.reason) for c in cyclic]
+    known = [c.momentum for c in cyclic]
+    for symmetry in symmetries:
+        if any(sp.simplify(symmetry.conserved / p).is_number for p in known if p != 0):
+            continue  # the momentum of a cyclic coordinate, found again
+        found.append(
+            ConservedQuantity(
+                f"noether_{len(found) + 1}",
+                symmetry.conserved,
+                f"Noether: L is invariant under the {symmetry.description}",
+            )
+        )
     if energy is not None and energy.conserved:
         found.append(ConservedQuantity("h", energy.energy_function, energy.reason))
     return tuple(found)
@@ -165,6 +180,7 @@ def analyze(
     attempts = _Attempts()
     run = attempts.run
     cyclic = run("cyclic", lambda: cyclic_coordinates(eom)) or ()
+    symmetries = run("symmetries", lambda: point_symmetries(eom)) or ()
     energy = run("energy", lambda: energy_conservation(eom))
     legendre = run("hamiltonian", lambda: hamiltonian(eom))
     canonical = (
@@ -185,7 +201,7 @@ def analyze(
         coordinates=tuple(eom.coordinates),
         momenta=run("momenta", lambda: conjugate_momenta(eom)),
         cyclic=tuple(cyclic),
-        conserved=conserved_quantities(cyclic, energy),
+        conserved=conserved_quantities(cyclic, energy, symmetries),
         energy=energy,
         hamiltonian=legendre,
         hamilton_equations=canonical,
