@@ -1,6 +1,6 @@
 """Plots of a Trajectory with matplotlib: time series, phase portraits, energy drift.
 
-matplotlib is imported only when a plot is made (``pip install lagrangian[plot]``).  Without an
+matplotlib is imported only when a plot is made (it keeps ``import lagrangian`` fast).  Without an
 ``ax`` each function draws on a new :class:`matplotlib.figure.Figure` (no pyplot state);
 every function returns the Axes it drew on.  The energy drift is
 
