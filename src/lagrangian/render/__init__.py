@@ -8,6 +8,7 @@ rich display in Jupyter (see DESIGN.md).
 ⇒ g*l*m*sin(theta) + l**2*m*theta_ddot = 0
 """
 
+from lagrangian.render.action_plot import plot_action_variation
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.animation import animate, animation_frame, animation_html
 from lagrangian.render.jupyter import Latex, register
@@ -32,6 +33,7 @@ __all__ = [
     "equations_mathml",
     "equations_text",
     "matrix_form_text",
+    "plot_action_variation",
     "plot_energy_drift",
     "plot_phase_portrait",
     "plot_time_series",

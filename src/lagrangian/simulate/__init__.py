@@ -7,8 +7,17 @@
 (2, 'success')
 """
 
+from lagrangian.simulate.action import action, action_variation, stationary_path
 from lagrangian.simulate.events import EventFunction
 from lagrangian.simulate.run import simulate
 from lagrangian.simulate.trajectory import Event, Trajectory
 
-__all__ = ["Event", "EventFunction", "Trajectory", "simulate"]
+__all__ = [
+    "Event",
+    "EventFunction",
+    "Trajectory",
+    "action",
+    "action_variation",
+    "simulate",
+    "stationary_path",
+]
