@@ -312,11 +312,14 @@ def test_register_adds_latex_formatters(
     monkeypatch.setitem(sys.modules, "IPython", fake)
     assert render.register() is True
     printers = formatter.printers
+    from lagrangian.render.analysis_latex import RESULT_TYPES
+
     assert set(printers) == {
         lg.EquationsOfMotion,
         lg.CoordinateSteps,
         lg.System,
         lg.analysis.AnalysisReport,
+        *RESULT_TYPES,
     }
     report_text = printers[lg.analysis.AnalysisReport](lg.analyze(lg.examples.simple_pendulum()))
     assert r"p_{\theta}" in report_text and "stable" in report_text

@@ -11,7 +11,17 @@ from __future__ import annotations
 
 import sympy as sp
 
-from lagrangian.analysis import AnalysisReport
+from lagrangian.analysis import (
+    AnalysisReport,
+    ConjugateMomenta,
+    CyclicCoordinate,
+    EnergyConservation,
+    Equilibria,
+    Hamiltonian,
+    Linearization,
+    NormalModes,
+    Symmetry,
+)
 from lagrangian.render.latex import block, symbol_names
 
 
@@ -56,3 +66,76 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
 def analysis_latex(report: AnalysisReport, environment: str = "align*") -> str:
     """The report as one aligned LaTeX block."""
     return block(analysis_lines(report), environment)
+
+
+def _tex(expr: object) -> str:
+    """LaTeX of an expression whose velocities are written NAME_dot (dotted by name)."""
+    value = sp.sympify(expr)
+    coordinates = {
+        sp.Symbol(s.name.removesuffix("_ddot").removesuffix("_dot")) for s in value.free_symbols
+    }
+    return sp.latex(value, symbol_names=symbol_names(coordinates))
+
+
+def _equilibrium_lines(found: Equilibria) -> list[str]:
+    verdicts = {True: "stable", False: "unstable", None: "undetermined"}
+    return [
+        ",\\ ".join(f"{_tex(q)} = {_tex(v)}" for q, v in e.state.items())
+        + rf"\quad {_text(verdicts[e.stable])}"
+        for e in found.equilibria
+    ]
+
+
+SEPARATOR = ",\\ "
+
+#: The analysis results that have their own display.
+RESULT_TYPES = (
+    ConjugateMomenta,
+    EnergyConservation,
+    Hamiltonian,
+    Equilibria,
+    NormalModes,
+    Linearization,
+    Symmetry,
+    CyclicCoordinate,
+)
+
+
+def result_latex(result: object) -> str | None:
+    """LaTeX of one analysis result (momenta, energy, Hamiltonian, equilibria, modes,
+    linearization, symmetry, cyclic coordinate); None for anything else."""
+    lines: list[str]
+    if isinstance(result, ConjugateMomenta):
+        lines = [
+            rf"p_{{{_tex(q)}}} &= {_tex(p)}" for q, p in zip(result.coordinates, result.momenta)
+        ]
+    elif isinstance(result, EnergyConservation):
+        verdict = "conserved" if result.conserved else "not conserved"
+        lines = [
+            rf"h &= {_tex(result.energy_function)}",
+            rf"\frac{{dh}}{{dt}} &= {_tex(result.rate)}\quad {_text(verdict)}",
+        ]
+    elif isinstance(result, Hamiltonian):
+        lines = [rf"H &= {_tex(result.hamiltonian)}"]
+    elif isinstance(result, Equilibria):
+        lines = [f"&{line}" for line in _equilibrium_lines(result)] or [rf"&{_text('none')}"]
+    elif isinstance(result, NormalModes):
+        lines = [rf"\omega_{{{i + 1}}} &= {_tex(w)}" for i, w in enumerate(result.frequencies)]
+    elif isinstance(result, Linearization):
+        lines = [
+            rf"A &= {_tex(result.A)}",
+            rf"\lambda &\in \{{{SEPARATOR.join(_tex(v) for v in result.eigenvalues)}\}}",
+        ]
+    elif isinstance(result, Symmetry):
+        lines = [
+            rf"&{_text(result.description)}:\ {_tex(result.conserved)} = "
+            rf"{_text('const')}"
+        ]
+    elif isinstance(result, CyclicCoordinate):
+        lines = [
+            rf"p_{{{_tex(result.coordinate)}}} &= {_tex(result.momentum)} = "
+            rf"{_text('const')}"
+        ]
+    else:
+        return None
+    return block(lines)

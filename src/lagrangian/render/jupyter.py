@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from lagrangian.analysis import AnalysisReport
 from lagrangian.derive import CoordinateSteps, EquationsOfMotion
 from lagrangian.model import System
-from lagrangian.render.analysis_latex import analysis_latex
+from lagrangian.render.analysis_latex import RESULT_TYPES, analysis_latex, result_latex
 from lagrangian.render.latex import (
     coordinate_steps_latex,
     equations_latex,
@@ -68,6 +68,13 @@ def _analysis_latex(report: AnalysisReport) -> str:
     return Latex(analysis_latex(report, environment=_NESTED))._repr_latex_()
 
 
+def _result_latex(result: object) -> str | None:
+    text = result_latex(result)
+    if text is None:
+        return None
+    return Latex(text.replace("align*", _NESTED))._repr_latex_()
+
+
 def register() -> bool:
     """Register 'text/latex' formatters for EquationsOfMotion, CoordinateSteps and System, and
     an 'image/png' one for Trajectory (time series, phase portrait, energy drift).
@@ -90,5 +97,7 @@ def register() -> bool:
     formatter.for_type(CoordinateSteps, _coordinate_steps_latex)
     formatter.for_type(System, _system_latex)
     formatter.for_type(AnalysisReport, _analysis_latex)
+    for kind in RESULT_TYPES:
+        formatter.for_type(kind, _result_latex)
     shell.display_formatter.formatters["image/png"].for_type(Trajectory, overview_png)
     return True
