@@ -1,6 +1,6 @@
 """A constrained system is never silently treated as unconstrained: analyze reports the
 classification and degrees of freedom and says which parts are not computed; simulate
-refuses with the way forward."""
+enforces the constraints by multipliers and refuses the unilateral ones."""
 
 from __future__ import annotations
 
@@ -32,10 +32,15 @@ def test_analyze_counts_the_constraint_and_computes_nothing_wrong() -> None:
     assert "eliminate" in (report.failure("equilibria") or "")
 
 
-def test_simulate_refuses_until_constrained_simulation_lands() -> None:
-    with pytest.raises(SimulationError, match="constraints is not supported yet"):
-        lg.simulate(cartesian_pendulum(), t_span=1.0)
-    with pytest.raises(SimulationError, match="eliminate"):
-        lg.simulate(
-            lg.derive(cartesian_pendulum()), {"x": 0.6, "y": -0.8, "x_dot": 0, "y_dot": 0}, 1.0
-        )
+def test_simulate_enforces_the_constraints_and_refuses_unilateral_ones() -> None:
+    run = lg.simulate(cartesian_pendulum(), t_span=1.0, samples=11, baumgarte=(10, 10))
+    assert run.success and run.multiplier_names == ("lambda_1",)
+    residual = run.drift()["constraint_residual_max"]
+    assert residual is not None and residual < 1e-6
+    derived = lg.simulate(
+        lg.derive(cartesian_pendulum()), {"x": 0.6, "y": -0.8, "x_dot": 0, "y_dot": 0}, 1.0
+    )
+    assert derived.multiplier_names == ("lambda_1",)  # never the unconstrained equations
+    bowl = cartesian_pendulum().replace(constraints=[lg.Unilateral(l**2 - x**2 - y**2)])
+    with pytest.raises(SimulationError, match="not simulated yet"):
+        lg.simulate(bowl, t_span=1.0)

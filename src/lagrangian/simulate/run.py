@@ -59,6 +59,8 @@ def simulate(
     events: Sequence[EventFunction] = (),
     raise_on_failure: bool = True,
     progress: Callable[[float], None] | None = None,
+    baumgarte: tuple[float, float] = (0.0, 0.0),
+    project_initial: bool = False,
 ) -> Trajectory:
     """Integrate the motion of a System (derived here) or of its EquationsOfMotion.
 
@@ -90,14 +92,22 @@ def simulate(
         message, and every output computed before the failure.
     progress:
         Called with the time reached after every accepted step (for a progress bar).
+    baumgarte:
+        With constraints: Baumgarte's (alpha, beta) stabilization of the constraint drift
+        (default (0, 0), off); see :mod:`lagrangian.simulate.constrained_run`.
+    project_initial:
+        With constraints: move an initial state that violates them onto them
+        (:func:`lagrangian.constraints.project_state`) instead of raising.
+
+    A System with holonomic or velocity constraints is integrated in the multiplier form;
+    its Trajectory also holds the multipliers lambda_j and the constraint residual.
 
     Raises
     ------
     SimulationError
         Bad input (every problem listed), unsupported systems, or a failed integration.
     """
-    eom, fallback_initial, settings = _description(system_or_eom)
-    compiled = compile_equations(eom)
+    eom, fallback_initial, settings, system = _description(system_or_eom)
     given = {
         "initial": initial,
         "parameters": parameters,
@@ -110,6 +120,22 @@ def simulate(
         "dt": dt,
         "max_step": max_step,
     }
+    if system is not None and system.constraints:
+        from lagrangian.simulate.constrained_run import simulate_constrained  # imports run
+
+        return simulate_constrained(
+            system,
+            eom,
+            given,
+            fallback_initial,
+            settings,
+            events=events,
+            raise_on_failure=raise_on_failure,
+            progress=progress,
+            baumgarte=baumgarte,
+            project_initial=project_initial,
+        )
+    compiled = compile_equations(eom)
     inputs = resolve_inputs(compiled, given, fallback_initial, settings)
 
     def field(t: float, x: np.ndarray) -> np.ndarray:
@@ -134,24 +160,18 @@ def simulate(
 
 def _description(
     system_or_eom: System | EquationsOfMotion,
-) -> tuple[EquationsOfMotion, Mapping[Any, float], Mapping[str, Any]]:
-    """The equations, the System's initial values and its simulation settings."""
+) -> tuple[EquationsOfMotion, Mapping[Any, float], Mapping[str, Any], System | None]:
+    """The equations, the System's initial values, its simulation settings and the System
+    (when known: given, or the one the EquationsOfMotion were derived from)."""
     system = (
         system_or_eom
         if isinstance(system_or_eom, System)
         else getattr(getattr(system_or_eom, "_work", None), "system", None)
     )
-    if system is not None and system.constraints:
-        # Integrating the unconstrained equations would be silently wrong.
-        raise SimulationError(
-            "Simulating a system with constraints is not supported yet: eliminate the "
-            "holonomic constraints first (lagrangian.constraints.eliminate) and simulate the "
-            "reduced system; the multiplier form is lagrangian.constraints.constrained_equations."
-        )
     if isinstance(system_or_eom, System):
-        return derive(system_or_eom), system_or_eom.initial, system_or_eom.simulation
+        return derive(system_or_eom), system_or_eom.initial, system_or_eom.simulation, system
     if isinstance(system_or_eom, EquationsOfMotion):
-        return system_or_eom, {}, {}
+        return system_or_eom, {}, {}, system
     raise SimulationError(
         f"simulate needs a System or the EquationsOfMotion of one, not "
         f"{type(system_or_eom).__name__}."

@@ -63,6 +63,12 @@ class Trajectory:
         Integration method used.
     parameters:
         Parameter values used, by name.
+    multipliers, multiplier_names:
+        With constraints: the Lagrange multipliers lambda_1, ... at each output time, shape
+        (N, m), and their names; else None and ().
+    constraint_residual:
+        With constraints: max over the constraints of |h| and |A q_dot + b| at each output
+        time, shape (N,); else None.
     """
 
     t: np.ndarray
@@ -76,6 +82,9 @@ class Trajectory:
     message: str = ""
     method: str = ""
     parameters: Mapping[str, float] = field(default_factory=dict)
+    multipliers: np.ndarray | None = None
+    multiplier_names: tuple[str, ...] = ()
+    constraint_residual: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         n = len(self.coordinates)
@@ -86,6 +95,13 @@ class Trajectory:
         _freeze(self, "energy", (rows,))
         if self.energy_function is not None:
             _freeze(self, "energy_function", (rows,))
+        object.__setattr__(self, "multiplier_names", tuple(self.multiplier_names))
+        if self.multipliers is not None:
+            _freeze(self, "multipliers", (rows, len(self.multiplier_names)))
+        elif self.multiplier_names:
+            raise SimulationError("Trajectory.multiplier_names are given without multipliers.")
+        if self.constraint_residual is not None:
+            _freeze(self, "constraint_residual", (rows,))
         object.__setattr__(self, "coordinates", tuple(self.coordinates))
         object.__setattr__(self, "events", tuple(self.events))
         object.__setattr__(self, "parameters", MappingProxyType(dict(self.parameters)))
@@ -96,10 +112,11 @@ class Trajectory:
 
     @property
     def names(self) -> tuple[str, ...]:
-        """Column names: t, the coordinates, their NAME_dot, energy (and energy_function)."""
+        """Column names: t, the coordinates, their NAME_dot, the multipliers lambda_j (with
+        constraints), energy (and energy_function)."""
         extra = ("energy_function",) if self.energy_function is not None else ()
         velocities = tuple(name + DOT for name in self.coordinates)
-        return ("t", *self.coordinates, *velocities, "energy", *extra)
+        return ("t", *self.coordinates, *velocities, *self.multiplier_names, "energy", *extra)
 
     def __getitem__(self, name: str) -> np.ndarray:
         """The column ``name``: ``"t"``, a coordinate, ``NAME_dot``, ``"energy"``."""
@@ -107,6 +124,8 @@ class Trajectory:
             return getattr(self, name)
         if name in self.coordinates:
             return self.q[:, self.coordinates.index(name)]
+        if name in self.multiplier_names and self.multipliers is not None:
+            return self.multipliers[:, self.multiplier_names.index(name)]
         if name.endswith(DOT) and name[: -len(DOT)] in self.coordinates:
             return self.q_dot[:, self.coordinates.index(name[: -len(DOT)])]
         close = difflib.get_close_matches(name, self.names, n=1)
@@ -121,12 +140,16 @@ class Trajectory:
         """How far the energy strays from its initial value E0 = E(t_0).
 
         ``energy_absolute`` = max |E - E0|, ``energy_relative`` = that / |E0| (None when
-        E0 = 0 or there are no rows); the same with ``energy_function_`` for h when present.
+        E0 = 0 or there are no rows); the same with ``energy_function_`` for h when present,
+        and ``constraint_residual_max`` (max of :attr:`constraint_residual`) with constraints.
         A dissipative or driven system drifts physically: compare with its power balance.
         """
         report = _drift("energy", self.energy)
         if self.energy_function is not None:
             report.update(_drift("energy_function", self.energy_function))
+        if self.constraint_residual is not None:
+            residual = self.constraint_residual
+            report["constraint_residual_max"] = float(np.max(residual)) if len(residual) else None
         return report
 
     def to_csv(self, destination: str | os.PathLike[str] | TextIO) -> None:
@@ -157,6 +180,11 @@ class Trajectory:
             data = np.loadtxt(io.StringIO("\n".join(rows)), delimiter=",", ndmin=2)
         column = dict(zip(names, data.T))
         coordinates = tuple(name for name in names[1:] if name + DOT in column)
+        start = 1 + 2 * len(coordinates)
+        multiplier_names = tuple(names[start : names.index("energy")])
+        multipliers = None
+        if multiplier_names:
+            multipliers = np.column_stack([column[name] for name in multiplier_names])
         return cls(
             t=column["t"],
             q=np.column_stack([column[c] for c in coordinates]),
@@ -164,6 +192,8 @@ class Trajectory:
             coordinates=coordinates,
             energy=column["energy"],
             energy_function=column.get("energy_function"),
+            multipliers=multipliers,
+            multiplier_names=multiplier_names,
         )
 
     def to_pandas(self) -> Any:

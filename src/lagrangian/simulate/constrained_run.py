@@ -1,0 +1,170 @@
+"""simulate_constrained: integrate a System with holonomic and velocity constraints.
+
+The state is x = [q; q_dot] of every coordinate; at each evaluation the accelerations and
+the multipliers solve the augmented system of :mod:`lagrangian.numerics.constrained`, with
+Baumgarte's stabilization when ``baumgarte = (alpha, beta)`` is not (0, 0).  The initial
+state must satisfy the constraints (to 1e-9); ``project_initial=True`` moves it onto them
+with :func:`lagrangian.constraints.project_state`.  Unilateral constraints are refused.
+
+>>> import lagrangian as lg, sympy as sp
+>>> x, y, m, g = sp.symbols("x y m g")
+>>> ring = lg.System(coordinates=[x, y], parameters={m: 1.0, g: 9.81}, gravity=(0, -g),
+...     particles=[lg.Particle("bead", m, (x, y))],
+...     constraints=[lg.Holonomic(x**2 + y**2 - 1)])
+>>> start = {"x": 1.0, "y": 0.0, "x_dot": 0.0, "y_dot": 0.0}
+>>> run = lg.simulate(ring, start, 0.5, samples=3, baumgarte=(10, 10))
+>>> run.names
+('t', 'x', 'y', 'x_dot', 'y_dot', 'lambda_1', 'energy')
+>>> run.drift()["constraint_residual_max"] < 1e-6
+True
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import math
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from lagrangian.constraints import constrained_equations, project_state
+from lagrangian.derive import EquationsOfMotion
+from lagrangian.errors import SimulationError
+from lagrangian.model import System
+from lagrangian.model.constraints import Unilateral, statement
+from lagrangian.numerics.compile import compile_equations
+from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
+from lagrangian.simulate.events import EventFunction, EventWatch
+from lagrangian.simulate.inputs import Inputs, resolve_inputs
+from lagrangian.simulate.run import _starter, _trajectory
+from lagrangian.simulate.stepping import integrate
+from lagrangian.simulate.trajectory import Trajectory
+
+#: Largest constraint residual of an initial state accepted as is.
+INITIAL_TOLERANCE = 1e-9
+
+
+def simulate_constrained(
+    system: System,
+    eom: EquationsOfMotion,
+    given: Mapping[str, Any],
+    fallback_initial: Mapping[Any, float],
+    settings: Mapping[str, Any],
+    *,
+    events: Sequence[EventFunction] = (),
+    raise_on_failure: bool = True,
+    progress: Callable[[float], None] | None = None,
+    baumgarte: tuple[float, float] = (0.0, 0.0),
+    project_initial: bool = False,
+) -> Trajectory:
+    """The motion of ``system`` (whose unconstrained equations are ``eom``) under its
+    constraints; ``given`` holds the arguments of :func:`lagrangian.simulate` as in run.py."""
+    unilateral = [c for c in system.constraints if isinstance(c, Unilateral)]
+    if unilateral:
+        which = ", ".join(statement(c) for c in unilateral)
+        raise SimulationError(
+            f"The system has unilateral constraints ({which}): unilateral constraints are not "
+            "simulated yet. Replace them by holonomic ones if they stay active, or drop them."
+        )
+    alpha, beta = _baumgarte(baumgarte)
+    compiled = compile_equations(eom)
+    if not compiled.regular:
+        raise SimulationError(
+            "Simulating constraints with first-order coordinates (no inertia) is not "
+            "supported: every coordinate needs a velocity in the state."
+        )
+    numeric = compile_constrained(constrained_equations(eom, system.constraints))
+    inputs = resolve_inputs(compiled, given, fallback_initial, settings)
+    inputs = _checked_initial(system, numeric, inputs, project_initial)
+    n, p = len(compiled.coordinates), inputs.p
+
+    def field(t: float, x: np.ndarray) -> np.ndarray:
+        q_ddot, _ = numeric.accelerations(x[:n], x[n:], t, p, alpha, beta)
+        return np.concatenate((x[n:], q_ddot))
+
+    def unpack(t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return x[:n], x[n:]
+
+    watch = EventWatch(events, unpack) if events else None
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        run = integrate(
+            _starter(field, inputs), inputs.t_span[0], inputs.x0, inputs.t_out, watch, progress
+        )
+    trajectory = _trajectory(compiled, inputs, run, watch)
+    multipliers, residual = _along(numeric, trajectory, p, alpha, beta)
+    trajectory = dataclasses.replace(
+        trajectory,
+        multipliers=multipliers,
+        multiplier_names=numeric.multipliers,
+        constraint_residual=residual,
+    )
+    if run.failure is not None and raise_on_failure:
+        raise SimulationError(
+            f"{trajectory.message} Pass raise_on_failure=False to keep the trajectory "
+            "computed up to the failure."
+        )
+    return trajectory
+
+
+def _baumgarte(value: Any) -> tuple[float, float]:
+    try:
+        alpha, beta = (float(v) for v in value)
+    except (TypeError, ValueError):
+        alpha = beta = math.nan
+    if not (math.isfinite(alpha) and math.isfinite(beta) and alpha >= 0 and beta >= 0):
+        raise SimulationError(
+            f"baumgarte must be a pair (alpha, beta) of non-negative numbers, not {value!r}."
+        )
+    return alpha, beta
+
+
+def _residual(
+    numeric: CompiledConstrained, q: np.ndarray, qd: np.ndarray, t: float, p: np.ndarray
+) -> float:
+    h, c = numeric.residuals(q, qd, t, p)
+    return float(np.max(np.abs(np.concatenate((h, c))), initial=0.0))
+
+
+def _checked_initial(
+    system: System, numeric: CompiledConstrained, inputs: Inputs, project_initial: bool
+) -> Inputs:
+    """``inputs`` with an initial state on the constraints (projected when asked), or raise."""
+    n, t0 = len(numeric.coordinates), inputs.t_span[0]
+    x0 = inputs.x0
+    residual = _residual(numeric, x0[:n], x0[n:], t0, inputs.p)
+    if not residual > INITIAL_TOLERANCE and math.isfinite(residual):
+        return inputs
+    if not project_initial:
+        raise SimulationError(
+            f"The initial state violates the constraints: the largest residual is "
+            f"{residual:.3g} (> {INITIAL_TOLERANCE:g}). Move it onto them with "
+            "lagrangian.constraints.project_state, or pass project_initial=True."
+        )
+    names = numeric.coordinates
+    state: dict[str, float] = dict(inputs.parameters)
+    state.update(zip(names, x0[:n].tolist()))
+    state.update((name + "_dot", float(v)) for name, v in zip(names, x0[n:]))
+    state["t"] = t0
+    projected = {symbol.name: value for symbol, value in project_state(system, state).items()}
+    x = np.array([projected[name] for name in names] + [projected[name + "_dot"] for name in names])
+    return dataclasses.replace(inputs, x0=x)
+
+
+def _along(
+    numeric: CompiledConstrained,
+    trajectory: Trajectory,
+    p: np.ndarray,
+    alpha: float,
+    beta: float,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The multipliers and the largest constraint residual at every output time."""
+    rows = len(trajectory.t)
+    multipliers = np.full((rows, len(numeric.multipliers)), np.nan)
+    residual = np.full(rows, np.nan)
+    for i, (t, q, qd) in enumerate(zip(trajectory.t, trajectory.q, trajectory.q_dot)):
+        residual[i] = _residual(numeric, q, qd, float(t), p)
+        with contextlib.suppress(SimulationError):  # singular there: the multipliers stay NaN
+            multipliers[i] = numeric.accelerations(q, qd, float(t), p, alpha, beta)[1]
+    return multipliers, residual
