@@ -152,11 +152,12 @@ def test_a_velocity_violation_is_refused() -> None:
         lg.simulate(cartesian_pendulum(), moving, 0.1)
 
 
-def test_unilateral_constraints_are_not_simulated_yet() -> None:
+def test_a_taut_string_stays_active_like_a_rod() -> None:
     x, y, l = sp.symbols("x y l")
-    inside = cartesian_pendulum(lg.Unilateral(l**2 - x**2 - y**2))
-    with pytest.raises(SimulationError, match="not simulated yet"):
-        lg.simulate(inside, start(), 0.1)
+    string = cartesian_pendulum(lg.Unilateral(l**2 - x**2 - y**2, name="string"))
+    run = lg.simulate(string, start(), 0.5, samples=11, **TIGHT)
+    assert run.success and run.events == ()
+    assert np.all(run["lambda_1"] > 0)  # the tension pulls the bob in: g = l^2 - r^2 grows
 
 
 def test_bad_baumgarte_parameters_are_refused() -> None:

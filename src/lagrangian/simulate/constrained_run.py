@@ -4,7 +4,9 @@ The state is x = [q; q_dot] of every coordinate; at each evaluation the accelera
 the multipliers solve the augmented system of :mod:`lagrangian.numerics.constrained`, with
 Baumgarte's stabilization when ``baumgarte = (alpha, beta)`` is not (0, 0).  The initial
 state must satisfy the constraints (to 1e-9); ``project_initial=True`` moves it onto them
-with :func:`lagrangian.constraints.project_state`.  Unilateral constraints are refused.
+with :func:`lagrangian.constraints.project_state`.  Unilateral constraints g >= 0 are
+simulated by :mod:`lagrangian.simulate.unilateral` (active while they push, released when
+their multiplier would pull; a re-contact, an impact, is not modelled and fails the run).
 
 >>> import lagrangian as lg, sympy as sp
 >>> x, y, m, g = sp.symbols("x y m g")
@@ -33,7 +35,7 @@ from lagrangian.constraints import constrained_equations, project_state
 from lagrangian.derive import EquationsOfMotion
 from lagrangian.errors import SimulationError
 from lagrangian.model import System
-from lagrangian.model.constraints import Unilateral, statement
+from lagrangian.model.constraints import Unilateral
 from lagrangian.numerics.compile import compile_equations
 from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
 from lagrangian.simulate.events import EventFunction, EventWatch
@@ -61,13 +63,6 @@ def simulate_constrained(
 ) -> Trajectory:
     """The motion of ``system`` (whose unconstrained equations are ``eom``) under its
     constraints; ``given`` holds the arguments of :func:`lagrangian.simulate` as in run.py."""
-    unilateral = [c for c in system.constraints if isinstance(c, Unilateral)]
-    if unilateral:
-        which = ", ".join(statement(c) for c in unilateral)
-        raise SimulationError(
-            f"The system has unilateral constraints ({which}): unilateral constraints are not "
-            "simulated yet. Replace them by holonomic ones if they stay active, or drop them."
-        )
     alpha, beta = _baumgarte(baumgarte)
     compiled = compile_equations(eom)
     if not compiled.regular:
@@ -75,8 +70,28 @@ def simulate_constrained(
             "Simulating constraints with first-order coordinates (no inertia) is not "
             "supported: every coordinate needs a velocity in the state."
         )
-    numeric = compile_constrained(constrained_equations(eom, system.constraints))
     inputs = resolve_inputs(compiled, given, fallback_initial, settings)
+    if any(isinstance(c, Unilateral) for c in system.constraints):
+        from lagrangian.simulate.unilateral import simulate_unilateral
+
+        trajectory = simulate_unilateral(
+            system,
+            eom,
+            compiled,
+            inputs,
+            events=events,
+            progress=progress,
+            alpha=alpha,
+            beta=beta,
+            project_initial=project_initial,
+        )
+        if not trajectory.success and raise_on_failure:
+            raise SimulationError(
+                f"{trajectory.message} Pass raise_on_failure=False to keep the trajectory "
+                "computed up to the failure."
+            )
+        return trajectory
+    numeric = compile_constrained(constrained_equations(eom, system.constraints))
     inputs = _checked_initial(system, numeric, inputs, project_initial)
     n, p = len(compiled.coordinates), inputs.p
 
