@@ -26,6 +26,8 @@ from lagrangian.numerics.compile import CompiledEquations
 
 #: Every method simulate accepts: SciPy's solve_ivp methods and the fixed-step RK4.
 METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "RK4")
+#: The fixed-step variational integrator (:mod:`lagrangian.simulate.variational`).
+VARIATIONAL = "variational"
 DEFAULTS: dict[str, Any] = {"method": "RK45", "rtol": 1e-8, "atol": 1e-10}
 
 
@@ -190,11 +192,12 @@ def output_times(
 
 
 def _method(method: Any, problems: list[Problem]) -> str:
-    if method in METHODS:
+    known = (*METHODS, VARIATIONAL)
+    if method in known:
         return str(method)
     close = difflib.get_close_matches(str(method).upper(), METHODS, n=1, cutoff=0.4)
     hint = f"did you mean {close[0]!r}? " if close else ""
-    problems.append(Problem("method", f"unknown method {method!r}", f"{hint}methods: {METHODS}"))
+    problems.append(Problem("method", f"unknown method {method!r}", f"{hint}methods: {known}"))
     return "RK45"
 
 
@@ -205,8 +208,9 @@ def _step(
     t_out: np.ndarray | None,
     problems: list[Problem],
 ) -> float | None:
-    """RK4's step: ``dt``, else the spacing of evenly spaced samples."""
-    if method != "RK4":
+    """The step of RK4 or the variational integrator: ``dt``, else the spacing of evenly
+    spaced samples."""
+    if method not in ("RK4", VARIATIONAL):
         if dt is not None:
             problems.append(
                 Problem(
@@ -221,7 +225,7 @@ def _step(
     if t_out is not None and len(t_out) >= 2 and np.allclose(np.diff(t_out), t_out[1] - t_out[0]):
         return float(t_out[1] - t_out[0])
     problems.append(
-        Problem("dt", "the fixed-step method RK4 needs a step", "pass dt=... or samples=N")
+        Problem("dt", f"the fixed-step method {method} needs a step", "pass dt=... or samples=N")
     )
     return None
 

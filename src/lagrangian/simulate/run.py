@@ -3,7 +3,8 @@
     M(q, t) q_ddot = forcing(q, q_dot, t),    x = [q; q_dot],    dx/dt = [q_dot; M^-1 forcing]
 
 (first-order coordinates keep only q in the state, see :mod:`lagrangian.numerics.state`),
-integrated by any ``scipy.integrate.solve_ivp`` method or the fixed-step RK4.
+integrated by any ``scipy.integrate.solve_ivp`` method, the fixed-step RK4 or the variational
+integrator (:mod:`lagrangian.simulate.variational`).
 
 >>> import lagrangian as lg
 >>> trajectory = simulate(lg.examples.simple_pendulum(), {"theta": 0.1}, 1.0, samples=3)
@@ -27,7 +28,7 @@ from lagrangian.errors import SimulationError
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.simulate.events import EventFunction, EventWatch
-from lagrangian.simulate.inputs import Inputs, resolve_inputs
+from lagrangian.simulate.inputs import VARIATIONAL, Inputs, resolve_inputs
 from lagrangian.simulate.rk4 import RK4
 from lagrangian.simulate.stepping import Integration, integrate
 from lagrangian.simulate.trajectory import Event, Trajectory
@@ -78,7 +79,10 @@ def simulate(
         Parameter values by name or symbol, over the defaults.
     method:
         ``RK45`` (default), ``RK23``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA`` (solve_ivp)
-        or ``RK4`` (fixed step ``dt``, or the spacing of ``samples``).
+        or ``RK4`` (fixed step ``dt``, or the spacing of ``samples``), or ``variational``
+        (fixed step ``dt``: the symplectic midpoint-rule integrator of
+        :mod:`lagrangian.simulate.variational`, for unconstrained conservative systems; the
+        energy error stays bounded instead of drifting).
     rtol, atol, max_step:
         Tolerances (default 1e-8, 1e-10) and largest step of the adaptive methods.
     samples, t_eval:
@@ -120,6 +124,19 @@ def simulate(
         "dt": dt,
         "max_step": max_step,
     }
+    if (method if method is not None else settings.get("method")) == VARIATIONAL:
+        from lagrangian.simulate.variational import simulate_variational  # imports run
+
+        return simulate_variational(
+            eom,
+            system,
+            given,
+            fallback_initial,
+            settings,
+            events=events,
+            raise_on_failure=raise_on_failure,
+            progress=progress,
+        )
     if system is not None and system.constraints:
         from lagrangian.simulate.constrained_run import simulate_constrained  # imports run
 
