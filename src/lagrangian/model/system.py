@@ -30,7 +30,7 @@ import sympy as sp
 from lagrangian.model.circuit import CircuitElement
 from lagrangian.model.constraints import Constraint
 from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque, as_tuple
-from lagrangian.model.normalize import normalize_system
+from lagrangian.model.normalize import ELEMENT_FIELDS, normalize_system
 from lagrangian.model.symbols import acceleration, t, velocity
 
 
@@ -93,16 +93,7 @@ class System:
 
     def __post_init__(self) -> None:
         for f in fields(self):
-            if f.name in (
-                "particles",
-                "rigid_bodies",
-                "springs",
-                "dampers",
-                "forces",
-                "torques",
-                "circuit",
-                "constraints",
-            ):
+            if f.name in ELEMENT_FIELDS:
                 object.__setattr__(self, f.name, as_tuple(getattr(self, f.name)))
         for name, value in normalize_system(self).items():
             object.__setattr__(self, name, value)
