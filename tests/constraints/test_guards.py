@@ -4,9 +4,11 @@ enforces the constraints by multipliers and refuses the unilateral ones."""
 
 from __future__ import annotations
 
+import pytest
 import sympy as sp
 
 import lagrangian as lg
+from lagrangian.errors import SimulationError
 
 x, y, m, g, l = sp.symbols("x y m g l")
 
@@ -42,3 +44,10 @@ def test_simulate_enforces_the_constraints_and_simulates_unilateral_ones() -> No
     bowl = cartesian_pendulum().replace(constraints=[lg.Unilateral(l**2 - x**2 - y**2)])
     resting = lg.simulate(bowl, t_span=1.0)  # pulled taut by gravity: stays active
     assert resting.success and resting.events == () and resting.multiplier_names == ("lambda_1",)
+
+
+def test_the_discrete_action_refuses_a_constrained_system() -> None:
+    from lagrangian.simulate import stationary_path
+
+    with pytest.raises(SimulationError, match="constrained system is not implemented yet"):
+        stationary_path(cartesian_pendulum(), [0.6, -0.8], [0.0, -1.0], 1.0)

@@ -19,11 +19,9 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import sympy as sp
 from numpy.typing import ArrayLike
 from scipy.integrate import simpson
 from scipy.optimize import root
@@ -31,27 +29,13 @@ from scipy.optimize import root
 from lagrangian.derive import EquationsOfMotion
 from lagrangian.errors import Problem, SimulationError, raise_if_problems
 from lagrangian.model import System
-from lagrangian.numerics.cache import IdentityCache
-from lagrangian.numerics.compile import CompiledEquations, compile_equations
-from lagrangian.numerics.evaluate import NumericFunction
+from lagrangian.numerics.compile import CompiledEquations
+from lagrangian.simulate.discrete import LagrangianFunctions, prepare, residual_converged
 from lagrangian.simulate.inputs import parameter_values, time_span
-from lagrangian.simulate.run import _description
 from lagrangian.simulate.trajectory import Trajectory
 
 #: The method name recorded in the Trajectory of :func:`stationary_path`.
 METHOD = "discrete action (midpoint rule)"
-
-
-@dataclass(frozen=True)
-class _LagrangianFunctions:
-    """L, dL/dq and dL/dq_dot of one system as NumPy functions of (q, q_dot, t, p)."""
-
-    lagrangian: NumericFunction
-    dL_dq: NumericFunction
-    dL_dq_dot: NumericFunction
-
-
-_CACHE: IdentityCache[EquationsOfMotion, _LagrangianFunctions] = IdentityCache()
 
 
 def action(system_or_eom: System | EquationsOfMotion, trajectory: Trajectory) -> float:
@@ -72,7 +56,7 @@ def action(system_or_eom: System | EquationsOfMotion, trajectory: Trajectory) ->
     >>> round(action(pendulum, trajectory), 6)  # at rest: L = m g l for one second
     9.81
     """
-    compiled, functions = _prepare(system_or_eom)
+    compiled, functions = prepare(system_or_eom)
     problems: list[Problem] = []
     values = parameter_values(compiled, trajectory.parameters, problems)
     _check_trajectory(compiled, trajectory, problems)
@@ -119,7 +103,7 @@ def stationary_path(
     Returns a Trajectory (method ``"discrete action (midpoint rule)"``) whose message gives the
     largest residual.  Raises SimulationError on bad input or when the solver fails.
     """
-    compiled, functions = _prepare(system_or_eom)
+    compiled, functions = prepare(system_or_eom)
     problems: list[Problem] = []
     values = parameter_values(compiled, parameters or {}, problems)
     t0, t1 = time_span(t_span, None, problems)
@@ -134,7 +118,7 @@ def stationary_path(
     guess = start + np.outer((t[1:-1] - t0) / (t1 - t0), end - start)
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         solution = root(lambda x: np.add(*terms(x)), guess.ravel(), method="hybr")
-        converged, worst = _converged(terms(solution.x))
+        converged, worst = residual_converged(terms(solution.x))
     if not (converged or (solution.success and np.isfinite(worst))):
         raise SimulationError(
             f"No stationary path found: {solution.message} (largest residual of the discrete "
@@ -163,7 +147,7 @@ def action_variation(
 
     Returns (amplitudes, actions), two arrays of the same length.
     """
-    compiled, functions = _prepare(system_or_eom)
+    compiled, functions = prepare(system_or_eom)
     problems: list[Problem] = []
     values = parameter_values(compiled, trajectory.parameters, problems)
     _check_trajectory(compiled, trajectory, problems)
@@ -182,40 +166,15 @@ def action_variation(
     return eps, actions
 
 
-def _prepare(
-    system_or_eom: System | EquationsOfMotion,
-) -> tuple[CompiledEquations, _LagrangianFunctions]:
-    """The compiled equations (names, defaults, energy) and the compiled L of a system."""
-    eom = _description(system_or_eom)[0]  # rejects systems with unreduced constraints
-    return compile_equations(eom), _CACHE.get(eom, _compile_lagrangian)
-
-
-def _compile_lagrangian(eom: EquationsOfMotion) -> _LagrangianFunctions:
-    q, qd, t, p = list(eom.coordinates), list(eom.velocities), eom.time, list(eom.parameters)
-    lagrangian = eom.lagrangian
-    unknown = sorted(s.name for s in lagrangian.free_symbols - {*q, *qd, t, *p})
-    if unknown:
-        raise SimulationError(
-            f"The Lagrangian uses {', '.join(unknown)}, which are neither coordinates nor "
-            "parameters: declare them as parameters of the System to give them values."
-        )
-    groups, n = (q, qd, t, p), len(q)
-    return _LagrangianFunctions(
-        lagrangian=NumericFunction(groups, [lagrangian], ()),
-        dL_dq=NumericFunction(groups, [sp.diff(lagrangian, s) for s in q], (n,)),
-        dL_dq_dot=NumericFunction(groups, [sp.diff(lagrangian, s) for s in qd], (n,)),
-    )
-
-
 def _integral(
-    functions: _LagrangianFunctions, t: np.ndarray, q: np.ndarray, qd: np.ndarray, p: np.ndarray
+    functions: LagrangianFunctions, t: np.ndarray, q: np.ndarray, qd: np.ndarray, p: np.ndarray
 ) -> float:
     """Simpson's rule for integral L dt over the samples."""
     return float(simpson(functions.lagrangian(q, qd, t, p), x=t))
 
 
 def _discrete_euler_lagrange(
-    functions: _LagrangianFunctions,
+    functions: LagrangianFunctions,
     t: np.ndarray,
     start: np.ndarray,
     end: np.ndarray,
@@ -238,17 +197,6 @@ def _discrete_euler_lagrange(
         return ((dq[:-1] + dq[1:]) / 2).ravel(), ((dv[:-1] - dv[1:]) / h).ravel()
 
     return terms
-
-
-def _converged(terms: tuple[np.ndarray, np.ndarray]) -> tuple[bool, float]:
-    """Whether the residual is at rounding level against its terms, and its largest value.
-
-    hybr may report slow progress when the start is already the solution (a straight line
-    for a free particle); the residual itself decides then.
-    """
-    worst = float(np.max(np.abs(terms[0] + terms[1]), initial=0.0))
-    size = float(np.max(np.abs(np.concatenate(terms)), initial=0.0))
-    return bool(np.isfinite(worst) and worst <= 1e-10 * size), worst
 
 
 def _path_trajectory(

@@ -41,7 +41,7 @@ from lagrangian.derive import EquationsOfMotion
 from lagrangian.errors import SimulationError
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations
-from lagrangian.simulate.action import _converged, _LagrangianFunctions, _prepare
+from lagrangian.simulate.discrete import LagrangianFunctions, prepare, residual_converged
 from lagrangian.simulate.events import EventFunction
 from lagrangian.simulate.inputs import VARIATIONAL, Inputs, resolve_inputs
 from lagrangian.simulate.trajectory import Trajectory
@@ -60,7 +60,7 @@ def simulate_variational(
 ) -> Trajectory:
     """The body of ``simulate`` for ``method="variational"`` (arguments as collected there)."""
     _require_supported(eom, system, events)
-    compiled, functions = _prepare(eom)
+    compiled, functions = prepare(eom)
     inputs = resolve_inputs(compiled, given, fallback_initial, settings)
     grid, outputs = _grid(inputs)
     n, p = len(compiled.coordinates), inputs.p
@@ -139,7 +139,7 @@ def _grid(inputs: Inputs) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _step(
-    functions: _LagrangianFunctions,
+    functions: LagrangianFunctions,
     q0: np.ndarray,
     momentum: np.ndarray,
     slope: np.ndarray,
@@ -163,7 +163,7 @@ def _step(
         return momentum + h / 2 * dq, -dv
 
     solution = root(lambda q1: np.add(*terms(q1)), q0 + h * slope, method="hybr")
-    converged, worst = _converged(terms(solution.x))
+    converged, worst = residual_converged(terms(solution.x))
     if not (converged or (solution.success and np.isfinite(worst))):
         raise SimulationError(
             f"the discrete Euler-Lagrange equation has no solution near q_k + dt q_dot_k "
@@ -175,7 +175,7 @@ def _step(
 
 def _velocities(
     compiled: CompiledEquations,
-    functions: _LagrangianFunctions,
+    functions: LagrangianFunctions,
     t: np.ndarray,
     q: np.ndarray,
     outputs: np.ndarray,
