@@ -21,6 +21,7 @@ from typing import Any
 import sympy as sp
 
 from lagrangian.derive import EquationsOfMotion
+from lagrangian.model.symbols import time_derivative as chain_rule_time_derivative
 
 SMALL = 60  # count_ops up to which sympy.simplify is cheap enough to run
 QUICK = 30  # a stricter limit for results that are many and rarely simplify much
@@ -29,10 +30,7 @@ PROBES = 3
 
 def time_derivative(expr: sp.Expr, eom: EquationsOfMotion) -> sp.Expr:
     """The total time derivative of ``expr(q, q_dot, t)`` along the motion (chain rule)."""
-    result = expr.diff(eom.time)
-    for q, v, a in zip(eom.coordinates, eom.velocities, eom.accelerations):
-        result += expr.diff(q) * v + expr.diff(v) * a
-    return result
+    return chain_rule_time_derivative(expr, eom.coordinates)
 
 
 def is_small(expr: sp.Basic, limit: int = SMALL) -> bool:

@@ -32,6 +32,7 @@ import sympy as sp
 
 from lagrangian.model import VelocityConstraint, acceleration, t, velocity
 from lagrangian.model.constraints import Constraint
+from lagrangian.model.symbols import time_derivative
 
 
 @dataclass(frozen=True)
@@ -45,14 +46,6 @@ class PfaffianForm:
     def depends_on_time(self) -> bool:
         """True when omega involves t (b != 0 or some a_k depends on t)."""
         return self.time_coefficient != 0 or any(t in a.free_symbols for a in self.coefficients)
-
-
-def time_derivative(expr: sp.Expr, coordinates: Sequence[sp.Symbol]) -> sp.Expr:
-    """d/dt of ``expr(q, q_dot, t)`` by the chain rule."""
-    result = expr.diff(t)
-    for q in coordinates:
-        result += expr.diff(q) * velocity(q) + expr.diff(velocity(q)) * acceleration(q)
-    return result
 
 
 def pfaffian_form(constraint: Constraint, coordinates: Sequence[sp.Symbol]) -> PfaffianForm:

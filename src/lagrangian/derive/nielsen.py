@@ -13,14 +13,7 @@ from __future__ import annotations
 import sympy as sp
 
 from lagrangian.derive.eom import EquationsOfMotion
-
-
-def _total_time_derivative(expr: sp.Expr, eom: EquationsOfMotion) -> sp.Expr:
-    """d/dt by the chain rule over q, q_dot and t."""
-    result = sp.diff(expr, eom.time)
-    for q, v, a in zip(eom.coordinates, eom.velocities, eom.accelerations):
-        result += sp.diff(expr, q) * v + sp.diff(expr, v) * a
-    return result
+from lagrangian.model.symbols import time_derivative
 
 
 def nielsen_equations(eom: EquationsOfMotion) -> sp.ImmutableMatrix:
@@ -32,12 +25,12 @@ def nielsen_equations(eom: EquationsOfMotion) -> sp.ImmutableMatrix:
     g*l*m*sin(theta) + l**2*m*theta_ddot
     """
     kinetic = eom.kinetic_energy
-    kinetic_rate = _total_time_derivative(kinetic, eom)
+    kinetic_rate = time_derivative(kinetic, eom.coordinates)
     u = eom.velocity_potential
     residuals = []
     for j, (q, v) in enumerate(zip(eom.coordinates, eom.velocities)):
         potential_force = -sp.diff(eom.potential_energy, q)
-        u_force = _total_time_derivative(sp.diff(u, v), eom) - sp.diff(u, q)
+        u_force = time_derivative(sp.diff(u, v), eom.coordinates) - sp.diff(u, q)
         forces = potential_force + eom.generalized_forces[j] + eom.dissipation_forces[j] + u_force
         residuals.append(sp.expand(sp.diff(kinetic_rate, v) - 2 * sp.diff(kinetic, q) - forces))
     return sp.ImmutableMatrix(residuals)

@@ -89,3 +89,17 @@ def as_coordinate(item: str | sp.Basic) -> sp.Symbol | None:
         return item
     name = _time_function_name(item) if isinstance(item, sp.Basic) else None
     return sp.Symbol(name) if name else None
+
+
+def time_derivative(expr: sp.Expr, coordinates: Iterable[sp.Symbol]) -> sp.Expr:
+    """d/dt of ``expr(q, q_dot, t)`` by the chain rule: sum(de/dq q_dot + de/dq_dot q_ddot)
+    + de/dt, with the plain symbols q, q_dot, q_ddot (DESIGN.md).
+
+    >>> x = sp.Symbol("x")
+    >>> time_derivative(x**2, [x])
+    2*x*x_dot
+    """
+    result = sp.diff(expr, t)
+    for q in coordinates:
+        result += sp.diff(expr, q) * velocity(q) + sp.diff(expr, velocity(q)) * acceleration(q)
+    return result
