@@ -20,7 +20,7 @@ import sympy as sp
 from lagrangian.derive import CoordinateSteps, EquationsOfMotion
 from lagrangian.model import System
 from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, velocity
-from lagrangian.render.rows import Row, step_rows
+from lagrangian.render.rows import Row, energy_rows, step_rows
 
 _TEXT_ESCAPES = {c: "\\" + c for c in "_&%#${}"}
 
@@ -100,15 +100,11 @@ def energy_lines(eom: EquationsOfMotion) -> list[str]:
     def tex(expr: sp.Basic) -> str:
         return sp.latex(expr, symbol_names=names)
 
-    lines = [f"T &= {tex(eom.kinetic_energy)}", f"V &= {tex(eom.potential_energy)}"]
-    definition = "T - V"
-    if eom.velocity_potential != 0:
-        lines.append(f"U &= {tex(eom.velocity_potential)}")
-        definition += " - U"
-    lines.append(f"L &= {definition} = {tex(eom.lagrangian)}")
-    if eom.dissipation_function != 0:
-        lines.append(f"F &= {tex(eom.dissipation_function)}")
-    return lines
+    def line(label: str) -> str:  # "L = T - V" -> "L &= T - V = ..."
+        head, _, definition = label.partition(" = ")
+        return f"{head} &= {definition} = " if definition else f"{head} &= "
+
+    return [line(label) + tex(expr) for label, expr in energy_rows(eom)]
 
 
 def coordinate_steps_lines(steps: CoordinateSteps, names: dict[sp.Symbol, str]) -> list[str]:

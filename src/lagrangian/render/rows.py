@@ -9,7 +9,7 @@ from enum import Enum
 
 import sympy as sp
 
-from lagrangian.derive import CoordinateSteps
+from lagrangian.derive import CoordinateSteps, EquationsOfMotion
 
 
 class Row(Enum):
@@ -36,4 +36,18 @@ def step_rows(steps: CoordinateSteps) -> list[tuple[Row, sp.Expr]]:
     if steps.generalized_force != 0:
         rows.append((Row.FORCE, steps.generalized_force))
     rows.append((Row.EQUATION, steps.equation))
+    return rows
+
+
+def energy_rows(eom: EquationsOfMotion) -> list[tuple[str, sp.Expr]]:
+    """(label, expression): T, V, (U), L with its definition "T - V (- U)", (F); U and F only
+    when the system has them."""
+    rows = [("T", eom.kinetic_energy), ("V", eom.potential_energy)]
+    definition = "T - V"
+    if eom.velocity_potential != 0:
+        rows.append(("U", eom.velocity_potential))
+        definition += " - U"
+    rows.append((f"L = {definition}", eom.lagrangian))
+    if eom.dissipation_function != 0:
+        rows.append(("F", eom.dissipation_function))
     return rows

@@ -15,7 +15,7 @@ import re
 import sympy as sp
 
 from lagrangian.derive import CoordinateSteps, EquationsOfMotion
-from lagrangian.render.rows import Row, step_rows
+from lagrangian.render.rows import Row, energy_rows, step_rows
 
 DOT = "\u0307"
 DDOT = "\u0308"
@@ -54,15 +54,8 @@ def equations_text(eom: EquationsOfMotion) -> str:
 
 def energy_text(eom: EquationsOfMotion) -> list[str]:
     """``T = ...``, ``V = ...``, (``U = ...``), ``L = T − V (− U) = ...``, (``F = ...``)."""
-    lines = [f"T = {sp.sstr(eom.kinetic_energy)}", f"V = {sp.sstr(eom.potential_energy)}"]
-    definition = "T − V"
-    if eom.velocity_potential != 0:
-        lines.append(f"U = {sp.sstr(eom.velocity_potential)}")
-        definition += " − U"
-    lines.append(f"L = {definition} = {sp.sstr(eom.lagrangian)}")
-    if eom.dissipation_function != 0:
-        lines.append(f"F = {sp.sstr(eom.dissipation_function)}")
-    return lines
+    # the text uses the minus sign − in the definitions, as the steps do
+    return [f"{label.replace(' - ', ' − ')} = {sp.sstr(expr)}" for label, expr in energy_rows(eom)]
 
 
 def coordinate_steps_text(steps: CoordinateSteps) -> list[str]:
