@@ -37,6 +37,7 @@ from lagrangian.constraints.probe import is_zero
 from lagrangian.errors import ConstraintError
 from lagrangian.model import Holonomic, System, Unilateral, VelocityConstraint, VoltageSource, t
 from lagrangian.model.constraints import Constraint, label, statement
+from lagrangian.model.rotation import Orientation
 from lagrangian.model.symbols import as_coordinate, from_time_functions, velocity
 
 
@@ -168,6 +169,8 @@ def _rewrite(
             return value.xreplace(substitution)
         if isinstance(value, tuple):
             return tuple(sub(v) for v in value)
+        if isinstance(value, Orientation):  # a 3-D body's rotation, in the old coordinates
+            return value.map(sub)
         return value
 
     def element(item: Any) -> Any:

@@ -1,5 +1,6 @@
 """Gather a System's contributions into backend expressions: the explicit kinetic energy,
-the inertial points (particles and planar bodies), V, U, F and the applied generalized forces.
+the inertial points (particles and body centres, with planar bodies' angles), the rotations of
+3-D bodies, V, U, F and the applied generalized forces.
 
 Everything here is a sum of the user's pieces; no equation is formed yet.
 """
@@ -9,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import symengine as se
+import sympy as sp
 
 from lagrangian.derive.backend import Backend, to_backend, vector_to_backend
 from lagrangian.model import (
@@ -17,8 +19,10 @@ from lagrangian.model import (
     MutualInductance,
     Resistor,
     System,
+    Torque,
     VoltageSource,
 )
+from lagrangian.model.rotation import body_angular_velocity, spatial_angular_velocity
 from lagrangian.model.symbols import acceleration, t, velocity
 
 
@@ -31,6 +35,16 @@ class InertialPoint:
     position: tuple[Backend, ...]
     inertia: Backend
     angle: Backend | None
+
+
+@dataclass(frozen=True)
+class Rotation:
+    """The rotation of a 3-D body: inertia I about its centre in body axes and the body
+    angular velocity omega_b = vee(R^T R_dot) (linear in q_dot), so T_rot = 1/2 omega_b^T I
+    omega_b (seed 003)."""
+
+    inertia: tuple[tuple[Backend, ...], ...]
+    angular_velocity: tuple[Backend, ...]
 
 
 @dataclass(frozen=True)
@@ -47,6 +61,7 @@ class Assembly:
     velocity_potential: Backend
     dissipation: Backend
     applied: tuple[Backend, ...]  # generalized forces Q_j not from V, U or F
+    rotations: tuple[Rotation, ...] = ()  # 3-D bodies (their centres are among the points)
 
     def time_derivative(self, expr: Backend) -> Backend:
         """d/dt by the chain rule: sum(de/dq q_dot + de/dq_dot q_ddot) + de/dt."""
@@ -95,6 +110,7 @@ def _applied_forces(
     """Q_j = user Q_j + sum F . dr/dq_j (virtual work) + torques + voltage sources."""
     n = len(asm.q)
     applied = [se.Integer(0)] * n
+    torques = [_torque_forces(system, torque) for torque in system.torques]
     for j, q in enumerate(asm.q):
         symbol = system.coordinates[j]
         if symbol in system.generalized_forces:
@@ -103,13 +119,37 @@ def _applied_forces(
             r = _resolve(force.at, named)
             f = vector_to_backend(force.force)
             applied[j] += se.Add(*[fi * x.diff(q) for fi, x in zip(f, r)])
-        bodies = {b.name: b for b in system.rigid_bodies}
-        for torque in system.torques:
-            applied[j] += to_backend(torque.torque) * to_backend(bodies[torque.body].angle).diff(q)
+        for forces in torques:
+            applied[j] += forces[j]
         for element in system.circuit:
             if isinstance(element, VoltageSource) and element.coordinate == symbol:
                 applied[j] += to_backend(element.voltage)
     return applied
+
+
+def _torque_forces(system: System, torque: Torque) -> list[Backend]:
+    """Q_j of a torque: tau d(angle)/dq_j (planar), tau . d(omega_s)/d(q_dot_j) (3-D body,
+    tau in world axes: the virtual rotation is vee(dR R^T) = sum_j d(omega_s)/d(q_dot_j) dq_j)."""
+    body = next(b for b in system.rigid_bodies if b.name == torque.body)
+    if body.planar:
+        tau, angle = to_backend(torque.torque), to_backend(body.angle)
+        return [tau * angle.diff(to_backend(q)) for q in system.coordinates]
+    omega = spatial_angular_velocity(body.orientation, system.coordinates)
+    return [
+        to_backend(sp.Add(*[tau * w.diff(velocity(q)) for tau, w in zip(torque.torque, omega)]))
+        for q in system.coordinates
+    ]
+
+
+def _rotations(system: System) -> tuple[Rotation, ...]:
+    rotations = []
+    for body in system.rigid_bodies:
+        if body.planar:
+            continue
+        omega = body_angular_velocity(body.orientation, system.coordinates)
+        inertia = tuple(tuple(to_backend(e) for e in row) for row in body.inertia_tensor.tolist())
+        rotations.append(Rotation(inertia, tuple(vector_to_backend(omega))))
+    return tuple(rotations)
 
 
 def _circuit_energies(system: System) -> tuple[Backend, Backend, Backend]:
@@ -160,8 +200,8 @@ def assemble(system: System) -> Assembly:
         InertialPoint(
             to_backend(b.mass),
             tuple(vector_to_backend(b.position)),
-            to_backend(b.inertia),
-            to_backend(b.angle),
+            to_backend(b.inertia) if b.planar else se.Integer(0),
+            to_backend(b.angle) if b.planar else None,
         )
         for b in system.rigid_bodies
     )
@@ -181,6 +221,7 @@ def assemble(system: System) -> Assembly:
         velocity_potential=to_backend(system.velocity_potential),
         dissipation=to_backend(system.dissipation) + resistive,
         applied=(),
+        rotations=_rotations(system),
     )
     return Assembly(
         **{

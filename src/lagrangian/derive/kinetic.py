@@ -1,8 +1,9 @@
 """The kinetic energy in matrix form: T = 1/2 q_dot^T M q_dot + T1 + T0 (or a general T).
 
 For particles and bodies the mass matrix is built from Jacobians, M = sum m J^T J
-(+ I g^T g for a body's angle), so T is never expanded as a whole; trigonometric products are
-combined entry by entry (:mod:`lagrangian.derive.trig`).  The Coriolis/centripetal vector
+(+ I g^T g for a planar body's angle, + J_w^T I J_w for a 3-D body whose body angular velocity
+is omega_b = J_w q_dot + omega_t), so T is never expanded as a whole; trigonometric products
+are combined entry by entry (:mod:`lagrangian.derive.trig`).  The Coriolis/centripetal vector
 C(q, q_dot) q_dot comes from the Christoffel symbols of M:
 
     (C q_dot)_j = sum_kl (dM_jk/dq_l - 1/2 dM_kl/dq_j) q_dot_k q_dot_l,
@@ -18,7 +19,7 @@ from dataclasses import dataclass
 
 import symengine as se
 
-from lagrangian.derive.assemble import Assembly
+from lagrangian.derive.assemble import Assembly, Rotation
 from lagrangian.derive.backend import Backend, depends_on
 from lagrangian.derive.trig import combine_trig
 
@@ -65,7 +66,42 @@ def _point_terms(asm: Assembly) -> tuple[Matrix, Backend]:
                 moving = [se.Add(*[row[k] * asm.q_dot[k] for k in range(n)]) for row in jac]
                 low_degree += weight * se.Add(*[v * d for v, d in zip(moving, drift)])
                 low_degree += weight * se.Add(*[d**2 for d in drift]) / 2
+    for rotation in asm.rotations:
+        low_degree += _rotation_terms(rotation, asm, mass, combined)
     return mass, low_degree
+
+
+def _rotation_terms(
+    rotation: Rotation, asm: Assembly, mass: Matrix, combined: dict[Backend, Backend]
+) -> Backend:
+    """Add J_w^T I J_w to the upper triangle of ``mass`` (omega_b = J_w q_dot + d, I symmetric)
+    and return T's terms of degree 0 and 1: (J_w q_dot)^T I d + 1/2 d^T I d."""
+    n, inertia = len(asm.q), rotation.inertia
+    at_rest = {v: 0 for v in asm.q_dot}
+    jac = [[w.diff(v) for v in asm.q_dot] for w in rotation.angular_velocity]
+    drift = [w.subs(at_rest) for w in rotation.angular_velocity]
+    for a in range(3):
+        for b in range(a, 3):
+            if inertia[a][b] == 0:
+                continue
+            for j in range(n):
+                for k in range(j, n):
+                    # 1/2 I_ab w_a w_b summed over a, b: I_ab (J_aj J_bk + J_bj J_ak) for a < b
+                    term = jac[a][j] * jac[b][k] + (jac[b][j] * jac[a][k] if a != b else 0)
+                    if term != 0:
+                        if term not in combined:
+                            combined[term] = combine_trig(term)
+                        mass[j][k] += inertia[a][b] * combined[term]
+    if all(d == 0 for d in drift):
+        return se.Integer(0)
+    moving = [se.Add(*[row[k] * asm.q_dot[k] for k in range(n)]) for row in jac]
+    return se.Add(
+        *[
+            inertia[a][b] * (moving[a] * drift[b] + drift[a] * drift[b] / 2)
+            for a in range(3)
+            for b in range(3)
+        ]
+    )
 
 
 def _linear_part(expr: Backend, asm: Assembly) -> Backend:
@@ -119,6 +155,11 @@ def _general_form(asm: Assembly) -> KineticForm:
         kinetic += point.mass * se.Add(*[v**2 for v in velocity]) / 2
         if point.angle is not None:
             kinetic += point.inertia * asm.time_derivative(point.angle) ** 2 / 2
+    for rotation in asm.rotations:
+        omega, inertia = rotation.angular_velocity, rotation.inertia
+        kinetic += (
+            se.Add(*[inertia[a][b] * omega[a] * omega[b] for a in range(3) for b in range(3)]) / 2
+        )
     mass = [[se.expand(e) for e in row] for row in _hessian(kinetic, asm.q_dot)]
     momentum = [kinetic.diff(v) for v in asm.q_dot]
     coriolis = [

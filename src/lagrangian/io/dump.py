@@ -23,9 +23,11 @@ from lagrangian.model import (
     Inductor,
     MutualInductance,
     Resistor,
+    RigidBody,
     System,
     VoltageSource,
 )
+from lagrangian.model.inertia import Shape
 
 CIRCUIT_SECTIONS = (
     ("inductors", Inductor),
@@ -51,6 +53,43 @@ def _named(entry: dict[str, Any], name: str) -> dict[str, Any]:
     return {"name": name, **entry} if name else entry
 
 
+def _scalar_or_vector(value: Any) -> Any:
+    return [_expr(v) for v in value] if isinstance(value, tuple) else _expr(value)
+
+
+def _matrix(value: Any) -> list[list[Any]]:
+    return [[_expr(e) for e in row] for row in value.tolist()]
+
+
+def _rigid_body(body: RigidBody) -> dict[str, Any]:
+    """A planar body with its angle; a 3-D one with its inertia (matrix or shape) and its
+    orientation in the form it was given."""
+    entry: dict[str, Any] = {"name": body.name, "mass": _expr(body.mass)}
+    if body.planar:
+        entry["inertia"] = _expr(body.inertia)
+        return {**entry, "position": _point(body.position), "angle": _expr(body.angle)}
+    if isinstance(body.inertia, Shape):
+        axis = {"axis": body.inertia.axis} if body.inertia.axis != "z" else {}
+        sizes = {name: _expr(value) for name, value in body.inertia.dimensions}
+        entry["inertia"] = {"shape": body.inertia.kind, **sizes, **axis}
+    else:
+        entry["inertia"] = _matrix(body.inertia)
+    entry["position"] = _point(body.position)
+    return {**entry, "orientation": _orientation(body.orientation)}
+
+
+def _orientation(orientation: Any) -> Any:
+    if orientation.form == "euler":
+        extrinsic = {} if orientation.intrinsic else {"intrinsic": False}
+        angles = [_expr(a) for a in orientation.angles]
+        return {"euler": orientation.sequence, "angles": angles, **extrinsic}
+    if orientation.form == "axis_angle":
+        return {"axis": _point(orientation.axis), "angle": _expr(orientation.angles[0])}
+    if orientation.form == "quaternion":
+        return {"quaternion": _point(orientation.quaternion)}
+    return _matrix(orientation.matrix)
+
+
 def _mechanics(system: System) -> dict[str, Any]:
     sections: dict[str, Any] = {}
     if system.gravity is not None:
@@ -59,16 +98,7 @@ def _mechanics(system: System) -> dict[str, Any]:
         {"name": p.name, "mass": _expr(p.mass), "position": _point(p.position)}
         for p in system.particles
     ]
-    sections["rigid_bodies"] = [
-        {
-            "name": b.name,
-            "mass": _expr(b.mass),
-            "inertia": _expr(b.inertia),
-            "position": _point(b.position),
-            "angle": _expr(b.angle),
-        }
-        for b in system.rigid_bodies
-    ]
+    sections["rigid_bodies"] = [_rigid_body(b) for b in system.rigid_bodies]
     sections["springs"] = [
         _named(
             {
@@ -90,7 +120,8 @@ def _mechanics(system: System) -> dict[str, Any]:
         _named({"at": _point(f.at), "force": _point(f.force)}, f.name) for f in system.forces
     ]
     sections["torques"] = [
-        _named({"body": tq.body, "torque": _expr(tq.torque)}, tq.name) for tq in system.torques
+        _named({"body": tq.body, "torque": _scalar_or_vector(tq.torque)}, tq.name)
+        for tq in system.torques
     ]
     return {key: value for key, value in sections.items() if value}
 

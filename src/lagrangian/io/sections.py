@@ -19,6 +19,7 @@ from typing import Any
 
 import sympy as sp
 
+from lagrangian.io.bodies import read_inertia, read_orientation
 from lagrangian.io.document import child
 from lagrangian.io.reader import Reader, describe, suggestion
 from lagrangian.io.spec import entry_keys
@@ -77,7 +78,6 @@ ELEMENT_TYPES: dict[str, type] = {
 #: Element key -> the Reader method that reads it (special keys are read in read_fields).
 _READ_AS = {
     "mass": "expression",
-    "inertia": "expression",
     "angle": "expression",
     "stiffness": "expression",
     "rest_length": "expression",
@@ -135,6 +135,12 @@ def read_fields(
             values[key] = _coordinate(reader, value, where, coordinates)
         elif key == "name":
             values[key] = reader.text(value, where)
+        elif key == "inertia":
+            values[key] = read_inertia(reader, value, where)
+        elif key == "orientation":
+            values[key] = read_orientation(reader, value, where)
+        elif key == "torque" and isinstance(value, list):  # on a 3-D body: [tx, ty, tz]
+            values[key] = reader.vector(value, where)
         elif key in _READ_AS:
             values[key] = getattr(reader, _READ_AS[key])(value, where)
     # unknown keys are skipped here: the entry check reported them

@@ -1,6 +1,13 @@
 """The model layer: what a user says about a system (coordinates, parameters, energies,
-elements) as immutable values, validated at the boundary."""
+elements) as immutable values, validated at the boundary.
 
+3-D rigid bodies: :mod:`lagrangian.model.rotation` (orientations, angular velocities),
+:mod:`lagrangian.model.twist` (poses, twists, the adjoint) and :mod:`lagrangian.model.inertia`
+(shapes, parallel axes, combination, the 6x6 generalized inertia); the names most used are
+exported here.
+"""
+
+from lagrangian.model import inertia, rotation, twist
 from lagrangian.model.circuit import (
     Capacitor,
     Inductor,
@@ -10,6 +17,15 @@ from lagrangian.model.circuit import (
 )
 from lagrangian.model.constraints import Holonomic, Unilateral, VelocityConstraint
 from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque
+from lagrangian.model.inertia import Shape, shape
+from lagrangian.model.rotation import (
+    Orientation,
+    axis_angle,
+    body_angular_velocity,
+    euler_rotation,
+    quaternion_rotation,
+    spatial_angular_velocity,
+)
 from lagrangian.model.symbols import acceleration, coordinates, from_time_functions, t, velocity
 from lagrangian.model.system import System
 
@@ -20,9 +36,11 @@ __all__ = [
     "Holonomic",
     "Inductor",
     "MutualInductance",
+    "Orientation",
     "Particle",
     "Resistor",
     "RigidBody",
+    "Shape",
     "Spring",
     "System",
     "Torque",
@@ -30,8 +48,17 @@ __all__ = [
     "VelocityConstraint",
     "VoltageSource",
     "acceleration",
+    "axis_angle",
+    "body_angular_velocity",
     "coordinates",
+    "euler_rotation",
     "from_time_functions",
+    "inertia",
+    "quaternion_rotation",
+    "rotation",
+    "shape",
+    "spatial_angular_velocity",
     "t",
+    "twist",
     "velocity",
 ]

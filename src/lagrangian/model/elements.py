@@ -1,5 +1,5 @@
-"""Mechanical elements a System is built from: particles, planar rigid bodies, springs,
-dampers, and forces and torques applied at points.
+"""Mechanical elements a System is built from: particles, rigid bodies (planar or 3-D),
+springs, dampers, and forces and torques applied at points.
 
 Each element is an immutable value holding SymPy expressions.  A *point* is named by the
 particle or body it belongs to (the body's centre of mass), by ``"origin"``, or given as a
@@ -13,6 +13,9 @@ from dataclasses import dataclass, field, is_dataclass
 from typing import Any
 
 import sympy as sp
+
+from lagrangian.model.inertia import Shape
+from lagrangian.model.rotation import Orientation, as_orientation
 
 #: A point: the name of a particle or body, ``"origin"``, or a position vector.
 PointRef = str | tuple[sp.Expr, ...]
@@ -58,25 +61,72 @@ class Particle:
         object.__setattr__(self, "position", _vector(self.position))
 
 
+def _matrix(value: Any) -> Any:
+    """A matrix (SymPy or nested lists of expressions and numbers) as an ImmutableMatrix;
+    anything else is kept for the validator to judge (text is never evaluated)."""
+    if isinstance(value, sp.MatrixBase):
+        return sp.ImmutableMatrix(value)
+    rows = value if isinstance(value, (list, tuple)) else None
+    if rows and all(isinstance(r, (list, tuple)) and len(r) == len(rows[0]) for r in rows):
+        entries = [[_expr(v) for v in r] for r in rows]
+        if all(isinstance(v, sp.Expr) for r in entries for v in r):
+            return sp.ImmutableMatrix(entries)
+    return value
+
+
+def _inertia(value: Any) -> Any:
+    return value if isinstance(value, Shape) else _expr(_matrix(value))
+
+
+def _orientation(value: Any) -> Any:
+    if value is None or isinstance(value, Orientation):
+        return value
+    matrix = _matrix(value)
+    return as_orientation(matrix) if isinstance(matrix, sp.MatrixBase) else value
+
+
 @dataclass(frozen=True)
 class RigidBody:
-    """A planar rigid body: mass, moment of inertia about its centre of mass, the position
-    of the centre (2 components) and its orientation angle.
+    """A rigid body: planar (a scalar inertia and an ``angle``) or 3-D (an ``orientation``).
 
-    T = 1/2 m |dr_c/dt|^2 + 1/2 I (d angle/dt)^2.
+    Planar: the centre of mass at ``position`` (2 components), the moment of inertia about
+    it, and the orientation angle: T = 1/2 m |dr_c/dt|^2 + 1/2 I (d angle/dt)^2.
+
+    3-D: the centre at ``position`` (3 components), the rotation R(q, t) of the body axes
+    (``orientation``: an :class:`~lagrangian.model.rotation.Orientation` or a 3x3 matrix,
+    body -> world), and ``inertia`` about the centre in body axes (a 3x3 matrix or a
+    :class:`~lagrangian.model.inertia.Shape`, whose tensor follows from the mass):
+
+        T = 1/2 m v_c . v_c + 1/2 omega_b^T I omega_b,   omega_b = vee(R^T R_dot).
     """
 
     name: str
     mass: sp.Expr
-    inertia: sp.Expr
+    inertia: Any  # planar: sp.Expr; 3-D: a 3x3 sp.ImmutableMatrix or a Shape
     position: tuple[sp.Expr, ...]
-    angle: sp.Expr
+    angle: sp.Expr | None = None
+    orientation: Orientation | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "mass", _expr(self.mass))
-        object.__setattr__(self, "inertia", _expr(self.inertia))
+        object.__setattr__(self, "inertia", _inertia(self.inertia))
         object.__setattr__(self, "position", _vector(self.position))
-        object.__setattr__(self, "angle", _expr(self.angle))
+        object.__setattr__(self, "angle", None if self.angle is None else _expr(self.angle))
+        object.__setattr__(self, "orientation", _orientation(self.orientation))
+
+    @property
+    def planar(self) -> bool:
+        """True for a planar body (given an angle), False for a 3-D one (an orientation)."""
+        return self.orientation is None
+
+    @property
+    def inertia_tensor(self) -> sp.ImmutableMatrix:
+        """The 3x3 inertia about the centre of mass in body axes (a shape's, from the mass)."""
+        if self.planar:
+            raise ValueError(f"the planar body {self.name!r} has a scalar moment of inertia")
+        if isinstance(self.inertia, Shape):
+            return self.inertia.tensor(self.mass)
+        return sp.ImmutableMatrix(self.inertia)
 
 
 @dataclass(frozen=True)
@@ -132,14 +182,21 @@ class Force:
 
 @dataclass(frozen=True)
 class Torque:
-    """A torque on a planar rigid body: Q_j = tau * d(angle)/dq_j."""
+    """A torque on a rigid body, turned into generalized forces by virtual work.
+
+    Planar body: a scalar tau, Q_j = tau * d(angle)/dq_j.  3-D body: a 3-vector in world
+    axes, Q_j = tau . d(omega_s)/d(q_dot_j), omega_s the spatial angular velocity.  It may
+    depend on q, the velocities and t.
+    """
 
     body: str
-    torque: sp.Expr
+    torque: Any  # planar: sp.Expr; 3-D: tuple of 3 expressions (world axes)
     name: str = field(default="")
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "torque", _expr(self.torque))
+        value = self.torque
+        vector = isinstance(value, (list, tuple, sp.MatrixBase))
+        object.__setattr__(self, "torque", _vector(value) if vector else _expr(value))
 
 
 def as_tuple(items: Sequence[Any] | None) -> tuple[Any, ...]:

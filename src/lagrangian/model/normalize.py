@@ -16,6 +16,8 @@ import sympy as sp
 
 from lagrangian.errors import ModelError, Problem, raise_if_problems
 from lagrangian.model.elements import _expr
+from lagrangian.model.inertia import Shape
+from lagrangian.model.rotation import Orientation
 from lagrangian.model.symbols import as_coordinate, from_time_functions, t
 from lagrangian.model.validation import validate
 
@@ -46,6 +48,8 @@ class _Canonicalizer:
         value = _expr(value)
         if isinstance(value, tuple):
             return tuple(self(v) for v in value)
+        if isinstance(value, (Orientation, Shape)):  # rebuilt from its canonical expressions
+            return value.map(self)
         if not isinstance(value, sp.Basic):
             return value
         value = from_time_functions(value)

@@ -2,8 +2,8 @@
 
 A System is an immutable value.  Its contributions add up (DESIGN.md, "The model file"):
 explicit energies T, V (or L directly), a velocity-dependent potential U, a Rayleigh
-dissipation function F, generalized forces Q, particles and planar rigid bodies under uniform
-gravity, springs, dampers, applied forces and torques, circuit elements, and constraints.
+dissipation function F, generalized forces Q, particles and rigid bodies (planar or 3-D) under
+uniform gravity, springs, dampers, applied forces and torques, circuit elements, and constraints.
 
 Example:
 

@@ -4,6 +4,7 @@ boundary, collect all problems, raise once, name the field and the fix)."""
 from __future__ import annotations
 
 import difflib
+import random
 from collections.abc import Iterable
 from typing import Any
 
@@ -19,10 +20,13 @@ from lagrangian.model.circuit import (
 )
 from lagrangian.model.constraints import check_constraints
 from lagrangian.model.elements import ORIGIN
+from lagrangian.model.inertia import Shape, check_inertia
+from lagrangian.model.rotation import Orientation, check_rotation
 from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, t, velocity
 
 CONFIGURATION = "configuration"  # may depend on q, t and parameters
 STATE = "state"  # may also depend on the velocities
+SEED, PROBES = 20240605, 3  # the numerical checks of rotations and inertia tensors
 
 
 class _Scope:
@@ -172,16 +176,7 @@ def _check_points(values: dict[str, Any], scope: _Scope, problems: list[Problem]
             if dim is not None:
                 dims[f"{field}.position"] = dim
             if group == "rigid_bodies":
-                scope.check(item.inertia, f"{field}.inertia", CONFIGURATION, problems)
-                scope.check(item.angle, f"{field}.angle", CONFIGURATION, problems)
-                if dim is not None and dim != 2:
-                    problems.append(
-                        Problem(
-                            f"{field}.position",
-                            "a planar rigid body needs 2 components",
-                            "give [x_c, y_c]",
-                        )
-                    )
+                _check_rigid_body(item, field, dim, scope, values, problems)
     if values["gravity"] is not None:
         dim = _vector(values["gravity"], "gravity", CONFIGURATION, scope, problems)
         if dim is not None:
@@ -196,6 +191,89 @@ def _check_points(values: dict[str, Any], scope: _Scope, problems: list[Problem]
             )
         )
     return names | {ORIGIN}
+
+
+def _check_rigid_body(
+    item: Any, field: str, dim: int | None, scope: _Scope, values: dict, problems: list[Problem]
+) -> None:
+    """A planar body has a scalar inertia, an angle and 2 components; a 3-D one an
+    orientation, a 3x3 inertia or a shape, and 3 components."""
+    if (item.angle is None) == (item.orientation is None):
+        given = "both an angle and" if item.angle is not None else "neither an angle nor"
+        fix = "give angle (a planar body) or orientation (a 3-D body), not both"
+        problems.append(Problem(field, f"body {item.name!r} has {given} an orientation", fix))
+        return
+    size, example = (2, "[x_c, y_c]") if item.planar else (3, "[x_c, y_c, z_c]")
+    if dim is not None and dim != size:
+        kind = "planar" if item.planar else "3-D"
+        message = f"a {kind} rigid body needs {size} components"
+        problems.append(Problem(f"{field}.position", message, f"give {example}"))
+    if item.planar:
+        scope.check(item.inertia, f"{field}.inertia", CONFIGURATION, problems)
+        scope.check(item.angle, f"{field}.angle", CONFIGURATION, problems)
+        return
+    _check_orientation(item, f"{field}.orientation", scope, values, problems)
+    _check_inertia(item, f"{field}.inertia", scope, values, problems)
+
+
+def _entries_checked(
+    entries: Iterable[Any], field: str, scope: _Scope, problems: list[Problem]
+) -> bool:
+    """Scope-check every entry, each problem once; True when all were fine."""
+    found: list[Problem] = []
+    for entry in entries:
+        scope.check(entry, field, CONFIGURATION, found)
+    problems.extend(dict.fromkeys(found))
+    return not found
+
+
+def _check_orientation(
+    body: Any, field: str, scope: _Scope, values: dict, problems: list[Problem]
+) -> None:
+    orientation = body.orientation
+    if not isinstance(orientation, Orientation) or orientation.matrix.shape != (3, 3):
+        fix = "give a 3x3 matrix, or use euler_rotation, axis_angle or quaternion_rotation"
+        problems.append(Problem(field, f"{orientation!r} is not a rotation", fix))
+    elif _entries_checked(orientation.matrix, field, scope, problems):
+        subject = f"the orientation of body {body.name!r}"
+        problems.extend(check_rotation(orientation.matrix, field, _samples(values), subject))
+
+
+def _check_inertia(
+    body: Any, field: str, scope: _Scope, values: dict, problems: list[Problem]
+) -> None:
+    inertia = body.inertia
+    if isinstance(inertia, Shape):
+        entries = [value for _, value in inertia.dimensions]
+    elif isinstance(inertia, sp.MatrixBase) and inertia.shape == (3, 3):
+        entries = list(inertia)
+    else:
+        fix = "give a 3x3 matrix about the centre of mass in body axes, or a shape"
+        problems.append(Problem(field, "a 3-D rigid body needs a 3x3 inertia", fix))
+        return
+    if _entries_checked([body.mass, *entries], field, scope, problems):
+        unknown = {p for p, default in values["parameters"].items() if default is None}
+        subject = f"the inertia of body {body.name!r}"
+        for sample in _samples(values):
+            known = {s: v for s, v in sample.items() if s not in unknown}
+            found = check_inertia(body.inertia_tensor, field, known, subject)
+            if found:
+                problems.extend(found)
+                return
+
+
+def _samples(values: dict) -> list[dict[sp.Symbol, float]]:
+    """A few configurations for the numerical checks: coordinates and t drawn at random in
+    (0.3, 1.3), parameters at their defaults (drawn too when they have none)."""
+    rng = random.Random(SEED)
+    samples = []
+    for _ in range(PROBES):
+        point = {q: rng.uniform(0.3, 1.3) for q in values["coordinates"]}
+        point[t] = rng.uniform(0.3, 1.3)
+        for p, default in values["parameters"].items():
+            point[p] = default if default is not None else rng.uniform(0.3, 1.3)
+        samples.append(point)
+    return samples
 
 
 def _check_point_ref(
@@ -236,7 +314,7 @@ def _check_elements(
     for i, item in enumerate(values["forces"]):
         _check_point_ref(item.at, f"forces[{i}].at", points, scope, problems)
         _vector(item.force, f"forces[{i}].force", STATE, scope, problems)
-    bodies = {b.name for b in values["rigid_bodies"]}
+    bodies = {b.name: b for b in values["rigid_bodies"]}
     for i, item in enumerate(values["torques"]):
         if item.body not in bodies:
             problems.append(
@@ -246,7 +324,13 @@ def _check_elements(
                     "name one of the rigid_bodies",
                 )
             )
-        scope.check(item.torque, f"torques[{i}].torque", STATE, problems)
+        field = f"torques[{i}].torque"
+        if item.body in bodies and not bodies[item.body].planar:
+            if _vector(item.torque, field, STATE, scope, problems) not in (None, 3):
+                fix = "give [tau_x, tau_y, tau_z] in world axes"
+                problems.append(Problem(field, "a torque on a 3-D body has 3 components", fix))
+        else:
+            scope.check(item.torque, field, STATE, problems)
 
 
 def _check_circuit(values: dict[str, Any], scope: _Scope, problems: list[Problem]) -> None:

@@ -1,0 +1,386 @@
+"""Orientation of a rigid body in 3-D: rotation matrices from Euler angles, an axis and an
+angle, or a quaternion, as functions of q and t, and the angular velocity they imply.
+
+Conventions (seed 003, MLS94 ch. 2):
+
+- ``R`` maps body axes to world axes: x_world = R x_body (``ReferenceFrame``: ``N.dcm(B)``).
+- Body angular velocity omega_b = vee(R^T R_dot), spatial (world axes) omega_s = vee(R_dot R^T)
+  = R omega_b; ``hat(w) v = w x v`` and ``vee`` is its inverse.
+- Euler angles: *intrinsic* (body-fixed axes, the default) ``"ZXZ"`` with angles (a, b, c) is
+  R = Rz(a) Rx(b) Rz(c); *extrinsic* (world-fixed axes) is the reverse product
+  R = Rz(c) Rx(b) Rz(a).  All 12 sequences are allowed.
+- Quaternions are scalar first, (w, x, y, z); R is the rotation of the unit quaternion q/|q|.
+
+>>> import sympy as sp
+>>> phi, theta, psi = sp.symbols("phi theta psi")
+>>> top = euler_rotation("ZXZ", (phi, theta, psi))
+>>> top.gimbal_lock
+sin(theta)
+>>> omega_b = body_angular_velocity(top, [phi, theta, psi])
+>>> omega_b[0], omega_b[2]
+(phi_dot*sin(psi)*sin(theta) + theta_dot*cos(psi), phi_dot*cos(theta) + psi_dot)
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from lagrangian.errors import ModelError, Problem
+from lagrangian.model.symbols import t, time_derivative, velocity
+
+#: The 12 Euler-angle sequences: 6 Tait–Bryan (three different axes), 6 proper Euler.
+EULER_SEQUENCES = (
+    *("XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX"),
+    *("XYX", "XZX", "YXY", "YZY", "ZXZ", "ZYZ"),
+)
+_AXES = {"X": 0, "Y": 1, "Z": 2}
+FORMS = ("matrix", "euler", "axis_angle", "quaternion")
+
+
+def as_expression(value: Any, field: str = "value") -> sp.Expr:
+    """A SymPy expression from an expression or a number (floats become exact rationals, as
+    everywhere in a System); text is refused, never evaluated.
+
+    >>> as_expression(0.5)
+    1/2
+    """
+    if isinstance(value, float):
+        return sp.nsimplify(value, rational=True)
+    if isinstance(value, sp.Expr) or (isinstance(value, int) and not isinstance(value, bool)):
+        return sp.sympify(value)
+    fix = "give a SymPy expression or a number (Symbols, not text)"
+    raise ModelError(
+        f"{value!r} is not an expression", [Problem(field, f"{value!r} is not an expression", fix)]
+    )
+
+
+def hat(vector: Sequence[Any]) -> sp.ImmutableMatrix:
+    """The skew-symmetric matrix of a 3-vector: hat(w) v = w x v.
+
+    >>> hat([1, 2, 3]) * sp.Matrix([0, 0, 1]) == sp.Matrix([1, 2, 3]).cross(sp.Matrix([0, 0, 1]))
+    True
+    """
+    x, y, z = vector
+    return sp.ImmutableMatrix([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+
+
+def vee(skew: sp.MatrixBase) -> sp.ImmutableMatrix:
+    """The 3-vector of a skew-symmetric matrix, the inverse of :func:`hat`.
+
+    >>> vee(hat([1, 2, 3])).T
+    Matrix([[1, 2, 3]])
+    """
+    return sp.ImmutableMatrix([skew[2, 1], skew[0, 2], skew[1, 0]])
+
+
+def _unit(axis: Sequence[Any]) -> sp.ImmutableMatrix:
+    n = sp.ImmutableMatrix([sp.sympify(a) for a in axis])
+    length_squared = sp.expand(n.dot(n))
+    return n if length_squared == 1 else n / sp.sqrt(length_squared)
+
+
+def _about(unit_axis: sp.ImmutableMatrix, angle: Any) -> sp.ImmutableMatrix:
+    """Rodrigues: R = cos a 1 + sin a hat(n) + (1 - cos a) n n^T for a unit axis n."""
+    c, s = sp.cos(angle), sp.sin(angle)
+    return sp.ImmutableMatrix(
+        sp.eye(3) * c + hat(unit_axis) * s + unit_axis * unit_axis.T * (1 - c)
+    )
+
+
+def _elementary(axis: str, angle: Any) -> sp.ImmutableMatrix:
+    return _about(sp.ImmutableMatrix(sp.eye(3)[:, _AXES[axis]]), angle)
+
+
+@dataclass(frozen=True)
+class Orientation:
+    """A rotation R(q, t) of a body (body axes -> world axes) and how it was given.
+
+    Build one with :func:`euler_rotation`, :func:`axis_angle`, :func:`quaternion_rotation`,
+    or from a 3x3 matrix with :func:`as_orientation`.  ``form`` is one of ``"matrix"``,
+    ``"euler"``, ``"axis_angle"``, ``"quaternion"``; the fields of the other forms are empty.
+    """
+
+    matrix: sp.ImmutableMatrix
+    form: str = "matrix"
+    sequence: str = ""  # euler: e.g. "ZXZ"
+    intrinsic: bool = True  # euler: body-fixed (True) or world-fixed (False) axes
+    angles: tuple[Any, ...] = ()  # euler: 3 angles; axis_angle: (angle,)
+    axis: tuple[Any, ...] = ()  # axis_angle: the axis as given (normalized in the matrix)
+    quaternion: tuple[Any, ...] = ()  # quaternion: (w, x, y, z) as given
+
+    @property
+    def gimbal_lock(self) -> sp.Expr | None:
+        """For Euler angles, an expression that vanishes at gimbal lock (where the angle rates
+        no longer follow from the angular velocity): sin(b) for a proper Euler sequence such
+        as ZXZ, cos(b) for a Tait–Bryan one such as ZYX, b the middle angle; None otherwise."""
+        if self.form != "euler":
+            return None
+        middle = self.angles[1]
+        return sp.sin(middle) if self.sequence[0] == self.sequence[2] else sp.cos(middle)
+
+    def factors(self) -> tuple[tuple[sp.ImmutableMatrix, Any], ...]:
+        """R as a product of rotations about constant axes, ((unit axis, angle), ...) in
+        product order: three for Euler angles, one for an axis and angle; () otherwise."""
+        if self.form == "euler":
+            pairs = [
+                (sp.ImmutableMatrix(sp.eye(3)[:, _AXES[a]]), x)
+                for a, x in zip(self.sequence, self.angles)
+            ]
+            return tuple(pairs if self.intrinsic else reversed(pairs))
+        if self.form == "axis_angle":
+            return ((_unit(self.axis), self.angles[0]),)
+        return ()
+
+    def map(self, function: Callable[[Any], Any]) -> Orientation:
+        """The same orientation with ``function`` applied to every expression in it."""
+        if self.form == "euler":
+            angles = tuple(function(a) for a in self.angles)
+            return euler_rotation(self.sequence, angles, intrinsic=self.intrinsic)
+        if self.form == "axis_angle":
+            return axis_angle(tuple(function(a) for a in self.axis), function(self.angles[0]))
+        if self.form == "quaternion":
+            return quaternion_rotation(*(function(c) for c in self.quaternion))
+        return Orientation(sp.ImmutableMatrix(self.matrix.applyfunc(function)))
+
+
+def as_orientation(value: Any) -> Orientation:
+    """An Orientation from an Orientation or a 3x3 rotation matrix (nested lists allowed).
+
+    >>> as_orientation([[1, 0, 0], [0, 1, 0], [0, 0, 1]]).form
+    'matrix'
+    """
+    if isinstance(value, Orientation):
+        return value
+    rows = value.tolist() if isinstance(value, sp.MatrixBase) else value
+    if not (isinstance(rows, (list, tuple)) and all(isinstance(r, (list, tuple)) for r in rows)):
+        raise _refuse("orientation", f"{value!r} is not a 3x3 matrix", "give three rows of three")
+    return Orientation(
+        sp.ImmutableMatrix([[as_expression(e, "orientation") for e in row] for row in rows])
+    )
+
+
+def _refuse(field: str, message: str, fix: str) -> ModelError:
+    return ModelError(f"Not a rotation: {message}", [Problem(field, message, fix)])
+
+
+def euler_rotation(sequence: str, angles: Sequence[Any], *, intrinsic: bool = True) -> Orientation:
+    """The rotation of three Euler angles about the axes of ``sequence`` (any of the 12).
+
+    Intrinsic (body-fixed axes): R = R1(a1) R2(a2) R3(a3); extrinsic (world-fixed axes, the
+    first rotation about the world's first axis): R = R3(a3) R2(a2) R1(a1).
+
+    >>> a, b, c = sp.symbols("a b c")
+    >>> euler_rotation("ZYX", (a, b, c)).matrix[2, 0]
+    -sin(b)
+    """
+    text = str(sequence).upper()
+    if text not in EULER_SEQUENCES:
+        close = difflib.get_close_matches(text, EULER_SEQUENCES, n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        raise _refuse("euler", f"unknown Euler sequence {sequence!r}", hint + "use e.g. ZXZ, ZYX")
+    values = tuple(as_expression(a, "angles") for a in angles)
+    if len(values) != 3:
+        raise _refuse("angles", f"{len(values)} Euler angles given", "give three angles")
+    factors = [_elementary(a, x) for a, x in zip(text, values)]
+    first, second, third = factors if intrinsic else factors[::-1]
+    matrix = sp.ImmutableMatrix(first * second * third)
+    return Orientation(matrix, "euler", text, bool(intrinsic), values)
+
+
+def axis_angle(axis: Sequence[Any], angle: Any) -> Orientation:
+    """The rotation by ``angle`` about ``axis`` (normalized), by Rodrigues' formula:
+    R = cos a 1 + sin a hat(n) + (1 - cos a) n n^T, n = axis / |axis|.
+
+    >>> axis_angle([0, 0, 1], sp.Symbol("q")).matrix[0, 1]
+    -sin(q)
+    """
+    values = tuple(as_expression(a, "axis") for a in axis)
+    if len(values) != 3:
+        raise _refuse("axis", f"an axis of {len(values)} components", "give [x, y, z]")
+    if all(v == 0 for v in values):
+        raise _refuse("axis", "the axis is the zero vector", "give a direction such as [0, 0, 1]")
+    angle = as_expression(angle, "angle")
+    return Orientation(_about(_unit(values), angle), "axis_angle", angles=(angle,), axis=values)
+
+
+def _norm_squared(w: Any, x: Any, y: Any, z: Any) -> sp.Expr:
+    """|q|^2, replaced by 1 when it simplifies to 1 (e.g. (cos(a/2), sin(a/2) n))."""
+    squared = sp.expand(w**2 + x**2 + y**2 + z**2)
+    return sp.Integer(1) if squared == 1 or sp.trigsimp(squared) == 1 else squared
+
+
+def quaternion_rotation(w: Any, x: Any, y: Any, z: Any) -> Orientation:
+    """The rotation of the quaternion w + x i + y j + z k (scalar first).
+
+    R is the rotation of the unit quaternion q/|q|, so any non-zero q gives a rotation:
+
+        R = 1/|q|^2 [[w2+x2-y2-z2, 2(xy-wz), 2(xz+wy)],
+                     [2(xy+wz), w2-x2+y2-z2, 2(yz-wx)],
+                     [2(xz-wy), 2(yz+wx), w2-x2-y2+z2]]
+
+    with the division left out when |q|^2 simplifies to 1.  Quaternion coordinates with the
+    constraint |q|^2 = 1 are therefore allowed but not needed.
+
+    >>> a = sp.Symbol("a")
+    >>> quaternion_rotation(sp.cos(a / 2), 0, 0, sp.sin(a / 2)).matrix[0, 0]
+    -sin(a/2)**2 + cos(a/2)**2
+    """
+    w, x, y, z = (as_expression(c, "quaternion") for c in (w, x, y, z))
+    rows = [
+        [w**2 + x**2 - y**2 - z**2, 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), w**2 - x**2 + y**2 - z**2, 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), w**2 - x**2 - y**2 + z**2],
+    ]
+    matrix = sp.ImmutableMatrix(rows) / _norm_squared(w, x, y, z)
+    return Orientation(sp.ImmutableMatrix(matrix), "quaternion", quaternion=(w, x, y, z))
+
+
+# -- angular velocity -------------------------------------------------------------------------
+
+
+def _rate(expr: Any, coordinates: Sequence[sp.Symbol]) -> sp.Expr:
+    return time_derivative(sp.sympify(expr), coordinates)
+
+
+def _constant(expr: Any, coordinates: Sequence[sp.Symbol]) -> bool:
+    return not (sp.sympify(expr).free_symbols & {*coordinates, t})
+
+
+def _quaternion_rates(orientation: Orientation, coordinates: Sequence[sp.Symbol]) -> tuple:
+    w, x, y, z = orientation.quaternion
+    v = sp.Matrix([x, y, z])
+    v_dot = sp.Matrix([_rate(c, coordinates) for c in (x, y, z)])
+    w_dot = _rate(w, coordinates)
+    return w * v_dot - w_dot * v, v.cross(v_dot), _norm_squared(w, x, y, z)
+
+
+def _general(
+    orientation: Orientation, coordinates: Sequence[sp.Symbol], body: bool
+) -> sp.ImmutableMatrix:
+    """vee(R^T R_dot) or vee(R_dot R^T); the coefficient of each velocity is simplified on its
+    own (sin^2 + cos^2 = 1 etc.), which is much cheaper than simplifying the whole."""
+    R = orientation.matrix
+    R_dot = R.applyfunc(lambda e: _rate(e, coordinates))
+    skew = R.T * R_dot if body else R_dot * R.T
+    rates = [velocity(q) for q in coordinates]
+    result = []
+    for entry in vee(skew):
+        terms = sp.collect(sp.expand(entry), rates, evaluate=False)
+        result.append(sp.Add(*[sp.fu(part) * rate for rate, part in terms.items()]))
+    return sp.ImmutableMatrix(result)
+
+
+def _moving_axis(
+    orientation: Orientation, coordinates: Sequence[sp.Symbol], body: bool
+) -> sp.ImmutableMatrix:
+    """R = exp(a hat(n)) with a unit axis n(q, t):
+    omega_s = a_dot n + sin a n_dot + (1 - cos a) n x n_dot, omega_b the same with - (...)."""
+    n, angle = _unit(orientation.axis), orientation.angles[0]
+    n_dot = n.applyfunc(lambda e: _rate(e, coordinates))
+    turn = (1 - sp.cos(angle)) * n.cross(n_dot)
+    omega = n * _rate(angle, coordinates) + sp.sin(angle) * n_dot + (-turn if body else turn)
+    return sp.ImmutableMatrix(omega)
+
+
+def _angular_velocity(
+    orientation: Any, coordinates: Iterable[sp.Symbol], body: bool
+) -> sp.ImmutableMatrix:
+    orientation = as_orientation(orientation)
+    q = tuple(coordinates)
+    factors = orientation.factors()
+    if factors and all(_constant(e, q) for axis, _ in factors for e in axis):
+        # R = F1 F2 ... Fm, F_k = exp(a_k hat(n_k)) about constant axes n_k:
+        # omega_s = sum_k F1..F(k-1) n_k a_k_dot,  omega_b = sum_k (F(k+1)..Fm)^T n_k a_k_dot
+        rotations = [_about(n, a) for n, a in factors]
+        total = sp.zeros(3, 1)
+        for k, (n, a) in enumerate(factors):
+            rest = rotations[k + 1 :] if body else rotations[:k]
+            carry = sp.eye(3)
+            for F in rest:
+                carry = carry * F
+            total += (carry.T if body else carry) * n * _rate(a, q)
+        return sp.ImmutableMatrix(total.applyfunc(sp.expand))
+    if orientation.form == "axis_angle":
+        return _moving_axis(orientation, q, body)
+    if orientation.form == "quaternion":
+        # omega_b = 2 vec(conj(q) q_dot) / |q|^2, omega_s = 2 vec(q_dot conj(q)) / |q|^2
+        linear, cross, norm = _quaternion_rates(orientation, q)
+        vector = linear - cross if body else linear + cross
+        return sp.ImmutableMatrix((2 * vector / norm).applyfunc(sp.expand))
+    return _general(orientation, q, body)
+
+
+def body_angular_velocity(orientation: Any, coordinates: Iterable[sp.Symbol]) -> sp.ImmutableMatrix:
+    """omega_b = vee(R^T R_dot), the angular velocity in body axes, in q, q_dot and t.
+
+    ``orientation`` is an :class:`Orientation` or a 3x3 matrix; ``coordinates`` are the
+    symbols whose rates are q_dot (d/dt by the chain rule, :func:`time_derivative`).
+
+    >>> q = sp.Symbol("q")
+    >>> body_angular_velocity(axis_angle([0, 0, 2], q), [q]).T
+    Matrix([[0, 0, q_dot]])
+    """
+    return _angular_velocity(orientation, coordinates, body=True)
+
+
+def spatial_angular_velocity(
+    orientation: Any, coordinates: Iterable[sp.Symbol]
+) -> sp.ImmutableMatrix:
+    """omega_s = vee(R_dot R^T) = R omega_b, the angular velocity in world axes.
+
+    >>> a, b = sp.symbols("a b")
+    >>> spatial_angular_velocity(euler_rotation("ZYX", (a, b, 0)), [a, b]).T
+    Matrix([[-b_dot*sin(a), b_dot*cos(a), a_dot]])
+    """
+    return _angular_velocity(orientation, coordinates, body=False)
+
+
+# -- the check of a rotation given by a user --------------------------------------------------
+
+
+def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) -> np.ndarray | None:
+    """The real numbers of ``matrix`` at ``values``; None if any entry is not finite and real."""
+    exact = {s: sp.Float(v, 30) for s, v in values.items()}
+    try:
+        entries = [complex(sp.sympify(e).xreplace(exact).evalf(30)) for e in matrix]
+    except (TypeError, ValueError, ZeroDivisionError):
+        return None
+    array = np.array(entries).reshape(matrix.shape)
+    if not np.all(np.isfinite(array)) or np.max(np.abs(array.imag)) > 1e-12:
+        return None
+    return array.real
+
+
+def check_rotation(
+    matrix: sp.MatrixBase,
+    field: str,
+    samples: Iterable[Mapping[sp.Symbol, float]],
+    subject: str = "the rotation",
+) -> list[Problem]:
+    """Problems of a rotation matrix R(q, t): R^T R - 1 not zero, or det R = -1, at any of
+    the numeric ``samples`` (values of the coordinates, t and the parameters).
+
+    >>> x = sp.Symbol("x")
+    >>> check_rotation(sp.Matrix([[1, 0, 0], [0, 1, x], [0, 0, 1]]), "R", [{x: 0.5}])[0].message
+    'the rotation is not orthonormal: R^T R - 1 has an entry of 0.5 at x = 0.5'
+    """
+    fix = "give an orthonormal matrix, or build it with euler_rotation, axis_angle or quaternions"
+    for values in samples:
+        R = evaluate_matrix(matrix, values)
+        if R is None:
+            continue
+        used = sorted(matrix.free_symbols & set(values), key=str)
+        where = ", ".join(f"{s} = {values[s]:.4g}" for s in used) or "every configuration"
+        defect = float(np.max(np.abs(R.T @ R - np.eye(3))))
+        if defect > 1e-9:
+            message = f"{subject} is not orthonormal: R^T R - 1 has an entry of {defect:.3g}"
+            return [Problem(field, f"{message} at {where}", fix)]
+        if np.linalg.det(R) < 0:
+            return [Problem(field, f"{subject} is a reflection (det R = -1) at {where}", fix)]
+    return []
