@@ -1,35 +1,20 @@
-"""The midpoint discrete Lagrangian shared by Hamilton's principle (:mod:`.action`) and the
-variational integrator (:mod:`.variational`): L, dL/dq and dL/dq_dot compiled as NumPy
-functions of (q, q_dot, t, p), and the convergence test of the discrete Euler–Lagrange
-equations.
+"""The midpoint discrete Lagrangian of Hamilton's principle (:mod:`.action`): L, dL/dq and
+dL/dq_dot compiled as NumPy functions of (q, q_dot, t, p)
+(:func:`lagrangian.numerics.discrete_lagrangian.compile_lagrangian`, which also compiles what
+the variational integrator of :mod:`.variational` needs), and the convergence test of the
+discrete Euler–Lagrange equations.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
-import sympy as sp
 
 from lagrangian.derive import EquationsOfMotion
 from lagrangian.errors import SimulationError
 from lagrangian.model import System
-from lagrangian.numerics.cache import IdentityCache
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
-from lagrangian.numerics.evaluate import NumericFunction
+from lagrangian.numerics.discrete_lagrangian import LagrangianFunctions, compile_lagrangian
 from lagrangian.simulate.run import _description
-
-
-@dataclass(frozen=True)
-class LagrangianFunctions:
-    """L, dL/dq and dL/dq_dot of one system as NumPy functions of (q, q_dot, t, p)."""
-
-    lagrangian: NumericFunction
-    dL_dq: NumericFunction
-    dL_dq_dot: NumericFunction
-
-
-_CACHE: IdentityCache[EquationsOfMotion, LagrangianFunctions] = IdentityCache()
 
 
 def prepare(
@@ -43,24 +28,7 @@ def prepare(
             "The discrete action of a constrained system is not implemented yet: eliminate the "
             "holonomic constraints first (lagrangian.constraints.eliminate)."
         )
-    return compile_equations(eom), _CACHE.get(eom, compile_lagrangian)
-
-
-def compile_lagrangian(eom: EquationsOfMotion) -> LagrangianFunctions:
-    q, qd, t, p = list(eom.coordinates), list(eom.velocities), eom.time, list(eom.parameters)
-    lagrangian = eom.lagrangian
-    unknown = sorted(s.name for s in lagrangian.free_symbols - {*q, *qd, t, *p})
-    if unknown:
-        raise SimulationError(
-            f"The Lagrangian uses {', '.join(unknown)}, which are neither coordinates nor "
-            "parameters: declare them as parameters of the System to give them values."
-        )
-    groups, n = (q, qd, t, p), len(q)
-    return LagrangianFunctions(
-        lagrangian=NumericFunction(groups, [lagrangian], ()),
-        dL_dq=NumericFunction(groups, [sp.diff(lagrangian, s) for s in q], (n,)),
-        dL_dq_dot=NumericFunction(groups, [sp.diff(lagrangian, s) for s in qd], (n,)),
-    )
+    return compile_equations(eom), compile_lagrangian(eom)
 
 
 def residual_converged(terms: tuple[np.ndarray, np.ndarray]) -> tuple[bool, float]:

@@ -1,24 +1,34 @@
 """``simulate(..., method="variational", dt=...)``: a variational integrator (midpoint rule).
 
-With the midpoint discrete Lagrangian of :mod:`lagrangian.simulate.action`,
+The motion is the stationary point of the discrete action sum_k L_d(q_k, q_{k+1}) with the
+midpoint discrete Lagrangian of :mod:`lagrangian.simulate.action`,
 
-    L_d(q0, q1) = h L((q0 + q1)/2, (q1 - q0)/h, t + h/2),
+    L_d(q0, q1) = dt L((q0 + q1)/2, (q1 - q0)/dt, t + dt/2),
 
-the position-momentum form of the discrete Euler-Lagrange equations (Marsden & West 2001)
-advances (q_k, p_k) by
+under the discrete Lagrange-d'Alembert principle for the forces not in L (applied generalized
+forces, forces at points, Rayleigh dissipation -dF/dq_dot, each evaluated at the midpoint) and
+with holonomic constraints h(q, t) = 0 held at every step (Marsden & West 2001, sections 3.2
+and 3.5).  :mod:`lagrangian.simulate.variational_step` gives the equations of one step
+(q_k, p_k) -> (q_{k+1}, p_{k+1}), from p_0 = dL/dq_dot(q_0, q_dot_0, t_0):
 
-    p_k = -D1 L_d(q_k, q_{k+1})    solved for q_{k+1} (scipy.optimize.root, hybr),
-    p_{k+1} = D2 L_d(q_k, q_{k+1}),
+    p_k + D1 L_d(q_k, q_{k+1}) + f_d^- + dt/2 A_k^T lambda_k = 0,     h(q_{k+1}, t_{k+1}) = 0,
+    p_{k+1} = D2 L_d(q_k, q_{k+1}) + f_d^+ + dt/2 A_{k+1}^T mu_k
+            = dL/dq_dot(q_{k+1}, q_dot_{k+1}, t_{k+1}),              A_{k+1} q_dot_{k+1} + h_t = 0.
 
-from p_0 = dL/dq_dot(q_0, q_dot_0, t_0).  The map is symplectic and second order: on a
-conservative system the energy error stays bounded by O(dt^2) over long runs instead of
-drifting (RK4's does).  q_dot at the samples comes from the Legendre map p = dL/dq_dot, solved
-by Newton's method with the mass matrix (one exact step when L is quadratic in q_dot); where that
-does not converge, the central difference (q_{k+1} - q_{k-1}) / (t_{k+1} - t_{k-1}) is used.
+On a conservative system the map is symplectic and second order: the energy error stays
+bounded by O(dt^2) over long runs instead of drifting (RK4's does).  The constraints hold to
+the tolerance of Newton's method (about 1e-15) at every step, positions and velocities alike.
+q_dot at the outputs is the velocity of the last line (the inverse Legendre map).
 
-Only unconstrained conservative systems: dissipation or applied generalized forces (refused when
-their expressions are not identically zero, whatever the parameter values) need the forced
-discrete equations, and constraints the constrained ones, neither implemented yet.
+The multipliers reported at t_k combine the two halves lambda_k, mu_{k-1} of the constraint
+impulse at q_k into a second-order value of lambda(t_k)
+(:func:`lagrangian.simulate.variational_march.node_multipliers`); they carry the sign of the
+multiplier form, the constraint force being lambda_j dh_j/dq (DESIGN.md).  An initial state
+off the constraints is refused, or projected onto them with ``project_initial=True``, as in
+the multiplier form.
+
+Not integrated (refused with a SimulationError): velocity and unilateral constraints, events,
+coordinates without inertia.
 
 >>> import lagrangian as lg
 >>> from lagrangian.simulate import simulate
@@ -30,21 +40,24 @@ discrete equations, and constraints the constrained ones, neither implemented ye
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
-import sympy as sp
-from scipy.optimize import root
 
+from lagrangian.constraints import multiplier_symbols, project_state
 from lagrangian.derive import EquationsOfMotion
-from lagrangian.errors import SimulationError
-from lagrangian.model import System
-from lagrangian.numerics.compile import CompiledEquations
-from lagrangian.simulate.discrete import LagrangianFunctions, prepare, residual_converged
+from lagrangian.errors import Problem, SimulationError, raise_if_problems
+from lagrangian.model import Holonomic, System
+from lagrangian.model.constraints import label, statement
+from lagrangian.numerics.compile import CompiledEquations, compile_equations
+from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics, compile_discrete_mechanics
+from lagrangian.simulate.constrained_run import INITIAL_TOLERANCE
 from lagrangian.simulate.events import EventFunction
 from lagrangian.simulate.inputs import VARIATIONAL, Inputs, resolve_inputs
 from lagrangian.simulate.trajectory import Trajectory
+from lagrangian.simulate.variational_march import Run, march
 
 
 def simulate_variational(
@@ -57,34 +70,29 @@ def simulate_variational(
     events: Sequence[EventFunction] = (),
     raise_on_failure: bool = True,
     progress: Callable[[float], None] | None = None,
+    project_initial: bool = False,
 ) -> Trajectory:
     """The body of ``simulate`` for ``method="variational"`` (arguments as collected there)."""
-    _require_supported(eom, system, events)
-    compiled, functions = prepare(eom)
+    constraints = _holonomic_constraints(system)
+    _require_supported(eom, events)
+    compiled = compile_equations(eom)
+    mechanics = compile_discrete_mechanics(eom, [c.expression for c in constraints])
     inputs = resolve_inputs(compiled, given, fallback_initial, settings)
+    if system is not None and constraints:
+        inputs = _on_constraints(system, mechanics, inputs, project_initial)
     grid, outputs = _grid(inputs)
-    n, p = len(compiled.coordinates), inputs.p
-    q = np.empty((len(grid), n))
-    q[0] = inputs.x0[:n]
-    slope = inputs.x0[n:]
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        momentum = functions.dL_dq_dot(q[0], slope, grid[0], p)
-        reached, failure = 0, None
-        for k in range(len(grid) - 1):
-            h = float(grid[k + 1] - grid[k])
-            try:
-                q[k + 1], momentum = _step(functions, q[k], momentum, slope, grid[k], h, p)
-            except SimulationError as error:
-                failure = str(error)
-                break
-            slope = (q[k + 1] - q[k]) / h
-            reached = k + 1
-            if progress is not None:
-                progress(float(grid[k + 1]))
-        outputs = outputs[outputs <= reached]
-        q_dot = _velocities(compiled, functions, grid[: reached + 1], q[: reached + 1], outputs, p)
-    trajectory = _trajectory(compiled, inputs, grid[outputs], q[outputs], q_dot, failure)
-    if failure is not None and raise_on_failure:
+        run = march(mechanics, inputs.x0, inputs.p, grid, outputs, progress)
+    trajectory = _trajectory(compiled, inputs, grid, run)
+    if constraints:
+        names = tuple(s.name for s in multiplier_symbols(len(constraints)))
+        trajectory = dataclasses.replace(
+            trajectory,
+            multipliers=run.multipliers,
+            multiplier_names=names,
+            constraint_residual=run.constraint_residual,
+        )
+    if run.failure is not None and raise_on_failure:
         raise SimulationError(
             f"{trajectory.message} Pass raise_on_failure=False to keep the trajectory computed "
             "up to the failure."
@@ -92,14 +100,25 @@ def simulate_variational(
     return trajectory
 
 
-def _require_supported(
-    eom: EquationsOfMotion, system: System | None, events: Sequence[EventFunction]
-) -> None:
-    if system is not None and system.constraints:
-        raise SimulationError(
-            "Variational integration of constrained systems is not implemented yet: use "
-            "another method (RK45, DOP853, ...)."
+def _holonomic_constraints(system: System | None) -> tuple[Holonomic, ...]:
+    """The System's constraints, all holonomic, or raise naming those that are not."""
+    if system is None:
+        return ()
+    problems = [
+        Problem(
+            label(i, c),
+            f"the {c.kind} constraint {statement(c)} is not holonomic; method='variational' "
+            "holds holonomic constraints h(q, t) = 0 only",
+            "use another method (RK45, DOP853, ...), which integrates it in the multiplier form",
         )
+        for i, c in enumerate(system.constraints)
+        if not isinstance(c, Holonomic)
+    ]
+    raise_if_problems(problems, "Cannot integrate variationally", SimulationError)
+    return tuple(c for c in system.constraints if isinstance(c, Holonomic))
+
+
+def _require_supported(eom: EquationsOfMotion, events: Sequence[EventFunction]) -> None:
     if events:
         raise SimulationError(
             "method='variational' does not locate events yet: use another method with events=."
@@ -109,17 +128,32 @@ def _require_supported(
             "method='variational' needs every coordinate to have inertia (a regular Legendre "
             "map p = dL/dq_dot): use another method."
         )
-    kinds = []
-    if sp.simplify(eom.dissipation_function) != 0:
-        kinds.append("dissipation (a Rayleigh function, dampers or resistors)")
-    if any(sp.simplify(force) != 0 for force in eom.generalized_forces):
-        kinds.append("applied generalized forces")
-    if kinds:
+
+
+def _on_constraints(
+    system: System, mechanics: DiscreteMechanics, inputs: Inputs, project_initial: bool
+) -> Inputs:
+    """``inputs`` with an initial state on the constraints (projected when asked), or raise,
+    as the multiplier form does (:mod:`lagrangian.simulate.constrained_run`)."""
+    n, t0 = len(mechanics.coordinates), inputs.t_span[0]
+    q, v = inputs.x0[:n], inputs.x0[n:]
+    h, c = mechanics.residuals(q, v, t0, inputs.p)
+    residual = float(np.max(np.abs(np.concatenate((h, c))), initial=0.0))
+    if residual <= INITIAL_TOLERANCE:
+        return inputs
+    if not project_initial:
         raise SimulationError(
-            f"method='variational' integrates conservative systems only, and this one has "
-            f"{' and '.join(kinds)}: the forced discrete Euler-Lagrange equations are not "
-            "implemented yet. Use another method (RK45, DOP853, RK4, ...)."
+            f"The initial state violates the constraints: the largest residual is "
+            f"{residual:.3g} (> {INITIAL_TOLERANCE:g}). Move it onto them with "
+            "lagrangian.constraints.project_state, or pass project_initial=True."
         )
+    names = mechanics.coordinates
+    state: dict[str, float] = {**inputs.parameters, "t": t0}
+    state.update(zip(names, q.tolist()))
+    state.update((name + "_dot", float(value)) for name, value in zip(names, v))
+    projected = {symbol.name: value for symbol, value in project_state(system, state).items()}
+    x0 = [projected[name] for name in names] + [projected[name + "_dot"] for name in names]
+    return dataclasses.replace(inputs, x0=np.array(x0, dtype=float))
 
 
 def _grid(inputs: Inputs) -> tuple[np.ndarray, np.ndarray]:
@@ -138,102 +172,24 @@ def _grid(inputs: Inputs) -> tuple[np.ndarray, np.ndarray]:
     return grid, np.clip(outputs, 0, len(grid) - 1)
 
 
-def _step(
-    functions: LagrangianFunctions,
-    q0: np.ndarray,
-    momentum: np.ndarray,
-    slope: np.ndarray,
-    t: float,
-    h: float,
-    p: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
-    """(q_{k+1}, p_{k+1}) from (q_k, p_k): p_k = -D1 L_d(q_k, q_{k+1}), p_{k+1} = D2 L_d."""
-    midpoint_time = t + h / 2
-
-    def derivatives(q1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        midpoint, velocity = (q0 + q1) / 2, (q1 - q0) / h
-        return (
-            functions.dL_dq(midpoint, velocity, midpoint_time, p),
-            functions.dL_dq_dot(midpoint, velocity, midpoint_time, p),
-        )
-
-    def terms(q1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The two parts of p_k + D1 L_d(q_k, q1) = (p_k + h/2 dL/dq) - dL/dq_dot."""
-        dq, dv = derivatives(q1)
-        return momentum + h / 2 * dq, -dv
-
-    solution = root(lambda q1: np.add(*terms(q1)), q0 + h * slope, method="hybr")
-    converged, worst = residual_converged(terms(solution.x))
-    if not (converged or (solution.success and np.isfinite(worst))):
-        raise SimulationError(
-            f"the discrete Euler-Lagrange equation has no solution near q_k + dt q_dot_k "
-            f"({solution.message}; residual {worst:.3g}); try a smaller dt"
-        )
-    dq, dv = derivatives(solution.x)
-    return solution.x, h / 2 * dq + dv
-
-
-def _velocities(
-    compiled: CompiledEquations,
-    functions: LagrangianFunctions,
-    t: np.ndarray,
-    q: np.ndarray,
-    outputs: np.ndarray,
-    p: np.ndarray,
-) -> np.ndarray:
-    """q_dot at the output samples from the Legendre map p_k = dL/dq_dot(q_k, q_dot_k, t_k).
-
-    p_k is recomputed from the neighbouring steps (D2 L_d of the step before, -D1 L_d of the
-    one after; equal up to the solver's tolerance); Newton's method with the mass matrix as the
-    Jacobian starts from the central difference, which is kept where Newton does not converge.
-    """
-    if len(t) < 2:
-        return np.zeros((len(outputs), q.shape[1]))
-    h = np.diff(t)
-    midpoints, slopes = (q[1:] + q[:-1]) / 2, np.diff(q, axis=0) / h[:, None]
-    mid_times = t[:-1] + h / 2
-    dq = functions.dL_dq(midpoints, slopes, mid_times, p)
-    dv = functions.dL_dq_dot(midpoints, slopes, mid_times, p)
-    after = -(h[:, None] / 2 * dq - dv)  # -D1 L_d of step k, the momentum at its start
-    before = h[:, None] / 2 * dq + dv  # D2 L_d of step k, the momentum at its end
-    momenta = np.vstack((after[:1], before))
-    central = np.gradient(q, t, axis=0, edge_order=2 if len(t) > 2 else 1)
-    q_dot = central[outputs].copy()
-    for row, k in enumerate(outputs):
-        guess = q_dot[row]
-        for _ in range(20):
-            residual = momenta[k] - functions.dL_dq_dot(q[k], guess, t[k], p)
-            if not np.all(np.isfinite(residual)):
-                break
-            if np.max(np.abs(residual)) <= 1e-12 * max(np.max(np.abs(momenta[k])), 1.0):
-                q_dot[row] = guess
-                break
-            mass = compiled.mass_matrix(q[k], t[k], p, qd=guess)
-            try:
-                guess = guess + np.linalg.solve(mass, residual)
-            except np.linalg.LinAlgError:
-                break
-    return q_dot
-
-
 def _trajectory(
     compiled: CompiledEquations,
     inputs: Inputs,
-    t: np.ndarray,
-    q: np.ndarray,
-    q_dot: np.ndarray,
-    failure: str | None,
+    grid: np.ndarray,
+    run: Run,
 ) -> Trajectory:
-    p = inputs.p
+    p, t, q, q_dot = inputs.p, grid[run.outputs], run.q, run.q_dot
     energy_function = None
     if compiled.energy_function_differs:
         energy_function = compiled.energy_function(q, q_dot, t, p) if len(t) else np.zeros(0)
-    if failure is not None:
-        message = f"Integration failed after t = {t[-1]:.6g}: {failure}."
+    if run.failure is not None:
+        message = f"Integration failed after t = {run.reached:.6g}: {run.failure}."
     else:
+        steps = max(int(np.searchsorted(grid, run.reached)), 1)
         message = (
             f"Variational integrator (midpoint rule, dt = {inputs.dt:g}) reached the end of "
-            "the time span."
+            f"the time span ({run.evaluations / steps:.3g} evaluations of the discrete "
+            "equations per step)."
         )
     return Trajectory(
         t=t,
@@ -242,7 +198,7 @@ def _trajectory(
         coordinates=compiled.coordinates,
         energy=compiled.energy(q, q_dot, t, p) if len(t) else np.zeros(0),
         energy_function=energy_function,
-        status="failed" if failure is not None else "success",
+        status="failed" if run.failure is not None else "success",
         message=message,
         method=VARIATIONAL,
         parameters=inputs.parameters,
