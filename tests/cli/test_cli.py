@@ -9,6 +9,7 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
+from lagrangian.analysis import cyclic_coordinates
 from lagrangian.cli.main import main
 
 EXAMPLES = [n for n in lg.examples.names() if n != "n_link_pendulum"]
@@ -138,8 +139,9 @@ def test_every_example_simulates_to_csv(
     ]
     columns = header.split(",")
     # h = sum q_dot dL/dq_dot - L follows when it differs from T + V (rheonomic, velocity
-    # potentials, non-quadratic T)
-    assert columns in (expected, [*expected, "energy_function"])
+    # potentials, non-quadratic T), then the momenta of the cyclic coordinates
+    cyclic = [f"p_{c.coordinate.name}" for c in cyclic_coordinates(system)]
+    assert columns in ([*expected, *cyclic], [*expected, "energy_function", *cyclic])
     assert len(rows) == 20
 
 

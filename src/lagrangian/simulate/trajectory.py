@@ -1,8 +1,9 @@
 """Trajectory: the immutable result of :func:`lagrangian.simulate.simulate`.
 
 Rows are output times t_i; columns (DESIGN.md, output contract) are ``t``, each coordinate,
-each ``NAME_dot`` and ``energy`` = T + V; the drift report compares the energy with its
-initial value, max_i |E(t_i) - E(t_0)| / |E(t_0)|.
+each ``NAME_dot``, the multipliers, ``energy`` = T + V, then the conserved quantities
+(:mod:`lagrangian.simulate.conserved`); the drift report compares the energy and each conserved
+quantity C with its initial value, max_i |C(t_i) - C(t_0)| / |C(t_0)|.
 
 >>> import numpy as np
 >>> trajectory = Trajectory(t=[0.0, 1.0], q=[[1.0], [0.5]], q_dot=[[0.0], [-1.0]],
@@ -69,6 +70,9 @@ class Trajectory:
     constraint_residual:
         With constraints: max over the constraints of |h| and |A q_dot + b| at each output
         time, shape (N,); else None.
+    conserved:
+        Constants of the motion at each output time, by name (shape (N,) each): the momenta
+        ``p_NAME`` of cyclic coordinates and any quantity asked for.
     """
 
     t: np.ndarray
@@ -85,6 +89,7 @@ class Trajectory:
     multipliers: np.ndarray | None = None
     multiplier_names: tuple[str, ...] = ()
     constraint_residual: np.ndarray | None = None
+    conserved: Mapping[str, np.ndarray] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         n = len(self.coordinates)
@@ -105,6 +110,7 @@ class Trajectory:
         object.__setattr__(self, "coordinates", tuple(self.coordinates))
         object.__setattr__(self, "events", tuple(self.events))
         object.__setattr__(self, "parameters", MappingProxyType(dict(self.parameters)))
+        object.__setattr__(self, "conserved", MappingProxyType(_frozen_columns(self, rows)))
 
     @property
     def success(self) -> bool:
@@ -113,10 +119,18 @@ class Trajectory:
     @property
     def names(self) -> tuple[str, ...]:
         """Column names: t, the coordinates, their NAME_dot, the multipliers lambda_j (with
-        constraints), energy (and energy_function)."""
+        constraints), energy (and energy_function), the conserved quantities."""
         extra = ("energy_function",) if self.energy_function is not None else ()
         velocities = tuple(name + DOT for name in self.coordinates)
-        return ("t", *self.coordinates, *velocities, *self.multiplier_names, "energy", *extra)
+        return (
+            "t",
+            *self.coordinates,
+            *velocities,
+            *self.multiplier_names,
+            "energy",
+            *extra,
+            *self.conserved,
+        )
 
     def __getitem__(self, name: str) -> np.ndarray:
         """The column ``name``: ``"t"``, a coordinate, ``NAME_dot``, ``"energy"``."""
@@ -126,6 +140,8 @@ class Trajectory:
             return self.q[:, self.coordinates.index(name)]
         if name in self.multiplier_names and self.multipliers is not None:
             return self.multipliers[:, self.multiplier_names.index(name)]
+        if name in self.conserved:
+            return self.conserved[name]
         if name.endswith(DOT) and name[: -len(DOT)] in self.coordinates:
             return self.q_dot[:, self.coordinates.index(name[: -len(DOT)])]
         close = difflib.get_close_matches(name, self.names, n=1)
@@ -141,12 +157,15 @@ class Trajectory:
 
         ``energy_absolute`` = max |E - E0|, ``energy_relative`` = that / |E0| (None when
         E0 = 0 or there are no rows); the same with ``energy_function_`` for h when present,
-        and ``constraint_residual_max`` (max of :attr:`constraint_residual`) with constraints.
+        and ``constraint_residual_max`` (max of :attr:`constraint_residual`) with constraints,
+        and ``conserved_NAME_absolute`` / ``_relative`` for each conserved quantity.
         A dissipative or driven system drifts physically: compare with its power balance.
         """
         report = _drift("energy", self.energy)
         if self.energy_function is not None:
             report.update(_drift("energy_function", self.energy_function))
+        for name, values in self.conserved.items():
+            report.update(_drift(f"conserved_{name}", values))
         if self.constraint_residual is not None:
             residual = self.constraint_residual
             report["constraint_residual_max"] = float(np.max(residual)) if len(residual) else None
@@ -182,6 +201,7 @@ class Trajectory:
         coordinates = tuple(name for name in names[1:] if name + DOT in column)
         start = 1 + 2 * len(coordinates)
         multiplier_names = tuple(names[start : names.index("energy")])
+        after = names.index("energy") + 1 + ("energy_function" in column)
         multipliers = None
         if multiplier_names:
             multipliers = np.column_stack([column[name] for name in multiplier_names])
@@ -194,6 +214,7 @@ class Trajectory:
             energy_function=column.get("energy_function"),
             multipliers=multipliers,
             multiplier_names=multiplier_names,
+            conserved={name: column[name] for name in names[after:]},
         )
 
     def to_pandas(self) -> Any:
@@ -224,6 +245,20 @@ def _freeze(trajectory: Trajectory, name: str, shape: tuple[int, ...]) -> None:
         raise SimulationError(f"Trajectory.{name} has shape {array.shape}, expected {shape}.")
     array.setflags(write=False)
     object.__setattr__(trajectory, name, array)
+
+
+def _frozen_columns(trajectory: Trajectory, rows: int) -> dict[str, np.ndarray]:
+    """Read-only float copies of the conserved-quantity columns, checked to have ``rows``."""
+    columns = {}
+    for name, values in dict(trajectory.conserved).items():
+        array = np.array(values, dtype=float)
+        if array.shape != (rows,):
+            raise SimulationError(
+                f"Trajectory.conserved[{name!r}] has shape {array.shape}, expected ({rows},)."
+            )
+        array.setflags(write=False)
+        columns[str(name)] = array
+    return columns
 
 
 def _drift(prefix: str, values: np.ndarray) -> dict[str, float | None]:
