@@ -43,7 +43,7 @@ from lagrangian.model import (
     t,
     velocity,
 )
-from lagrangian.simulate import Trajectory, simulate
+from lagrangian.simulate import Batch, Trajectory, simulate, simulate_batch
 
 __version__ = "0.1.0"
 
@@ -52,6 +52,7 @@ if "IPython" in __import__("sys").modules:  # inside IPython/Jupyter: typeset re
 
 __all__ = [
     "AnalysisError",
+    "Batch",
     "Capacitor",
     "ConstraintError",
     "CoordinateSteps",
@@ -86,6 +87,7 @@ __all__ = [
     "nielsen_equations",
     "render",
     "simulate",
+    "simulate_batch",
     "t",
     "velocity",
 ]

@@ -8,16 +8,20 @@
 """
 
 from lagrangian.simulate.action import action, action_variation, stationary_path
+from lagrangian.simulate.batch import simulate_batch
+from lagrangian.simulate.batch_result import Batch
 from lagrangian.simulate.events import EventFunction
 from lagrangian.simulate.run import simulate
 from lagrangian.simulate.trajectory import Event, Trajectory
 
 __all__ = [
+    "Batch",
     "Event",
     "EventFunction",
     "Trajectory",
     "action",
     "action_variation",
     "simulate",
+    "simulate_batch",
     "stationary_path",
 ]

@@ -27,6 +27,8 @@ from lagrangian.derive import EquationsOfMotion, derive
 from lagrangian.errors import SimulationError
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
+from lagrangian.simulate.compiled_run import check_backend, integrate_compiled
+from lagrangian.simulate.conserved import conserved_expressions, with_conserved
 from lagrangian.simulate.events import EventFunction, EventWatch
 from lagrangian.simulate.inputs import VARIATIONAL, Inputs, resolve_inputs
 from lagrangian.simulate.rk4 import RK4
@@ -62,6 +64,8 @@ def simulate(
     progress: Callable[[float], None] | None = None,
     baumgarte: tuple[float, float] = (0.0, 0.0),
     project_initial: bool = False,
+    backend: str = "numpy",
+    conserved: Mapping[str, Any] | None = None,
 ) -> Trajectory:
     """Integrate the motion of a System (derived here) or of its EquationsOfMotion.
 
@@ -81,8 +85,9 @@ def simulate(
         ``RK45`` (default), ``RK23``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA`` (solve_ivp)
         or ``RK4`` (fixed step ``dt``, or the spacing of ``samples``), or ``variational``
         (fixed step ``dt``: the symplectic midpoint-rule integrator of
-        :mod:`lagrangian.simulate.variational`, for unconstrained conservative systems; the
-        energy error stays bounded instead of drifting).
+        :mod:`lagrangian.simulate.variational`, with applied forces, dissipation and
+        holonomic constraints held exactly at every step; on a conservative system the energy
+        error stays bounded instead of drifting).
     rtol, atol, max_step:
         Tolerances (default 1e-8, 1e-10) and largest step of the adaptive methods.
     samples, t_eval:
@@ -102,9 +107,19 @@ def simulate(
     project_initial:
         With constraints: move an initial state that violates them onto them
         (:func:`lagrangian.constraints.project_state`) instead of raising.
+    conserved:
+        Quantities to follow, by name: expressions (model-file text or SymPy) of the
+        coordinates, ``NAME_dot``, the parameters and t.  They join the momenta of the
+        cyclic coordinates in ``Trajectory.conserved`` and its drift report
+        (:mod:`lagrangian.simulate.conserved`).
+    backend:
+        ``"numpy"`` (default, the reference) or ``"numba"``: the right-hand side and the whole
+        RK45, DOP853 or RK4 loop compiled (:mod:`lagrangian.simulate.compiled_run`; needs
+        ``pip install lagrangian[fast]``; no events or constraints; the steps are SciPy's).
 
-    A System with holonomic or velocity constraints is integrated in the multiplier form;
-    its Trajectory also holds the multipliers lambda_j and the constraint residual.
+    A System with holonomic or velocity constraints is integrated in the multiplier form
+    (``method="variational"``: holonomic ones only, in the discrete equations); its
+    Trajectory also holds the multipliers lambda_j and the constraint residual.
 
     Raises
     ------
@@ -112,6 +127,8 @@ def simulate(
         Bad input (every problem listed), unsupported systems, or a failed integration.
     """
     eom, fallback_initial, settings, system = _description(system_or_eom)
+    quantities = conserved_expressions(eom, system, conserved or {})
+    check_backend(backend, method if method is not None else settings.get("method"), system, events)
     given = {
         "initial": initial,
         "parameters": parameters,
@@ -127,7 +144,7 @@ def simulate(
     if (method if method is not None else settings.get("method")) == VARIATIONAL:
         from lagrangian.simulate.variational import simulate_variational  # imports run
 
-        return simulate_variational(
+        trajectory = simulate_variational(
             eom,
             system,
             given,
@@ -136,11 +153,13 @@ def simulate(
             events=events,
             raise_on_failure=raise_on_failure,
             progress=progress,
+            project_initial=project_initial,
         )
+        return with_conserved(trajectory, eom, quantities)
     if system is not None and system.constraints:
         from lagrangian.simulate.constrained_run import simulate_constrained  # imports run
 
-        return simulate_constrained(
+        trajectory = simulate_constrained(
             system,
             eom,
             given,
@@ -152,6 +171,7 @@ def simulate(
             baumgarte=baumgarte,
             project_initial=project_initial,
         )
+        return with_conserved(trajectory, eom, quantities)
     compiled = compile_equations(eom)
     inputs = resolve_inputs(compiled, given, fallback_initial, settings)
 
@@ -163,16 +183,19 @@ def simulate(
 
     watch = EventWatch(events, unpack) if events else None
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        run = integrate(
-            _starter(field, inputs), inputs.t_span[0], inputs.x0, inputs.t_out, watch, progress
-        )
+        if backend == "numba":
+            run = integrate_compiled(eom, inputs, progress)
+        else:
+            run = integrate(
+                _starter(field, inputs), inputs.t_span[0], inputs.x0, inputs.t_out, watch, progress
+            )
     trajectory = _trajectory(compiled, inputs, run, watch)
     if run.failure is not None and raise_on_failure:
         raise SimulationError(
             f"{trajectory.message} Pass raise_on_failure=False to keep the trajectory "
             "computed up to the failure."
         )
-    return trajectory
+    return with_conserved(trajectory, eom, quantities)
 
 
 def _description(
@@ -193,6 +216,10 @@ def _description(
         f"simulate needs a System or the EquationsOfMotion of one, not "
         f"{type(system_or_eom).__name__}."
     )
+
+
+#: The public name of _description, shared with simulate_batch.
+describe_system = _description
 
 
 def _starter(

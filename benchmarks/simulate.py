@@ -1,0 +1,389 @@
+"""Benchmark: simulating an n-link pendulum and a batch of double pendulums, against PyDy + SciPy.
+
+What is measured
+    (a) The 10-link planar pendulum (point masses 1, rods 1, g = 9.81, every angle 0.5 rad at
+        rest, absolute angles) over 10 s with DOP853, rtol = atol = 1e-9, output at every step:
+        pydy        sympy.physics.mechanics KanesMethod, ``pydy.codegen.ode_function_generators.
+                    generate_ode_function(..., generator="cython")``, scipy.integrate.solve_ivp;
+        numba       ``lagrangian.simulate(..., backend="numba")`` (right-hand side, loop compiled);
+        numpy       ``lagrangian.simulate`` (the default backend: SciPy's DOP853 on NumPy).
+        "simulate" times the integration alone, everything compiled and warm (best of 5 calls in
+        the process); "end to end" times derive + code generation/compilation + simulate in a
+        fresh process with empty caches (a new NUMBA_CACHE_DIR; PyDy compiles its Cython in a new
+        temporary directory). "numba, loops cached" is the end-to-end time when numba's on-disk
+        cache already holds the integration loops, which are the same for every system (the
+        generated right-hand side is never cached). The final states are compared.
+    (b) 10^4 double pendulums (masses and rods 1, starts at rest with angles drawn uniformly in
+        [-1, 1]^2, seed 0) over 10 s, DOP853, rtol = atol = 1e-9, final state only:
+        ``lagrangian.simulate_batch`` with backend numba (one thread) and numpy, against a Python
+        loop of solve_ivp over the same compiled NumPy right-hand side, timed on the first 200
+        starts only (its throughput, trajectories per second, does not depend on how many).
+
+How
+    Every measurement is a fresh process (this file with the hidden ``--worker``); the workers
+    import their packages before the clock starts. Measurements alternate between the
+    contenders run by run; tables show the median of ``--repeat`` runs.
+
+Usage
+    python benchmarks/simulate.py                 # 3 repeats, 10^4 batch
+    python benchmarks/simulate.py --quick         # 1 repeat, 10^3 batch
+    python benchmarks/simulate.py --record        # also append the results to benchmarks/RESULTS.md
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve()
+SRC = HERE.parents[1] / "src"
+sys.path.insert(0, str(HERE.parent))
+from derive import _cpu_model, _version  # noqa: E402  (the house benchmark's machine report)
+
+RESULTS = HERE.parent / "RESULTS.md"
+LINKS, T_END, TOL = 10, 10.0, 1e-9
+LOOP_SUBSET = 200
+TARGETS = (("simulate", 3.0), ("end to end", 10.0), ("batch", 50.0))
+
+
+# --------------------------------------------------------------------------- the contenders
+
+
+def pydy_model(n: int):
+    """(derive seconds, rhs(x, t, p)) of the PyDy pendulum, its Cython compiled."""
+    import sympy as sp
+    import sympy.physics.mechanics as me
+    from pydy.codegen.ode_function_generators import generate_ode_function
+
+    q, u = me.dynamicsymbols(f"q1:{n + 1}"), me.dynamicsymbols(f"u1:{n + 1}")
+    m, l, g = sp.symbols(f"m1:{n + 1}"), sp.symbols(f"l1:{n + 1}"), sp.Symbol("g")
+    N, origin = me.ReferenceFrame("N"), me.Point("O")
+    origin.set_vel(N, 0)
+    particles, loads, previous = [], [], origin
+    for i in range(n):
+        A = N.orientnew(f"A{i}", "Axis", [q[i], N.z])
+        A.set_ang_vel(N, u[i] * N.z)
+        P = previous.locatenew(f"P{i}", -l[i] * A.y)
+        P.v2pt_theory(previous, N, A)
+        particles.append(me.Particle(f"bob{i}", P, m[i]))
+        loads.append((P, -m[i] * g * N.y))
+        previous = P
+    kinematics = [qi.diff() - ui for qi, ui in zip(q, u)]
+    kane = me.KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=kinematics)
+    kane.kanes_equations(particles, loads)
+    return generate_ode_function(
+        kane.forcing_full,
+        q,
+        u,
+        [*m, *l, g],
+        mass_matrix=kane.mass_matrix_full,
+        generator="cython",
+    )
+
+
+def pendulum_start(n: int):
+    import numpy as np
+
+    return np.array([0.5] * n + [0.0] * n), np.array([1.0] * (2 * n) + [9.81])
+
+
+def run_pydy(rhs, n: int):
+    import numpy as np
+    from scipy.integrate import solve_ivp
+
+    x0, p = pendulum_start(n)
+    sol = solve_ivp(lambda t, x: rhs(x, t, p), (0, T_END), x0, method="DOP853", rtol=TOL, atol=TOL)
+    return np.asarray(sol.y[:, -1])
+
+
+def run_lagrangian(eom, n: int, backend: str):
+    import numpy as np
+
+    import lagrangian as lg
+
+    x0, _ = pendulum_start(n)
+    names = [f"theta{i}" for i in range(1, n + 1)]
+    initial = dict(zip(names + [f"{s}_dot" for s in names], x0))
+    run = lg.simulate(eom, initial, T_END, method="DOP853", rtol=TOL, atol=TOL, backend=backend)
+    return np.concatenate([run.q[-1], run.q_dot[-1]])
+
+
+def batch_starts(k: int):
+    import numpy as np
+
+    return np.random.default_rng(0).uniform(-1.0, 1.0, size=(k, 2))
+
+
+def run_batch(backend: str, k: int):
+    """Seconds for k trajectories with lagrangian.simulate_batch, and the final states."""
+    import lagrangian as lg
+
+    eom = lg.derive(lg.examples.double_pendulum())
+    starts = batch_starts(k)
+
+    def once(rows):
+        initial = {"theta": rows[:, 0], "phi": rows[:, 1], "theta_dot": 0.0, "phi_dot": 0.0}
+        return lg.simulate_batch(
+            eom, initial, T_END, method="DOP853", rtol=TOL, atol=TOL, backend=backend
+        )
+
+    once(starts[:2])  # compile
+    start = time.perf_counter()
+    batch = once(starts)
+    return time.perf_counter() - start, batch.final_q[:LOOP_SUBSET].tolist()
+
+
+def run_loop(k: int):
+    """Seconds for a Python loop of solve_ivp over the first k starts, and the final states."""
+    import numpy as np
+    from scipy.integrate import solve_ivp
+
+    import lagrangian as lg
+    from lagrangian.numerics.compile import compile_equations
+
+    compiled = compile_equations(lg.derive(lg.examples.double_pendulum()))
+    p = np.array([1.0, 1.0, 1.0, 1.0, 9.81])
+    finals = []
+    start = time.perf_counter()
+    for theta, phi in batch_starts(k):
+        sol = solve_ivp(
+            lambda t, x: compiled.rhs(t, x, p),
+            (0, T_END),
+            [theta, phi, 0.0, 0.0],
+            method="DOP853",
+            rtol=TOL,
+            atol=TOL,
+        )
+        finals.append(sol.y[:2, -1].tolist())
+    return time.perf_counter() - start, finals
+
+
+# --------------------------------------------------------------------------- the worker
+
+
+def worker(kind: str, contender: str, size: int) -> dict:
+    """One measurement in this fresh process."""
+    import numpy as np  # noqa: F401
+
+    sys.path.insert(0, str(SRC))
+    import lagrangian as lg
+
+    if contender == "numba" or kind == "batch":
+        import numba  # noqa: F401
+    if contender == "pydy":
+        import pydy.codegen.ode_function_generators  # noqa: F401
+        import sympy.physics.mechanics  # noqa: F401
+    if kind == "batch":
+        seconds, finals = run_loop(size) if contender == "loop" else run_batch(contender, size)
+        return {"seconds": seconds, "count": size, "finals": finals}
+    start = time.perf_counter()
+    if contender == "pydy":
+        rhs = pydy_model(LINKS)
+        final = run_pydy(rhs, LINKS)
+    else:
+        eom = lg.derive(lg.examples.n_link_pendulum(LINKS))
+        final = run_lagrangian(eom, LINKS, contender)
+    end_to_end = time.perf_counter() - start
+    runs = []
+    for _ in range(5):
+        start = time.perf_counter()
+        final = (
+            run_pydy(rhs, LINKS) if contender == "pydy" else run_lagrangian(eom, LINKS, contender)
+        )
+        runs.append(time.perf_counter() - start)
+    result = {"end_to_end": end_to_end, "simulate": min(runs), "final": final.tolist()}
+    if contender == "numba":
+        result["loop"] = time_loop_alone(eom, LINKS)
+    return result
+
+
+def time_loop_alone(eom, n: int) -> float:
+    """Best of 5 of the compiled loop alone (no input checks, no Trajectory)."""
+    from lagrangian.numerics.fast import fast_equations
+    from lagrangian.numerics.fast.run import Settings, integrate
+
+    x0, p = pendulum_start(n)
+    settings = Settings("DOP853", (0.0, T_END), x0[:0], TOL, TOL)
+    runs = []
+    for _ in range(5):
+        start = time.perf_counter()
+        integrate(fast_equations(eom), settings, x0, p)
+        runs.append(time.perf_counter() - start)
+    return min(runs)
+
+
+def run_worker(kind: str, contender: str, size: int, cache: str | None) -> dict:
+    env = dict(os.environ)
+    with tempfile.TemporaryDirectory() as empty:
+        env["NUMBA_CACHE_DIR"] = cache or empty
+        command = [sys.executable, str(HERE), "--worker", kind, contender, str(size)]
+        done = subprocess.run(command, capture_output=True, text=True, env=env, timeout=3600)
+    for line in done.stdout.splitlines():
+        if line.startswith("{"):
+            return json.loads(line)
+    return {"error": done.stderr.strip()[-600:]}
+
+
+# --------------------------------------------------------------------------- the parent
+
+
+def measure(repeat: int, batch_size: int) -> dict:
+    """Every measurement ``repeat`` times, alternating contenders."""
+    warm_cache = tempfile.mkdtemp(prefix="numba-loops-")
+    run_worker("pendulum", "numba", 0, warm_cache)  # fills the cache with the loops
+    plan = [
+        ("pendulum", "pydy", 0, None),
+        ("pendulum", "numba", 0, None),
+        ("pendulum", "numba, loops cached", 0, warm_cache),
+        ("pendulum", "numpy", 0, None),
+        ("batch", "numba", batch_size, None),
+        ("batch", "numpy", batch_size, None),
+        ("batch", "loop", LOOP_SUBSET, None),
+    ]
+    results: dict = {}
+    for r in range(repeat):
+        for kind, label, size, cache in plan:
+            contender = label.split(",")[0]
+            result = run_worker(kind, contender, size, cache)
+            results.setdefault((kind, label), []).append(result)
+            print(
+                f"  {kind:<8} {label:<20} run {r + 1}/{repeat}: "
+                f"{ {k: v for k, v in result.items() if k not in ('final', 'finals')} }",
+                file=sys.stderr,
+            )
+    return results
+
+
+def _median(runs: list[dict], key: str) -> float:
+    values = [run[key] for run in runs if key in run]
+    return statistics.median(values) if values else float("nan")
+
+
+def report(results: dict, batch_size: int) -> str:
+    import numpy as np
+
+    pendulum = {label: runs for (kind, label), runs in results.items() if kind == "pendulum"}
+    reference = np.array(pendulum["pydy"][0]["final"])
+    lines = [
+        f"(a) {LINKS}-link pendulum, {T_END:g} s, DOP853 rtol = atol = {TOL:g}; median seconds.",
+        "",
+        "| contender | simulate s | end to end s | max abs difference of final state from PyDy |",
+        "|---|---:|---:|---:|",
+    ]
+    for label, runs in pendulum.items():
+        difference = np.max(np.abs(np.array(runs[0].get("final", reference)) - reference))
+        lines.append(
+            f"| {label} | {_median(runs, 'simulate'):.4g} | "
+            f"{_median(runs, 'end_to_end'):.3g} | {difference:.2g} |"
+        )
+    pydy_sim, pydy_e2e = (
+        _median(pendulum["pydy"], "simulate"),
+        _median(pendulum["pydy"], "end_to_end"),
+    )
+    ratios = {
+        "simulate": pydy_sim / _median(pendulum["numba"], "simulate"),
+        "end to end": pydy_e2e / _median(pendulum["numba"], "end_to_end"),
+    }
+    lines += ["", "Ratios (PyDy time / lagrangian time):", ""]
+    for label, runs in pendulum.items():
+        if label != "pydy":
+            lines.append(
+                f"- {label}: simulate {pydy_sim / _median(runs, 'simulate'):.3g}x, "
+                f"end to end {pydy_e2e / _median(runs, 'end_to_end'):.3g}x"
+            )
+    batch = {label: runs for (kind, label), runs in results.items() if kind == "batch"}
+    throughput = {
+        label: _median(runs, "count") / _median(runs, "seconds") for label, runs in batch.items()
+    }
+    loop_finals = np.array(batch["loop"][0]["finals"])
+    lines += [
+        "",
+        f"(b) double pendulums, {T_END:g} s, DOP853 rtol = atol = {TOL:g}: {batch_size} with "
+        f"simulate_batch, the solve_ivp loop timed on the first {LOOP_SUBSET}.",
+        "",
+        "| contender | trajectories/s | x loop | max abs difference from the loop (first 200) |",
+        "|---|---:|---:|---:|",
+    ]
+    for label, runs in batch.items():
+        finals = np.array(runs[0]["finals"])[: len(loop_finals)]
+        difference = np.max(np.abs(finals - loop_finals))
+        lines.append(
+            f"| {label} | {throughput[label]:.4g} | "
+            f"{throughput[label] / throughput['loop']:.3g} | {difference:.2g} |"
+        )
+    ratios["batch"] = throughput["numba"] / throughput["loop"]
+    lines += ["", "```"]
+    for name, factor in TARGETS:
+        verdict = "PASS" if ratios[name] >= factor else "FAIL"
+        lines.append(f"{verdict}  numba {name} >= {factor:g}x ({ratios[name]:.3g}x)")
+    lines += ["```", "", NOTES.format(loop=_median(pendulum["numba"], "loop"))]
+    return "\n".join(lines)
+
+
+NOTES = """Notes. "simulate" is the whole ``lagrangian.simulate`` call: input checks, the run, and
+the Trajectory (energies and conserved quantities of every output row); the compiled loop
+alone takes {loop:.3g} s. End to end with empty caches, numba compiles the integration loop
+(several seconds, once: it is the same for every system and is kept in numba's on-disk cache
+afterwards, the "loops cached" row) and the generated right-hand side (about 1.5 s for ten
+links, mostly numba's front end, not LLVM); PyDy's Cython and C compilation takes less, so the
+numba backend cannot be 10x faster end to end with empty caches. The NumPy backend compiles
+nothing (lambdify) and is the faster one end to end."""
+
+
+BEGIN, END = "<!-- simulate.py: begin -->", "<!-- simulate.py: end -->"
+
+
+def record(text: str, note: str) -> None:
+    """Write a dated section with the machine and ``text`` into RESULTS.md, replacing this
+    benchmark's previous section (between its markers) and keeping every other one."""
+    import datetime
+    import platform
+
+    machine = [
+        f"- platform: {platform.platform()}",
+        f"- CPU: {_cpu_model()} ({os.cpu_count()} cores)",
+        f"- python {platform.python_version()}, numpy {_version('numpy')}, scipy "
+        f"{_version('scipy')}, numba {_version('numba')}, pydy {_version('pydy')}, "
+        f"cython {_version('cython')}",
+    ]
+    now = datetime.datetime.now().astimezone().isoformat(timespec="minutes")
+    title = f"## Simulation (benchmarks/simulate.py), {now}" + (f" ({note})" if note else "")
+    section = "\n".join([BEGIN, title, "", *machine, "", text, END])
+    existing = RESULTS.read_text()
+    if BEGIN in existing and END in existing:
+        before, rest = existing.split(BEGIN, 1)
+        existing = before.rstrip("\n") + rest.split(END, 1)[1]
+    RESULTS.write_text(existing.rstrip("\n") + "\n\n" + section + "\n")
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--repeat", type=int, default=3, help="runs per measurement (3)")
+    parser.add_argument("--batch", type=int, default=10_000, help="double pendulums (10^4)")
+    parser.add_argument("--quick", action="store_true", help="1 run each, 10^3 double pendulums")
+    parser.add_argument("--record", action="store_true", help=f"append results to {RESULTS.name}")
+    parser.add_argument("--note", default="", help="a note for the recorded section's title")
+    parser.add_argument("--worker", nargs=3, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.worker:
+        kind, contender, size = args.worker
+        print(json.dumps(worker(kind, contender, int(size))), flush=True)
+        return 0
+    repeat, batch_size = (1, 1000) if args.quick else (args.repeat, args.batch)
+    text = report(measure(repeat, batch_size), batch_size)
+    print(text)
+    if args.record:
+        record(text, args.note)
+        print(f"\nappended to {RESULTS}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,129 @@
+"""Between steps, compiled: dense output, output rows at the requested times, the stop time.
+
+A step from t_old to t_old + h leaves an interpolant of the state x(t_old + s h), 0 <= s <= 1,
+kept as rows of an array F, of one of three kinds:
+
+    RK45 (kind 0):     x = x_old + h sum_k F_k s^(k+1)              (F = K^T P, SciPy's P)
+    DOP853 (kind 1):   x = x_old + F_0 + (1-s)(F_1 + s(F_2 + ...))   (SciPy's nested form, read
+                                                                      from the last row back)
+    Hermite (kind 2):  the cubic through x and f at both ends, F = [x_old, x, f_old, f]
+
+The stop condition g(t, q, q_dot) ends a run where it turns negative; that time is found on
+the interpolant by the Illinois method (regula falsi, halving the value kept at a stale end),
+to 4 ulp of t.  This module is imported only when numba is installed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+RK45_DENSE, DOP853_DENSE, HERMITE_DENSE = 0, 1, 2
+ULP = 2.220446049250313e-16
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def dense_value(t, t_old, h, y_old, F, kind, out) -> None:
+    """The interpolated state at t (see the module docstring for the three kinds)."""
+    s = (t - t_old) / h
+    n = out.size
+    if kind == HERMITE_DENSE:
+        h00, h10 = (1 + 2 * s) * (1 - s) ** 2, s * (1 - s) ** 2
+        h01, h11 = s**2 * (3 - 2 * s), s**2 * (s - 1)
+        for i in range(n):
+            out[i] = h00 * F[0, i] + h10 * h * F[2, i] + h01 * F[1, i] + h11 * h * F[3, i]
+        return
+    if kind == RK45_DENSE:
+        for i in range(n):
+            total, power = 0.0, 1.0
+            for k in range(F.shape[0]):
+                power *= s
+                total += F[k, i] * power
+            out[i] = h * total + y_old[i]
+        return
+    rows = F.shape[0]
+    for i in range(n):
+        value = 0.0
+        for r in range(rows):
+            value += F[rows - 1 - r, i]
+            value *= s if r % 2 == 0 else 1 - s
+        out[i] = value + y_old[i]
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def condition(rates, stop, t, y, p, n, work, f) -> float:
+    """g(t, q, q_dot) at state y; q_dot from the rates (first-order coordinates included)."""
+    if not rates(t, y, p, work[0], work[1], f):
+        return np.nan
+    return stop(t, y[:n], f[:n])
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def locate_stop(rates, stop, interval, y_old, F, kind, p, n, work):
+    """The time in (t_old, t_new] where g turns negative, ``interval`` = (t_old, g_old,
+    t_new, g_new, h), g_old >= 0 > g_new (or g_new not a number)."""
+    a, ga, b, gb, h = interval
+    if not gb < 0:
+        gb = -1.0
+    y, f = np.empty(y_old.size), np.empty(y_old.size)
+    t_old, side = a, 0
+    for _ in range(200):
+        if b - a <= 4 * ULP * max(abs(a), abs(b)):
+            break
+        c = b - gb * (b - a) / (gb - ga)
+        if not a < c < b:
+            c = 0.5 * (a + b)
+        dense_value(c, t_old, h, y_old, F, kind, y)
+        gc = condition(rates, stop, c, y, p, n, work, f)
+        if gc >= 0:
+            a, ga = c, gc
+            if side == 1:
+                gb *= 0.5
+            side = 1
+        else:  # negative, or not a number: the stop lies before c
+            b, gb = c, (gc if gc < 0 else -1.0)
+            if side == -1:
+                ga *= 0.5
+            side = -1
+    return b
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def grow(times, states, rows):
+    """Twice the room for every-step output, keeping the first ``rows`` rows."""
+    if rows < times.size:
+        return times, states
+    bigger_t = np.empty(2 * times.size)
+    bigger_x = np.empty((2 * times.size, states.shape[1]))
+    for row in range(rows):
+        bigger_t[row] = times[row]
+        put(bigger_x[row], states[row])
+    return bigger_t, bigger_x
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def sample(t_out, out, first, t_end, t_old, h, y_old, F, kind) -> int:
+    """Fill the output rows from ``first`` whose times are <= t_end; the next row to fill."""
+    row = first
+    while row < t_out.size and t_out[row] <= t_end:
+        dense_value(t_out[row], t_old, h, y_old, F, kind, out[row])
+        row += 1
+    return row
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def finite(values) -> bool:
+    """Whether every entry is a finite number."""
+    for i in range(values.size):  # noqa: SIM110  (numba compiles no generator in all())
+        if not math.isfinite(values[i]):
+            return False
+    return True
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def put(target, values) -> None:
+    """target[:] = values, as a loop (numba compiles slice assignment slowly)."""
+    for i in range(values.size):
+        target[i] = values[i]

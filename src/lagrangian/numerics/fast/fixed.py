@@ -1,0 +1,111 @@
+"""The classical fixed-step RK4 compiled by numba, as :mod:`lagrangian.simulate.rk4` does it.
+
+    k1 = f(t, x),            k2 = f(t + h/2, x + h/2 k1),
+    k3 = f(t + h/2, x + h/2 k2),  k4 = f(t + h, x + h k3),
+    x(t + h) = x + h/6 (k1 + 2 k2 + 2 k3 + k4)                  global error O(h^4)
+
+h is ``dt`` shortened so that a whole number of steps ends exactly at t1 (step i ends at
+t0 + i h); output between steps is the cubic Hermite interpolant of x and f at both ends, and
+the stop condition is located on it (:mod:`lagrangian.numerics.fast.dense`).  This module is
+imported only when numba is installed.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from lagrangian.numerics.fast.dense import (
+    HERMITE_DENSE,
+    dense_value,
+    finite,
+    grow,
+    locate_stop,
+    put,
+    sample,
+)
+from lagrangian.numerics.fast.outcome import FINISHED, NOT_FINITE, SINGULAR, STOPPED
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def rk4_step(rates, t, x, h, p, k, x_new, work) -> bool:
+    """x_new = x(t + h) from k[0] = f(t, x); k[1..3] receive the other stages."""
+    matrix, vector, stage = work[0], work[1], work[2]
+    for s, c in ((1, h / 2), (2, h / 2), (3, h)):
+        for i in range(x.size):
+            stage[i] = x[i] + c * k[s - 1, i]
+        if not rates(t + c, stage, p, matrix, vector, k[s]):
+            return False
+    for i in range(x.size):
+        x_new[i] = x[i] + h / 6 * (k[0, i] + 2 * k[1, i] + 2 * k[2, i] + k[3, i])
+    return True
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def integrate_rk4(rates, stop, watch, n, size, x0, p, span, t_out, out, config):
+    """RK4 from (t0, x0) over ``span`` = (t0, t1); arguments and result as
+    :func:`lagrangian.numerics.fast.adaptive.integrate_adaptive` (``config`` = (dt,))."""
+    dt = config[0]
+    t0, t1 = span
+    nx = x0.size
+    steps = max(1, math.ceil(abs(t1 - t0) / dt - 1e-9))
+    h = (t1 - t0) / steps
+    k, F = np.empty((4, nx)), np.empty((4, nx))
+    work = (np.empty((size, size)), np.empty(size), np.empty(nx), np.empty(nx))
+    every = t_out.size == 0
+    times, states = (np.empty(64), np.empty((64, nx))) if every else (t_out, out)
+    rows = 0
+    if every:
+        times[0], rows = t0, 1
+        put(states[0], x0)
+    else:
+        while rows < t_out.size and t_out[rows] <= t0:
+            put(out[rows], x0)
+            rows += 1
+    t, x, x_new = t0, x0.copy(), np.empty(nx)
+    if not rates(t, x, p, work[0], work[1], k[0]):
+        return times, states, rows, SINGULAR, t, x, t, x
+    g_old = stop(t, x[:n], k[0][:n]) if watch else 1.0
+    if not g_old >= 0:
+        return times, states, rows, STOPPED, t, x, t, x.copy()
+    status, t_stop, x_stop = FINISHED, t1, x
+    for taken in range(1, steps + 1):
+        if not rk4_step(rates, t, x, h, p, k, x_new, work):
+            status = SINGULAR
+            break
+        if not finite(x_new):
+            status = NOT_FINITE
+            break
+        t_new = t1 if taken == steps else t0 + taken * h
+        put(F[0], x)
+        put(F[1], x_new)
+        put(F[2], k[0])
+        if not rates(t_new, x_new, p, work[0], work[1], k[0]):
+            status = SINGULAR
+            break
+        put(F[3], k[0])
+        t_old, t = t, t_new
+        put(x, x_new)
+        g_new = stop(t, x[:n], k[0][:n]) if watch else 1.0
+        t_end, stopped = t, not g_new >= 0
+        if stopped:
+            interval = (t_old, g_old, t, g_new, t - t_old)
+            t_end = locate_stop(rates, stop, interval, x, F, HERMITE_DENSE, p, n, work)
+            x_stop = np.empty(nx)
+            dense_value(t_end, t_old, t - t_old, x, F, HERMITE_DENSE, x_stop)
+            status, t_stop = STOPPED, t_end
+        g_old = g_new
+        if every:
+            times, states = grow(times, states, rows)
+            times[rows] = t_end
+            put(states[rows], x_stop if stopped else x)
+            rows += 1
+        else:
+            rows = sample(t_out, out, rows, t_end, t_old, t - t_old, x, F, HERMITE_DENSE)
+        if stopped:
+            break
+    if status == FINISHED:
+        x_stop = x.copy()
+    return times, states, rows, status, t, x, t_stop, x_stop

@@ -1,0 +1,40 @@
+"""solve_linear(matrix, vector): Gaussian elimination with partial pivoting, compiled, in place.
+
+    matrix z = vector   ->   vector <- z           (Golub & Van Loan, Matrix Computations, 3.4)
+
+The systems are small (one row per coordinate), so a loop without allocation beats a call
+into LAPACK.  Returns False, leaving the arrays changed, when a pivot is exactly zero.  This
+module is imported only when numba is installed.
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def solve_linear(matrix, vector) -> bool:
+    """Overwrite ``vector`` with matrix^-1 vector; False when the matrix is singular."""
+    n = vector.size
+    for k in range(n):
+        pivot, largest = k, abs(matrix[k, k])
+        for i in range(k + 1, n):
+            if abs(matrix[i, k]) > largest:
+                pivot, largest = i, abs(matrix[i, k])
+        if largest == 0.0:
+            return False
+        if pivot != k:
+            for j in range(k, n):
+                matrix[k, j], matrix[pivot, j] = matrix[pivot, j], matrix[k, j]
+            vector[k], vector[pivot] = vector[pivot], vector[k]
+        for i in range(k + 1, n):
+            factor = matrix[i, k] / matrix[k, k]
+            for j in range(k + 1, n):
+                matrix[i, j] -= factor * matrix[k, j]
+            vector[i] -= factor * vector[k]
+    for i in range(n - 1, -1, -1):
+        total = vector[i]
+        for j in range(i + 1, n):
+            total -= matrix[i, j] * vector[j]
+        vector[i] = total / matrix[i, i]
+    return True
