@@ -24,14 +24,18 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from lagrangian.analysis.momenta import cyclic_coordinates
+from lagrangian.analysis.momenta import CyclicCoordinate, cyclic_coordinates
 from lagrangian.derive import EquationsOfMotion
 from lagrangian.errors import ExpressionError, Problem, SimulationError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.expressions import parse_expression
 from lagrangian.model.symbols import from_time_functions
+from lagrangian.numerics.cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
 from lagrangian.simulate.trajectory import Trajectory
+
+_CYCLIC: IdentityCache[EquationsOfMotion, tuple[CyclicCoordinate, ...]] = IdentityCache()
+_COMPILED: IdentityCache[EquationsOfMotion, dict[Any, NumericFunction]] = IdentityCache()
 
 #: What ``simulate(..., conserved=...)`` accepts: quantity name -> expression text or SymPy.
 Requested = Mapping[str, Any]
@@ -48,7 +52,7 @@ def conserved_expressions(
     """
     involved = _constrained_symbols(system)
     found: dict[str, sp.Expr] = {}
-    for cyclic in cyclic_coordinates(eom):
+    for cyclic in _cyclic(eom):
         q = cyclic.coordinate
         if not involved & {q, eom.velocities[eom.coordinates.index(q)]}:
             found[f"p_{q.name}"] = cyclic.momentum
@@ -66,13 +70,33 @@ def conserved_expressions(
     return found
 
 
+def _cyclic(eom: EquationsOfMotion) -> tuple[CyclicCoordinate, ...]:
+    """The cyclic coordinates, looked for only when some coordinate is absent from L.
+
+    analysis.cyclic_coordinates also finds a coordinate whose terms in L cancel, at the cost
+    of every Euler-Lagrange step (0.2 s on a 10-link pendulum): too much to pay on every
+    simulation for a case that rare (``analyze`` reports it; name it in ``conserved``)."""
+    used = eom.lagrangian.free_symbols
+    if all(q in used for q in eom.coordinates):
+        return ()
+    return _CYCLIC.get(eom, cyclic_coordinates)
+
+
 def compile_conserved(
     eom: EquationsOfMotion, expressions: Mapping[str, sp.Expr]
 ) -> NumericFunction | None:
     """One NumPy function of (q, q_dot, t, p) returning every quantity (None when there are
-    none)."""
+    none); compiled once per EquationsOfMotion and set of quantities."""
     if not expressions:
         return None
+    cached = _COMPILED.get(eom, lambda _: {})
+    key = tuple((name, sp.srepr(expr)) for name, expr in expressions.items())
+    if key not in cached:
+        cached[key] = _compile(eom, expressions)
+    return cached[key]
+
+
+def _compile(eom: EquationsOfMotion, expressions: Mapping[str, sp.Expr]) -> NumericFunction:
     groups = (list(eom.coordinates), list(eom.velocities), eom.time, list(eom.parameters))
     return NumericFunction(groups, list(expressions.values()), (len(expressions),))
 

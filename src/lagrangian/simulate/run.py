@@ -30,6 +30,7 @@ from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.simulate.compiled_run import check_backend, integrate_compiled
 from lagrangian.simulate.conserved import conserved_expressions, with_conserved
 from lagrangian.simulate.events import EventFunction, EventWatch
+from lagrangian.simulate.gimbal import gimbal_guard
 from lagrangian.simulate.inputs import VARIATIONAL, Inputs, resolve_inputs
 from lagrangian.simulate.rk4 import RK4
 from lagrangian.simulate.stepping import Integration, integrate
@@ -141,6 +142,9 @@ def simulate(
         "dt": dt,
         "max_step": max_step,
     }
+    # Euler angles of 3-D bodies: stop at gimbal lock with the body named (simulate/gimbal.py)
+    guard = gimbal_guard(eom, system, given, fallback_initial, settings, backend)
+    events = (*events, *guard.events)
     if (method if method is not None else settings.get("method")) == VARIATIONAL:
         from lagrangian.simulate.variational import simulate_variational  # imports run
 
@@ -155,7 +159,7 @@ def simulate(
             progress=progress,
             project_initial=project_initial,
         )
-        return with_conserved(trajectory, eom, quantities)
+        return guard.finish(with_conserved(trajectory, eom, quantities), raise_on_failure)
     if system is not None and system.constraints:
         from lagrangian.simulate.constrained_run import simulate_constrained  # imports run
 
@@ -171,7 +175,7 @@ def simulate(
             baumgarte=baumgarte,
             project_initial=project_initial,
         )
-        return with_conserved(trajectory, eom, quantities)
+        return guard.finish(with_conserved(trajectory, eom, quantities), raise_on_failure)
     compiled = compile_equations(eom)
     inputs = resolve_inputs(compiled, given, fallback_initial, settings)
 
@@ -195,7 +199,7 @@ def simulate(
             f"{trajectory.message} Pass raise_on_failure=False to keep the trajectory "
             "computed up to the failure."
         )
-    return with_conserved(trajectory, eom, quantities)
+    return guard.finish(with_conserved(trajectory, eom, quantities), raise_on_failure)
 
 
 def _description(
