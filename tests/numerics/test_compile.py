@@ -205,3 +205,41 @@ def test_nonlinear_first_order_equations_are_refused() -> None:
     )
     with pytest.raises(lg.SimulationError, match=r"first-order coordinates \(y\) are not linear"):
         compile_equations(lg.derive(system))
+
+
+# --- the native (SymEngine LLVM) evaluation against sympy.lambdify ---------------------------
+
+
+def test_native_evaluation_agrees_with_lambdify_even_with_names_like_cse_temporaries() -> None:
+    """SymEngine's CSE calls its temporaries x0, x1, ...: the coordinates x1, y1, x2, y2 of a
+    Cartesian double pendulum were once mistaken for them (a wrong energy); checked against
+    the energy written by hand."""
+    x1, y1, x2, y2, m1, m2, g = sp.symbols("x1 y1 x2 y2 m1 m2 g")
+    system = lg.System(
+        coordinates=[x1, y1, x2, y2],
+        parameters={m1: 1.5, m2: 2.5, g: 9.81},
+        gravity=(0, -g),
+        particles=[lg.Particle("a", m1, (x1, y1)), lg.Particle("b", m2, (x2, y2))],
+    )
+    compiled = compile_equations(lg.derive(system))
+    rng = np.random.default_rng(3)
+    q, q_dot, t = rng.random((7, 4)), rng.random((7, 4)), rng.random(7)
+    p = np.array([1.5, 2.5, 9.81])
+    by_hand = (
+        1.5 * (q_dot[:, 0] ** 2 + q_dot[:, 1] ** 2) / 2
+        + 2.5 * (q_dot[:, 2] ** 2 + q_dot[:, 3] ** 2) / 2
+        + 9.81 * (1.5 * q[:, 1] + 2.5 * q[:, 3])
+    )
+    np.testing.assert_allclose(compiled.energy(q, q_dot, t, p), by_hand, rtol=1e-14)
+    np.testing.assert_allclose(compiled.energy(q[2], q_dot[2], t[2], p), by_hand[2], rtol=1e-14)
+    assert compiled._energy._native is not None
+
+
+def test_functions_symengine_cannot_compile_fall_back_to_lambdify() -> None:
+    from lagrangian.numerics.evaluate import NumericFunction
+
+    x = sp.Symbol("x")
+    function = NumericFunction(([x],), [sp.Heaviside(x) * x, x + 1], (2,))
+    assert function._native is None
+    np.testing.assert_allclose(function([2.0]), [2.0, 3.0])
+    np.testing.assert_allclose(function([[-1.0], [0.0]]), [[0.0, 0.0], [0.0, 1.0]])
