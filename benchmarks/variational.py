@@ -44,7 +44,6 @@ from __future__ import annotations
 
 import argparse
 import datetime
-import importlib.metadata
 import math
 import platform
 import sys
@@ -58,8 +57,10 @@ from scipy.special import ellipk, ellipkinc
 
 HERE = Path(__file__).resolve()
 sys.path.insert(0, str(HERE.parents[1] / "src"))  # benchmark the checkout, installed or not
+sys.path.insert(0, str(HERE.parent))
 
 import lagrangian as lg  # noqa: E402
+from derive import _cpu_model, _version  # noqa: E402  (the house benchmark's machine report)
 from lagrangian.numerics.compile import compile_equations  # noqa: E402
 from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics  # noqa: E402
 from lagrangian.simulate.variational_march import march  # noqa: E402
@@ -342,23 +343,6 @@ def comparisons(rows: list[WorkRow]) -> list[str]:
 
 
 # --------------------------------------------------------------------------- recording
-
-
-def _version(package: str) -> str:
-    try:
-        return importlib.metadata.version(package)
-    except importlib.metadata.PackageNotFoundError:
-        return "not installed"
-
-
-def _cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 def record(text: str) -> None:
