@@ -11,7 +11,14 @@ g*l*m*sin(theta) + l**2*m*theta_ddot
 
 from lagrangian import examples, io, render
 from lagrangian.analysis import analyze
-from lagrangian.derive import CoordinateSteps, EquationsOfMotion, derive, nielsen_equations
+from lagrangian.derive import (
+    CoordinateSteps,
+    EquationsOfMotion,
+    check_newton_euler,
+    derive,
+    newton_euler,
+    nielsen_equations,
+)
 from lagrangian.errors import (
     AnalysisError,
     ConstraintError,
@@ -79,11 +86,13 @@ __all__ = [
     "VoltageSource",
     "acceleration",
     "analyze",
+    "check_newton_euler",
     "coordinates",
     "derive",
     "examples",
     "io",
     "load",
+    "newton_euler",
     "nielsen_equations",
     "render",
     "simulate",

@@ -6,6 +6,7 @@ multipliers or eliminate them, and find the forces they exert (seed 000, seed 00
 - :func:`constrained_equations` — [[M, -A^T], [A, 0]] [q_ddot; lambda] = [forcing; gamma],
   the multipliers, the augmented Lagrangian L + sum lambda_j h_j;
 - :func:`particle_constraint_forces` — the Cartesian constraint force on each particle;
+- :func:`reaction_wrenches` — the constraint wrench on each body in maximal coordinates;
 - :func:`eliminate` — the System in minimal coordinates;
 - :func:`project_state` — a state moved onto the constraints.
 
@@ -30,16 +31,19 @@ from lagrangian.constraints.multipliers import (
     multiplier_symbols,
 )
 from lagrangian.constraints.state import project_state
+from lagrangian.constraints.wrenches import ReactionWrench, reaction_wrenches
 
 __all__ = [
     "ConstrainedEquations",
     "ConstraintClass",
     "ConstraintReport",
     "ParticleCount",
+    "ReactionWrench",
     "classify",
     "constrained_equations",
     "eliminate",
     "multiplier_symbols",
     "particle_constraint_forces",
     "project_state",
+    "reaction_wrenches",
 ]
