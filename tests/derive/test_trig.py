@@ -57,3 +57,12 @@ def test_a_product_whose_step_gives_sin_of_zero() -> None:
     expr = se.sin(a) * se.cos(a) ** 2
     point = {a: 0.7}
     assert math.isclose(_value(fourier_form(expr), point), _value(expr, point))
+
+
+def test_products_of_three_factors_collect_their_equal_angles() -> None:
+    """sin^2(theta) sin(psi) + cos^2(theta) sin(psi) = sin(psi): the product-to-sum steps give
+    angles such as theta - (psi - theta), which must be expanded to meet psi - 2 theta."""
+    theta, psi = se.symbols("theta psi")
+    expr = se.sin(theta) * se.sin(psi) * se.sin(theta) + se.cos(theta) ** 2 * se.sin(psi)
+    assert fourier_form(expr) == se.sin(psi)
+    assert combine_trig(expr) == se.sin(psi)

@@ -41,14 +41,16 @@ def _split(term: Any) -> tuple[Any, list[Any]] | None:
 def _product_to_sum(a: Any, b: Any) -> list[tuple[Any, Any]]:
     """(coefficient, trig) pairs with a*b = sum(coefficient * trig)."""
     x, y = a.args[0], b.args[0]
+    # SymEngine keeps theta - (psi - theta) nested: expanded, equal angles meet and collect
+    difference, total = se.expand(x - y), se.expand(x + y)
     half = se.Rational(1, 2)
     if isinstance(a, se.cos) and isinstance(b, se.cos):
-        return [(half, se.cos(x - y)), (half, se.cos(x + y))]
+        return [(half, se.cos(difference)), (half, se.cos(total))]
     if isinstance(a, se.sin) and isinstance(b, se.sin):
-        return [(half, se.cos(x - y)), (-half, se.cos(x + y))]
-    if isinstance(a, se.cos):
-        x, y = y, x  # now a = sin x, b = cos y
-    return [(half, se.sin(x + y)), (half, se.sin(x - y))]
+        return [(half, se.cos(difference)), (-half, se.cos(total))]
+    if isinstance(a, se.cos):  # sin y cos x = (sin(y + x) + sin(y - x)) / 2
+        return [(half, se.sin(total)), (-half, se.sin(difference))]
+    return [(half, se.sin(total)), (half, se.sin(difference))]
 
 
 def _linearize(trig: list[Any]) -> list[tuple[Any, Any]]:
