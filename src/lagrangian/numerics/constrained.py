@@ -36,6 +36,9 @@ from lagrangian.errors import SimulationError
 from lagrangian.model.constraints import VelocityConstraint
 from lagrangian.numerics.evaluate import NumericFunction
 
+#: Newton steps of :meth:`CompiledConstrained.project` (one or two suffice after a step).
+PROJECTION_ITERATIONS = 20
+
 
 @dataclass(frozen=True)
 class CompiledConstrained:
@@ -71,6 +74,33 @@ class CompiledConstrained:
         """(h, c): position residuals (0 for velocity rows) and velocity residuals A q_dot + b."""
         *_, c, h = self._parts(np.asarray(q, float), np.asarray(qd, float), t, p)
         return h, c
+
+    def project(
+        self, q: np.ndarray, qd: np.ndarray, t: float, p: np.ndarray, tolerance: float = 1e-12
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The nearest state on the constraints (Euclidean coordinate projection).
+
+            q  <- q - A_h^T (A_h A_h^T)^+ h(q)        (Newton, until max |h| <= tolerance)
+            q_dot <- q_dot - A^T (A A^T)^+ (A q_dot + b)
+
+        A_h are the Jacobian rows of the holonomic constraints, A every row at the new q.
+        Raises SimulationError when the Newton iteration does not reach the constraints.
+        """
+        q, qd = np.array(q, dtype=float), np.array(qd, dtype=float)
+        holonomic = np.array(self.holonomic, dtype=bool)
+        for _ in range(PROJECTION_ITERATIONS):
+            *_, a, _, c, h = self._parts(q, qd, t, p)
+            if not np.any(holonomic) or np.max(np.abs(h[holonomic])) <= tolerance:
+                break
+            rows = a[holonomic]
+            q -= rows.T @ np.linalg.lstsq(rows @ rows.T, h[holonomic], rcond=None)[0]
+        else:
+            raise SimulationError(
+                f"Projection onto the constraints did not converge at t = {t:.6g} (largest "
+                f"residual {np.max(np.abs(h)):.3g}): take smaller steps (max_step, rtol)."
+            )
+        qd -= a.T @ np.linalg.lstsq(a @ a.T, c, rcond=None)[0]
+        return q, qd
 
     def accelerations(
         self,

@@ -4,9 +4,12 @@ The state is x = [q; q_dot] of every coordinate; at each evaluation the accelera
 the multipliers solve the augmented system of :mod:`lagrangian.numerics.constrained`, with
 Baumgarte's stabilization when ``baumgarte = (alpha, beta)`` is not (0, 0).  The initial
 state must satisfy the constraints (to 1e-9); ``project_initial=True`` moves it onto them
-with :func:`lagrangian.constraints.project_state`.  Unilateral constraints g >= 0 are
-simulated by :mod:`lagrangian.simulate.unilateral` (active while they push, released when
-their multiplier would pull; a re-contact, an impact, is not modelled and fails the run).
+with :func:`lagrangian.constraints.project_state`.  ``project_steps=True`` moves the state
+back onto the constraints after every step (coordinate projection; explicit Runge–Kutta
+methods), which holds the residuals at the projection's tolerance for any length of run.
+Unilateral constraints g >= 0 are simulated by :mod:`lagrangian.simulate.unilateral` (active
+while they push, released when their multiplier would pull; a re-contact, an impact, is not
+modelled and fails the run).
 
 >>> import lagrangian as lg, sympy as sp
 >>> x, y, m, g = sp.symbols("x y m g")
@@ -44,6 +47,9 @@ from lagrangian.simulate.run import _starter, _trajectory
 from lagrangian.simulate.stepping import integrate
 from lagrangian.simulate.trajectory import Trajectory
 
+#: Methods whose state may be moved between steps (they carry only the last state forward).
+PROJECTABLE = ("RK45", "RK23", "DOP853", "RK4")
+
 #: Largest constraint residual of an initial state accepted as is.
 INITIAL_TOLERANCE = 1e-9
 
@@ -60,6 +66,7 @@ def simulate_constrained(
     progress: Callable[[float], None] | None = None,
     baumgarte: tuple[float, float] = (0.0, 0.0),
     project_initial: bool = False,
+    project_steps: bool = False,
 ) -> Trajectory:
     """The motion of ``system`` (whose unconstrained equations are ``eom``) under its
     constraints; ``given`` holds the arguments of :func:`lagrangian.simulate` as in run.py."""
@@ -72,6 +79,11 @@ def simulate_constrained(
         )
     inputs = resolve_inputs(compiled, given, fallback_initial, settings)
     if any(isinstance(c, Unilateral) for c in system.constraints):
+        if project_steps:
+            raise SimulationError(
+                "project_steps does not apply to unilateral constraints (they are active "
+                "only part of the time); use baumgarte=(alpha, beta)."
+            )
         from lagrangian.simulate.unilateral import simulate_unilateral
 
         trajectory = simulate_unilateral(
@@ -103,9 +115,16 @@ def simulate_constrained(
         return x[:n], x[n:]
 
     watch = EventWatch(events, unpack) if events else None
+    project = _projection(numeric, inputs) if project_steps else None
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         run = integrate(
-            _starter(field, inputs), inputs.t_span[0], inputs.x0, inputs.t_out, watch, progress
+            _starter(field, inputs),
+            inputs.t_span[0],
+            inputs.x0,
+            inputs.t_out,
+            watch,
+            progress,
+            project,
         )
     trajectory = _trajectory(compiled, inputs, run, watch)
     multipliers, residual = _along(numeric, trajectory, p, alpha, beta)
@@ -121,6 +140,25 @@ def simulate_constrained(
             "computed up to the failure."
         )
     return trajectory
+
+
+def _projection(
+    numeric: CompiledConstrained, inputs: Inputs
+) -> Callable[[float, np.ndarray], np.ndarray]:
+    """x -> the nearest state on the constraints, applied after every step (explicit
+    Runge–Kutta methods only: the implicit ones keep a history the projection would bypass)."""
+    if inputs.method not in PROJECTABLE:
+        raise SimulationError(
+            f"project_steps works with the methods {', '.join(PROJECTABLE)}, not "
+            f"{inputs.method}: choose one of them, or baumgarte=(alpha, beta) instead."
+        )
+    n, p = len(numeric.coordinates), inputs.p
+
+    def project(t: float, x: np.ndarray) -> np.ndarray:
+        q, qd = numeric.project(x[:n], x[n:], t, p)
+        return np.concatenate((q, qd))
+
+    return project
 
 
 def _baumgarte(value: Any) -> tuple[float, float]:

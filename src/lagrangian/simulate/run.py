@@ -67,6 +67,7 @@ def simulate(
     project_initial: bool = False,
     backend: str = "numpy",
     conserved: Mapping[str, Any] | None = None,
+    project_steps: bool = False,
 ) -> Trajectory:
     """Integrate the motion of a System (derived here) or of its EquationsOfMotion.
 
@@ -108,6 +109,9 @@ def simulate(
     project_initial:
         With constraints: move an initial state that violates them onto them
         (:func:`lagrangian.constraints.project_state`) instead of raising.
+    project_steps:
+        With holonomic or velocity constraints: project the state back onto them after every
+        step (RK45, RK23, DOP853, RK4), the other drift control besides ``baumgarte``.
     conserved:
         Quantities to follow, by name: expressions (model-file text or SymPy) of the
         coordinates, ``NAME_dot``, the parameters and t.  They join the momenta of the
@@ -174,6 +178,7 @@ def simulate(
             progress=progress,
             baumgarte=baumgarte,
             project_initial=project_initial,
+            project_steps=project_steps,
         )
         return guard.finish(with_conserved(trajectory, eom, quantities), raise_on_failure)
     compiled = compile_equations(eom)

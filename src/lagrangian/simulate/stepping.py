@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.integrate import DenseOutput, OdeSolver
@@ -55,7 +56,9 @@ class _Output:
             self.next = int(np.searchsorted(times, t0, side="right"))
             self.t, self.x = list(times[: self.next]), [x0] * self.next
 
-    def reach(self, t: float, dense: Callable[[], DenseOutput], x: np.ndarray | None) -> None:
+    def reach(
+        self, t: float, dense: Callable[[], Callable[[Any], np.ndarray]], x: np.ndarray | None
+    ) -> None:
         """Record output up to t (``x`` is the state at t when t is a step's end)."""
         if self.times is None:
             self.t.append(t)
@@ -86,11 +89,15 @@ def integrate(
     times: np.ndarray | None = None,
     watch: EventWatch | None = None,
     progress: Callable[[float], None] | None = None,
+    project: Callable[[float, np.ndarray], np.ndarray] | None = None,
 ) -> Integration:
     """Run the solver ``start()`` to its end, a terminal event or a failure.
 
     ``times``: output times (None: every step).  Errors of :data:`FAILURES` raised while
-    stepping become ``failure``; the output holds everything before them.
+    stepping become ``failure``; the output holds everything before them.  ``project``
+    (explicit Runge–Kutta solvers only: they keep no history but the last state and its
+    derivative) moves every accepted step's state, and every output row, onto a manifold
+    (coordinate projection, Hairer, Lubich & Wanner, Geometric Numerical Integration IV.4).
     """
     output = _Output(times, t0, x0)
     events: list[tuple[int, float, np.ndarray]] = []
@@ -108,8 +115,13 @@ def integrate(
             if not np.all(np.isfinite(solver.y)):
                 failure = "The state is no longer finite (the solution blew up)."
                 break
+            if project is not None:
+                solver.y = project(solver.t, solver.y)
+                solver.f = solver.fun(solver.t, solver.y)  # the next step starts from here
             t_reached, x_reached = solver.t, solver.y.copy()
-            dense = _lazy(solver)
+            dense: Callable[[], Callable[[Any], np.ndarray]] = _lazy(solver)
+            if project is not None:
+                dense = _projected(_lazy(solver), project)
             t_stop, x_stop = solver.t, x_reached
             if watch is not None:
                 found, stop = watch.check(t_old, solver.t, solver.y, dense())
@@ -127,6 +139,21 @@ def integrate(
         failure = str(error)
     t, x = output.arrays(len(x0))
     return Integration(t, x, tuple(events), failure, t_reached, x_reached, terminal)
+
+
+def _projected(
+    dense: Callable[[], DenseOutput], project: Callable[[float, np.ndarray], np.ndarray]
+) -> Callable[[], Callable[[Any], np.ndarray]]:
+    """The step's dense output with every interpolated state projected."""
+
+    def evaluate(t: Any) -> np.ndarray:
+        values = dense()(t)
+        if np.ndim(t) == 0:
+            return project(float(t), values)
+        columns = [project(float(s), values[:, i]) for i, s in enumerate(np.atleast_1d(t))]
+        return np.stack(columns, axis=1)
+
+    return lambda: evaluate
 
 
 def _lazy(solver: OdeSolver) -> Callable[[], DenseOutput]:
