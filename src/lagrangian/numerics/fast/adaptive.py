@@ -34,6 +34,7 @@ from lagrangian.numerics.fast.dense import (
     locate_stop,
     put,
     sample,
+    start_output,
 )
 from lagrangian.numerics.fast.outcome import (
     FINISHED,
@@ -228,15 +229,7 @@ def integrate_adaptive(rates, stop, watch, n, size, x0, p, span, t_out, out, con
     F = np.empty((7 if tableau[9] else tableau[5].shape[1], nx))
     work = (np.empty((size, size)), np.empty(size), np.empty(nx), np.empty(nx))
     every = t_out.size == 0
-    times, states = (np.empty(64), np.empty((64, nx))) if every else (t_out, out)
-    rows = 0
-    if every:
-        times[0], rows = t0, 1
-        put(states[0], x0)
-    else:
-        while rows < t_out.size and t_out[rows] <= t0:
-            put(out[rows], x0)
-            rows += 1
+    times, states, rows = start_output(t0, x0, t_out, out)
     t, y, f = t0, x0.copy(), np.empty(nx)
     y_old, y_new = np.empty(nx), np.empty(nx)
     if not rates(t, y, p, work[0], work[1], f):

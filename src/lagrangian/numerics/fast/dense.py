@@ -127,3 +127,21 @@ def put(target, values) -> None:
     """target[:] = values, as a loop (numba compiles slice assignment slowly)."""
     for i in range(values.size):
         target[i] = values[i]
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def start_output(t0, x0, t_out, out):
+    """(times, states, rows) of a run's output before its first step: every step (``t_out``
+    empty: growable arrays holding t0, x0) or the requested times up to t0, filled with x0."""
+    nx = x0.size
+    every = t_out.size == 0
+    times, states = (np.empty(64), np.empty((64, nx))) if every else (t_out, out)
+    rows = 0
+    if every:
+        times[0], rows = t0, 1
+        put(states[0], x0)
+    else:
+        while rows < t_out.size and t_out[rows] <= t0:
+            put(out[rows], x0)
+            rows += 1
+    return times, states, rows

@@ -25,6 +25,7 @@ from lagrangian.numerics.fast.dense import (
     locate_stop,
     put,
     sample,
+    start_output,
 )
 from lagrangian.numerics.fast.outcome import FINISHED, NOT_FINITE, SINGULAR, STOPPED
 
@@ -55,15 +56,7 @@ def integrate_rk4(rates, stop, watch, n, size, x0, p, span, t_out, out, config):
     k, F = np.empty((4, nx)), np.empty((4, nx))
     work = (np.empty((size, size)), np.empty(size), np.empty(nx), np.empty(nx))
     every = t_out.size == 0
-    times, states = (np.empty(64), np.empty((64, nx))) if every else (t_out, out)
-    rows = 0
-    if every:
-        times[0], rows = t0, 1
-        put(states[0], x0)
-    else:
-        while rows < t_out.size and t_out[rows] <= t0:
-            put(out[rows], x0)
-            rows += 1
+    times, states, rows = start_output(t0, x0, t_out, out)
     t, x, x_new = t0, x0.copy(), np.empty(nx)
     if not rates(t, x, p, work[0], work[1], k[0]):
         return times, states, rows, SINGULAR, t, x, t, x
