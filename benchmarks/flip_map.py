@@ -28,7 +28,7 @@ sys.path.insert(0, str(HERE.parents[1] / "src"))  # the checkout, installed or n
 
 import lagrangian as lg  # noqa: E402
 from lagrangian.render.flip_map import flip_map_figure, save_flip_map  # noqa: E402
-from lagrangian.simulate.flip_map import flip_times  # noqa: E402
+from lagrangian.simulation.flip_map import flip_times  # noqa: E402
 
 LENGTH, GRAVITY = 1.0, 9.81
 

@@ -28,7 +28,7 @@ What is measured
 
 How
     The variational integrator runs through ``lg.simulate`` in the drift part and through its
-    stepping loop ``lagrangian.simulate.variational_march.march`` in the work part (so that the
+    stepping loop ``lagrangian.simulation.variational_march.march`` in the work part (so that the
     evaluations are counted; the same code ``simulate`` calls); RK45 and DOP853 run through
     solve_ivp with every accepted step returned. Each case is compiled and warmed up once
     before it is timed. Wall times are single runs on a possibly shared machine.
@@ -63,7 +63,7 @@ import lagrangian as lg  # noqa: E402
 from derive import _cpu_model, _version  # noqa: E402  (the house benchmark's machine report)
 from lagrangian.numerics.compile import compile_equations  # noqa: E402
 from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics  # noqa: E402
-from lagrangian.simulate.variational_march import march  # noqa: E402
+from lagrangian.simulation.variational_march import march  # noqa: E402
 
 RESULTS = HERE.parent / "RESULTS.md"
 BEGIN, END = "<!-- variational.py: begin -->", "<!-- variational.py: end -->"

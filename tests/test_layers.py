@@ -12,11 +12,11 @@ RANKS = {
     "cli": 9,
     "web": 9,
     "sweep": 9,
-    "simulate": 8,
+    "simulation": 8,
     "numerics": 7,
     "analysis": 6,
     "constraints": 6,
-    "derive": 5,
+    "derivation": 5,
     "model": 4,
     "errors": 0,
 }
@@ -28,11 +28,11 @@ ALLOWED_SIDE = {
     "render": {
         "render",
         "model",
-        "derive",
+        "derivation",
         "constraints",
         "analysis",
         "numerics",
-        "simulate",
+        "simulation",
         "errors",
     },
 }
@@ -86,6 +86,6 @@ def test_the_checker_sees_a_violation(tmp_path: Path, monkeypatch) -> None:
     # The check must be able to fail: a model module importing derive is flagged.
     fake = tmp_path / "lagrangian"
     (fake / "model").mkdir(parents=True)
-    (fake / "model" / "bad.py").write_text("from lagrangian.derive import derive\n")
+    (fake / "model" / "bad.py").write_text("from lagrangian.derivation import derive\n")
     monkeypatch.setattr(__import__(__name__), "PACKAGE", fake)
-    assert _violations() == ["model/bad.py: imports lagrangian.derive (model -> derive)"]
+    assert _violations() == ["model/bad.py: imports lagrangian.derivation (model -> derivation)"]

@@ -11,7 +11,7 @@ g*l*m*sin(theta) + l**2*m*theta_ddot
 
 from lagrangian import examples, io, render
 from lagrangian.analysis import analyze
-from lagrangian.derive import (
+from lagrangian.derivation import (
     CoordinateSteps,
     EquationsOfMotion,
     check_newton_euler,
@@ -50,7 +50,7 @@ from lagrangian.model import (
     t,
     velocity,
 )
-from lagrangian.simulate import Batch, Trajectory, simulate, simulate_batch
+from lagrangian.simulation import Batch, Trajectory, simulate, simulate_batch
 
 __version__ = "0.1.0"
 

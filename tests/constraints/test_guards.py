@@ -47,7 +47,7 @@ def test_simulate_enforces_the_constraints_and_simulates_unilateral_ones() -> No
 
 
 def test_the_discrete_action_refuses_a_constrained_system() -> None:
-    from lagrangian.simulate import stationary_path
+    from lagrangian.simulation import stationary_path
 
     with pytest.raises(SimulationError, match="constrained system is not implemented yet"):
         stationary_path(cartesian_pendulum(), [0.6, -0.8], [0.0, -1.0], 1.0)

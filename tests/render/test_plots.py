@@ -18,7 +18,7 @@ from lagrangian.render.plots import (
     plot_time_series,
     save_plots,
 )
-from lagrangian.simulate import Trajectory, simulate
+from lagrangian.simulation import Trajectory, simulate
 
 
 @pytest.fixture(scope="module")

@@ -20,7 +20,7 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 from lagrangian.model.symbols import time_derivative as chain_rule_time_derivative
 
 SMALL = 60  # count_ops up to which sympy.simplify is cheap enough to run

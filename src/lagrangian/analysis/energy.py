@@ -20,7 +20,7 @@ import sympy as sp
 
 from lagrangian.analysis.calculus import depends_on, homogeneous_parts, is_zero, tidy
 from lagrangian.analysis.subject import Subject, equations_of
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 
 
 def energy_function(subject: Subject) -> sp.Expr:

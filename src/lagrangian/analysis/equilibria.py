@@ -41,7 +41,7 @@ from lagrangian.analysis.subject import (
     numeric_values,
     substitutions,
 )
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 
 SYMBOLIC_LIMIT = 400  # count_ops of the static equations beyond which solve is not tried
 UNWIELDY = 80  # count_ops of a root beyond which it is reported as a number

@@ -23,7 +23,7 @@ import sympy as sp
 
 from lagrangian.analysis.calculus import all_zero, depends_on, is_zero, time_derivative
 from lagrangian.analysis.subject import Subject, equations_of
-from lagrangian.derive import EquationsOfMotion, derive
+from lagrangian.derivation import EquationsOfMotion, derive
 from lagrangian.errors import AnalysisError, Problem, raise_if_problems
 from lagrangian.model import System, velocity
 from lagrangian.model.symbols import t

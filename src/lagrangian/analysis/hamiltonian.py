@@ -28,7 +28,7 @@ import sympy as sp
 from lagrangian.analysis.calculus import QUICK, depends_on, tidy
 from lagrangian.analysis.momenta import momentum_symbols
 from lagrangian.analysis.subject import Subject, equations_of, frozen
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 
 

@@ -38,7 +38,7 @@ from lagrangian.analysis.subject import (
     positive_parameters,
     substitutions,
 )
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 
 SYMBOLIC_SIZE = 6  # largest A whose eigenvalues are computed symbolically on request

@@ -36,7 +36,7 @@ from lagrangian.analysis.subject import (
     operating_state,
     substitutions,
 )
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 
 SIMPLE = 30  # count_ops of a symbolic omega^2 or mode-shape entry still worth showing

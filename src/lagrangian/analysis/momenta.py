@@ -18,7 +18,7 @@ import sympy as sp
 
 from lagrangian.analysis.calculus import is_zero
 from lagrangian.analysis.subject import Subject, equations_of
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 
 

@@ -30,7 +30,7 @@ import sympy as sp
 
 from lagrangian.analysis.calculus import is_zero
 from lagrangian.analysis.subject import Subject, Values, equations_of, substitute, substitutions
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 
 DIGITS = 30
 RELATIVE_ZERO = mpmath.mpf("1e-20")  # singular values below this (relative) span the nullspace

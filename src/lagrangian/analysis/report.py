@@ -40,7 +40,7 @@ from lagrangian.analysis.momenta import (
 from lagrangian.analysis.noether import Symmetry, point_symmetries
 from lagrangian.analysis.subject import Subject, Values, equations_of
 from lagrangian.constraints import classify
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import LagrangianError
 from lagrangian.model import System
 

@@ -20,7 +20,7 @@ from collections.abc import Mapping, Sequence
 import sympy as sp
 
 from lagrangian.analysis.subject import assuming_positive, evaluate
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 
 STARTS = 24
 TOLERANCE = 1e-8

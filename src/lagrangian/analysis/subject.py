@@ -1,7 +1,7 @@
 """What every analysis starts from: the equations of motion, parameter values and states.
 
 Each public analysis takes a :class:`~lagrangian.model.System` or its
-:class:`~lagrangian.derive.EquationsOfMotion` (``Subject``); :func:`equations_of` derives
+:class:`~lagrangian.derivation.EquationsOfMotion` (``Subject``); :func:`equations_of` derives
 the former once.  ``parameters`` arguments are substitutions (numbers or expressions, by
 name or symbol) applied before the analysis; the remaining parameters keep their symbols and
 their defaults are used wherever a number is needed.
@@ -20,7 +20,7 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.derive import EquationsOfMotion, derive
+from lagrangian.derivation import EquationsOfMotion, derive
 from lagrangian.errors import AnalysisError, Problem, raise_if_problems
 from lagrangian.model import System
 

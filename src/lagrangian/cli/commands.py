@@ -13,7 +13,7 @@ from lagrangian import examples, render
 from lagrangian.analysis import analyze
 from lagrangian.cli.progress import progress_bar
 from lagrangian.constraints import ConstrainedEquations, constrained_equations
-from lagrangian.derive import derive
+from lagrangian.derivation import derive
 from lagrangian.errors import ModelError, Problem
 from lagrangian.io import load
 from lagrangian.model import System
@@ -22,7 +22,7 @@ from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.animation import animate as write_animation
 from lagrangian.render.json import constrained_document, eom_document
 from lagrangian.render.plots import save_plots
-from lagrangian.simulate import simulate
+from lagrangian.simulation import simulate
 
 EXAMPLE_PREFIX = "examples/"
 

@@ -41,9 +41,9 @@ import sympy as sp
 
 from lagrangian.constraints.dependence import dependence
 from lagrangian.constraints.pfaffian import acceleration_terms, pfaffian_form
-from lagrangian.derive import EquationsOfMotion, derive
-from lagrangian.derive.backend import SympyView, to_backend
-from lagrangian.derive.trig import combine_trig
+from lagrangian.derivation import EquationsOfMotion, derive
+from lagrangian.derivation.backend import SympyView, to_backend
+from lagrangian.derivation.trig import combine_trig
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.constraints import Constraint, VelocityConstraint, statement
@@ -234,7 +234,8 @@ def _inverse_times(mass: sp.MatrixBase, rhs: sp.MatrixBase) -> sp.Matrix:
 
 def _tidy(expr: sp.Expr) -> sp.Expr:
     """One fraction, cancelled, with sin^2 + cos^2 and the like combined in the numerator and
-    the denominator (:func:`lagrangian.derive.trig.combine_trig`); large expressions are left."""
+    the denominator (:func:`lagrangian.derivation.trig.combine_trig`); large expressions are
+    left."""
     if sp.count_ops(expr) > 400:
         return expr
     numerator, denominator = sp.fraction(sp.cancel(expr))

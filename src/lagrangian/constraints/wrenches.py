@@ -10,7 +10,7 @@ body's virtual twist J_b dq is the part of (A^T lambda) . dq on its coordinates,
     J_b^T F_b = (A^T lambda)_b,    F_b = J_b^-T (A^T lambda)_b,
 
 J_b = dV_b/dq_dot the body twist Jacobian on the body's coordinates (square,
-:mod:`lagrangian.derive.body_frames`).  F_b = (f_b, tau_b) is in body axes about the centre of
+:mod:`lagrangian.derivation.body_frames`).  F_b = (f_b, tau_b) is in body axes about the centre of
 mass; in world axes the force is f = R f_b and the moment about the centre tau = R tau_b.  This
 extends :func:`lagrangian.constraints.particle_constraint_forces` (Cartesian particles, where
 J_b = 1) to bodies.
@@ -37,7 +37,7 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.constraints.multipliers import ConstrainedEquations, constrained_equations
-from lagrangian.derive.body_frames import BodyFrame, body_frames
+from lagrangian.derivation.body_frames import BodyFrame, body_frames
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.rotation import evaluate_matrix

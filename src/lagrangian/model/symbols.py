@@ -9,6 +9,7 @@ Users may also write SymPy ``dynamicsymbols`` / ``Function('x')(t)`` with ``.dif
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import Any
 
 import sympy as sp
 
@@ -27,6 +28,19 @@ def velocity(coordinate: sp.Symbol) -> sp.Symbol:
 def acceleration(coordinate: sp.Symbol) -> sp.Symbol:
     """The generalized acceleration symbol of ``coordinate``: ``theta`` -> ``theta_ddot``."""
     return sp.Symbol(coordinate.name + DDOT_SUFFIX)
+
+
+def name_of(key: Any) -> str:
+    """The name a user means by ``key``: a string as it is, a Symbol (or anything with a
+    ``name``) by its name, anything else as text.
+
+    >>> name_of("theta"), name_of(sp.Symbol("theta_dot")), name_of(3)
+    ('theta', 'theta_dot', '3')
+    """
+    if isinstance(key, str):
+        return key
+    name = getattr(key, "name", None)
+    return name if isinstance(name, str) else str(key)
 
 
 def coordinates(names: str | Iterable[str]) -> tuple[sp.Symbol, ...]:

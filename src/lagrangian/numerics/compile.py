@@ -29,7 +29,7 @@ import symengine as se
 import sympy as sp
 from scipy.linalg.lapack import dgesv
 
-from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationError
 from lagrangian.numerics.cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationError
 from lagrangian.numerics.cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction

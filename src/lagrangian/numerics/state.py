@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationError
 
 

@@ -25,7 +25,7 @@ if TYPE_CHECKING:
 def plot_action_variation(
     amplitudes: ArrayLike, actions: ArrayLike, ax: Axes | None = None
 ) -> Axes:
-    """A(eps) - A(0) against eps (the output of :func:`lagrangian.simulate.action_variation`).
+    """A(eps) - A(0) against eps (the output of :func:`lagrangian.simulation.action_variation`).
 
     The action at eps = 0 (or at the smallest |eps|) is subtracted, so that the small
     variation stays visible next to a large action.  Returns the Axes drawn on.

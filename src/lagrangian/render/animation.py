@@ -26,7 +26,7 @@ import sympy as sp
 
 from lagrangian.model import System
 from lagrangian.numerics.points import PointPositions, compile_points
-from lagrangian.simulate.trajectory import Trajectory
+from lagrangian.simulation.trajectory import Trajectory
 
 if TYPE_CHECKING:
     from matplotlib.animation import FuncAnimation

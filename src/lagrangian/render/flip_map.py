@@ -1,7 +1,7 @@
 """The flip-time map of the double pendulum as an image (log-scaled colours).
 
 Each pixel is a start at rest (theta, phi); its colour the time until either arm flips over
-(:func:`lagrangian.simulate.flip_map.flip_times`), on a logarithmic scale, in units of
+(:func:`lagrangian.simulation.flip_map.flip_times`), on a logarithmic scale, in units of
 sqrt(l/g); starts that do not flip within the time span are left white.
 
 >>> import numpy as np

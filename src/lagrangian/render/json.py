@@ -11,7 +11,7 @@ from typing import Any
 import sympy as sp
 
 from lagrangian.constraints import ConstrainedEquations
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 
 
 def expression_string(expr: sp.Basic) -> str:

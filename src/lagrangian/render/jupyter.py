@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from lagrangian.analysis import AnalysisReport
-from lagrangian.derive import CoordinateSteps, EquationsOfMotion
+from lagrangian.derivation import CoordinateSteps, EquationsOfMotion
 from lagrangian.model import System
 from lagrangian.render.analysis_latex import RESULT_TYPES, analysis_latex, result_latex
 from lagrangian.render.latex import (
@@ -24,7 +24,7 @@ from lagrangian.render.latex import (
     system_latex,
 )
 from lagrangian.render.plots import overview_png
-from lagrangian.simulate.trajectory import Trajectory
+from lagrangian.simulation.trajectory import Trajectory
 
 # MathJax 3 and KaTeX refuse align* inside $$...$$ ("erroneous nesting"); aligned works.
 _NESTED = "aligned"

@@ -17,7 +17,7 @@ from collections.abc import Iterable, Sequence
 
 import sympy as sp
 
-from lagrangian.derive import CoordinateSteps, EquationsOfMotion
+from lagrangian.derivation import CoordinateSteps, EquationsOfMotion
 from lagrangian.model import System
 from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, velocity
 from lagrangian.render.rows import Row, energy_rows, step_rows

@@ -14,7 +14,7 @@ from string import ascii_lowercase
 
 import sympy as sp
 
-from lagrangian.derive import EquationsOfMotion
+from lagrangian.derivation import EquationsOfMotion
 from lagrangian.render.rows import Row, step_rows
 
 DOT, DDOT = "&#729;", "&#168;"  # ˙ and ¨ as accents over the coordinate

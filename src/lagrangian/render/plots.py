@@ -7,7 +7,7 @@ every function returns the Axes it drew on.  The energy drift is
     (E(t) - E(t_0)) / |E(t_0)|      (E(t) - E(t_0) when E(t_0) = 0)
 
 >>> import lagrangian as lg
->>> from lagrangian.simulate import simulate
+>>> from lagrangian.simulation import simulate
 >>> trajectory = simulate(lg.examples.simple_pendulum(), t_span=1.0, samples=50)
 >>> plot_phase_portrait(trajectory, "theta").get_xlabel()
 'theta'
@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from lagrangian.simulate.trajectory import Trajectory
+from lagrangian.simulation.trajectory import Trajectory
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

@@ -9,7 +9,7 @@ from enum import Enum
 
 import sympy as sp
 
-from lagrangian.derive import CoordinateSteps, EquationsOfMotion
+from lagrangian.derivation import CoordinateSteps, EquationsOfMotion
 
 
 class Row(Enum):

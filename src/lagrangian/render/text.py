@@ -14,7 +14,7 @@ import re
 
 import sympy as sp
 
-from lagrangian.derive import CoordinateSteps, EquationsOfMotion
+from lagrangian.derivation import CoordinateSteps, EquationsOfMotion
 from lagrangian.render.rows import Row, energy_rows, step_rows
 
 DOT = "\u0307"

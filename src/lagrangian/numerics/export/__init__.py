@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import ModelError
 from lagrangian.numerics.export.c_code import export_c
 from lagrangian.numerics.export.common import sanitize

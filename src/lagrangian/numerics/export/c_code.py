@@ -13,7 +13,7 @@ import re
 import sympy as sp
 from sympy.printing.c import C99CodePrinter, get_math_macros
 
-from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.numerics.export.common import (
     RHS_SUMMARY,
     ExportPlan,

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import sympy as sp
 from sympy.printing.codeprinter import CodePrinter, PrintMethodNotImplementedError
 
-from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import ModelError
 
 #: Formats an array element for the header comments: (array name, 0-based position) -> text.

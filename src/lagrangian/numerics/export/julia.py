@@ -11,7 +11,7 @@ import json
 
 from sympy.printing.julia import JuliaCodePrinter
 
-from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.numerics.export.common import (
     RHS_SUMMARY,
     ExportPlan,

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from sympy.printing.octave import OctaveCodePrinter
 
-from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.numerics.export.common import (
     RHS_SUMMARY,
     ExportPlan,

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from sympy.printing.numpy import NumPyPrinter
 
-from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.numerics.export.common import (
     RHS_SUMMARY,
     ExportPlan,

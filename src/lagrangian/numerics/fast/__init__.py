@@ -26,7 +26,7 @@ import importlib.util
 from dataclasses import dataclass
 from typing import Any
 
-from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationError
 from lagrangian.numerics.cache import IdentityCache
 from lagrangian.numerics.fast.source import RatesSource, rates_source

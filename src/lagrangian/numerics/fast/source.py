@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from lagrangian.derive.eom import EquationsOfMotion
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationError
 from lagrangian.numerics.state import state_equations
 

@@ -1,0 +1,26 @@
+"""The derive layer: Euler–Lagrange equations from a System (matrix form, steps, Nielsen), and
+the Newton–Euler equations of its bodies checked against them."""
+
+from lagrangian.derivation.eom import EquationsOfMotion
+from lagrangian.derivation.lagrange import derive
+from lagrangian.derivation.newton_euler import (
+    BodyEquations,
+    NewtonEuler,
+    NewtonEulerCheck,
+    check_newton_euler,
+    newton_euler,
+)
+from lagrangian.derivation.nielsen import nielsen_equations
+from lagrangian.derivation.steps import CoordinateSteps
+
+__all__ = [
+    "BodyEquations",
+    "CoordinateSteps",
+    "EquationsOfMotion",
+    "NewtonEuler",
+    "NewtonEulerCheck",
+    "check_newton_euler",
+    "derive",
+    "newton_euler",
+    "nielsen_equations",
+]

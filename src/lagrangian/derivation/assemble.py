@@ -1,0 +1,232 @@
+"""Gather a System's contributions into backend expressions: the explicit kinetic energy,
+the inertial points (particles and body centres, with planar bodies' angles), the rotations of
+3-D bodies, V, U, F and the applied generalized forces.
+
+Everything here is a sum of the user's pieces; no equation is formed yet.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import symengine as se
+import sympy as sp
+
+from lagrangian.derivation.backend import Backend, to_backend, vector_to_backend
+from lagrangian.model import (
+    Capacitor,
+    Inductor,
+    MutualInductance,
+    Resistor,
+    System,
+    Torque,
+    VoltageSource,
+)
+from lagrangian.model.rotation import body_angular_velocity, spatial_angular_velocity
+from lagrangian.model.symbols import acceleration, t, velocity
+
+
+@dataclass(frozen=True)
+class InertialPoint:
+    """A point mass (or a body's centre of mass) at ``position``; for a planar body also the
+    inertia and angle (``inertia`` 0 and ``angle`` None for a particle)."""
+
+    mass: Backend
+    position: tuple[Backend, ...]
+    inertia: Backend
+    angle: Backend | None
+
+
+@dataclass(frozen=True)
+class Rotation:
+    """The rotation of a 3-D body: inertia I about its centre in body axes and the body
+    angular velocity omega_b = vee(R^T R_dot) (linear in q_dot), so T_rot = 1/2 omega_b^T I
+    omega_b (seed 003)."""
+
+    inertia: tuple[tuple[Backend, ...], ...]
+    angular_velocity: tuple[Backend, ...]
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """A System in backend form, contributions summed."""
+
+    q: tuple[Backend, ...]
+    q_dot: tuple[Backend, ...]
+    q_ddot: tuple[Backend, ...]
+    t: Backend
+    explicit_kinetic: Backend  # T given as an expression (user T, velocity part of L, inductors)
+    points: tuple[InertialPoint, ...]
+    potential: Backend
+    velocity_potential: Backend
+    dissipation: Backend
+    applied: tuple[Backend, ...]  # generalized forces Q_j not from V, U or F
+    rotations: tuple[Rotation, ...] = ()  # 3-D bodies (their centres are among the points)
+
+    def time_derivative(self, expr: Backend) -> Backend:
+        """d/dt by the chain rule: sum(de/dq q_dot + de/dq_dot q_ddot) + de/dt."""
+        result = expr.diff(self.t)
+        for q, qd, qdd in zip(self.q, self.q_dot, self.q_ddot):
+            result += expr.diff(q) * qd + expr.diff(qd) * qdd
+        return result
+
+    def point_velocity(self, position: tuple[Backend, ...]) -> list[Backend]:
+        return [self.time_derivative(x) for x in position]
+
+
+def _points(system: System) -> dict[str, tuple[Backend, ...]]:
+    return {name: tuple(vector_to_backend(r)) for name, r in system.points().items()}
+
+
+def _resolve(ref: object, points: dict[str, tuple[Backend, ...]]) -> tuple[Backend, ...]:
+    return points[ref] if isinstance(ref, str) else tuple(vector_to_backend(ref))  # type: ignore[arg-type]
+
+
+def _gravity_potential(system: System, points: tuple[InertialPoint, ...]) -> Backend:
+    if system.gravity is None:
+        return se.Integer(0)
+    g = vector_to_backend(system.gravity)
+    return -se.Add(*[p.mass * se.Add(*[gi * xi for gi, xi in zip(g, p.position)]) for p in points])
+
+
+def _spring_potential(system: System, asm_points: dict[str, tuple[Backend, ...]]) -> Backend:
+    total = se.Integer(0)
+    for spring in system.springs:
+        a, b = (_resolve(ref, asm_points) for ref in spring.between)
+        k, rest = to_backend(spring.stiffness), to_backend(spring.rest_length)
+        delta = [xb - xa for xa, xb in zip(a, b)]
+        if len(delta) == 1:
+            total += k * (delta[0] - rest) ** 2 / 2
+        elif rest == 0:
+            total += k * se.Add(*[d**2 for d in delta]) / 2
+        else:
+            total += k * (se.sqrt(se.Add(*[d**2 for d in delta])) - rest) ** 2 / 2
+    return total
+
+
+def _applied_forces(
+    system: System, asm: Assembly, named: dict[str, tuple[Backend, ...]]
+) -> list[Backend]:
+    """Q_j = user Q_j + sum F . dr/dq_j (virtual work) + torques + voltage sources."""
+    n = len(asm.q)
+    applied = [se.Integer(0)] * n
+    torques = [_torque_forces(system, torque) for torque in system.torques]
+    for j, q in enumerate(asm.q):
+        symbol = system.coordinates[j]
+        if symbol in system.generalized_forces:
+            applied[j] += to_backend(system.generalized_forces[symbol])
+        for force in system.forces:
+            r = _resolve(force.at, named)
+            f = vector_to_backend(force.force)
+            applied[j] += se.Add(*[fi * x.diff(q) for fi, x in zip(f, r)])
+        for forces in torques:
+            applied[j] += forces[j]
+        for element in system.circuit:
+            if isinstance(element, VoltageSource) and element.coordinate == symbol:
+                applied[j] += to_backend(element.voltage)
+    return applied
+
+
+def _torque_forces(system: System, torque: Torque) -> list[Backend]:
+    """Q_j of a torque: tau d(angle)/dq_j (planar), tau . d(omega_s)/d(q_dot_j) (3-D body,
+    tau in world axes: the virtual rotation is vee(dR R^T) = sum_j d(omega_s)/d(q_dot_j) dq_j)."""
+    body = next(b for b in system.rigid_bodies if b.name == torque.body)
+    if body.planar:
+        tau, angle = to_backend(torque.torque), to_backend(body.angle)
+        return [tau * angle.diff(to_backend(q)) for q in system.coordinates]
+    omega = spatial_angular_velocity(body.orientation, system.coordinates)
+    return [
+        to_backend(sp.Add(*[tau * w.diff(velocity(q)) for tau, w in zip(torque.torque, omega)]))
+        for q in system.coordinates
+    ]
+
+
+def _rotations(system: System) -> tuple[Rotation, ...]:
+    rotations = []
+    for body in system.rigid_bodies:
+        if body.planar:
+            continue
+        omega = body_angular_velocity(body.orientation, system.coordinates)
+        inertia = tuple(tuple(to_backend(e) for e in row) for row in body.inertia_tensor.tolist())
+        rotations.append(Rotation(inertia, tuple(vector_to_backend(omega))))
+    return tuple(rotations)
+
+
+def _circuit_energies(system: System) -> tuple[Backend, Backend, Backend]:
+    """(magnetic energy, electric energy, resistive dissipation) of the circuit elements."""
+    magnetic, electric, resistive = se.Integer(0), se.Integer(0), se.Integer(0)
+    for e in system.circuit:
+        if isinstance(e, Inductor):
+            magnetic += to_backend(e.inductance) * to_backend(e.current) ** 2 / 2
+        elif isinstance(e, MutualInductance):
+            i_a, i_b = vector_to_backend(e.currents)
+            magnetic += to_backend(e.inductance) * i_a * i_b
+        elif isinstance(e, Capacitor):
+            electric += to_backend(e.charge) ** 2 / (2 * to_backend(e.capacitance))
+        elif isinstance(e, Resistor):
+            resistive += to_backend(e.resistance) * to_backend(e.current) ** 2 / 2
+    return magnetic, electric, resistive
+
+
+def _damper_dissipation(
+    system: System, asm: Assembly, named: dict[str, tuple[Backend, ...]]
+) -> Backend:
+    total = se.Integer(0)
+    for damper in system.dampers:
+        a, b = (_resolve(ref, named) for ref in damper.between)
+        c = to_backend(damper.coefficient)
+        delta = [xb - xa for xa, xb in zip(a, b)]
+        rate = [asm.time_derivative(d) for d in delta]
+        if len(delta) == 1:
+            total += c * rate[0] ** 2 / 2
+        else:  # rate of change of the distance: (delta . delta_dot) / |delta|
+            dot = se.Add(*[d * r for d, r in zip(delta, rate)])
+            total += c * dot**2 / (2 * se.Add(*[d**2 for d in delta]))
+    return total
+
+
+def assemble(system: System) -> Assembly:
+    """The backend form of ``system`` with all contributions summed."""
+    q = tuple(to_backend(s) for s in system.coordinates)
+    q_dot = tuple(to_backend(velocity(s)) for s in system.coordinates)
+    q_ddot = tuple(to_backend(acceleration(s)) for s in system.coordinates)
+    lagrangian = to_backend(system.lagrangian)
+    static_part = lagrangian.subs({v: 0 for v in q_dot})  # L(q, 0, t) acts as -V
+    magnetic, electric, resistive = _circuit_energies(system)
+    points = tuple(
+        InertialPoint(to_backend(p.mass), tuple(vector_to_backend(p.position)), se.Integer(0), None)
+        for p in system.particles
+    ) + tuple(
+        InertialPoint(
+            to_backend(b.mass),
+            tuple(vector_to_backend(b.position)),
+            to_backend(b.inertia) if b.planar else se.Integer(0),
+            to_backend(b.angle) if b.planar else None,
+        )
+        for b in system.rigid_bodies
+    )
+    named = _points(system)
+    base = Assembly(
+        q,
+        q_dot,
+        q_ddot,
+        to_backend(t),
+        explicit_kinetic=to_backend(system.kinetic) + (lagrangian - static_part) + magnetic,
+        points=points,
+        potential=to_backend(system.potential)
+        - static_part
+        + electric
+        + _gravity_potential(system, points)
+        + _spring_potential(system, named),
+        velocity_potential=to_backend(system.velocity_potential),
+        dissipation=to_backend(system.dissipation) + resistive,
+        applied=(),
+        rotations=_rotations(system),
+    )
+    return Assembly(
+        **{
+            **base.__dict__,
+            "dissipation": base.dissipation + _damper_dissipation(system, base, named),
+            "applied": tuple(_applied_forces(system, base, named)),
+        }
+    )

@@ -1,0 +1,170 @@
+"""EquationsOfMotion: the immutable result of :func:`lagrangian.derive`.
+
+Vocabulary (DESIGN.md, seed 001 "matrix form"):
+
+    M(q,t) q_ddot + C(q,q_dot) q_dot + time_terms + G(q) = Q + dissipation_forces
+                                                          + velocity_potential_forces
+    M q_ddot = forcing
+
+and the residual form of every equation, d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q = 0.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+import sympy as sp
+
+from lagrangian.derivation.steps import CoordinateSteps
+from lagrangian.errors import DerivationError
+
+
+@dataclass(frozen=True)
+class EquationsOfMotion:
+    """Euler–Lagrange equations of a System, in residual, matrix and step-by-step form.
+
+    Attributes
+    ----------
+    coordinates, velocities, accelerations:
+        Symbols q, q_dot, q_ddot.
+    mass_matrix:
+        M = d2T/dq_dot dq_dot^T (minus d2U/dq_dot2 when U is quadratic in the velocities).
+    coriolis:
+        The vector C(q, q_dot) q_dot, C from the Christoffel symbols of M
+        (:attr:`coriolis_matrix`, with dM/dt - 2C skew-symmetric).
+    time_terms:
+        What d/dt dT/dq_dot - dT/dq has besides M q_ddot + C q_dot: explicit time dependence
+        (moving constraints) and the parts of T of degree 0 and 1 in the velocities.
+    gravity:
+        G = dV/dq (every potential force, not only gravity).
+    generalized_forces:
+        Applied Q_j (given, from forces at points by virtual work, torques, sources).
+    dissipation_forces:
+        -dF/dq_dot, the forces of the Rayleigh dissipation function.
+    velocity_potential_forces:
+        d/dt dU/dq_dot - dU/dq without its q_ddot part (which is in M).
+    forcing:
+        Q + dissipation_forces + velocity_potential_forces - coriolis - time_terms - gravity.
+    coordinate_orders:
+        2 for a coordinate with inertia, 1 for one with none whose equation holds its velocity
+        (a charge through a resistor only), 0 for an algebraic one.
+    """
+
+    coordinates: tuple[sp.Symbol, ...]
+    velocities: tuple[sp.Symbol, ...]
+    accelerations: tuple[sp.Symbol, ...]
+    parameters: Mapping[sp.Symbol, float | None]
+    time: sp.Symbol
+    mass_matrix: sp.ImmutableMatrix
+    forcing: sp.ImmutableMatrix
+    coordinate_orders: Mapping[sp.Symbol, int]
+    name: str = ""
+    _work: Any = field(default=None, repr=False, compare=False)
+
+    # The other pieces are converted from the backend on first use (they are pure and cached).
+    @cached_property
+    def kinetic_energy(self) -> sp.Expr:
+        """T = 1/2 q_dot^T M q_dot + T1 + T0 (or the general T)."""
+        return self._work.scalar("kinetic_energy")
+
+    @cached_property
+    def potential_energy(self) -> sp.Expr:
+        """V, every potential contribution (given V, gravity, springs, capacitors)."""
+        return self._work.scalar("potential_energy")
+
+    @cached_property
+    def velocity_potential(self) -> sp.Expr:
+        """U(q, q_dot, t), the velocity-dependent potential."""
+        return self._work.scalar("velocity_potential")
+
+    @cached_property
+    def dissipation_function(self) -> sp.Expr:
+        """F, the Rayleigh dissipation function (given F, dampers, resistors)."""
+        return self._work.scalar("dissipation_function")
+
+    @cached_property
+    def coriolis(self) -> sp.ImmutableMatrix:
+        return self._work.vector("coriolis")
+
+    @cached_property
+    def time_terms(self) -> sp.ImmutableMatrix:
+        return self._work.vector("time_terms")
+
+    @cached_property
+    def gravity(self) -> sp.ImmutableMatrix:
+        return self._work.vector("gravity")
+
+    @cached_property
+    def generalized_forces(self) -> sp.ImmutableMatrix:
+        return self._work.vector("generalized_forces")
+
+    @cached_property
+    def dissipation_forces(self) -> sp.ImmutableMatrix:
+        return self._work.vector("dissipation_forces")
+
+    @cached_property
+    def velocity_potential_forces(self) -> sp.ImmutableMatrix:
+        return self._work.vector("velocity_potential_forces")
+
+    @property
+    def lagrangian(self) -> sp.Expr:
+        """L = T - V - U."""
+        return self.kinetic_energy - self.potential_energy - self.velocity_potential
+
+    @property
+    def mass_matrix_is_regular(self) -> bool:
+        """True when every coordinate has inertia and M is generically invertible."""
+        return all(order == 2 for order in self.coordinate_orders.values()) and (
+            self._work is None or self._work.generic_rank == len(self.coordinates)
+        )
+
+    @cached_property
+    def steps(self) -> tuple[CoordinateSteps, ...]:
+        """The derivation for each coordinate, as the notes write it."""
+        return self._work.steps()
+
+    @cached_property
+    def equations(self) -> sp.ImmutableMatrix:
+        """Residuals d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q, each = 0 (from the steps)."""
+        return sp.ImmutableMatrix([s.equation for s in self.steps])
+
+    @cached_property
+    def coriolis_matrix(self) -> sp.ImmutableMatrix:
+        """C with C_jk = sum_l Gamma_jkl q_dot_l, Gamma the Christoffel symbols of M."""
+        return self._work.coriolis_matrix()
+
+    @cached_property
+    def explicit(self) -> dict[sp.Symbol, sp.Expr]:
+        """Solved form: q_ddot for second-order coordinates, q_dot for first-order ones."""
+        return self._work.explicit()
+
+    @property
+    def explicit_accelerations(self) -> sp.ImmutableMatrix:
+        """q_ddot = M^-1 forcing (only when M is regular)."""
+        if not self.mass_matrix_is_regular:
+            raise DerivationError(
+                "The mass matrix is singular, so there are no explicit accelerations: "
+                f"coordinate orders {self.orders_by_name()}. Use .explicit for the solved "
+                "first-order and second-order equations."
+            )
+        return sp.ImmutableMatrix([self.explicit[a] for a in self.accelerations])
+
+    @cached_property
+    def algebraic_equations(self) -> tuple[sp.Expr, ...]:
+        """Equations (= 0) of coordinates with neither inertia nor dissipation."""
+        return tuple(
+            self.forcing[j]
+            for j, q in enumerate(self.coordinates)
+            if self.coordinate_orders[q] == 0
+        )
+
+    def orders_by_name(self) -> dict[str, int]:
+        return {q.name: order for q, order in self.coordinate_orders.items()}
+
+    def __repr__(self) -> str:
+        names = ", ".join(q.name for q in self.coordinates)
+        label = f"{self.name!r}, " if self.name else ""
+        return f"EquationsOfMotion({label}coordinates=({names}))"

@@ -1,0 +1,216 @@
+"""simulate_batch(system, initial, t_span) -> Batch: many initial conditions or parameter sets.
+
+Each initial value and parameter is a number or an array of k values (one per member); all k
+members are integrated in one call, each with its own adaptive steps, so member i equals
+``simulate`` of member i alone.  backend "numpy" vectorizes over the members
+(:mod:`lagrangian.simulation.batch_numpy`); "numba" runs each member through the compiled loop
+(:mod:`lagrangian.numerics.fast`).  A stop condition ``stop_when(t, q, q_dot)`` ends a member
+where it turns negative and records that time (the flip time of a pendulum, a collision...).
+
+>>> import numpy as np, lagrangian as lg
+>>> batch = simulate_batch(lg.examples.simple_pendulum(), {"theta": [0.1, 0.2]}, 1.0,
+...                        parameters={"l": 2.0}, method="DOP853")
+>>> batch.q.shape, batch.status
+((2, 2, 1), ('success', 'success'))
+>>> float(batch.trajectory(1).q[0, 0])
+0.2
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model import System
+from lagrangian.numerics.compile import CompiledEquations, compile_equations
+from lagrangian.numerics.fast.outcome import FINISHED, STOPPED, describe
+from lagrangian.simulation.batch_inputs import BatchInputs, resolve_batch
+from lagrangian.simulation.batch_numpy import BatchSettings, integrate_members
+from lagrangian.simulation.batch_result import Batch
+from lagrangian.simulation.compiled_run import check_backend
+from lagrangian.simulation.progress import progress_bar
+from lagrangian.simulation.run import describe_system
+
+#: g(t, q, q_dot): a member stops where it turns negative.
+StopCondition = Callable[[Any, Any, Any], Any]
+
+
+def simulate_batch(
+    system_or_eom: System | EquationsOfMotion,
+    initial: Mapping[Any, ArrayLike] | None = None,
+    t_span: float | tuple[float, float] | None = None,
+    *,
+    parameters: Mapping[Any, ArrayLike] | None = None,
+    method: str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    samples: int | None = None,
+    t_eval: ArrayLike | None = None,
+    dt: float | None = None,
+    max_step: float = np.inf,
+    stop_when: StopCondition | None = None,
+    backend: str = "numpy",
+    progress: bool | Callable[[float], None] = False,
+    workers: int = 1,
+) -> Batch:
+    """Integrate k members at once: initial values and parameters given as numbers or arrays.
+
+    Parameters
+    ----------
+    initial, parameters:
+        By name or symbol, each a number (every member) or an array of k values; arrays of
+        different lengths are refused.  Unlisted values come from the System and defaults.
+    t_span, method, rtol, atol, dt, max_step:
+        As for :func:`lagrangian.simulation.simulate`; methods RK45, DOP853 and RK4.
+    samples, t_eval:
+        Output times shared by every member; neither: the initial and final times only.
+    stop_when:
+        g(t, q, q_dot); a member stops where g turns negative, its time located on the dense
+        output (``Batch.stop_time``).  backend "numpy" calls it with arrays t (m,), q and
+        q_dot (m, n) of the running members, "numba" compiles it and calls it per member
+        with a float t and 1-d q, q_dot: write it with ``q[..., j]`` to serve both.
+    backend:
+        "numpy" (default) or "numba" (``pip install lagrangian[fast]``).
+    progress:
+        True: a bar on standard error (over time for numpy, over members for numba); or a
+        callback taking the time (numpy) or the number of members done (numba).
+    workers:
+        numba only: threads running chunks of members at once.
+
+    Raises
+    ------
+    SimulationError
+        Bad input, every problem listed, naming the field.
+    """
+    eom, fallback_initial, settings, system = describe_system(system_or_eom)
+    check_backend(backend, method if method is not None else settings.get("method"), system, ())
+    compiled = compile_equations(eom)
+    given = {
+        "initial": initial,
+        "parameters": parameters,
+        "t_span": t_span,
+        "samples": samples,
+        "t_eval": t_eval,
+        "method": method,
+        "rtol": rtol,
+        "atol": atol,
+        "dt": dt,
+        "max_step": max_step,
+    }
+    batch = resolve_batch(compiled, given, fallback_initial, settings)
+    check_backend(backend, batch.inputs.method, None, ())
+    if backend == "numba":
+        out, status, t_final, x_final = _numba_members(eom, batch, stop_when, progress, workers)
+    else:
+        inputs = batch.inputs
+        bar = _bar(progress, *inputs.t_span, "t = ")
+        batch_settings = BatchSettings(
+            inputs.method,
+            inputs.t_span,
+            batch.t_out,
+            inputs.rtol,
+            inputs.atol,
+            inputs.max_step,
+            inputs.dt,
+        )
+        out, status, t_final, x_final = integrate_members(
+            compiled, batch_settings, batch.X0, batch.P, stop_when, bar
+        )
+    return _result(compiled, batch, backend, out, status, t_final, x_final)
+
+
+def _numba_members(
+    eom: EquationsOfMotion,
+    batch: BatchInputs,
+    stop_when: StopCondition | None,
+    progress: bool | Callable[[float], None],
+    workers: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    from lagrangian.numerics.fast import fast_equations
+    from lagrangian.numerics.fast.run import Settings, integrate_batch
+
+    inputs = batch.inputs
+    settings = Settings(
+        inputs.method,
+        inputs.t_span,
+        batch.t_out,
+        inputs.rtol,
+        inputs.atol,
+        inputs.max_step,
+        inputs.dt,
+    )
+    bar = _bar(progress, 0, batch.size, "members ")
+    run = integrate_batch(fast_equations(eom), settings, batch.X0, batch.P, stop_when, bar, workers)
+    return run.x, run.status, run.t_final, run.x_final
+
+
+def _bar(
+    progress: bool | Callable[[float], None], start: float, end: float, label: str
+) -> Callable[[float], None] | None:
+    if callable(progress):
+        return progress
+    return progress_bar(start, end, force=True, label=label) if progress else None
+
+
+def _result(
+    compiled: CompiledEquations,
+    batch: BatchInputs,
+    backend: str,
+    out: np.ndarray,
+    status: np.ndarray,
+    t_final: np.ndarray,
+    x_final: np.ndarray,
+) -> Batch:
+    """The Batch value: velocities and energies of every output row, statuses and messages."""
+    k, n = batch.size, len(compiled.coordinates)
+    T = len(batch.t_out)
+    states = out.reshape(k * T, -1)
+    times = np.tile(batch.t_out, k)
+    P = np.repeat(batch.P, T, axis=0)
+    q, q_dot = _velocities(compiled, times, states, P, n)
+    final_q, final_q_dot = _velocities(compiled, t_final, x_final, batch.P, n)
+    energy = compiled.energy(q, q_dot, times, P) if k * T else np.zeros(0)
+    words = {FINISHED: "success", STOPPED: "stopped"}
+    names = [words.get(int(s), "failed") for s in status]
+    messages = [_message(int(s), float(t)) for s, t in zip(status, t_final)]
+    inputs = batch.inputs
+    return Batch(
+        t=batch.t_out,
+        q=q.reshape(k, T, n),
+        q_dot=q_dot.reshape(k, T, n),
+        energy=np.asarray(energy, dtype=float).reshape(k, T),
+        coordinates=compiled.coordinates,
+        status=tuple(names),
+        message=tuple(messages),
+        final_t=t_final,
+        final_q=final_q,
+        final_q_dot=final_q_dot,
+        final_energy=np.asarray(compiled.energy(final_q, final_q_dot, t_final, batch.P)),
+        initial={name: batch.X0[:, j] for j, name in enumerate(compiled.state_names)},
+        parameters={name: batch.P[:, j] for j, name in enumerate(compiled.parameters)},
+        method=inputs.method,
+        backend=backend,
+    )
+
+
+def _velocities(
+    compiled: CompiledEquations, t: np.ndarray, x: np.ndarray, p: np.ndarray, n: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """q and every q_dot of states x (NaN rows stay NaN)."""
+    q_dot = np.full((len(x), n), np.nan)
+    rows = np.all(np.isfinite(x), axis=1)
+    if np.any(rows):
+        q_dot[rows] = compiled.velocities(t[rows], x[rows], p[rows])
+    return x[:, :n], q_dot
+
+
+def _message(status: int, t: float) -> str:
+    if status == FINISHED:
+        return describe(FINISHED)
+    if status == STOPPED:
+        return f"Stopped by stop_when at t = {t:.6g}."
+    return f"Integration failed at t = {t:.6g}: {describe(status)}"

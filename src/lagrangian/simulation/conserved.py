@@ -1,0 +1,164 @@
+"""Conserved quantities along a trajectory, and how far the integration let them drift.
+
+    p_j = dL/dq_dot_j,    d/dt p_j = dL/dq_j + Q_j - dF/dq_dot_j + sum_k lambda_k dh_k/dq_j,
+
+so the momentum of a cyclic coordinate (:func:`lagrangian.analysis.cyclic_coordinates`) is
+a constant of the motion unless a constraint involves that coordinate.  Those momenta are
+found automatically; any other quantity (a Noether charge, an angular momentum written in
+Cartesian coordinates, a first integral known from the physics) is passed by name as a
+model-file expression or a SymPy expression of the coordinates, ``NAME_dot``, the parameters
+and ``t``.  Each becomes a column of the Trajectory (``Trajectory.conserved``) whose spread is
+in ``Trajectory.drift()``.
+
+>>> import lagrangian as lg
+>>> sorted(conserved_expressions(lg.derive(lg.examples.planet()), None, {}))
+['p_theta']
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from lagrangian.analysis.momenta import CyclicCoordinate, cyclic_coordinates
+from lagrangian.derivation import EquationsOfMotion
+from lagrangian.errors import ExpressionError, Problem, SimulationError, raise_if_problems
+from lagrangian.model import System
+from lagrangian.model.expressions import parse_expression
+from lagrangian.model.symbols import from_time_functions
+from lagrangian.numerics.cache import IdentityCache
+from lagrangian.numerics.evaluate import NumericFunction
+from lagrangian.simulation.trajectory import Trajectory
+
+_CYCLIC: IdentityCache[EquationsOfMotion, tuple[CyclicCoordinate, ...]] = IdentityCache()
+_COMPILED: IdentityCache[EquationsOfMotion, dict[Any, NumericFunction]] = IdentityCache()
+
+#: What ``simulate(..., conserved=...)`` accepts: quantity name -> expression text or SymPy.
+Requested = Mapping[str, Any]
+
+
+def conserved_expressions(
+    eom: EquationsOfMotion, system: System | None, requested: Requested
+) -> dict[str, sp.Expr]:
+    """The momenta of the cyclic coordinates (``p_NAME``) that no constraint involves, then
+    the ``requested`` quantities, by name.
+
+    Raises SimulationError naming every requested quantity that cannot be read or uses a
+    name the system does not have.
+    """
+    involved = _constrained_symbols(system)
+    found: dict[str, sp.Expr] = {}
+    for cyclic in _cyclic(eom):
+        q = cyclic.coordinate
+        if not involved & {q, eom.velocities[eom.coordinates.index(q)]}:
+            found[f"p_{q.name}"] = cyclic.momentum
+    names = _allowed_names(eom)
+    problems: list[Problem] = []
+    for name, value in requested.items():
+        field = f"conserved.{name}"
+        try:
+            found[str(name)] = _expression(value, names, field)
+        except ExpressionError as error:
+            problems.extend(error.problems)
+        except SimulationError as error:
+            problems.append(Problem(field, str(error), "write it with the system's names"))
+    raise_if_problems(problems, "Some conserved quantities cannot be used", SimulationError)
+    return found
+
+
+def _cyclic(eom: EquationsOfMotion) -> tuple[CyclicCoordinate, ...]:
+    """The cyclic coordinates, looked for only when some coordinate is absent from L.
+
+    analysis.cyclic_coordinates also finds a coordinate whose terms in L cancel, at the cost
+    of every Euler-Lagrange step (0.2 s on a 10-link pendulum): too much to pay on every
+    simulation for a case that rare (``analyze`` reports it; name it in ``conserved``)."""
+    used = eom.lagrangian.free_symbols
+    if all(q in used for q in eom.coordinates):
+        return ()
+    return _CYCLIC.get(eom, cyclic_coordinates)
+
+
+def compile_conserved(
+    eom: EquationsOfMotion, expressions: Mapping[str, sp.Expr]
+) -> NumericFunction | None:
+    """One NumPy function of (q, q_dot, t, p) returning every quantity (None when there are
+    none); compiled once per EquationsOfMotion and set of quantities."""
+    if not expressions:
+        return None
+    cached = _COMPILED.get(eom, lambda _: {})
+    key = tuple((name, sp.srepr(expr)) for name, expr in expressions.items())
+    if key not in cached:
+        cached[key] = _compile(eom, expressions)
+    return cached[key]
+
+
+def _compile(eom: EquationsOfMotion, expressions: Mapping[str, sp.Expr]) -> NumericFunction:
+    groups = (list(eom.coordinates), list(eom.velocities), eom.time, list(eom.parameters))
+    return NumericFunction(groups, list(expressions.values()), (len(expressions),))
+
+
+def conserved_columns(
+    function: NumericFunction | None,
+    names: tuple[str, ...],
+    q: np.ndarray,
+    q_dot: np.ndarray,
+    t: np.ndarray,
+    p: np.ndarray,
+) -> dict[str, np.ndarray]:
+    """Each quantity at every row of a trajectory, by name."""
+    if function is None or not names:
+        return {}
+    if len(t) == 0:
+        return {name: np.zeros(0) for name in names}
+    values = function(q, q_dot, t, np.broadcast_to(p, (len(t), len(p))))
+    return {name: values[:, i] for i, name in enumerate(names)}
+
+
+def with_conserved(
+    trajectory: Trajectory, eom: EquationsOfMotion, expressions: Mapping[str, sp.Expr]
+) -> Trajectory:
+    """``trajectory`` with the columns of ``expressions`` (evaluated with its parameters)."""
+    if not expressions:
+        return trajectory
+    p = np.array([trajectory.parameters[s.name] for s in eom.parameters], dtype=float)
+    function = compile_conserved(eom, expressions)
+    columns = conserved_columns(
+        function, tuple(expressions), trajectory.q, trajectory.q_dot, trajectory.t, p
+    )
+    return dataclasses.replace(trajectory, conserved={**trajectory.conserved, **columns})
+
+
+def _constrained_symbols(system: System | None) -> set[sp.Symbol]:
+    """Every symbol a constraint of ``system`` uses (their coordinates' momenta are not
+    conserved: the constraint force acts along them)."""
+    if system is None:
+        return set()
+    used: set[sp.Symbol] = set()
+    for constraint in system.constraints:
+        used |= constraint.expression.free_symbols
+    return used
+
+
+def _allowed_names(eom: EquationsOfMotion) -> dict[str, sp.Basic]:
+    names: dict[str, sp.Basic] = {s.name: s for s in (*eom.coordinates, *eom.velocities)}
+    names.update((s.name, s) for s in eom.parameters)
+    names["t"] = eom.time
+    return names
+
+
+def _expression(value: Any, names: Mapping[str, sp.Basic], field: str) -> sp.Expr:
+    if isinstance(value, (str, int, float)) and not isinstance(value, bool):
+        return parse_expression(value, names, field=field)
+    if not isinstance(value, sp.Expr):
+        raise SimulationError(
+            f"{field} is a {type(value).__name__}; give an expression (text or SymPy)."
+        )
+    expr = sp.sympify(from_time_functions(value))
+    unknown = sorted(s.name for s in expr.free_symbols if names.get(s.name) != s)
+    if unknown:
+        raise SimulationError(f"{field} uses {', '.join(unknown)}, not a name of this system.")
+    return expr

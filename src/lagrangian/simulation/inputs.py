@@ -1,0 +1,260 @@
+"""What simulate is told, checked at the boundary: every problem collected, raised once.
+
+Each setting comes from the argument, else the System (``initial``, ``simulation``), else the
+library default.  Names may be strings or SymPy symbols; unknown names get the closest known
+one as a suggestion.
+
+>>> import lagrangian as lg
+>>> from lagrangian.numerics.compile import compile_equations
+>>> compiled = compile_equations(lg.derive(lg.examples.simple_pendulum()))
+>>> parameter_values(compiled, {"l": 2.0}, [])
+{'m': 1.0, 'g': 9.81, 'l': 2.0}
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from lagrangian.errors import Problem, SimulationError, raise_if_problems
+from lagrangian.numerics.compile import CompiledEquations
+
+#: Every method simulate accepts: SciPy's solve_ivp methods and the fixed-step RK4.
+METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "RK4")
+#: The fixed-step variational integrator (:mod:`lagrangian.simulation.variational`).
+VARIATIONAL = "variational"
+DEFAULTS: dict[str, Any] = {"method": "RK45", "rtol": 1e-8, "atol": 1e-10}
+
+
+@dataclass(frozen=True)
+class Inputs:
+    """Checked inputs of one simulation."""
+
+    parameters: dict[str, float]
+    p: np.ndarray
+    x0: np.ndarray
+    t_span: tuple[float, float]
+    t_out: np.ndarray | None
+    method: str
+    rtol: float
+    atol: float
+    dt: float | None
+    max_step: float
+
+
+def resolve_inputs(
+    compiled: CompiledEquations,
+    given: Mapping[str, Any],
+    fallback_initial: Mapping[Any, float],
+    settings: Mapping[str, Any],
+) -> Inputs:
+    """Check ``given`` (the arguments of simulate) against the system; raise once if wrong.
+
+    ``given`` holds initial, parameters, t_span, samples, t_eval, method, rtol, atol, dt, each
+    possibly None (then ``settings``, the System's simulation settings, or the default), and
+    max_step.
+    """
+    problems: list[Problem] = []
+
+    def setting(name: str) -> Any:
+        value = given.get(name)
+        return value if value is not None else settings.get(name, DEFAULTS.get(name))
+
+    values = parameter_values(compiled, given.get("parameters") or {}, problems)
+    x0 = initial_state(compiled, given.get("initial") or {}, fallback_initial, problems)
+    t_span = time_span(given.get("t_span"), settings.get("t_end"), problems)
+    t_eval = given.get("t_eval")
+    samples = setting("samples") if t_eval is None else given.get("samples")
+    t_out = output_times(t_span, samples, t_eval, problems)
+    method = _method(setting("method"), problems)
+    rtol, atol = (_positive(name, setting(name), problems) for name in ("rtol", "atol"))
+    dt = _step(method, setting("dt"), t_span, t_out, problems)
+    max_step = given.get("max_step", math.inf)
+    if not (isinstance(max_step, (int, float)) and max_step > 0):
+        problems.append(
+            Problem("max_step", f"max_step must be a positive number, not {max_step!r}")
+        )
+        max_step = math.inf
+    raise_if_problems(problems, "Cannot simulate", SimulationError)
+    return Inputs(
+        parameters=values,
+        p=np.array([values[name] for name in compiled.parameters], dtype=float),
+        x0=x0,
+        t_span=t_span,
+        t_out=t_out,
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        dt=dt,
+        max_step=float(max_step),
+    )
+
+
+def parameter_values(
+    compiled: CompiledEquations, given: Mapping[Any, Any], problems: list[Problem]
+) -> dict[str, float]:
+    """Parameter values by name: ``given`` over the defaults; every parameter needs one."""
+    values = dict(zip(compiled.parameters, compiled.defaults))
+    for key, value in given.items():
+        name = _name(key)
+        if name not in values:
+            problems.append(_unknown("parameters", name, "a parameter", compiled.parameters))
+            continue
+        number = _number(f"parameters[{name!r}]", value, problems)
+        values[name] = math.nan if number is None else number  # nan: reported already
+    for name, default in values.items():
+        if default is None:
+            message = f"parameter {name} has no value: pass parameters={{{name!r}: ...}}"
+            problems.append(Problem("parameters", message))
+    return {name: math.nan if value is None else value for name, value in values.items()}
+
+
+def initial_state(
+    compiled: CompiledEquations,
+    given: Mapping[Any, Any],
+    fallback: Mapping[Any, Any],
+    problems: list[Problem],
+) -> np.ndarray:
+    """The state x0 from initial coordinates and velocities (``given`` over ``fallback``).
+
+    Velocities of first-order coordinates are not part of the state and may be omitted.
+    """
+    velocities = tuple(name + "_dot" for name in compiled.coordinates)
+    known = (*compiled.coordinates, *velocities)
+    values: dict[str, float | None] = {_name(k): v for k, v in fallback.items()}
+    for key, value in given.items():
+        name = _name(key)
+        if name not in known:
+            problems.append(_unknown("initial", name, "a coordinate or velocity", known))
+        values[name] = _number(f"initial[{name!r}]", value, problems)
+    missing = [name for name in compiled.state_names if name not in values]
+    for name in missing:
+        kind = "velocity" if name in velocities else "coordinate"
+        problems.append(
+            Problem(
+                "initial",
+                f"no initial value for the {kind} {name}",
+                f"pass initial={{{name!r}: ...}}",
+            )
+        )
+    return np.array([values.get(name) or 0.0 for name in compiled.state_names], dtype=float)
+
+
+def time_span(given: Any, t_end: Any, problems: list[Problem]) -> tuple[float, float]:
+    """(t0, t1) from ``t_span`` (a number T means (0, T)) or the System's ``t_end``."""
+    span = given if given is not None else t_end
+    if span is None:
+        problems.append(
+            Problem(
+                "t_span",
+                "no end time",
+                "pass t_span=T or t_span=(t0, T), or give the System simulation={'t_end': T}",
+            )
+        )
+        return (0.0, 1.0)
+    ends = list(span) if isinstance(span, Iterable) else [0.0, span]
+    numbers = [_number("t_span", value, problems) for value in ends]
+    if len(numbers) != 2 or None in numbers:
+        problems.append(Problem("t_span", f"{span!r} is not T or (t0, T)"))
+        return (0.0, 1.0)
+    t0, t1 = float(numbers[0] or 0.0), float(numbers[1] or 0.0)
+    if not t1 > t0:
+        problems.append(Problem("t_span", f"the end time {t1:g} is not after the start {t0:g}"))
+    return (t0, t1)
+
+
+def output_times(
+    t_span: tuple[float, float], samples: Any, t_eval: Any, problems: list[Problem]
+) -> np.ndarray | None:
+    """Output times: ``samples`` evenly spaced over t_span, or ``t_eval``, or None (every step)."""
+    if samples is not None and t_eval is not None:
+        problems.append(Problem("samples", "both samples and t_eval given", "pass only one"))
+        return None
+    if samples is not None:
+        if not isinstance(samples, (int, np.integer)) or samples < 2:
+            problems.append(Problem("samples", f"{samples!r} is not an integer >= 2"))
+            return None
+        return np.linspace(*t_span, int(samples))
+    if t_eval is not None:
+        times = np.asarray(t_eval, dtype=float).ravel()
+        inside = (times >= t_span[0]) & (times <= t_span[1])
+        if not np.all(inside) or np.any(np.diff(times) <= 0):
+            problems.append(
+                Problem("t_eval", f"the times must increase and lie within t_span {t_span}")
+            )
+        return times
+    return None
+
+
+def _method(method: Any, problems: list[Problem]) -> str:
+    known = (*METHODS, VARIATIONAL)
+    if method in known:
+        return str(method)
+    close = difflib.get_close_matches(str(method).upper(), METHODS, n=1, cutoff=0.4)
+    hint = f"did you mean {close[0]!r}? " if close else ""
+    problems.append(Problem("method", f"unknown method {method!r}", f"{hint}methods: {known}"))
+    return "RK45"
+
+
+def _step(
+    method: str,
+    dt: Any,
+    t_span: tuple[float, float],
+    t_out: np.ndarray | None,
+    problems: list[Problem],
+) -> float | None:
+    """The step of RK4 or the variational integrator: ``dt``, else the spacing of evenly
+    spaced samples."""
+    if method not in ("RK4", VARIATIONAL):
+        if dt is not None:
+            problems.append(
+                Problem(
+                    "dt",
+                    f"dt is the step of the fixed-step RK4, not of {method}",
+                    "use max_step to bound an adaptive method's steps, or method='RK4'",
+                )
+            )
+        return None
+    if dt is not None:
+        return _positive("dt", dt, problems)
+    if t_out is not None and len(t_out) >= 2 and np.allclose(np.diff(t_out), t_out[1] - t_out[0]):
+        return float(t_out[1] - t_out[0])
+    problems.append(
+        Problem("dt", f"the fixed-step method {method} needs a step", "pass dt=... or samples=N")
+    )
+    return None
+
+
+def _positive(name: str, value: Any, problems: list[Problem]) -> float:
+    number = _number(name, value, problems)
+    if number is not None and not number > 0:
+        problems.append(Problem(name, f"{name} must be positive, not {number:g}"))
+    return number or 1.0
+
+
+def _number(field: str, value: Any, problems: list[Problem]) -> float | None:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        problems.append(Problem(field, f"{value!r} is not a number"))
+        return None
+    if not math.isfinite(number):
+        problems.append(Problem(field, f"{value!r} is not a finite number"))
+        return None
+    return number
+
+
+def _unknown(field: str, name: str, kind: str, known: Iterable[str]) -> Problem:
+    close = difflib.get_close_matches(name, list(known), n=1, cutoff=0.5)
+    fix = f"did you mean {close[0]!r}?" if close else f"known names: {', '.join(known)}"
+    return Problem(field, f"{name!r} is not {kind} of this system", fix)
+
+
+def _name(key: Any) -> str:
+    """The name of a key given as a string or a SymPy symbol."""
+    return key if isinstance(key, str) else str(getattr(key, "name", key))

@@ -1,0 +1,276 @@
+"""Trajectory: the immutable result of :func:`lagrangian.simulation.simulate`.
+
+Rows are output times t_i; columns (DESIGN.md, output contract) are ``t``, each coordinate,
+each ``NAME_dot``, the multipliers, ``energy`` = T + V, then the conserved quantities
+(:mod:`lagrangian.simulation.conserved`); the drift report compares the energy and each conserved
+quantity C with its initial value, max_i |C(t_i) - C(t_0)| / |C(t_0)|.
+
+>>> import numpy as np
+>>> trajectory = Trajectory(t=[0.0, 1.0], q=[[1.0], [0.5]], q_dot=[[0.0], [-1.0]],
+...                         coordinates=("x",), energy=[2.0, 2.0])
+>>> trajectory["x_dot"]
+array([ 0., -1.])
+>>> trajectory.drift()["energy_relative"]
+0.0
+"""
+
+from __future__ import annotations
+
+import difflib
+import io
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any, NamedTuple, TextIO
+
+import numpy as np
+
+from lagrangian.errors import SimulationError
+
+DOT = "_dot"
+
+
+class Event(NamedTuple):
+    """An event found during a simulation: its name, time and the state then."""
+
+    name: str
+    t: float
+    state: Mapping[str, float]
+
+
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """Sampled motion of a system.
+
+    Attributes
+    ----------
+    t:
+        Output times, shape (N,).
+    q, q_dot:
+        Coordinates and velocities, shape (N, n), columns in the order of ``coordinates``.
+    coordinates:
+        Coordinate names.
+    energy:
+        E = T + V at each output time, shape (N,).
+    energy_function:
+        h = sum q_dot dL/dq_dot - L when it differs from T + V (it is the conserved one when
+        L has no explicit time), else None.
+    events:
+        Events found, in the order of time.
+    status, message:
+        ``"success"`` or ``"failed"``; what happened (the failure, or a terminal event).
+    method:
+        Integration method used.
+    parameters:
+        Parameter values used, by name.
+    multipliers, multiplier_names:
+        With constraints: the Lagrange multipliers lambda_1, ... at each output time, shape
+        (N, m), and their names; else None and ().
+    constraint_residual:
+        With constraints: max over the constraints of |h| and |A q_dot + b| at each output
+        time, shape (N,); else None.
+    conserved:
+        Constants of the motion at each output time, by name (shape (N,) each): the momenta
+        ``p_NAME`` of cyclic coordinates and any quantity asked for.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    q_dot: np.ndarray
+    coordinates: tuple[str, ...]
+    energy: np.ndarray
+    energy_function: np.ndarray | None = None
+    events: tuple[Event, ...] = ()
+    status: str = "success"
+    message: str = ""
+    method: str = ""
+    parameters: Mapping[str, float] = field(default_factory=dict)
+    multipliers: np.ndarray | None = None
+    multiplier_names: tuple[str, ...] = ()
+    constraint_residual: np.ndarray | None = None
+    conserved: Mapping[str, np.ndarray] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        n = len(self.coordinates)
+        _freeze(self, "t", (-1,))
+        rows = len(self.t)
+        _freeze(self, "q", (rows, n))
+        _freeze(self, "q_dot", (rows, n))
+        _freeze(self, "energy", (rows,))
+        if self.energy_function is not None:
+            _freeze(self, "energy_function", (rows,))
+        object.__setattr__(self, "multiplier_names", tuple(self.multiplier_names))
+        if self.multipliers is not None:
+            _freeze(self, "multipliers", (rows, len(self.multiplier_names)))
+        elif self.multiplier_names:
+            raise SimulationError("Trajectory.multiplier_names are given without multipliers.")
+        if self.constraint_residual is not None:
+            _freeze(self, "constraint_residual", (rows,))
+        object.__setattr__(self, "coordinates", tuple(self.coordinates))
+        object.__setattr__(self, "events", tuple(self.events))
+        object.__setattr__(self, "parameters", MappingProxyType(dict(self.parameters)))
+        object.__setattr__(self, "conserved", MappingProxyType(_frozen_columns(self, rows)))
+
+    @property
+    def success(self) -> bool:
+        return self.status == "success"
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Column names: t, the coordinates, their NAME_dot, the multipliers lambda_j (with
+        constraints), energy (and energy_function), the conserved quantities."""
+        extra = ("energy_function",) if self.energy_function is not None else ()
+        velocities = tuple(name + DOT for name in self.coordinates)
+        return (
+            "t",
+            *self.coordinates,
+            *velocities,
+            *self.multiplier_names,
+            "energy",
+            *extra,
+            *self.conserved,
+        )
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """The column ``name``: ``"t"``, a coordinate, ``NAME_dot``, ``"energy"``."""
+        if name in ("t", "energy") or (name == "energy_function" and name in self.names):
+            return getattr(self, name)
+        if name in self.coordinates:
+            return self.q[:, self.coordinates.index(name)]
+        if name in self.multiplier_names and self.multipliers is not None:
+            return self.multipliers[:, self.multiplier_names.index(name)]
+        if name in self.conserved:
+            return self.conserved[name]
+        if name.endswith(DOT) and name[: -len(DOT)] in self.coordinates:
+            return self.q_dot[:, self.coordinates.index(name[: -len(DOT)])]
+        close = difflib.get_close_matches(name, self.names, n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        raise KeyError(f"No column {name!r} in this trajectory: {hint}columns are {self.names}")
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """Every column by name, in the order of :attr:`names`."""
+        return {name: self[name] for name in self.names}
+
+    def drift(self) -> dict[str, float | None]:
+        """How far the energy strays from its initial value E0 = E(t_0).
+
+        ``energy_absolute`` = max |E - E0|, ``energy_relative`` = that / |E0| (None when
+        E0 = 0 or there are no rows); the same with ``energy_function_`` for h when present,
+        and ``constraint_residual_max`` (max of :attr:`constraint_residual`) with constraints,
+        and ``conserved_NAME_absolute`` / ``_relative`` for each conserved quantity.
+        A dissipative or driven system drifts physically: compare with its power balance.
+        """
+        report = _drift("energy", self.energy)
+        if self.energy_function is not None:
+            report.update(_drift("energy_function", self.energy_function))
+        for name, values in self.conserved.items():
+            report.update(_drift(f"conserved_{name}", values))
+        if self.constraint_residual is not None:
+            residual = self.constraint_residual
+            report["constraint_residual_max"] = float(np.max(residual)) if len(residual) else None
+        return report
+
+    def to_csv(self, destination: str | os.PathLike[str] | TextIO) -> None:
+        """Write the columns of :attr:`names` as CSV (17 significant digits: exact round trip)."""
+        data = np.column_stack(list(self.columns().values())) if len(self.t) else None
+        if isinstance(destination, (str, os.PathLike)):
+            with open(destination, "w", encoding="utf-8", newline="") as stream:
+                _write_csv(stream, self.names, data)
+        else:
+            _write_csv(destination, self.names, data)
+
+    @classmethod
+    def from_csv(cls, source: str | os.PathLike[str] | TextIO) -> Trajectory:
+        """Read a trajectory written by :meth:`to_csv` (arrays only; no events or status)."""
+        if isinstance(source, (str, os.PathLike)):
+            with open(source, encoding="utf-8") as stream:
+                text = stream.read()
+        else:
+            text = source.read()
+        header, *rows = text.splitlines() or [""]
+        names = header.split(",")
+        if names[:1] != ["t"] or "energy" not in names:
+            raise SimulationError(
+                f"Not a trajectory CSV: the header {header!r} must start with t and hold energy."
+            )
+        data = np.zeros((0, len(names)))
+        if any(row.strip() for row in rows):
+            data = np.loadtxt(io.StringIO("\n".join(rows)), delimiter=",", ndmin=2)
+        column = dict(zip(names, data.T))
+        coordinates = tuple(name for name in names[1:] if name + DOT in column)
+        start = 1 + 2 * len(coordinates)
+        multiplier_names = tuple(names[start : names.index("energy")])
+        after = names.index("energy") + 1 + ("energy_function" in column)
+        multipliers = None
+        if multiplier_names:
+            multipliers = np.column_stack([column[name] for name in multiplier_names])
+        return cls(
+            t=column["t"],
+            q=np.column_stack([column[c] for c in coordinates]),
+            q_dot=np.column_stack([column[c + DOT] for c in coordinates]),
+            coordinates=coordinates,
+            energy=column["energy"],
+            energy_function=column.get("energy_function"),
+            multipliers=multipliers,
+            multiplier_names=multiplier_names,
+            conserved={name: column[name] for name in names[after:]},
+        )
+
+    def to_pandas(self) -> Any:
+        """The columns as a pandas DataFrame (needs pandas)."""
+        try:
+            import pandas as pd
+        except ImportError as error:
+            raise ImportError(
+                "Trajectory.to_pandas needs pandas, which is not installed: "
+                "pip install pandas (or use to_csv, columns() or the arrays t, q, q_dot)."
+            ) from error
+        return pd.DataFrame(self.columns())
+
+    def __repr__(self) -> str:
+        span = f"t={self.t[0]:.6g}..{self.t[-1]:.6g}" if len(self.t) else "no rows"
+        return (
+            f"Trajectory({', '.join(self.coordinates)}; {len(self.t)} rows, {span}, "
+            f"{self.method or 'unknown method'}, {self.status})"
+        )
+
+
+def _freeze(trajectory: Trajectory, name: str, shape: tuple[int, ...]) -> None:
+    """Store a read-only float copy of an array field, checking its shape."""
+    array = np.array(getattr(trajectory, name), dtype=float)
+    if len(shape) == 2 and array.size == 0:
+        array = array.reshape(shape)
+    if array.ndim != len(shape) or any(s not in (-1, a) for s, a in zip(shape, array.shape)):
+        raise SimulationError(f"Trajectory.{name} has shape {array.shape}, expected {shape}.")
+    array.setflags(write=False)
+    object.__setattr__(trajectory, name, array)
+
+
+def _frozen_columns(trajectory: Trajectory, rows: int) -> dict[str, np.ndarray]:
+    """Read-only float copies of the conserved-quantity columns, checked to have ``rows``."""
+    columns = {}
+    for name, values in dict(trajectory.conserved).items():
+        array = np.array(values, dtype=float)
+        if array.shape != (rows,):
+            raise SimulationError(
+                f"Trajectory.conserved[{name!r}] has shape {array.shape}, expected ({rows},)."
+            )
+        array.setflags(write=False)
+        columns[str(name)] = array
+    return columns
+
+
+def _drift(prefix: str, values: np.ndarray) -> dict[str, float | None]:
+    if len(values) == 0:
+        return {f"{prefix}_absolute": None, f"{prefix}_relative": None}
+    initial = float(values[0])
+    absolute = float(np.max(np.abs(values - initial)))
+    relative = absolute / abs(initial) if initial != 0 else None
+    return {f"{prefix}_absolute": absolute, f"{prefix}_relative": relative}
+
+
+def _write_csv(stream: TextIO, names: tuple[str, ...], data: np.ndarray | None) -> None:
+    stream.write(",".join(names) + "\n")
+    if data is not None:
+        np.savetxt(stream, data, delimiter=",", fmt="%.17g")
