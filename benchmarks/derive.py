@@ -39,7 +39,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import datetime
-import importlib.metadata
 import json
 import math
 import platform
@@ -52,6 +51,8 @@ import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+
+from machine import cpu_model, package_version
 
 HERE = Path(__file__).resolve()
 SRC = HERE.parents[1] / "src"
@@ -494,30 +495,13 @@ sympy.physics.mechanics KanesMethod and LagrangesMethod (see the docstring of
 """
 
 
-def _version(package: str) -> str:
-    try:
-        return importlib.metadata.version(package)
-    except importlib.metadata.PackageNotFoundError:
-        return "not installed"
-
-
-def _cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
-
-
 def record(text: str) -> None:
     """Append a dated section with the machine description and ``text`` to RESULTS.md."""
     machine = [
         f"- platform: {platform.platform()}",
-        f"- CPU: {_cpu_model()}",
-        f"- python {platform.python_version()}, sympy {_version('sympy')}, "
-        f"symengine {_version('symengine')}",
+        f"- CPU: {cpu_model()}",
+        f"- python {platform.python_version()}, sympy {package_version('sympy')}, "
+        f"symengine {package_version('symengine')}",
     ]
     now = datetime.datetime.now().astimezone().isoformat(timespec="minutes")
     section = "\n".join([f"## {now}", "", *machine, "", text, ""])

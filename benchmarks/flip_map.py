@@ -27,7 +27,7 @@ HERE = Path(__file__).resolve()
 sys.path.insert(0, str(HERE.parents[1] / "src"))  # the checkout, installed or not
 
 import lagrangian as lg  # noqa: E402
-from lagrangian.render.flip_map import flip_map_figure, save_flip_map  # noqa: E402
+from lagrangian.render.flip_map_plot import flip_map_figure, save_flip_map  # noqa: E402
 from lagrangian.simulation.flip_map import flip_times  # noqa: E402
 
 LENGTH, GRAVITY = 1.0, 9.81

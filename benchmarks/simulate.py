@@ -45,7 +45,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve()
 SRC = HERE.parents[1] / "src"
 sys.path.insert(0, str(HERE.parent))
-from derive import _cpu_model, _version  # noqa: E402  (the house benchmark's machine report)
+from machine import cpu_model, package_version  # noqa: E402
 
 RESULTS = HERE.parent / "RESULTS.md"
 LINKS, T_END, TOL = 10, 10.0, 1e-9
@@ -357,10 +357,12 @@ def record(text: str, note: str) -> None:
 
     machine = [
         f"- platform: {platform.platform()}",
-        f"- CPU: {_cpu_model()} ({os.cpu_count()} cores)",
-        f"- python {platform.python_version()}, numpy {_version('numpy')}, scipy "
-        f"{_version('scipy')}, numba {_version('numba')}, pydy {_version('pydy')}, "
-        f"cython {_version('cython')}",
+        f"- CPU: {cpu_model()} ({os.cpu_count()} cores)",
+        f"- python {platform.python_version()}, "
+        + ", ".join(
+            f"{name} {package_version(name)}"
+            for name in ("numpy", "scipy", "numba", "pydy", "cython")
+        ),
     ]
     now = datetime.datetime.now().astimezone().isoformat(timespec="minutes")
     title = f"## Simulation (benchmarks/simulate.py), {now}" + (f" ({note})" if note else "")

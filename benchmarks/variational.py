@@ -60,10 +60,10 @@ sys.path.insert(0, str(HERE.parents[1] / "src"))  # benchmark the checkout, inst
 sys.path.insert(0, str(HERE.parent))
 
 import lagrangian as lg  # noqa: E402
-from derive import _cpu_model, _version  # noqa: E402  (the house benchmark's machine report)
 from lagrangian.numerics.compile import compile_equations  # noqa: E402
 from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics  # noqa: E402
 from lagrangian.simulation.variational_march import march  # noqa: E402
+from machine import cpu_model, package_version  # noqa: E402
 
 RESULTS = HERE.parent / "RESULTS.md"
 BEGIN, END = "<!-- variational.py: begin -->", "<!-- variational.py: end -->"
@@ -357,9 +357,9 @@ def record(text: str) -> None:
             "for what is measured and how.",
             "",
             f"- platform: {platform.platform()}",
-            f"- CPU: {_cpu_model()}",
-            f"- python {platform.python_version()}, numpy {_version('numpy')}, "
-            f"scipy {_version('scipy')}, sympy {_version('sympy')}",
+            f"- CPU: {cpu_model()}",
+            f"- python {platform.python_version()}, numpy {package_version('numpy')}, "
+            f"scipy {package_version('scipy')}, sympy {package_version('sympy')}",
             "",
             text,
             END,

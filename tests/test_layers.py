@@ -1,4 +1,5 @@
-"""The folders are the architecture (DESIGN.md): imports point down the layers only."""
+"""The folders are the architecture (docs/architecture.md): imports point down the layers
+only, and no module reaches into another's private names."""
 
 from __future__ import annotations
 
@@ -78,8 +79,60 @@ def _violations() -> list[str]:
     return problems
 
 
+def _private_imports(package: Path) -> list[str]:
+    """Private names (``_name``, not dunders) one module takes from another: ``from
+    lagrangian.a import _b``, or ``m._b`` after ``import lagrangian.a as m``."""
+    problems = []
+    for path in package.rglob("*.py"):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        aliases = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("lagrangian"):
+                problems.extend(
+                    f"{path.relative_to(package)}: imports {node.module}.{alias.name}"
+                    for alias in node.names
+                    if _private(alias.name)
+                )
+            elif isinstance(node, ast.Import):
+                aliases.update(
+                    alias.asname or alias.name
+                    for alias in node.names
+                    if alias.name.startswith("lagrangian")
+                )
+        for node in ast.walk(tree):
+            if (
+                isinstance(node, ast.Attribute)
+                and _private(node.attr)
+                and ast.unparse(node.value) in aliases
+            ):
+                problems.append(f"{path.relative_to(package)}: uses {ast.unparse(node)}")
+    return problems
+
+
+def _private(name: str) -> bool:
+    return name.startswith("_") and not name.startswith("__")
+
+
 def test_every_import_points_down_the_layers() -> None:
     assert _violations() == []
+
+
+def test_no_module_imports_a_private_name_of_another() -> None:
+    assert _private_imports(PACKAGE) == []
+
+
+def test_the_private_name_check_sees_a_violation(tmp_path: Path) -> None:
+    fake = tmp_path / "lagrangian"
+    (fake / "model").mkdir(parents=True)
+    (fake / "model" / "bad.py").write_text(
+        "import lagrangian.model.symbols as symbols\n"
+        "from lagrangian.model.elements import _vector, as_expression\n"
+        "symbols._time_function_name\n"
+    )
+    assert _private_imports(fake) == [
+        "model/bad.py: imports lagrangian.model.elements._vector",
+        "model/bad.py: uses symbols._time_function_name",
+    ]
 
 
 def test_the_checker_sees_a_violation(tmp_path: Path, monkeypatch) -> None:

@@ -1,24 +1,26 @@
 """lagrangian — analytical mechanics, from energies to motion.
 
 Describe a system by its generalized coordinates, energies, elements and forces; get its
-Euler–Lagrange equations with every step, the matrix form M q_ddot = forcing, and more.
+Euler–Lagrange equations with every step, the matrix form M q_ddot = forcing, its constraints
+classified and enforced, its conserved quantities, equilibria and modes, and its motion.
 
 >>> import lagrangian as lg
 >>> eom = lg.derive(lg.examples.simple_pendulum())
 >>> eom.equations[0]
 g*l*m*sin(theta) + l**2*m*theta_ddot
+>>> lg.classify(lg.examples.spherical_pendulum()).dof
+2
+
+Every name below loads on first use (PEP 562): ``import lagrangian`` itself imports neither
+SymPy nor SciPy, so the command line starts at once.  In IPython or Jupyter,
+``%load_ext lagrangian`` (or ``lg.render.register()``) typesets results as LaTeX.
 """
 
-from lagrangian import examples, io, render
-from lagrangian.analysis import analyze
-from lagrangian.derivation import (
-    CoordinateSteps,
-    EquationsOfMotion,
-    check_newton_euler,
-    derive,
-    newton_euler,
-    nielsen_equations,
-)
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from lagrangian.errors import (
     AnalysisError,
     ConstraintError,
@@ -26,46 +28,178 @@ from lagrangian.errors import (
     ExpressionError,
     LagrangianError,
     ModelError,
+    Problem,
     SimulationError,
+    SimulationInputError,
 )
-from lagrangian.io import load
-from lagrangian.model import (
-    Capacitor,
-    Damper,
-    Force,
-    Holonomic,
-    Inductor,
-    MutualInductance,
-    Particle,
-    Resistor,
-    RigidBody,
-    Spring,
-    System,
-    Torque,
-    Unilateral,
-    VelocityConstraint,
-    VoltageSource,
-    acceleration,
-    coordinates,
-    t,
-    velocity,
+
+if TYPE_CHECKING:
+    from lagrangian import examples, io, render
+    from lagrangian.analysis import AnalysisReport, analyze
+    from lagrangian.constraints import (
+        ConstrainedEquations,
+        ConstraintReport,
+        ReactionWrench,
+        classify,
+        constrained_equations,
+        eliminate,
+        particle_constraint_forces,
+        project_state,
+        reaction_wrenches,
+    )
+    from lagrangian.derivation import (
+        CoordinateSteps,
+        EquationsOfMotion,
+        NewtonEuler,
+        derive,
+        newton_euler,
+        nielsen_equations,
+    )
+    from lagrangian.io import load
+    from lagrangian.model import (
+        Capacitor,
+        Damper,
+        Force,
+        Holonomic,
+        Inductor,
+        MutualInductance,
+        Particle,
+        Resistor,
+        RigidBody,
+        Spring,
+        System,
+        Torque,
+        Unilateral,
+        VelocityConstraint,
+        VoltageSource,
+        acceleration,
+        coordinates,
+        t,
+        velocity,
+    )
+    from lagrangian.simulation import Batch, Event, Trajectory, simulate, simulate_batch
+
+    __version__: str
+
+#: The public package each lazily loaded name comes from (the names the TYPE_CHECKING block
+#: imports, for type checkers).
+_HOMES = {
+    **dict.fromkeys(("AnalysisReport", "analyze"), "lagrangian.analysis"),
+    **dict.fromkeys(
+        (
+            "ConstrainedEquations",
+            "ConstraintReport",
+            "ReactionWrench",
+            "classify",
+            "constrained_equations",
+            "eliminate",
+            "particle_constraint_forces",
+            "project_state",
+            "reaction_wrenches",
+        ),
+        "lagrangian.constraints",
+    ),
+    **dict.fromkeys(
+        (
+            "CoordinateSteps",
+            "EquationsOfMotion",
+            "NewtonEuler",
+            "derive",
+            "newton_euler",
+            "nielsen_equations",
+        ),
+        "lagrangian.derivation",
+    ),
+    "load": "lagrangian.io",
+    **dict.fromkeys(
+        (
+            "Capacitor",
+            "Damper",
+            "Force",
+            "Holonomic",
+            "Inductor",
+            "MutualInductance",
+            "Particle",
+            "Resistor",
+            "RigidBody",
+            "Spring",
+            "System",
+            "Torque",
+            "Unilateral",
+            "VelocityConstraint",
+            "VoltageSource",
+            "acceleration",
+            "coordinates",
+            "t",
+            "velocity",
+        ),
+        "lagrangian.model",
+    ),
+    **dict.fromkeys(
+        ("Batch", "Event", "Trajectory", "simulate", "simulate_batch"), "lagrangian.simulation"
+    ),
+}
+#: Subpackages reachable as attributes (``lg.examples.double_pendulum()``, ``lg.constraints``).
+_SUBPACKAGES = (
+    "analysis",
+    "constraints",
+    "derivation",
+    "examples",
+    "io",
+    "model",
+    "numerics",
+    "render",
+    "simulation",
 )
-from lagrangian.simulation import Batch, Trajectory, simulate, simulate_batch
 
-__version__ = "0.1.0"
 
-if "IPython" in __import__("sys").modules:  # inside IPython/Jupyter: typeset results
-    render.register()
+def __getattr__(name: str) -> Any:
+    if name in _SUBPACKAGES:
+        return importlib.import_module(f"{__name__}.{name}")
+    if name in _HOMES:
+        return getattr(importlib.import_module(_HOMES[name]), name)
+    if name == "__version__":
+        return _installed_version()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted([*__all__, "__version__"])
+
+
+def _installed_version() -> str:
+    """The installed version of lagrangian (package metadata), or ``0+unknown`` when the
+    package runs from a source tree that was never installed."""
+    from importlib.metadata import PackageNotFoundError
+    from importlib.metadata import version as installed_version
+
+    try:
+        return installed_version("lagrangian")
+    except PackageNotFoundError:
+        return "0+unknown"
+
+
+def load_ipython_extension(ipython: Any) -> None:
+    """``%load_ext lagrangian``: typeset equations, steps, systems and analyses as LaTeX and
+    show trajectories as plots in this IPython session (:func:`lagrangian.render.register`)."""
+    from lagrangian.render import register
+
+    register(ipython)
+
 
 __all__ = [
     "AnalysisError",
+    "AnalysisReport",
     "Batch",
     "Capacitor",
+    "ConstrainedEquations",
     "ConstraintError",
+    "ConstraintReport",
     "CoordinateSteps",
     "Damper",
     "DerivationError",
     "EquationsOfMotion",
+    "Event",
     "ExpressionError",
     "Force",
     "Holonomic",
@@ -73,10 +207,14 @@ __all__ = [
     "LagrangianError",
     "ModelError",
     "MutualInductance",
+    "NewtonEuler",
     "Particle",
+    "Problem",
+    "ReactionWrench",
     "Resistor",
     "RigidBody",
     "SimulationError",
+    "SimulationInputError",
     "Spring",
     "System",
     "Torque",
@@ -86,14 +224,19 @@ __all__ = [
     "VoltageSource",
     "acceleration",
     "analyze",
-    "check_newton_euler",
+    "classify",
+    "constrained_equations",
     "coordinates",
     "derive",
+    "eliminate",
     "examples",
     "io",
     "load",
     "newton_euler",
     "nielsen_equations",
+    "particle_constraint_forces",
+    "project_state",
+    "reaction_wrenches",
     "render",
     "simulate",
     "simulate_batch",

@@ -1,15 +1,31 @@
-"""The one error root of lagrangian.
+"""The one error root of lagrangian, and the exit code each error means.
 
 Every error the library raises on purpose is a :class:`LagrangianError`; each subclass also
 inherits the built-in exception a Python user would expect (``ModelError`` is a ``ValueError``),
 so ``except ValueError`` keeps working.  Errors about user input carry every problem found at
 once (``problems``), each naming the field and the fix.
+
+The class decides what the error means to a shell (``exit_code``, as click's
+``ClickException.exit_code``): bad input — every error that is also a ``ValueError`` — is
+:data:`BAD_INPUT` (2) wherever it is found; anything else, a computation that failed, is
+:data:`FAILURE` (1).  The command line prints the message and returns ``error.exit_code``.
+
+>>> ModelError("unknown name 'kk'").exit_code, SimulationError("step size too small").exit_code
+(2, 1)
+>>> isinstance(SimulationInputError("no end time"), (SimulationError, ValueError))
+True
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import ClassVar
+
+#: Exit code of a command that failed: the input was fine, the computation was not.
+FAILURE = 1
+#: Exit code of a command given bad input: a model, a file, an option or a value to fix.
+BAD_INPUT = 2
 
 
 @dataclass(frozen=True)
@@ -38,7 +54,9 @@ class Problem:
 
 
 class LagrangianError(Exception):
-    """Root of every error raised by lagrangian."""
+    """Root of every error raised by lagrangian; ``exit_code`` is what it means to a shell."""
+
+    exit_code: ClassVar[int] = FAILURE
 
     def __init__(self, message: str = "", problems: Iterable[Problem] = ()) -> None:
         self.problems: tuple[Problem, ...] = tuple(problems)
@@ -52,6 +70,8 @@ class LagrangianError(Exception):
 class ModelError(LagrangianError, ValueError):
     """The description of a system is wrong: unknown names, bad shapes, inconsistent pieces."""
 
+    exit_code = BAD_INPUT
+
 
 class ExpressionError(ModelError):
     """An expression could not be parsed or uses something outside the allowed language."""
@@ -64,13 +84,27 @@ class DerivationError(LagrangianError, ArithmeticError):
 class ConstraintError(LagrangianError, ValueError):
     """A constraint is malformed, redundant, inconsistent or violated by the given state."""
 
+    exit_code = BAD_INPUT
+
 
 class AnalysisError(LagrangianError, ValueError):
-    """An analysis cannot be carried out on this system (for example a singular Legendre map)."""
+    """An analysis cannot be carried out on this system (for example a singular Legendre map):
+    the question does not fit the system asked about, so it is bad input."""
+
+    exit_code = BAD_INPUT
 
 
 class SimulationError(LagrangianError, RuntimeError):
-    """Numerical integration failed or was given an incomplete or inconsistent state."""
+    """Numerical integration failed (a step size underflow, a singular mass matrix on the way,
+    a solution that blew up); bad input to a simulation is a :class:`SimulationInputError`."""
+
+
+class SimulationInputError(SimulationError, ValueError):
+    """A simulation was asked wrongly: missing or unknown initial values, a bad time span,
+    method or option, a state it cannot start from.  Also a ``SimulationError``, so
+    ``except SimulationError`` still catches it, and a ``ValueError``, as all bad input."""
+
+    exit_code = BAD_INPUT
 
 
 def raise_if_problems(problems: list[Problem], summary: str, kind: type[LagrangianError]) -> None:

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -10,7 +12,7 @@ import sympy as sp
 
 import lagrangian as lg
 from lagrangian.analysis import cyclic_coordinates
-from lagrangian.cli.main import main
+from lagrangian.cli.main import exit_code, main
 
 EXAMPLES = [n for n in lg.examples.names() if n != "n_link_pendulum"]
 
@@ -42,8 +44,8 @@ def test_every_example_derives_as_json_following_the_contract(
     ):
         assert key in document
     eom = lg.derive(lg.examples.get(name)())
-    # Parseable strings (DESIGN.md); names such as I or LM must be declared as symbols, since
-    # SymPy's own namespace uses them.
+    # Parseable strings (docs/architecture.md); names such as I or LM must be declared as
+    # symbols, since SymPy's own namespace uses them.
     names = [
         *document["coordinates"],
         *document["velocities"],
@@ -285,7 +287,7 @@ def test_constrained_model_derives_with_multipliers(
     assert code == 0 and document["multipliers"] == ["lambda_1"]
     assert document["constraint_jacobian"] == [["2*x", "2*y"]]
     x, lam, m = sp.symbols("x lambda_1 m")
-    # lambda dh/dq is the constraint force (DESIGN.md): m x'' = 2 lambda x
+    # lambda dh/dq is the constraint force (docs/architecture.md): m x'' = 2 lambda x
     first = sp.sympify(document["constrained_equations"][0])
     assert sp.expand(first - (m * sp.Symbol("x_ddot") - 2 * lam * x)) == 0
     code, out, _ = run(capsys, "analyze", str(path))
@@ -293,3 +295,88 @@ def test_constrained_model_derives_with_multipliers(
     code, out, err = run(capsys, "simulate", str(path), "--t-end", "1")
     assert code == 0, err
     assert out.splitlines()[0] == "t,x,y,x_dot,y_dot,lambda_1,energy"
+
+
+def test_version_prints_the_installed_version(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit, match="0"):
+        main(["--version"])
+    assert capsys.readouterr().out == f"lagrangian {lg.__version__}\n"
+
+
+def test_debug_before_the_command_shows_the_traceback(capsys: pytest.CaptureFixture[str]) -> None:
+    code, _, err = run(capsys, "--debug", "derive", "examples/nope")
+    assert code == 2 and "Traceback" in err
+    code, _, err = run(capsys, "--debug", "examples", "nope")
+    assert code == 2 and "Traceback" in err
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        (["--method", "RK99"], "unknown method 'RK99'"),
+        (["--t-end", "-1"], "is not after the start"),
+        (["--set", "theta=0.1", "--rtol", "0"], "rtol must be positive"),
+    ],
+)
+def test_bad_simulate_input_exits_2(
+    capsys: pytest.CaptureFixture[str], options: list[str], message: str
+) -> None:
+    code, _, err = run(capsys, "simulate", "examples/simple_pendulum", *options)
+    assert code == 2 and message in err and "Traceback" not in err
+
+
+RUNAWAY = """\
+coordinates: [x]
+kinetic: "x_dot**2/2"
+potential: "-x**4"
+initial: {x: 1.0, x_dot: 0.0}
+simulate: {t_end: 5.0}
+"""
+
+
+def test_a_failed_integration_exits_1(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
+    path = tmp_path / "runaway.yaml"  # x_ddot = 4 x**3 blows up in finite time
+    path.write_text(RUNAWAY)
+    code, _, err = run(capsys, "simulate", str(path))
+    assert code == 1 and err.startswith("lagrangian: ") and "Traceback" not in err
+
+
+def test_an_output_folder_that_does_not_exist_is_bad_input(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    out = tmp_path / "missing" / "traj.csv"
+    code, _, err = run(capsys, "simulate", "examples/simple_pendulum", "--out", str(out))
+    assert code == 2 and "No such file or directory" in err
+
+
+def test_an_unreadable_model_is_bad_input_and_other_os_errors_fail() -> None:
+    unreadable = PermissionError(13, "Permission denied", "models/spring.yaml")
+    assert exit_code(unreadable, ["./models/spring.yaml"]) == 2
+    assert exit_code(PermissionError(13, "Permission denied", "/var/cache/x"), ["m.yaml"]) == 1
+    assert exit_code(OSError(28, "No space left on device"), ["m.yaml"]) == 1
+
+
+def test_a_bug_is_an_internal_error_exiting_1(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def broken(name: str | None) -> str:
+        raise KeyError("oops")
+
+    monkeypatch.setattr("lagrangian.cli.commands.examples_command", broken)
+    code, _, err = run(capsys, "examples")
+    assert code == 1 and err == "lagrangian: internal error: 'oops'\n"
+
+
+def test_help_and_version_load_neither_sympy_nor_numpy() -> None:
+    code = """
+import json, sys
+from lagrangian.cli.main import main
+for flag in ("--help", "--version"):
+    try:
+        main([flag])
+    except SystemExit:
+        pass
+print(json.dumps([m for m in ("sympy", "numpy", "scipy", "matplotlib") if m in sys.modules]))
+"""
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert json.loads(done.stdout.splitlines()[-1]) == []

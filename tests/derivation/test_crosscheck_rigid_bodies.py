@@ -17,6 +17,7 @@ from test_rigid_body_3d import TIME, assert_same_motion, kanes
 
 import lagrangian as lg
 from lagrangian.constraints import constrained_equations
+from lagrangian.derivation import check_newton_euler
 from lagrangian.model.rotation import evaluate_matrix
 from lagrangian.model.symbols import t
 
@@ -195,5 +196,5 @@ def test_cylinder_on_incline_matches_kanes_method_in_the_rolling_coordinate() ->
     ],
 )
 def test_the_newton_euler_equations_of_each_example_agree_with_euler_lagrange(name: str) -> None:
-    check = lg.check_newton_euler(lg.examples.get(name)())
+    check = check_newton_euler(lg.examples.get(name)())
     assert check.agree, check.summary()

@@ -16,8 +16,10 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.derivation.body_frames import point_wrench, tidy
+from lagrangian.derivation import check_newton_euler
+from lagrangian.derivation.body_frames import point_wrench
 from lagrangian.derivation.newton_euler import compare_residuals
+from lagrangian.derivation.trig import combine_trig_sympy
 from lagrangian.errors import DerivationError
 from lagrangian.model.inertia import cylinder
 from lagrangian.model.rotation import body_angular_velocity, euler_rotation, evaluate_matrix
@@ -30,7 +32,7 @@ f1x, f1y, f2x, f2y = sp.symbols("f1x f1y f2x f2y")
 
 def zero(expr: sp.Expr) -> bool:
     """expr is 0: the numerator over one denominator collects to 0 (Fourier form)."""
-    return tidy(sp.fraction(sp.together(expr))[0]) == 0
+    return combine_trig_sympy(sp.fraction(sp.together(expr))[0]) == 0
 
 
 def zeros(matrix: sp.MatrixBase) -> bool:
@@ -183,13 +185,13 @@ def rod_with_loads() -> lg.System:
 def test_newton_euler_projected_is_euler_lagrange(build, frames) -> None:
     system = build()
     for frame in frames:
-        check = lg.check_newton_euler(system, frame=frame)
+        check = check_newton_euler(system, frame=frame)
         assert check.agree, check.summary()
         assert check.frame == frame and len(check.agrees) == len(system.coordinates)
 
 
 def test_every_row_of_the_top_agrees_symbolically() -> None:
-    check = lg.check_newton_euler(lg.examples.heavy_symmetric_top())
+    check = check_newton_euler(lg.examples.heavy_symmetric_top())
     assert check.methods == ("symbolic",) * 3 and check.difference == sp.zeros(3, 1)
     assert "phi: Euler–Lagrange and Newton–Euler (body frame) agree (symbolic)" in check.summary()
 
@@ -235,7 +237,7 @@ def test_a_3d_body_obeys_newton_and_euler_in_its_own_frame() -> None:
     R, I, m = top.orientation.matrix, top.inertia_tensor, top.mass
     omega = sp.Matrix(body_angular_velocity(top.orientation, q))
     p_dot = sp.Matrix([time_derivative(e, q) for e in top.position])
-    v = (R.T * p_dot).applyfunc(tidy)
+    v = (R.T * p_dot).applyfunc(combine_trig_sympy)
     rate = omega.applyfunc(lambda e: time_derivative(e, q))
     weight = R.T * sp.Matrix([0, 0, -m * sp.Symbol("g")])
     newton = m * (v.applyfunc(lambda e: time_derivative(e, q)) + omega.cross(v)) - weight
@@ -302,7 +304,7 @@ def test_a_potential_and_generalized_forces_on_the_coordinates_are_kept_apart() 
         generalized_forces={phi: Q},
     )
     assert lg.newton_euler(system).generalized_forces == sp.Matrix([Q - k * phi])
-    assert lg.check_newton_euler(system).agree
+    assert check_newton_euler(system).agree
 
 
 def test_an_unknown_body_name_lists_the_bodies() -> None:

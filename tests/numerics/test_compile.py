@@ -12,7 +12,8 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.numerics.cache import IdentityCache
+from lagrangian.derivation import forget_derivations
+from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.compile import compile_equations
 
 RNG = np.random.default_rng(6)
@@ -128,13 +129,15 @@ def test_parameters_are_arguments_not_recompiled() -> None:
 
 
 def test_compilation_is_cached_per_equations_object_and_released_with_it() -> None:
-    eom = lg.derive(lg.examples.simple_pendulum())
-    other = lg.derive(lg.examples.simple_pendulum())
+    # Two equal Systems that are distinct objects: derive caches per System object.
+    eom = lg.derive(lg.examples.simple_pendulum().replace())
+    other = lg.derive(lg.examples.simple_pendulum().replace())
     compiled = compile_equations(eom)
     assert compile_equations(eom) is compiled
     assert compile_equations(other) is not compiled
     alive = weakref.ref(eom)
     del eom
+    forget_derivations()  # derive's own cache of recent Systems holds them strongly
     gc.collect()
     assert alive() is None  # the cache does not keep the equations alive
 

@@ -11,8 +11,8 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 import lagrangian as lg
-from lagrangian.numerics import fast
 from lagrangian.numerics.compile import compile_equations
+from lagrangian.numerics.fast import compiled_rates as fast
 from lagrangian.numerics.fast.source import rates_source
 
 SPRING = {"x": 0.1, "x_dot": 0.0}

@@ -1,4 +1,5 @@
-"""The analysis layer: what the equations of motion mean (DESIGN.md, seed notes 000 and 002).
+"""The analysis layer: what the equations of motion mean (docs/architecture.md, seed notes 000
+and 002).
 
 Conjugate momenta and cyclic coordinates, the energy function and when it is conserved or
 equals T + V, the Hamiltonian and Hamilton's equations, equilibria and their stability,

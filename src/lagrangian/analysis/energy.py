@@ -14,13 +14,15 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.analysis.calculus import depends_on, homogeneous_parts, is_zero, tidy
-from lagrangian.analysis.subject import Subject, equations_of
+from lagrangian.analysis.arguments import Subject, equations_of
+from lagrangian.analysis.simplification import simplify_small
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model.probe import depends_on, is_zero
 
 
 def energy_function(subject: Subject) -> sp.Expr:
@@ -34,6 +36,26 @@ def energy_function(subject: Subject) -> sp.Expr:
     momenta = [s.dL_dvelocity for s in eom.steps]
     h = sum((v * p for v, p in zip(eom.velocities, momenta)), sp.Integer(0)) - eom.lagrangian
     return sp.expand(h)
+
+
+def homogeneous_parts(expr: sp.Expr, velocities: Sequence[sp.Symbol]) -> dict[int, sp.Expr] | None:
+    """``expr`` split by total degree in the velocities, {2: T2, 1: T1, 0: T0}; None when it
+    is not a polynomial in them."""
+    expr = sp.expand(expr)
+    if not depends_on(expr, velocities):
+        return {0: expr} if expr != 0 else {}
+    try:
+        poly = sp.Poly(expr, *velocities)
+    except sp.PolynomialError:
+        return None
+    if any(depends_on(c, velocities) for c in poly.coeffs()):
+        return None
+    parts: dict[int, sp.Expr] = {}
+    for monomial, coefficient in poly.terms():
+        degree = sum(monomial)
+        term = coefficient * sp.Mul(*[v**k for v, k in zip(velocities, monomial)])
+        parts[degree] = parts.get(degree, sp.Integer(0)) + term
+    return {d: p for d, p in parts.items() if p != 0}
 
 
 @dataclass(frozen=True)
@@ -58,7 +80,7 @@ def _power_terms(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str]]:
     reasons = []
     explicit = eom.lagrangian.diff(eom.time)
     if not is_zero(explicit):
-        reasons.append(f"L depends explicitly on t (dL/dt|explicit = {tidy(explicit)})")
+        reasons.append(f"L depends explicitly on t (dL/dt|explicit = {simplify_small(explicit)})")
     friction = sum((-v * f for v, f in zip(eom.velocities, eom.dissipation_forces)), sp.Integer(0))
     if not is_zero(friction):
         f = eom.dissipation_function
@@ -98,7 +120,7 @@ def _total_energy_reason(eom: EquationsOfMotion, equal: bool) -> str:
             f"T has terms of degree {degrees} in the velocities (not a quadratic form), "
             "so h is not T + V"
         )
-    causes = [f"degree {d} (T{d} = {tidy(t_parts[d])})" for d in (0, 1) if d in t_parts]
+    causes = [f"degree {d} (T{d} = {simplify_small(t_parts[d])})" for d in (0, 1) if d in t_parts]
     if causes:
         return (
             "T has terms of " + " and ".join(causes) + " in the velocities (the coordinates "

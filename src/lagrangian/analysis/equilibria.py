@@ -22,16 +22,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.analysis.calculus import depends_on, is_zero, tidy_matrix
-from lagrangian.analysis.roots import (
-    branch_condition,
-    mixes_functions,
-    normalize_angles,
-    numeric_roots,
-    periodic_coordinates,
-)
-from lagrangian.analysis.stability import classify, stiffness_matrix, sylvester_condition
-from lagrangian.analysis.subject import (
+from lagrangian.analysis.arguments import (
     Subject,
     Values,
     assuming_positive,
@@ -41,7 +32,17 @@ from lagrangian.analysis.subject import (
     numeric_values,
     substitutions,
 )
+from lagrangian.analysis.roots import (
+    branch_condition,
+    mixes_functions,
+    normalize_angles,
+    numeric_roots,
+    periodic_coordinates,
+)
+from lagrangian.analysis.simplification import simplify_small_matrix
+from lagrangian.analysis.stability import stability_of, stiffness_matrix, sylvester_condition
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model.probe import depends_on, is_zero
 
 SYMBOLIC_LIMIT = 400  # count_ops of the static equations beyond which solve is not tried
 UNWIELDY = 80  # count_ops of a root beyond which it is reported as a number
@@ -116,7 +117,7 @@ def _stability(
 ) -> tuple[bool | None, str, sp.ImmutableMatrix, sp.Basic | None]:
     static = static_forces(eom, subs)
     point = {**state, **{v: 0 for v in eom.velocities}}
-    stiffness = tidy_matrix(stiffness_matrix(static, eom.coordinates).xreplace(point))
+    stiffness = simplify_small_matrix(stiffness_matrix(static, eom.coordinates).xreplace(point))
     kept = [j for j, q in enumerate(eom.coordinates) if q not in free]
     reduced = stiffness.extract(kept, kept)
     condition = None
@@ -133,7 +134,7 @@ def _stability(
     gyroscopic = evaluate(velocity_jacobian.extract(kept, kept), numbers)
     if gyroscopic.free_symbols:
         gyroscopic = None
-    stable, reason = classify(numeric, gyroscopic, [q.name for q in free])
+    stable, reason = stability_of(numeric, gyroscopic, [q.name for q in free])
     return stable, reason, stiffness, condition
 
 

@@ -21,12 +21,12 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.analysis.calculus import all_zero, depends_on, is_zero, time_derivative
-from lagrangian.analysis.subject import Subject, equations_of
+from lagrangian.analysis.arguments import Subject, equations_of
 from lagrangian.derivation import EquationsOfMotion, derive
 from lagrangian.errors import AnalysisError, Problem, raise_if_problems
 from lagrangian.model import System, velocity
-from lagrangian.model.symbols import t
+from lagrangian.model.probe import all_zero, depends_on, is_zero
+from lagrangian.model.symbols import name_of, t, time_derivative
 
 
 @dataclass(frozen=True)
@@ -44,7 +44,7 @@ def _euler_lagrange(expr: sp.Expr, eom: EquationsOfMotion) -> sp.Matrix:
     """d/dt d(expr)/dq_dot - d(expr)/dq for every coordinate."""
     return sp.Matrix(
         [
-            time_derivative(expr.diff(v), eom) - expr.diff(q)
+            time_derivative(expr.diff(v), eom.coordinates) - expr.diff(q)
             for q, v in zip(eom.coordinates, eom.velocities)
         ]
     )
@@ -63,7 +63,7 @@ def equivalent_under_total_derivative(subject: Subject, gauge: Any) -> TotalDeri
             f"F = {f} depends on velocities: L + dF/dt would contain accelerations. "
             "Give F as a function of the coordinates and t only."
         )
-    added = time_derivative(f, eom)
+    added = time_derivative(f, eom.coordinates)
     if isinstance(subject, System):
         other = derive(subject.replace(lagrangian=subject.lagrangian + added))
         difference = sp.Matrix(other.equations) - sp.Matrix(eom.equations)
@@ -82,8 +82,8 @@ def equivalent_under_total_derivative(subject: Subject, gauge: Any) -> TotalDeri
 
 
 def _plain(symbol: Any) -> sp.Symbol:
-    name = symbol.name if isinstance(symbol, sp.Symbol) else str(symbol)
-    return sp.Symbol(name)
+    """The symbol of the same name, without assumptions (``s`` for a positive ``s``)."""
+    return sp.Symbol(name_of(symbol))
 
 
 def _validate(eom, mapping, new) -> dict[sp.Symbol, sp.Expr]:
@@ -92,7 +92,7 @@ def _validate(eom, mapping, new) -> dict[sp.Symbol, sp.Expr]:
     allowed = {*new, *eom.parameters, t}
     problems, resolved = [], {}
     for key, value in mapping.items():
-        name = key.name if isinstance(key, sp.Symbol) else str(key)
+        name = name_of(key)
         expr = sp.sympify(value)
         if name not in by_name:
             problems.append(Problem(f"mapping.{name}", "is not a coordinate", "map each old one"))

@@ -25,11 +25,12 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.analysis.calculus import QUICK, depends_on, tidy
+from lagrangian.analysis.arguments import Subject, equations_of, frozen
 from lagrangian.analysis.momenta import momentum_symbols
-from lagrangian.analysis.subject import Subject, equations_of, frozen
+from lagrangian.analysis.simplification import QUICK, simplify_small
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
+from lagrangian.model.probe import DIGITS, SEED, depends_on, generic_rank, random_values
 
 
 @dataclass(frozen=True)
@@ -58,17 +59,9 @@ def velocity_hessian(eom: EquationsOfMotion) -> sp.ImmutableMatrix:
     return sp.ImmutableMatrix(sp.hessian(eom.lagrangian, eom.velocities))
 
 
-def _generic_rank(matrix: sp.MatrixBase) -> int:
-    """Rank at a random point (every symbol drawn in (0.5, 1.5)), at 30 digits."""
-    rng = random.Random(4242)
-    values = {s: sp.Float(rng.uniform(0.5, 1.5), 30) for s in matrix.free_symbols}
-    numeric = matrix.xreplace(values).evalf(30)
-    return int(numeric.rank(iszerofunc=lambda x: abs(x) < 1e-20))
-
-
 def _refuse_singular(eom: EquationsOfMotion, hessian: sp.MatrixBase) -> None:
     n = len(eom.coordinates)
-    rank = _generic_rank(hessian)
+    rank = generic_rank(hessian)
     if rank == n:
         return
     idle = [q.name for j, q in enumerate(eom.coordinates) if all(e == 0 for e in hessian.row(j))]
@@ -107,8 +100,9 @@ def _legendre_quadratic(eom: EquationsOfMotion, w: sp.MatrixBase, p: tuple[sp.Sy
 
 
 def _sample_point(symbols: set[sp.Symbol]) -> dict[sp.Symbol, sp.Float]:
-    rng = random.Random(99)
-    return {s: sp.Float(rng.uniform(0.5, 1.5), 30) for s in symbols}
+    """A generic point (positive values, so the real branch near positive velocities)."""
+    values = random_values(symbols, random.Random(SEED))
+    return {s: sp.Float(v, DIGITS) for s, v in values.items()}
 
 
 def _general(eom: EquationsOfMotion, p: tuple[sp.Symbol, ...]):
@@ -124,13 +118,13 @@ def _general(eom: EquationsOfMotion, p: tuple[sp.Symbol, ...]):
         ) from error
     symbols = set().union(*[m.free_symbols for m in momenta]) | set(eom.velocities)
     sample = _sample_point(symbols)
-    p_sample = {pj: mj.xreplace(sample).evalf(30) for pj, mj in zip(p, momenta)}
+    p_sample = {pj: mj.xreplace(sample).evalf(DIGITS) for pj, mj in zip(p, momenta)}
     good = []
     for branch in branches:
         if len(branch) < len(p):
             continue
         back = [(branch[v].xreplace(sample).xreplace(p_sample) - sample[v]) for v in branch]
-        if all(abs(complex(e.evalf(30))) < 1e-12 for e in back):
+        if all(abs(complex(e.evalf(DIGITS))) < 1e-12 for e in back):
             good.append(branch)
     if not good:
         raise AnalysisError("The Legendre map p = dL/dq_dot has no inverse SymPy could find.")
@@ -182,8 +176,8 @@ def hamilton_equations(subject: Subject, legendre: Hamiltonian | None = None) ->
         (q_force + friction).xreplace(velocities)
         for q_force, friction in zip(eom.generalized_forces, eom.dissipation_forces)
     ]
-    rates = [tidy(h.diff(pj), QUICK) for pj in legendre.momenta]
-    p_rates = [tidy(-h.diff(q) + f, QUICK) for q, f in zip(eom.coordinates, forces)]
+    rates = [simplify_small(h.diff(pj), QUICK) for pj in legendre.momenta]
+    p_rates = [simplify_small(-h.diff(q) + f, QUICK) for q, f in zip(eom.coordinates, forces)]
     return HamiltonEquations(
         coordinates=legendre.coordinates,
         momenta=legendre.momenta,

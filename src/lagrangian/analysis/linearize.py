@@ -25,9 +25,7 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.analysis.calculus import QUICK, depends_on, is_zero, tidy, tidy_matrix
-from lagrangian.analysis.spectrum import eigenvalues, frequencies, growth_rates
-from lagrangian.analysis.subject import (
+from lagrangian.analysis.arguments import (
     Subject,
     Values,
     equations_of,
@@ -38,8 +36,12 @@ from lagrangian.analysis.subject import (
     positive_parameters,
     substitutions,
 )
+from lagrangian.analysis.simplification import QUICK, simplify_small, simplify_small_matrix
+from lagrangian.analysis.spectrum import eigenvalues, frequencies, growth_rates
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
+from lagrangian.model.probe import depends_on, is_zero
+from lagrangian.model.symbols import name_of
 
 SYMBOLIC_SIZE = 6  # largest A whose eigenvalues are computed symbolically on request
 
@@ -62,7 +64,7 @@ class Linearization:
 
 def _inputs(eom: EquationsOfMotion, inputs: Sequence[Any]) -> tuple[sp.Symbol, ...]:
     by_name = {p.name: p for p in eom.parameters}
-    names = [u.name if isinstance(u, sp.Symbol) else str(u) for u in inputs]
+    names = [name_of(u) for u in inputs]
     unknown = [n for n in names if n not in by_name]
     if unknown:
         raise AnalysisError(
@@ -92,7 +94,9 @@ def _at_rest(acc0: sp.MatrixBase, numbers: Mapping[sp.Symbol, sp.Expr]) -> bool:
 def _solution_note(eom, m, f, state, acc0, numbers) -> tuple[bool, list[str]]:
     notes = []
     if not _at_rest(acc0, numbers):
-        values = ", ".join(f"{a.name} = {tidy(v)}" for a, v in zip(eom.accelerations, acc0))
+        values = ", ".join(
+            f"{a.name} = {simplify_small(v)}" for a, v in zip(eom.accelerations, acc0)
+        )
         notes.append(f"not a solution: at this state {values} (linearized at this instant)")
     moving = [q for q, v in zip(eom.coordinates, eom.velocities) if not is_zero(state[v])]
     drifting = [q.name for q in moving if depends_on(m, [q]) or depends_on(f, [q])]
@@ -122,12 +126,14 @@ def _state_space(eom, m, f, point, u) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
             "the coordinates; linearize about another state."
         )
     m0_inv = m0.inv()
-    acc0 = sp.Matrix([tidy(a, QUICK) for a in m0_inv * f.xreplace(point)])
+    acc0 = sp.Matrix([simplify_small(a, QUICK) for a in m0_inv * f.xreplace(point)])
     n = len(eom.coordinates)
     lower = _rate_jacobian(m, f, (*eom.coordinates, *eom.velocities), point, acc0, m0_inv)
-    a = tidy_matrix(sp.Matrix.vstack(sp.Matrix.hstack(sp.zeros(n), sp.eye(n)), lower), QUICK)
+    a = simplify_small_matrix(
+        sp.Matrix.vstack(sp.Matrix.hstack(sp.zeros(n), sp.eye(n)), lower), QUICK
+    )
     b_lower = _rate_jacobian(m, f, u, point, acc0, m0_inv)
-    b = tidy_matrix(sp.Matrix.vstack(sp.zeros(n, len(u)), b_lower), QUICK)
+    b = simplify_small_matrix(sp.Matrix.vstack(sp.zeros(n, len(u)), b_lower), QUICK)
     return a, b, acc0
 
 

@@ -20,12 +20,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.analysis.calculus import is_zero, tidy, tidy_matrix
-from lagrangian.analysis.equilibria import Equilibria, Equilibrium, equilibria, static_forces
-from lagrangian.analysis.linearize import linearize
-from lagrangian.analysis.spectrum import generalized_modes, symmetric_eigenvalues
-from lagrangian.analysis.stability import classify, stiffness_matrix
-from lagrangian.analysis.subject import (
+from lagrangian.analysis.arguments import (
     Subject,
     Values,
     assuming_positive,
@@ -36,8 +31,14 @@ from lagrangian.analysis.subject import (
     operating_state,
     substitutions,
 )
+from lagrangian.analysis.equilibria import Equilibria, Equilibrium, equilibria, static_forces
+from lagrangian.analysis.linearize import linearize
+from lagrangian.analysis.simplification import simplify_small, simplify_small_matrix
+from lagrangian.analysis.spectrum import generalized_modes, symmetric_eigenvalues
+from lagrangian.analysis.stability import stability_of, stiffness_matrix
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
+from lagrangian.model.probe import is_zero
 
 SIMPLE = 30  # count_ops of a symbolic omega^2 or mode-shape entry still worth showing
 
@@ -89,7 +90,7 @@ def _check_rest(eom, state, subs, numbers, parameters) -> None:
     point = {q: state[q] for q in eom.coordinates}
     raise AnalysisError(
         f"{point} is not an equilibrium: the static forces there are "
-        f"{[tidy(r) for r in residual]}; {_eigenvalue_text(eom, point, parameters)}"
+        f"{[simplify_small(r) for r in residual]}; {_eigenvalue_text(eom, point, parameters)}"
     )
 
 
@@ -145,7 +146,7 @@ def _symbolic_modes(k: sp.Matrix, m: sp.Matrix, eom: EquationsOfMotion, numbers)
     for square in dict.fromkeys(squares):
         for v in pencil.xreplace({lam: square}).nullspace(simplify=True):
             pivot = next(x for x in v if x != 0)
-            shapes.append(sp.ImmutableMatrix([tidy(x / pivot) for x in v]))
+            shapes.append(sp.ImmutableMatrix([simplify_small(x / pivot) for x in v]))
     if len(shapes) != k.rows or any(sp.count_ops(x) > SIMPLE for v in shapes for x in v):
         return None
     return tuple(squares), tuple(shapes)
@@ -190,13 +191,15 @@ def normal_modes(
     numbers = numeric_values(eom, parameters)
     point, unchecked = _rest_point(eom, about, subs, numbers, parameters)
     at_point = {**point, **{v: 0 for v in eom.velocities}}
-    k = tidy_matrix(stiffness_matrix(static_forces(eom, subs), eom.coordinates).xreplace(at_point))
-    m = tidy_matrix(sp.Matrix(eom.mass_matrix).xreplace(subs).xreplace(at_point))
+    k = simplify_small_matrix(
+        stiffness_matrix(static_forces(eom, subs), eom.coordinates).xreplace(at_point)
+    )
+    m = simplify_small_matrix(sp.Matrix(eom.mass_matrix).xreplace(subs).xreplace(at_point))
     k_numeric, m_numeric = evaluate(k, numbers), evaluate(m, numbers)
     known = not (k_numeric.free_symbols or m_numeric.free_symbols)
     _check_inertia(m, m_numeric if known else None, point)
     if unchecked and known:
-        stable, why = classify(k_numeric)
+        stable, why = stability_of(k_numeric)
         if not stable:
             raise AnalysisError(
                 f"{point} is not a stable equilibrium ({why}); "

@@ -16,10 +16,10 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.analysis.calculus import is_zero
-from lagrangian.analysis.subject import Subject, equations_of
+from lagrangian.analysis.arguments import Subject, equations_of
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
+from lagrangian.model.probe import is_zero
 
 
 def momentum_symbol(coordinate: sp.Symbol) -> sp.Symbol:

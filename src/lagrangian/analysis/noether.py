@@ -28,9 +28,9 @@ from dataclasses import dataclass
 import mpmath
 import sympy as sp
 
-from lagrangian.analysis.calculus import is_zero
-from lagrangian.analysis.subject import Subject, Values, equations_of, substitute, substitutions
+from lagrangian.analysis.arguments import Subject, Values, equations_of, substitute, substitutions
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model.probe import is_zero
 
 DIGITS = 30
 RELATIVE_ZERO = mpmath.mpf("1e-20")  # singular values below this (relative) span the nullspace

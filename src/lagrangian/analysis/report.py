@@ -21,6 +21,7 @@ from typing import Any, TypeVar
 
 import sympy as sp
 
+from lagrangian.analysis.arguments import Subject, Values, equations_of
 from lagrangian.analysis.energy import EnergyConservation, energy_conservation
 from lagrangian.analysis.equilibria import Equilibria, equilibria
 from lagrangian.analysis.hamiltonian import (
@@ -38,7 +39,6 @@ from lagrangian.analysis.momenta import (
     cyclic_coordinates,
 )
 from lagrangian.analysis.noether import Symmetry, point_symmetries
-from lagrangian.analysis.subject import Subject, Values, equations_of
 from lagrangian.constraints import classify
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import LagrangianError
@@ -174,9 +174,8 @@ def analyze(
     as inputs u of the linearization.
     """
     eom = equations_of(subject)
-    system = subject if isinstance(subject, System) else getattr(eom._work, "system", None)
-    if system is not None and system.constraints:
-        return _constrained_report(system, eom)
+    if eom.system.constraints:
+        return _constrained_report(eom.system, eom)
     attempts = _Attempts()
     run = attempts.run
     cyclic = run("cyclic", lambda: cyclic_coordinates(eom)) or ()

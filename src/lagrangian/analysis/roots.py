@@ -19,7 +19,7 @@ from collections.abc import Mapping, Sequence
 
 import sympy as sp
 
-from lagrangian.analysis.subject import assuming_positive, evaluate
+from lagrangian.analysis.arguments import assuming_positive, evaluate
 from lagrangian.derivation import EquationsOfMotion
 
 STARTS = 24

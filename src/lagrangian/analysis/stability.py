@@ -9,7 +9,7 @@ A negative eigenvalue -> unstable (a saddle or maximum) unless gyroscopic forces
 part of df/dq_dot) may stabilize an even number of such directions (Kelvin–Tait–Chetaev).
 A singular semi-definite K leaves the question open: "undetermined at second order".
 
->>> classify(sp.Matrix([[2, 0], [0, 3]]))
+>>> stability_of(sp.Matrix([[2, 0], [0, 3]]))
 (True, 'K is positive definite: a minimum of the (effective) potential (Lagrange–Dirichlet)')
 """
 
@@ -40,7 +40,7 @@ def _scale(matrix: sp.MatrixBase) -> float:
     return max((abs(complex(e)) for e in matrix), default=1.0) or 1.0
 
 
-def classify(
+def stability_of(
     stiffness: sp.MatrixBase,
     gyroscopic: sp.MatrixBase | None = None,
     neutral: Sequence[str] = (),

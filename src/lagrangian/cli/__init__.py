@@ -1,1 +1,1 @@
-"""The cli layer (see DESIGN.md)."""
+"""The cli layer: the `lagrangian` command (docs/architecture.md)."""

@@ -83,7 +83,7 @@ def derive_command(
 ) -> str:
     system = apply_settings(load_system(reference), settings)
     eom = derive(system)
-    constrained = constrained_equations(system) if system.constraints else None
+    constrained = constrained_equations(eom, system.constraints) if system.constraints else None
     if fmt == "json":
         document = eom_document(eom, steps=steps)
         if constrained is not None:
@@ -103,7 +103,7 @@ def derive_command(
 
 def constrained_text(equations: ConstrainedEquations) -> str:
     """The constraints and the equations with their multipliers (lambda_j dh_j/dq)."""
-    lines = ["With the constraints (force lambda_j dh_j/dq, DESIGN.md sign convention):"]
+    lines = ["With the constraints (lambda_j dh_j/dq is the force of constraint j):"]
     lines += [
         f"  {c.expression} = 0" if c.kind != "unilateral" else f"  {c.expression} >= 0"
         for c in equations.constraints
@@ -156,7 +156,8 @@ def parse_state(text: str | None) -> dict[str, float]:
 def analyze_command(
     reference: str, *, about: str | None, inputs: Sequence[str], settings: Sequence[str]
 ) -> str:
-    """The analysis JSON of DESIGN.md (with ``linearization`` when ``--about`` is given)."""
+    """The analysis JSON of docs/architecture.md (with ``linearization`` when ``--about`` is
+    given)."""
     system = apply_settings(load_system(reference), settings)
     state = parse_state(about)
     report = analyze(system, about=state if about else None, inputs=list(inputs))
@@ -173,7 +174,8 @@ def simulate_command(
     animate: str | None = None,
     progress: bool = False,
 ) -> str:
-    """Simulate; the CSV of DESIGN.md goes to ``out`` (``-``: returned for standard output)."""
+    """Simulate; the CSV of docs/architecture.md goes to ``out`` (``-``: returned for standard
+    output)."""
     system = apply_settings(load_system(reference), settings)
     given = {key: value for key, value in options.items() if value is not None}
     t_end = given.pop("t_end", None)

@@ -1,4 +1,10 @@
-"""The ``lagrangian`` command.  Exit codes are decided here only: 0 ok, 1 failure, 2 bad input.
+"""The ``lagrangian`` command: parse the arguments, run the command, print what it returns.
+
+Exit codes: 0 ok, 1 failure, 2 bad input.  Each error knows its own
+(:attr:`lagrangian.errors.LagrangianError.exit_code`); this module prints the message and
+returns that code, with the traceback only under ``--debug``.  The parser needs neither SymPy
+nor NumPy, so ``lagrangian --help`` and ``--version`` answer at once; the commands
+(:mod:`lagrangian.cli.commands`) load after the arguments are parsed.
 
 lagrangian examples                       list the built-in examples
 lagrangian examples NAME                  describe one
@@ -8,21 +14,16 @@ lagrangian derive examples/NAME --steps   derive with every step
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import traceback
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any, NoReturn
 
-from lagrangian.cli.commands import (
-    analyze_command,
-    derive_command,
-    examples_command,
-    export_command,
-    simulate_command,
-)
-from lagrangian.errors import ExpressionError, LagrangianError, ModelError
+from lagrangian.errors import BAD_INPUT, FAILURE, LagrangianError
 
-OK, FAILURE, BAD_INPUT = 0, 1, 2
+OK = 0
 
 EPILOG = """examples:
   lagrangian examples
@@ -43,6 +44,25 @@ class _Parser(argparse.ArgumentParser):
         self.exit(BAD_INPUT, f"{self.prog}: error: {message}\n")
 
 
+class _Version(argparse.Action):
+    """``--version``: the installed version, read from the package metadata when asked."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str, **kwargs: Any) -> None:
+        super().__init__(
+            option_strings,
+            dest,
+            nargs=0,
+            default=argparse.SUPPRESS,
+            help="show the version and exit",
+        )
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: Any) -> NoReturn:
+        import lagrangian
+
+        sys.stdout.write(f"{parser.prog} {lagrangian.__version__}\n")
+        parser.exit(OK)
+
+
 def _command(sub: Any, name: str, summary: str, example: str) -> argparse.ArgumentParser:
     """A subcommand taking a model, ``--set`` overrides and ``--debug``, with an example."""
     command: argparse.ArgumentParser = sub.add_parser(
@@ -60,8 +80,16 @@ def _command(sub: Any, name: str, summary: str, example: str) -> argparse.Argume
         metavar="NAME=VALUE",
         help="override a parameter or an initial value (repeatable)",
     )
-    command.add_argument("--debug", action="store_true", help="show tracebacks")
+    _debug_option(command)
     return command
+
+
+def _debug_option(command: argparse.ArgumentParser) -> None:
+    """``--debug`` after the subcommand; absent, it leaves the one before it (``lagrangian
+    --debug derive ...``) as it was instead of resetting it to False."""
+    command.add_argument(
+        "--debug", action="store_true", default=argparse.SUPPRESS, help="show tracebacks"
+    )
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -71,6 +99,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    parser.add_argument("--version", action=_Version)
     parser.add_argument("--debug", action="store_true", help="show tracebacks")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
@@ -140,7 +169,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example: lagrangian examples double_pendulum",
     )
     examples.add_argument("name", nargs="?", help="an example to describe")
-    examples.add_argument("--debug", action="store_true", help="show tracebacks")
+    _debug_option(examples)
     return parser
 
 
@@ -148,54 +177,79 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     args = build_parser().parse_args(argv)
     try:
-        if args.command == "derive":
-            output = derive_command(
-                args.model, fmt=args.format, steps=args.steps, matrix=args.matrix, settings=args.set
-            )
-        elif args.command == "analyze":
-            output = analyze_command(
-                args.model, about=args.about, inputs=args.input, settings=args.set
-            )
-        elif args.command == "simulate":
-            options = {
-                "t_end": args.t_end,
-                "method": args.method,
-                "rtol": args.rtol,
-                "atol": args.atol,
-                "samples": args.samples,
-            }
-            output = simulate_command(
-                args.model,
-                options=options,
-                out=args.out,
-                plot=args.plot,
-                settings=args.set,
-                animate=args.animate,
-                progress=args.progress,
-            )
-        elif args.command == "export":
-            output = export_command(
-                args.model, language=args.language, out=args.out, settings=args.set
-            )
-        else:
-            output = examples_command(args.name)
-        sys.stdout.write(output if output.endswith("\n") else output + "\n")
-        return OK
-    except (ModelError, ExpressionError, FileNotFoundError, IsADirectoryError) as error:
-        return _report(error, BAD_INPUT, args.debug)
-    except LagrangianError as error:  # listed problems are the input's; otherwise it failed
-        return _report(error, BAD_INPUT if error.problems else FAILURE, args.debug)
-    except OSError as error:
-        return _report(error, FAILURE, args.debug)
-    except Exception as error:  # a bug: say so plainly, traceback only with --debug
-        return _report(error, FAILURE, args.debug, prefix="internal error: ")
+        output = run(args)
+    except Exception as error:
+        code = exit_code(error, given_paths(args))
+        if args.debug:
+            traceback.print_exception(error)
+        internal = not isinstance(error, (LagrangianError, OSError))
+        prefix = "internal error: " if internal else ""  # a bug: say so plainly
+        sys.stderr.write(f"lagrangian: {prefix}{error}\n")
+        return code
+    sys.stdout.write(output if output.endswith("\n") else output + "\n")
+    return OK
 
 
-def _report(error: BaseException, code: int, debug: bool, prefix: str = "") -> int:
-    if debug:
-        traceback.print_exception(error)
-    sys.stderr.write(f"lagrangian: {prefix}{error}\n")
-    return code
+def run(args: argparse.Namespace) -> str:
+    """The text the parsed command prints (SymPy, NumPy and the rest load here)."""
+    from lagrangian.cli import commands
+
+    if args.command == "derive":
+        return commands.derive_command(
+            args.model, fmt=args.format, steps=args.steps, matrix=args.matrix, settings=args.set
+        )
+    if args.command == "analyze":
+        return commands.analyze_command(
+            args.model, about=args.about, inputs=args.input, settings=args.set
+        )
+    if args.command == "simulate":
+        options = {
+            "t_end": args.t_end,
+            "method": args.method,
+            "rtol": args.rtol,
+            "atol": args.atol,
+            "samples": args.samples,
+        }
+        return commands.simulate_command(
+            args.model,
+            options=options,
+            out=args.out,
+            plot=args.plot,
+            settings=args.set,
+            animate=args.animate,
+            progress=args.progress,
+        )
+    if args.command == "export":
+        return commands.export_command(
+            args.model, language=args.language, out=args.out, settings=args.set
+        )
+    return commands.examples_command(args.name)
+
+
+def given_paths(args: argparse.Namespace) -> tuple[str, ...]:
+    """The files and folders named on the command line (the model, --out, --plot, --animate)."""
+    names = (getattr(args, key, None) for key in ("model", "out", "plot", "animate"))
+    return tuple(name for name in names if name and name != "-")
+
+
+def exit_code(error: BaseException, paths: Sequence[str] = ()) -> int:
+    """The exit code ``error`` means: a LagrangianError's own ``exit_code``; for an OSError,
+    bad input (2) when it is about one of ``paths``, the files given on the command line (a
+    model that is missing or unreadable, an output folder that does not exist), else a
+    failure (1); any other exception is a bug, a failure.
+
+    >>> exit_code(PermissionError(13, "Permission denied", "model.yaml"), ["model.yaml"])
+    2
+    >>> exit_code(OSError(28, "No space left on device")), exit_code(KeyError("x"))
+    (1, 1)
+    """
+    if isinstance(error, LagrangianError):
+        return error.exit_code
+    if isinstance(error, OSError) and error.filename is not None:
+        about = Path(os.fsdecode(error.filename))
+        if any(about == Path(path) for path in paths):
+            return BAD_INPUT
+    return FAILURE
 
 
 if __name__ == "__main__":

@@ -2,6 +2,6 @@
 
 from __future__ import annotations
 
-from lagrangian.simulation.progress import WIDTH, progress_bar
+from lagrangian.simulation.progress_bar import WIDTH, progress_bar
 
 __all__ = ["WIDTH", "progress_bar"]

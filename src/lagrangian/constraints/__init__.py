@@ -30,7 +30,7 @@ from lagrangian.constraints.multipliers import (
     constrained_equations,
     multiplier_symbols,
 )
-from lagrangian.constraints.state import project_state
+from lagrangian.constraints.projection import project_state
 from lagrangian.constraints.wrenches import ReactionWrench, reaction_wrenches
 
 __all__ = [

@@ -36,9 +36,9 @@ from lagrangian.constraints.dependence import Dependence, dependence
 from lagrangian.constraints.forms import one_form
 from lagrangian.constraints.integrability import Integrability, frobenius, integrate_form
 from lagrangian.constraints.pfaffian import pfaffian_form
-from lagrangian.constraints.probe import NumericFunction, rank
-from lagrangian.constraints.state import numeric_state
+from lagrangian.constraints.projection import numeric_state
 from lagrangian.model import System, t
+from lagrangian.model.probe import PointFunction, numeric_rank
 
 
 @dataclass(frozen=True)
@@ -248,11 +248,11 @@ def _particle_count(system: System, dof: int, found: Dependence) -> ParticleCoun
     if not system.particles or system.rigid_bodies or system.circuit:
         return None
     positions = sp.Matrix([x for p in system.particles for x in p.position])
-    values = NumericFunction(
+    values = PointFunction(
         positions.jacobian(list(system.coordinates)), sorted(found.point, key=str)
     )
     jacobian = values(found.point)
-    if jacobian is None or rank(jacobian) < len(system.coordinates):
+    if jacobian is None or numeric_rank(jacobian) < len(system.coordinates):
         return None
     d, n = system.dimension, len(system.particles)
     return ParticleCount(n, d, d * n - dof, dof)
@@ -265,16 +265,16 @@ def _at_state(
     symbols = sorted(values, key=str)
     equality = [i for i, c in enumerate(system.constraints) if c.kind != "unilateral"]
     jacobian = report.constraint_jacobian.extract(equality, list(range(len(system.coordinates))))
-    at_state = NumericFunction(jacobian, symbols)(values) if equality else None
+    at_state = PointFunction(jacobian, symbols)(values) if equality else None
     residuals = []
     for constraint in system.constraints:
-        residual = NumericFunction(sp.Matrix([constraint.expression]), symbols)
+        residual = PointFunction(sp.Matrix([constraint.expression]), symbols)
         used = constraint.expression.free_symbols
         known = all(s in values for s in used)
         number = residual(values) if known else None
         residuals.append(None if number is None else float(number[0, 0]))
     return replace(
         report,
-        state_rank=rank(at_state) if at_state is not None else 0,
+        state_rank=numeric_rank(at_state) if at_state is not None else 0,
         state_residuals=tuple(residuals),
     )

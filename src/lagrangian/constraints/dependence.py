@@ -1,7 +1,7 @@
 """Redundant and inconsistent constraints, from the rank of the constraint Jacobian.
 
 At a generic point of the constraint set (a random configuration projected onto the holonomic
-constraints, :func:`lagrangian.constraints.probe.project`) the rows a_j of the Jacobian are
+constraints, :func:`lagrangian.constraints.projection.project`) the rows a_j of the Jacobian are
 taken in order, holonomic constraints first:
 
 - a row that does not raise the rank of A is *redundant* (a combination of earlier rows:
@@ -31,10 +31,11 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.constraints.pfaffian import PfaffianForm, pfaffian_form
-from lagrangian.constraints.probe import SEED, NumericFunction, project, random_values, rank
+from lagrangian.constraints.projection import SATISFIED, project
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import Holonomic, System, Unilateral, t
 from lagrangian.model.constraints import label, statement
+from lagrangian.model.probe import SEED, PointFunction, numeric_rank, random_values
 
 
 @dataclass(frozen=True)
@@ -53,7 +54,7 @@ class Dependence:
 
     def rank_of(self, indices: list[int] | tuple[int, ...]) -> int:
         """Rank of the Jacobian rows of the constraints ``indices`` at the generic point."""
-        return rank(self.jacobian[list(indices)]) if indices else 0
+        return numeric_rank(self.jacobian[list(indices)]) if indices else 0
 
 
 def equality_rows(system: System, active: bool = False) -> tuple[int, ...]:
@@ -91,7 +92,7 @@ def _raise_inconsistent(
             "remove or correct one of the contradicting constraints",
         )
         for (i, c), r in zip(holonomic, residuals)
-        if not abs(r) < 1e-8
+        if not abs(r) < SATISFIED
     ]
     count = f"more constraints ({m}) than coordinates ({n}) and " if m > n else ""
     raise_if_problems(
@@ -109,8 +110,8 @@ def dependence(system: System, active: bool = False) -> Dependence:
     coordinates = system.coordinates
     forms: list[PfaffianForm] = [pfaffian_form(c, coordinates) for c in system.constraints]
     symbols = sorted(point, key=str)
-    a = NumericFunction(sp.Matrix([list(f.coefficients) for f in forms]), symbols)(point)
-    b = NumericFunction(sp.Matrix([f.time_coefficient for f in forms]), symbols)(point)
+    a = PointFunction(sp.Matrix([list(f.coefficients) for f in forms]), symbols)(point)
+    b = PointFunction(sp.Matrix([f.time_coefficient for f in forms]), symbols)(point)
     if a is None or b is None:
         raise ConstraintError(
             "The constraint Jacobian is not defined at a generic configuration; check the "
@@ -120,9 +121,9 @@ def dependence(system: System, active: bool = False) -> Dependence:
     redundant, inconsistent = [], []
     kept: list[int] = []
     for i in rows:
-        if rank(a[[*kept, i]]) > len(kept):
+        if numeric_rank(a[[*kept, i]]) > len(kept):
             kept.append(i)
-        elif rank(np.column_stack([a[[*kept, i]], b[[*kept, i]]])) > len(kept):
+        elif numeric_rank(np.column_stack([a[[*kept, i]], b[[*kept, i]]])) > len(kept):
             inconsistent.append(i)
         else:
             redundant.append(i)

@@ -33,10 +33,10 @@ from typing import Any
 import sympy as sp
 
 from lagrangian.constraints.dependence import dependence
-from lagrangian.constraints.probe import is_zero
 from lagrangian.errors import ConstraintError
 from lagrangian.model import Holonomic, System, Unilateral, VelocityConstraint, VoltageSource, t
 from lagrangian.model.constraints import Constraint, label, statement
+from lagrangian.model.probe import is_zero
 from lagrangian.model.rotation import Orientation
 from lagrangian.model.symbols import as_coordinate, from_time_functions, velocity
 

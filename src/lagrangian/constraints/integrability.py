@@ -28,7 +28,7 @@ from itertools import combinations
 import sympy as sp
 
 from lagrangian.constraints.forms import Form, describe, exterior_derivative, one_form, wedge
-from lagrangian.constraints.probe import is_zero
+from lagrangian.model.probe import is_small, is_zero
 
 
 @dataclass(frozen=True)
@@ -51,9 +51,7 @@ def _vanishes(form: Form) -> bool:
 
 def _nonzero_part(form: Form) -> Form:
     """The components that do not vanish, simplified when small (for messages)."""
-    return {
-        k: sp.simplify(c) if sp.count_ops(c) <= 40 else c for k, c in form.items() if not is_zero(c)
-    }
+    return {k: sp.simplify(c) if is_small(c, 40) else c for k, c in form.items() if not is_zero(c)}
 
 
 def integrate_form(
@@ -117,14 +115,14 @@ def _integrated(
     h = sp.Integer(0)
     for k, z in enumerate(variables):
         rest = exact.get((k,), sp.Integer(0)) - h.diff(z)
-        rest = sp.simplify(rest) if sp.count_ops(rest) <= 80 else rest
+        rest = sp.simplify(rest) if is_small(rest, 80) else rest
         if rest == 0 or is_zero(rest):
             continue
         antiderivative = sp.integrate(rest, z)
         if antiderivative.has(sp.Integral):
             return Integrability(True, None, factor, how + "; its integral is not elementary")
         h += antiderivative
-    h = sp.simplify(h) if sp.count_ops(h) <= 80 else h
+    h = sp.simplify(h) if is_small(h, 80) else h
     if not all(is_zero(h.diff(z) - exact.get((k,), 0)) for k, z in enumerate(variables)):
         return Integrability(True, None, factor, how + "; the integral could not be checked")
     equation = "omega" if factor == 1 else "mu omega"

@@ -1,5 +1,6 @@
 """constrained_equations(system) -> ConstrainedEquations: the equations of motion with the
-constraints enforced by Lagrange multipliers (seed 003, DESIGN.md sign convention).
+constraints enforced by Lagrange multipliers (seed 003, the sign convention of
+docs/architecture.md).
 
     d/dt dL/dq_dot - dL/dq + dF/dq_dot = Q + sum_j lambda_j a_j,     a_j = dh_j/dq,
 
@@ -10,9 +11,13 @@ to A q_ddot = gamma (:mod:`lagrangian.constraints.pfaffian`):
     [ M  -A^T ] [ q_ddot ]   [ forcing ]
     [ A    0  ] [ lambda ] = [  gamma  ].
 
-When M is regular and small (diagonal, or n <= 4) the system is solved symbolically:
+When M is regular and small (diagonal, or n <= 4) the system is solved symbolically, on
+first request of :attr:`ConstrainedEquations.explicit` (a simulation never asks: it solves
+the augmented system numerically):
 
     lambda = (A M^-1 A^T)^-1 (gamma - A M^-1 forcing),   q_ddot = M^-1 (forcing + A^T lambda).
+
+The multiplier form is computed once per EquationsOfMotion object and set of constraints.
 
 Holonomic constraints are also the augmented Lagrangian L + sum_j lambda_j h_j of seed 003,
 whose Euler–Lagrange equations are the first block row above.  Unilateral constraints are
@@ -42,11 +47,13 @@ import sympy as sp
 from lagrangian.constraints.dependence import dependence
 from lagrangian.constraints.pfaffian import acceleration_terms, pfaffian_form
 from lagrangian.derivation import EquationsOfMotion, derive
-from lagrangian.derivation.backend import SympyView, to_backend
-from lagrangian.derivation.trig import combine_trig
+from lagrangian.derivation.trig import combine_trig_sympy
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.constraints import Constraint, VelocityConstraint, statement
+from lagrangian.model.frozen import FrozenMapping, frozen
+from lagrangian.model.identity_cache import IdentityCache
+from lagrangian.model.probe import generic_rank
 
 SMALL = 4  # n up to which a dense M is solved symbolically
 
@@ -68,9 +75,8 @@ class ConstrainedEquations:
     augmented_lagrangian:
         L + sum lambda_j h_j over the holonomic and unilateral constraints (velocity
         constraints have no h; their forces lambda_j a_j appear in the equations only).
-    explicit:
-        q_ddot and lambda solved symbolically, or None when the system is left in augmented
-        form (M singular, or dense with n > 4).
+    system:
+        The System whose constraints these are.
     """
 
     coordinates: tuple[sp.Symbol, ...]
@@ -85,8 +91,13 @@ class ConstrainedEquations:
     constraint_jacobian: sp.ImmutableMatrix
     gamma: sp.ImmutableMatrix
     augmented_lagrangian: sp.Expr
-    explicit: Mapping[sp.Symbol, sp.Expr] | None
     system: System = field(repr=False, compare=False)
+
+    @property
+    def explicit(self) -> Mapping[sp.Symbol, sp.Expr] | None:
+        """q_ddot and lambda solved symbolically (computed on first request), or None when
+        the system is left in augmented form (M singular, or dense with n > 4)."""
+        return _SOLVED.get(self, _solve)
 
     @property
     def unknowns(self) -> tuple[sp.Symbol, ...]:
@@ -118,8 +129,15 @@ class ConstrainedEquations:
 
 
 def multiplier_symbols(count: int) -> tuple[sp.Symbol, ...]:
-    """lambda_1, ..., lambda_count (DESIGN.md names)."""
+    """lambda_1, ..., lambda_count (the names of the output contracts)."""
     return tuple(sp.Symbol(f"lambda_{j + 1}") for j in range(count))
+
+
+#: Per EquationsOfMotion object: constraints -> their multiplier form.
+_FORMS: IdentityCache[EquationsOfMotion, dict[tuple[Constraint, ...], ConstrainedEquations]]
+_FORMS = IdentityCache()
+_SOLVED: IdentityCache[ConstrainedEquations, Mapping[sp.Symbol, sp.Expr] | None]
+_SOLVED = IdentityCache()
 
 
 def constrained_equations(
@@ -128,22 +146,36 @@ def constrained_equations(
     """The multiplier form of a System's equations (its own ``constraints``, or those given).
 
     An EquationsOfMotion (from :func:`lagrangian.derive`) is accepted with ``constraints``.
-    Raises ConstraintError for inconsistent or redundant constraints (the multipliers of
-    redundant ones are not determined: remove them).
+    The result is computed once per equations object and constraints.  Raises
+    ConstraintError for inconsistent or redundant constraints (the multipliers of redundant
+    ones are not determined: remove them).
     """
     if isinstance(subject, System):
-        system = subject if constraints is None else subject.replace(constraints=constraints)
-        eom = derive(system)
+        eom = derive(subject)  # the constraints do not enter the free equations
+        chosen = tuple(subject.constraints if constraints is None else constraints)
     else:
         if constraints is None:
             raise ConstraintError(
                 "An EquationsOfMotion does not carry constraints: pass constraints=[...] or "
                 "give the System."
             )
-        eom = subject
-        system = System(
-            coordinates=eom.coordinates, parameters=eom.parameters, constraints=constraints
-        )
+        eom, chosen = subject, tuple(constraints)
+    forms = _FORMS.get(eom, lambda _: {})
+    try:
+        known = forms.get(chosen)
+    except TypeError:  # an unhashable expression: let the System's validation name it
+        return _multiplier_form(eom, chosen)
+    if known is None:
+        known = forms[chosen] = _multiplier_form(eom, chosen)
+    return known
+
+
+def _multiplier_form(
+    eom: EquationsOfMotion, constraints: tuple[Constraint, ...]
+) -> ConstrainedEquations:
+    """The multiplier form of ``eom`` with ``constraints`` (see the module docstring)."""
+    own = eom.system
+    system = own if tuple(own.constraints) == constraints else own.replace(constraints=constraints)
     _refuse_redundant(system)
     coordinates = tuple(system.coordinates)
     forms = [pfaffian_form(c, coordinates) for c in system.constraints]
@@ -162,7 +194,7 @@ def constrained_equations(
         coordinates=coordinates,
         velocities=tuple(eom.velocities),
         accelerations=tuple(eom.accelerations),
-        parameters=dict(eom.parameters),
+        parameters=frozen(eom.parameters),
         time=eom.time,
         constraints=tuple(system.constraints),
         multipliers=multipliers,
@@ -171,7 +203,6 @@ def constrained_equations(
         constraint_jacobian=jacobian,
         gamma=gamma,
         augmented_lagrangian=augmented,
-        explicit=_solve(eom, jacobian, gamma, multipliers),
         system=system,
     )
 
@@ -202,27 +233,23 @@ def _refuse_redundant(system: System) -> None:
     raise_if_problems(problems, "The constraints are redundant", ConstraintError)
 
 
-def _solve(
-    eom: EquationsOfMotion,
-    jacobian: sp.ImmutableMatrix,
-    gamma: sp.ImmutableMatrix,
-    multipliers: tuple[sp.Symbol, ...],
-) -> dict[sp.Symbol, sp.Expr] | None:
+def _solve(equations: ConstrainedEquations) -> FrozenMapping[sp.Symbol, sp.Expr] | None:
     """lambda by the Schur complement, then q_ddot; None when not small or M is singular."""
-    mass, n = eom.mass_matrix, len(eom.coordinates)
-    if not eom.mass_matrix_is_regular or not (mass.is_diagonal() or n <= SMALL):
+    mass, forcing, n = equations.mass_matrix, equations.forcing, len(equations.coordinates)
+    if not (mass.is_diagonal() or n <= SMALL) or generic_rank(mass) < n:
         return None
-    free = _inverse_times(mass, eom.forcing)  # M^-1 forcing
+    jacobian, gamma = equations.constraint_jacobian, equations.gamma
+    free = _inverse_times(mass, forcing)  # M^-1 forcing
     pulled = _inverse_times(mass, jacobian.T)  # M^-1 A^T
-    schur = (jacobian * pulled).applyfunc(_tidy)
+    schur = (jacobian * pulled).applyfunc(_combined_fraction)
     try:
-        lam = schur.LUsolve(sp.Matrix(gamma) - jacobian * free).applyfunc(_tidy)
+        lam = schur.LUsolve(sp.Matrix(gamma) - jacobian * free).applyfunc(_combined_fraction)
     except ValueError:  # a pivot SymPy cannot prove non-zero: keep the augmented form
         return None
-    accelerations = (free + pulled * lam).applyfunc(_tidy)
-    solved = dict(zip(multipliers, lam))
-    solved.update(zip(eom.accelerations, accelerations))
-    return solved
+    accelerations = (free + pulled * lam).applyfunc(_combined_fraction)
+    solved = dict(zip(equations.multipliers, lam))
+    solved.update(zip(equations.accelerations, accelerations))
+    return FrozenMapping(solved)
 
 
 def _inverse_times(mass: sp.MatrixBase, rhs: sp.MatrixBase) -> sp.Matrix:
@@ -232,13 +259,12 @@ def _inverse_times(mass: sp.MatrixBase, rhs: sp.MatrixBase) -> sp.Matrix:
     return sp.Matrix(mass).LUsolve(sp.Matrix(rhs))
 
 
-def _tidy(expr: sp.Expr) -> sp.Expr:
+def _combined_fraction(expr: sp.Expr) -> sp.Expr:
     """One fraction, cancelled, with sin^2 + cos^2 and the like combined in the numerator and
-    the denominator (:func:`lagrangian.derivation.trig.combine_trig`); large expressions are
-    left."""
+    the denominator (:func:`lagrangian.derivation.trig.combine_trig_sympy`); large
+    expressions are left."""
     if sp.count_ops(expr) > 400:
         return expr
     numerator, denominator = sp.fraction(sp.cancel(expr))
-    view = SympyView(expr.free_symbols)
-    numerator, denominator = (view(combine_trig(to_backend(e))) for e in (numerator, denominator))
+    numerator, denominator = (combine_trig_sympy(e) for e in (numerator, denominator))
     return sp.factor_terms(sp.cancel(numerator / denominator))

@@ -41,7 +41,7 @@ from lagrangian.derivation.body_frames import BodyFrame, body_frames
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.rotation import evaluate_matrix
-from lagrangian.model.symbols import t
+from lagrangian.model.symbols import name_of, t
 
 
 @dataclass(frozen=True)
@@ -140,7 +140,7 @@ def _is_trajectory(state: Any) -> bool:
 def _rows(state: Any) -> list[dict[str, float]]:
     """One mapping name -> value per state."""
     if not _is_trajectory(state):
-        return [{_name(k): float(v) for k, v in dict(state).items()}]
+        return [{name_of(k): float(v) for k, v in dict(state).items()}]
     names = list(state.coordinates)
     multipliers = tuple(getattr(state, "multiplier_names", ()))
     lam = getattr(state, "multipliers", None)
@@ -155,10 +155,6 @@ def _rows(state: Any) -> list[dict[str, float]]:
     return rows
 
 
-def _name(key: Any) -> str:
-    return key if isinstance(key, str) else str(getattr(key, "name", key))
-
-
 def _by_symbol(
     values: Mapping[Any, Any], system: System, equations: ConstrainedEquations | None = None
 ) -> dict[sp.Symbol, float]:
@@ -168,13 +164,13 @@ def _by_symbol(
     known["t"] = t
     if equations is not None:
         known.update((s.name, s) for s in equations.multipliers)
-    unknown = sorted(_name(k) for k in values if _name(k) not in known)
+    unknown = sorted(name_of(k) for k in values if name_of(k) not in known)
     if unknown:
         raise ConstraintError(
             f"The state names {', '.join(unknown)}, which are not coordinates, velocities, "
             "parameters, t or multipliers of this system."
         )
-    return {known[_name(k)]: float(v) for k, v in values.items()}
+    return {known[name_of(k)]: float(v) for k, v in values.items()}
 
 
 def _generalized_constraint_force(

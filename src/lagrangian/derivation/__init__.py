@@ -1,8 +1,9 @@
-"""The derive layer: Euler–Lagrange equations from a System (matrix form, steps, Nielsen), and
-the Newton–Euler equations of its bodies checked against them."""
+"""The derivation layer: Euler–Lagrange equations from a System (matrix form, steps, Nielsen),
+and the Newton–Euler equations of its bodies checked against them.  :func:`derive` remembers
+the equations of the Systems it derived last (:func:`forget_derivations` drops them)."""
 
 from lagrangian.derivation.eom import EquationsOfMotion
-from lagrangian.derivation.lagrange import derive
+from lagrangian.derivation.lagrange import derive, forget_derivations
 from lagrangian.derivation.newton_euler import (
     BodyEquations,
     NewtonEuler,
@@ -21,6 +22,7 @@ __all__ = [
     "NewtonEulerCheck",
     "check_newton_euler",
     "derive",
+    "forget_derivations",
     "newton_euler",
     "nielsen_equations",
 ]

@@ -1,5 +1,5 @@
-"""SymEngine as the fast backend for the heavy differentiation (DESIGN.md: SymPy objects
-are what users see, SymEngine does the work).
+"""SymEngine as the fast backend for the heavy differentiation (docs/architecture.md: SymPy
+objects are what users see, SymEngine does the work).
 
 Expressions go in with :func:`to_backend` and come back with a :class:`SympyView`, which
 rebuilds them as SymPy with the user's own symbol objects.
@@ -23,11 +23,6 @@ def to_backend(expr: Any) -> Backend:
 
 def vector_to_backend(values: Iterable[Any]) -> list[Backend]:
     return [se.sympify(v) for v in values]
-
-
-def depends_on(expr: Backend, symbols: Iterable[Backend]) -> bool:
-    free = expr.free_symbols
-    return any(s in free for s in symbols)
 
 
 _TRIG: dict[type, Callable[..., sp.Expr]] = {se.sin: sp.sin, se.cos: sp.cos}

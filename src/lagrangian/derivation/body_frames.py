@@ -31,11 +31,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-import symengine as se
 import sympy as sp
 
-from lagrangian.derivation.backend import SympyView, to_backend
-from lagrangian.derivation.trig import fourier_form, size
+from lagrangian.derivation.trig import combine_trig_matrix, combine_trig_sympy
 from lagrangian.model import System
 from lagrangian.model.elements import Particle, RigidBody
 from lagrangian.model.inertia import generalized_inertia
@@ -79,44 +77,6 @@ class BodyFrame:
     adjoint: sp.ImmutableMatrix
     jacobian: sp.ImmutableMatrix
     spatial_jacobian: sp.ImmutableMatrix
-
-
-def tidy(expr: Any) -> sp.Expr:
-    """The shorter of the expanded expression and its Fourier form (every product of sines
-    and cosines a sum of single ones, each angle expanded and of one sign), back in SymPy.
-
-    The Fourier form is canonical for trigonometric polynomials, so an identity such as
-    sin^2 + cos^2 = 1 collapses by term collection, and a difference that is zero becomes 0.
-
-    >>> a, b = sp.symbols("a b")
-    >>> tidy(sp.sin(a) ** 2 * sp.cos(b) + sp.cos(a) ** 2 * sp.cos(b))
-    cos(b)
-    """
-    expr = sp.sympify(expr)
-    expanded = se.expand(to_backend(expr))
-    fourier = _signed_angles(fourier_form(expanded))
-    shorter = fourier if size(fourier) <= size(expanded) else expanded
-    return SympyView(expr.free_symbols)(shorter)
-
-
-def _signed_angles(expr: Any) -> Any:
-    """sin and cos of expanded angles, the angle or its negative whichever prints first:
-    sin(-x) = -sin(x), cos(-x) = cos(x)."""
-    swap = {}
-    for atom in expr.atoms(se.sin, se.cos):
-        angle = se.expand(atom.args[0])
-        flip = str(-angle) < str(angle)
-        angle = se.expand(-angle) if flip else angle
-        if isinstance(atom, se.sin):
-            swap[atom] = -se.sin(angle) if flip else se.sin(angle)
-        else:
-            swap[atom] = se.cos(angle)
-    return se.expand(expr.xreplace(swap)) if swap else expr
-
-
-def tidy_matrix(matrix: sp.MatrixBase) -> sp.ImmutableMatrix:
-    """:func:`tidy` applied to every entry."""
-    return sp.ImmutableMatrix(sp.Matrix(matrix).applyfunc(tidy))
 
 
 def ad_twist(kind: str, twist: sp.MatrixBase) -> sp.ImmutableMatrix:
@@ -171,7 +131,7 @@ def fixed_in(frame: BodyFrame, point: Sequence[Any], coordinates: Sequence[sp.Sy
     moving = {*coordinates, t}
 
     def constant(entry: sp.Expr) -> bool:
-        value = tidy(entry)  # canonical for trigonometric polynomials
+        value = combine_trig_sympy(entry)  # canonical for trigonometric polynomials
         if value.free_symbols & moving and sp.count_ops(value) <= 200:
             value = sp.simplify(value)  # fractions, square roots
         return not value.free_symbols & moving
@@ -199,9 +159,9 @@ def _frame(
     q: Sequence[sp.Symbol],
 ) -> BodyFrame:
     """A frame from its pieces, with M^s = Ad^-T M^b Ad^-1 and the twist Jacobians."""
-    twist, spatial = (tidy_matrix(v) for v in twists)
+    twist, spatial = (combine_trig_matrix(v) for v in twists)
     forward, inverse = adjoints
-    spatial_inertia = tidy_matrix(sp.Matrix(inverse).T * inertia * inverse)
+    spatial_inertia = combine_trig_matrix(sp.Matrix(inverse).T * inertia * inverse)
     return BodyFrame(
         element.name,
         kind,

@@ -13,17 +13,20 @@ from typing import Any
 
 import symengine as se
 
+ONE = se.Integer(1)
 
-def _powers(expr: Any) -> tuple[Any, dict[Any, Any]]:
-    """(numeric coefficient, {base: exponent}) of a product of parameters."""
-    number = se.Integer(1)
+
+def _powers(factors: list[Any]) -> tuple[Any, dict[Any, Any]]:
+    """(numeric coefficient, {base: exponent}) of a product of parameters, given as the
+    list of its factors."""
+    number = ONE
     powers: dict[Any, Any] = {}
-    for factor in expr.args if expr.is_Mul else (expr,):
+    for factor in factors:
         if factor.is_Number:
             number *= factor
             continue
-        base, exponent = factor.args if factor.is_Pow else (factor, se.Integer(1))
-        powers[base] = powers.get(base, 0) + exponent
+        base, exponent = factor.args if factor.is_Pow else (factor, ONE)
+        powers[base] = powers[base] + exponent if base in powers else exponent
     return number, powers
 
 
@@ -31,7 +34,14 @@ def factor_common(terms: list[Any]) -> Any:
     """Sum of ``terms`` (products of parameters) with their common factors pulled out."""
     if len(terms) == 1:
         return terms[0]
-    split = [_powers(term) for term in terms]
+    return _factor_common([term.args if term.is_Mul else (term,) for term in terms])
+
+
+def _factor_common(products: list[Any]) -> Any:
+    """:func:`factor_common` of products given as the sequences of their factors."""
+    if len(products) == 1:
+        return se.Mul(*products[0])
+    split = [_powers(factors) for factors in products]
     common = dict(split[0][1])
     for _, powers in split[1:]:
         for base in list(common):
@@ -40,11 +50,11 @@ def factor_common(terms: list[Any]) -> Any:
             else:
                 common[base] = min(common[base], powers[base])
     magnitudes = {abs(number) for number, _ in split}
-    scale = magnitudes.pop() if len(magnitudes) == 1 else se.Integer(1)
+    scale = magnitudes.pop() if len(magnitudes) == 1 else ONE
     if all(number < 0 for number, _ in split):
         scale = -scale
     if not common and scale == 1:
-        return se.Add(*terms)
+        return se.Add(*[se.Mul(*factors) for factors in products])
     outside = scale * se.Mul(*[b**e for b, e in common.items()])
     inside = se.Add(
         *[
@@ -59,14 +69,16 @@ def collect_state(expr: Any, state: Iterable[Any]) -> Any:
     """Group the terms of expanded ``expr`` by their factors that depend on ``state``."""
     state = set(state)
     terms = expr.args if expr.is_Add else (expr,)
-    groups: dict[Any, list[Any]] = defaultdict(list)
+    groups: dict[Any, list[list[Any]]] = defaultdict(list)
+    moving: dict[Any, bool] = {}  # factor -> depends on the state (factors recur across terms)
     for term in terms:
-        factors = term.args if term.is_Mul else (term,)
         key: list[Any] = []
         coefficient: list[Any] = []
-        for factor in factors:
-            (key if factor.free_symbols & state else coefficient).append(factor)
-        groups[se.Mul(*key)].append(se.Mul(*coefficient))
+        for factor in term.args if term.is_Mul else (term,):
+            if factor not in moving:
+                moving[factor] = not state.isdisjoint(factor.free_symbols)
+            (key if moving[factor] else coefficient).append(factor)
+        groups[se.Mul(*key)].append(coefficient)
     if all(len(v) == 1 for v in groups.values()):
         return expr
-    return se.Add(*[key * factor_common(coefficients) for key, coefficients in groups.items()])
+    return se.Add(*[key * _factor_common(products) for key, products in groups.items()])

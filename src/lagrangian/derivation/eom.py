@@ -1,25 +1,30 @@
 """EquationsOfMotion: the immutable result of :func:`lagrangian.derive`.
 
-Vocabulary (DESIGN.md, seed 001 "matrix form"):
+Vocabulary (docs/architecture.md, seed 001 "matrix form"):
 
     M(q,t) q_ddot + C(q,q_dot) q_dot + time_terms + G(q) = Q + dissipation_forces
                                                           + velocity_potential_forces
     M q_ddot = forcing
 
 and the residual form of every equation, d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q = 0.
+
+Every field is computed by :func:`lagrangian.derive`; the views that cost more (the steps, the
+residuals, the Christoffel form of C, the solved form, the regularity of M) are properties that
+call pure functions cached per object, so an EquationsOfMotion never changes once made.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
-from functools import cached_property
-from typing import Any
+from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.derivation.steps import CoordinateSteps
+from lagrangian.derivation.solved import explicit_solution, mass_matrix_is_regular
+from lagrangian.derivation.steps import CoordinateSteps, coordinate_steps
+from lagrangian.derivation.terms import coriolis_matrix
 from lagrangian.errors import DerivationError
+from lagrangian.model import System
 
 
 @dataclass(frozen=True)
@@ -30,8 +35,23 @@ class EquationsOfMotion:
     ----------
     coordinates, velocities, accelerations:
         Symbols q, q_dot, q_ddot.
+    parameters:
+        Parameter symbol -> default value (None for none), read-only.
     mass_matrix:
         M = d2T/dq_dot dq_dot^T (minus d2U/dq_dot2 when U is quadratic in the velocities).
+    forcing:
+        Q + dissipation_forces + velocity_potential_forces - coriolis - time_terms - gravity.
+    coordinate_orders:
+        2 for a coordinate with inertia, 1 for one with none whose equation holds its velocity
+        (a charge through a resistor only), 0 for an algebraic one (read-only).
+    kinetic_energy:
+        T = 1/2 q_dot^T M q_dot + T1 + T0 (or the general T).
+    potential_energy:
+        V, every potential contribution (given V, gravity, springs, capacitors).
+    velocity_potential:
+        U(q, q_dot, t), the velocity-dependent potential.
+    dissipation_function:
+        F, the Rayleigh dissipation function (given F, dampers, resistors).
     coriolis:
         The vector C(q, q_dot) q_dot, C from the Christoffel symbols of M
         (:attr:`coriolis_matrix`, with dM/dt - 2C skew-symmetric).
@@ -46,11 +66,9 @@ class EquationsOfMotion:
         -dF/dq_dot, the forces of the Rayleigh dissipation function.
     velocity_potential_forces:
         d/dt dU/dq_dot - dU/dq without its q_ddot part (which is in M).
-    forcing:
-        Q + dissipation_forces + velocity_potential_forces - coriolis - time_terms - gravity.
-    coordinate_orders:
-        2 for a coordinate with inertia, 1 for one with none whose equation holds its velocity
-        (a charge through a resistor only), 0 for an algebraic one.
+    system:
+        The System these equations were derived from (its constraints, initial values and
+        simulation settings are there).
     """
 
     coordinates: tuple[sp.Symbol, ...]
@@ -61,53 +79,18 @@ class EquationsOfMotion:
     mass_matrix: sp.ImmutableMatrix
     forcing: sp.ImmutableMatrix
     coordinate_orders: Mapping[sp.Symbol, int]
+    kinetic_energy: sp.Expr
+    potential_energy: sp.Expr
+    velocity_potential: sp.Expr
+    dissipation_function: sp.Expr
+    coriolis: sp.ImmutableMatrix
+    time_terms: sp.ImmutableMatrix
+    gravity: sp.ImmutableMatrix
+    generalized_forces: sp.ImmutableMatrix
+    dissipation_forces: sp.ImmutableMatrix
+    velocity_potential_forces: sp.ImmutableMatrix
+    system: System
     name: str = ""
-    _work: Any = field(default=None, repr=False, compare=False)
-
-    # The other pieces are converted from the backend on first use (they are pure and cached).
-    @cached_property
-    def kinetic_energy(self) -> sp.Expr:
-        """T = 1/2 q_dot^T M q_dot + T1 + T0 (or the general T)."""
-        return self._work.scalar("kinetic_energy")
-
-    @cached_property
-    def potential_energy(self) -> sp.Expr:
-        """V, every potential contribution (given V, gravity, springs, capacitors)."""
-        return self._work.scalar("potential_energy")
-
-    @cached_property
-    def velocity_potential(self) -> sp.Expr:
-        """U(q, q_dot, t), the velocity-dependent potential."""
-        return self._work.scalar("velocity_potential")
-
-    @cached_property
-    def dissipation_function(self) -> sp.Expr:
-        """F, the Rayleigh dissipation function (given F, dampers, resistors)."""
-        return self._work.scalar("dissipation_function")
-
-    @cached_property
-    def coriolis(self) -> sp.ImmutableMatrix:
-        return self._work.vector("coriolis")
-
-    @cached_property
-    def time_terms(self) -> sp.ImmutableMatrix:
-        return self._work.vector("time_terms")
-
-    @cached_property
-    def gravity(self) -> sp.ImmutableMatrix:
-        return self._work.vector("gravity")
-
-    @cached_property
-    def generalized_forces(self) -> sp.ImmutableMatrix:
-        return self._work.vector("generalized_forces")
-
-    @cached_property
-    def dissipation_forces(self) -> sp.ImmutableMatrix:
-        return self._work.vector("dissipation_forces")
-
-    @cached_property
-    def velocity_potential_forces(self) -> sp.ImmutableMatrix:
-        return self._work.vector("velocity_potential_forces")
 
     @property
     def lagrangian(self) -> sp.Expr:
@@ -117,29 +100,27 @@ class EquationsOfMotion:
     @property
     def mass_matrix_is_regular(self) -> bool:
         """True when every coordinate has inertia and M is generically invertible."""
-        return all(order == 2 for order in self.coordinate_orders.values()) and (
-            self._work is None or self._work.generic_rank == len(self.coordinates)
-        )
+        return mass_matrix_is_regular(self)
 
-    @cached_property
+    @property
     def steps(self) -> tuple[CoordinateSteps, ...]:
-        """The derivation for each coordinate, as the notes write it."""
-        return self._work.steps()
+        """The derivation for each coordinate of :attr:`system`, as the notes write it."""
+        return coordinate_steps(self.system)
 
-    @cached_property
+    @property
     def equations(self) -> sp.ImmutableMatrix:
         """Residuals d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q, each = 0 (from the steps)."""
         return sp.ImmutableMatrix([s.equation for s in self.steps])
 
-    @cached_property
+    @property
     def coriolis_matrix(self) -> sp.ImmutableMatrix:
         """C with C_jk = sum_l Gamma_jkl q_dot_l, Gamma the Christoffel symbols of M."""
-        return self._work.coriolis_matrix()
+        return coriolis_matrix(self.system)
 
-    @cached_property
-    def explicit(self) -> dict[sp.Symbol, sp.Expr]:
+    @property
+    def explicit(self) -> Mapping[sp.Symbol, sp.Expr]:
         """Solved form: q_ddot for second-order coordinates, q_dot for first-order ones."""
-        return self._work.explicit()
+        return explicit_solution(self)
 
     @property
     def explicit_accelerations(self) -> sp.ImmutableMatrix:
@@ -152,7 +133,7 @@ class EquationsOfMotion:
             )
         return sp.ImmutableMatrix([self.explicit[a] for a in self.accelerations])
 
-    @cached_property
+    @property
     def algebraic_equations(self) -> tuple[sp.Expr, ...]:
         """Equations (= 0) of coordinates with neither inertia nor dissipation."""
         return tuple(
@@ -162,6 +143,7 @@ class EquationsOfMotion:
         )
 
     def orders_by_name(self) -> dict[str, int]:
+        """Coordinate name -> order (2 with inertia, 1 or 0 without)."""
         return {q.name: order for q, order in self.coordinate_orders.items()}
 
     def __repr__(self) -> str:

@@ -20,8 +20,9 @@ from dataclasses import dataclass
 import symengine as se
 
 from lagrangian.derivation.assemble import Assembly, Rotation
-from lagrangian.derivation.backend import Backend, depends_on
+from lagrangian.derivation.backend import Backend
 from lagrangian.derivation.trig import combine_trig
+from lagrangian.model.probe import depends_on
 
 Matrix = list[list[Backend]]
 

@@ -47,10 +47,9 @@ from lagrangian.derivation.body_frames import (
     body_frames,
     fixed_in,
     point_wrench,
-    tidy,
-    tidy_matrix,
 )
 from lagrangian.derivation.lagrange import derive
+from lagrangian.derivation.trig import combine_trig_matrix, combine_trig_sympy
 from lagrangian.errors import DerivationError, Problem, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.elements import Damper, Spring
@@ -132,12 +131,12 @@ def newton_euler(system: System) -> NewtonEuler:
 
 def _equations(frame: BodyFrame, load: sp.MatrixBase, q: tuple[sp.Symbol, ...]) -> BodyEquations:
     """M V_dot - ad_V^T M V - F in the body and the spatial frame."""
-    spatial_wrench = tidy_matrix(load)
-    wrench = tidy_matrix(frame.adjoint.T * spatial_wrench)
+    spatial_wrench = combine_trig_matrix(load)
+    wrench = combine_trig_matrix(frame.adjoint.T * spatial_wrench)
 
     def residual(M: sp.MatrixBase, V: sp.MatrixBase, F: sp.MatrixBase) -> sp.ImmutableMatrix:
         V_dot = sp.Matrix(V).applyfunc(lambda e: time_derivative(e, q))
-        return tidy_matrix(M * V_dot - ad_twist(frame.kind, V).T * M * V - F)
+        return combine_trig_matrix(M * V_dot - ad_twist(frame.kind, V).T * M * V - F)
 
     return BodyEquations(
         frame,
@@ -180,7 +179,7 @@ def _generalized_rest(system: System) -> sp.ImmutableMatrix:
     for q in system.coordinates:
         given = sp.sympify(system.generalized_forces.get(q, 0))
         rows.append(given - potential.diff(q) - sp.sympify(system.dissipation).diff(velocity(q)))
-    return sp.ImmutableMatrix([tidy(r) for r in rows])
+    return sp.ImmutableMatrix([combine_trig_sympy(r) for r in rows])
 
 
 # -- the applied wrenches ---------------------------------------------------------------------
@@ -356,12 +355,12 @@ def compare_residuals(
 def _compare(
     lagrange: sp.Expr, projected: sp.Expr, system: System, samples: int, seed: int
 ) -> tuple[sp.Expr, bool, str]:
-    difference = tidy(lagrange - projected)
+    difference = combine_trig_sympy(lagrange - projected)
     if difference == 0:
         return difference, True, "symbolic"
     if sp.count_ops(difference) <= SIMPLIFY_LIMIT:
         numerator, _ = sp.fraction(sp.together(difference))
-        if tidy(numerator) == 0:
+        if combine_trig_sympy(numerator) == 0:
             return sp.Integer(0), True, "symbolic"
     rng = random.Random(seed)
     rows = [to_backend(e) for e in (difference, lagrange, projected)]

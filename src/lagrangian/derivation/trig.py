@@ -5,7 +5,9 @@ cos a cos b + sin a sin b.  Writing every product of sines and cosines as a sum 
 sines and cosines of combined angles (product-to-sum, the "Fourier form") is canonical for
 trigonometric polynomials, so identities such as sin^2 + cos^2 = 1 or
 cos a cos b + sin a sin b = cos(a - b) collapse by ordinary term collection, without a
-general-purpose simplify.  :func:`combine_trig` keeps whichever form is shortest.
+general-purpose simplify.  :func:`combine_trig` keeps whichever form is shortest; it is the
+one trigonometric tidying of the package, on backend expressions (:func:`combine_and_collect`
+also groups the terms by state monomial) or on SymPy ones (:func:`combine_trig_sympy`).
 """
 
 from __future__ import annotations
@@ -14,28 +16,34 @@ from collections import defaultdict
 from typing import Any
 
 import symengine as se
+import sympy as sp
 
+from lagrangian.derivation.backend import SympyView, to_backend
 from lagrangian.derivation.collect import collect_state
 
 MAX_TRIG_DEGREE = 8  # beyond this a term is left as it is (2**(d-1) Fourier terms)
 
 
-def _split(term: Any) -> tuple[Any, list[Any]] | None:
-    """term = coefficient * product(trig factors); None when a trig power is not a small
-    positive integer."""
-    factors = term.args if term.is_Mul else (term,)
-    coefficient, trig = se.Integer(1), []
-    for factor in factors:
-        base, power = factor.args if factor.is_Pow else (factor, se.Integer(1))
+def _trig_factors(term: Any) -> list[Any] | None:
+    """The sine and cosine factors of a product, each repeated by its power; None when a
+    trig power is not a small positive integer or there are too many."""
+    trig: list[Any] = []
+    for factor in term.args if term.is_Mul else (term,):
+        base, power = factor.args if factor.is_Pow else (factor, None)
         if isinstance(base, (se.sin, se.cos)):
-            if not (power.is_Integer and 0 < int(power) <= MAX_TRIG_DEGREE):
+            count = 1 if power is None else int(power) if power.is_Integer else 0
+            if not 0 < count <= MAX_TRIG_DEGREE:
                 return None
-            trig.extend([base] * int(power))
-        else:
-            coefficient = coefficient * factor
-    if len(trig) > MAX_TRIG_DEGREE:
-        return None
-    return coefficient, trig
+            trig.extend([base] * count)
+    return trig if len(trig) <= MAX_TRIG_DEGREE else None
+
+
+def _coefficient(term: Any) -> Any:
+    """The product of the factors of ``term`` that are not powers of sines and cosines."""
+    factors = term.args if term.is_Mul else (term,)
+    return se.Mul(
+        *[f for f in factors if not isinstance(f.args[0] if f.is_Pow else f, (se.sin, se.cos))]
+    )
 
 
 def _product_to_sum(a: Any, b: Any) -> list[tuple[Any, Any]]:
@@ -86,18 +94,23 @@ def _as_single(value: Any) -> tuple[Any, Any]:
 
 def fourier_form(expr: Any) -> Any:
     """Every product of sines and cosines rewritten as a sum of single sines and cosines
-    (``expr`` itself when it has no such product)."""
-    expanded = se.expand(expr)
+    (``expr`` expanded when it has no such product)."""
+    return _fourier_of_expanded(se.expand(expr))
+
+
+def _fourier_of_expanded(expanded: Any) -> Any:
+    """:func:`fourier_form` of an expanded expression: ``expanded`` itself (the same object)
+    when no term has two or more trig factors."""
     terms = expanded.args if expanded.is_Add else (expanded,)
-    split_terms = [_split(term) for term in terms]
-    if all(split is None or len(split[1]) < 2 for split in split_terms):
+    factors = [_trig_factors(term) for term in terms]
+    if all(trig is None or len(trig) < 2 for trig in factors):
         return expanded
     collected: dict[Any, Any] = defaultdict(lambda: se.Integer(0))
-    for term, split in zip(terms, split_terms):
-        if split is None or len(split[1]) < 2:
+    for term, trig in zip(terms, factors):
+        if trig is None or len(trig) < 2:
             collected[se.Integer(1)] += term
             continue
-        coefficient, trig = split
+        coefficient = _coefficient(term)
         for c, f in _linearize(trig):
             collected[f] += coefficient * c
     return se.Add(*[se.expand(c) * f for f, c in collected.items()])
@@ -105,11 +118,16 @@ def fourier_form(expr: Any) -> Any:
 
 def _multiple_angles(expr: Any) -> bool:
     """True when some sin/cos argument contains a symbol with a coefficient other than +-1."""
-    for atom in _trig_atoms(expr):
-        argument = se.expand(atom.args[0])
-        for term in argument.args if argument.is_Add else (argument,):
-            if term.is_Mul and term.args[0].is_Number and abs(term.args[0]) != 1:
-                return True
+    return any(_multiple_angle(atom) for atom in _trig_atoms(expr))
+
+
+def _multiple_angle(atom: Any) -> bool:
+    """True when the argument of the sin/cos ``atom`` itself (not a trig function inside it)
+    has a term with a coefficient other than +-1."""
+    argument = se.expand(atom.args[0])
+    for term in argument.args if argument.is_Add else (argument,):
+        if term.is_Mul and term.args[0].is_Number and abs(term.args[0]) != 1:
+            return True
     return False
 
 
@@ -122,9 +140,29 @@ def size(expr: Any) -> int:
     return int(se.count_ops(expr))
 
 
-def tidy(expr: Any, state: Any) -> Any:
-    """:func:`combine_trig`, then terms grouped by state monomial with parameters factored."""
+def combine_and_collect(expr: Any, state: Any) -> Any:
+    """:func:`combine_trig`, then the terms grouped by their monomial in ``state`` with the
+    parameter coefficients factored (:func:`lagrangian.derivation.collect.collect_state`)."""
     return collect_state(combine_trig(expr), state)
+
+
+def combine_trig_sympy(expr: Any) -> sp.Expr:
+    """:func:`combine_trig` of a SymPy expression, back in SymPy with its own symbols.
+
+    The Fourier form is canonical for trigonometric polynomials, so a difference that is
+    identically zero becomes 0.
+
+    >>> a, b = sp.symbols("a b")
+    >>> combine_trig_sympy(sp.sin(a) ** 2 * sp.cos(b) + sp.cos(a) ** 2 * sp.cos(b))
+    cos(b)
+    """
+    expr = sp.sympify(expr)
+    return SympyView(expr.free_symbols)(combine_trig(to_backend(expr)))
+
+
+def combine_trig_matrix(matrix: sp.MatrixBase) -> sp.ImmutableMatrix:
+    """:func:`combine_trig_sympy` applied to every entry."""
+    return sp.ImmutableMatrix(sp.Matrix(matrix).applyfunc(combine_trig_sympy))
 
 
 def combine_trig(expr: Any) -> Any:
@@ -132,12 +170,10 @@ def combine_trig(expr: Any) -> Any:
     double angles written back as squares (cos 2x = 1 - 2 sin^2 x = 2 cos^2 x - 1), which gives
     the textbook r^2 sin^2(theta) rather than r^2/2 - r^2 cos(2 theta)/2.  No general simplify."""
     expanded = se.expand(expr)
-    fourier = fourier_form(expanded)
-    if fourier is expanded:
-        return expanded
+    fourier = _fourier_of_expanded(expanded)
     halves = _half_angle_forms(fourier)
     if not halves:  # no double angles to weigh: the plain size decides
-        return min((expanded, fourier), key=size)
+        return expanded if fourier is expanded else min((expanded, fourier), key=size)
     return min((expanded, fourier, *halves), key=_textbook_size)
 
 
@@ -151,8 +187,10 @@ def _half_angle_forms(expr: Any) -> list[Any]:
     (sin(2x) as 2 sin x cos x in both)."""
     doubled = {}
     for atom in _trig_atoms(expr):
+        if not _multiple_angle(atom):  # a trig function inside is one of the atoms too
+            continue
         half = se.expand(atom.args[0] / 2)
-        if _multiple_angles(atom) and not _multiple_angles(se.sin(half)):
+        if not _multiple_angles(se.sin(half)):
             doubled[atom] = half
     if not doubled:
         return []

@@ -8,6 +8,6 @@
 """
 
 from lagrangian.io.load import load, loads
-from lagrangian.io.spec import SCHEMA_PATH, schema
+from lagrangian.io.model_schema import SCHEMA_PATH, schema
 
 __all__ = ["SCHEMA_PATH", "load", "loads", "schema"]

@@ -24,8 +24,8 @@ import sympy as sp
 
 from lagrangian.errors import ModelError
 from lagrangian.io.document import child
+from lagrangian.io.model_schema import entry_keys
 from lagrangian.io.reader import Reader, describe, suggestion
-from lagrangian.io.spec import entry_keys
 from lagrangian.model.inertia import SHAPES, Shape, shape
 from lagrangian.model.rotation import (
     EULER_SEQUENCES,
@@ -111,22 +111,17 @@ def read_orientation(reader: Reader, value: Any, path: str) -> Orientation | Non
     entry = reader.entry(value, path, "rotation")
     if entry is None:
         return None
-    forms = [key for key in _FORM_KEYS if key in entry]
-    if len(forms) != 1:
-        found = " and ".join(forms) if forms else "none"
-        reader.problem(
-            path,
-            f"an orientation has exactly one of euler, axis, quaternion; found {found}",
-            "write e.g. {euler: ZXZ, angles: [phi, theta, psi]} or a 3x3 matrix",
-        )
+    example = "write e.g. {euler: ZXZ, angles: [phi, theta, psi]} or a 3x3 matrix"
+    form = reader.one_of(entry, _FORM_KEYS, path, "an orientation", example)
+    if form is None:
         return None
-    own = _FORM_KEYS[forms[0]]
+    own = _FORM_KEYS[form]
     known = set(entry_keys("rotation").allowed)  # other keys: reported by reader.entry
     for key in sorted(set(entry) & known - set(own)):
-        fix = f"with {forms[0]}, give " + ", ".join(own)
+        fix = f"with {form}, give " + ", ".join(own)
         reader.problem(child(path, key), f"{key!r} does not belong here", fix, key=True)
     try:
-        return _build_orientation(reader, entry, path, forms[0])
+        return _build_orientation(reader, entry, path, form)
     except ModelError as exc:  # a bad sequence or a zero axis, found by the model
         for problem in exc.problems:
             reader.problem(child(path, problem.field), problem.message, problem.fix)

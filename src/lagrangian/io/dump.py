@@ -49,7 +49,8 @@ def _point(value: Any) -> Any:
     return value if isinstance(value, str) else [_expr(v) for v in value]
 
 
-def _named(entry: dict[str, Any], name: str) -> dict[str, Any]:
+def _with_name(entry: dict[str, Any], name: str) -> dict[str, Any]:
+    """``entry`` with its ``name`` first, when it has one (unnamed entries stay short)."""
     return {"name": name, **entry} if name else entry
 
 
@@ -100,7 +101,7 @@ def _mechanics(system: System) -> dict[str, Any]:
     ]
     sections["rigid_bodies"] = [_rigid_body(b) for b in system.rigid_bodies]
     sections["springs"] = [
-        _named(
+        _with_name(
             {
                 "between": [_point(p) for p in s.between],
                 "stiffness": _expr(s.stiffness),
@@ -111,16 +112,16 @@ def _mechanics(system: System) -> dict[str, Any]:
         for s in system.springs
     ]
     sections["dampers"] = [
-        _named(
+        _with_name(
             {"between": [_point(p) for p in d.between], "coefficient": _expr(d.coefficient)}, d.name
         )
         for d in system.dampers
     ]
     sections["forces"] = [
-        _named({"at": _point(f.at), "force": _point(f.force)}, f.name) for f in system.forces
+        _with_name({"at": _point(f.at), "force": _point(f.force)}, f.name) for f in system.forces
     ]
     sections["torques"] = [
-        _named({"body": tq.body, "torque": _scalar_or_vector(tq.torque)}, tq.name)
+        _with_name({"body": tq.body, "torque": _scalar_or_vector(tq.torque)}, tq.name)
         for tq in system.torques
     ]
     return {key: value for key, value in sections.items() if value}
@@ -141,7 +142,7 @@ def _circuit_entry(element: Any) -> dict[str, Any]:
         entry = {"resistance": _expr(element.resistance), "current": _expr(element.current)}
     else:
         entry = {"voltage": _expr(element.voltage), "coordinate": str(element.coordinate)}
-    return _named(entry, element.name)
+    return _with_name(entry, element.name)
 
 
 def _circuit(elements: Iterable[Any]) -> dict[str, list[dict[str, Any]]]:
@@ -154,7 +155,7 @@ def _circuit(elements: Iterable[Any]) -> dict[str, list[dict[str, Any]]]:
 
 
 def model_document(system: System) -> dict[str, Any]:
-    """The model-file mapping of ``system`` (the sections of DESIGN.md, empty ones left out)."""
+    """The model-file mapping of ``system`` (its sections, empty ones left out)."""
     document: dict[str, Any] = {"name": system.name or "system"}
     if system.description:
         document["description"] = system.description
@@ -174,7 +175,7 @@ def model_document(system: System) -> dict[str, Any]:
         document["circuit"] = circuit
     if system.constraints:
         document["constraints"] = [
-            _named({c.kind: _expr(c.expression)}, c.name) for c in system.constraints
+            _with_name({c.kind: _expr(c.expression)}, c.name) for c in system.constraints
         ]
     if system.initial:
         document["initial"] = {s.name: float(v) for s, v in system.initial.items()}

@@ -21,7 +21,7 @@ import sympy as sp
 
 from lagrangian.errors import ExpressionError, Problem
 from lagrangian.io.document import Document, child
-from lagrangian.io.spec import entry_keys
+from lagrangian.io.model_schema import entry_keys
 from lagrangian.model.expressions import parse_expression
 
 _EXAMPLE_VECTOR = 'a list such as ["l*sin(theta)", "-l*cos(theta)"]'
@@ -113,6 +113,24 @@ class Reader:
             if entry is not None:
                 found.append((child(path, i), entry))
         return found
+
+    def one_of(
+        self, entry: Mapping[str, Any], kinds: Iterable[str], path: str, noun: str, example: str
+    ) -> str | None:
+        """The one key of ``kinds`` that ``entry`` has, or None after a problem naming those
+        found (an entry is exactly one kind of thing: a holonomic constraint, an Euler-angle
+        orientation...)."""
+        kinds = tuple(kinds)
+        found = [kind for kind in kinds if kind in entry]
+        if len(found) == 1:
+            return found[0]
+        self.problem(
+            path,
+            f"{noun} has exactly one of {', '.join(kinds)}; found "
+            + (" and ".join(found) if found else "none"),
+            example,
+        )
+        return None
 
     # -- scalars ------------------------------------------------------------------------
     def expression(self, value: Any, path: str) -> sp.Expr | None:

@@ -21,8 +21,8 @@ import sympy as sp
 
 from lagrangian.io.bodies import read_inertia, read_orientation
 from lagrangian.io.document import child
+from lagrangian.io.model_schema import entry_keys
 from lagrangian.io.reader import Reader, describe, suggestion
-from lagrangian.io.spec import entry_keys
 from lagrangian.model import (
     Capacitor,
     Damper,
@@ -233,18 +233,13 @@ def read_constraints(reader: Reader, data: dict[str, Any]) -> list[tuple[str, An
     ``{unilateral: g}`` with an optional ``name``, and the path of its expression in the file."""
     constraints = []
     for path, entry in reader.entries(data.get("constraints", []), "constraints", "constraint"):
-        kinds = [key for key in CONSTRAINT_TYPES if key in entry]
-        if not kinds and set(entry) - set(entry_keys("constraint").allowed):
+        unknown = set(entry) - set(entry_keys("constraint").allowed)
+        if unknown and not set(entry) & set(CONSTRAINT_TYPES):
             continue  # a misspelt kind: reported as an unknown key with a suggestion
-        if len(kinds) != 1:
-            found = " and ".join(kinds) if kinds else "none"
-            reader.problem(
-                path,
-                f"a constraint has exactly one of holonomic, velocity, unilateral; found {found}",
-                'write one per entry, e.g. {holonomic: "x**2 + y**2 - l**2"}',
-            )
+        example = 'write one per entry, e.g. {holonomic: "x**2 + y**2 - l**2"}'
+        kind = reader.one_of(entry, CONSTRAINT_TYPES, path, "a constraint", example)
+        if kind is None:
             continue
-        (kind,) = kinds
         expression = reader.expression(entry[kind], child(path, kind))
         name = reader.text(entry["name"], child(path, "name")) if "name" in entry else ""
         if expression is not None and name is not None:

@@ -18,7 +18,7 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.model.elements import _expr
+from lagrangian.model.elements import as_expression
 
 
 @dataclass(frozen=True)
@@ -30,8 +30,8 @@ class Inductor:
     name: str = ""
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "inductance", _expr(self.inductance))
-        object.__setattr__(self, "current", _expr(self.current))
+        object.__setattr__(self, "inductance", as_expression(self.inductance))
+        object.__setattr__(self, "current", as_expression(self.current))
 
 
 @dataclass(frozen=True)
@@ -43,8 +43,8 @@ class MutualInductance:
     name: str = ""
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "inductance", _expr(self.inductance))
-        object.__setattr__(self, "currents", tuple(_expr(c) for c in self.currents))
+        object.__setattr__(self, "inductance", as_expression(self.inductance))
+        object.__setattr__(self, "currents", tuple(as_expression(c) for c in self.currents))
 
 
 @dataclass(frozen=True)
@@ -56,8 +56,8 @@ class Capacitor:
     name: str = ""
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "capacitance", _expr(self.capacitance))
-        object.__setattr__(self, "charge", _expr(self.charge))
+        object.__setattr__(self, "capacitance", as_expression(self.capacitance))
+        object.__setattr__(self, "charge", as_expression(self.charge))
 
 
 @dataclass(frozen=True)
@@ -69,8 +69,8 @@ class Resistor:
     name: str = ""
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "resistance", _expr(self.resistance))
-        object.__setattr__(self, "current", _expr(self.current))
+        object.__setattr__(self, "resistance", as_expression(self.resistance))
+        object.__setattr__(self, "current", as_expression(self.current))
 
 
 @dataclass(frozen=True)
@@ -82,7 +82,7 @@ class VoltageSource:
     name: str = ""
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "voltage", _expr(self.voltage))
+        object.__setattr__(self, "voltage", as_expression(self.voltage))
 
 
 CircuitElement = Inductor | MutualInductance | Capacitor | Resistor | VoltageSource

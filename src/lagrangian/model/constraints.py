@@ -25,16 +25,16 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import sympy as sp
 
 from lagrangian.errors import Problem
-from lagrangian.model.elements import _expr
+from lagrangian.model.elements import as_expression
 
 if TYPE_CHECKING:
-    from lagrangian.model.validation import _Scope
+    from lagrangian.model.validation import NameScope
 
 
 def _as_expression(value: Any) -> Any:
     if isinstance(value, sp.Equality):
         return value.lhs - value.rhs
-    return _expr(value)
+    return as_expression(value)
 
 
 @dataclass(frozen=True)
@@ -91,7 +91,7 @@ def statement(constraint: Any) -> str:
     return f"{constraint.expression} {relation} 0"
 
 
-def check_constraints(values: dict[str, Any], scope: _Scope, problems: list[Problem]) -> None:
+def check_constraints(values: dict[str, Any], scope: NameScope, problems: list[Problem]) -> None:
     """Every problem of the canonical ``values["constraints"]`` (see the module docstring)."""
     names: dict[str, int] = {}
     for i, item in enumerate(values["constraints"]):
@@ -118,7 +118,7 @@ def check_constraints(values: dict[str, Any], scope: _Scope, problems: list[Prob
         _check_one(item, i, scope, problems)
 
 
-def _check_one(item: Any, index: int, scope: _Scope, problems: list[Problem]) -> None:
+def _check_one(item: Any, index: int, scope: NameScope, problems: list[Problem]) -> None:
     field = f"constraints[{index}].expression"
     who = f"constraint {item.name!r}" if item.name else "the constraint"
     expression = item.expression

@@ -23,7 +23,7 @@ PointRef = str | tuple[sp.Expr, ...]
 ORIGIN = "origin"
 
 
-def _expr(value: Any) -> Any:
+def as_expression(value: Any) -> Any:
     """Numbers become SymPy numbers; everything else is kept for the validator to judge."""
     if isinstance(value, bool):
         return value
@@ -36,7 +36,7 @@ def _vector(value: Any) -> Any:
     if isinstance(value, (str, sp.Basic)) and not isinstance(value, sp.MatrixBase):
         return value  # not a vector; the validator says so
     try:
-        return tuple(_expr(v) for v in value)
+        return tuple(as_expression(v) for v in value)
     except TypeError:
         return value
 
@@ -57,7 +57,7 @@ class Particle:
     position: tuple[sp.Expr, ...]
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "mass", _expr(self.mass))
+        object.__setattr__(self, "mass", as_expression(self.mass))
         object.__setattr__(self, "position", _vector(self.position))
 
 
@@ -68,14 +68,14 @@ def _matrix(value: Any) -> Any:
         return sp.ImmutableMatrix(value)
     rows = value if isinstance(value, (list, tuple)) else None
     if rows and all(isinstance(r, (list, tuple)) and len(r) == len(rows[0]) for r in rows):
-        entries = [[_expr(v) for v in r] for r in rows]
+        entries = [[as_expression(v) for v in r] for r in rows]
         if all(isinstance(v, sp.Expr) for r in entries for v in r):
             return sp.ImmutableMatrix(entries)
     return value
 
 
 def _inertia(value: Any) -> Any:
-    return value if isinstance(value, Shape) else _expr(_matrix(value))
+    return value if isinstance(value, Shape) else as_expression(_matrix(value))
 
 
 def _orientation(value: Any) -> Any:
@@ -108,10 +108,10 @@ class RigidBody:
     orientation: Orientation | None = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "mass", _expr(self.mass))
+        object.__setattr__(self, "mass", as_expression(self.mass))
         object.__setattr__(self, "inertia", _inertia(self.inertia))
         object.__setattr__(self, "position", _vector(self.position))
-        object.__setattr__(self, "angle", None if self.angle is None else _expr(self.angle))
+        object.__setattr__(self, "angle", None if self.angle is None else as_expression(self.angle))
         object.__setattr__(self, "orientation", _orientation(self.orientation))
 
     @property
@@ -144,8 +144,8 @@ class Spring:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "between", tuple(_point(p) for p in self.between))
-        object.__setattr__(self, "stiffness", _expr(self.stiffness))
-        object.__setattr__(self, "rest_length", _expr(self.rest_length))
+        object.__setattr__(self, "stiffness", as_expression(self.stiffness))
+        object.__setattr__(self, "rest_length", as_expression(self.rest_length))
 
 
 @dataclass(frozen=True)
@@ -162,7 +162,7 @@ class Damper:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "between", tuple(_point(p) for p in self.between))
-        object.__setattr__(self, "coefficient", _expr(self.coefficient))
+        object.__setattr__(self, "coefficient", as_expression(self.coefficient))
 
 
 @dataclass(frozen=True)
@@ -196,7 +196,7 @@ class Torque:
     def __post_init__(self) -> None:
         value = self.torque
         vector = isinstance(value, (list, tuple, sp.MatrixBase))
-        object.__setattr__(self, "torque", _vector(value) if vector else _expr(value))
+        object.__setattr__(self, "torque", _vector(value) if vector else as_expression(value))
 
 
 def as_tuple(items: Sequence[Any] | None) -> tuple[Any, ...]:

@@ -15,7 +15,8 @@ from typing import TYPE_CHECKING, Any
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem, raise_if_problems
-from lagrangian.model.elements import _expr
+from lagrangian.model.elements import as_expression
+from lagrangian.model.frozen import FrozenMapping
 from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import Orientation
 from lagrangian.model.symbols import as_coordinate, from_time_functions, t
@@ -25,6 +26,7 @@ if TYPE_CHECKING:
     from lagrangian.model.system import System
 
 EXPRESSION_FIELDS = ("kinetic", "potential", "lagrangian", "velocity_potential", "dissipation")
+MAPPING_FIELDS = ("parameters", "generalized_forces", "initial", "simulation")
 ELEMENT_FIELDS = (
     "particles",
     "rigid_bodies",
@@ -45,7 +47,7 @@ class _Canonicalizer:
         self.by_name["t"] = t
 
     def __call__(self, value: Any) -> Any:
-        value = _expr(value)
+        value = as_expression(value)
         if isinstance(value, tuple):
             return tuple(self(v) for v in value)
         if isinstance(value, (Orientation, Shape)):  # rebuilt from its canonical expressions
@@ -148,7 +150,8 @@ def _element(item: Any, canon: _Canonicalizer) -> Any:
 
 
 def normalize_system(system: System) -> dict[str, Any]:
-    """Canonical field values for ``system``; raises ModelError listing every problem."""
+    """Canonical field values for ``system`` (its mappings frozen); raises ModelError
+    listing every problem."""
     problems: list[Problem] = []
     coordinates = _coordinates(system.coordinates, problems)
     parameters = _parameters(system.parameters, problems)
@@ -171,6 +174,8 @@ def normalize_system(system: System) -> dict[str, Any]:
     raise_if_problems(
         problems, f"The system {system.name or ''} is not valid".replace("  ", " "), ModelError
     )
+    for name in MAPPING_FIELDS:  # a System is a value: its mappings are read-only
+        values[name] = FrozenMapping(values[name])
     return values
 
 
@@ -178,5 +183,5 @@ def _as_vector(value: Any) -> Any:
     if isinstance(value, sp.MatrixBase):
         return tuple(value)
     if isinstance(value, (list, tuple)):
-        return tuple(_expr(v) for v in value)
+        return tuple(as_expression(v) for v in value)
     return value

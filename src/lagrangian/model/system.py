@@ -1,6 +1,7 @@
 """The System: everything a user says about a mechanical or electromechanical system.
 
-A System is an immutable value.  Its contributions add up (DESIGN.md, "The model file"):
+A System is an immutable value (its mappings are read-only :class:`~lagrangian.model.frozen.
+FrozenMapping` s).  Its contributions add up (docs/architecture.md, "The model file"):
 explicit energies T, V (or L directly), a velocity-dependent potential U, a Rayleigh
 dissipation function F, generalized forces Q, particles and rigid bodies (planar or 3-D) under
 uniform gravity, springs, dampers, applied forces and torques, circuit elements, and constraints.
@@ -39,8 +40,9 @@ class System:
     """A mechanical or electromechanical system described by energies and elements.
 
     Every field accepts what is convenient (lists, names, numbers); after construction the
-    fields hold canonical values: tuples of SymPy Symbols and expressions, a dict of parameter
-    symbols to defaults.
+    fields hold canonical values: tuples of SymPy Symbols and expressions, read-only mappings
+    (parameter symbols to defaults, coordinates to forces, initial values, settings).  A
+    System never changes: :meth:`replace` and :meth:`with_parameters` make new ones.
 
     Parameters
     ----------

@@ -21,15 +21,15 @@ from lagrangian.model.circuit import (
 from lagrangian.model.constraints import check_constraints
 from lagrangian.model.elements import ORIGIN
 from lagrangian.model.inertia import Shape, check_inertia
+from lagrangian.model.probe import PROBES, SEED, random_values
 from lagrangian.model.rotation import Orientation, check_rotation
 from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, t, velocity
 
 CONFIGURATION = "configuration"  # may depend on q, t and parameters
 STATE = "state"  # may also depend on the velocities
-SEED, PROBES = 20240605, 3  # the numerical checks of rotations and inertia tensors
 
 
-class _Scope:
+class NameScope:
     """The names an expression may use, and the diagnosis of a name it may not."""
 
     def __init__(self, values: dict[str, Any]) -> None:
@@ -138,7 +138,7 @@ def _check_names(values: dict[str, Any], problems: list[Problem]) -> None:
 
 
 def _vector(
-    value: Any, field: str, kind: str, scope: _Scope, problems: list[Problem]
+    value: Any, field: str, kind: str, scope: NameScope, problems: list[Problem]
 ) -> int | None:
     if not isinstance(value, tuple) or not 1 <= len(value) <= 3:
         problems.append(
@@ -154,7 +154,7 @@ def _vector(
     return len(value)
 
 
-def _check_points(values: dict[str, Any], scope: _Scope, problems: list[Problem]) -> set[str]:
+def _check_points(values: dict[str, Any], scope: NameScope, problems: list[Problem]) -> set[str]:
     names: set[str] = set()
     dims: dict[str, int] = {}
     for group in ("particles", "rigid_bodies"):
@@ -194,7 +194,7 @@ def _check_points(values: dict[str, Any], scope: _Scope, problems: list[Problem]
 
 
 def _check_rigid_body(
-    item: Any, field: str, dim: int | None, scope: _Scope, values: dict, problems: list[Problem]
+    item: Any, field: str, dim: int | None, scope: NameScope, values: dict, problems: list[Problem]
 ) -> None:
     """A planar body has a scalar inertia, an angle and 2 components; a 3-D one an
     orientation, a 3x3 inertia or a shape, and 3 components."""
@@ -217,7 +217,7 @@ def _check_rigid_body(
 
 
 def _entries_checked(
-    entries: Iterable[Any], field: str, scope: _Scope, problems: list[Problem]
+    entries: Iterable[Any], field: str, scope: NameScope, problems: list[Problem]
 ) -> bool:
     """Scope-check every entry, each problem once; True when all were fine."""
     found: list[Problem] = []
@@ -228,7 +228,7 @@ def _entries_checked(
 
 
 def _check_orientation(
-    body: Any, field: str, scope: _Scope, values: dict, problems: list[Problem]
+    body: Any, field: str, scope: NameScope, values: dict, problems: list[Problem]
 ) -> None:
     orientation = body.orientation
     if not isinstance(orientation, Orientation) or orientation.matrix.shape != (3, 3):
@@ -240,7 +240,7 @@ def _check_orientation(
 
 
 def _check_inertia(
-    body: Any, field: str, scope: _Scope, values: dict, problems: list[Problem]
+    body: Any, field: str, scope: NameScope, values: dict, problems: list[Problem]
 ) -> None:
     inertia = body.inertia
     if isinstance(inertia, Shape):
@@ -268,16 +268,14 @@ def _samples(values: dict) -> list[dict[sp.Symbol, float]]:
     rng = random.Random(SEED)
     samples = []
     for _ in range(PROBES):
-        point = {q: rng.uniform(0.3, 1.3) for q in values["coordinates"]}
-        point[t] = rng.uniform(0.3, 1.3)
-        for p, default in values["parameters"].items():
-            point[p] = default if default is not None else rng.uniform(0.3, 1.3)
+        point = random_values([*values["coordinates"], t, *values["parameters"]], rng)
+        point.update((p, v) for p, v in values["parameters"].items() if v is not None)
         samples.append(point)
     return samples
 
 
 def _check_point_ref(
-    ref: Any, field: str, points: set[str], scope: _Scope, problems: list[Problem]
+    ref: Any, field: str, points: set[str], scope: NameScope, problems: list[Problem]
 ) -> None:
     if isinstance(ref, str):
         if ref not in points:
@@ -295,7 +293,7 @@ def _check_point_ref(
 
 
 def _check_elements(
-    values: dict[str, Any], scope: _Scope, points: set[str], problems: list[Problem]
+    values: dict[str, Any], scope: NameScope, points: set[str], problems: list[Problem]
 ) -> None:
     for group, attr in (("springs", "stiffness"), ("dampers", "coefficient")):
         for i, item in enumerate(values[group]):
@@ -333,7 +331,7 @@ def _check_elements(
             scope.check(item.torque, field, STATE, problems)
 
 
-def _check_circuit(values: dict[str, Any], scope: _Scope, problems: list[Problem]) -> None:
+def _check_circuit(values: dict[str, Any], scope: NameScope, problems: list[Problem]) -> None:
     for i, item in enumerate(values["circuit"]):
         field = f"circuit[{i}]"
         if isinstance(item, Inductor):
@@ -373,7 +371,7 @@ def validate(values: dict[str, Any]) -> Iterable[Problem]:
     """Every problem of a canonical System description, in field order."""
     problems: list[Problem] = []
     _check_names(values, problems)
-    scope = _Scope(values)
+    scope = NameScope(values)
     for name in ("kinetic", "lagrangian", "velocity_potential", "dissipation"):
         scope.check(values[name], name, STATE, problems)
     scope.check(values["potential"], "potential", CONFIGURATION, problems)

@@ -31,9 +31,9 @@ from scipy.linalg.lapack import dgesv
 
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationError
-from lagrangian.numerics.cache import IdentityCache
+from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
-from lagrangian.numerics.state import StateEquations, state_equations
+from lagrangian.numerics.state_equations import StateEquations, state_equations
 
 #: Time: one float, or one per state of a batch.
 Time: TypeAlias = "float | np.ndarray"

@@ -34,6 +34,7 @@ from lagrangian.constraints import ConstrainedEquations
 from lagrangian.constraints.pfaffian import pfaffian_form
 from lagrangian.errors import SimulationError
 from lagrangian.model.constraints import VelocityConstraint
+from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
 
 #: Newton steps of :meth:`CompiledConstrained.project` (one or two suffice after a step).
@@ -133,11 +134,19 @@ class CompiledConstrained:
         return z[:n], z[n:]
 
 
+_COMPILED: IdentityCache[ConstrainedEquations, CompiledConstrained] = IdentityCache()
+
+
 def compile_constrained(equations: ConstrainedEquations) -> CompiledConstrained:
-    """The numeric functions of the multiplier form (holonomic and velocity constraints).
+    """The numeric functions of the multiplier form (holonomic and velocity constraints),
+    compiled once per ConstrainedEquations object.
 
     Unilateral constraints are compiled as active holonomic ones (the caller refuses them).
     """
+    return _COMPILED.get(equations, _compile_multiplier_form)
+
+
+def _compile_multiplier_form(equations: ConstrainedEquations) -> CompiledConstrained:
     q, qd = list(equations.coordinates), list(equations.velocities)
     p, t = list(equations.parameters), equations.time
     forms = [pfaffian_form(c, q) for c in equations.constraints]

@@ -35,7 +35,7 @@ import sympy as sp
 
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationError
-from lagrangian.numerics.cache import IdentityCache
+from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
 
 

@@ -1,5 +1,5 @@
 """The render layer: equations, derivation steps and systems as LaTeX and plain text, and
-rich display in Jupyter (see DESIGN.md).
+rich display in Jupyter (docs/architecture.md).
 
 >>> import lagrangian as lg
 >>> from lagrangian import render

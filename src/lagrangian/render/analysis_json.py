@@ -1,4 +1,5 @@
-"""The machine-readable output contract of DESIGN.md: ``lagrangian analyze --format json``.
+"""``lagrangian analyze --format json``: the machine-readable output contract
+(docs/architecture.md).
 
 Keys: ``dof``, ``constraints`` (each classified: kind, holonomic, rheonomic, ...), ``momenta``
 (coordinate name -> p), ``cyclic``, ``conserved`` (expressions), ``energy_function``,
@@ -47,7 +48,7 @@ def _state(state: Mapping[sp.Symbol, Any]) -> dict[str, str]:
     return {s.name: expression_string(sp.sympify(v)) for s, v in state.items()}
 
 
-def _named(values: Mapping[str, Any]) -> dict[str, str]:
+def _strings_by_name(values: Mapping[str, Any]) -> dict[str, str]:
     return {name: expression_string(sp.sympify(v)) for name, v in values.items()}
 
 
@@ -125,7 +126,7 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
         "dof": report.dof,
         "coordinates": [q.name for q in report.coordinates],
         "constraints": list(report.constraints),
-        "momenta": None if report.momenta is None else _named(report.momenta.by_name()),
+        "momenta": None if report.momenta is None else _strings_by_name(report.momenta.by_name()),
         "cyclic": [c.coordinate.name for c in report.cyclic],
         "conserved": _strings(c.expression for c in report.conserved),
         "conserved_quantities": [

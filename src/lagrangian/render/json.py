@@ -1,4 +1,4 @@
-"""The machine-readable output contract of DESIGN.md: ``lagrangian derive --format json``.
+"""The machine-readable output contract (docs/architecture.md): ``lagrangian derive --format json``.
 
 Every expression is a string SymPy can parse, written with the input's names
 (``theta_dot``, ``theta_ddot``).
@@ -71,9 +71,9 @@ def eom_document(eom: EquationsOfMotion, *, steps: bool = False) -> dict[str, An
 
 
 def constrained_document(equations: ConstrainedEquations) -> dict[str, Any]:
-    """What constraints add to the derive JSON (DESIGN.md): ``multipliers`` (their names),
-    ``constraint_jacobian`` A, ``gamma`` (A q_ddot = gamma), the residuals with the constraint
-    forces, d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q - A^T lambda (each = 0), and the
+    """What constraints add to the derive JSON (docs/architecture.md): ``multipliers`` (their
+    names), ``constraint_jacobian`` A, ``gamma`` (A q_ddot = gamma), the residuals with the
+    constraint forces, d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q - A^T lambda (each = 0), and the
     augmented Lagrangian L + sum lambda_j h_j."""
     return {
         "constraints": [expression_string(c.expression) for c in equations.constraints],

@@ -1,6 +1,8 @@
 """Rich display in Jupyter: typeset equations, steps and systems.
 
-IPython is optional: :func:`register` does nothing when it is not installed or not running.
+IPython is optional: :func:`register` does nothing when it is not installed or not running,
+and nothing is registered until it is called (``lg.render.register()``, or
+``%load_ext lagrangian``, which calls it).
 The render layer adds no methods to the model and derive types; it registers formatters.
 
 >>> import lagrangian as lg
@@ -12,6 +14,7 @@ True
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from lagrangian.analysis import AnalysisReport
 from lagrangian.derivation import CoordinateSteps, EquationsOfMotion
@@ -75,9 +78,11 @@ def _result_latex(result: object) -> str | None:
     return Latex(text.replace("align*", _NESTED))._repr_latex_()
 
 
-def register() -> bool:
-    """Register 'text/latex' formatters for EquationsOfMotion, CoordinateSteps and System, and
-    an 'image/png' one for Trajectory (time series, phase portrait, energy drift).
+def register(shell: Any = None) -> bool:
+    """Register 'text/latex' formatters for EquationsOfMotion, CoordinateSteps, System,
+    AnalysisReport and the analysis results, and an 'image/png' one for Trajectory (time
+    series, phase portrait, energy drift), in ``shell`` (the running IPython when None).
+    Importing lagrangian registers nothing: call this, or ``%load_ext lagrangian``.
     Animations display with ``IPython.display.HTML(animation_html(system, trajectory))``.
 
     Returns True when registered, False (doing nothing) when IPython is missing or not running.
@@ -85,13 +90,14 @@ def register() -> bool:
     >>> register()  # outside IPython
     False
     """
-    try:
-        from IPython import get_ipython
-    except ImportError:
-        return False
-    shell = get_ipython()
     if shell is None:
-        return False
+        try:
+            from IPython import get_ipython
+        except ImportError:
+            return False
+        shell = get_ipython()
+        if shell is None:
+            return False
     formatter = shell.display_formatter.formatters["text/latex"]
     formatter.for_type(EquationsOfMotion, _eom_latex)
     formatter.for_type(CoordinateSteps, _coordinate_steps_latex)

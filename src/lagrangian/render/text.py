@@ -93,7 +93,7 @@ def steps_text(eom: EquationsOfMotion) -> str:
 
 
 def matrix_form_text(eom: EquationsOfMotion) -> str:
-    """The matrix form, one block per term (DESIGN.md vocabulary):
+    """The matrix form, one block per term (the vocabulary of docs/architecture.md):
 
         M q̈ + C q̇ + G = Q − ∂F/∂q̇,    M q̈ = forcing
 

@@ -1,4 +1,8 @@
-"""The simulate layer: integrate the equations of motion into a Trajectory (see DESIGN.md).
+"""The simulation layer: integrate the equations of motion into a Trajectory
+(docs/architecture.md).
+
+The names below load on first use (PEP 562), so that reading a :class:`Trajectory` — as the
+render layer does — does not import SciPy's integrators.
 
 >>> import lagrangian as lg
 >>> from lagrangian.simulation import simulate
@@ -7,12 +11,43 @@
 (2, 'success')
 """
 
-from lagrangian.simulation.action import action, action_variation, stationary_path
-from lagrangian.simulation.batch import simulate_batch
-from lagrangian.simulation.batch_result import Batch
-from lagrangian.simulation.events import EventFunction
-from lagrangian.simulation.run import simulate
-from lagrangian.simulation.trajectory import Event, Trajectory
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from lagrangian.simulation.action import action, action_variation, stationary_path
+    from lagrangian.simulation.batch import simulate_batch
+    from lagrangian.simulation.batch_result import Batch
+    from lagrangian.simulation.events import EventFunction
+    from lagrangian.simulation.run import simulate
+    from lagrangian.simulation.trajectory import Event, Trajectory
+
+#: Public name -> the module defining it, imported when the name is first used.
+_HOMES = {
+    "Batch": "lagrangian.simulation.batch_result",
+    "Event": "lagrangian.simulation.trajectory",
+    "EventFunction": "lagrangian.simulation.events",
+    "Trajectory": "lagrangian.simulation.trajectory",
+    "action": "lagrangian.simulation.action",
+    "action_variation": "lagrangian.simulation.action",
+    "simulate": "lagrangian.simulation.run",
+    "simulate_batch": "lagrangian.simulation.batch",
+    "stationary_path": "lagrangian.simulation.action",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _HOMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module = importlib.import_module(_HOMES[name])
+    # Importing action.py has just bound the module to the name ``action`` here: bind the
+    # module's public names over it, as an eager ``from ... import`` would.
+    names = [key for key, home in _HOMES.items() if home == module.__name__]
+    globals().update({key: getattr(module, key) for key in names})
+    return globals()[name]
+
 
 __all__ = [
     "Batch",

@@ -29,6 +29,7 @@ from scipy.optimize import root
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import Problem, SimulationError, raise_if_problems
 from lagrangian.model import System
+from lagrangian.model.symbols import name_of
 from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.simulation.discrete import LagrangianFunctions, prepare, residual_converged
 from lagrangian.simulation.inputs import parameter_values, time_span
@@ -56,12 +57,7 @@ def action(system_or_eom: System | EquationsOfMotion, trajectory: Trajectory) ->
     >>> round(action(pendulum, trajectory), 6)  # at rest: L = m g l for one second
     9.81
     """
-    compiled, functions = prepare(system_or_eom)
-    problems: list[Problem] = []
-    values = parameter_values(compiled, trajectory.parameters, problems)
-    _check_trajectory(compiled, trajectory, problems)
-    raise_if_problems(problems, "Cannot compute the action", SimulationError)
-    p = np.array([values[name] for name in compiled.parameters], dtype=float)
+    functions, p = _along(system_or_eom, trajectory, "Cannot compute the action")
     return _integral(functions, trajectory.t, trajectory.q, trajectory.q_dot, p)
 
 
@@ -112,7 +108,7 @@ def stationary_path(
     if isinstance(nodes, bool) or not isinstance(nodes, int) or nodes < 2:
         problems.append(Problem("nodes", f"{nodes!r} is not an integer >= 2"))
     raise_if_problems(problems, "Cannot find the stationary path", SimulationError)
-    p = np.array([values[name] for name in compiled.parameters], dtype=float)
+    p = _parameter_vector(compiled, values)
     t = np.linspace(t0, t1, nodes + 1)
     terms = _discrete_euler_lagrange(functions, t, start, end, p)
     guess = start + np.outer((t[1:-1] - t0) / (t1 - t0), end - start)
@@ -147,12 +143,7 @@ def action_variation(
 
     Returns (amplitudes, actions), two arrays of the same length.
     """
-    compiled, functions = prepare(system_or_eom)
-    problems: list[Problem] = []
-    values = parameter_values(compiled, trajectory.parameters, problems)
-    _check_trajectory(compiled, trajectory, problems)
-    raise_if_problems(problems, "Cannot vary the action", SimulationError)
-    p = np.array([values[name] for name in compiled.parameters], dtype=float)
+    functions, p = _along(system_or_eom, trajectory, "Cannot vary the action")
     eps = np.atleast_1d(np.asarray(amplitudes, dtype=float))
     eta, eta_dot = _variation(trajectory, shape)
     actions = np.array(
@@ -164,6 +155,24 @@ def action_variation(
         ]
     )
     return eps, actions
+
+
+def _along(
+    system_or_eom: System | EquationsOfMotion, trajectory: Trajectory, refusal: str
+) -> tuple[LagrangianFunctions, np.ndarray]:
+    """The compiled L of the system and the parameter vector of ``trajectory`` (its values
+    over the defaults); SimulationError, headed ``refusal``, when the trajectory does not fit."""
+    compiled, functions = prepare(system_or_eom)
+    problems: list[Problem] = []
+    values = parameter_values(compiled, trajectory.parameters, problems)
+    _check_trajectory(compiled, trajectory, problems)
+    raise_if_problems(problems, refusal, SimulationError)
+    return functions, _parameter_vector(compiled, values)
+
+
+def _parameter_vector(compiled: CompiledEquations, values: Mapping[str, float]) -> np.ndarray:
+    """p in the order of the compiled parameters."""
+    return np.array([values[name] for name in compiled.parameters], dtype=float)
 
 
 def _integral(
@@ -237,7 +246,7 @@ def _coordinates(
     """Coordinate values by name (a mapping) or in the order of the coordinates."""
     names = compiled.coordinates
     if isinstance(given, Mapping):
-        by_name = {getattr(k, "name", str(k)): v for k, v in given.items()}
+        by_name = {name_of(k): v for k, v in given.items()}
         unknown = sorted(set(by_name) - set(names))
         missing = [name for name in names if name not in by_name]
         if unknown or missing:

@@ -28,11 +28,12 @@ from lagrangian.derivation import EquationsOfMotion
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.fast.outcome import FINISHED, STOPPED, describe
+from lagrangian.numerics.fast.settings import Settings as BatchSettings
 from lagrangian.simulation.batch_inputs import BatchInputs, resolve_batch
-from lagrangian.simulation.batch_numpy import BatchSettings, integrate_members
+from lagrangian.simulation.batch_numpy import integrate_members
 from lagrangian.simulation.batch_result import Batch
 from lagrangian.simulation.compiled_run import check_backend
-from lagrangian.simulation.progress import progress_bar
+from lagrangian.simulation.progress_bar import progress_bar
 from lagrangian.simulation.run import describe_system
 
 #: g(t, q, q_dot): a member stops where it turns negative.

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from lagrangian.errors import Problem, SimulationError, raise_if_problems
+from lagrangian.model.symbols import name_of
 from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.simulation.inputs import Inputs, resolve_inputs
 
@@ -80,7 +81,7 @@ def _arrays(
     """Each value as a 1-d float array (a number: length 1), by name; bad ones reported."""
     arrays: dict[str, np.ndarray] = {}
     for key, value in values.items():
-        name = key if isinstance(key, str) else str(getattr(key, "name", key))
+        name = name_of(key)
         where = f"{field}[{name!r}]"
         try:
             array = np.asarray(value, dtype=float)

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -32,24 +31,12 @@ from lagrangian.numerics.fast.outcome import (
     STEP_TOO_SMALL,
     STOPPED,
 )
+from lagrangian.numerics.fast.settings import Settings
 from lagrangian.numerics.fast.tableaus import adaptive_tableau
 from lagrangian.simulation.batch_dense import DOP853, HERMITE, RK45, Dense, locate_stops
 
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
 ULP = float(np.finfo(float).eps)
-
-
-@dataclass(frozen=True)
-class BatchSettings:
-    """Method, time span, output times, tolerances (adaptive) or step (RK4)."""
-
-    method: str
-    span: tuple[float, float]
-    t_out: np.ndarray
-    rtol: float
-    atol: float
-    max_step: float
-    dt: float | None
 
 
 class _Field:
@@ -77,7 +64,7 @@ class _Field:
 
 def integrate_members(
     compiled: CompiledEquations,
-    settings: BatchSettings,
+    settings: Settings,
     X0: np.ndarray,
     P: np.ndarray,
     stop_when: Callable[..., Any] | None = None,
@@ -108,7 +95,7 @@ class _Run:
     def __init__(
         self,
         compiled: CompiledEquations,
-        settings: BatchSettings,
+        settings: Settings,
         X0: np.ndarray,
         P: np.ndarray,
         stop_when: Callable[..., Any] | None,

@@ -29,8 +29,8 @@ from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import ExpressionError, Problem, SimulationError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.expressions import parse_expression
+from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.model.symbols import from_time_functions
-from lagrangian.numerics.cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
 from lagrangian.simulation.trajectory import Trajectory
 

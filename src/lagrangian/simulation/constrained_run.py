@@ -34,24 +34,22 @@ from typing import Any
 
 import numpy as np
 
-from lagrangian.constraints import constrained_equations, project_state
+from lagrangian.constraints import constrained_equations
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationError
 from lagrangian.model import System
 from lagrangian.model.constraints import Unilateral
 from lagrangian.numerics.compile import compile_equations
 from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
+from lagrangian.simulation.constrained_start import start_on_constraints
 from lagrangian.simulation.events import EventFunction, EventWatch
 from lagrangian.simulation.inputs import Inputs, resolve_inputs
-from lagrangian.simulation.run import _starter, _trajectory
+from lagrangian.simulation.run import solver_starter, trajectory_of
 from lagrangian.simulation.stepping import integrate
 from lagrangian.simulation.trajectory import Trajectory
 
 #: Methods whose state may be moved between steps (they carry only the last state forward).
 PROJECTABLE = ("RK45", "RK23", "DOP853", "RK4")
-
-#: Largest constraint residual of an initial state accepted as is.
-INITIAL_TOLERANCE = 1e-9
 
 
 def simulate_constrained(
@@ -104,7 +102,7 @@ def simulate_constrained(
             )
         return trajectory
     numeric = compile_constrained(constrained_equations(eom, system.constraints))
-    inputs = _checked_initial(system, numeric, inputs, project_initial)
+    inputs = checked_initial(system, numeric, inputs, project_initial)
     n, p = len(compiled.coordinates), inputs.p
 
     def field(t: float, x: np.ndarray) -> np.ndarray:
@@ -118,7 +116,7 @@ def simulate_constrained(
     project = _projection(numeric, inputs) if project_steps else None
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         run = integrate(
-            _starter(field, inputs),
+            solver_starter(field, inputs),
             inputs.t_span[0],
             inputs.x0,
             inputs.t_out,
@@ -126,8 +124,8 @@ def simulate_constrained(
             progress,
             project,
         )
-    trajectory = _trajectory(compiled, inputs, run, watch)
-    multipliers, residual = _along(numeric, trajectory, p, alpha, beta)
+    trajectory = trajectory_of(compiled, inputs, run, watch)
+    multipliers, residual = multipliers_along(numeric, trajectory, p, alpha, beta)
     trajectory = dataclasses.replace(
         trajectory,
         multipliers=multipliers,
@@ -180,32 +178,17 @@ def _residual(
     return float(np.max(np.abs(np.concatenate((h, c))), initial=0.0))
 
 
-def _checked_initial(
+def checked_initial(
     system: System, numeric: CompiledConstrained, inputs: Inputs, project_initial: bool
 ) -> Inputs:
-    """``inputs`` with an initial state on the constraints (projected when asked), or raise."""
-    n, t0 = len(numeric.coordinates), inputs.t_span[0]
-    x0 = inputs.x0
-    residual = _residual(numeric, x0[:n], x0[n:], t0, inputs.p)
-    if not residual > INITIAL_TOLERANCE and math.isfinite(residual):
-        return inputs
-    if not project_initial:
-        raise SimulationError(
-            f"The initial state violates the constraints: the largest residual is "
-            f"{residual:.3g} (> {INITIAL_TOLERANCE:g}). Move it onto them with "
-            "lagrangian.constraints.project_state, or pass project_initial=True."
-        )
-    names = numeric.coordinates
-    state: dict[str, float] = dict(inputs.parameters)
-    state.update(zip(names, x0[:n].tolist()))
-    state.update((name + "_dot", float(v)) for name, v in zip(names, x0[n:]))
-    state["t"] = t0
-    projected = {symbol.name: value for symbol, value in project_state(system, state).items()}
-    x = np.array([projected[name] for name in names] + [projected[name + "_dot"] for name in names])
-    return dataclasses.replace(inputs, x0=x)
+    """``inputs`` with an initial state on the constraints (projected when asked), or raise
+    (:func:`lagrangian.simulation.constrained_start.start_on_constraints`)."""
+    n, x0 = len(numeric.coordinates), inputs.x0
+    residual = _residual(numeric, x0[:n], x0[n:], inputs.t_span[0], inputs.p)
+    return start_on_constraints(system, numeric.coordinates, inputs, residual, project_initial)
 
 
-def _along(
+def multipliers_along(
     numeric: CompiledConstrained,
     trajectory: Trajectory,
     p: np.ndarray,

@@ -14,14 +14,14 @@ from lagrangian.errors import SimulationError
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.discrete_lagrangian import LagrangianFunctions, compile_lagrangian
-from lagrangian.simulation.run import _description
+from lagrangian.simulation.run import describe_system
 
 
 def prepare(
     system_or_eom: System | EquationsOfMotion,
 ) -> tuple[CompiledEquations, LagrangianFunctions]:
     """The compiled equations (names, defaults, energy) and the compiled L of a system."""
-    eom, _, _, system = _description(system_or_eom)
+    eom, _, _, system = describe_system(system_or_eom)
     if system is not None and system.constraints:
         # The action of the unconstrained L would be silently wrong.
         raise SimulationError(

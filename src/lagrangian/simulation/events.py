@@ -21,7 +21,6 @@ from collections.abc import Callable, Sequence
 from typing import Protocol
 
 import numpy as np
-from scipy.optimize import brentq
 
 EPS = float(np.finfo(float).eps)
 
@@ -76,6 +75,8 @@ class EventWatch:
         return found, False
 
     def _root(self, i: int, t_old: float, t: float, dense: Callable[[float], np.ndarray]) -> float:
+        from scipy.optimize import brentq  # SciPy loads with the first event, not on import
+
         def g(s: float) -> float:
             return self.value(i, s, dense(s))
 

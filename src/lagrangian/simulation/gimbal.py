@@ -34,6 +34,7 @@ import sympy as sp
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationError
 from lagrangian.model import System
+from lagrangian.model.symbols import name_of
 from lagrangian.numerics.evaluate import NumericFunction
 from lagrangian.simulation.inputs import VARIATIONAL
 from lagrangian.simulation.trajectory import Trajectory
@@ -173,8 +174,7 @@ def _parameters(eom: EquationsOfMotion, given: Mapping[Any, Any]) -> np.ndarray:
     reported by the input check of the run)."""
     values = {s.name: v for s, v in eom.parameters.items()}
     for key, value in given.items():
-        name = key if isinstance(key, str) else getattr(key, "name", str(key))
-        values[name] = value
+        values[name_of(key)] = value
     return np.array([_number(values.get(s.name)) for s in eom.parameters], dtype=float)
 
 
@@ -193,8 +193,8 @@ def _refuse_start(
     fallback_initial: Mapping[Any, float],
 ) -> None:
     """SimulationError when the initial coordinates put a body at its lock."""
-    values = {_key(k): v for k, v in fallback_initial.items()}
-    values.update((_key(k), v) for k, v in (given.get("initial") or {}).items())
+    values = {name_of(k): v for k, v in fallback_initial.items()}
+    values.update((name_of(k), v) for k, v in (given.get("initial") or {}).items())
     q = np.array([_number(values.get(s.name)) for s in eom.coordinates])
     span = given.get("t_span")
     t0 = _number(span[0]) if isinstance(span, Sequence) and len(span) == 2 else 0.0
@@ -208,10 +208,6 @@ def _refuse_start(
                 f"singular there, so the motion cannot start; {_ADVICE}, or start away from "
                 "the lock."
             )
-
-
-def _key(key: Any) -> str:
-    return key if isinstance(key, str) else getattr(key, "name", str(key))
 
 
 def _head(trajectory: Trajectory, rows: int) -> Trajectory:

@@ -21,7 +21,8 @@ from typing import Any
 
 import numpy as np
 
-from lagrangian.errors import Problem, SimulationError, raise_if_problems
+from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
+from lagrangian.model.symbols import name_of
 from lagrangian.numerics.compile import CompiledEquations
 
 #: Every method simulate accepts: SciPy's solve_ivp methods and the fixed-step RK4.
@@ -53,7 +54,8 @@ def resolve_inputs(
     fallback_initial: Mapping[Any, float],
     settings: Mapping[str, Any],
 ) -> Inputs:
-    """Check ``given`` (the arguments of simulate) against the system; raise once if wrong.
+    """Check ``given`` (the arguments of simulate) against the system; raise once if wrong
+    (:class:`~lagrangian.errors.SimulationInputError`, every problem listed).
 
     ``given`` holds initial, parameters, t_span, samples, t_eval, method, rtol, atol, dt, each
     possibly None (then ``settings``, the System's simulation settings, or the default), and
@@ -80,7 +82,7 @@ def resolve_inputs(
             Problem("max_step", f"max_step must be a positive number, not {max_step!r}")
         )
         max_step = math.inf
-    raise_if_problems(problems, "Cannot simulate", SimulationError)
+    raise_if_problems(problems, "Cannot simulate", SimulationInputError)
     return Inputs(
         parameters=values,
         p=np.array([values[name] for name in compiled.parameters], dtype=float),
@@ -101,7 +103,7 @@ def parameter_values(
     """Parameter values by name: ``given`` over the defaults; every parameter needs one."""
     values = dict(zip(compiled.parameters, compiled.defaults))
     for key, value in given.items():
-        name = _name(key)
+        name = name_of(key)
         if name not in values:
             problems.append(_unknown("parameters", name, "a parameter", compiled.parameters))
             continue
@@ -126,9 +128,9 @@ def initial_state(
     """
     velocities = tuple(name + "_dot" for name in compiled.coordinates)
     known = (*compiled.coordinates, *velocities)
-    values: dict[str, float | None] = {_name(k): v for k, v in fallback.items()}
+    values: dict[str, float | None] = {name_of(k): v for k, v in fallback.items()}
     for key, value in given.items():
-        name = _name(key)
+        name = name_of(key)
         if name not in known:
             problems.append(_unknown("initial", name, "a coordinate or velocity", known))
         values[name] = _number(f"initial[{name!r}]", value, problems)
@@ -253,8 +255,3 @@ def _unknown(field: str, name: str, kind: str, known: Iterable[str]) -> Problem:
     close = difflib.get_close_matches(name, list(known), n=1, cutoff=0.5)
     fix = f"did you mean {close[0]!r}?" if close else f"known names: {', '.join(known)}"
     return Problem(field, f"{name!r} is not {kind} of this system", fix)
-
-
-def _name(key: Any) -> str:
-    """The name of a key given as a string or a SymPy symbol."""
-    return key if isinstance(key, str) else str(getattr(key, "name", key))

@@ -131,7 +131,7 @@ def simulate(
     SimulationError
         Bad input (every problem listed), unsupported systems, or a failed integration.
     """
-    eom, fallback_initial, settings, system = _description(system_or_eom)
+    eom, fallback_initial, settings, system = describe_system(system_or_eom)
     quantities = conserved_expressions(eom, system, conserved or {})
     check_backend(backend, method if method is not None else settings.get("method"), system, events)
     given = {
@@ -164,7 +164,7 @@ def simulate(
             project_initial=project_initial,
         )
         return guard.finish(with_conserved(trajectory, eom, quantities), raise_on_failure)
-    if system is not None and system.constraints:
+    if system.constraints:
         from lagrangian.simulation.constrained_run import simulate_constrained  # imports run
 
         trajectory = simulate_constrained(
@@ -196,9 +196,14 @@ def simulate(
             run = integrate_compiled(eom, inputs, progress)
         else:
             run = integrate(
-                _starter(field, inputs), inputs.t_span[0], inputs.x0, inputs.t_out, watch, progress
+                solver_starter(field, inputs),
+                inputs.t_span[0],
+                inputs.x0,
+                inputs.t_out,
+                watch,
+                progress,
             )
-    trajectory = _trajectory(compiled, inputs, run, watch)
+    trajectory = trajectory_of(compiled, inputs, run, watch)
     if run.failure is not None and raise_on_failure:
         raise SimulationError(
             f"{trajectory.message} Pass raise_on_failure=False to keep the trajectory "
@@ -207,34 +212,27 @@ def simulate(
     return guard.finish(with_conserved(trajectory, eom, quantities), raise_on_failure)
 
 
-def _description(
+def describe_system(
     system_or_eom: System | EquationsOfMotion,
-) -> tuple[EquationsOfMotion, Mapping[Any, float], Mapping[str, Any], System | None]:
-    """The equations, the System's initial values, its simulation settings and the System
-    (when known: given, or the one the EquationsOfMotion were derived from)."""
-    system = (
-        system_or_eom
-        if isinstance(system_or_eom, System)
-        else getattr(getattr(system_or_eom, "_work", None), "system", None)
-    )
+) -> tuple[EquationsOfMotion, Mapping[Any, float], Mapping[str, Any], System]:
+    """The equations, the initial values and simulation settings to fall back on, and the
+    System: a System gives its own (derived once, :func:`lagrangian.derive`); equations of
+    motion give none, and the System they were derived from."""
     if isinstance(system_or_eom, System):
-        return derive(system_or_eom), system_or_eom.initial, system_or_eom.simulation, system
+        return derive(system_or_eom), system_or_eom.initial, system_or_eom.simulation, system_or_eom
     if isinstance(system_or_eom, EquationsOfMotion):
-        return system_or_eom, {}, {}, system
+        return system_or_eom, {}, {}, system_or_eom.system
     raise SimulationError(
         f"simulate needs a System or the EquationsOfMotion of one, not "
         f"{type(system_or_eom).__name__}."
     )
 
 
-#: The public name of _description, shared with simulate_batch.
-describe_system = _description
-
-
-def _starter(
+def solver_starter(
     field: Callable[[float, np.ndarray], np.ndarray], inputs: Inputs
 ) -> Callable[[], OdeSolver]:
-    """A function building the solver (its first evaluation of the field may fail)."""
+    """A function building the SciPy solver of ``inputs.method`` for dx/dt = field(t, x)
+    (the integration loop calls it, since its first evaluation of the field may fail)."""
     t0, t1 = inputs.t_span
     solver = SOLVERS[inputs.method]
     if inputs.method == "RK4":
@@ -244,9 +242,11 @@ def _starter(
     )
 
 
-def _trajectory(
+def trajectory_of(
     compiled: CompiledEquations, inputs: Inputs, run: Integration, watch: EventWatch | None
 ) -> Trajectory:
+    """The Trajectory of an integration ``run``: velocities, energies, events and the status
+    message at every output row."""
     n, p = len(compiled.coordinates), inputs.p
     t, x = run.t, run.x
     q_dot = compiled.velocities(t, x, p) if len(t) else np.zeros((0, n))
@@ -263,7 +263,8 @@ def _trajectory(
         energy=compiled.energy(q, q_dot, t, p) if len(t) else np.zeros(0),
         energy_function=energy_function,
         events=tuple(
-            Event(names[i], time, _state(compiled, time, state, p)) for i, time, state in run.events
+            Event(names[i], time, state_by_name(compiled, time, state, p))
+            for i, time, state in run.events
         ),
         status="failed" if run.failure is not None else "success",
         message=_message(compiled, run, names, p),
@@ -272,7 +273,9 @@ def _trajectory(
     )
 
 
-def _state(compiled: CompiledEquations, t: float, x: np.ndarray, p: np.ndarray) -> dict[str, float]:
+def state_by_name(
+    compiled: CompiledEquations, t: float, x: np.ndarray, p: np.ndarray
+) -> dict[str, float]:
     """Every coordinate and velocity at state x, by name."""
     q_dot = compiled.velocities(t, x, p)
     values = dict(zip(compiled.coordinates, x[: len(compiled.coordinates)].tolist()))

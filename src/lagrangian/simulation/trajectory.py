@@ -1,7 +1,7 @@
 """Trajectory: the immutable result of :func:`lagrangian.simulation.simulate`.
 
-Rows are output times t_i; columns (DESIGN.md, output contract) are ``t``, each coordinate,
-each ``NAME_dot``, the multipliers, ``energy`` = T + V, then the conserved quantities
+Rows are output times t_i; columns (docs/architecture.md, output contracts) are ``t``, each
+coordinate, each ``NAME_dot``, the multipliers, ``energy`` = T + V, then the conserved quantities
 (:mod:`lagrangian.simulation.conserved`); the drift report compares the energy and each conserved
 quantity C with its initial value, max_i |C(t_i) - C(t_0)| / |C(t_0)|.
 
@@ -26,7 +26,7 @@ from typing import Any, NamedTuple, TextIO
 
 import numpy as np
 
-from lagrangian.errors import SimulationError
+from lagrangian.errors import SimulationInputError
 
 DOT = "_dot"
 
@@ -104,7 +104,7 @@ class Trajectory:
         if self.multipliers is not None:
             _freeze(self, "multipliers", (rows, len(self.multiplier_names)))
         elif self.multiplier_names:
-            raise SimulationError("Trajectory.multiplier_names are given without multipliers.")
+            raise SimulationInputError("Trajectory.multiplier_names are given without multipliers.")
         if self.constraint_residual is not None:
             _freeze(self, "constraint_residual", (rows,))
         object.__setattr__(self, "coordinates", tuple(self.coordinates))
@@ -191,7 +191,7 @@ class Trajectory:
         header, *rows = text.splitlines() or [""]
         names = header.split(",")
         if names[:1] != ["t"] or "energy" not in names:
-            raise SimulationError(
+            raise SimulationInputError(
                 f"Not a trajectory CSV: the header {header!r} must start with t and hold energy."
             )
         data = np.zeros((0, len(names)))
@@ -242,7 +242,7 @@ def _freeze(trajectory: Trajectory, name: str, shape: tuple[int, ...]) -> None:
     if len(shape) == 2 and array.size == 0:
         array = array.reshape(shape)
     if array.ndim != len(shape) or any(s not in (-1, a) for s, a in zip(shape, array.shape)):
-        raise SimulationError(f"Trajectory.{name} has shape {array.shape}, expected {shape}.")
+        raise SimulationInputError(f"Trajectory.{name} has shape {array.shape}, expected {shape}.")
     array.setflags(write=False)
     object.__setattr__(trajectory, name, array)
 
@@ -253,7 +253,7 @@ def _frozen_columns(trajectory: Trajectory, rows: int) -> dict[str, np.ndarray]:
     for name, values in dict(trajectory.conserved).items():
         array = np.array(values, dtype=float)
         if array.shape != (rows,):
-            raise SimulationError(
+            raise SimulationInputError(
                 f"Trajectory.conserved[{name!r}] has shape {array.shape}, expected ({rows},)."
             )
         array.setflags(write=False)

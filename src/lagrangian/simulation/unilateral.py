@@ -40,10 +40,11 @@ from lagrangian.model import System
 from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, label, statement
 from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
-from lagrangian.simulation.constrained_run import INITIAL_TOLERANCE, _along, _checked_initial
+from lagrangian.simulation.constrained_run import checked_initial, multipliers_along
+from lagrangian.simulation.constrained_start import INITIAL_TOLERANCE
 from lagrangian.simulation.events import EventFunction, EventWatch
 from lagrangian.simulation.inputs import Inputs
-from lagrangian.simulation.run import _starter, _state, _trajectory
+from lagrangian.simulation.run import solver_starter, state_by_name, trajectory_of
 from lagrangian.simulation.stepping import integrate
 from lagrangian.simulation.trajectory import Event, Trajectory
 
@@ -82,7 +83,8 @@ def simulate_unilateral(
     """The motion of ``system`` with its unilateral constraints (see the module docstring)."""
     constraints = tuple(system.constraints)
     one_sided = [i for i, c in enumerate(constraints) if isinstance(c, Unilateral)]
-    alone = {i: _compile(eom, [constraints[i]]) for i in one_sided}
+    forms = _ActiveSets(eom, constraints)
+    alone = {i: forms.compiled((i,)) for i in one_sided}
     n, p, t0 = len(compiled.coordinates), inputs.p, inputs.t_span[0]
     q0, qd0 = inputs.x0[:n], inputs.x0[n:]
     active = {i for i in range(len(constraints)) if i not in alone}
@@ -92,9 +94,9 @@ def simulate_unilateral(
         return constraints[i].name or str(i)
 
     order = sorted(active)
-    current = _checked_initial(
+    current = checked_initial(
         system.replace(constraints=[_bilateral(constraints[i]) for i in order]),
-        _compile(eom, [constraints[i] for i in order]),
+        forms.compiled(tuple(order)),
         inputs,
         project_initial,
     )
@@ -106,14 +108,16 @@ def simulate_unilateral(
     status, message = "success", ""
     while True:
         order = sorted(active)
-        numeric = _compile(eom, [constraints[i] for i in order])
+        numeric = forms.compiled(tuple(order))
         t_start, x = current.t_span[0], current.x0
         lam = numeric.accelerations(x[:n], x[n:], t_start, p, alpha, beta)[1]
         pulling = [(lam[k], i) for k, i in enumerate(order) if i in alone and lam[k] < 0]
         if pulling:  # released at once, before integrating this piece
             i = min(pulling)[1]
             active.discard(i)
-            found.append(Event(f"release {tag(i)}", t_start, _state(compiled, t_start, x, p)))
+            found.append(
+                Event(f"release {tag(i)}", t_start, state_by_name(compiled, t_start, x, p))
+            )
             continue
         watched = [
             _release(f"release {tag(i)}", i, k, numeric, p, alpha, beta)
@@ -128,10 +132,12 @@ def simulate_unilateral(
             return np.concatenate((x[n:], q_ddot))
 
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            run = integrate(_starter(field, current), t_start, x, current.t_out, watch, progress)
+            run = integrate(
+                solver_starter(field, current), t_start, x, current.t_out, watch, progress
+            )
         counts = watch.counts[: len(events)].copy()
-        piece = _trajectory(compiled, current, run, watch)
-        multipliers, residual = _along(numeric, piece, p, alpha, beta)
+        piece = trajectory_of(compiled, current, run, watch)
+        multipliers, residual = multipliers_along(numeric, piece, p, alpha, beta)
         full = np.full((len(piece.t), len(constraints)), np.nan)
         full[:, order] = multipliers
         pieces.append(
@@ -173,8 +179,20 @@ def simulate_unilateral(
     return _joined(pieces, found, status, message)
 
 
-def _compile(eom: EquationsOfMotion, constraints: Sequence[Constraint]) -> CompiledConstrained:
-    return compile_constrained(constrained_equations(eom, list(constraints)))
+class _ActiveSets:
+    """The compiled multiplier form of each set of active constraints, compiled once per set
+    (a run that releases and keeps constraints meets the same sets again)."""
+
+    def __init__(self, eom: EquationsOfMotion, constraints: Sequence[Constraint]) -> None:
+        self.eom, self.constraints = eom, tuple(constraints)
+        self._compiled: dict[tuple[int, ...], CompiledConstrained] = {}
+
+    def compiled(self, active: tuple[int, ...]) -> CompiledConstrained:
+        """The multiplier form with the constraints ``active`` (indices, in order)."""
+        if active not in self._compiled:
+            chosen = [self.constraints[i] for i in active]
+            self._compiled[active] = compile_constrained(constrained_equations(self.eom, chosen))
+        return self._compiled[active]
 
 
 def _bilateral(constraint: Constraint) -> Constraint:

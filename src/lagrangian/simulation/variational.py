@@ -23,9 +23,10 @@ q_dot at the outputs is the velocity of the last line (the inverse Legendre map)
 The multipliers reported at t_k combine the two halves lambda_k, mu_{k-1} of the constraint
 impulse at q_k into a second-order value of lambda(t_k)
 (:func:`lagrangian.simulation.variational_march.node_multipliers`); they carry the sign of the
-multiplier form, the constraint force being lambda_j dh_j/dq (DESIGN.md).  An initial state
-off the constraints is refused, or projected onto them with ``project_initial=True``, as in
-the multiplier form.
+multiplier form, the constraint force being lambda_j dh_j/dq (docs/architecture.md).  An
+initial state off the constraints is refused, or projected onto them with
+``project_initial=True``, as in the multiplier form
+(:mod:`lagrangian.simulation.constrained_start`).
 
 Not integrated (refused with a SimulationError): velocity and unilateral constraints, events,
 coordinates without inertia.
@@ -46,16 +47,18 @@ from typing import Any
 
 import numpy as np
 
-from lagrangian.constraints import multiplier_symbols, project_state
+from lagrangian.constraints import multiplier_symbols
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import Problem, SimulationError, raise_if_problems
 from lagrangian.model import Holonomic, System
 from lagrangian.model.constraints import label, statement
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics, compile_discrete_mechanics
-from lagrangian.simulation.constrained_run import INITIAL_TOLERANCE
+from lagrangian.simulation.constrained_start import start_on_constraints
 from lagrangian.simulation.events import EventFunction
-from lagrangian.simulation.inputs import VARIATIONAL, Inputs, resolve_inputs
+from lagrangian.simulation.inputs import Inputs, resolve_inputs
+from lagrangian.simulation.run import trajectory_of
+from lagrangian.simulation.stepping import Integration
 from lagrangian.simulation.trajectory import Trajectory
 from lagrangian.simulation.variational_march import Run, march
 
@@ -134,26 +137,11 @@ def _on_constraints(
     system: System, mechanics: DiscreteMechanics, inputs: Inputs, project_initial: bool
 ) -> Inputs:
     """``inputs`` with an initial state on the constraints (projected when asked), or raise,
-    as the multiplier form does (:mod:`lagrangian.simulation.constrained_run`)."""
+    as the multiplier form does."""
     n, t0 = len(mechanics.coordinates), inputs.t_span[0]
-    q, v = inputs.x0[:n], inputs.x0[n:]
-    h, c = mechanics.residuals(q, v, t0, inputs.p)
+    h, c = mechanics.residuals(inputs.x0[:n], inputs.x0[n:], t0, inputs.p)
     residual = float(np.max(np.abs(np.concatenate((h, c))), initial=0.0))
-    if residual <= INITIAL_TOLERANCE:
-        return inputs
-    if not project_initial:
-        raise SimulationError(
-            f"The initial state violates the constraints: the largest residual is "
-            f"{residual:.3g} (> {INITIAL_TOLERANCE:g}). Move it onto them with "
-            "lagrangian.constraints.project_state, or pass project_initial=True."
-        )
-    names = mechanics.coordinates
-    state: dict[str, float] = {**inputs.parameters, "t": t0}
-    state.update(zip(names, q.tolist()))
-    state.update((name + "_dot", float(value)) for name, value in zip(names, v))
-    projected = {symbol.name: value for symbol, value in project_state(system, state).items()}
-    x0 = [projected[name] for name in names] + [projected[name + "_dot"] for name in names]
-    return dataclasses.replace(inputs, x0=np.array(x0, dtype=float))
+    return start_on_constraints(system, mechanics.coordinates, inputs, residual, project_initial)
 
 
 def _grid(inputs: Inputs) -> tuple[np.ndarray, np.ndarray]:
@@ -178,10 +166,11 @@ def _trajectory(
     grid: np.ndarray,
     run: Run,
 ) -> Trajectory:
-    p, t, q, q_dot = inputs.p, grid[run.outputs], run.q, run.q_dot
-    energy_function = None
-    if compiled.energy_function_differs:
-        energy_function = compiled.energy_function(q, q_dot, t, p) if len(t) else np.zeros(0)
+    """The march as a Trajectory, built as every integration's is (:func:`trajectory_of`:
+    energies from the state x = [q; q_dot]), with the variational integrator's message."""
+    x = np.hstack((run.q, run.q_dot))
+    last = x[-1] if len(x) else np.asarray(inputs.x0, dtype=float)
+    integration = Integration(grid[run.outputs], x, (), run.failure, run.reached, last, None)
     if run.failure is not None:
         message = f"Integration failed after t = {run.reached:.6g}: {run.failure}."
     else:
@@ -191,15 +180,5 @@ def _trajectory(
             f"the time span ({run.evaluations / steps:.3g} evaluations of the discrete "
             "equations per step)."
         )
-    return Trajectory(
-        t=t,
-        q=q,
-        q_dot=q_dot,
-        coordinates=compiled.coordinates,
-        energy=compiled.energy(q, q_dot, t, p) if len(t) else np.zeros(0),
-        energy_function=energy_function,
-        status="failed" if run.failure is not None else "success",
-        message=message,
-        method=VARIATIONAL,
-        parameters=inputs.parameters,
-    )
+    trajectory = trajectory_of(compiled, inputs, integration, None)
+    return dataclasses.replace(trajectory, message=message)

@@ -18,7 +18,7 @@ lambda_j dh_j/dq split between the two ends of the step, the symmetric choice th
 discrete momentum satisfy the hidden constraint A v + dh/dt = 0 (Marsden & West, section 3.5,
 constrained systems; for L = q_dot^T M q_dot / 2 - V it is RATTLE, Hairer, Lubich & Wanner,
 Geometric Numerical Integration, section VII.1).  lambda and mu carry the sign of the
-multiplier form: the constraint force is lambda_j dh_j/dq (DESIGN.md).
+multiplier form: the constraint force is lambda_j dh_j/dq (docs/architecture.md).
 
 The Jacobian of the position equations in q1 is
 

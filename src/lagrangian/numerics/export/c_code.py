@@ -22,6 +22,7 @@ from lagrangian.numerics.export.common import (
     literal,
     plan_export,
     print_code,
+    temporaries_code,
 )
 
 _SOLVER = """\
@@ -166,8 +167,9 @@ def _function(plan: ExportPlan, routine: Routine) -> str:
     printer = C99CodePrinter()
     lines = [_routine_doc(routine), _signature(plan, routine), "{"]
     lines += [f"    (void){a};" for a in routine.arguments if not routine.uses(a)]
-    for symbol, expr in routine.temporaries:
-        lines.append(f"    const double {symbol} = {print_code(printer, expr, 'C')};")
+    lines += [
+        f"    const double {s} = {code};" for s, code in temporaries_code(routine, printer, "C")
+    ]
     for k, (_, _, expr) in enumerate(routine.entries()):
         lines.append(f"    {routine.output}[{k}] = {print_code(printer, expr, 'C')};")
     lines.append("}")
@@ -176,7 +178,6 @@ def _function(plan: ExportPlan, routine: Routine) -> str:
 
 def _rhs(plan: ExportPlan) -> str:
     n = plan.n
-    m_args = ", ".join(plan.routine("mass_matrix").arguments)
     return "\n".join(
         [
             f"/* {RHS_SUMMARY} */",
@@ -186,7 +187,7 @@ def _rhs(plan: ExportPlan) -> str:
             f"    const double *qd = x + {n};",
             f"    double M[{n * n}];",
             f"    double q_ddot[{n}];",
-            f"    {plan.base}_mass_matrix({m_args}, M);",
+            f"    {plan.base}_mass_matrix({plan.mass_matrix_call}, M);",
             f"    {plan.base}_forcing(q, qd, t, p, q_ddot);",
             f"    if (solve_in_place({n}, M, q_ddot) != 0) {{",
             "        return -1;",

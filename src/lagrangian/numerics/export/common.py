@@ -98,6 +98,11 @@ class ExportPlan:
     def routine(self, name: str) -> Routine:
         return next(r for r in self.routines if r.name == name)
 
+    @property
+    def mass_matrix_call(self) -> str:
+        """The arguments the rhs passes to mass_matrix: ``"q, t, p"`` or ``"q, qd, t, p"``."""
+        return ", ".join(self.routine("mass_matrix").arguments)
+
     def header(self, index: IndexFormat) -> list[str]:
         """The documentation every file starts with (lines without comment markers)."""
         lines = [
@@ -251,6 +256,27 @@ def print_code(printer: CodePrinter, expr: sp.Basic, language: str) -> str:
             f"Cannot export to {language}: {error.args[0].splitlines()[0]}. "
             "Use the functions of the expression language (sin, cos, exp, sqrt, ...)."
         ) from None
+
+
+def temporaries_code(
+    routine: Routine, printer: CodePrinter, language: str
+) -> list[tuple[sp.Symbol, str]]:
+    """(name, code) of every common subexpression of ``routine``, in the order computed."""
+    return [(s, print_code(printer, expr, language)) for s, expr in routine.temporaries]
+
+
+def nonzero_entries_code(
+    routine: Routine, printer: CodePrinter, language: str, first_index: int
+) -> list[tuple[str, str]]:
+    """(index, code) of every non-zero output element (the output starts as zeros), the index
+    ``"i, j"`` of the mass matrix or ``"i"`` of a vector, counting from ``first_index``."""
+    found = []
+    for i, j, expr in routine.entries():
+        if expr != 0:
+            row, column = i + first_index, j + first_index
+            index = f"{row}, {column}" if routine.is_matrix else f"{row}"
+            found.append((index, print_code(printer, expr, language)))
+    return found
 
 
 def comment(lines: Sequence[str], marker: str) -> str:

@@ -19,8 +19,9 @@ from lagrangian.numerics.export.common import (
     camel_case,
     comment,
     literal,
+    nonzero_entries_code,
     plan_export,
-    print_code,
+    temporaries_code,
 )
 
 
@@ -78,33 +79,28 @@ def _function(routine: Routine) -> str:
     printer = _Printer()
     signature = f"{routine.name}({', '.join(routine.arguments)})"
     lines = [_docstring(signature, routine.summary), f"function {signature}"]
-    for symbol, expr in routine.temporaries:
-        lines.append(f"    {symbol} = {print_code(printer, expr, 'Julia')}")
+    lines += [f"    {s} = {code}" for s, code in temporaries_code(routine, printer, "Julia")]
     rows, cols = routine.outputs.shape
     shape = f"{rows}, {cols}" if routine.is_matrix else f"{rows}"
     element = "promote_type(eltype(q), typeof(t), eltype(p)" + (
         ", eltype(qd))" if "qd" in routine.arguments else ")"
     )
     lines.append(f"    {routine.output} = zeros({element}, {shape})")
-    for i, j, expr in routine.entries():
-        if expr != 0:
-            index = f"{i + 1}, {j + 1}" if routine.is_matrix else f"{i + 1}"
-            code = print_code(printer, expr, "Julia")
-            lines.append(f"    {routine.output}[{index}] = {code}")
+    entries = nonzero_entries_code(routine, printer, "Julia", first_index=1)
+    lines += [f"    {routine.output}[{index}] = {code}" for index, code in entries]
     lines += [f"    return {routine.output}", "end"]
     return "\n".join(lines)
 
 
 def _rhs(plan: ExportPlan) -> str:
     n = plan.n
-    m_args = ", ".join(plan.routine("mass_matrix").arguments)
     return "\n".join(
         [
             _docstring("rhs(t, x, p)", RHS_SUMMARY),
             "function rhs(t, x, p)",
             f"    q = x[1:{n}]",
             f"    qd = x[{n + 1}:{2 * n}]",
-            f"    M = mass_matrix({m_args})",
+            f"    M = mass_matrix({plan.mass_matrix_call})",
             "    return vcat(qd, M \\ forcing(q, qd, t, p))",
             "end",
         ]

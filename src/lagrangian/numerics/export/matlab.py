@@ -15,8 +15,9 @@ from lagrangian.numerics.export.common import (
     Routine,
     comment,
     literal,
+    nonzero_entries_code,
     plan_export,
-    print_code,
+    temporaries_code,
 )
 
 
@@ -50,22 +51,17 @@ def _function(plan: ExportPlan, routine: Routine) -> str:
         f"function {routine.output} = {routine.name}({', '.join(routine.arguments)})",
         _help(plan, routine.name, routine.summary),
     ]
-    for symbol, expr in routine.temporaries:
-        lines.append(f"  {symbol} = {print_code(printer, expr, 'MATLAB')};")
+    lines += [f"  {s} = {code};" for s, code in temporaries_code(routine, printer, "MATLAB")]
     rows, cols = routine.outputs.shape
     lines.append(f"  {routine.output} = zeros({rows}, {cols});")
-    for i, j, expr in routine.entries():
-        if expr != 0:
-            index = f"{i + 1}, {j + 1}" if routine.is_matrix else f"{i + 1}"
-            code = print_code(printer, expr, "MATLAB")
-            lines.append(f"  {routine.output}({index}) = {code};")
+    entries = nonzero_entries_code(routine, printer, "MATLAB", first_index=1)
+    lines += [f"  {routine.output}({index}) = {code};" for index, code in entries]
     lines.append("end")
     return "\n".join(lines) + "\n"
 
 
 def _rhs(plan: ExportPlan) -> str:
     n = plan.n
-    m_args = ", ".join(plan.routine("mass_matrix").arguments)
     return "\n".join(
         [
             "function dx = rhs(t, x, p)",
@@ -73,7 +69,7 @@ def _rhs(plan: ExportPlan) -> str:
             "  x = x(:);",
             f"  q = x(1:{n});",
             f"  qd = x({n + 1}:{2 * n});",
-            f"  M = mass_matrix({m_args});",
+            f"  M = mass_matrix({plan.mass_matrix_call});",
             "  dx = [qd; M \\ forcing(q, qd, t, p)];",
             "end",
             "",

@@ -16,8 +16,9 @@ from lagrangian.numerics.export.common import (
     ExportPlan,
     Routine,
     literal,
+    nonzero_entries_code,
     plan_export,
-    print_code,
+    temporaries_code,
 )
 
 _INDENT = "    "
@@ -62,29 +63,24 @@ def _tuple(items: list[str]) -> str:
 def _function(routine: Routine) -> str:
     printer = NumPyPrinter({"fully_qualified_modules": True})
     lines = [f"def {routine.name}({', '.join(routine.arguments)}):", f'    """{routine.summary}"""']
-    for symbol, expr in routine.temporaries:
-        lines.append(f"{_INDENT}{symbol} = {print_code(printer, expr, 'numpy')}")
+    lines += [f"{_INDENT}{s} = {code}" for s, code in temporaries_code(routine, printer, "numpy")]
     rows, cols = routine.outputs.shape
     shape = f"({rows}, {cols})" if routine.is_matrix else f"{rows}"
     lines.append(f"{_INDENT}{routine.output} = numpy.zeros({shape})")
-    for i, j, expr in routine.entries():
-        if expr != 0:
-            index = f"{i}, {j}" if routine.is_matrix else f"{i}"
-            code = print_code(printer, expr, "numpy")
-            lines.append(f"{_INDENT}{routine.output}[{index}] = {code}")
+    entries = nonzero_entries_code(routine, printer, "numpy", first_index=0)
+    lines += [f"{_INDENT}{routine.output}[{index}] = {code}" for index, code in entries]
     lines.append(f"{_INDENT}return {routine.output}")
     return "\n".join(lines)
 
 
 def _rhs(plan: ExportPlan) -> str:
-    m_args = ", ".join(plan.routine("mass_matrix").arguments)
     return "\n".join(
         [
             "def rhs(t, x, p):",
             f'    """{RHS_SUMMARY}"""',
             "    x = numpy.asarray(x, dtype=float)",
             f"    q, qd = x[:{plan.n}], x[{plan.n}:]",
-            f"    M = mass_matrix({m_args})",
+            f"    M = mass_matrix({plan.mass_matrix_call})",
             "    q_ddot = numpy.linalg.solve(M, forcing(q, qd, t, p))",
             "    return numpy.concatenate([qd, q_ddot])",
         ]

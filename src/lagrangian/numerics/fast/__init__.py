@@ -14,84 +14,23 @@ same for every system: compiled once (several seconds) and kept in numba's on-di
 (``__pycache__`` beside them, or ``NUMBA_CACHE_DIR``), see :mod:`~lagrangian.numerics.fast.loops`.
 Parameters are an array ``p``, so changing a mass needs no new compilation.
 
+The right-hand side lives in :mod:`~lagrangian.numerics.fast.compiled_rates`, the drivers in
+:mod:`~lagrangian.numerics.fast.run` (imported only when numba is installed).
+
 >>> import numpy as np, lagrangian as lg
+>>> from lagrangian.numerics.fast.run import Settings, integrate  # doctest: +SKIP
 >>> fast = fast_equations(lg.derive(lg.examples.simple_pendulum()))  # doctest: +SKIP
->>> run = integrate(fast, "DOP853", np.array([0.1, 0.0]), np.array([1.0, 9.81, 1.0]),
-...                 (0.0, 1.0), np.linspace(0, 1, 3))  # doctest: +SKIP
+>>> settings = Settings("DOP853", (0.0, 1.0), np.linspace(0, 1, 3))  # doctest: +SKIP
+>>> x0, p = np.array([0.1, 0.0]), np.array([1.0, 9.81, 1.0])
+>>> run = integrate(fast, settings, x0, p)  # doctest: +SKIP
 """
 
-from __future__ import annotations
+from lagrangian.numerics.fast.compiled_rates import (
+    INSTALL_HINT,
+    FastEquations,
+    fast_equations,
+    numba_available,
+    require_numba,
+)
 
-import importlib.util
-from dataclasses import dataclass
-from typing import Any
-
-from lagrangian.derivation.eom import EquationsOfMotion
-from lagrangian.errors import SimulationError
-from lagrangian.numerics.cache import IdentityCache
-from lagrangian.numerics.fast.source import RatesSource, rates_source
-
-INSTALL_HINT = "pip install lagrangian[fast]"
-
-_CACHE: IdentityCache[EquationsOfMotion, FastEquations] = IdentityCache()
-
-
-def numba_available() -> bool:
-    """Whether numba can be imported (without importing it)."""
-    return importlib.util.find_spec("numba") is not None
-
-
-def require_numba(feature: str = "backend='numba'") -> None:
-    """Raise SimulationError, with the install command, when numba is not installed."""
-    if not numba_available():
-        raise SimulationError(
-            f"{feature} needs numba, which is not installed: {INSTALL_HINT} "
-            "(or use backend='numpy', the default)."
-        )
-
-
-@dataclass(frozen=True)
-class FastEquations:
-    """The compiled ``rates(t, x, p, matrix, vector, dx) -> ok`` of one system, and its source."""
-
-    source: RatesSource
-    rates: Any
-
-    @property
-    def coordinates(self) -> tuple[str, ...]:
-        return self.source.coordinates
-
-    @property
-    def parameters(self) -> tuple[str, ...]:
-        return self.source.parameters
-
-    @property
-    def state_names(self) -> tuple[str, ...]:
-        return self.source.state_names
-
-
-def fast_equations(eom: EquationsOfMotion) -> FastEquations:
-    """The numba-compiled right-hand side of ``eom``, built once per EquationsOfMotion object.
-
-    Raises SimulationError when numba is missing or an expression has no numeric form.
-    """
-    require_numba()
-    return _CACHE.get(eom, _build)
-
-
-def _build(eom: EquationsOfMotion) -> FastEquations:
-    import math
-
-    from numba import njit
-
-    from lagrangian.numerics.fast.linear import solve_linear
-    from lagrangian.numerics.fast.loops import RATES
-
-    source = rates_source(eom)
-    namespace: dict[str, Any] = {"math": math, "solve_linear": solve_linear}
-    exec(compile(source.text, f"<rates of {eom.coordinates}>", "exec"), namespace)
-    # called only from the compiled loops: no Python wrapper; x / 0 gives inf or nan (the
-    # loops report a state that is no longer finite) instead of raising, which also halves
-    # numba's compile time of the long generated function
-    options: dict[str, Any] = {"no_cpython_wrapper": True, "error_model": "numpy", "nogil": True}
-    return FastEquations(source, njit(RATES, cache=False, **options)(namespace["rates"]))
+__all__ = ["INSTALL_HINT", "FastEquations", "fast_equations", "numba_available", "require_numba"]

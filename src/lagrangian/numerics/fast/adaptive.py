@@ -28,13 +28,10 @@ from numba import njit
 from lagrangian.numerics.fast.dense import (
     DOP853_DENSE,
     RK45_DENSE,
-    dense_value,
+    end_step,
     finite,
-    grow,
-    locate_stop,
     put,
-    sample,
-    start_output,
+    start_run,
 )
 from lagrangian.numerics.fast.outcome import (
     FINISHED,
@@ -227,21 +224,18 @@ def integrate_adaptive(rates, stop, watch, n, size, x0, p, span, t_out, out, con
     kind = DOP853_DENSE if tableau[9] else RK45_DENSE
     K = np.empty((tableau[1].size + 1 + tableau[7].size * tableau[9], nx))
     F = np.empty((7 if tableau[9] else tableau[5].shape[1], nx))
-    work = (np.empty((size, size)), np.empty(size), np.empty(nx), np.empty(nx))
-    every = t_out.size == 0
-    times, states, rows = start_output(t0, x0, t_out, out)
     t, y, f = t0, x0.copy(), np.empty(nx)
     y_old, y_new = np.empty(nx), np.empty(nx)
-    if not rates(t, y, p, work[0], work[1], f):
-        return times, states, rows, SINGULAR, t, y, t, y
-    g_old = stop(t, y[:n], f[:n]) if watch else 1.0
-    if not g_old >= 0:
-        return times, states, rows, STOPPED, t, y, t, y.copy()
+    work, times, states, rows, status, g_old = start_run(
+        rates, stop, watch, n, size, t, y, p, t_out, out, f
+    )
+    if status != FINISHED:
+        return times, states, rows, status, t, y, t, y.copy()
     rtol, atol, max_step = tolerances
     h_abs = initial_step(rates, t, y, f, p, t1, max_step, tableau[10], rtol, atol, work)
     if h_abs < 0:
         return times, states, rows, SINGULAR, t, y, t, y
-    status, t_stop, x_stop = FINISHED, t1, y
+    t_stop, x_stop = t1, y
     while t < t1:
         status, t_new, h, h_abs = adaptive_step(
             rates, t, y, f, h_abs, t1, p, tolerances, tableau, K, y_new, work
@@ -256,30 +250,19 @@ def integrate_adaptive(rates, stop, watch, n, size, x0, p, span, t_out, out, con
         put(y, y_new)
         put(f, K[tableau[1].size])
         t = t_new
-        dense = not every
         g_new = stop(t, y[:n], f[:n]) if watch else 1.0
-        stopped = not g_new >= 0
-        if (dense or stopped) and not dense_coefficients(
-            rates, t_old, y_old, y, f, h, p, tableau, K, F, work
-        ):
+        # the interpolant is needed for output at given times and to locate a stop
+        needed = t_out.size > 0 or not g_new >= 0
+        if needed and not dense_coefficients(rates, t_old, y_old, y, f, h, p, tableau, K, F, work):
             status = SINGULAR
             break
-        t_end = t
-        if stopped:
-            interval = (t_old, g_old, t, g_new, h)
-            t_end = locate_stop(rates, stop, interval, y_old, F, kind, p, n, work)
-            x_stop = np.empty(nx)
-            dense_value(t_end, t_old, h, y_old, F, kind, x_stop)
-            status, t_stop = STOPPED, t_end
+        interval, output = (t_old, g_old, t, g_new, h), (times, states, rows)
+        times, states, rows, stopped, t_end, x_end = end_step(
+            rates, stop, interval, y_old, y, F, kind, p, n, work, t_out, output
+        )
         g_old = g_new
-        if every:
-            times, states = grow(times, states, rows)
-            times[rows] = t_end
-            put(states[rows], x_stop if stopped else y)
-            rows += 1
-        else:
-            rows = sample(t_out, out, rows, t_end, t_old, h, y_old, F, kind)
         if stopped:
+            status, t_stop, x_stop = STOPPED, t_end, x_end
             break
     if status == FINISHED:
         x_stop = y.copy()

@@ -10,7 +10,9 @@ kept as rows of an array F, of one of three kinds:
 
 The stop condition g(t, q, q_dot) ends a run where it turns negative; that time is found on
 the interpolant by the Illinois method (regula falsi, halving the value kept at a stale end),
-to 4 ulp of t.  This module is imported only when numba is installed.
+to 4 ulp of t.  :func:`start_run` and :func:`end_step` are what every integration loop does
+before its first step and after each step; the loops differ only in how they step.  This
+module is imported only when numba is installed.
 """
 
 from __future__ import annotations
@@ -19,6 +21,8 @@ import math
 
 import numpy as np
 from numba import njit
+
+from lagrangian.numerics.fast.outcome import FINISHED, SINGULAR, STOPPED
 
 RK45_DENSE, DOP853_DENSE, HERMITE_DENSE = 0, 1, 2
 ULP = 2.220446049250313e-16
@@ -145,3 +149,42 @@ def start_output(t0, x0, t_out, out):
             put(out[rows], x0)
             rows += 1
     return times, states, rows
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def start_run(rates, stop, watch, n, size, t0, x0, p, t_out, out, f):
+    """Before the first step from (t0, x0): the scratch arrays ``work`` of the rates, the
+    output so far (:func:`start_output`), f(t0, x0) written into ``f`` and g(t0) (1 when
+    not ``watch``ed).  Returns (work, times, states, rows, status, g): status SINGULAR when
+    the rates fail at the start, STOPPED when g(t0) < 0 already, else FINISHED (go on)."""
+    nx = x0.size
+    work = (np.empty((size, size)), np.empty(size), np.empty(nx), np.empty(nx))
+    times, states, rows = start_output(t0, x0, t_out, out)
+    if not rates(t0, x0, p, work[0], work[1], f):
+        return work, times, states, rows, SINGULAR, 1.0
+    g = stop(t0, x0[:n], f[:n]) if watch else 1.0
+    return work, times, states, rows, (FINISHED if g >= 0 else STOPPED), g
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def end_step(rates, stop, interval, x_old, x, F, kind, p, n, work, t_out, output):
+    """After a step over ``interval`` = (t_old, g_old, t, g_new, h) whose interpolant is F
+    (from ``x_old``, ending at ``x``): where g turned negative, the stop time and state on the
+    interpolant; then the output up to there, ``output`` = (times, states, rows), every step
+    (``t_out`` empty) or at the requested times.  Returns (times, states, rows, stopped,
+    t_end, x_end): the end of the step, or the stop."""
+    t_old, _, t, g_new, h = interval
+    times, states, rows = output
+    t_end, x_end, stopped = t, x, not g_new >= 0
+    if stopped:
+        t_end = locate_stop(rates, stop, interval, x_old, F, kind, p, n, work)
+        x_end = np.empty(x.size)
+        dense_value(t_end, t_old, h, x_old, F, kind, x_end)
+    if t_out.size == 0:
+        times, states = grow(times, states, rows)
+        times[rows] = t_end
+        put(states[rows], x_end)
+        rows += 1
+    else:
+        rows = sample(t_out, states, rows, t_end, t_old, h, x_old, F, kind)
+    return times, states, rows, stopped, t_end, x_end

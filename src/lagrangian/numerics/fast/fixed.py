@@ -17,16 +17,7 @@ import math
 import numpy as np
 from numba import njit
 
-from lagrangian.numerics.fast.dense import (
-    HERMITE_DENSE,
-    dense_value,
-    finite,
-    grow,
-    locate_stop,
-    put,
-    sample,
-    start_output,
-)
+from lagrangian.numerics.fast.dense import HERMITE_DENSE, end_step, finite, put, start_run
 from lagrangian.numerics.fast.outcome import FINISHED, NOT_FINITE, SINGULAR, STOPPED
 
 
@@ -54,16 +45,13 @@ def integrate_rk4(rates, stop, watch, n, size, x0, p, span, t_out, out, config):
     steps = max(1, math.ceil(abs(t1 - t0) / dt - 1e-9))
     h = (t1 - t0) / steps
     k, F = np.empty((4, nx)), np.empty((4, nx))
-    work = (np.empty((size, size)), np.empty(size), np.empty(nx), np.empty(nx))
-    every = t_out.size == 0
-    times, states, rows = start_output(t0, x0, t_out, out)
     t, x, x_new = t0, x0.copy(), np.empty(nx)
-    if not rates(t, x, p, work[0], work[1], k[0]):
-        return times, states, rows, SINGULAR, t, x, t, x
-    g_old = stop(t, x[:n], k[0][:n]) if watch else 1.0
-    if not g_old >= 0:
-        return times, states, rows, STOPPED, t, x, t, x.copy()
-    status, t_stop, x_stop = FINISHED, t1, x
+    work, times, states, rows, status, g_old = start_run(
+        rates, stop, watch, n, size, t, x, p, t_out, out, k[0]
+    )
+    if status != FINISHED:
+        return times, states, rows, status, t, x, t, x.copy()
+    t_stop, x_stop = t1, x
     for taken in range(1, steps + 1):
         if not rk4_step(rates, t, x, h, p, k, x_new, work):
             status = SINGULAR
@@ -82,22 +70,14 @@ def integrate_rk4(rates, stop, watch, n, size, x0, p, span, t_out, out, config):
         t_old, t = t, t_new
         put(x, x_new)
         g_new = stop(t, x[:n], k[0][:n]) if watch else 1.0
-        t_end, stopped = t, not g_new >= 0
-        if stopped:
-            interval = (t_old, g_old, t, g_new, t - t_old)
-            t_end = locate_stop(rates, stop, interval, x, F, HERMITE_DENSE, p, n, work)
-            x_stop = np.empty(nx)
-            dense_value(t_end, t_old, t - t_old, x, F, HERMITE_DENSE, x_stop)
-            status, t_stop = STOPPED, t_end
+        # the Hermite interpolant reads both ends from F: x stands in for x_old
+        interval, output = (t_old, g_old, t, g_new, t - t_old), (times, states, rows)
+        times, states, rows, stopped, t_end, x_end = end_step(
+            rates, stop, interval, x, x, F, HERMITE_DENSE, p, n, work, t_out, output
+        )
         g_old = g_new
-        if every:
-            times, states = grow(times, states, rows)
-            times[rows] = t_end
-            put(states[rows], x_stop if stopped else x)
-            rows += 1
-        else:
-            rows = sample(t_out, out, rows, t_end, t_old, t - t_old, x, F, HERMITE_DENSE)
         if stopped:
+            status, t_stop, x_stop = STOPPED, t_end, x_end
             break
     if status == FINISHED:
         x_stop = x.copy()

@@ -9,7 +9,6 @@ run chunks at once.  This module is imported only when numba is installed.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -19,8 +18,9 @@ import numpy as np
 from numba import njit
 
 from lagrangian.errors import SimulationError
-from lagrangian.numerics.fast import FastEquations
+from lagrangian.numerics.fast.compiled_rates import FastEquations
 from lagrangian.numerics.fast.loops import STOP, batch_loop, contiguous, single_loop
+from lagrangian.numerics.fast.settings import Settings
 from lagrangian.numerics.fast.tableaus import ADAPTIVE, adaptive_tableau
 
 #: Members per call into the compiled batch loop (one progress update each).
@@ -36,28 +36,16 @@ def never(t, q, q_dot) -> float:
     return 1.0
 
 
-@dataclass(frozen=True)
-class Settings:
-    """How to integrate: the method and its step or tolerances, the time span, output times."""
-
-    method: str
-    span: tuple[float, float]
-    t_out: np.ndarray
-    rtol: float = 1e-8
-    atol: float = 1e-10
-    max_step: float = math.inf
-    dt: float | None = None
-
-    def loop(self, batch: bool = False) -> tuple[Any, tuple[Any, ...]]:
-        """The compiled loop (of one member, or of a batch) and its ``config`` argument
-        (tolerances and tableau, or the step)."""
-        compiled = batch_loop if batch else single_loop
-        if self.method in ADAPTIVE:
-            tolerances = (float(self.rtol), float(self.atol), float(self.max_step))
-            return compiled("adaptive"), (tolerances, adaptive_tableau(self.method))
-        if self.method == "RK4" and self.dt is not None:
-            return compiled("rk4"), (float(self.dt),)
-        raise SimulationError(f"The numba backend has no method {self.method!r}.")
+def compiled_loop(settings: Settings, batch: bool = False) -> tuple[Any, tuple[Any, ...]]:
+    """The compiled loop of ``settings.method`` (of one member, or of a batch) and its
+    ``config`` argument (tolerances and tableau, or the step)."""
+    compiled = batch_loop if batch else single_loop
+    if settings.method in ADAPTIVE:
+        tolerances = (float(settings.rtol), float(settings.atol), float(settings.max_step))
+        return compiled("adaptive"), (tolerances, adaptive_tableau(settings.method))
+    if settings.method == "RK4" and settings.dt is not None:
+        return compiled("rk4"), (float(settings.dt),)
+    raise SimulationError(f"The numba backend has no method {settings.method!r}.")
 
 
 @dataclass(frozen=True)
@@ -141,7 +129,7 @@ def integrate_batch(
     k = len(X0)
     out = np.full((k, len(settings.t_out), X0.shape[1]), np.nan)
     ends = (np.zeros(k, dtype=np.int64), np.zeros(k), np.zeros_like(X0))
-    loop, last = settings.loop(batch=True)
+    loop, last = compiled_loop(settings, batch=True)
     stop, watch = compile_stop(stop_when), stop_when is not None  # compiled here, or refused
     n, size = len(fast.coordinates), fast.source.size
     span = (float(settings.span[0]), float(settings.span[1]))
@@ -166,7 +154,7 @@ def _caller(
 ) -> Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[Any, ...]]:
     """run(x0, p, out): one call of the compiled loop, every other argument prepared once
     (C-contiguous float arrays x0, p; output rows go into ``out``, a view is fine)."""
-    loop, last = settings.loop()
+    loop, last = compiled_loop(settings)
     stop, watch = compile_stop(stop_when), stop_when is not None  # compiled here, or refused
     n, size = len(fast.coordinates), fast.source.size
     span = (float(settings.span[0]), float(settings.span[1]))

@@ -1,6 +1,6 @@
 """rates_source(eom) -> Python source of the right-hand side dx/dt, for numba to compile.
 
-The state equations (:mod:`lagrangian.numerics.state`) are
+The state equations (:mod:`lagrangian.numerics.state_equations`) are
 
     matrix(q, q_dot_S, t) z = vector(q, q_dot_S, t),    z = [q_ddot_S; q_dot_F],
     dx/dt = [q_dot; q_ddot_S],                          x = [q; q_dot_S],
@@ -31,7 +31,7 @@ from sympy.printing.pycode import PythonCodePrinter
 
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationError
-from lagrangian.numerics.state import state_equations
+from lagrangian.numerics.state_equations import state_equations
 
 INDENT = "    "
 

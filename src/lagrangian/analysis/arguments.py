@@ -1,10 +1,12 @@
-"""What every analysis starts from: the equations of motion, parameter values and states.
+"""The arguments every analysis takes, resolved: the equations of motion, parameter values and
+states.
 
 Each public analysis takes a :class:`~lagrangian.model.System` or its
-:class:`~lagrangian.derivation.EquationsOfMotion` (``Subject``); :func:`equations_of` derives
-the former once.  ``parameters`` arguments are substitutions (numbers or expressions, by
-name or symbol) applied before the analysis; the remaining parameters keep their symbols and
-their defaults are used wherever a number is needed.
+:class:`~lagrangian.derivation.EquationsOfMotion` (``Subject``); :func:`equations_of` gives the
+equations (a System is derived once: :func:`lagrangian.derive` remembers it).  ``parameters``
+arguments are substitutions (numbers or expressions, by name or symbol) applied before the
+analysis; the remaining parameters keep their symbols and their defaults are used wherever a
+number is needed.
 
 >>> import lagrangian as lg
 >>> eom = equations_of(lg.examples.simple_pendulum())
@@ -15,7 +17,6 @@ their defaults are used wherever a number is needed.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from types import MappingProxyType
 from typing import Any
 
 import sympy as sp
@@ -23,19 +24,15 @@ import sympy as sp
 from lagrangian.derivation import EquationsOfMotion, derive
 from lagrangian.errors import AnalysisError, Problem, raise_if_problems
 from lagrangian.model import System
+from lagrangian.model.frozen import frozen as frozen  # results' mappings are read-only
 
 Subject = System | EquationsOfMotion
 #: Parameter substitutions as a user gives them: name or Symbol -> number or expression.
 Values = Mapping[Any, Any]
 
 
-def frozen(mapping: Mapping[Any, Any]) -> Mapping[Any, Any]:
-    """A read-only copy of ``mapping`` (results are immutable values)."""
-    return MappingProxyType(dict(mapping))
-
-
 def equations_of(subject: Subject) -> EquationsOfMotion:
-    """The equations of motion of ``subject`` (derived when it is a System)."""
+    """The equations of motion of ``subject`` (derived when it is a System, once per System)."""
     if isinstance(subject, EquationsOfMotion):
         return subject
     if isinstance(subject, System):

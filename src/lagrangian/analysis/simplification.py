@@ -1,0 +1,36 @@
+"""Simplification of small results: the one place the analysis calls ``sympy.simplify``
+on what it reports.
+
+``sympy.simplify`` pays off on a short expression (a stiffness entry, a frequency, a term of
+the energy) and can take minutes on a long one, so a result is simplified only when it has at
+most ``limit`` operations (:func:`lagrangian.model.probe.is_small`); larger ones are returned
+as they are.
+
+>>> import sympy as sp
+>>> x = sp.Symbol("x")
+>>> simplify_small(sp.sin(x)**2 + sp.cos(x)**2)
+1
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import sympy as sp
+
+from lagrangian.model.probe import SMALL, is_small
+
+#: A stricter limit for results that are many and rarely simplify much (rates, A and B).
+QUICK = 30
+
+
+def simplify_small(expr: Any, limit: int = SMALL) -> sp.Expr:
+    """``sympy.simplify(expr)`` when ``expr`` has at most ``limit`` operations, else ``expr``."""
+    expr = sp.sympify(expr)
+    return sp.simplify(expr) if is_small(expr, limit) else expr
+
+
+def simplify_small_matrix(matrix: sp.MatrixBase, limit: int = SMALL) -> sp.ImmutableMatrix:
+    """Every entry through :func:`simplify_small`, as an immutable matrix."""
+    entries = [simplify_small(e, limit) for e in matrix]
+    return sp.ImmutableMatrix(matrix.rows, matrix.cols, entries)

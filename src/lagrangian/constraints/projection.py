@@ -1,0 +1,177 @@
+"""Projection onto the constraints: a configuration onto the holonomic constraint set, a whole
+state (coordinates, then velocities) onto every equality constraint.
+
+Coordinates move by damped Gauss–Newton least squares on h(q, t) = 0,
+
+    q <- q - A(q)^+ h(q),          A = dh/dq, ^+ the pseudo-inverse,
+
+from the given point and, when that does not reach h = 0, from further random starts; a
+least-squares minimum with h != 0 from every start means the constraints are inconsistent.
+Velocities then take the least-norm correction that satisfies every equality constraint at
+velocity level, A q_dot + b = 0:
+
+    q_dot <- q_dot - A^+ (A q_dot + b).
+
+>>> import lagrangian as lg, sympy as sp
+>>> x, y = sp.symbols("x y")
+>>> ring = lg.System(coordinates=[x, y], constraints=[lg.Holonomic(x**2 + y**2 - 1)])
+>>> fixed = project_state(ring, {"x": 2.0, "y": 0.0, "x_dot": 1.0, "y_dot": 1.0})
+>>> round(fixed[x], 9), round(fixed[sp.Symbol("x_dot")], 9)
+(1.0, 0.0)
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from lagrangian.constraints.pfaffian import pfaffian_form
+from lagrangian.errors import ConstraintError, Problem, raise_if_problems
+from lagrangian.model import Holonomic, System, Unilateral, t, velocity
+from lagrangian.model.probe import SEED, PointFunction, random_values
+from lagrangian.model.symbols import name_of
+
+#: Largest |h| of a configuration that satisfies the constraints.
+SATISFIED = 1e-8
+
+
+@dataclass(frozen=True)
+class Projection:
+    """The best configuration found and the constraints' values (residuals) there."""
+
+    values: dict[sp.Symbol, float]
+    residuals: tuple[float, ...]
+
+    @property
+    def satisfied(self) -> bool:
+        return all(abs(r) < SATISFIED for r in self.residuals)
+
+
+def project(
+    equations: Sequence[sp.Expr],
+    unknowns: Sequence[sp.Symbol],
+    start: Mapping[sp.Symbol, float],
+    starts: int = 4,
+) -> Projection:
+    """Least squares h(q) = 0 over ``unknowns`` by damped Gauss–Newton, from ``start`` and
+    from further random starts until one satisfies every equation."""
+    if not equations:
+        return Projection(dict(start), ())
+    symbols = sorted(set(start) | set(unknowns), key=str)
+    residual = PointFunction(sp.Matrix(equations), symbols)
+    slope = PointFunction(sp.Matrix(equations).jacobian(list(unknowns)), symbols)
+    rng = random.Random(SEED + 1)
+    best: Projection | None = None
+    for attempt in range(starts):
+        values = dict(start)
+        if attempt:
+            values.update(random_values(unknowns, rng))
+        found = _gauss_newton(residual, slope, unknowns, values)
+        if found is not None and (best is None or _norm(found) < _norm(best)):
+            best = found
+        if best is not None and best.satisfied:
+            break
+    return best or Projection(dict(start), tuple(float("nan") for _ in equations))
+
+
+def _norm(projection: Projection) -> float:
+    return float(np.linalg.norm(projection.residuals))
+
+
+def _gauss_newton(
+    residual: PointFunction,
+    slope: PointFunction,
+    unknowns: Sequence[sp.Symbol],
+    values: dict[sp.Symbol, float],
+) -> Projection | None:
+    h = residual(values)
+    if h is None:
+        return None
+    h = h.ravel()
+    for _ in range(60):
+        jac = slope(values)
+        if jac is None or np.linalg.norm(h) < 1e-13:
+            break
+        step = np.linalg.lstsq(jac, -h, rcond=None)[0]
+        for damping in (1.0, 0.5, 0.25, 0.1, 0.01):  # accept the first step that helps
+            trial = dict(values)
+            for s, ds in zip(unknowns, step):
+                trial[s] += damping * ds
+            h_trial = residual(trial)
+            if h_trial is not None and np.linalg.norm(h_trial) < np.linalg.norm(h):
+                values, h = trial, h_trial.ravel()
+                break
+        else:
+            break  # no step reduces |h|: a least-squares minimum
+    return Projection({s: float(v) for s, v in values.items()}, tuple(float(v) for v in h))
+
+
+def numeric_state(system: System, state: Mapping[Any, float]) -> dict[sp.Symbol, float]:
+    """Symbols to floats: ``state`` (names or symbols) over the parameters' defaults and
+    t = 0; every coordinate and every parameter must get a value."""
+    known = {s.name: s for s in (*system.coordinates, *system.velocities, *system.parameters, t)}
+    values: dict[sp.Symbol, float] = {t: 0.0}
+    values.update({p: float(v) for p, v in system.parameters.items() if v is not None})
+    problems = []
+    for key, value in state.items():
+        symbol = known.get(name_of(key))
+        if symbol is None:
+            problems.append(
+                Problem(
+                    f"state.{key}",
+                    f"{key!s} is not a coordinate, velocity, parameter or t",
+                    "give values by coordinate, NAME_dot, parameter name or t",
+                )
+            )
+        else:
+            values[symbol] = float(value)
+    for symbol in (*system.coordinates, *system.parameters):
+        if symbol not in values:
+            problems.append(
+                Problem(f"state.{symbol}", "has no value", f"give {symbol} a value in the state")
+            )
+    raise_if_problems(problems, "The state is incomplete or unknown", ConstraintError)
+    return values
+
+
+def project_state(system: System, state: Mapping[Any, float]) -> dict[sp.Symbol, float]:
+    """``state`` moved onto the constraints: coordinates onto the holonomic (and active
+    unilateral, g = 0 when g < 0) constraints, then velocities onto A q_dot + b = 0."""
+    values = numeric_state(system, state)
+    for v in system.velocities:
+        values.setdefault(v, 0.0)
+    equations = [
+        c.expression
+        for c in system.constraints
+        if isinstance(c, Holonomic)
+        or (isinstance(c, Unilateral) and _value(c.expression, values) < 0)
+    ]
+    found = project(equations, system.coordinates, values, starts=1)
+    if not found.satisfied:
+        raise ConstraintError(
+            "No configuration near this state satisfies the holonomic constraints "
+            f"(residuals {found.residuals}); check the constraints with classify()."
+        )
+    values = found.values
+    rows = [c for c in system.constraints if not isinstance(c, Unilateral)]
+    if rows:
+        forms = [pfaffian_form(c, system.coordinates) for c in rows]
+        symbols = sorted(values, key=str)
+        a = PointFunction(sp.Matrix([list(f.coefficients) for f in forms]), symbols)(values)
+        b = PointFunction(sp.Matrix([f.time_coefficient for f in forms]), symbols)(values)
+        if a is None or b is None:
+            raise ConstraintError("The constraint Jacobian is not defined at this state.")
+        q_dot = np.array([values[velocity(q)] for q in system.coordinates])
+        q_dot -= np.linalg.pinv(a) @ (a @ q_dot + b.ravel())
+        values.update({velocity(q): float(v) for q, v in zip(system.coordinates, q_dot)})
+    return values
+
+
+def _value(expr: sp.Expr, values: Mapping[sp.Symbol, float]) -> float:
+    number = PointFunction(sp.Matrix([expr]), sorted(values, key=str))(values)
+    return float("nan") if number is None else float(number[0, 0])
