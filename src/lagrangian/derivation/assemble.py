@@ -41,7 +41,7 @@ class InertialPoint:
 class Rotation:
     """The rotation of a 3-D body: inertia I about its centre in body axes and the body
     angular velocity omega_b = vee(R^T R_dot) (linear in q_dot), so T_rot = 1/2 omega_b^T I
-    omega_b (seed 003)."""
+    omega_b (Murray, Li & Sastry 1994, ch. 4)."""
 
     inertia: tuple[tuple[Backend, ...], ...]
     angular_velocity: tuple[Backend, ...]

@@ -1,8 +1,8 @@
-"""Every particle and rigid body of a System as a frame of its own (seed 003, MLS94 ch. 2 and 4):
+"""Every particle and rigid body of a System as a frame of its own (MLS94 ch. 2 and 4):
 its twist in the body and in the spatial frame, the adjoint that relates them, its generalized
 inertia and the matrix ad_V of the Newton–Euler equation.
 
-Twists are ordered (v, omega) as in seed 003; the body frame sits at the centre of mass.
+Twists are ordered (v, omega) as in MLS94; the body frame sits at the centre of mass.
 
     kind      twist V^b               spatial twist V^s                M^b            Ad_g
     particle  r_dot                   r_dot                            m 1            1
@@ -41,7 +41,7 @@ from lagrangian.model.rotation import hat
 from lagrangian.model.symbols import t, time_derivative, velocity
 from lagrangian.model.twist import adjoint, adjoint_inverse, body_twist, spatial_twist
 
-#: The planar quarter turn J = R(pi/2) of seed 003.
+#: The planar quarter turn J = R(pi/2): J v = z_hat x v, the planar cross product.
 QUARTER_TURN = sp.ImmutableMatrix([[0, -1], [1, 0]])
 
 
@@ -80,7 +80,7 @@ class BodyFrame:
 
 
 def ad_twist(kind: str, twist: sp.MatrixBase) -> sp.ImmutableMatrix:
-    """ad_V of a twist V = (v, omega) (seed 003, "Newton-Euler equation"):
+    """ad_V of a twist V = (v, omega) (the Newton-Euler equation, MLS94 ch. 4):
     [[hat(omega), hat(v)], [0, hat(omega)]] in 3-D, [[omega J, -J v], [0, 0]] in the plane,
     and the zero matrix for a particle (no rotation).
 

@@ -1,6 +1,7 @@
 """EquationsOfMotion: the immutable result of :func:`lagrangian.derive`.
 
-Vocabulary (docs/architecture.md, seed 001 "matrix form"):
+Vocabulary (docs/architecture.md; the matrix form of a manipulator's equations, Murray, Li &
+Sastry 1994, ch. 4):
 
     M(q,t) q_ddot + C(q,q_dot) q_dot + time_terms + G(q) = Q + dissipation_forces
                                                           + velocity_potential_forces
@@ -104,7 +105,7 @@ class EquationsOfMotion:
 
     @property
     def steps(self) -> tuple[CoordinateSteps, ...]:
-        """The derivation for each coordinate of :attr:`system`, as the notes write it."""
+        """The derivation for each coordinate of :attr:`system`, step by step as by hand."""
         return coordinate_steps(self.system)
 
     @property

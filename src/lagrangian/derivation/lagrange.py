@@ -1,6 +1,8 @@
 """derive(system) -> EquationsOfMotion: the Euler–Lagrange equations of a System.
 
-    d/dt dL/dq_dot_j - dL/dq_j + dF/dq_dot_j = Q_j,    L = T - V - U    (seed 000, 001)
+    d/dt dL/dq_dot_j - dL/dq_j + dF/dq_dot_j = Q_j,    L = T - V - U
+
+(Goldstein, Classical Mechanics, 3rd ed., §1.4-1.5.)
 
 The matrix form is built from structure (Jacobians, Christoffel symbols) in SymEngine
 (:mod:`lagrangian.derivation.terms`); the step-by-step form differentiates L itself when asked

@@ -1,5 +1,5 @@
 """The Newton–Euler equations of every body of a System, and their agreement with the
-Euler–Lagrange equations (seed 003, "4 Newton-Euler equation" and the written assignment).
+Euler–Lagrange equations (Murray, Li & Sastry 1994, ch. 4).
 
 For each particle and rigid body, in the body frame at its centre of mass and in the spatial
 frame (twists (v, omega), wrenches F = (f, tau), :mod:`lagrangian.derivation.body_frames`):

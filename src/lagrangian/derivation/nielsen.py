@@ -1,4 +1,4 @@
-"""The Nielsen form of Lagrange's equations (seed 000):
+"""The Nielsen form of Lagrange's equations:
 
     Q_j = dT_dot/dq_dot_j - 2 dT/dq_j,
 

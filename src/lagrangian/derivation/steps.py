@@ -1,4 +1,4 @@
-"""The derivation of each equation, step by step, as the notes write it (seed 000/001):
+"""The derivation of each equation, step by step, as one writes it by hand:
 
 dL/dq_dot_j,  d/dt (dL/dq_dot_j),  dL/dq_j,  dF/dq_dot_j,  Q_j,
 and the equation  d/dt (dL/dq_dot_j) - dL/dq_j + dF/dq_dot_j - Q_j = 0.

@@ -1,4 +1,4 @@
-"""Built-in systems: every worked example of the seed notes, shipped as model files
+"""Built-in systems: the classic worked examples of analytical mechanics, shipped as model files
 (``examples/models/NAME.yaml``), plus scalable test systems built in Python.
 
 :data:`CATALOG` maps every example name to a function returning its System, and
@@ -26,7 +26,7 @@ MODELS = files("lagrangian.examples").joinpath("models")
 
 
 def model_text(name: str) -> str:
-    """The model file of example ``name`` (YAML, with the notes' equations as comments)."""
+    """The model file of example ``name`` (YAML, with its reference equations as comments)."""
     get(name)  # a clear error for an unknown name
     resource = MODELS.joinpath(f"{name}.yaml")
     if not resource.is_file():

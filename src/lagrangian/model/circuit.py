@@ -1,5 +1,6 @@
-"""Circuit elements on charge coordinates (seed 001: inductor ~ mass, capacitor ~ spring,
-resistor ~ damper).
+"""Circuit elements on charge coordinates (the electromechanical analogy: inductor ~ mass,
+capacitor ~ spring, resistor ~ damper; Crandall et al., Dynamics of Mechanical and
+Electromechanical Systems).
 
 Charges are generalized coordinates; a current is an expression in their velocities (for a
 mesh current ``q1_dot``, for a shared branch ``q1_dot - q2_dot``).  Contributions:

@@ -1,5 +1,6 @@
 """Constraint declarations: holonomic h(q, t) = 0, velocity (Pfaffian) a(q, t).q_dot + b(q, t)
-= 0 and unilateral g(q, t) >= 0 (seed 000 "Constraints"; DESIGN.md, "The model file").
+= 0 and unilateral g(q, t) >= 0 (Goldstein, Classical Mechanics, 3rd ed., §1.3; the
+``constraints`` section of a model file, README "Model files").
 
 Each declaration is an immutable value holding one SymPy expression (an ``Eq(lhs, rhs)`` is
 taken as ``lhs - rhs``) and an optional name used in messages.  What a constraint *is*

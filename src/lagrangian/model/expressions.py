@@ -1,4 +1,4 @@
-"""The safe expression language of model files (DESIGN.md, "Expression language").
+"""The safe expression language of model files (README, "Model files").
 
 Grammar, and nothing else::
 

@@ -1,11 +1,11 @@
 """Inertia of rigid bodies in 3-D: tensors of common shapes about the centre of mass, rotated
 and shifted (parallel-axis theorem), bodies combined, and the 6x6 generalized inertia matrix
-in body and spatial frames (seed 003).
+in body and spatial frames (Murray, Li & Sastry 1994, ch. 4).
 
     I = integral rho (|r|^2 1 - r r^T) dV      (about the centre of mass, body axes)
     T = 1/2 m v_c . v_c + 1/2 omega_b^T I omega_b = 1/2 V_b^T M^b V_b,  M^b = diag(m 1, I)
 
-Twists are ordered (v, omega) as in seed 003, and M^s = Ad_g^-T M^b Ad_g^-1.
+Twists are ordered (v, omega) as in MLS94 ch. 2, and M^s = Ad_g^-T M^b Ad_g^-1.
 
 >>> import sympy as sp
 >>> m, r, h = sp.symbols("m r h")
@@ -209,7 +209,7 @@ def combine(parts: Iterable[MassProperties]) -> MassProperties:
     return MassProperties(mass, tuple(centre), sp.ImmutableMatrix(inertia.applyfunc(sp.simplify)))
 
 
-# -- the generalized inertia matrix (seed 003) -------------------------------------------------
+# -- the generalized inertia matrix (MLS94 ch. 4) ----------------------------------------------
 
 
 def generalized_inertia(mass: Any, inertia: Any) -> sp.ImmutableMatrix:
@@ -227,7 +227,7 @@ def spatial_inertia(
     mass: Any, inertia: Any, rotation: Any, position: Sequence[Any]
 ) -> sp.ImmutableMatrix:
     """M^s = Ad_g^-T M^b Ad_g^-1 for the pose g = (R, p) of the body frame at the centre of
-    mass, so that T = 1/2 V_s^T M^s V_s with V_s = Ad_g V_b (seed 003).
+    mass, so that T = 1/2 V_s^T M^s V_s with V_s = Ad_g V_b (MLS94 ch. 4).
 
     >>> spatial_inertia(1, sp.zeros(3), sp.eye(3), [0, 0, 1])[3, 3]
     1

@@ -1,7 +1,7 @@
 """Orientation of a rigid body in 3-D: rotation matrices from Euler angles, an axis and an
 angle, or a quaternion, as functions of q and t, and the angular velocity they imply.
 
-Conventions (seed 003, MLS94 ch. 2):
+Conventions (Murray, Li & Sastry 1994, ch. 2):
 
 - ``R`` maps body axes to world axes: x_world = R x_body (``ReferenceFrame``: ``N.dcm(B)``).
 - Body angular velocity omega_b = vee(R^T R_dot), spatial (world axes) omega_s = vee(R_dot R^T)

@@ -1,7 +1,8 @@
 """Names of the generalized coordinates, their velocities and accelerations, and time.
 
 Internally a coordinate ``theta`` has the plain symbols ``theta``, ``theta_dot`` and
-``theta_ddot`` (DESIGN.md: plain symbols make differentiation cheap; d/dt is the chain rule).
+``theta_ddot`` (plain symbols make differentiation cheap; d/dt is the chain rule; see
+docs/architecture.md, "Symbolic core").
 Users may also write SymPy ``dynamicsymbols`` / ``Function('x')(t)`` with ``.diff(t)``;
 :func:`from_time_functions` turns those into the plain symbols.
 """
@@ -107,7 +108,7 @@ def as_coordinate(item: str | sp.Basic) -> sp.Symbol | None:
 
 def time_derivative(expr: sp.Expr, coordinates: Iterable[sp.Symbol]) -> sp.Expr:
     """d/dt of ``expr(q, q_dot, t)`` by the chain rule: sum(de/dq q_dot + de/dq_dot q_ddot)
-    + de/dt, with the plain symbols q, q_dot, q_ddot (DESIGN.md).
+    + de/dt, with the plain symbols q, q_dot, q_ddot (docs/architecture.md, "Symbolic core").
 
     >>> x = sp.Symbol("x")
     >>> time_derivative(x**2, [x])

@@ -1,4 +1,4 @@
-"""Rigid motions in 3-D (seed 003, MLS94 ch. 2): the pose g = (R, p) of a body frame, its
+"""Rigid motions in 3-D (Murray, Li & Sastry 1994, ch. 2): the pose g = (R, p) of a body frame, its
 twists and the adjoint that relates them.  Twists are ordered (v, omega):
 
     body:     g^-1 g_dot = [[hat(omega_b), v_b], [0, 0]],  V_b = (R^T p_dot, vee(R^T R_dot))
@@ -28,7 +28,7 @@ from lagrangian.model.symbols import time_derivative
 
 
 def adjoint(rotation: Any, position: Sequence[Any]) -> sp.ImmutableMatrix:
-    """Ad_g of the pose g = (R, p), twists ordered (v, omega) as in seed 003:
+    """Ad_g of the pose g = (R, p), twists ordered (v, omega) as in MLS94 ch. 2:
 
         Ad_g = [[R, hat(p) R], [0, R]],   V_s = Ad_g V_b.
 
@@ -73,7 +73,7 @@ def body_twist(
 def spatial_twist(
     orientation: Any, position: Sequence[Any], coordinates: Iterable[sp.Symbol]
 ) -> sp.ImmutableMatrix:
-    """V_s = (v_s, omega_s) = (p_dot - omega_s x p, vee(R_dot R^T)) (seed 003: v_s is the
+    """V_s = (v_s, omega_s) = (p_dot - omega_s x p, vee(R_dot R^T)) (MLS94 ch. 2: v_s is the
     velocity of the body point that passes through the world origin).  A body turning about
     the world z axis:
 

@@ -1,1 +1,1 @@
-"""The numerics layer (see DESIGN.md)."""
+"""The numerics layer (see docs/architecture.md)."""

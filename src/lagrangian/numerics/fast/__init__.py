@@ -1,18 +1,19 @@
-"""The compiled fast path: the right-hand side and the integration loops compiled by numba.
+"""The compiled fast path: each model's right-hand side compiled in milliseconds, driven by
+integration loops compiled once per machine.
 
-``fast_equations(eom)`` turns the state equations into Python source
-(:mod:`lagrangian.numerics.fast.source`) and compiles it with ``numba.njit``; the loops of
-:mod:`~lagrangian.numerics.fast.adaptive` (SciPy's RK45 and DOP853, step for step) and
-:mod:`~lagrangian.numerics.fast.fixed` (RK4) then run a whole integration, or a whole batch of
-them, without a Python call per step.  NumPy/SciPy stays the default and the reference; this
-path is optional (``pip install lagrangian[fast]``).
-
-The right-hand side is compiled once per EquationsOfMotion object and process, never cached on
-disk: it is generated source run through ``exec``, which numba cannot cache (about 0.5 s for a
-double pendulum, 1.5 s for ten links).  The loops take it as a function value, so they are the
-same for every system: compiled once (several seconds) and kept in numba's on-disk cache
-(``__pycache__`` beside them, or ``NUMBA_CACHE_DIR``), see :mod:`~lagrangian.numerics.fast.loops`.
-Parameters are an array ``p``, so changing a mass needs no new compilation.
+``fast_equations(eom)`` compiles the entries of the state equations' linear system into one C
+function ``f(out, in, user_data)`` with SymEngine's LLVM backend
+(:mod:`~lagrangian.numerics.fast.native`; numba compiles generated Python source only where
+SymEngine cannot).  The loops of :mod:`~lagrangian.numerics.fast.adaptive` (SciPy's RK45 and
+DOP853, step for step) and :mod:`~lagrangian.numerics.fast.fixed` (RK4) take that function as a
+value, solve the linear system in place (:mod:`~lagrangian.numerics.fast.rates`) and run a whole
+integration, or a whole batch of them, without a Python call per step.  Being the same for
+every system, the loops are compiled by numba once (several seconds) and kept in its on-disk
+cache, see :mod:`~lagrangian.numerics.fast.loops`; a new model costs its LLVM compilation only.
+Parameters are numbers in the function's input, so changing a mass needs no new compilation.
+The multiplier form of a constrained system runs on the same loops
+(:mod:`~lagrangian.numerics.fast.constrained`).  This path needs numba
+(``pip install lagrangian[fast]``).
 
 The right-hand side lives in :mod:`~lagrangian.numerics.fast.compiled_rates`, the drivers in
 :mod:`~lagrangian.numerics.fast.run` (imported only when numba is installed).

@@ -40,6 +40,7 @@ from lagrangian.numerics.fast.outcome import (
     STEP_TOO_SMALL,
     STOPPED,
 )
+from lagrangian.numerics.fast.rates import coordinate_count, state_rates
 
 SAFETY = 0.9
 MIN_FACTOR = 0.2
@@ -56,17 +57,17 @@ def scaled_rms(values, y, rtol, atol) -> float:
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def initial_step(rates, t0, y0, f0, p, t_bound, max_step, order, rtol, atol, work) -> float:
+def initial_step(system, t0, y0, f0, t_bound, max_step, order, rtol, atol, work) -> float:
     """SciPy's select_initial_step: h from the sizes of x, f and the change of f over h0;
     -1 when the right-hand side fails."""
-    matrix, vector, y1, f1 = work
+    y1, f1 = work
     interval = abs(t_bound - t0)
     d0, d1 = scaled_rms(y0, y0, rtol, atol), scaled_rms(f0, y0, rtol, atol)
     h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
     h0 = min(h0, interval)
     for i in range(y0.size):
         y1[i] = y0[i] + h0 * f0[i]
-    if not rates(t0 + h0, y1, p, matrix, vector, f1):
+    if not state_rates(system, t0 + h0, y1, f1):
         return -1.0
     for i in range(y0.size):
         f1[i] -= f0[i]
@@ -89,21 +90,21 @@ def stage_state(K, a, s, y, h, out) -> None:
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def rk_step(rates, t, y, h, p, tableau, K, y_new, work) -> bool:
+def rk_step(system, t, y, h, tableau, K, y_new, work) -> bool:
     """One trial step: stages K_0..K_{s-1}, y_new, and K_s = f(t + h, y_new)."""
     A, B, C = tableau[0], tableau[1], tableau[2]
-    matrix, vector, stage, _ = work
+    stage = work[0]
     stages = B.size
     for s in range(1, stages):
         stage_state(K, A[s], s, y, h, stage)
-        if not rates(t + C[s] * h, stage, p, matrix, vector, K[s]):
+        if not state_rates(system, t + C[s] * h, stage, K[s]):
             return False
     for i in range(y.size):
         total = 0.0
         for j in range(stages):
             total += K[j, i] * B[j]
         y_new[i] = y[i] + h * total
-    return rates(t + h, y_new, p, matrix, vector, K[stages])
+    return state_rates(system, t + h, y_new, K[stages])
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
@@ -137,10 +138,10 @@ def error_norm(K, h, y, y_new, rtol, atol, tableau) -> float:
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def dense_coefficients(rates, t_old, y_old, y, f, h, p, tableau, K, F, work) -> bool:
+def dense_coefficients(system, t_old, y_old, y, f, h, tableau, K, F, work) -> bool:
     """The interpolant of the last step: RK45's Q = K^T P, or DOP853's F (3 extra stages)."""
     P, A_extra, C_extra, D, dop853 = tableau[5], tableau[6], tableau[7], tableau[8], tableau[9]
-    matrix, vector, stage, _ = work
+    stage = work[0]
     n = y.size
     if not dop853:
         for k in range(P.shape[1]):
@@ -154,7 +155,7 @@ def dense_coefficients(rates, t_old, y_old, y, f, h, p, tableau, K, F, work) -> 
     for e in range(A_extra.shape[0]):
         s = first + e
         stage_state(K, A_extra[e], s, y_old, h, stage)
-        if not rates(t_old + C_extra[e] * h, stage, p, matrix, vector, K[s]):
+        if not state_rates(system, t_old + C_extra[e] * h, stage, K[s]):
             return False
     for i in range(n):
         delta = y[i] - y_old[i]
@@ -178,7 +179,7 @@ def spacing(t) -> float:
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def adaptive_step(rates, t, y, f, h_abs, t1, p, tolerances, tableau, K, y_new, work):
+def adaptive_step(system, t, y, f, h_abs, t1, tolerances, tableau, K, y_new, work):
     """One accepted step of SciPy's RungeKutta._step_impl from (t, y) with f = f(t, y).
 
     Returns (status, t_new, h, next h_abs); K holds the stages, y_new the new state.
@@ -195,7 +196,7 @@ def adaptive_step(rates, t, y, f, h_abs, t1, p, tolerances, tableau, K, y_new, w
         h = t_new - t
         h_abs = abs(h)
         put(K[0], f)
-        if not rk_step(rates, t, y, h, p, tableau, K, y_new, work):
+        if not rk_step(system, t, y, h, tableau, K, y_new, work):
             return SINGULAR, t, h, h_abs
         err = error_norm(K, h, y, y_new, rtol, atol, tableau)
         if err < 1:
@@ -209,14 +210,16 @@ def adaptive_step(rates, t, y, f, h_abs, t1, p, tolerances, tableau, K, y_new, w
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def integrate_adaptive(rates, stop, watch, n, size, x0, p, span, t_out, out, config):
+def integrate_adaptive(function, equations, stop, watch, x0, p, span, t_out, out, config):
     """Integrate from (t0, x0) over ``span`` = (t0, t1), output at ``t_out`` into ``out``.
 
-    ``config`` = ((rtol, atol, max_step), tableau of :mod:`lagrangian.numerics.fast.tableaus`).
-    ``out`` rows after a stop or a failure are left as given (NaN).  With an empty ``t_out``
-    every step is recorded instead, in arrays grown as needed.  ``watch``: whether to check
-    the stop condition ``stop(t, q, q_dot)`` (n coordinates).  Returns (times, states, rows,
-    status, t_reached, x_reached, t_stop, x_stop).
+    ``function``, ``equations``: the system's right-hand side (:mod:`lagrangian.numerics.
+    fast.rates`), with the parameters ``p``.  ``config`` = ((rtol, atol, max_step), tableau of
+    :mod:`lagrangian.numerics.fast.tableaus`).  ``out`` rows after a stop or a failure are
+    left as given (NaN).  With an empty ``t_out`` every step is recorded instead, in arrays
+    grown as needed.  ``watch``: whether to check the stop condition ``stop(t, q, q_dot)``
+    (n coordinates).  Returns (times, states, rows, status, t_reached, x_reached, t_stop,
+    x_stop).
     """
     tolerances, tableau = config
     t0, t1 = span
@@ -226,19 +229,20 @@ def integrate_adaptive(rates, stop, watch, n, size, x0, p, span, t_out, out, con
     F = np.empty((7 if tableau[9] else tableau[5].shape[1], nx))
     t, y, f = t0, x0.copy(), np.empty(nx)
     y_old, y_new = np.empty(nx), np.empty(nx)
-    work, times, states, rows, status, g_old = start_run(
-        rates, stop, watch, n, size, t, y, p, t_out, out, f
+    n = coordinate_count(equations)
+    system, work, times, states, rows, status, g_old = start_run(
+        function, equations, stop, watch, t, y, p, t_out, out, f
     )
     if status != FINISHED:
         return times, states, rows, status, t, y, t, y.copy()
     rtol, atol, max_step = tolerances
-    h_abs = initial_step(rates, t, y, f, p, t1, max_step, tableau[10], rtol, atol, work)
+    h_abs = initial_step(system, t, y, f, t1, max_step, tableau[10], rtol, atol, work)
     if h_abs < 0:
         return times, states, rows, SINGULAR, t, y, t, y
     t_stop, x_stop = t1, y
     while t < t1:
         status, t_new, h, h_abs = adaptive_step(
-            rates, t, y, f, h_abs, t1, p, tolerances, tableau, K, y_new, work
+            system, t, y, f, h_abs, t1, tolerances, tableau, K, y_new, work
         )
         if status != FINISHED:
             break
@@ -253,12 +257,12 @@ def integrate_adaptive(rates, stop, watch, n, size, x0, p, span, t_out, out, con
         g_new = stop(t, y[:n], f[:n]) if watch else 1.0
         # the interpolant is needed for output at given times and to locate a stop
         needed = t_out.size > 0 or not g_new >= 0
-        if needed and not dense_coefficients(rates, t_old, y_old, y, f, h, p, tableau, K, F, work):
+        if needed and not dense_coefficients(system, t_old, y_old, y, f, h, tableau, K, F, work):
             status = SINGULAR
             break
         interval, output = (t_old, g_old, t, g_new, h), (times, states, rows)
         times, states, rows, stopped, t_end, x_end = end_step(
-            rates, stop, interval, y_old, y, F, kind, p, n, work, t_out, output
+            system, stop, interval, y_old, y, F, kind, n, t_out, output
         )
         g_old = g_new
         if stopped:

@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from lagrangian.numerics.fast.outcome import FINISHED, SINGULAR, STOPPED
+from lagrangian.numerics.fast.rates import bind, coordinate_count, state_rates
 
 RK45_DENSE, DOP853_DENSE, HERMITE_DENSE = 0, 1, 2
 ULP = 2.220446049250313e-16
@@ -57,15 +58,15 @@ def dense_value(t, t_old, h, y_old, F, kind, out) -> None:
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def condition(rates, stop, t, y, p, n, work, f) -> float:
+def condition(system, stop, t, y, n, f) -> float:
     """g(t, q, q_dot) at state y; q_dot from the rates (first-order coordinates included)."""
-    if not rates(t, y, p, work[0], work[1], f):
+    if not state_rates(system, t, y, f):
         return np.nan
     return stop(t, y[:n], f[:n])
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def locate_stop(rates, stop, interval, y_old, F, kind, p, n, work):
+def locate_stop(system, stop, interval, y_old, F, kind, n):
     """The time in (t_old, t_new] where g turns negative, ``interval`` = (t_old, g_old,
     t_new, g_new, h), g_old >= 0 > g_new (or g_new not a number)."""
     a, ga, b, gb, h = interval
@@ -80,7 +81,7 @@ def locate_stop(rates, stop, interval, y_old, F, kind, p, n, work):
         if not a < c < b:
             c = 0.5 * (a + b)
         dense_value(c, t_old, h, y_old, F, kind, y)
-        gc = condition(rates, stop, c, y, p, n, work, f)
+        gc = condition(system, stop, c, y, n, f)
         if gc >= 0:
             a, ga = c, gc
             if side == 1:
@@ -152,22 +153,25 @@ def start_output(t0, x0, t_out, out):
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def start_run(rates, stop, watch, n, size, t0, x0, p, t_out, out, f):
-    """Before the first step from (t0, x0): the scratch arrays ``work`` of the rates, the
-    output so far (:func:`start_output`), f(t0, x0) written into ``f`` and g(t0) (1 when
-    not ``watch``ed).  Returns (work, times, states, rows, status, g): status SINGULAR when
-    the rates fail at the start, STOPPED when g(t0) < 0 already, else FINISHED (go on)."""
+def start_run(function, equations, stop, watch, t0, x0, p, t_out, out, f):
+    """Before the first step from (t0, x0): the right-hand side bound to the parameters p
+    (:func:`lagrangian.numerics.fast.rates.bind`), two scratch states ``work``, the output
+    so far (:func:`start_output`), f(t0, x0) written into ``f`` and g(t0) (1 when not
+    ``watch``ed).  Returns (system, work, times, states, rows, status, g): status SINGULAR
+    when the rates fail at the start, STOPPED when g(t0) < 0 already, else FINISHED (go on)."""
     nx = x0.size
-    work = (np.empty((size, size)), np.empty(size), np.empty(nx), np.empty(nx))
+    n = coordinate_count(equations)
+    system = bind(function, equations, p, nx)
+    work = (np.empty(nx), np.empty(nx))
     times, states, rows = start_output(t0, x0, t_out, out)
-    if not rates(t0, x0, p, work[0], work[1], f):
-        return work, times, states, rows, SINGULAR, 1.0
+    if not state_rates(system, t0, x0, f):
+        return system, work, times, states, rows, SINGULAR, 1.0
     g = stop(t0, x0[:n], f[:n]) if watch else 1.0
-    return work, times, states, rows, (FINISHED if g >= 0 else STOPPED), g
+    return system, work, times, states, rows, (FINISHED if g >= 0 else STOPPED), g
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def end_step(rates, stop, interval, x_old, x, F, kind, p, n, work, t_out, output):
+def end_step(system, stop, interval, x_old, x, F, kind, n, t_out, output):
     """After a step over ``interval`` = (t_old, g_old, t, g_new, h) whose interpolant is F
     (from ``x_old``, ending at ``x``): where g turned negative, the stop time and state on the
     interpolant; then the output up to there, ``output`` = (times, states, rows), every step
@@ -177,7 +181,7 @@ def end_step(rates, stop, interval, x_old, x, F, kind, p, n, work, t_out, output
     times, states, rows = output
     t_end, x_end, stopped = t, x, not g_new >= 0
     if stopped:
-        t_end = locate_stop(rates, stop, interval, x_old, F, kind, p, n, work)
+        t_end = locate_stop(system, stop, interval, x_old, F, kind, n)
         x_end = np.empty(x.size)
         dense_value(t_end, t_old, h, x_old, F, kind, x_end)
     if t_out.size == 0:

@@ -19,16 +19,17 @@ from numba import njit
 
 from lagrangian.numerics.fast.dense import HERMITE_DENSE, end_step, finite, put, start_run
 from lagrangian.numerics.fast.outcome import FINISHED, NOT_FINITE, SINGULAR, STOPPED
+from lagrangian.numerics.fast.rates import coordinate_count, state_rates
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def rk4_step(rates, t, x, h, p, k, x_new, work) -> bool:
+def rk4_step(system, t, x, h, k, x_new, work) -> bool:
     """x_new = x(t + h) from k[0] = f(t, x); k[1..3] receive the other stages."""
-    matrix, vector, stage = work[0], work[1], work[2]
+    stage = work[0]
     for s, c in ((1, h / 2), (2, h / 2), (3, h)):
         for i in range(x.size):
             stage[i] = x[i] + c * k[s - 1, i]
-        if not rates(t + c, stage, p, matrix, vector, k[s]):
+        if not state_rates(system, t + c, stage, k[s]):
             return False
     for i in range(x.size):
         x_new[i] = x[i] + h / 6 * (k[0, i] + 2 * k[1, i] + 2 * k[2, i] + k[3, i])
@@ -36,7 +37,7 @@ def rk4_step(rates, t, x, h, p, k, x_new, work) -> bool:
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def integrate_rk4(rates, stop, watch, n, size, x0, p, span, t_out, out, config):
+def integrate_rk4(function, equations, stop, watch, x0, p, span, t_out, out, config):
     """RK4 from (t0, x0) over ``span`` = (t0, t1); arguments and result as
     :func:`lagrangian.numerics.fast.adaptive.integrate_adaptive` (``config`` = (dt,))."""
     dt = config[0]
@@ -46,14 +47,15 @@ def integrate_rk4(rates, stop, watch, n, size, x0, p, span, t_out, out, config):
     h = (t1 - t0) / steps
     k, F = np.empty((4, nx)), np.empty((4, nx))
     t, x, x_new = t0, x0.copy(), np.empty(nx)
-    work, times, states, rows, status, g_old = start_run(
-        rates, stop, watch, n, size, t, x, p, t_out, out, k[0]
+    n = coordinate_count(equations)
+    system, work, times, states, rows, status, g_old = start_run(
+        function, equations, stop, watch, t, x, p, t_out, out, k[0]
     )
     if status != FINISHED:
         return times, states, rows, status, t, x, t, x.copy()
     t_stop, x_stop = t1, x
     for taken in range(1, steps + 1):
-        if not rk4_step(rates, t, x, h, p, k, x_new, work):
+        if not rk4_step(system, t, x, h, k, x_new, work):
             status = SINGULAR
             break
         if not finite(x_new):
@@ -63,7 +65,7 @@ def integrate_rk4(rates, stop, watch, n, size, x0, p, span, t_out, out, config):
         put(F[0], x)
         put(F[1], x_new)
         put(F[2], k[0])
-        if not rates(t_new, x_new, p, work[0], work[1], k[0]):
+        if not state_rates(system, t_new, x_new, k[0]):
             status = SINGULAR
             break
         put(F[3], k[0])
@@ -73,7 +75,7 @@ def integrate_rk4(rates, stop, watch, n, size, x0, p, span, t_out, out, config):
         # the Hermite interpolant reads both ends from F: x stands in for x_old
         interval, output = (t_old, g_old, t, g_new, t - t_old), (times, states, rows)
         times, states, rows, stopped, t_end, x_end = end_step(
-            rates, stop, interval, x, x, F, HERMITE_DENSE, p, n, work, t_out, output
+            system, stop, interval, x, x, F, HERMITE_DENSE, n, t_out, output
         )
         g_old = g_new
         if stopped:

@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from functools import cache
 from typing import Any
 
 import numpy as np
@@ -19,7 +20,14 @@ from numba import njit
 
 from lagrangian.errors import SimulationError
 from lagrangian.numerics.fast.compiled_rates import FastEquations
-from lagrangian.numerics.fast.loops import STOP, batch_loop, contiguous, single_loop
+from lagrangian.numerics.fast.loops import (
+    STOP,
+    batch_loop,
+    compile_cached,
+    contiguous,
+    single_loop,
+    system_arguments,
+)
 from lagrangian.numerics.fast.settings import Settings
 from lagrangian.numerics.fast.tableaus import ADAPTIVE, adaptive_tableau
 
@@ -27,13 +35,15 @@ from lagrangian.numerics.fast.tableaus import ADAPTIVE, adaptive_tableau
 CHUNK = 256
 
 
-_CALLED_FROM_LOOPS: dict[str, Any] = {"no_cpython_wrapper": True, "nogil": True}
-
-
-@njit(STOP, **_CALLED_FROM_LOOPS)
-def never(t, q, q_dot) -> float:
+def never_stop(t, q, q_dot) -> float:
     """The stop condition of a run without one: never negative."""
     return 1.0
+
+
+@cache
+def never() -> Any:
+    """``never_stop`` compiled (on first use: loading it starts numba up)."""
+    return compile_cached(STOP, never_stop)
 
 
 def compiled_loop(settings: Settings, batch: bool = False) -> tuple[Any, tuple[Any, ...]]:
@@ -67,7 +77,7 @@ def compile_stop(stop_when: Callable[..., Any] | None) -> Any:
     Raises SimulationError when numba cannot compile it.
     """
     if stop_when is None:
-        return never
+        return never()
     from numba.core.errors import NumbaError
 
     function = getattr(stop_when, "py_func", stop_when)  # also a numba function's own
@@ -131,13 +141,13 @@ def integrate_batch(
     ends = (np.zeros(k, dtype=np.int64), np.zeros(k), np.zeros_like(X0))
     loop, last = compiled_loop(settings, batch=True)
     stop, watch = compile_stop(stop_when), stop_when is not None  # compiled here, or refused
-    n, size = len(fast.coordinates), fast.source.size
+    function, equations = system_arguments(fast)
     span = (float(settings.span[0]), float(settings.span[1]))
     t_out = contiguous(settings.t_out, 1)
 
     def chunk(first: int) -> int:
         end = min(first + CHUNK, k)
-        loop(fast.rates, stop, watch, n, size, X0, P, span, t_out, out, last, first, end, ends)
+        loop(function, equations, stop, watch, X0, P, span, t_out, out, last, first, end, ends)
         return end - first
 
     done = 0
@@ -156,11 +166,11 @@ def _caller(
     (C-contiguous float arrays x0, p; output rows go into ``out``, a view is fine)."""
     loop, last = compiled_loop(settings)
     stop, watch = compile_stop(stop_when), stop_when is not None  # compiled here, or refused
-    n, size = len(fast.coordinates), fast.source.size
+    function, equations = system_arguments(fast)
     span = (float(settings.span[0]), float(settings.span[1]))
     t_out = contiguous(settings.t_out, 1)
 
     def run(x0: np.ndarray, p: np.ndarray, out: np.ndarray) -> tuple[Any, ...]:
-        return tuple(loop(fast.rates, stop, watch, n, size, x0, p, span, t_out, out, last))
+        return tuple(loop(function, equations, stop, watch, x0, p, span, t_out, out, last))
 
     return run

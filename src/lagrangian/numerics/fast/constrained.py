@@ -1,0 +1,76 @@
+"""The multiplier form of a constrained system on the compiled fast path.
+
+With the constraints differentiated to A q_ddot = gamma (:func:`lagrangian.constraints.
+constrained_equations`), the accelerations and multipliers solve
+
+    [ M  -A^T ] [ q_ddot ]   [ forcing                        ]
+    [ A    0  ] [ lambda ] = [ gamma - 2 alpha c - beta^2 h   ]
+
+(c = A q_dot + b the velocity residuals, h the position residuals of the holonomic rows, 0
+for velocity rows; alpha = beta = 0 the plain index-1 form, alpha, beta > 0 Baumgarte's
+stabilization, as :mod:`lagrangian.numerics.constrained` writes it).  The state is
+x = [q; q_dot] and the unknowns z = [q_ddot; lambda] begin with the accelerations, so this is
+a linear system the compiled loops solve as they solve the unconstrained state equations
+(:func:`lagrangian.numerics.fast.compiled_rates.linear_equations`); the multipliers are solved
+for at every step and not integrated.  alpha and beta are the last two parameters, so a new
+stabilization needs no new compilation.
+
+>>> import sympy as sp, lagrangian as lg
+>>> from lagrangian.constraints import constrained_equations
+>>> x, y = sp.symbols("x y")
+>>> ring = lg.System(coordinates=[x, y], constraints=[lg.Holonomic(x**2 + y**2 - 1)],
+...     particles=[lg.Particle("bead", 1, (x, y))])
+>>> fast = fast_constrained_equations(constrained_equations(ring))  # doctest: +SKIP
+>>> fast.size, fast.parameters  # doctest: +SKIP
+(3, ('baumgarte_alpha', 'baumgarte_beta'))
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from lagrangian.constraints import ConstrainedEquations
+from lagrangian.constraints.pfaffian import pfaffian_form
+from lagrangian.model.constraints import VelocityConstraint
+from lagrangian.model.identity_cache import IdentityCache
+from lagrangian.numerics.fast.compiled_rates import FastEquations, linear_equations, require_numba
+
+#: The names of Baumgarte's alpha and beta, appended to the parameters.
+BAUMGARTE = ("baumgarte_alpha", "baumgarte_beta")
+
+_CACHE: IdentityCache[ConstrainedEquations, FastEquations] = IdentityCache()
+
+
+def fast_constrained_equations(equations: ConstrainedEquations) -> FastEquations:
+    """The compiled multiplier form of ``equations`` (module docstring), built once per
+    ConstrainedEquations object; its parameters are the system's, then alpha and beta.
+
+    Raises SimulationError when numba is missing or an expression has no numeric form.
+    """
+    require_numba()
+    return _CACHE.get(equations, _build)
+
+
+def _build(equations: ConstrainedEquations) -> FastEquations:
+    q, n, m = equations.coordinates, len(equations.coordinates), len(equations.multipliers)
+    alpha, beta = (sp.Symbol(name) for name in BAUMGARTE)
+    stabilization = []
+    for constraint in equations.constraints:
+        c = pfaffian_form(constraint, q).velocity_expression
+        h = 0 if isinstance(constraint, VelocityConstraint) else constraint.expression
+        stabilization.append(2 * alpha * c + beta**2 * h)
+    jacobian = equations.constraint_jacobian
+    matrix = sp.Matrix.vstack(
+        sp.Matrix.hstack(equations.mass_matrix, -jacobian.T),
+        sp.Matrix.hstack(jacobian, sp.zeros(m, m)),
+    )
+    vector = sp.Matrix.vstack(
+        sp.Matrix(equations.forcing), equations.gamma - sp.Matrix(m, 1, stabilization)
+    )
+    return linear_equations(
+        equations.time,
+        q,
+        equations.velocities[:n],
+        [*equations.parameters, alpha, beta],
+        (matrix, vector),
+    )
