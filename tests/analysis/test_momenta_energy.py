@@ -97,11 +97,25 @@ def test_charged_particle_z_is_cyclic_but_x_and_y_are_not() -> None:
 
 
 def test_a_force_on_a_coordinate_absent_from_l_spoils_its_conservation() -> None:
-    # particle_plane_cartesian: x and y are absent from L, but Fx, Fy act on them.
-    assert cyclic_coordinates(lg.examples.particle_plane_cartesian()) == ()
-    # ... and with the forces set to zero both momenta are conserved.
+    # particle_plane_cartesian: x and y are absent from L, so cyclic (Goldstein §2.6), but
+    # Fx, Fy act on them: their momenta are not conserved, for the reason "force".
+    pushed = {"Fx": 1.5, "Fy": -0.5}
+    cyclic = cyclic_coordinates(lg.examples.particle_plane_cartesian(), parameters=pushed)
+    assert [c.coordinate.name for c in cyclic] == ["x", "y"]
+    assert [(c.conserved, c.obstructions) for c in cyclic] == [(False, ("force",))] * 2
+    # ... at the example's values Fx = Fy = 0 they are conserved, on that condition ...
+    cyclic = cyclic_coordinates(lg.examples.particle_plane_cartesian())
+    fx, fy = sp.symbols("Fx Fy")
+    assert [(c.conserved, c.condition) for c in cyclic] == [
+        (True, sp.Eq(fx, 0)),
+        (True, sp.Eq(fy, 0)),
+    ]
+    # ... and with the forces removed both momenta are conserved unconditionally.
     free = lg.examples.particle_plane_cartesian().replace(forces=())
-    assert [c.coordinate.name for c in cyclic_coordinates(free)] == ["x", "y"]
+    assert [(c.coordinate.name, c.conserved, c.condition) for c in cyclic_coordinates(free)] == [
+        ("x", True, sp.true),
+        ("y", True, sp.true),
+    ]
 
 
 def test_dissipation_gives_dh_dt_minus_two_f() -> None:

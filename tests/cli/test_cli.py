@@ -242,7 +242,11 @@ def test_every_example_analyzes(capsys: pytest.CaptureFixture[str], name: str) -
         assert key in document
     system = lg.examples.get(name)()
     holonomic = [c for c in system.constraints if isinstance(c, lg.Holonomic)]
-    assert document["dof"] == len(system.coordinates) - len(holonomic)
+    equalities = [c for c in system.constraints if not isinstance(c, lg.Unilateral)]
+    # dof counts the independent velocities (every equality constraint), the configuration
+    # dimension only the holonomic ones (they differ for the rolling disc: 3 and 5)
+    assert document["configuration_dimension"] == len(system.coordinates) - len(holonomic)
+    assert document["dof"] == len(system.coordinates) - len(equalities)
 
 
 def test_analyze_about_an_operating_point(capsys: pytest.CaptureFixture[str]) -> None:

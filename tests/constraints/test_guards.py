@@ -1,5 +1,5 @@
 """A constrained system is never silently treated as unconstrained: analyze reports the
-classification and degrees of freedom and says which parts are not computed; simulate
+classification and degrees of freedom and analyzes on the constraint manifold; simulate
 enforces the constraints by multipliers and refuses the unilateral ones."""
 
 from __future__ import annotations
@@ -24,12 +24,18 @@ def cartesian_pendulum() -> lg.System:
     )
 
 
-def test_analyze_counts_the_constraint_and_computes_nothing_wrong() -> None:
+def test_analyze_counts_the_constraint_and_works_on_the_manifold() -> None:
     report = lg.analyze(cartesian_pendulum())
     assert report.dof == 1
     assert report.constraints and report.constraints[0]["name"] == "rod"
-    assert report.equilibria is None and report.normal_modes is None
-    assert "eliminate" in (report.failure("equilibria") or "")
+    # equilibria and modes on the constraint, never of the free particle (which has none)
+    assert report.equilibria is not None
+    assert [(dict(e.state), e.stable) for e in report.equilibria] == [
+        ({x: 0, y: -l}, True),
+        ({x: 0, y: l}, False),
+    ]
+    assert report.normal_modes is not None
+    assert report.normal_modes.frequencies == (sp.sqrt(g) / sp.sqrt(l),)
 
 
 def test_simulate_enforces_the_constraints_and_simulates_unilateral_ones() -> None:

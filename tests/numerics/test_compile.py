@@ -210,6 +210,18 @@ def test_nonlinear_first_order_equations_are_refused() -> None:
         compile_equations(lg.derive(system))
 
 
+def test_systems_the_state_equations_cannot_take_are_bad_input() -> None:
+    algebraic = lg.System(
+        coordinates=[x, y],
+        parameters={m: 1.0, k: 1.0},
+        kinetic=m * x_dot**2 / 2,
+        potential=k * (x - y) ** 2 / 2 + k * y**2 / 2,
+    )
+    with pytest.raises(lg.SimulationInputError, match="algebraic") as caught:
+        compile_equations(lg.derive(algebraic))
+    assert isinstance(caught.value, ValueError) and caught.value.exit_code == 2
+
+
 # --- the native (SymEngine LLVM) evaluation against sympy.lambdify ---------------------------
 
 

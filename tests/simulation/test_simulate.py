@@ -18,7 +18,7 @@ from scipy.integrate import quad, solve_ivp
 import lagrangian as lg
 from lagrangian.numerics.compile import compile_equations
 from lagrangian.simulation import Event, Trajectory, simulate
-from lagrangian.simulation.inputs import METHODS
+from lagrangian.simulation.methods import METHODS
 
 
 @pytest.fixture(scope="module")

@@ -1,11 +1,15 @@
-"""The analysis layer: what the equations of motion mean (docs/architecture.md, seed notes 000
-and 002).
+"""The analysis layer: what the equations of motion mean (docs/architecture.md;
+Goldstein, Classical Mechanics, 3rd ed., ch. 2 and 8).
 
 Conjugate momenta and cyclic coordinates, the energy function and when it is conserved or
 equals T + V, the Hamiltonian and Hamilton's equations, equilibria and their stability,
 linearization about any state, normal modes, and equivalent descriptions (L + dF/dt, point
-transformations).  Every function takes a System or its EquationsOfMotion and returns an
-immutable value; :func:`analyze` bundles them.
+transformations).  A constrained system is analyzed on its constraint manifold
+(:mod:`lagrangian.analysis.manifold`): equilibria of the multiplier form, linearization with
+the dependent coordinates and speeds eliminated, the Hamiltonian in reduced coordinates, the
+Jacobi integral and steady motions of constraints that move by a symmetry.  Every function
+takes a System or its EquationsOfMotion and returns an immutable value; :func:`analyze`
+bundles them.
 
 >>> import lagrangian as lg
 >>> from lagrangian.analysis import analyze
@@ -14,7 +18,7 @@ immutable value; :func:`analyze` bundles them.
 """
 
 from lagrangian.analysis.energy import EnergyConservation, energy_conservation, energy_function
-from lagrangian.analysis.equilibria import Equilibria, Equilibrium, equilibria
+from lagrangian.analysis.equilibria import equilibria
 from lagrangian.analysis.equivalence import (
     TotalDerivativeEquivalence,
     equivalent_under_total_derivative,
@@ -27,6 +31,8 @@ from lagrangian.analysis.hamiltonian import (
     hamiltonian,
 )
 from lagrangian.analysis.linearize import Linearization, linearize
+from lagrangian.analysis.manifold import ConstraintManifold, constraint_manifold
+from lagrangian.analysis.manifold_symmetries import JacobiIntegral, jacobi_integral
 from lagrangian.analysis.modes import NormalModes, normal_modes
 from lagrangian.analysis.momenta import (
     ConjugateMomenta,
@@ -35,6 +41,7 @@ from lagrangian.analysis.momenta import (
     cyclic_coordinates,
 )
 from lagrangian.analysis.noether import Symmetry, point_symmetries
+from lagrangian.analysis.reduced_hamiltonian import reduced_hamiltonian
 from lagrangian.analysis.report import (
     AnalysisReport,
     ConservedQuantity,
@@ -42,11 +49,14 @@ from lagrangian.analysis.report import (
     analyze,
     conserved_quantities,
 )
+from lagrangian.analysis.rest import Equilibria, Equilibrium
+from lagrangian.analysis.steady_motions import SteadyMotions, steady_motions
 
 __all__ = [
     "AnalysisReport",
     "ConjugateMomenta",
     "ConservedQuantity",
+    "ConstraintManifold",
     "CyclicCoordinate",
     "EnergyConservation",
     "Equilibria",
@@ -54,13 +64,16 @@ __all__ = [
     "Failure",
     "HamiltonEquations",
     "Hamiltonian",
+    "JacobiIntegral",
     "Linearization",
     "NormalModes",
+    "SteadyMotions",
     "Symmetry",
     "TotalDerivativeEquivalence",
     "analyze",
     "conjugate_momenta",
     "conserved_quantities",
+    "constraint_manifold",
     "cyclic_coordinates",
     "energy_conservation",
     "energy_function",
@@ -68,8 +81,11 @@ __all__ = [
     "equivalent_under_total_derivative",
     "hamilton_equations",
     "hamiltonian",
+    "jacobi_integral",
     "linearize",
     "normal_modes",
     "point_symmetries",
     "point_transformation",
+    "reduced_hamiltonian",
+    "steady_motions",
 ]

@@ -25,6 +25,7 @@ from lagrangian.derivation import EquationsOfMotion, derive
 from lagrangian.errors import AnalysisError, Problem, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.frozen import frozen as frozen  # results' mappings are read-only
+from lagrangian.model.probe import is_zero
 
 Subject = System | EquationsOfMotion
 #: Parameter substitutions as a user gives them: name or Symbol -> number or expression.
@@ -104,6 +105,15 @@ def operating_state(eom: EquationsOfMotion, about: Values | None) -> dict[sp.Sym
     state: dict[sp.Symbol, sp.Expr] = {s: sp.Integer(0) for s in names.values()}
     state.update(given)
     return state
+
+
+def is_zero_value(value: Any) -> bool:
+    """A state value that is 0: the number 0 (also the float 0.0, which SymPy does not
+    call equal to 0) or an expression identically 0."""
+    value = sp.sympify(value)
+    if value.is_Number:
+        return bool(value.is_zero)
+    return is_zero(value)
 
 
 def positive_parameters(eom: EquationsOfMotion) -> dict[sp.Symbol, sp.Symbol]:

@@ -1,9 +1,11 @@
-"""The energy function and when it is conserved (seed 000 "Conserved Quantities", seed 002).
+"""The energy function and when it is conserved (Goldstein, Classical Mechanics, 3rd ed., §2.7).
 
     h = sum_j q_dot_j dL/dq_dot_j - L
     dh/dt = -sum_j q_dot_j dF/dq_dot_j + sum_j Q_j q_dot_j - dL/dt|explicit
 
-(from the Euler–Lagrange equations d/dt dL/dq_dot = dL/dq + Q - dF/dq_dot).  With
+(from the Euler–Lagrange equations d/dt dL/dq_dot = dL/dq + Q - dF/dq_dot).  With constraints
+the multiplier forces add sum_j lambda_j a_j . q_dot = -sum_j lambda_j b_j: constraints that do
+not move (b = 0, scleronomic) do no work and keep h; rheonomic ones do work.  With
 L = L2 + L1 + L0 homogeneous in the velocities, h = L2 - L0: it is T + V exactly when T is a
 quadratic form in the velocities (scleronomic coordinates) and U at most linear in them.
 
@@ -20,6 +22,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagrangian.analysis.arguments import Subject, equations_of
+from lagrangian.analysis.manifold import constraint_manifold, vanishes_on_manifold
 from lagrangian.analysis.simplification import simplify_small
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.model.probe import depends_on, is_zero
@@ -63,7 +66,9 @@ class EnergyConservation:
     """Whether h is a constant of the motion and whether it is T + V, each with its reason.
 
     ``rate`` is dh/dt along the motion; ``total_energy`` is T + V (+ U(q, 0, t), the scalar
-    potential of a velocity-dependent potential such as q phi).
+    potential of a velocity-dependent potential such as q phi).  On a constraint manifold
+    ``constraint_power`` is the work rate of the constraint forces, sum_j lambda_j a_j .
+    q_dot = -sum_j lambda_j b_j (zero for constraints that do not move), part of ``rate``.
     """
 
     energy_function: sp.Expr
@@ -73,6 +78,7 @@ class EnergyConservation:
     total_energy: sp.Expr
     equals_total_energy: bool
     total_energy_reason: str
+    constraint_power: sp.Expr = sp.Integer(0)
 
 
 def _power_terms(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str]]:
@@ -131,9 +137,31 @@ def _total_energy_reason(eom: EquationsOfMotion, equal: bool) -> str:
     return "h differs from T + V"
 
 
+def _constraint_power(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str], list[str]]:
+    """-sum_j lambda_j b_j over the moving constraints, why each works, and why the applied
+    terms vanish on the manifold when they do (empty when there are no constraints)."""
+    manifold = constraint_manifold(eom)
+    if manifold is None:
+        return sp.Integer(0), [], []
+    power = sp.Integer(0)
+    reasons = []
+    for row in manifold.moving:
+        lam, b = manifold.multipliers[row], manifold.rates[row]
+        power += -lam * b
+        reasons.append(
+            f"the constraint {manifold.labels[row]} moves with time (rheonomic, b = "
+            f"{simplify_small(b)}), so its force {lam}*a does work at the rate "
+            f"{simplify_small(-lam * b)}"
+        )
+    still = [f"constraints {', '.join(manifold.labels)} do no work"] if not reasons else []
+    return power, reasons, still
+
+
 def energy_conservation(subject: Subject) -> EnergyConservation:
-    """Is h conserved (no explicit t, no dissipation, no working applied force), and is it
-    T + V?  Each answer with its reason, and dh/dt as an expression.
+    """Is h conserved (no explicit t, no dissipation, no working applied force, no moving
+    constraint), and is it T + V?  Each answer with its reason, and dh/dt as an expression
+    (with the multipliers lambda_j of :mod:`lagrangian.analysis.manifold` on a constrained
+    system; applied terms that vanish wherever the constraints hold are dropped).
 
     >>> import lagrangian as lg
     >>> energy_conservation(lg.examples.mass_spring_damper()).rate
@@ -142,11 +170,18 @@ def energy_conservation(subject: Subject) -> EnergyConservation:
     eom = equations_of(subject)
     h = energy_function(eom)
     rate, reasons = _power_terms(eom)
+    power, working, idle = _constraint_power(eom)
+    if idle and reasons and vanishes_on_manifold(rate, eom):
+        idle.append("the applied terms (" + "; ".join(reasons) + ") vanish on the manifold")
+        rate, reasons = sp.Integer(0), []
+    rate, reasons = sp.expand(rate + power), reasons + working
     conserved = is_zero(rate)
     if conserved:
         reason = "dh/dt = 0: L has no explicit time, and no dissipation or applied force works"
         if reasons:
             reason += " (the contributions " + "; ".join(reasons) + " cancel)"
+        if idle:
+            reason += "; the " + "; ".join(idle) + " (scleronomic: b = 0, A q_dot = 0)"
     else:
         reason = "h is not conserved: " + "; ".join(reasons)
     scalar = eom.velocity_potential.xreplace({v: 0 for v in eom.velocities})
@@ -160,4 +195,5 @@ def energy_conservation(subject: Subject) -> EnergyConservation:
         total_energy=total,
         equals_total_energy=equal,
         total_energy_reason=_total_energy_reason(eom, equal),
+        constraint_power=sp.expand(power),
     )

@@ -1,4 +1,4 @@
-"""Equivalent descriptions of the same motion (seed 000, 002).
+"""Equivalent descriptions of the same motion (L + dF/dt: Landau & Lifshitz, Mechanics, §2).
 
 * L and L + dF(q, t)/dt give identical Euler–Lagrange equations: the Euler–Lagrange
   operator of dF/dt = sum dF/dq q_dot + dF/dt vanishes identically.  (A gauge change

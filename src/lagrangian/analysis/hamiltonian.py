@@ -1,4 +1,5 @@
-"""The Hamiltonian by the Legendre transform, and Hamilton's equations (seed 002).
+"""The Hamiltonian by the Legendre transform, and Hamilton's equations (Goldstein, Classical
+Mechanics, 3rd ed., §8.1).
 
     p = dL/dq_dot,    H(q, p, t) = sum_j p_j q_dot_j - L    with q_dot = q_dot(q, p, t).
 
@@ -35,13 +36,15 @@ from lagrangian.model.probe import DIGITS, SEED, depends_on, generic_rank, rando
 
 @dataclass(frozen=True)
 class Hamiltonian:
-    """H(q, p, t) and the inverse Legendre map q_dot(q, p, t)."""
+    """H(q, p, t) and the inverse Legendre map q_dot(q, p, t); for a constrained system,
+    in its reduced coordinates, with the ``eliminated`` ones as functions of them."""
 
     hamiltonian: sp.Expr
     coordinates: tuple[sp.Symbol, ...]
     momenta: tuple[sp.Symbol, ...]
     velocities: Mapping[sp.Symbol, sp.Expr]
     reason: str
+    eliminated: Mapping[sp.Symbol, sp.Expr] = frozen({})
 
 
 @dataclass(frozen=True)

@@ -31,11 +31,14 @@ from lagrangian.analysis.arguments import (
     equations_of,
     evaluate,
     frozen,
+    is_zero_value,
     numeric_values,
     operating_state,
     positive_parameters,
     substitutions,
 )
+from lagrangian.analysis.manifold import constraint_manifold, require_on_manifold
+from lagrangian.analysis.manifold_linearize import manifold_solution_note, reduced_state_space
 from lagrangian.analysis.simplification import QUICK, simplify_small, simplify_small_matrix
 from lagrangian.analysis.spectrum import eigenvalues, frequencies, growth_rates
 from lagrangian.derivation import EquationsOfMotion
@@ -60,6 +63,17 @@ class Linearization:
     growth_rates: tuple[sp.Expr, ...]
     is_solution: bool
     note: str
+    dependent: tuple[sp.Symbol, ...] = ()
+    embedding: sp.ImmutableMatrix | None = None
+    multipliers: Mapping[sp.Symbol, sp.Expr] = frozen({})
+
+    def full_deviation(self, x: Sequence[Any]) -> sp.ImmutableMatrix:
+        """[dq; dq_dot] of every coordinate and velocity for a deviation ``x`` of the state
+        vector (on a constraint manifold the dependent ones follow from the independent)."""
+        vector = sp.Matrix(list(x))
+        if self.embedding is None:
+            return sp.ImmutableMatrix(vector)
+        return sp.ImmutableMatrix(self.embedding * vector)
 
 
 def _inputs(eom: EquationsOfMotion, inputs: Sequence[Any]) -> tuple[sp.Symbol, ...]:
@@ -98,7 +112,7 @@ def _solution_note(eom, m, f, state, acc0, numbers) -> tuple[bool, list[str]]:
             f"{a.name} = {simplify_small(v)}" for a, v in zip(eom.accelerations, acc0)
         )
         notes.append(f"not a solution: at this state {values} (linearized at this instant)")
-    moving = [q for q, v in zip(eom.coordinates, eom.velocities) if not is_zero(state[v])]
+    moving = [q for q, v in zip(eom.coordinates, eom.velocities) if not is_zero_value(state[v])]
     drifting = [q.name for q in moving if depends_on(m, [q]) or depends_on(f, [q])]
     if drifting:
         notes.append(
@@ -176,10 +190,17 @@ def linearize(
     inputs: Sequence[Any] = (),
     parameters: Values | None = None,
     symbolic: bool = False,
+    independent: Sequence[Any] | None = None,
 ) -> Linearization:
     """x_dot = A x + B u about ``about`` (coordinate, ``NAME_dot`` and ``t`` values; the rest
     0); ``inputs`` are parameters treated as inputs u.  Eigenvalues are numeric at the
     parameter values, or symbolic when ``symbolic`` and A is at most 6 x 6.
+
+    On a constrained system the state must satisfy the constraints (ConstraintError names
+    each one it misses; :func:`lagrangian.constraints.project_state` moves it onto them) and
+    the dependent coordinates and velocities are eliminated at the linear level
+    (:mod:`lagrangian.analysis.manifold_linearize`); ``independent`` names the coordinates
+    and ``NAME_dot`` velocities to keep (default: chosen by pivoting).
 
     >>> import lagrangian as lg
     >>> linearize(lg.examples.simple_pendulum(), {"theta": 0}).frequencies
@@ -193,21 +214,33 @@ def linearize(
     m = sp.Matrix(eom.mass_matrix).xreplace(subs)
     f = sp.Matrix(eom.forcing).xreplace(subs)
     point = {**state, **{p: numbers.get(p, p) for p in u}}
-    a, b, acc0 = _state_space(eom, m, f, point, u)
-    is_solution, notes = _solution_note(eom, m, f, state, acc0, numbers)
+    manifold = constraint_manifold(eom)
+    if manifold is None:
+        a, b, acc0 = _state_space(eom, m, f, point, u)
+        is_solution, notes = _solution_note(eom, m, f, state, acc0, numbers)
+        reduced = None
+    else:
+        fix = "move it onto them with lagrangian.constraints.project_state(system, state)"
+        require_on_manifold(eom, state, numbers, fix)
+        reduced = reduced_state_space(eom, manifold, point, u, subs, numbers, independent)
+        a, b = reduced.A, reduced.B
+        is_solution, notes = manifold_solution_note(eom, manifold, reduced, state, subs, numbers)
     if symbolic and a.rows <= SYMBOLIC_SIZE:
         values, freqs, growth = _symbolic_spectrum(a, eom)
     else:
         values, freqs, growth = _numeric_spectrum(a, numbers, notes)
     return Linearization(
         state=frozen(state),
-        state_vector=(*eom.coordinates, *eom.velocities),
+        state_vector=reduced.state_vector if reduced else (*eom.coordinates, *eom.velocities),
         inputs=u,
-        A=a,
-        B=b,
+        A=sp.ImmutableMatrix(a),
+        B=sp.ImmutableMatrix(b),
         eigenvalues=values,
         frequencies=freqs,
         growth_rates=growth,
         is_solution=is_solution,
         note="; ".join(notes),
+        dependent=reduced.dependent if reduced else (),
+        embedding=reduced.embedding if reduced else None,
+        multipliers=frozen(reduced.multipliers if reduced else {}),
     )

@@ -27,25 +27,30 @@ from lagrangian.analysis.arguments import (
     equations_of,
     evaluate,
     frozen,
+    is_zero_value,
     numeric_values,
     operating_state,
     substitutions,
 )
-from lagrangian.analysis.equilibria import Equilibria, Equilibrium, equilibria, static_forces
+from lagrangian.analysis.equilibria import equilibria, static_forces
 from lagrangian.analysis.linearize import linearize
+from lagrangian.analysis.manifold import ConstraintManifold, constraint_manifold
+from lagrangian.analysis.manifold_modes import linearized_modes, manifold_oscillation
+from lagrangian.analysis.pencil import solve_pencil
+from lagrangian.analysis.rest import Equilibrium, first_stable
 from lagrangian.analysis.simplification import simplify_small, simplify_small_matrix
-from lagrangian.analysis.spectrum import generalized_modes, symmetric_eigenvalues
+from lagrangian.analysis.spectrum import symmetric_eigenvalues
 from lagrangian.analysis.stability import stability_of, stiffness_matrix
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 from lagrangian.model.probe import is_zero
 
-SIMPLE = 30  # count_ops of a symbolic omega^2 or mode-shape entry still worth showing
-
 
 @dataclass(frozen=True)
 class NormalModes:
-    """Frequencies (ascending) and mode shapes about the equilibrium ``about``."""
+    """Frequencies (ascending) and mode shapes about the equilibrium ``about``; on a
+    constraint manifold K and M are written in its independent coordinates and the shapes
+    in all the coordinates."""
 
     about: Mapping[sp.Symbol, sp.Expr]
     mass_matrix: sp.ImmutableMatrix
@@ -65,17 +70,8 @@ def _eigenvalue_text(eom, point, parameters) -> str:
     return "linearization eigenvalues: " + (", ".join(str(v) for v in values) or "unknown")
 
 
-def first_stable(found: Equilibria) -> Equilibrium:
-    """The first stable equilibrium, or AnalysisError listing why none is."""
-    stable = found.stable()
-    if stable:
-        return stable[0]
-    summary = "; ".join(f"{dict(e.state)}: {e.reason}" for e in found) or found.reason
-    raise AnalysisError(f"No stable equilibrium to oscillate about ({summary}).")
-
-
 def _check_rest(eom, state, subs, numbers, parameters) -> None:
-    moving = [v.name for v in eom.velocities if not is_zero(state[v])]
+    moving = [v.name for v in eom.velocities if not is_zero_value(state[v])]
     if moving:
         raise AnalysisError(
             f"Normal modes are small oscillations about a state of rest, but {', '.join(moving)}"
@@ -92,12 +88,6 @@ def _check_rest(eom, state, subs, numbers, parameters) -> None:
         f"{point} is not an equilibrium: the static forces there are "
         f"{[simplify_small(r) for r in residual]}; {_eigenvalue_text(eom, point, parameters)}"
     )
-
-
-def _magnitude(expr: sp.Expr, numbers: Mapping[sp.Symbol, sp.Expr]) -> float:
-    """A number to order symbolic roots by: at the parameter values, other symbols at 1."""
-    value = evaluate(expr, numbers)
-    return float(sp.re(value.xreplace({s: 1 for s in value.free_symbols})))
 
 
 def _check_inertia(m: sp.MatrixBase, numeric: sp.MatrixBase | None, point) -> None:
@@ -129,46 +119,6 @@ def _rest_point(eom, about, subs, numbers, parameters) -> tuple[dict, bool]:
     return {q: state[q] for q in eom.coordinates}, True
 
 
-def _symbolic_modes(k: sp.Matrix, m: sp.Matrix, eom: EquationsOfMotion, numbers):
-    """omega^2 from det(K - lambda M) = 0 and v from the null space, when short enough."""
-    lam = sp.Dummy("lambda")
-    pencil = k - lam * m
-    roots = sp.roots(sp.Poly(pencil.det(), lam))
-    if sum(roots.values()) != k.rows:
-        return None
-    squares = sorted(
-        (assuming_positive(r, eom) for r, count in roots.items() for _ in range(count)),
-        key=lambda r: _magnitude(r, numbers),
-    )
-    if any(sp.count_ops(s) > SIMPLE for s in squares):
-        return None
-    shapes = []
-    for square in dict.fromkeys(squares):
-        for v in pencil.xreplace({lam: square}).nullspace(simplify=True):
-            pivot = next(x for x in v if x != 0)
-            shapes.append(sp.ImmutableMatrix([simplify_small(x / pivot) for x in v]))
-    if len(shapes) != k.rows or any(sp.count_ops(x) > SIMPLE for v in shapes for x in v):
-        return None
-    return tuple(squares), tuple(shapes)
-
-
-def _solve(k, m, k_numeric, m_numeric, eom, numbers):
-    """(omega^2 values, shapes, symbolic?, how): symbolic when exact, 2 x 2 and short."""
-    exact = not (k.atoms(sp.Float) or m.atoms(sp.Float))
-    if exact and k.rows <= 2:
-        found = _symbolic_modes(sp.Matrix(k), sp.Matrix(m), eom, numbers)
-        if found is not None:
-            return (*found, True, "det(K - omega^2 M) = 0 solved symbolically")
-    missing = k_numeric.free_symbols | m_numeric.free_symbols
-    if missing:
-        names = ", ".join(sorted(s.name for s in missing))
-        raise AnalysisError(f"No numbers for {names} and no short symbolic answer.")
-    pairs = generalized_modes(k_numeric, m_numeric)
-    squares = tuple(sp.Float(w2, 15) for w2, _ in pairs)
-    shapes = tuple(v for _, v in pairs)
-    return squares, shapes, False, "K v = omega^2 M v solved numerically at the parameter values"
-
-
 def normal_modes(
     subject: Subject,
     about: Values | Equilibrium | None = None,
@@ -187,6 +137,9 @@ def normal_modes(
     (k1/m1, 3*k1/m1)
     """
     eom = equations_of(subject)
+    manifold = constraint_manifold(eom)
+    if manifold is not None:
+        return _manifold_modes(eom, manifold, about, parameters)
     subs = substitutions(eom, parameters)
     numbers = numeric_values(eom, parameters)
     point, unchecked = _rest_point(eom, about, subs, numbers, parameters)
@@ -205,7 +158,7 @@ def normal_modes(
                 f"{point} is not a stable equilibrium ({why}); "
                 f"{_eigenvalue_text(eom, point, parameters)}"
             )
-    squares, shapes, symbolic, reason = _solve(k, m, k_numeric, m_numeric, eom, numbers)
+    squares, shapes, symbolic, reason = solve_pencil(k, m, k_numeric, m_numeric, eom, numbers)
     frequencies = tuple(
         assuming_positive(sp.sqrt(w2), eom) if symbolic else sp.sqrt(max(w2, 0)) for w2 in squares
     )
@@ -218,4 +171,54 @@ def normal_modes(
         shapes=shapes,
         symbolic=symbolic,
         reason=reason + "; damping and gyroscopic terms left out",
+    )
+
+
+def _manifold_modes(
+    eom: EquationsOfMotion,
+    manifold: ConstraintManifold,
+    about: Values | Equilibrium | None,
+    parameters: Values | None,
+) -> NormalModes:
+    """Normal modes on the constraint manifold (:mod:`lagrangian.analysis.manifold_modes`):
+    K v = omega^2 M v in the independent coordinates, shapes in all of them."""
+    numbers = numeric_values(eom, parameters)
+    found = manifold_oscillation(eom, manifold, about, parameters)
+    names = ", ".join(q.name for q in found.independent)
+    if manifold.velocity_rows:
+        frequencies, shapes = linearized_modes(eom, manifold, found.point, parameters)
+        return NormalModes(
+            about=frozen(found.point),
+            mass_matrix=found.mass,
+            stiffness_matrix=found.stiffness,
+            squared_frequencies=tuple(w**2 for w in frequencies),
+            frequencies=frequencies,
+            shapes=shapes,
+            symbolic=False,
+            reason="eigenvalues and eigenvectors of the linearization on the constraint "
+            "manifold (velocity constraints: no symmetric K v = omega^2 M v); shapes are "
+            "the coordinate parts of the eigenvectors",
+        )
+    k, m = found.stiffness, found.mass
+    k_numeric, m_numeric = evaluate(k, numbers), evaluate(m, numbers)
+    if not (k_numeric.free_symbols or m_numeric.free_symbols):
+        _check_inertia(m, m_numeric, found.point)
+    squares, shapes, symbolic, reason = solve_pencil(k, m, k_numeric, m_numeric, eom, numbers)
+    full = tuple(
+        sp.ImmutableMatrix([simplify_small(x) for x in found.embedding * sp.Matrix(v)])
+        for v in shapes
+    )
+    return NormalModes(
+        about=frozen(found.point),
+        mass_matrix=m,
+        stiffness_matrix=k,
+        squared_frequencies=squares,
+        frequencies=tuple(
+            assuming_positive(sp.sqrt(w2), eom) if symbolic else sp.sqrt(max(w2, 0))
+            for w2 in squares
+        ),
+        shapes=full,
+        symbolic=symbolic,
+        reason=f"{reason} on the constraint manifold: K and M in the independent coordinates "
+        f"({names}), the shapes in all the coordinates; damping and gyroscopic terms left out",
     )

@@ -1,9 +1,12 @@
-"""Conjugate momenta and cyclic coordinates (seed 000, "Conserved Quantities").
+"""Conjugate momenta and cyclic coordinates (Goldstein, Classical Mechanics, 3rd ed., §2.6).
 
     p_j = dL/dq_dot_j,       d/dt p_j = dL/dq_j + Q_j - dF/dq_dot_j,
 
-so a coordinate that L does not contain, on which no applied or dissipative force acts, is
-cyclic: its momentum is a constant of the motion.
+so a coordinate that L (and the dissipation function F) does not contain is *cyclic*, and its
+momentum is a constant of the motion when no applied, dissipative or constraint force acts
+along it; with constraints d/dt p_j gains sum_k lambda_k a_kj, so a constraint whose Jacobian
+column j is not zero changes p_j too.  A cart pushed by a force F is cyclic, and p_x is not
+conserved (unless F = 0).
 
 >>> import lagrangian as lg
 >>> [c.coordinate for c in cyclic_coordinates(lg.examples.planet())]
@@ -12,13 +15,16 @@ cyclic: its momentum is a constant of the motion.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.analysis.arguments import Subject, equations_of
+from lagrangian.analysis.arguments import Subject, Values, equations_of, numeric_values
+from lagrangian.analysis.manifold import constraint_manifold
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
+from lagrangian.model.constraints import label
 from lagrangian.model.probe import is_zero
 
 
@@ -58,11 +64,17 @@ class ConjugateMomenta:
 
 @dataclass(frozen=True)
 class CyclicCoordinate:
-    """A coordinate absent from L with no force on it, and its conserved momentum."""
+    """A coordinate absent from L and from the Rayleigh function F (Goldstein §2.6), its
+    momentum, and whether that momentum is conserved: ``obstructions`` names what changes
+    it ("force", "dissipation", "constraint"), ``condition`` the parameter values under
+    which it is conserved all the same (a force parameter that is 0)."""
 
     coordinate: sp.Symbol
     momentum: sp.Expr
     reason: str
+    conserved: bool = True
+    obstructions: tuple[str, ...] = ()
+    condition: sp.Basic = sp.true
 
 
 def conjugate_momenta(subject: Subject) -> ConjugateMomenta:
@@ -79,28 +91,112 @@ def conjugate_momenta(subject: Subject) -> ConjugateMomenta:
     )
 
 
-def cyclic_coordinates(subject: Subject) -> tuple[CyclicCoordinate, ...]:
-    """Coordinates q_j with dL/dq_j = 0, Q_j = 0 and dF/dq_dot_j = 0: p_j is conserved.
+def _obstructions(eom: EquationsOfMotion, j: int) -> list[tuple[str, str, sp.Expr]]:
+    """(kind, description, expression) of everything that changes p_j: the applied force
+    Q_j, the dissipative force -dF/dq_dot_j, and each constraint with a force along q_j
+    (a non-zero column j of its Jacobian)."""
+    q = eom.coordinates[j]
+    found = []
+    if not is_zero(eom.generalized_forces[j]):
+        force = eom.generalized_forces[j]
+        found.append(("force", f"the applied force Q_{q.name} = {force}", force))
+    if not is_zero(eom.dissipation_forces[j]):
+        friction = eom.dissipation_forces[j]
+        found.append(("dissipation", f"the dissipative force {friction}", friction))
+    manifold = constraint_manifold(eom)
+    if manifold is not None:
+        for row, name in enumerate(manifold.labels):
+            column = manifold.jacobian[row, j]
+            if not is_zero(column):
+                found.append(
+                    ("constraint", f"the constraint {name} (a_{q.name} = {column})", column)
+                )
+    for i, c in enumerate(eom.system.constraints):
+        if c.kind == "unilateral" and not is_zero(c.expression.diff(q)):
+            found.append(
+                (
+                    "constraint",
+                    f"the unilateral {label(i, c)} while in contact",
+                    c.expression.diff(q),
+                )
+            )
+    return found
+
+
+def _vanishes(expr: sp.Expr) -> bool:
+    """Identically 0; a number (parameter values put in) within round-off of 0."""
+    if not expr.free_symbols:
+        return abs(complex(expr.evalf())) < 1e-12
+    return is_zero(expr)
+
+
+def _vanishing_condition(expr: sp.Expr, numbers: Mapping[sp.Symbol, sp.Expr]) -> sp.Basic | None:
+    """The parameter values (those at 0 first, else all it uses) at which ``expr``
+    vanishes identically in the state, or None when they do not make it vanish."""
+    used = sorted((p for p in expr.free_symbols if p in numbers), key=str)
+    zeros = [p for p in used if sp.sympify(numbers[p]).is_zero]
+    for chosen in (zeros, used):
+        values = {p: sp.Integer(0) if p in zeros else numbers[p] for p in chosen}
+        if chosen and _vanishes(expr.xreplace(values)):
+            return sp.And(*[sp.Eq(p, values[p]) for p in chosen])
+    return None
+
+
+def condition_text(condition: sp.Basic) -> str:
+    """A condition on parameters as people write it: ``F = 0, k = 2``."""
+    parts = condition.args if isinstance(condition, sp.And) else (condition,)
+    return ", ".join(f"{p.lhs} = {p.rhs}" if isinstance(p, sp.Eq) else str(p) for p in parts)
+
+
+def _cyclic(eom: EquationsOfMotion, j: int, numbers: Mapping) -> CyclicCoordinate:
+    q, step = eom.coordinates[j], eom.steps[j]
+    absent = f"{q.name} does not appear in L (nor in the dissipation function F)"
+    blocking = _obstructions(eom, j)
+    if not blocking:
+        reason = (
+            f"{q.name} does not appear in L and no applied or dissipative force acts on it, "
+            f"so d/dt p_{q.name} = dL/d{q.name} = 0"
+        )
+        return CyclicCoordinate(q, step.dL_dvelocity, reason)
+    conditions = [_vanishing_condition(expr, numbers) for _, _, expr in blocking]
+    kinds = tuple(dict.fromkeys(kind for kind, _, _ in blocking))
+    causes = "; ".join(what for _, what, _ in blocking)
+    if all(c is not None for c in conditions):
+        condition = sp.And(*conditions)
+        reason = (
+            f"{absent}; {causes} vanishes at the given parameter values "
+            f"({condition_text(condition)}), so "
+            f"p_{q.name} is conserved there (for other values it changes p_{q.name})"
+        )
+        return CyclicCoordinate(q, step.dL_dvelocity, reason, True, kinds, condition)
+    reason = (
+        f"{absent}, so it is cyclic, but p_{q.name} is not conserved: {causes} changes it "
+        f"(d/dt p_{q.name} = Q_{q.name} - dF/d{q.name}_dot + sum_j lambda_j a_j{q.name})"
+    )
+    return CyclicCoordinate(q, step.dL_dvelocity, reason, False, kinds, sp.false)
+
+
+def cyclic_coordinates(
+    subject: Subject, parameters: Values | None = None
+) -> tuple[CyclicCoordinate, ...]:
+    """Coordinates absent from L and from the dissipation function F (dL/dq_j = 0 and
+    dF/dq_j = 0: Goldstein's cyclic coordinates), each with whether p_j is conserved: not
+    when an applied force, dissipation or a constraint force acts along q_j, unless that
+    vanishes at the parameter values (``parameters`` over the defaults), said as the
+    condition.
 
     >>> import lagrangian as lg
     >>> cyclic_coordinates(lg.examples.spherical_pendulum())[0].momentum
     l**2*m*phi_dot*sin(theta)**2
     """
     eom = equations_of(subject)
+    numbers = numeric_values(eom, parameters)
+    dissipation = eom.dissipation_function
     found = []
     for j, (q, step) in enumerate(zip(eom.coordinates, eom.steps)):
         if q in eom.lagrangian.free_symbols and not is_zero(step.dL_dcoordinate):
             continue
-        if not (is_zero(eom.generalized_forces[j]) and is_zero(eom.dissipation_forces[j])):
+        if q in dissipation.free_symbols and not is_zero(dissipation.diff(q)):
             continue
-        found.append(
-            CyclicCoordinate(
-                coordinate=q,
-                momentum=step.dL_dvelocity,
-                reason=(
-                    f"{q.name} does not appear in L and no applied or dissipative force acts "
-                    f"on it, so d/dt p_{q.name} = dL/d{q.name} = 0"
-                ),
-            )
-        )
+        found.append(_cyclic(eom, j, numbers))
     return tuple(found)

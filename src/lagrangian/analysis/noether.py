@@ -79,6 +79,8 @@ def _nullspace(matrix: mpmath.matrix, unknowns: int) -> list[list[mpmath.mpf]]:
     """A basis of the nullspace in reduced row echelon form (canonical, so rational when the
     nullspace is rational), from the SVD at 30 digits."""
     with mpmath.workdps(DIGITS):
+        if matrix.rows > matrix.cols:  # A = Q R: same singular values and V, R is square
+            matrix = mpmath.qr(matrix, mode="skinny")[1]
         _, s, vt = mpmath.svd_r(matrix, full_matrices=True, compute_uv=True)
         largest = max((abs(x) for x in s), default=mpmath.mpf(0))
         rank = sum(1 for x in s if largest > 0 and abs(x) > RELATIVE_ZERO * largest)

@@ -3,7 +3,10 @@
 Each part (momenta, cyclic coordinates, energy, Hamiltonian, equilibria, normal modes,
 linearization) is computed on its own; a part that cannot be done for this system (a
 singular Legendre transform, no stable equilibrium, ...) is recorded in ``failures`` with
-its reason instead of stopping the report.
+its reason instead of stopping the report.  A constrained system is analyzed on its constraint
+manifold (:func:`constrained_report`): every part there, plus the Jacobi integral and the
+steady motions of constraints that move by a symmetry; an ``about`` state off the constraints
+is refused (ConstraintError) unless projected.
 
 >>> import lagrangian as lg
 >>> report = analyze(lg.examples.planet())
@@ -21,9 +24,15 @@ from typing import Any, TypeVar
 
 import sympy as sp
 
-from lagrangian.analysis.arguments import Subject, Values, equations_of
+from lagrangian.analysis.arguments import (
+    Subject,
+    Values,
+    equations_of,
+    numeric_values,
+    operating_state,
+)
 from lagrangian.analysis.energy import EnergyConservation, energy_conservation
-from lagrangian.analysis.equilibria import Equilibria, equilibria
+from lagrangian.analysis.equilibria import equilibria
 from lagrangian.analysis.hamiltonian import (
     HamiltonEquations,
     Hamiltonian,
@@ -31,7 +40,13 @@ from lagrangian.analysis.hamiltonian import (
     hamiltonian,
 )
 from lagrangian.analysis.linearize import Linearization, linearize
-from lagrangian.analysis.modes import NormalModes, first_stable, normal_modes
+from lagrangian.analysis.manifold import constraint_manifold, numeric_point, require_on_manifold
+from lagrangian.analysis.manifold_symmetries import (
+    JacobiIntegral,
+    jacobi_integral,
+    kept_symmetries,
+)
+from lagrangian.analysis.modes import NormalModes, normal_modes
 from lagrangian.analysis.momenta import (
     ConjugateMomenta,
     CyclicCoordinate,
@@ -39,10 +54,13 @@ from lagrangian.analysis.momenta import (
     cyclic_coordinates,
 )
 from lagrangian.analysis.noether import Symmetry, point_symmetries
-from lagrangian.constraints import classify
+from lagrangian.analysis.reduced_hamiltonian import reduced_legendre, stable_state
+from lagrangian.analysis.rest import Equilibria, first_stable
+from lagrangian.analysis.steady_motions import SteadyMotions, steady_motions
+from lagrangian.constraints import project_state
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import LagrangianError
-from lagrangian.model import System
+from lagrangian.model.probe import is_zero
 
 T = TypeVar("T")
 
@@ -54,6 +72,7 @@ class ConservedQuantity:
     name: str
     expression: sp.Expr
     reason: str
+    condition: sp.Basic = sp.true
 
 
 @dataclass(frozen=True)
@@ -67,7 +86,11 @@ class Failure:
 @dataclass(frozen=True)
 class AnalysisReport:
     """Everything :func:`analyze` found; parts that failed are None and listed in
-    ``failures``.  ``constraints`` holds the classification of each constraint (as_dict)."""
+    ``failures``.  ``constraints`` holds the classification of each constraint (as_dict).
+
+    ``dof`` is the number of independent velocities (n minus every equality constraint, as
+    Greenwood and Bloch count degrees of freedom), ``configuration_dimension`` n minus the
+    holonomic ones; they differ for a non-holonomic system, and ``freedom`` says so."""
 
     name: str
     dof: int
@@ -83,6 +106,10 @@ class AnalysisReport:
     linearization: Linearization | None
     failures: tuple[Failure, ...]
     constraints: tuple[Any, ...] = ()
+    configuration_dimension: int | None = None
+    independent_velocities: int | None = None
+    freedom: str = ""
+    steady_motions: SteadyMotions | None = None
 
     def failure(self, part: str) -> str | None:
         """Why ``part`` failed, or None when it did not."""
@@ -93,12 +120,19 @@ def conserved_quantities(
     cyclic: Sequence[CyclicCoordinate],
     energy: EnergyConservation | None,
     symmetries: Sequence[Symmetry] = (),
+    jacobi: JacobiIntegral | None = None,
 ) -> tuple[ConservedQuantity, ...]:
-    """The momenta of cyclic coordinates, the Noether charges of the other point symmetries,
-    and h when it is conserved."""
-    found = [ConservedQuantity(f"p_{c.coordinate.name}", c.momentum, c.reason) for c in cyclic]
-    known = [c.momentum for c in cyclic]
+    """The momenta of cyclic coordinates that are conserved (with their conditions), the
+    Noether charges of the other point symmetries, h when it is conserved, and the Jacobi
+    integral of constraints that move by a symmetry."""
+    kept = [c for c in cyclic if c.conserved]
+    found = [
+        ConservedQuantity(f"p_{c.coordinate.name}", c.momentum, c.reason, c.condition) for c in kept
+    ]
+    known = [c.momentum for c in kept]
     for symmetry in symmetries:
+        if is_zero(symmetry.conserved):
+            continue  # a coordinate without inertia: nothing to conserve
         if any(sp.simplify(symmetry.conserved / p).is_number for p in known if p != 0):
             continue  # the momentum of a cyclic coordinate, found again
         found.append(
@@ -110,6 +144,8 @@ def conserved_quantities(
         )
     if energy is not None and energy.conserved:
         found.append(ConservedQuantity("h", energy.energy_function, energy.reason))
+    if jacobi is not None:
+        found.append(ConservedQuantity("jacobi", jacobi.expression, jacobi.reason))
     return tuple(found)
 
 
@@ -129,34 +165,28 @@ class _Attempts:
         return None
 
 
-CONSTRAINED = (
-    "not yet computed for a constrained system; eliminate the holonomic constraints first "
-    "(lagrangian.constraints.eliminate) to analyze the reduced system"
-)
+def _count(number: int, noun: str) -> str:
+    """``1 non-holonomic constraint leaves``, ``2 ... constraints leave``."""
+    return f"{number} {noun}{'' if number == 1 else 's'} leave{'s' if number == 1 else ''}"
 
 
-def _constrained_report(system: System, eom: EquationsOfMotion) -> AnalysisReport:
-    """Classification, degrees of freedom and momenta; the parts that would ignore the
-    constraints are reported as not computed (never silently wrong)."""
-    attempts = _Attempts()
-    report = attempts.run("constraints", lambda: classify(system))
-    for part in ("energy", "hamiltonian", "equilibria", "normal_modes", "linearization"):
-        attempts.failures.append(Failure(part, CONSTRAINED))
-    return AnalysisReport(
-        name=eom.name,
-        dof=report.dof if report is not None else len(eom.coordinates),
-        coordinates=tuple(eom.coordinates),
-        momenta=attempts.run("momenta", lambda: conjugate_momenta(eom)),
-        cyclic=(),
-        conserved=(),
-        energy=None,
-        hamiltonian=None,
-        hamilton_equations=None,
-        equilibria=None,
-        normal_modes=None,
-        linearization=None,
-        failures=tuple(attempts.failures),
-        constraints=tuple(c.as_dict() for c in report.constraints) if report else (),
+def freedom_text(n: int, configuration: int, velocities: int) -> str:
+    """How many coordinates, configurations and velocities are free, and which is the dof."""
+    text = f"{n} coordinate{'' if n == 1 else 's'}"
+    if configuration == velocities == n:
+        return f"{text}, no constraint: dof = {n}"
+    if configuration < n:
+        text += (
+            f"; {_count(n - configuration, 'independent holonomic constraint')} a "
+            f"configuration manifold of dimension {configuration} (configuration_dimension)"
+        )
+    if velocities == configuration:
+        return text + f"; dof = {velocities}"
+    return text + (
+        f"; {_count(configuration - velocities, 'non-holonomic constraint')} "
+        f"{velocities} independent velocities: dof = {velocities}, the independent velocities "
+        f"(Greenwood, Bloch), fewer than the {configuration} coordinates needed to say where "
+        "the system is (non-holonomic constraints restrict how it moves, not where it can go)"
     )
 
 
@@ -165,20 +195,26 @@ def analyze(
     about: Values | None = None,
     parameters: Values | None = None,
     inputs: Sequence[Any] = (),
+    project: bool = False,
+    independent: Sequence[Any] | None = None,
 ) -> AnalysisReport:
     """Momenta, cyclic coordinates, conserved quantities, energy function, Hamiltonian and
-    Hamilton's equations, equilibria, normal modes, and (with ``about``) the linearization.
+    Hamilton's equations, equilibria, normal modes, and (with ``about``) the linearization;
+    on the constraint manifold for a constrained system.
 
     ``parameters`` are substitutions (numbers or expressions) applied first; ``about`` is a
     state (coordinate and ``NAME_dot`` values, the rest 0); ``inputs`` are parameters taken
-    as inputs u of the linearization.
+    as inputs u of the linearization.  On a constrained system ``about`` must satisfy the
+    constraints (ConstraintError names each one it misses) unless ``project``, which moves
+    it onto them first; ``independent`` names the coordinates and velocities the
+    linearization keeps.
     """
     eom = equations_of(subject)
     if eom.system.constraints:
-        return _constrained_report(eom.system, eom)
+        return constrained_report(eom, about, parameters, inputs, project, independent)
     attempts = _Attempts()
     run = attempts.run
-    cyclic = run("cyclic", lambda: cyclic_coordinates(eom)) or ()
+    cyclic = run("cyclic", lambda: cyclic_coordinates(eom, parameters)) or ()
     symmetries = run("symmetries", lambda: point_symmetries(eom)) or ()
     energy = run("energy", lambda: energy_conservation(eom))
     legendre = run("hamiltonian", lambda: hamiltonian(eom))
@@ -194,9 +230,10 @@ def analyze(
     linearization = None
     if about is not None:
         linearization = run("linearization", lambda: linearize(eom, about, inputs, parameters))
+    n = len(eom.coordinates)
     return AnalysisReport(
         name=eom.name,
-        dof=len(eom.coordinates),
+        dof=n,
         coordinates=tuple(eom.coordinates),
         momenta=run("momenta", lambda: conjugate_momenta(eom)),
         cyclic=tuple(cyclic),
@@ -208,4 +245,85 @@ def analyze(
         normal_modes=modes,
         linearization=linearization,
         failures=tuple(attempts.failures),
+        configuration_dimension=n,
+        independent_velocities=n,
+        freedom=freedom_text(n, n, n),
+    )
+
+
+def _about_on_manifold(
+    eom: EquationsOfMotion, about: Values, parameters: Values | None, project: bool
+) -> dict[sp.Symbol, Any]:
+    """The operating state, checked against the constraints (ConstraintError naming each
+    one it misses, with its residual), or moved onto them when ``project``."""
+    state = operating_state(eom, about)
+    numbers = numeric_values(eom, parameters)
+    if not project:
+        fix = "pass project=True to move the state onto the constraints (project_state)"
+        require_on_manifold(eom, state, numbers, fix)
+        return state
+    moved = project_state(eom.system, numeric_point(eom, state, numbers))
+    return {s: moved[s] for s in (*eom.coordinates, *eom.velocities, eom.time)}
+
+
+def constrained_report(
+    eom: EquationsOfMotion,
+    about: Values | None,
+    parameters: Values | None,
+    inputs: Sequence[Any],
+    project: bool,
+    independent: Sequence[Any] | None,
+) -> AnalysisReport:
+    """Every part of :func:`analyze` on the constraint manifold (docs/architecture.md)."""
+    attempts = _Attempts()
+    run = attempts.run
+    manifold = constraint_manifold(eom)  # inconsistent constraints: the error goes to the user
+    assert manifold is not None  # a System with constraints has a manifold
+    state = None if about is None else _about_on_manifold(eom, about, parameters, project)
+    cyclic = run("cyclic", lambda: cyclic_coordinates(eom, parameters)) or ()
+    symmetries = run("symmetries", lambda: point_symmetries(eom)) or ()
+    energy = run("energy", lambda: energy_conservation(eom))
+    jacobi = None
+    if energy is not None and not energy.conserved:
+        jacobi = run("jacobi", lambda: jacobi_integral(eom, energy, symmetries))
+    steady = None
+    if jacobi is not None:
+        steady = run("steady_motions", lambda: steady_motions(eom, parameters, jacobi))
+    found = run("equilibria", lambda: equilibria(eom, parameters))
+    through = stable_state(eom, found, parameters)
+    legendre = run("hamiltonian", lambda: reduced_legendre(eom, through))
+    modes = None
+    if found is not None:
+        modes = run(
+            "normal_modes", lambda: normal_modes(eom, first_stable(found), parameters=parameters)
+        )
+    linearization = None
+    if state is not None:
+        linearization = run(
+            "linearization",
+            lambda: linearize(eom, state, inputs, parameters, independent=independent),
+        )
+    dimension, velocities = manifold.configuration_dimension, manifold.independent_velocities
+    return AnalysisReport(
+        name=eom.name,
+        dof=velocities,
+        coordinates=tuple(eom.coordinates),
+        momenta=run("momenta", lambda: conjugate_momenta(eom)),
+        cyclic=tuple(cyclic),
+        conserved=conserved_quantities(
+            cyclic, energy, kept_symmetries(symmetries, manifold), jacobi
+        ),
+        energy=energy,
+        hamiltonian=legendre[0] if legendre else None,
+        hamilton_equations=legendre[1] if legendre else None,
+        equilibria=found,
+        normal_modes=modes,
+        linearization=linearization,
+        failures=tuple(attempts.failures),
+        constraints=tuple(c.as_dict() for c in manifold.classification.constraints),
+        configuration_dimension=dimension,
+        independent_velocities=velocities,
+        freedom=freedom_text(len(eom.coordinates), dimension, velocities)
+        + "".join(f"; left out of this analysis: {why}" for why in manifold.left_out),
+        steady_motions=steady,
     )

@@ -139,24 +139,30 @@ def _starts(unknowns: Sequence[sp.Symbol], angles: Sequence[sp.Symbol]) -> list[
 
 
 def numeric_roots(
-    equations: sp.MatrixBase, unknowns: Sequence[sp.Symbol], angles: Sequence[sp.Symbol]
+    equations: sp.MatrixBase,
+    unknowns: Sequence[sp.Symbol],
+    angles: Sequence[sp.Symbol],
+    starts: Sequence[Sequence[float]] | None = None,
 ) -> list[dict]:
-    """Distinct roots found by sympy.nsolve from several starting points (angles wrapped
-    into (-pi, pi], sorted)."""
+    """Distinct roots found by sympy.nsolve from several starting points (``starts``, or
+    random ones), angles wrapped into (-pi, pi], round-off below 1e-12 of the largest
+    entry set to 0, sorted."""
     system = [e for e in equations if e != 0]
     if len(system) != len(unknowns) or set().union(*[e.free_symbols for e in system]) - set(
         unknowns
     ):
         return []
     found: list[dict] = []
-    for start in _starts(unknowns, angles):
+    for start in starts if starts is not None else _starts(unknowns, angles):
         try:
-            root = sp.nsolve(system, list(unknowns), start, prec=20)
+            root = sp.nsolve(system, list(unknowns), list(start), prec=20)
         except (ValueError, ZeroDivisionError, TypeError):
             continue
         values = {}
+        scale = max(1.0, *(abs(float(x)) for x in root))
         for q, value in zip(unknowns, root):
             number = float(value)
+            number = 0.0 if abs(number) < 1e-12 * scale else number
             if q in angles:
                 number = number - 2 * math.pi * math.ceil((number - math.pi) / (2 * math.pi))
             values[q] = sp.Float(number, 15)

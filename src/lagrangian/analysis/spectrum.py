@@ -48,6 +48,18 @@ def eigenvalues(matrix: sp.MatrixBase) -> tuple[sp.Expr, ...]:
     return tuple(sorted((_number(v, scale) for v in values), key=_sort_key))
 
 
+def eigenpairs(matrix: sp.MatrixBase) -> list[tuple[complex, list[complex]]]:
+    """Numerical eigenvalues and right eigenvectors of a matrix of numbers, in no order."""
+    if matrix.rows == 0:
+        return []
+    with mpmath.workdps(DIGITS):
+        values, vectors = mpmath.eig(_mp_matrix(matrix))
+        return [
+            (complex(values[i]), [complex(vectors[r, i]) for r in range(vectors.rows)])
+            for i in range(len(values))
+        ]
+
+
 def symmetric_eigenvalues(matrix: sp.MatrixBase) -> tuple[float, ...]:
     """Eigenvalues of a real symmetric matrix of numbers, ascending."""
     if matrix.rows == 0:

@@ -2,27 +2,36 @@
 
 from __future__ import annotations
 
+import dataclasses
+import errno
 import io
 import json
+import os
+import re
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn
 
 from lagrangian import examples, render
 from lagrangian.analysis import analyze
+from lagrangian.analysis.arguments import numeric_values, operating_state
+from lagrangian.analysis.manifold import require_on_manifold
 from lagrangian.cli.progress import progress_bar
 from lagrangian.constraints import ConstrainedEquations, constrained_equations
 from lagrangian.derivation import derive
-from lagrangian.errors import ModelError, Problem
+from lagrangian.errors import ModelError, Problem, SimulationError, SimulationInputError
 from lagrangian.io import load
 from lagrangian.model import System
 from lagrangian.numerics.export import export
 from lagrangian.render.analysis_json import analysis_document
+from lagrangian.render.analysis_latex import analysis_latex
+from lagrangian.render.analysis_text import analysis_text
 from lagrangian.render.animation import animate as write_animation
 from lagrangian.render.json import constrained_document, eom_document
 from lagrangian.render.plots import save_plots
-from lagrangian.simulation import simulate
+from lagrangian.simulation import Trajectory, simulate
+from lagrangian.simulation.files import written_atomically
 
 EXAMPLE_PREFIX = "examples/"
 
@@ -154,13 +163,30 @@ def parse_state(text: str | None) -> dict[str, float]:
 
 
 def analyze_command(
-    reference: str, *, about: str | None, inputs: Sequence[str], settings: Sequence[str]
+    reference: str,
+    *,
+    about: str | None,
+    inputs: Sequence[str],
+    settings: Sequence[str],
+    fmt: str = "json",
+    project: bool = False,
 ) -> str:
-    """The analysis JSON of docs/architecture.md (with ``linearization`` when ``--about`` is
-    given)."""
+    """The analysis of docs/architecture.md as JSON, text or LaTeX (with ``linearization``
+    when ``--about`` is given).  On a constrained model an ``--about`` state off the
+    constraints is refused, each missed constraint with its residual, unless ``--project``
+    moves it onto them."""
     system = apply_settings(load_system(reference), settings)
     state = parse_state(about)
-    report = analyze(system, about=state if about else None, inputs=list(inputs))
+    if about and system.constraints and not project:
+        eom = derive(system)
+        point = operating_state(eom, state)
+        fix = "add --project to move the --about state onto the constraints"
+        require_on_manifold(eom, point, numeric_values(eom), fix)
+    report = analyze(system, about=state if about else None, inputs=list(inputs), project=project)
+    if fmt == "text":
+        return analysis_text(report)
+    if fmt == "latex":
+        return analysis_latex(report)
     return json.dumps(analysis_document(report), indent=2, ensure_ascii=False)
 
 
@@ -175,32 +201,151 @@ def simulate_command(
     progress: bool = False,
 ) -> str:
     """Simulate; the CSV of docs/architecture.md goes to ``out`` (``-``: returned for standard
-    output)."""
-    system = apply_settings(load_system(reference), settings)
-    given = {key: value for key, value in options.items() if value is not None}
-    t_end = given.pop("t_end", None)
-    end = t_end if t_end is not None else system.simulation.get("t_end", 0.0)
-    bar = progress_bar(0.0, float(end), force=progress)
-    trajectory = simulate(system, t_span=t_end, progress=bar, **given)
-    messages = []
-    if plot:
-        save_plots(trajectory, plot)
-        messages.append(f"plot written to {plot}")
-    if animate:
-        write_animation(system, trajectory, animate)
-        messages.append(f"animation written to {animate}")
+    output), then the plot, then the animation, each file written atomically.  The file
+    names are checked before any work.  A run that fails or is stopped by Ctrl-C writes the
+    rows computed so far, says where it stopped, and ends: SimulationError (exit 1), or
+    after Ctrl-C exit code :data:`INTERRUPTED`."""
+    check_outputs(out, plot, animate)
+    try:
+        system = apply_settings(load_system(reference), settings)
+        given = {key: value for key, value in options.items() if value is not None}
+        t_end = given.pop("t_end", None)
+        end = t_end if t_end is not None else system.simulation.get("t_end", 0.0)
+        bar = progress_bar(0.0, float(end), force=progress)
+        try:
+            trajectory = simulate(
+                system, t_span=t_end, progress=bar, raise_on_failure=False, **given
+            )
+        except SimulationInputError as error:
+            raise in_command_line_words(error) from None
+        return write_simulation(system, trajectory, out, plot, animate)
+    except KeyboardInterrupt:  # before or after the integration: no file half written
+        interrupted("Interrupted (Ctrl-C); files not finished were not written.")
+
+
+#: The exit code of a command stopped by Ctrl-C: 128 + SIGINT, as shells report it.
+INTERRUPTED = 130
+
+
+def interrupted(message: str) -> NoReturn:
+    """End the command stopped by Ctrl-C: the message on standard error, exit code
+    :data:`INTERRUPTED` (the errors' codes are 1 and 2; an interruption is neither)."""
+    sys.stderr.write(f"lagrangian: {message}\n")
+    raise SystemExit(INTERRUPTED)
+
+
+#: The output formats of --plot and --animate.
+PLOT_SUFFIXES = (".png",)
+ANIMATION_SUFFIXES = (".gif", ".html", ".mp4")
+
+
+def check_outputs(out: str, plot: str | None, animate: str | None) -> None:
+    """Refuse, before simulating, an output file in a folder that does not exist
+    (FileNotFoundError naming it: bad input) or of a format that cannot be written
+    (SimulationInputError, every problem at once)."""
+    for path in (out if out != "-" else None, plot, animate):
+        if path is not None and not Path(path).resolve().parent.is_dir():
+            raise FileNotFoundError(errno.ENOENT, os.strerror(errno.ENOENT), path)
+    problems = []
+    if plot is not None and Path(plot).suffix not in PLOT_SUFFIXES:
+        problems.append(Problem("--plot", f"{plot!r} is not a .png file", "name it FILE.png"))
+    suffix = Path(animate).suffix if animate is not None else None
+    if suffix is not None and suffix not in ANIMATION_SUFFIXES:
+        problems.append(
+            Problem(
+                "--animate",
+                f"{animate!r}: no animation format {suffix or '(none)'}",
+                "name it FILE.gif, FILE.html or FILE.mp4",
+            )
+        )
+    if suffix == ".mp4" and not _ffmpeg_available():
+        problems.append(
+            Problem(
+                "--animate",
+                "an .mp4 animation needs ffmpeg, which is not installed",
+                "install ffmpeg, or name it FILE.gif or FILE.html",
+            )
+        )
+    if problems:
+        raise SimulationInputError("Cannot write the output:", problems)
+
+
+def _ffmpeg_available() -> bool:
+    from matplotlib.animation import FFMpegWriter
+
+    return bool(FFMpegWriter.isAvailable())
+
+
+def write_simulation(
+    system: System, trajectory: Trajectory, out: str, plot: str | None, animate: str | None
+) -> str:
+    """Write the CSV, then the plot and the animation of a run that reached its end; the
+    CSV alone of one that did not, and raise saying where it stopped."""
     if out == "-":
         buffer = io.StringIO()
         trajectory.to_csv(buffer)
-        return buffer.getvalue()  # the CSV alone on standard output; the plot is on disk
-    trajectory.to_csv(out)
-    drift = trajectory.drift()
-    messages.insert(
-        0,
-        f"{len(trajectory.t)} samples written to {out}; "
-        f"max |dE/E0| = {drift.get('energy_relative')}",
-    )
-    return "\n".join(messages)
+        csv_text, where = buffer.getvalue(), "standard output"
+    else:
+        trajectory.to_csv(out)
+        csv_text, where = "", out
+    if not trajectory.success:
+        sys.stdout.write(csv_text)  # the rows so far, before the error is reported
+        stopped = f"{trajectory.message} {_rows_written(trajectory)} written to {where}."
+        if trajectory.status == "interrupted":
+            interrupted(stopped)
+        raise SimulationError(stopped)
+    messages = [f"{len(trajectory.t)} samples written to {out}; {trajectory.drift_summary()}"]
+    if plot:
+        with written_atomically(plot) as temporary:
+            save_plots(trajectory, temporary)
+        messages.append(f"plot written to {plot}")
+    if animate:
+        with written_atomically(animate) as temporary:
+            write_animation(system, trajectory, temporary)
+        messages.append(f"animation written to {animate}")
+    return csv_text if out == "-" else "\n".join(messages)
+
+
+def _rows_written(trajectory: Trajectory) -> str:
+    if not len(trajectory.t):
+        return "No rows"
+    return f"{len(trajectory.t)} rows, up to t = {trajectory.t[-1]:.6g},"
+
+
+#: The keywords of simulate that are flags of the simulate command.
+_FLAGS = {
+    "t_span": "--t-end",
+    "method": "--method",
+    "rtol": "--rtol",
+    "atol": "--atol",
+    "samples": "--samples",
+}
+
+
+#: Python phrases of simulate's messages that the command says otherwise.
+_PHRASES = (
+    (" or t_span=(t0, T)", ""),
+    ("give the System simulation={'t_end': T}", "give the model simulate: {t_end: T}"),
+)
+
+
+def in_command_line_words(error: SimulationInputError) -> SimulationInputError:
+    """``error`` with its fixes said as the command's flags (``--rtol``, not ``rtol=``)."""
+
+    def flags(text: str) -> str:
+        for python, shell in _PHRASES:
+            text = text.replace(python, shell)
+        for keyword, flag in _FLAGS.items():
+            text = re.sub(rf"\b{keyword}='?([\w.+-]+)'?", rf"{flag} \1", text)
+            text = re.sub(rf"\b{keyword}=(\.\.\.)?", flag, text)
+        return text
+
+    problems = [
+        dataclasses.replace(p, field=_FLAGS.get(p.field, p.field), fix=flags(p.fix))
+        for p in error.problems
+    ]
+    summary = str(error).splitlines()[0] if problems else flags(str(error))
+    return SimulationInputError(summary, problems)
 
 
 def examples_command(name: str | None) -> str:

@@ -125,8 +125,19 @@ def build_parser() -> argparse.ArgumentParser:
     analyze = _command(
         sub,
         "analyze",
-        "momenta, conservation laws, Hamiltonian, equilibria, modes (JSON)",
+        "momenta, conservation laws, Hamiltonian, equilibria, modes (on the constraints)",
         "lagrangian analyze examples/spherical_pendulum --about theta=0.5,phi_dot=2",
+    )
+    analyze.add_argument(
+        "--format",
+        choices=["json", "text", "latex"],
+        default="json",
+        help="json for scripts (default), text for people, latex",
+    )
+    analyze.add_argument(
+        "--project",
+        action="store_true",
+        help="move the --about state onto the constraints before linearizing",
     )
     analyze.add_argument(
         "--about",
@@ -200,7 +211,12 @@ def run(args: argparse.Namespace) -> str:
         )
     if args.command == "analyze":
         return commands.analyze_command(
-            args.model, about=args.about, inputs=args.input, settings=args.set
+            args.model,
+            about=args.about,
+            inputs=args.input,
+            settings=args.set,
+            fmt=args.format,
+            project=args.project,
         )
     if args.command == "simulate":
         options = {

@@ -1,5 +1,6 @@
 """The constraints layer: classify constraints, count the freedom they leave, enforce them by
-multipliers or eliminate them, and find the forces they exert (seed 000, seed 003).
+multipliers or eliminate them, and find the forces they exert (Goldstein, Classical Mechanics,
+3rd ed., §1.3 and §2.4).
 
 - :func:`classify` — holonomic or not (integrability of velocity constraints, with the
   integrated form), scleronomic or rheonomic, redundant, degrees of freedom, 3N - k;

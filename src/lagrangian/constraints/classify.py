@@ -1,16 +1,17 @@
 """classify(system) -> ConstraintReport: what each constraint is, and what is left to move.
 
-Seed 000 ("Constraints"): a constraint is *holonomic* when it is an equation h(q, t) = 0
-between the coordinates (and time); velocity constraints that integrate to such an equation
-are holonomic too (:mod:`lagrangian.constraints.integrability`), the others and inequalities
-g >= 0 are *non-holonomic*; a constraint with explicit t is *rheonomic*, else *scleronomic*.
-Counting, with n coordinates, r_h the rank of the holonomic constraints' Jacobian and r the
-rank of all equality constraints' Jacobian (at a generic point of the constraint set):
+Goldstein, Classical Mechanics, 3rd ed., §1.3: a constraint is *holonomic* when it is an
+equation h(q, t) = 0 between the coordinates (and time); velocity constraints that integrate
+to such an equation are holonomic too (:mod:`lagrangian.constraints.integrability`), the
+others and inequalities g >= 0 are *non-holonomic*; a constraint with explicit t is
+*rheonomic*, else *scleronomic*.  Counting, with n coordinates, r_h the rank of the holonomic
+constraints' Jacobian and r the rank of all equality constraints' Jacobian (at a generic point
+of the constraint set):
 
     degrees of freedom       dof = n - r_h
     independent velocities   n - r       (dof minus the independent non-holonomic constraints)
 
-and for N particles in d dimensions (the notes' 3N - k) k = d N - dof, the constraints built
+and for N particles in d dimensions (the textbook 3N - k) k = d N - dof, the constraints built
 into the coordinates plus the independent holonomic ones.  Unilateral constraints remove no
 freedom (they are inequalities).
 
@@ -85,7 +86,7 @@ class ConstraintClass:
 
 @dataclass(frozen=True)
 class ParticleCount:
-    """The notes' count for N particles in d dimensions: dof = d N - k."""
+    """The textbook count for N particles in d dimensions: dof = d N - k."""
 
     particles: int
     dimension: int
@@ -124,6 +125,13 @@ class ConstraintReport:
     @property
     def redundant(self) -> tuple[str, ...]:
         return tuple(c.label for c in self.constraints if c.redundant)
+
+    @property
+    def configuration_dimension(self) -> int:
+        """n minus the rank of the holonomic constraints: the dimension of the configuration
+        manifold (``dof`` here; the analysis report's ``dof`` is the independent velocities,
+        which non-holonomic constraints make fewer)."""
+        return self.dof
 
 
 def classify(system: System, state: Mapping[Any, float] | None = None) -> ConstraintReport:
@@ -171,7 +179,7 @@ def _classify_one(system: System, index: int, found: Dependence) -> ConstraintCl
     elif constraint.kind == "unilateral":
         verdict = Integrability(False, None, None, "")
         reason = (
-            "unilateral: the inequality g(q, t) >= 0 is non-holonomic (seed 000); while active "
+            "unilateral: the inequality g(q, t) >= 0 is non-holonomic; while active "
             f"(g = 0) it acts like the holonomic constraint g = 0; {timing}"
         )
     else:

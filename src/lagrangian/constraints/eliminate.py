@@ -4,7 +4,7 @@ Holonomic constraints h(q, t) = 0 are solved for the dependent coordinates, q_de
 either by SymPy (``independent`` a subset of the coordinates) or from a ``parametrization``
 the user gives (which may introduce new coordinates s, such as theta for x = l sin(theta),
 y = -l cos(theta)).  Every piece of the System is then rewritten in s (a point transformation,
-seed 001):
+under which Lagrange's equations keep their form):
 
     q_dep -> f(s, t),     q_dep_dot -> sum_k df/ds_k s_dot_k + df/dt,
     Q_s_k = sum_q Q_q dq/ds_k                      (virtual work of the old generalized forces)
@@ -66,6 +66,26 @@ def eliminate(
         for q in old
     }
     return _rewrite(system, new, substitution, jacobian)
+
+
+def elimination_rule(
+    system: System,
+    independent: Sequence[Any],
+    parametrization: Mapping[Any, Any] | None = None,
+) -> dict[sp.Symbol, sp.Expr]:
+    """The substitution :func:`eliminate` makes: each dependent coordinate as an expression
+    in the independent ones (and t), checked against the constraints as there.
+
+    >>> import lagrangian as lg, sympy as sp
+    >>> x, y = sp.symbols("x y")
+    >>> line = lg.System(coordinates=[x, y], constraints=[lg.Holonomic(y - 2*x)])
+    >>> elimination_rule(line, [x])
+    {y: 2*x}
+    """
+    new = _symbols(independent, "independent")
+    rule = _rule(system, new, parametrization)
+    _check(system, new, rule)
+    return rule
 
 
 def _symbols(items: Sequence[Any], what: str) -> tuple[sp.Symbol, ...]:

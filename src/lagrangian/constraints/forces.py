@@ -7,11 +7,12 @@ particle is exactly the matching components of A^T lambda:
 
     F_i = sum_j lambda_j grad_{r_i} h_j     (velocity constraints: lambda_j a_j restricted to r_i).
 
-Seed 003's dumbbell with h = |q1 - q2|^2 - h0^2: F_1 = 2 lambda (q1 - q2) = -F_2.  In any
-other coordinates the force on a particle is m_i r_i_ddot minus the applied forces on it, which
-needs every force on the particle by name (energies given as expressions cannot be attributed
-to particles), so only the exact Cartesian case is provided: write such a particle at
-coordinates of its own and tie them with constraints to get its constraint force.
+A dumbbell (two particles a rigid distance h0 apart), h = |q1 - q2|^2 - h0^2:
+F_1 = 2 lambda (q1 - q2) = -F_2.  In any other coordinates the force on a particle is
+m_i r_i_ddot minus the applied forces on it, which needs every force on the particle by name
+(energies given as expressions cannot be attributed to particles), so only the exact
+Cartesian case is provided: write such a particle at coordinates of its own and tie them with
+constraints to get its constraint force.
 
 >>> import lagrangian as lg, sympy as sp
 >>> from lagrangian.constraints import constrained_equations

@@ -1,5 +1,5 @@
 """constrained_equations(system) -> ConstrainedEquations: the equations of motion with the
-constraints enforced by Lagrange multipliers (seed 003, the sign convention of
+constraints enforced by Lagrange multipliers (Goldstein 3rd ed., §2.4; the sign convention of
 docs/architecture.md).
 
     d/dt dL/dq_dot - dL/dq + dF/dq_dot = Q + sum_j lambda_j a_j,     a_j = dh_j/dq,
@@ -19,7 +19,7 @@ the augmented system numerically):
 
 The multiplier form is computed once per EquationsOfMotion object and set of constraints.
 
-Holonomic constraints are also the augmented Lagrangian L + sum_j lambda_j h_j of seed 003,
+Holonomic constraints are also the augmented Lagrangian L + sum_j lambda_j h_j (Goldstein §2.4),
 whose Euler–Lagrange equations are the first block row above.  Unilateral constraints are
 treated as active (g = 0) holonomic ones.  sympy.physics.mechanics.LagrangesMethod solved
 through ``mass_matrix_full`` / ``forcing_full`` gives the same multipliers; its ``eom``

@@ -32,7 +32,8 @@ import sympy as sp
 
 from lagrangian.constraints.pfaffian import pfaffian_form
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
-from lagrangian.model import Holonomic, System, Unilateral, t, velocity
+from lagrangian.model import Holonomic, System, Unilateral, VelocityConstraint, t, velocity
+from lagrangian.model.constraints import label, statement
 from lagrangian.model.probe import SEED, PointFunction, random_values
 from lagrangian.model.symbols import name_of
 
@@ -175,3 +176,59 @@ def project_state(system: System, state: Mapping[Any, float]) -> dict[sp.Symbol,
 def _value(expr: sp.Expr, values: Mapping[sp.Symbol, float]) -> float:
     number = PointFunction(sp.Matrix([expr]), sorted(values, key=str))(values)
     return float("nan") if number is None else float(number[0, 0])
+
+
+@dataclass(frozen=True)
+class Violation:
+    """A constraint that a state does not satisfy: which one, at what level (``position``:
+    h(q, t) or g(q, t) < 0; ``velocity``: a.q_dot + b) and by how much."""
+
+    index: int
+    label: str
+    statement: str
+    level: str
+    residual: float
+
+    def problem(self, fix: str) -> Problem:
+        """The violation as a Problem with ``fix`` in the words of the caller's interface."""
+        what = "h(q, t)" if self.level == "position" else "a.q_dot + b"
+        return Problem(
+            self.label,
+            f"{self.statement} is violated at {self.level} level "
+            f"({what} = {self.residual:.6g} at this state)",
+            fix,
+        )
+
+
+def violations(
+    system: System, state: Mapping[Any, float], tolerance: float = SATISFIED
+) -> tuple[Violation, ...]:
+    """Every equality constraint that ``state`` misses by more than ``tolerance`` (a
+    holonomic one at position level, h(q, t) = 0, then at velocity level, a.q_dot + b = 0;
+    a velocity constraint at velocity level), and every unilateral g >= 0 that it
+    penetrates.  ``state`` as for :func:`numeric_state`; unlisted velocities are 0.
+
+    >>> import lagrangian as lg, sympy as sp
+    >>> x, y = sp.symbols("x y")
+    >>> ring = lg.System(coordinates=[x, y], constraints=[lg.Holonomic(x**2 + y**2 - 1)])
+    >>> [(v.level, v.residual) for v in violations(ring, {"x": 2.0, "y": 0.0})]
+    [('position', 3.0)]
+    """
+    values = numeric_state(system, state)
+    for v in system.velocities:
+        values.setdefault(v, 0.0)
+    found: list[Violation] = []
+    for index, constraint in enumerate(system.constraints):
+        where = (index, label(index, constraint), statement(constraint))
+        if not isinstance(constraint, VelocityConstraint):
+            residual = _value(constraint.expression, values)
+            penetrates = isinstance(constraint, Unilateral) and not residual >= -tolerance
+            if penetrates or (isinstance(constraint, Holonomic) and not abs(residual) <= tolerance):
+                found.append(Violation(*where, "position", residual))
+                continue
+        if isinstance(constraint, Unilateral):
+            continue  # an inequality: any velocity may leave the contact
+        rate = _value(pfaffian_form(constraint, system.coordinates).velocity_expression, values)
+        if not abs(rate) <= tolerance:
+            found.append(Violation(*where, "velocity", rate))
+    return tuple(found)

@@ -1,5 +1,6 @@
 """The wrench the constraints exert on each body: the reactions at pins, rods and joints
-(seed 003: the Newton–Euler equations give the constraint forces that Lagrange's eliminate).
+(the Newton–Euler equations give the constraint forces that Lagrange's eliminate; Murray, Li
+& Sastry 1994, ch. 4).
 
 With the constraints enforced by multipliers the generalized constraint force is A^T lambda
 (:mod:`lagrangian.constraints.multipliers`).  When every body moves by coordinates of its own

@@ -78,7 +78,7 @@ def is_zero(expr: Any) -> bool:
     (a non-zero analytic expression vanishes on a set of measure zero).
     """
     expr = sp.sympify(expr)
-    if expr == 0:
+    if expr == 0 or (expr.is_Number and expr.is_zero):  # 0.0 == 0 is False in SymPy
         return True
     if not expr.free_symbols:
         return bool(sp.simplify(expr) == 0)

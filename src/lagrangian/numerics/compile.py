@@ -30,7 +30,7 @@ import sympy as sp
 from scipy.linalg.lapack import dgesv
 
 from lagrangian.derivation.eom import EquationsOfMotion
-from lagrangian.errors import SimulationError
+from lagrangian.errors import SimulationError, SimulationInputError
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
 from lagrangian.numerics.state_equations import StateEquations, state_equations
@@ -44,7 +44,8 @@ _CACHE: IdentityCache[EquationsOfMotion, CompiledEquations] = IdentityCache()
 def compile_equations(eom: EquationsOfMotion) -> CompiledEquations:
     """The numeric functions of ``eom``, compiled once per EquationsOfMotion object.
 
-    Raises SimulationError when ``eom`` has algebraic coordinates (not supported yet).
+    Raises SimulationInputError when ``eom`` has algebraic coordinates (not supported yet)
+    or uses names that are neither coordinates nor parameters.
     """
     return _CACHE.get(eom, _compile)
 
@@ -195,7 +196,8 @@ def _compile(eom: EquationsOfMotion) -> CompiledEquations:
 
 
 def _energy_functions(eom: EquationsOfMotion) -> tuple[sp.Expr, sp.Expr, bool]:
-    """E = T + V, h = sum_j q_dot_j dL/dq_dot_j - L (seed 002), and whether they differ.
+    """E = T + V, h = sum_j q_dot_j dL/dq_dot_j - L (Goldstein, 3rd ed., §2.7), and whether they
+    differ.
 
     With L = T - V - U, h - E = euler(T) - 2 T - euler(U) + U, where euler(f) = sum_j q_dot_j
     df/dq_dot_j = d/ds f(s q_dot) at s = 1 (one derivative instead of n); it vanishes when T
@@ -232,7 +234,7 @@ def _require_known_symbols(
         used |= expr.free_symbols
     unknown = sorted(s.name for s in used - known)
     if unknown:
-        raise SimulationError(
+        raise SimulationInputError(
             f"The equations use {', '.join(unknown)}, which are neither coordinates nor "
             "parameters: declare them as parameters of the System to give them values."
         )

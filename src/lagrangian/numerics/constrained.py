@@ -32,7 +32,7 @@ import sympy as sp
 
 from lagrangian.constraints import ConstrainedEquations
 from lagrangian.constraints.pfaffian import pfaffian_form
-from lagrangian.errors import SimulationError
+from lagrangian.errors import SimulationError, SimulationInputError
 from lagrangian.model.constraints import VelocityConstraint
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
@@ -168,7 +168,7 @@ def _compile_multiplier_form(equations: ConstrainedEquations) -> CompiledConstra
         {s.name for e in expressions for s in e.free_symbols} - {s.name for s in known}
     )
     if unknown:
-        raise SimulationError(
+        raise SimulationInputError(
             f"The equations use {', '.join(unknown)}, which are neither coordinates nor "
             "parameters: declare them as parameters of the System to give them values."
         )

@@ -34,7 +34,7 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.derivation.eom import EquationsOfMotion
-from lagrangian.errors import SimulationError
+from lagrangian.errors import SimulationInputError
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
 
@@ -194,7 +194,7 @@ def _require_known(eom: EquationsOfMotion, expressions: Sequence[sp.Expr], what:
         used |= sp.sympify(expression).free_symbols
     unknown = sorted(str(s) for s in used - known)
     if unknown:
-        raise SimulationError(
+        raise SimulationInputError(
             f"{what} {', '.join(unknown)}, which are neither coordinates nor parameters: "
             "declare them as parameters of the System to give them values."
         )

@@ -4,8 +4,8 @@ All coordinates of order 2 (M regular): the state is x = [q; q_dot] and
 
     M(q, q_dot, t) q_ddot = forcing(q, q_dot, t),    dx/dt = [q_dot; q_ddot].
 
-Coordinates F of order 1 have no inertia (a charge through a resistor only, seed 001 "Another
-Example"): their rows and columns of M vanish, and their equations 0 = forcing_F are linear in
+Coordinates F of order 1 have no inertia (a charge through a resistor only, as in the RC + RL
+circuit): their rows and columns of M vanish, and their equations 0 = forcing_F are linear in
 their own velocities.  Writing forcing = f0 + J q_dot_F with J = d forcing / d q_dot_F and f0
 the forcing at q_dot_F = 0, the second-order coordinates S and F together give
 
@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagrangian.derivation.eom import EquationsOfMotion
-from lagrangian.errors import SimulationError
+from lagrangian.errors import SimulationInputError
 
 
 @dataclass(frozen=True)
@@ -47,7 +47,7 @@ class StateEquations:
 def state_equations(eom: EquationsOfMotion) -> StateEquations:
     """The linear system of :class:`StateEquations` for ``eom`` (see the module docstring).
 
-    Raises SimulationError for algebraic coordinates (order 0) and for first-order equations
+    Raises SimulationInputError for algebraic coordinates (order 0) and for first-order equations
     that are not linear in their velocities, which are not supported yet.
     """
     orders = [eom.coordinate_orders[q] for q in eom.coordinates]
@@ -73,7 +73,7 @@ def state_equations(eom: EquationsOfMotion) -> StateEquations:
 def _refuse_algebraic(eom: EquationsOfMotion, orders: list[int]) -> None:
     algebraic = [q.name for q, order in zip(eom.coordinates, orders) if order == 0]
     if algebraic:
-        raise SimulationError(
+        raise SimulationInputError(
             f"{_the_coordinates(algebraic)} algebraic (order 0: no inertia and no "
             "dissipation), so its equation is a constraint rather than an equation of motion; "
             "simulating such differential-algebraic systems is not supported yet. Give it "
@@ -93,7 +93,7 @@ def _require_linear(
     coupled = any(mass[i, j] != 0 or mass[j, i] != 0 for j in first for i in range(mass.rows))
     nonlinear = bool((jacobian.free_symbols | mass.free_symbols) & set(rates))
     if coupled or nonlinear:
-        raise SimulationError(
+        raise SimulationInputError(
             f"The equations of the first-order coordinates ({', '.join(names)}) are not "
             "linear in their velocities, or those coordinates have inertia; only first-order "
             "equations linear in the velocities, like a resistor's R q_dot, are supported yet."

@@ -1,10 +1,17 @@
 """``lagrangian analyze --format json``: the machine-readable output contract
 (docs/architecture.md).
 
-Keys: ``dof``, ``constraints`` (each classified: kind, holonomic, rheonomic, ...), ``momenta``
-(coordinate name -> p), ``cyclic``, ``conserved`` (expressions), ``energy_function``,
+Keys: ``dof`` (the independent velocities, n minus every equality constraint),
+``configuration_dimension`` (n minus the holonomic ones), ``independent_velocities`` and
+``freedom`` (the two explained), ``constraints`` (each classified: kind, holonomic,
+rheonomic, ...), ``momenta`` (coordinate name -> p), ``cyclic`` (the names of the coordinates
+absent from L and F; ``cyclic_coordinates`` has each with its momentum, whether it is
+conserved, what changes it and the condition), ``conserved`` (expressions;
+``conserved_quantities`` with their reasons and conditions), ``energy_function``,
 ``energy_conserved``, ``hamiltonian``, ``equilibria`` (each with ``state`` and ``stable``),
-``normal_modes`` (frequencies and shapes about a stable equilibrium) and, when the report
+``normal_modes`` (frequencies and shapes about a stable equilibrium), ``steady_motions`` (for
+constraints that move by a symmetry: each configuration at t = 0 with its velocities and its
+stability relative to them) and, when the report
 was made about an operating point, ``linearization`` (``A``, ``B``, ``eigenvalues``,
 ``frequencies``, ``growth_rates``).  Details (reasons, conditions, dh/dt, Hamilton's
 equations) and ``failures`` (part -> reason) come alongside.  Every expression is a string
@@ -27,12 +34,14 @@ import sympy as sp
 
 from lagrangian.analysis import (
     AnalysisReport,
+    CyclicCoordinate,
     EnergyConservation,
     Equilibrium,
     HamiltonEquations,
     Linearization,
     NormalModes,
 )
+from lagrangian.analysis.steady_motions import SteadyMotions
 from lagrangian.render.json import expression_string
 
 
@@ -60,6 +69,7 @@ def _energy(energy: EnergyConservation) -> dict[str, Any]:
     return {
         "reason": energy.reason,
         "rate": expression_string(energy.rate),
+        "constraint_power": expression_string(energy.constraint_power),
         "total_energy": expression_string(energy.total_energy),
         "equals_total_energy": bool(energy.equals_total_energy),
         "total_energy_reason": energy.total_energy_reason,
@@ -77,6 +87,9 @@ def _equilibrium(equilibrium: Equilibrium) -> dict[str, Any]:
         "stability_condition": None if condition is None else expression_string(condition),
         "free": [q.name for q in equilibrium.free],
         "exact": bool(equilibrium.exact),
+        "multipliers": _state(equilibrium.multipliers),
+        "stiffness": _matrix(equilibrium.stiffness),
+        "stiffness_coordinates": [q.name for q in equilibrium.stiffness_coordinates],
     }
 
 
@@ -115,6 +128,35 @@ def _linearization(linear: Linearization) -> dict[str, Any]:
         "growth_rates": _strings(linear.growth_rates),
         "is_solution": bool(linear.is_solution),
         "note": linear.note,
+        "eliminated": [s.name for s in linear.dependent],
+        "multipliers": _state(linear.multipliers),
+    }
+
+
+def _steady(found: SteadyMotions) -> dict[str, Any]:
+    """Each steady motion: its configuration at t = 0 and velocities, stability relative to
+    the moving constraints; the effective potential and the rate of the symmetry."""
+    return {
+        "motions": [
+            {**_equilibrium(e), "velocities": _state(v)}
+            for e, v in zip(found.motions, found.velocities)
+        ],
+        "effective_potential": expression_string(found.effective_potential),
+        "rate": expression_string(found.rate),
+        "symmetry": found.symmetry,
+        "method": found.method,
+        "reason": found.reason,
+    }
+
+
+def _cyclic(cyclic: CyclicCoordinate) -> dict[str, Any]:
+    return {
+        "coordinate": cyclic.coordinate.name,
+        "momentum": expression_string(cyclic.momentum),
+        "conserved": bool(cyclic.conserved),
+        "obstructions": list(cyclic.obstructions),
+        "condition": expression_string(cyclic.condition),
+        "reason": cyclic.reason,
     }
 
 
@@ -124,24 +166,38 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
     document: dict[str, Any] = {
         "name": report.name,
         "dof": report.dof,
+        "configuration_dimension": report.configuration_dimension,
+        "independent_velocities": report.independent_velocities,
+        "freedom": report.freedom,
         "coordinates": [q.name for q in report.coordinates],
         "constraints": list(report.constraints),
         "momenta": None if report.momenta is None else _strings_by_name(report.momenta.by_name()),
         "cyclic": [c.coordinate.name for c in report.cyclic],
+        "cyclic_coordinates": [_cyclic(c) for c in report.cyclic],
         "conserved": _strings(c.expression for c in report.conserved),
         "conserved_quantities": [
-            {"name": c.name, "expression": expression_string(c.expression), "reason": c.reason}
+            {
+                "name": c.name,
+                "expression": expression_string(c.expression),
+                "reason": c.reason,
+                "condition": expression_string(c.condition),
+            }
             for c in report.conserved
         ],
         "energy_function": None if energy is None else expression_string(energy.energy_function),
         "energy_conserved": None if energy is None else bool(energy.conserved),
         "energy": None if energy is None else _energy(energy),
         "hamiltonian": None if legendre is None else expression_string(legendre.hamiltonian),
+        "hamiltonian_coordinates": None
+        if legendre is None
+        else [q.name for q in legendre.coordinates],
+        "eliminated": None if legendre is None else _state(legendre.eliminated),
         "hamilton_equations": None if canonical is None else _canonical(canonical),
         "equilibria": None
         if report.equilibria is None
         else [_equilibrium(e) for e in report.equilibria],
         "normal_modes": None if report.normal_modes is None else _modes(report.normal_modes),
+        "steady_motions": None if report.steady_motions is None else _steady(report.steady_motions),
         "failures": {f.part: f.reason for f in report.failures},
     }
     if report.linearization is not None or report.failure("linearization"):

@@ -24,9 +24,13 @@ from lagrangian.analysis import (
 )
 from lagrangian.render.latex import block, symbol_names
 
+#: Characters that LaTeX text mode does not take as they are (reasons quote formulas).
+_ESCAPES = {"_": r"\_", "&": r"\&", "%": r"\%", "#": r"\#", "$": r"\$", "{": r"\{", "}": r"\}"}
+
 
 def _text(words: str) -> str:
-    return r"\text{" + words.replace("_", r"\_").replace("&", r"\&") + "}"
+    escaped = "".join(_ESCAPES.get(ch, ch) for ch in words).replace("^", r"\^{}")
+    return r"\text{" + escaped + "}"
 
 
 def analysis_lines(report: AnalysisReport) -> list[str]:
@@ -37,13 +41,23 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
         return sp.latex(sp.sympify(expr), symbol_names=names)
 
     lines = [rf"&{_text(report.name or 'system')}:\ {report.dof}\ {_text('degrees of freedom')}"]
+    if report.freedom and report.configuration_dimension != report.independent_velocities:
+        lines.append(rf"&{_text(report.freedom)}")
     if report.momenta is not None:
         for q, p in zip(report.coordinates, report.momenta.momenta):
             lines.append(rf"p_{{{tex(q)}}} &= {tex(p)}")
+    for c in report.cyclic:
+        verdict = "conserved" if c.conserved else "not conserved: " + ", ".join(c.obstructions)
+        lines.append(rf"&{tex(c.coordinate)}\ {_text('cyclic; momentum ' + verdict)}")
     for quantity in report.conserved:
+        when = "" if quantity.condition == sp.true else f" when {quantity.condition}"
         lines.append(
             rf"{_text(quantity.name)} &= {tex(quantity.expression)}"
-            rf"\quad {_text('(conserved)')}"
+            rf"\quad {_text('(conserved' + when + ')')}"
+        )
+    if report.energy is not None and not report.energy.conserved:
+        lines.append(
+            rf"\frac{{dh}}{{dt}} &= {tex(report.energy.rate)}\quad {_text('(h not conserved)')}"
         )
     if report.hamiltonian is not None:
         lines.append(rf"H &= {tex(report.hamiltonian.hamiltonian)}")
@@ -52,12 +66,26 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
             state = ",\\ ".join(f"{tex(q)} = {tex(v)}" for q, v in e.state.items())
             verdict = {True: "stable", False: "unstable", None: "undetermined"}[e.stable]
             lines.append(rf"&{_text('equilibrium')}\ {state}\ {_text('(' + verdict + ')')}")
+            if e.multipliers:
+                forces = ",\\ ".join(f"{tex(k)} = {tex(v)}" for k, v in e.multipliers.items())
+                lines.append(rf"&\quad {forces}")
+    if report.steady_motions is not None:
+        for e in report.steady_motions.motions:
+            if e.exists is False:
+                continue
+            state = ",\\ ".join(f"{tex(q)} = {tex(v)}" for q, v in e.state.items())
+            verdict = {True: "stable", False: "unstable", None: "undetermined"}[e.stable]
+            words = _text("steady motion with the constraints")
+            lines.append(rf"&{words}\ {state}\ {_text('(' + verdict + ')')}")
     if report.normal_modes is not None:
         values = ",\\ ".join(tex(w) for w in report.normal_modes.frequencies)
         lines.append(rf"\omega &\in \{{{values}\}}")
     if report.linearization is not None:
         values = ",\\ ".join(tex(v) for v in report.linearization.eigenvalues)
         lines.append(rf"&{_text('eigenvalues of A')}:\ {values}")
+        if report.linearization.dependent:
+            gone = ", ".join(s.name for s in report.linearization.dependent)
+            lines.append(rf"&{_text('eliminated on the constraint manifold: ' + gone)}")
     for failure in report.failures:
         lines.append(rf"&{_text(failure.part + ': ' + failure.reason)}")
     return lines

@@ -108,7 +108,7 @@ def energy_lines(eom: EquationsOfMotion) -> list[str]:
 
 
 def coordinate_steps_lines(steps: CoordinateSteps, names: dict[sp.Symbol, str]) -> list[str]:
-    """The derivation lines of one coordinate, as in seed 001 ("Do the derivatives").
+    """The derivation lines of one coordinate, in the order one works them by hand.
 
     dL/dq_dot, d/dt(dL/dq_dot), dL/dq always; dF/dq_dot and Q_j when non-zero; then the
     equation d/dt(dL/dq_dot) - dL/dq + dF/dq_dot - Q_j = 0.

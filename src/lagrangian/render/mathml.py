@@ -1,5 +1,5 @@
 """Presentation MathML of the equations and steps (``lagrangian derive --format mathml``),
-with velocities and accelerations as dotted symbols (θ̇, θ̈), as in the notes.
+with velocities and accelerations as dotted symbols (θ̇, θ̈), as textbooks print them.
 
 >>> import lagrangian as lg
 >>> text = equations_mathml(lg.derive(lg.examples.simple_pendulum()))
@@ -97,7 +97,7 @@ def _label(row: Row, q: str, v: str) -> str:
 
 
 def steps_mathml(eom: EquationsOfMotion) -> str:
-    """The derivation, coordinate by coordinate: the rows of the notes, then the equation."""
+    """The derivation, coordinate by coordinate: the step-by-step rows, then the equation."""
     dotted = _Dotted(eom)
     rows = [("<mi>L</mi>", dotted(eom.lagrangian))]
     for steps in eom.steps:

@@ -60,7 +60,9 @@ def plot_phase_portrait(trajectory: Trajectory, coordinate: str, ax: Axes | None
 
 
 def plot_energy_drift(trajectory: Trajectory, ax: Axes | None = None) -> Axes:
-    """Relative drift of E = T + V (and of h when it differs) against t."""
+    """Relative drift of E = T + V (and of h when it differs) against t, titled as the drift
+    report says it (:meth:`Trajectory.drift`): a drift where the energy is conserved, a change
+    "not conserved: dissipation" (or forcing, ...) where it is not."""
     ax = ax if ax is not None else _new_axes()
     series = {"E = T + V": trajectory.energy}
     if trajectory.energy_function is not None:
@@ -72,7 +74,7 @@ def plot_energy_drift(trajectory: Trajectory, ax: Axes | None = None) -> Axes:
         ax.plot(trajectory.t, change, label=label)
     ax.set_xlabel("t")
     ax.set_ylabel("(E - E0) / |E0|" if relative else "E - E0")
-    ax.set_title("Energy drift")
+    ax.set_title(energy_title(trajectory))
     ax.legend(loc="best")
     ax.grid(True, alpha=0.3)
     return ax
@@ -107,6 +109,23 @@ def overview_png(trajectory: Trajectory) -> bytes:
     buffer = io.BytesIO()
     overview(trajectory).savefig(buffer, format="png", dpi=80)
     return buffer.getvalue()
+
+
+def energy_title(trajectory: Trajectory) -> str:
+    """The energy plot's title: "Energy drift" where the energy is conserved (or nothing is
+    known), else the change and why, as :meth:`Trajectory.drift_summary` says it.
+
+    >>> import lagrangian as lg
+    >>> from lagrangian.simulation import simulate
+    >>> energy_title(simulate(lg.examples.mass_spring_damper(), t_span=0.1, samples=3))
+    'Energy change (not conserved: dissipation)'
+    """
+    reasons = trajectory.not_conserved or {}
+    if "energy" not in reasons:
+        return "Energy drift"
+    if trajectory.energy_function is not None and "energy_function" not in reasons:
+        return f"Drift of h, the conserved energy\n(T + V not conserved: {reasons['energy']})"
+    return f"Energy change (not conserved: {reasons['energy']})"
 
 
 def _new_axes() -> Axes:

@@ -13,7 +13,7 @@ from lagrangian.derivation import CoordinateSteps, EquationsOfMotion
 
 
 class Row(Enum):
-    """One line of a coordinate's derivation (seed 001, "Do the derivatives")."""
+    """One line of a coordinate's step-by-step derivation."""
 
     MOMENTUM = "dL/dq_dot"
     RATE = "d/dt dL/dq_dot"

@@ -59,7 +59,7 @@ def energy_text(eom: EquationsOfMotion) -> list[str]:
 
 
 def coordinate_steps_text(steps: CoordinateSteps) -> list[str]:
-    """One coordinate's derivation, as the notes write it (seed 001, "Do the derivatives").
+    """One coordinate's derivation, step by step as one writes it by hand.
 
     >>> import lagrangian as lg
     >>> (s,) = lg.derive(lg.examples.simple_pendulum()).steps

@@ -21,6 +21,7 @@ if TYPE_CHECKING:
     from lagrangian.simulation.batch import simulate_batch
     from lagrangian.simulation.batch_result import Batch
     from lagrangian.simulation.events import EventFunction
+    from lagrangian.simulation.outcome import SimulationInterrupted
     from lagrangian.simulation.run import simulate
     from lagrangian.simulation.trajectory import Event, Trajectory
 
@@ -29,6 +30,7 @@ _HOMES = {
     "Batch": "lagrangian.simulation.batch_result",
     "Event": "lagrangian.simulation.trajectory",
     "EventFunction": "lagrangian.simulation.events",
+    "SimulationInterrupted": "lagrangian.simulation.outcome",
     "Trajectory": "lagrangian.simulation.trajectory",
     "action": "lagrangian.simulation.action",
     "action_variation": "lagrangian.simulation.action",
@@ -53,6 +55,7 @@ __all__ = [
     "Batch",
     "Event",
     "EventFunction",
+    "SimulationInterrupted",
     "Trajectory",
     "action",
     "action_variation",

@@ -1,7 +1,7 @@
 """Hamilton's principle with numbers: the action of a path, and the path that makes it stationary.
 
     A[q] = integral_{t0}^{t1} L(q, q_dot, t) dt,    delta A = 0 for every delta q with
-    delta q(t0) = delta q(t1) = 0  <=>  q is the true motion (seed 003)
+    delta q(t0) = delta q(t1) = 0  <=>  q is the true motion (Goldstein 3rd ed., §2.1-2.3)
 
 * :func:`action` integrates L along a Trajectory's samples (composite Simpson rule).
 * :func:`stationary_path` solves the two-point boundary problem q(t0) = q_start,
@@ -27,13 +27,14 @@ from scipy.integrate import simpson
 from scipy.optimize import root
 
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import Problem, SimulationError, raise_if_problems
+from lagrangian.errors import Problem, SimulationError, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.symbols import name_of
 from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.simulation.discrete import LagrangianFunctions, prepare, residual_converged
 from lagrangian.simulation.inputs import parameter_values, time_span
-from lagrangian.simulation.trajectory import Trajectory
+from lagrangian.simulation.outcome import rows_with_energies
+from lagrangian.simulation.trajectory import Trajectory, trajectory_of_rows
 
 #: The method name recorded in the Trajectory of :func:`stationary_path`.
 METHOD = "discrete action (midpoint rule)"
@@ -47,8 +48,8 @@ def action(system_or_eom: System | EquationsOfMotion, trajectory: Trajectory) ->
     error is O(h^4) for a smooth L and even spacing h: 2001 samples over a few periods give
     10-12 digits.  Coarse or uneven samples lose accuracy; sample densely (``samples=``).
 
-    Raises SimulationError when the trajectory's coordinates are not the system's or it has
-    fewer than 2 samples.
+    Raises SimulationInputError when the trajectory's coordinates are not the system's or it
+    has fewer than 2 samples.
 
     >>> import lagrangian as lg
     >>> from lagrangian.simulation import simulate
@@ -97,7 +98,8 @@ def stationary_path(
         Parameter values by name, over the defaults.
 
     Returns a Trajectory (method ``"discrete action (midpoint rule)"``) whose message gives the
-    largest residual.  Raises SimulationError on bad input or when the solver fails.
+    largest residual.  Raises SimulationInputError on bad input, SimulationError when the
+    solver fails.
     """
     compiled, functions = prepare(system_or_eom)
     problems: list[Problem] = []
@@ -107,7 +109,7 @@ def stationary_path(
     end = _coordinates(compiled, q_end, "q_end", problems)
     if isinstance(nodes, bool) or not isinstance(nodes, int) or nodes < 2:
         problems.append(Problem("nodes", f"{nodes!r} is not an integer >= 2"))
-    raise_if_problems(problems, "Cannot find the stationary path", SimulationError)
+    raise_if_problems(problems, "Cannot find the stationary path", SimulationInputError)
     p = _parameter_vector(compiled, values)
     t = np.linspace(t0, t1, nodes + 1)
     terms = _discrete_euler_lagrange(functions, t, start, end, p)
@@ -161,12 +163,13 @@ def _along(
     system_or_eom: System | EquationsOfMotion, trajectory: Trajectory, refusal: str
 ) -> tuple[LagrangianFunctions, np.ndarray]:
     """The compiled L of the system and the parameter vector of ``trajectory`` (its values
-    over the defaults); SimulationError, headed ``refusal``, when the trajectory does not fit."""
+    over the defaults); SimulationInputError, headed ``refusal``, when the trajectory does not
+    fit."""
     compiled, functions = prepare(system_or_eom)
     problems: list[Problem] = []
     values = parameter_values(compiled, trajectory.parameters, problems)
     _check_trajectory(compiled, trajectory, problems)
-    raise_if_problems(problems, refusal, SimulationError)
+    raise_if_problems(problems, refusal, SimulationInputError)
     return functions, _parameter_vector(compiled, values)
 
 
@@ -217,17 +220,9 @@ def _path_trajectory(
     worst: float,
 ) -> Trajectory:
     q_dot = np.gradient(q, t, axis=0, edge_order=2)
-    energy_function = None
-    if compiled.energy_function_differs:
-        energy_function = compiled.energy_function(q, q_dot, t, p)
-    return Trajectory(
-        t=t,
-        q=q,
-        q_dot=q_dot,
-        coordinates=compiled.coordinates,
-        energy=compiled.energy(q, q_dot, t, p),
-        energy_function=energy_function,
-        status="success",
+    return trajectory_of_rows(
+        compiled.coordinates,
+        rows_with_energies(compiled, p, t, q, q_dot),
         message=(
             f"The discrete action is stationary: largest residual of the discrete "
             f"Euler-Lagrange equations {worst:.3g}."
@@ -303,7 +298,7 @@ def _variation(
     eta = values(t)
     ends = np.abs(eta[[0, -1]]).max()
     if ends > 1e-9 * max(np.abs(eta).max(), 1.0):
-        raise SimulationError(
+        raise SimulationInputError(
             f"The variation shape is {ends:.3g} at an end of the time span: Hamilton's "
             "principle varies the path with its ends fixed, so shape(t0) = shape(t1) = 0."
         )

@@ -19,22 +19,27 @@ where it turns negative and records that time (the flip time of a pendulum, a co
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.fast.outcome import FINISHED, STOPPED, describe
-from lagrangian.numerics.fast.settings import Settings as BatchSettings
-from lagrangian.simulation.batch_inputs import BatchInputs, resolve_batch
+from lagrangian.numerics.fast.settings import Settings
+from lagrangian.simulation.batch_inputs import BatchInputs, checked_batch
 from lagrangian.simulation.batch_numpy import integrate_members
 from lagrangian.simulation.batch_result import Batch
-from lagrangian.simulation.compiled_run import check_backend
+from lagrangian.simulation.compiled_run import loop_settings
+from lagrangian.simulation.options import StepKeywords, check_keywords
 from lagrangian.simulation.progress_bar import progress_bar
-from lagrangian.simulation.run import describe_system
+from lagrangian.simulation.setup import collect, describe_system, options_for
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
 
 #: g(t, q, q_dot): a member stops where it turns negative.
 StopCondition = Callable[[Any, Any, Any], Any]
@@ -46,17 +51,11 @@ def simulate_batch(
     t_span: float | tuple[float, float] | None = None,
     *,
     parameters: Mapping[Any, ArrayLike] | None = None,
-    method: str | None = None,
-    rtol: float | None = None,
-    atol: float | None = None,
-    samples: int | None = None,
-    t_eval: ArrayLike | None = None,
-    dt: float | None = None,
-    max_step: float = np.inf,
     stop_when: StopCondition | None = None,
     backend: str = "numpy",
     progress: bool | Callable[[float], None] = False,
     workers: int = 1,
+    **stepping: Unpack[StepKeywords],
 ) -> Batch:
     """Integrate k members at once: initial values and parameters given as numbers or arrays.
 
@@ -84,42 +83,30 @@ def simulate_batch(
 
     Raises
     ------
-    SimulationError
-        Bad input, every problem listed, naming the field.
+    SimulationInputError
+        Bad input, every problem listed, naming the field (constrained systems too: simulate
+        them member by member).
     """
-    eom, fallback_initial, settings, system = describe_system(system_or_eom)
-    check_backend(backend, method if method is not None else settings.get("method"), system, ())
+    check_keywords(stepping, "simulate_batch")
+    eom, system, fallbacks = describe_system(system_or_eom)
     compiled = compile_equations(eom)
-    given = {
-        "initial": initial,
-        "parameters": parameters,
-        "t_span": t_span,
-        "samples": samples,
-        "t_eval": t_eval,
-        "method": method,
-        "rtol": rtol,
-        "atol": atol,
-        "dt": dt,
-        "max_step": max_step,
-    }
-    batch = resolve_batch(compiled, given, fallback_initial, settings)
-    check_backend(backend, batch.inputs.method, None, ())
+    problems: list[Problem] = []
+    chosen = options_for(
+        system, compiled, stepping, fallbacks, backend=backend, driver="simulate_batch"
+    )
+    collect(problems, chosen)
+    given = {"initial": initial, "parameters": parameters, "t_span": t_span, **stepping}
+    batch, found = checked_batch(compiled, given, fallbacks)
+    raise_if_problems(problems + found, "Cannot simulate the batch", SimulationInputError)
+    loops = loop_settings(batch.inputs, batch.t_out)
     if backend == "numba":
-        out, status, t_final, x_final = _numba_members(eom, batch, stop_when, progress, workers)
-    else:
-        inputs = batch.inputs
-        bar = _bar(progress, *inputs.t_span, "t = ")
-        batch_settings = BatchSettings(
-            inputs.method,
-            inputs.t_span,
-            batch.t_out,
-            inputs.rtol,
-            inputs.atol,
-            inputs.max_step,
-            inputs.dt,
+        out, status, t_final, x_final = _numba_members(
+            eom, batch, loops, stop_when, progress, workers
         )
+    else:
+        bar = _bar(progress, *batch.inputs.t_span, "t = ")
         out, status, t_final, x_final = integrate_members(
-            compiled, batch_settings, batch.X0, batch.P, stop_when, bar
+            compiled, loops, batch.X0, batch.P, stop_when, bar
         )
     return _result(compiled, batch, backend, out, status, t_final, x_final)
 
@@ -127,23 +114,14 @@ def simulate_batch(
 def _numba_members(
     eom: EquationsOfMotion,
     batch: BatchInputs,
+    settings: Settings,
     stop_when: StopCondition | None,
     progress: bool | Callable[[float], None],
     workers: int,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     from lagrangian.numerics.fast import fast_equations
-    from lagrangian.numerics.fast.run import Settings, integrate_batch
+    from lagrangian.numerics.fast.run import integrate_batch
 
-    inputs = batch.inputs
-    settings = Settings(
-        inputs.method,
-        inputs.t_span,
-        batch.t_out,
-        inputs.rtol,
-        inputs.atol,
-        inputs.max_step,
-        inputs.dt,
-    )
     bar = _bar(progress, 0, batch.size, "members ")
     run = integrate_batch(fast_equations(eom), settings, batch.X0, batch.P, stop_when, bar, workers)
     return run.x, run.status, run.t_final, run.x_final

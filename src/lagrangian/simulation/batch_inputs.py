@@ -3,7 +3,7 @@
 Every initial value and parameter may be a number (the same for every member) or an array of
 k numbers (one per member); arrays of different lengths are refused, naming both fields.  The
 rest (names, missing values, method, tolerances, time span) is checked as
-:func:`lagrangian.simulation.inputs.resolve_inputs` checks a single run, on member 0, and every
+:func:`lagrangian.simulation.inputs.checked_inputs` checks a single run, on member 0, and every
 problem is reported at once.  Without ``samples`` or ``t_eval`` a batch keeps only the
 initial and the final time (k long trajectories at every step would not fit in memory).
 
@@ -11,7 +11,7 @@ initial and the final time (k long trajectories at every step would not fit in m
 >>> from lagrangian.numerics.compile import compile_equations
 >>> compiled = compile_equations(lg.derive(lg.examples.simple_pendulum()))
 >>> given = {"initial": {"theta": [0.1, 0.2], "theta_dot": 0.0}, "t_span": 1.0}
->>> batch = resolve_batch(compiled, given, {}, {})
+>>> batch, problems = checked_batch(compiled, given, Fallbacks())
 >>> batch.X0
 array([[0.1, 0. ],
        [0.2, 0. ]])
@@ -25,10 +25,10 @@ from typing import Any
 
 import numpy as np
 
-from lagrangian.errors import Problem, SimulationError, raise_if_problems
+from lagrangian.errors import Problem
 from lagrangian.model.symbols import name_of
 from lagrangian.numerics.compile import CompiledEquations
-from lagrangian.simulation.inputs import Inputs, resolve_inputs
+from lagrangian.simulation.inputs import Fallbacks, Inputs, checked_inputs
 
 
 @dataclass(frozen=True)
@@ -45,13 +45,11 @@ class BatchInputs:
         return len(self.X0)
 
 
-def resolve_batch(
-    compiled: CompiledEquations,
-    given: Mapping[str, Any],
-    fallback_initial: Mapping[Any, float],
-    settings: Mapping[str, Any],
-) -> BatchInputs:
-    """Check ``given`` (simulate_batch's arguments); raise once with every problem."""
+def checked_batch(
+    compiled: CompiledEquations, given: Mapping[str, Any], fallbacks: Fallbacks
+) -> tuple[BatchInputs, list[Problem]]:
+    """The inputs of ``given`` (simulate_batch's arguments) and every problem with them
+    (placeholders stand where a value is wrong), for the caller to raise once."""
     problems: list[Problem] = []
     initial = _arrays("initial", given.get("initial") or {}, problems)
     parameters = _arrays("parameters", given.get("parameters") or {}, problems)
@@ -61,18 +59,15 @@ def resolve_batch(
     first = dict(given)
     first["initial"] = {name: values[0] for name, values in initial.items()}
     first["parameters"] = {name: values[0] for name, values in parameters.items()}
-    own = {key: value for key, value in settings.items() if key != "samples"}
-    inputs = None
-    try:
-        inputs = resolve_inputs(compiled, first, fallback_initial, own)
-    except SimulationError as error:
-        problems.extend(error.problems)
-    raise_if_problems(problems, "Cannot simulate the batch", SimulationError)
-    assert inputs is not None
+    # a batch keeps only the ends unless the call asks for samples (module docstring)
+    own = {key: value for key, value in fallbacks.settings.items() if key != "samples"}
+    inputs, found = checked_inputs(compiled, first, Fallbacks(fallbacks.initial, own))
+    problems.extend(found)
+    k = 0 if problems else k  # no rows from arrays that do not fit together
     X0 = _rows(inputs.x0, compiled.state_names, initial, k)
     P = _rows(inputs.p, compiled.parameters, parameters, k)
     t_out = inputs.t_out if inputs.t_out is not None else np.array(inputs.t_span, dtype=float)
-    return BatchInputs(inputs, X0, P, t_out)
+    return BatchInputs(inputs, X0, P, t_out), problems
 
 
 def _arrays(
@@ -130,6 +125,6 @@ def _rows(
     """``row`` repeated k times, with the columns given as arrays replaced."""
     table = np.tile(np.asarray(row, dtype=float), (k, 1))
     for j, name in enumerate(names):
-        if name in arrays:
+        if name in arrays and k:
             table[:, j] = np.broadcast_to(arrays[name], (k,))
     return table

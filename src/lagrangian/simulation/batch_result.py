@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from lagrangian.errors import SimulationError
-from lagrangian.simulation.trajectory import DOT, Event, Trajectory
+from lagrangian.simulation.trajectory import DOT, Event, Rows, Trajectory, trajectory_of_rows
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,12 +134,9 @@ class Batch:
                 t = np.append(t, self.final_t[i])
                 q, q_dot = np.vstack([q, self.final_q[i]]), np.vstack([q_dot, self.final_q_dot[i]])
                 energy = np.append(energy, self.final_energy[i])
-        return Trajectory(
-            t=t,
-            q=q,
-            q_dot=q_dot,
-            coordinates=self.coordinates,
-            energy=energy,
+        return trajectory_of_rows(
+            self.coordinates,
+            Rows(t, q, q_dot, energy),
             events=events,
             status="failed" if self.status[i] == "failed" else "success",
             message=self.message[i],

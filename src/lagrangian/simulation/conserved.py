@@ -17,7 +17,6 @@ in ``Trajectory.drift()``.
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
@@ -26,13 +25,12 @@ import sympy as sp
 
 from lagrangian.analysis.momenta import CyclicCoordinate, cyclic_coordinates
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import ExpressionError, Problem, SimulationError, raise_if_problems
+from lagrangian.errors import ExpressionError, Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.expressions import parse_expression
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.model.symbols import from_time_functions
 from lagrangian.numerics.evaluate import NumericFunction
-from lagrangian.simulation.trajectory import Trajectory
 
 _CYCLIC: IdentityCache[EquationsOfMotion, tuple[CyclicCoordinate, ...]] = IdentityCache()
 _COMPILED: IdentityCache[EquationsOfMotion, dict[Any, NumericFunction]] = IdentityCache()
@@ -47,15 +45,10 @@ def conserved_expressions(
     """The momenta of the cyclic coordinates (``p_NAME``) that no constraint involves, then
     the ``requested`` quantities, by name.
 
-    Raises SimulationError naming every requested quantity that cannot be read or uses a
-    name the system does not have.
+    Raises SimulationInputError naming every requested quantity that cannot be read or uses
+    a name the system does not have.
     """
-    involved = _constrained_symbols(system)
-    found: dict[str, sp.Expr] = {}
-    for cyclic in _cyclic(eom):
-        q = cyclic.coordinate
-        if not involved & {q, eom.velocities[eom.coordinates.index(q)]}:
-            found[f"p_{q.name}"] = cyclic.momentum
+    found = {f"p_{c.coordinate.name}": c.momentum for c in _free_cyclic(eom, system)}
     names = _allowed_names(eom)
     problems: list[Problem] = []
     for name, value in requested.items():
@@ -64,10 +57,38 @@ def conserved_expressions(
             found[str(name)] = _expression(value, names, field)
         except ExpressionError as error:
             problems.extend(error.problems)
-        except SimulationError as error:
+        except SimulationInputError as error:
             problems.append(Problem(field, str(error), "write it with the system's names"))
-    raise_if_problems(problems, "Some conserved quantities cannot be used", SimulationError)
+    raise_if_problems(problems, "Some conserved quantities cannot be used", SimulationInputError)
     return found
+
+
+def momentum_obstructions(
+    eom: EquationsOfMotion, system: System | None, parameters: Mapping[str, float]
+) -> dict[str, tuple[str, ...]]:
+    """The momentum columns ``p_NAME`` that are not conserved at the ``parameters`` (by
+    name), each with what changes it (``force``, ``dissipation``: the obstructions of
+    :class:`lagrangian.analysis.momenta.CyclicCoordinate`, asked again at these values
+    only when something can change a momentum)."""
+    free = [c for c in _free_cyclic(eom, system) if c.obstructions]
+    if not free:
+        return {}
+    at_values = {c.coordinate: c for c in cyclic_coordinates(eom, dict(parameters))}
+    return {
+        f"p_{c.coordinate.name}": c.obstructions
+        for c in free
+        if not at_values[c.coordinate].conserved
+    }
+
+
+def _free_cyclic(eom: EquationsOfMotion, system: System | None) -> list[CyclicCoordinate]:
+    """The cyclic coordinates that no constraint involves."""
+    involved = _constrained_symbols(system)
+    return [
+        c
+        for c in _cyclic(eom)
+        if not involved & {c.coordinate, eom.velocities[eom.coordinates.index(c.coordinate)]}
+    ]
 
 
 def _cyclic(eom: EquationsOfMotion) -> tuple[CyclicCoordinate, ...]:
@@ -118,20 +139,6 @@ def conserved_columns(
     return {name: values[:, i] for i, name in enumerate(names)}
 
 
-def with_conserved(
-    trajectory: Trajectory, eom: EquationsOfMotion, expressions: Mapping[str, sp.Expr]
-) -> Trajectory:
-    """``trajectory`` with the columns of ``expressions`` (evaluated with its parameters)."""
-    if not expressions:
-        return trajectory
-    p = np.array([trajectory.parameters[s.name] for s in eom.parameters], dtype=float)
-    function = compile_conserved(eom, expressions)
-    columns = conserved_columns(
-        function, tuple(expressions), trajectory.q, trajectory.q_dot, trajectory.t, p
-    )
-    return dataclasses.replace(trajectory, conserved={**trajectory.conserved, **columns})
-
-
 def _constrained_symbols(system: System | None) -> set[sp.Symbol]:
     """Every symbol a constraint of ``system`` uses (their coordinates' momenta are not
     conserved: the constraint force acts along them)."""
@@ -154,11 +161,11 @@ def _expression(value: Any, names: Mapping[str, sp.Basic], field: str) -> sp.Exp
     if isinstance(value, (str, int, float)) and not isinstance(value, bool):
         return parse_expression(value, names, field=field)
     if not isinstance(value, sp.Expr):
-        raise SimulationError(
+        raise SimulationInputError(
             f"{field} is a {type(value).__name__}; give an expression (text or SymPy)."
         )
     expr = sp.sympify(from_time_functions(value))
     unknown = sorted(s.name for s in expr.free_symbols if names.get(s.name) != s)
     if unknown:
-        raise SimulationError(f"{field} uses {', '.join(unknown)}, not a name of this system.")
+        raise SimulationInputError(f"{field} uses {', '.join(unknown)}, not a name of this system.")
     return expr

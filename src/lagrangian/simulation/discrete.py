@@ -10,21 +10,21 @@ from __future__ import annotations
 import numpy as np
 
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import SimulationError
+from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.discrete_lagrangian import LagrangianFunctions, compile_lagrangian
-from lagrangian.simulation.run import describe_system
+from lagrangian.simulation.setup import describe_system
 
 
 def prepare(
     system_or_eom: System | EquationsOfMotion,
 ) -> tuple[CompiledEquations, LagrangianFunctions]:
     """The compiled equations (names, defaults, energy) and the compiled L of a system."""
-    eom, _, _, system = describe_system(system_or_eom)
-    if system is not None and system.constraints:
+    eom, system, _ = describe_system(system_or_eom)
+    if system.constraints:
         # The action of the unconstrained L would be silently wrong.
-        raise SimulationError(
+        raise SimulationInputError(
             "The discrete action of a constrained system is not implemented yet: eliminate the "
             "holonomic constraints first (lagrangian.constraints.eliminate)."
         )

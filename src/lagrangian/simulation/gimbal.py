@@ -25,18 +25,15 @@ body 'top': Euler angles ZXZ at gimbal lock (theta = 0) at t
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping, Sequence
-from typing import Any
 
 import numpy as np
 import sympy as sp
 
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import SimulationError
+from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
-from lagrangian.model.symbols import name_of
 from lagrangian.numerics.evaluate import NumericFunction
-from lagrangian.simulation.inputs import VARIATIONAL
+from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.trajectory import Trajectory
 
 #: |s| below this counts as at gimbal lock.
@@ -96,8 +93,8 @@ class GimbalGuard:
     p: np.ndarray
     events: tuple[LockEvent, ...]
 
-    def finish(self, trajectory: Trajectory, raise_on_failure: bool) -> Trajectory:
-        """``trajectory``, failed at the first lock it reached, or raise SimulationError."""
+    def finish(self, trajectory: Trajectory) -> Trajectory:
+        """``trajectory``, failed at the first lock it reached (its rows up to there)."""
         found = self._stopped(trajectory) or self._reached(trajectory)
         if found is None:
             return trajectory
@@ -105,10 +102,6 @@ class GimbalGuard:
         q = trajectory.q[row]
         angle = float(lock.values(q, float(trajectory.t[row]), self.p)[1])
         message = lock.message(angle, float(trajectory.t[row]))
-        if raise_on_failure:
-            raise SimulationError(
-                f"{message} Pass raise_on_failure=False to keep the trajectory up to the lock."
-            )
         return dataclasses.replace(_head(trajectory, row + 1), status="failed", message=message)
 
     def _stopped(self, trajectory: Trajectory) -> tuple[Lock, int] | None:
@@ -135,28 +128,28 @@ class GimbalGuard:
 
 
 def gimbal_guard(
-    eom: EquationsOfMotion,
-    system: System | None,
-    given: Mapping[str, Any],
-    fallback_initial: Mapping[Any, float],
-    settings: Mapping[str, Any],
-    backend: str,
+    eom: EquationsOfMotion, system: System, inputs: Inputs, takes_events: bool
 ) -> GimbalGuard:
-    """The guard of one ``simulate`` call (``given`` as in run.py); raises SimulationError
-    when the initial state is at a lock."""
+    """The guard of one simulation from its checked ``inputs`` (watching events when the
+    integrator ``takes_events``, else the output rows); SimulationInputError when the
+    initial state is at a lock."""
     locks = _locks(eom, system)
-    p = _parameters(eom, given.get("parameters") or {})
-    if locks:
-        _refuse_start(locks, eom, p, given, fallback_initial)
-    method = given.get("method") or settings.get("method")
-    takes_events = backend == "numpy" and method != VARIATIONAL
-    events = tuple(LockEvent(lock, p) for lock in locks) if takes_events else ()
-    return GimbalGuard(locks, p, events)
+    n, t0 = len(eom.coordinates), inputs.t_span[0]
+    for lock in locks:
+        with np.errstate(invalid="ignore"):
+            s, angle = (float(v) for v in lock.values(inputs.x0[:n], t0, inputs.p))
+        if abs(s) < TOLERANCE:
+            raise SimulationInputError(
+                f"body {lock.body!r}: Euler angles {lock.sequence} at gimbal lock "
+                f"({lock.angle} = {angle:.6g}) at the start, t = {t0:.6g}: the mass matrix is "
+                f"singular there, so the motion cannot start; {_ADVICE}, or start away from "
+                "the lock."
+            )
+    events = tuple(LockEvent(lock, inputs.p) for lock in locks) if takes_events else ()
+    return GimbalGuard(locks, inputs.p, events)
 
 
-def _locks(eom: EquationsOfMotion, system: System | None) -> tuple[Lock, ...]:
-    if system is None:
-        return ()
+def _locks(eom: EquationsOfMotion, system: System) -> tuple[Lock, ...]:
     groups = (list(eom.coordinates), eom.time, list(eom.parameters))
     locks = []
     for body in system.rigid_bodies:
@@ -167,47 +160,6 @@ def _locks(eom: EquationsOfMotion, system: System | None) -> tuple[Lock, ...]:
         values = NumericFunction(groups, [expression, angle], (2,))
         locks.append(Lock(body.name, orientation.sequence, angle, expression, values))
     return tuple(locks)
-
-
-def _parameters(eom: EquationsOfMotion, given: Mapping[Any, Any]) -> np.ndarray:
-    """Parameter values (defaults, then ``given`` by name); NaN where unknown (those are
-    reported by the input check of the run)."""
-    values = {s.name: v for s, v in eom.parameters.items()}
-    for key, value in given.items():
-        values[name_of(key)] = value
-    return np.array([_number(values.get(s.name)) for s in eom.parameters], dtype=float)
-
-
-def _number(value: Any) -> float:
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        return float("nan")
-
-
-def _refuse_start(
-    locks: Sequence[Lock],
-    eom: EquationsOfMotion,
-    p: np.ndarray,
-    given: Mapping[str, Any],
-    fallback_initial: Mapping[Any, float],
-) -> None:
-    """SimulationError when the initial coordinates put a body at its lock."""
-    values = {name_of(k): v for k, v in fallback_initial.items()}
-    values.update((name_of(k), v) for k, v in (given.get("initial") or {}).items())
-    q = np.array([_number(values.get(s.name)) for s in eom.coordinates])
-    span = given.get("t_span")
-    t0 = _number(span[0]) if isinstance(span, Sequence) and len(span) == 2 else 0.0
-    for lock in locks:
-        with np.errstate(invalid="ignore"):
-            s, angle = (float(v) for v in lock.values(q, t0, p))
-        if abs(s) < TOLERANCE:  # False for NaN: a missing value is reported by the run
-            raise SimulationError(
-                f"body {lock.body!r}: Euler angles {lock.sequence} at gimbal lock "
-                f"({lock.angle} = {angle:.6g}) at the start, t = {t0:.6g}: the mass matrix is "
-                f"singular there, so the motion cannot start; {_ADVICE}, or start away from "
-                "the lock."
-            )
 
 
 def _head(trajectory: Trajectory, rows: int) -> Trajectory:

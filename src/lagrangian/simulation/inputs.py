@@ -16,20 +16,18 @@ from __future__ import annotations
 import difflib
 import math
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
+from lagrangian.errors import Problem
 from lagrangian.model.symbols import name_of
 from lagrangian.numerics.compile import CompiledEquations
+from lagrangian.simulation.methods import DEFAULT_METHOD, TABLE
 
-#: Every method simulate accepts: SciPy's solve_ivp methods and the fixed-step RK4.
-METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA", "RK4")
-#: The fixed-step variational integrator (:mod:`lagrangian.simulation.variational`).
-VARIATIONAL = "variational"
-DEFAULTS: dict[str, Any] = {"method": "RK45", "rtol": 1e-8, "atol": 1e-10}
+#: The tolerances of the adaptive methods when neither the call nor the System gives them.
+TOLERANCES: dict[str, float] = {"rtol": 1e-8, "atol": 1e-10}
 
 
 @dataclass(frozen=True)
@@ -48,53 +46,63 @@ class Inputs:
     max_step: float
 
 
-def resolve_inputs(
-    compiled: CompiledEquations,
-    given: Mapping[str, Any],
-    fallback_initial: Mapping[Any, float],
-    settings: Mapping[str, Any],
-) -> Inputs:
-    """Check ``given`` (the arguments of simulate) against the system; raise once if wrong
-    (:class:`~lagrangian.errors.SimulationInputError`, every problem listed).
+@dataclass(frozen=True)
+class Fallbacks:
+    """What an input falls back to when the call does not give it: the System's initial
+    values and simulation settings (none when equations of motion were given)."""
 
-    ``given`` holds initial, parameters, t_span, samples, t_eval, method, rtol, atol, dt, each
-    possibly None (then ``settings``, the System's simulation settings, or the default), and
-    max_step.
+    initial: Mapping[Any, float] = field(default_factory=dict)
+    settings: Mapping[str, Any] = field(default_factory=dict)
+
+
+def checked_inputs(
+    compiled: CompiledEquations, given: Mapping[str, Any], fallbacks: Fallbacks
+) -> tuple[Inputs, list[Problem]]:
+    """The inputs of ``given`` (the arguments of simulate) and every problem with them
+    (placeholders stand where a value is wrong), for the caller to raise once with the
+    problems of the options.
+
+    ``given`` holds initial, parameters, t_span and the :class:`~lagrangian.simulation.
+    options.StepKeywords`, each possibly absent or None (then ``fallbacks``, or the
+    default).  Whether a step keyword applies to the method is
+    :class:`~lagrangian.simulation.options.Options`' question: here an unknown method reads
+    as the default one, and a System setting the method does not take is left out.
     """
+    settings = fallbacks.settings
     problems: list[Problem] = []
 
-    def setting(name: str) -> Any:
+    def setting(name: str, default: Any = None) -> Any:
         value = given.get(name)
-        return value if value is not None else settings.get(name, DEFAULTS.get(name))
+        return value if value is not None else settings.get(name, default)
 
     values = parameter_values(compiled, given.get("parameters") or {}, problems)
-    x0 = initial_state(compiled, given.get("initial") or {}, fallback_initial, problems)
+    x0 = initial_state(compiled, given.get("initial") or {}, fallbacks.initial, problems)
     t_span = time_span(given.get("t_span"), settings.get("t_end"), problems)
     t_eval = given.get("t_eval")
     samples = setting("samples") if t_eval is None else given.get("samples")
     t_out = output_times(t_span, samples, t_eval, problems)
-    method = _method(setting("method"), problems)
-    rtol, atol = (_positive(name, setting(name), problems) for name in ("rtol", "atol"))
-    dt = _step(method, setting("dt"), t_span, t_out, problems)
-    max_step = given.get("max_step", math.inf)
-    if not (isinstance(max_step, (int, float)) and max_step > 0):
-        problems.append(
-            Problem("max_step", f"max_step must be a positive number, not {max_step!r}")
-        )
-        max_step = math.inf
-    raise_if_problems(problems, "Cannot simulate", SimulationInputError)
-    return Inputs(
+    method = TABLE.get(setting("method", DEFAULT_METHOD), TABLE[DEFAULT_METHOD])
+    rtol, atol = TOLERANCES["rtol"], TOLERANCES["atol"]
+    max_step, dt = math.inf, None
+    if method.takes_tolerances:
+        rtol = _positive("rtol", setting("rtol", rtol), problems)
+        atol = _positive("atol", setting("atol", atol), problems)
+        max_step = _max_step(given.get("max_step"), problems)
+    else:
+        dt = _step(method.name, setting("dt"), t_out, problems)
+    inputs = Inputs(
         parameters=values,
         p=np.array([values[name] for name in compiled.parameters], dtype=float),
         x0=x0,
         t_span=t_span,
         t_out=t_out,
-        method=method,
+        method=method.name,
         rtol=rtol,
         atol=atol,
         dt=dt,
-        max_step=float(max_step),
+        max_step=max_step,
     )
+    return inputs, problems
 
 
 def parameter_values(
@@ -193,35 +201,8 @@ def output_times(
     return None
 
 
-def _method(method: Any, problems: list[Problem]) -> str:
-    known = (*METHODS, VARIATIONAL)
-    if method in known:
-        return str(method)
-    close = difflib.get_close_matches(str(method).upper(), METHODS, n=1, cutoff=0.4)
-    hint = f"did you mean {close[0]!r}? " if close else ""
-    problems.append(Problem("method", f"unknown method {method!r}", f"{hint}methods: {known}"))
-    return "RK45"
-
-
-def _step(
-    method: str,
-    dt: Any,
-    t_span: tuple[float, float],
-    t_out: np.ndarray | None,
-    problems: list[Problem],
-) -> float | None:
-    """The step of RK4 or the variational integrator: ``dt``, else the spacing of evenly
-    spaced samples."""
-    if method not in ("RK4", VARIATIONAL):
-        if dt is not None:
-            problems.append(
-                Problem(
-                    "dt",
-                    f"dt is the step of the fixed-step RK4, not of {method}",
-                    "use max_step to bound an adaptive method's steps, or method='RK4'",
-                )
-            )
-        return None
+def _step(method: str, dt: Any, t_out: np.ndarray | None, problems: list[Problem]) -> float | None:
+    """The step of a fixed-step method: ``dt``, else the spacing of evenly spaced samples."""
     if dt is not None:
         return _positive("dt", dt, problems)
     if t_out is not None and len(t_out) >= 2 and np.allclose(np.diff(t_out), t_out[1] - t_out[0]):
@@ -230,6 +211,16 @@ def _step(
         Problem("dt", f"the fixed-step method {method} needs a step", "pass dt=... or samples=N")
     )
     return None
+
+
+def _max_step(value: Any, problems: list[Problem]) -> float:
+    """The largest step of an adaptive method: a positive number, infinity by default."""
+    if value is None:
+        return math.inf
+    if not (isinstance(value, (int, float)) and not isinstance(value, bool) and value > 0):
+        problems.append(Problem("max_step", f"max_step must be a positive number, not {value!r}"))
+        return math.inf
+    return float(value)
 
 
 def _positive(name: str, value: Any, problems: list[Problem]) -> float:

@@ -2,8 +2,8 @@
 
 The loop is solve_ivp's (step; locate events on the step's dense output; sample the output
 times the step covered), written out so that a failure — a step size underflow, a singular
-mass matrix raised from the right-hand side, a state that is no longer finite — ends the run
-with what was computed so far instead of losing it.
+mass matrix raised from the right-hand side, a state that is no longer finite — or Ctrl-C
+ends the run with what was computed so far instead of losing it.
 
 >>> import numpy as np
 >>> from scipy.integrate import RK45
@@ -22,28 +22,62 @@ from typing import Any
 import numpy as np
 from scipy.integrate import DenseOutput, OdeSolver
 
+from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationError
+from lagrangian.simulation.compiled_run import integrate_compiled
 from lagrangian.simulation.events import EventWatch
+from lagrangian.simulation.inputs import Inputs
+from lagrangian.simulation.integration import Dynamics, Integration, Progress
+from lagrangian.simulation.methods import method_named
 
 #: Errors from the right-hand side or a solver's linear algebra that end a run as a failure.
 FAILURES = (SimulationError, ArithmeticError, np.linalg.LinAlgError)
 
 
 @dataclass(frozen=True)
-class Integration:
-    """Output of one run: states x at times t, events, and how it ended.
+class SolverIntegrator:
+    """SciPy's ``solve_ivp`` methods and the fixed-step RK4 (the
+    :class:`~lagrangian.simulation.integration.Integrator` of every OdeSolver method), stepped
+    by :func:`integrate`, or with ``compiled`` (the equations of a free system) by the numba
+    backend's loop of the same steps
+    (:func:`lagrangian.simulation.compiled_run.integrate_compiled`)."""
 
-    ``failure`` is None on success, else the reason; ``t_reached``/``x_reached`` are the last
-    accepted step; ``terminal`` the index of the event that stopped the run, if any.
-    """
+    compiled: EquationsOfMotion | None = None
 
-    t: np.ndarray
-    x: np.ndarray
-    events: tuple[tuple[int, float, np.ndarray], ...]
-    failure: str | None
-    t_reached: float
-    x_reached: np.ndarray
-    terminal: int | None
+    def run(
+        self,
+        dynamics: Dynamics,
+        inputs: Inputs,
+        watch: EventWatch | None,
+        progress: Progress | None,
+    ) -> Integration:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            if self.compiled is not None:
+                return integrate_compiled(self.compiled, inputs, progress)
+            return integrate(
+                solver_starter(dynamics.field, inputs),
+                inputs.t_span[0],
+                inputs.x0,
+                inputs.t_out,
+                watch,
+                progress,
+                dynamics.projection(),
+            )
+
+
+def solver_starter(
+    field: Callable[[float, np.ndarray], np.ndarray], inputs: Inputs
+) -> Callable[[], OdeSolver]:
+    """A function building the SciPy solver of ``inputs.method`` for dx/dt = field(t, x)
+    (the integration loop calls it, since its first evaluation of the field may fail)."""
+    t0, t1 = inputs.t_span
+    method = method_named(inputs.method)
+    solver = method.solver_class()
+    if method.takes_step:
+        return lambda: solver(field, t0, inputs.x0, t1, dt=inputs.dt)
+    return lambda: solver(
+        field, t0, inputs.x0, t1, rtol=inputs.rtol, atol=inputs.atol, max_step=inputs.max_step
+    )
 
 
 class _Output:
@@ -60,15 +94,19 @@ class _Output:
         self, t: float, dense: Callable[[], Callable[[Any], np.ndarray]], x: np.ndarray | None
     ) -> None:
         """Record output up to t (``x`` is the state at t when t is a step's end)."""
+        # each row's state is computed before its time is kept: a Ctrl-C in between leaves
+        # no time without a state
         if self.times is None:
+            state = x if x is not None else dense()(t)
             self.t.append(t)
-            self.x.append(x if x is not None else dense()(t))
+            self.x.append(state)
             return
         end = int(np.searchsorted(self.times, t, side="right"))
         if end > self.next:
             block = self.times[self.next : end]
+            states = list(np.atleast_2d(dense()(block)).T)
             self.t.extend(block)
-            self.x.extend(np.atleast_2d(dense()(block)).T)
+            self.x.extend(states)
             self.next = end
 
     def stop(self, t: float, x: np.ndarray) -> None:
@@ -88,20 +126,22 @@ def integrate(
     x0: np.ndarray,
     times: np.ndarray | None = None,
     watch: EventWatch | None = None,
-    progress: Callable[[float], None] | None = None,
+    progress: Progress | None = None,
     project: Callable[[float, np.ndarray], np.ndarray] | None = None,
 ) -> Integration:
-    """Run the solver ``start()`` to its end, a terminal event or a failure.
+    """Run the solver ``start()`` to its end, a terminal event, a failure or Ctrl-C.
 
-    ``times``: output times (None: every step).  Errors of :data:`FAILURES` raised while
-    stepping become ``failure``; the output holds everything before them.  ``project``
-    (explicit Runge–Kutta solvers only: they keep no history but the last state and its
-    derivative) moves every accepted step's state, and every output row, onto a manifold
-    (coordinate projection, Hairer, Lubich & Wanner, Geometric Numerical Integration IV.4).
+    Output rows are the ``times`` (None: every step).  Errors of :data:`FAILURES` raised while
+    stepping become ``failure``, a KeyboardInterrupt ``interrupted``; the output holds
+    everything before them.  ``project`` (explicit Runge–Kutta solvers only: they keep no
+    history but the last state and its derivative) moves every accepted step's state, and
+    every output row, onto a manifold (coordinate projection, Hairer, Lubich & Wanner,
+    Geometric Numerical Integration IV.4).
     """
     output = _Output(times, t0, x0)
-    events: list[tuple[int, float, np.ndarray]] = []
-    t_reached, x_reached, failure, terminal = t0, x0, None, None
+    events: list[tuple[str, float, np.ndarray]] = []
+    t_reached, x_reached, failure, stopped_by = t0, x0, None, None
+    interrupted = False
     try:
         solver = start()
         if watch is not None:
@@ -125,20 +165,21 @@ def integrate(
             t_stop, x_stop = solver.t, x_reached
             if watch is not None:
                 found, stop = watch.check(t_old, solver.t, solver.y, dense())
-                events.extend((i, t, dense()(t)) for i, t in found)
+                events.extend((watch.names[i], t, dense()(t)) for i, t in found)
                 if stop:
-                    terminal, t_stop = found[-1][0], found[-1][1]
-                    x_stop = events[-1][2]
+                    stopped_by, t_stop, x_stop = events[-1]
             output.reach(t_stop, dense, x_stop)
             if progress is not None:
                 progress(t_stop)
-            if terminal is not None:
+            if stopped_by is not None:
                 output.stop(t_stop, x_stop)
                 break
     except FAILURES as error:
         failure = str(error)
+    except KeyboardInterrupt:  # Ctrl-C: keep what was computed, the caller decides
+        interrupted = True
     t, x = output.arrays(len(x0))
-    return Integration(t, x, tuple(events), failure, t_reached, x_reached, terminal)
+    return Integration(t, x, t_reached, x_reached, tuple(events), failure, interrupted, stopped_by)
 
 
 def _projected(

@@ -2,8 +2,10 @@
 
 Rows are output times t_i; columns (docs/architecture.md, output contracts) are ``t``, each
 coordinate, each ``NAME_dot``, the multipliers, ``energy`` = T + V, then the conserved quantities
-(:mod:`lagrangian.simulation.conserved`); the drift report compares the energy and each conserved
-quantity C with its initial value, max_i |C(t_i) - C(t_0)| / |C(t_0)|.
+(:mod:`lagrangian.simulation.conserved`).  The drift report compares each quantity C the system
+conserves with its initial value, max_i |C(t_i) - C(t_0)| / |C(t_0)|, and says why the others
+are not conserved (:mod:`lagrangian.simulation.conservation`): a damped oscillator's energy
+gets no drift number, the reason instead.
 
 >>> import numpy as np
 >>> trajectory = Trajectory(t=[0.0, 1.0], q=[[1.0], [0.5]], q_dot=[[0.0], [-1.0]],
@@ -12,6 +14,13 @@ quantity C with its initial value, max_i |C(t_i) - C(t_0)| / |C(t_0)|.
 array([ 0., -1.])
 >>> trajectory.drift()["energy_relative"]
 0.0
+>>> damped = Trajectory(t=[0.0, 1.0], q=[[1.0], [0.5]], q_dot=[[0.0], [-1.0]],
+...                     coordinates=("x",), energy=[2.0, 1.0],
+...                     not_conserved={"energy": "dissipation"})
+>>> damped.drift()
+{'energy_not_conserved': 'dissipation'}
+>>> damped.drift_summary()
+'energy not conserved: dissipation'
 """
 
 from __future__ import annotations
@@ -27,6 +36,7 @@ from typing import Any, NamedTuple, TextIO
 import numpy as np
 
 from lagrangian.errors import SimulationInputError
+from lagrangian.simulation.files import written_atomically
 
 DOT = "_dot"
 
@@ -73,6 +83,11 @@ class Trajectory:
     conserved:
         Constants of the motion at each output time, by name (shape (N,) each): the momenta
         ``p_NAME`` of cyclic coordinates and any quantity asked for.
+    not_conserved:
+        The columns among ``energy``, ``energy_function`` and ``conserved`` that the system
+        does not conserve, each with why (``"dissipation"``, ``"forcing"``, ``"explicit time
+        dependence"``, ``"constraints that do work"``...); None when unknown (a Trajectory
+        read from a CSV file), and then every one is taken as conserved.
     """
 
     t: np.ndarray
@@ -90,6 +105,7 @@ class Trajectory:
     multiplier_names: tuple[str, ...] = ()
     constraint_residual: np.ndarray | None = None
     conserved: Mapping[str, np.ndarray] = field(default_factory=dict)
+    not_conserved: Mapping[str, str] | None = None
 
     def __post_init__(self) -> None:
         n = len(self.coordinates)
@@ -111,6 +127,9 @@ class Trajectory:
         object.__setattr__(self, "events", tuple(self.events))
         object.__setattr__(self, "parameters", MappingProxyType(dict(self.parameters)))
         object.__setattr__(self, "conserved", MappingProxyType(_frozen_columns(self, rows)))
+        if self.not_conserved is not None:
+            reasons = {str(k): str(v) for k, v in self.not_conserved.items()}
+            object.__setattr__(self, "not_conserved", MappingProxyType(reasons))
 
     @property
     def success(self) -> bool:
@@ -152,30 +171,49 @@ class Trajectory:
         """Every column by name, in the order of :attr:`names`."""
         return {name: self[name] for name in self.names}
 
-    def drift(self) -> dict[str, float | None]:
-        """How far the energy strays from its initial value E0 = E(t_0).
+    def drift(self) -> Drift:
+        """How far each conserved quantity strays from its initial value C0 = C(t_0).
 
-        ``energy_absolute`` = max |E - E0|, ``energy_relative`` = that / |E0| (None when
-        E0 = 0 or there are no rows); the same with ``energy_function_`` for h when present,
-        and ``constraint_residual_max`` (max of :attr:`constraint_residual`) with constraints,
-        and ``conserved_NAME_absolute`` / ``_relative`` for each conserved quantity.
-        A dissipative or driven system drifts physically: compare with its power balance.
+        For the energy E = T + V: ``energy_absolute`` = max |E - E0| and ``energy_relative``
+        = that / |E0| (None when E0 = 0 or there are no rows); the same with
+        ``energy_function_`` for h when it differs from E, ``conserved_NAME_`` for each
+        conserved quantity, and ``constraint_residual_max`` (max of
+        :attr:`constraint_residual`) with constraints.  A quantity the system does not
+        conserve (:attr:`not_conserved`) gets no number but ``NAME_not_conserved``, the
+        reason: ``energy_not_conserved: "dissipation"``.
         """
-        report = _drift("energy", self.energy)
-        if self.energy_function is not None:
-            report.update(_drift("energy_function", self.energy_function))
-        for name, values in self.conserved.items():
-            report.update(_drift(f"conserved_{name}", values))
+        reasons = self.not_conserved or {}
+        report = Drift(reasons)
+        columns = {"energy": self.energy, "energy_function": self.energy_function}
+        columns.update((f"conserved_{name}", values) for name, values in self.conserved.items())
+        for key, values in columns.items():
+            name = key.removeprefix("conserved_")
+            if values is None:
+                continue
+            if name in reasons:
+                report[f"{key}_not_conserved"] = reasons[name]
+            else:
+                report.update(_drift(key, values))
         if self.constraint_residual is not None:
             residual = self.constraint_residual
             report["constraint_residual_max"] = float(np.max(residual)) if len(residual) else None
         return report
 
+    def drift_summary(self) -> str:
+        """The drift report in one line, for people: each conserved quantity's largest
+        relative change (absolute when it starts at 0), the reason for each that is not
+        conserved, and the largest constraint residual."""
+        return self.drift().summary()
+
     def to_csv(self, destination: str | os.PathLike[str] | TextIO) -> None:
-        """Write the columns of :attr:`names` as CSV (17 significant digits: exact round trip)."""
+        """Write the columns of :attr:`names` as CSV (17 significant digits: exact round
+        trip); a file is written atomically (:mod:`lagrangian.simulation.files`)."""
         data = np.column_stack(list(self.columns().values())) if len(self.t) else None
         if isinstance(destination, (str, os.PathLike)):
-            with open(destination, "w", encoding="utf-8", newline="") as stream:
+            with (
+                written_atomically(destination) as temporary,
+                open(temporary, "w", encoding="utf-8", newline="") as stream,
+            ):
                 _write_csv(stream, self.names, data)
         else:
             _write_csv(destination, self.names, data)
@@ -234,6 +272,80 @@ class Trajectory:
             f"Trajectory({', '.join(self.coordinates)}; {len(self.t)} rows, {span}, "
             f"{self.method or 'unknown method'}, {self.status})"
         )
+
+
+class Rows(NamedTuple):
+    """The core columns of a sampled motion: times, coordinates, velocities, E = T + V and h
+    (None where it is E)."""
+
+    t: np.ndarray
+    q: np.ndarray
+    q_dot: np.ndarray
+    energy: np.ndarray
+    energy_function: np.ndarray | None = None
+
+
+def trajectory_of_rows(coordinates: tuple[str, ...], rows: Rows, **fields: Any) -> Trajectory:
+    """The Trajectory of ``rows`` of the ``coordinates``; ``fields`` are its other fields
+    (every simulation, stationary path and batch member is built here)."""
+    return Trajectory(coordinates=coordinates, **rows._asdict(), **fields)
+
+
+class Drift(dict[str, "float | str | None"]):
+    """The drift report of :meth:`Trajectory.drift`: a dict of numbers by name, and of
+    reasons (``NAME_not_conserved``) for the quantities that are not conserved; asking for a
+    number a reason replaces says why it is not there."""
+
+    def __init__(self, reasons: Mapping[str, str]) -> None:
+        super().__init__()
+        self._reasons = dict(reasons)
+
+    def __missing__(self, key: str) -> Any:
+        column = key.rsplit("_", 1)[0]
+        name = column.removeprefix("conserved_")
+        if name in self._reasons:
+            raise KeyError(
+                f"{key!r}: {name} is not conserved here ({self._reasons[name]}), so it has no "
+                f"drift; the report says why under {column}_not_conserved"
+            )
+        raise KeyError(key)
+
+    def summary(self) -> str:
+        """The report in one line (see :meth:`Trajectory.drift_summary`)."""
+        parts = []
+        h_conserved = "energy_function_relative" in self
+        for key, value in self.items():
+            if key == "energy_function_not_conserved" and value == self.get("energy_not_conserved"):
+                continue  # h changes for the same reason as T + V: said once
+            if key.endswith("_not_conserved"):
+                name = key.removesuffix("_not_conserved").removeprefix("conserved_")
+                label = "T + V" if name == "energy" and h_conserved else _LABELS.get(name, name)
+                parts.append(f"{label} not conserved: {value}")
+            elif key.endswith("_relative"):
+                name = key.removesuffix("_relative")
+                change = _change(name, value, self.get(f"{name}_absolute"))
+                if name == "energy_function" and "energy_not_conserved" in self:
+                    change += " (h is the conserved energy)"
+                parts.append(change)
+        if "constraint_residual_max" in self:
+            parts.append(f"max constraint residual {_number(self['constraint_residual_max'])}")
+        return "; ".join(parts)
+
+
+#: How the summary names the columns.
+_LABELS = {"energy": "energy", "energy_function": "energy function h"}
+
+
+def _change(name: str, relative: Any, absolute: Any) -> str:
+    """``max |dE/E0| = 1e-12`` (or the absolute change when E0 = 0)."""
+    symbol = {"energy": "E", "energy_function": "h"}.get(name, name.removeprefix("conserved_"))
+    if relative is not None:
+        return f"max |d{symbol}/{symbol}0| = {_number(relative)}"
+    return f"max |{symbol} - {symbol}0| = {_number(absolute)}"
+
+
+def _number(value: Any) -> str:
+    return "n/a (no rows)" if value is None else f"{value:.3g}"
 
 
 def _freeze(trajectory: Trajectory, name: str, shape: tuple[int, ...]) -> None:

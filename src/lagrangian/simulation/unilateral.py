@@ -1,4 +1,4 @@
-"""simulate_unilateral: the motion under unilateral constraints g(q, t) >= 0 (issue 4 item 5).
+"""The motion under unilateral constraints g(q, t) >= 0: the active-set driver.
 
 Active set strategy.  At the start a unilateral constraint is active (treated as a holonomic
 one, g = 0) when g and dg/dt are ~0 (|.| <= INITIAL_TOLERANCE), inactive when g > 0 or when
@@ -21,8 +21,10 @@ constraint pushes while lambda_j >= 0.  (A particle resting on top of a sphere, 
   grows like (t - t_release)^3) the run stops with status "failed" and a message saying that
   impacts are not modelled.
 
-The pieces are concatenated: t, q, q_dot, energy, the multipliers of every constraint
-(NaN while a unilateral one is inactive) and the residuals of the active constraints.
+Each piece is integrated by the solver integrator with the multiplier form of its active set
+(:class:`lagrangian.simulation.dynamics.MultiplierDynamics`); the pieces are joined into one
+Integration: the states, the multipliers of every constraint (NaN while a unilateral one is
+inactive) and the residuals of the active constraints.
 """
 
 from __future__ import annotations
@@ -33,23 +35,24 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from lagrangian.constraints import constrained_equations
-from lagrangian.constraints.multipliers import multiplier_symbols
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import SimulationError
+from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
 from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, label, statement
-from lagrangian.numerics.compile import CompiledEquations
+from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
-from lagrangian.simulation.constrained_run import checked_initial, multipliers_along
-from lagrangian.simulation.constrained_start import INITIAL_TOLERANCE
+from lagrangian.simulation.dynamics import INITIAL_TOLERANCE, MultiplierDynamics
 from lagrangian.simulation.events import EventFunction, EventWatch
 from lagrangian.simulation.inputs import Inputs
-from lagrangian.simulation.run import solver_starter, state_by_name, trajectory_of
-from lagrangian.simulation.stepping import integrate
-from lagrangian.simulation.trajectory import Event, Trajectory
+from lagrangian.simulation.integration import Integration, Progress
+from lagrangian.simulation.stepping import SolverIntegrator
 
 #: How far below zero an inactive constraint's g may go before it counts as a re-contact.
 RECONTACT_TOLERANCE = 1e-8
+
+_FORMS: IdentityCache[EquationsOfMotion, dict[tuple[int, ...], CompiledConstrained]] = (
+    IdentityCache()
+)
 
 
 class _Watched:
@@ -68,131 +71,222 @@ class _Watched:
         return self.function(t, q, q_dot)
 
 
-def simulate_unilateral(
-    system: System,
-    eom: EquationsOfMotion,
-    compiled: CompiledEquations,
-    inputs: Inputs,
-    *,
-    events: Sequence[EventFunction],
-    progress: Callable[[float], None] | None,
-    alpha: float,
-    beta: float,
-    project_initial: bool,
-) -> Trajectory:
-    """The motion of ``system`` with its unilateral constraints (see the module docstring)."""
-    constraints = tuple(system.constraints)
-    one_sided = [i for i, c in enumerate(constraints) if isinstance(c, Unilateral)]
-    forms = _ActiveSets(eom, constraints)
-    alone = {i: forms.compiled((i,)) for i in one_sided}
-    n, p, t0 = len(compiled.coordinates), inputs.p, inputs.t_span[0]
-    q0, qd0 = inputs.x0[:n], inputs.x0[n:]
-    active = {i for i in range(len(constraints)) if i not in alone}
-    active |= {i for i in one_sided if _touching(i, constraints[i], alone[i], q0, qd0, t0, p)}
+@dataclasses.dataclass(frozen=True)
+class UnilateralDynamics:
+    """The constraints of ``system`` with active sets (module docstring), at the parameters
+    p with Baumgarte's ``gains``; ``multiplier_names`` name one multiplier per constraint."""
 
-    def tag(i: int) -> str:
-        return constraints[i].name or str(i)
+    system: System
+    eom: EquationsOfMotion
+    p: np.ndarray
+    gains: tuple[float, float]
+    multiplier_names: tuple[str, ...]
 
-    order = sorted(active)
-    current = checked_initial(
-        system.replace(constraints=[_bilateral(constraints[i]) for i in order]),
-        forms.compiled(tuple(order)),
-        inputs,
-        project_initial,
-    )
-    t1 = inputs.t_span[1]
-    names = tuple(s.name for s in multiplier_symbols(len(constraints)))
-    pieces: list[Trajectory] = []
-    found: list[Event] = []
-    counts = np.zeros(len(events), dtype=int)
-    status, message = "success", ""
-    while True:
+    @property
+    def one_sided(self) -> tuple[int, ...]:
+        """The indices of the unilateral constraints."""
+        return tuple(i for i, c in enumerate(self.system.constraints) if isinstance(c, Unilateral))
+
+    def piece(self, active: set[int]) -> MultiplierDynamics:
+        """The multiplier form of the ``active`` constraints (the unilateral ones as the
+        holonomic constraints they act like), compiled once per set and equations."""
+        order = tuple(sorted(active))
+        forms = _FORMS.get(self.eom, lambda _: {})
+        if order not in forms:
+            chosen = [_bilateral(self.system.constraints[i]) for i in order]
+            forms[order] = compile_constrained(constrained_equations(self.eom, chosen))
+        return MultiplierDynamics(self.system, forms[order], self.p, self.gains)
+
+    def unpack(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        n = len(self.eom.coordinates)
+        return x[:n], x[n:]
+
+    def residual(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
+        return self.piece(self.active_at(t, q, q_dot)).residual(t, q, q_dot)
+
+    def constraint_rows(self, t: np.ndarray, q: np.ndarray, q_dot: np.ndarray) -> None:
+        return None  # the active-set driver gives them, piece by piece
+
+    def start(self, inputs: Inputs, project_initial: bool) -> Inputs:
+        """The start checked against the constraints active there (a projection keeps the
+        touching unilateral ones at g = 0, as the holonomic ones they act like)."""
+        n, t0 = len(self.eom.coordinates), inputs.t_span[0]
+        active = sorted(self.active_at(t0, inputs.x0[:n], inputs.x0[n:]))
+        chosen = [_bilateral(self.system.constraints[i]) for i in active]
+        piece = dataclasses.replace(
+            self.piece(set(active)), system=self.system.replace(constraints=chosen)
+        )
+        return piece.start(inputs, project_initial)
+
+    def active_at(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> set[int]:
+        """The constraints active at a start: the bilateral ones, and each unilateral one
+        touching (g ~ 0, dg/dt ~ 0); SimulationInputError when one is violated or hit."""
+        constraints = self.system.constraints
+        active = {i for i in range(len(constraints)) if i not in self.one_sided}
+        for i in self.one_sided:
+            h, c = self.piece({i}).form.residuals(q, q_dot, t, self.p)
+            if _touching(i, constraints[i], float(h[0]), float(c[0])):
+                active.add(i)
+        return active
+
+    def watchers(self, active: set[int], piece: MultiplierDynamics) -> list[_Watched]:
+        """The terminal events of a piece: each active unilateral multiplier turning to the
+        pulling side (a release), each inactive one's g going below zero (a re-contact)."""
         order = sorted(active)
-        numeric = forms.compiled(tuple(order))
-        t_start, x = current.t_span[0], current.x0
-        lam = numeric.accelerations(x[:n], x[n:], t_start, p, alpha, beta)[1]
-        pulling = [(lam[k], i) for k, i in enumerate(order) if i in alone and lam[k] < 0]
-        if pulling:  # released at once, before integrating this piece
-            i = min(pulling)[1]
-            active.discard(i)
-            found.append(
-                Event(f"release {tag(i)}", t_start, state_by_name(compiled, t_start, x, p))
-            )
-            continue
         watched = [
-            _release(f"release {tag(i)}", i, k, numeric, p, alpha, beta)
+            _release(f"release {self.tag(i)}", i, k, piece)
             for k, i in enumerate(order)
-            if i in alone
-        ] + [_contact(f"contact {tag(i)}", i, alone[i], p) for i in one_sided if i not in active]
-        watch = EventWatch([*events, *watched], _unpack(n))
-        watch.counts[: len(events)] = counts
+            if i in self.one_sided
+        ]
+        for i in self.one_sided:
+            if i not in active:
+                watched.append(_contact(f"contact {self.tag(i)}", i, self.piece({i}), self.p))
+        return watched
 
-        def field(t: float, x: np.ndarray, numeric: CompiledConstrained = numeric) -> np.ndarray:
-            q_ddot, _ = numeric.accelerations(x[:n], x[n:], t, p, alpha, beta)
-            return np.concatenate((x[n:], q_ddot))
+    def tag(self, i: int) -> str:
+        return self.system.constraints[i].name or str(i)
 
-        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            run = integrate(
-                solver_starter(field, current), t_start, x, current.t_out, watch, progress
-            )
-        counts = watch.counts[: len(events)].copy()
-        piece = trajectory_of(compiled, current, run, watch)
-        multipliers, residual = multipliers_along(numeric, piece, p, alpha, beta)
-        full = np.full((len(piece.t), len(constraints)), np.nan)
-        full[:, order] = multipliers
-        pieces.append(
+
+@dataclasses.dataclass(frozen=True)
+class ActiveSetIntegrator:
+    """Integrates piece by piece, each with the active constraints' multiplier form, until
+    the end, a failure, a re-contact or the caller's terminal event (module docstring)."""
+
+    inner: SolverIntegrator = SolverIntegrator()
+
+    def run(
+        self,
+        dynamics: UnilateralDynamics,
+        inputs: Inputs,
+        watch: EventWatch | None,
+        progress: Progress | None,
+    ) -> Integration:
+        own: Sequence[EventFunction] = watch.functions if watch is not None else ()
+        counts = np.zeros(len(own), dtype=int)
+        n, t1 = len(dynamics.eom.coordinates), inputs.t_span[1]
+        active = dynamics.active_at(inputs.t_span[0], inputs.x0[:n], inputs.x0[n:])
+        pieces: list[Integration] = []
+        released: list[tuple[str, float, np.ndarray]] = []
+        current = inputs
+        while True:
+            piece = dynamics.piece(active)
+            pulling = _pulling(dynamics, piece, active, current)
+            if pulling is not None:  # released at once, before integrating this piece
+                active.discard(pulling)
+                released.append((f"release {dynamics.tag(pulling)}", *_start(current)))
+                continue
+            watched = dynamics.watchers(active, piece)
+            piece_watch = EventWatch([*own, *watched], piece.unpack)
+            piece_watch.counts[: len(own)] = counts
+            run = self.inner.run(piece, current, piece_watch, progress)
+            counts = piece_watch.counts[: len(own)].copy()
+            pieces.append(_with_multipliers(run, piece, sorted(active), dynamics, released))
+            released = []
+            event = next((w for w in watched if w.__name__ == run.stopped_by), None)
+            if run.status != "success" or event is None:
+                break
+            _, t_event, x_event = run.events[-1]
+            if not event.release:
+                pieces[-1] = _recontact(pieces[-1], dynamics, event.index, t_event, x_event)
+                break
+            active.discard(event.index)
+            if t_event >= t1:
+                break
+            current = _from(current, t_event, x_event)
+        return _joined(pieces)
+
+
+def _pulling(
+    dynamics: UnilateralDynamics, piece: MultiplierDynamics, active: set[int], inputs: Inputs
+) -> int | None:
+    """The active unilateral constraint whose multiplier pulls at the start of a piece (the
+    most negative one), or None."""
+    t, x = _start(inputs)
+    n = len(dynamics.eom.coordinates)
+    lam = piece.multipliers(t, x[:n], x[n:])
+    pulling = [(lam[k], i) for k, i in enumerate(sorted(active)) if i in dynamics.one_sided]
+    pulling = [pair for pair in pulling if pair[0] < 0]
+    return min(pulling)[1] if pulling else None
+
+
+def _start(inputs: Inputs) -> tuple[float, np.ndarray]:
+    return inputs.t_span[0], inputs.x0
+
+
+def _from(inputs: Inputs, t: float, x: np.ndarray) -> Inputs:
+    """The inputs of the next piece, from the state at t."""
+    t_out = inputs.t_out
+    return dataclasses.replace(
+        inputs,
+        x0=np.array(x, dtype=float),
+        t_span=(t, inputs.t_span[1]),
+        t_out=None if t_out is None else t_out[t_out >= t],
+    )
+
+
+def _with_multipliers(
+    run: Integration,
+    piece: MultiplierDynamics,
+    order: list[int],
+    dynamics: UnilateralDynamics,
+    released: list[tuple[str, float, np.ndarray]],
+) -> Integration:
+    """A piece with the multipliers of every constraint (NaN for the inactive ones) and the
+    residual of the active ones, after the releases at its start."""
+    n = len(dynamics.eom.coordinates)
+    multipliers, residual = piece.constraint_rows(run.t, run.x[:, :n], run.x[:, n:])
+    full = np.full((len(run.t), len(dynamics.multiplier_names)), np.nan)
+    full[:, order] = multipliers
+    return dataclasses.replace(
+        run,
+        multipliers=full,
+        constraint_residual=residual,
+        events=(*released, *run.events),
+    )
+
+
+def _recontact(
+    run: Integration, dynamics: UnilateralDynamics, index: int, t: float, x: np.ndarray
+) -> Integration:
+    """A piece ended by an inactive constraint's g going below zero: a failure."""
+    constraint = dynamics.system.constraints[index]
+    failure = (
+        f"the unilateral constraint {label(index, constraint)}, {statement(constraint)}, is "
+        f"violated again at t = {t:.6g}: impacts are not modelled, so the integration stops "
+        "there"
+    )
+    return dataclasses.replace(run, failure=failure, stopped_by=None, t_reached=t, x_reached=x)
+
+
+def _joined(pieces: list[Integration]) -> Integration:
+    """The pieces end to end (a row repeated at a junction is kept once)."""
+    keep = [pieces[0]]
+    for piece in pieces[1:]:
+        last = keep[-1].t[-1] if len(keep[-1].t) else -np.inf
+        later = piece.t > last
+        keep.append(
             dataclasses.replace(
                 piece,
-                multipliers=full,
-                multiplier_names=names,
-                constraint_residual=residual,
-                events=(),
+                t=piece.t[later],
+                x=piece.x[later],
+                multipliers=_rows(piece.multipliers, later),
+                constraint_residual=_rows(piece.constraint_residual, later),
             )
         )
-        found.extend(piece.events)
-        message = piece.message
-        if run.failure is not None:
-            status = "failed"
-            break
-        if run.terminal is None or run.terminal < len(events):
-            break
-        event = watched[run.terminal - len(events)]
-        t_event, x_event = run.events[-1][1], run.events[-1][2]
-        if not event.release:
-            status = "failed"
-            message = (
-                f"The unilateral constraint {label(event.index, constraints[event.index])}, "
-                f"{statement(constraints[event.index])}, is violated again at t = "
-                f"{t_event:.6g}: impacts are not modelled, so the integration stops there."
-            )
-            break
-        active.discard(event.index)
-        if t_event >= t1:
-            break
-        t_out = current.t_out
-        current = dataclasses.replace(
-            current,
-            x0=np.array(x_event, dtype=float),
-            t_span=(t_event, t1),
-            t_out=None if t_out is None else t_out[t_out >= t_event],
-        )
-    return _joined(pieces, found, status, message)
+    final = pieces[-1]
+    return dataclasses.replace(
+        final,
+        t=np.concatenate([p.t for p in keep]),
+        x=np.concatenate([p.x for p in keep]),
+        events=tuple(event for p in pieces for event in p.events),
+        multipliers=np.concatenate([_rows(p.multipliers, None) for p in keep]),
+        constraint_residual=np.concatenate([_rows(p.constraint_residual, None) for p in keep]),
+    )
 
 
-class _ActiveSets:
-    """The compiled multiplier form of each set of active constraints, compiled once per set
-    (a run that releases and keeps constraints meets the same sets again)."""
-
-    def __init__(self, eom: EquationsOfMotion, constraints: Sequence[Constraint]) -> None:
-        self.eom, self.constraints = eom, tuple(constraints)
-        self._compiled: dict[tuple[int, ...], CompiledConstrained] = {}
-
-    def compiled(self, active: tuple[int, ...]) -> CompiledConstrained:
-        """The multiplier form with the constraints ``active`` (indices, in order)."""
-        if active not in self._compiled:
-            chosen = [self.constraints[i] for i in active]
-            self._compiled[active] = compile_constrained(constrained_equations(self.eom, chosen))
-        return self._compiled[active]
+def _rows(values: np.ndarray | None, mask: np.ndarray | None) -> np.ndarray:
+    assert values is not None  # every piece has them (_with_multipliers)
+    return values if mask is None else values[mask]
 
 
 def _bilateral(constraint: Constraint) -> Constraint:
@@ -202,96 +296,32 @@ def _bilateral(constraint: Constraint) -> Constraint:
     return constraint
 
 
-def _unpack(n: int) -> Callable[[float, np.ndarray], tuple[np.ndarray, np.ndarray]]:
-    return lambda t, x: (x[:n], x[n:])
-
-
-def _touching(
-    index: int,
-    constraint: Constraint,
-    numeric: CompiledConstrained,
-    q: np.ndarray,
-    qd: np.ndarray,
-    t: float,
-    p: np.ndarray,
-) -> bool:
+def _touching(index: int, constraint: Constraint, g: float, g_dot: float) -> bool:
     """Whether a unilateral constraint starts active; raise when it is violated or hit."""
-    h, c = numeric.residuals(q, qd, t, p)
-    g, g_dot = float(h[0]), float(c[0])
     where = f"{label(index, constraint)}, {statement(constraint)}"
     if g < -INITIAL_TOLERANCE:
-        raise SimulationError(
+        raise SimulationInputError(
             f"The initial state violates the unilateral constraint {where}: g = {g:.3g} < 0."
         )
     if g > INITIAL_TOLERANCE or g_dot > INITIAL_TOLERANCE:
         return False
     if g_dot < -INITIAL_TOLERANCE:
-        raise SimulationError(
+        raise SimulationInputError(
             f"The initial state moves into the unilateral constraint {where} (dg/dt = "
             f"{g_dot:.3g} < 0 at g = 0): impacts are not modelled."
         )
     return True
 
 
-def _release(
-    name: str,
-    index: int,
-    k: int,
-    numeric: CompiledConstrained,
-    p: np.ndarray,
-    alpha: float,
-    beta: float,
-) -> _Watched:
+def _release(name: str, index: int, k: int, piece: MultiplierDynamics) -> _Watched:
     def multiplier(t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
-        return float(numeric.accelerations(q, q_dot, t, p, alpha, beta)[1][k])
+        return float(piece.multipliers(t, q, q_dot)[k])
 
     return _Watched(name, index, True, multiplier)
 
 
-def _contact(name: str, index: int, numeric: CompiledConstrained, p: np.ndarray) -> _Watched:
+def _contact(name: str, index: int, alone: MultiplierDynamics, p: np.ndarray) -> _Watched:
     def gap(t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
-        return float(numeric.residuals(q, q_dot, t, p)[0][0]) + RECONTACT_TOLERANCE
+        return float(alone.form.residuals(q, q_dot, t, p)[0][0]) + RECONTACT_TOLERANCE
 
     return _Watched(name, index, False, gap)
-
-
-def _joined(pieces: list[Trajectory], found: list[Event], status: str, message: str) -> Trajectory:
-    """The pieces end to end (a row repeated at a junction is kept once)."""
-    keep = [pieces[0]]
-    for piece in pieces[1:]:
-        later = piece.t > keep[-1].t[-1] if len(keep[-1].t) else np.ones(len(piece.t), bool)
-        keep.append(_rows(piece, later))
-
-    def stack(name: str) -> np.ndarray:
-        return np.concatenate([getattr(piece, name) for piece in keep])
-
-    first = keep[0]
-    return dataclasses.replace(
-        first,
-        t=stack("t"),
-        q=stack("q"),
-        q_dot=stack("q_dot"),
-        energy=stack("energy"),
-        energy_function=None if first.energy_function is None else stack("energy_function"),
-        events=tuple(found),
-        status=status,
-        message=message,
-        multipliers=stack("multipliers"),
-        constraint_residual=stack("constraint_residual"),
-    )
-
-
-def _rows(piece: Trajectory, mask: np.ndarray) -> Trajectory:
-    def pick(value: np.ndarray | None) -> np.ndarray | None:
-        return None if value is None else value[mask]
-
-    return dataclasses.replace(
-        piece,
-        t=piece.t[mask],
-        q=piece.q[mask],
-        q_dot=piece.q_dot[mask],
-        energy=piece.energy[mask],
-        energy_function=pick(piece.energy_function),
-        multipliers=pick(piece.multipliers),
-        constraint_residual=pick(piece.constraint_residual),
-    )

@@ -26,10 +26,10 @@ impulse at q_k into a second-order value of lambda(t_k)
 multiplier form, the constraint force being lambda_j dh_j/dq (docs/architecture.md).  An
 initial state off the constraints is refused, or projected onto them with
 ``project_initial=True``, as in the multiplier form
-(:mod:`lagrangian.simulation.constrained_start`).
+(:func:`lagrangian.simulation.dynamics.start_on_constraints`).
 
-Not integrated (refused with a SimulationError): velocity and unilateral constraints, events,
-coordinates without inertia.
+Not integrated (refused by :class:`lagrangian.simulation.options.Options`): velocity and
+unilateral constraints, events, coordinates without inertia.
 
 >>> import lagrangian as lg
 >>> from lagrangian.simulation import simulate
@@ -42,109 +42,63 @@ coordinates without inertia.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Mapping, Sequence
-from typing import Any
 
 import numpy as np
 
-from lagrangian.constraints import multiplier_symbols
-from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import Problem, SimulationError, raise_if_problems
-from lagrangian.model import Holonomic, System
-from lagrangian.model.constraints import label, statement
-from lagrangian.numerics.compile import CompiledEquations, compile_equations
-from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics, compile_discrete_mechanics
-from lagrangian.simulation.constrained_start import start_on_constraints
-from lagrangian.simulation.events import EventFunction
-from lagrangian.simulation.inputs import Inputs, resolve_inputs
-from lagrangian.simulation.run import trajectory_of
-from lagrangian.simulation.stepping import Integration
-from lagrangian.simulation.trajectory import Trajectory
-from lagrangian.simulation.variational_march import Run, march
+from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics
+from lagrangian.simulation.dynamics import ConstrainedMotion
+from lagrangian.simulation.events import EventWatch
+from lagrangian.simulation.inputs import Inputs
+from lagrangian.simulation.integration import Integration, Progress
+from lagrangian.simulation.variational_march import march
 
 
-def simulate_variational(
-    eom: EquationsOfMotion,
-    system: System | None,
-    given: Mapping[str, Any],
-    fallback_initial: Mapping[Any, float],
-    settings: Mapping[str, Any],
-    *,
-    events: Sequence[EventFunction] = (),
-    raise_on_failure: bool = True,
-    progress: Callable[[float], None] | None = None,
-    project_initial: bool = False,
-) -> Trajectory:
-    """The body of ``simulate`` for ``method="variational"`` (arguments as collected there)."""
-    constraints = _holonomic_constraints(system)
-    _require_supported(eom, events)
-    compiled = compile_equations(eom)
-    mechanics = compile_discrete_mechanics(eom, [c.expression for c in constraints])
-    inputs = resolve_inputs(compiled, given, fallback_initial, settings)
-    if system is not None and constraints:
-        inputs = _on_constraints(system, mechanics, inputs, project_initial)
-    grid, outputs = _grid(inputs)
-    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        run = march(mechanics, inputs.x0, inputs.p, grid, outputs, progress)
-    trajectory = _trajectory(compiled, inputs, grid, run)
-    if constraints:
-        names = tuple(s.name for s in multiplier_symbols(len(constraints)))
-        trajectory = dataclasses.replace(
-            trajectory,
-            multipliers=run.multipliers,
-            multiplier_names=names,
-            constraint_residual=run.constraint_residual,
-        )
-    if run.failure is not None and raise_on_failure:
-        raise SimulationError(
-            f"{trajectory.message} Pass raise_on_failure=False to keep the trajectory computed "
-            "up to the failure."
-        )
-    return trajectory
+@dataclasses.dataclass(frozen=True)
+class DiscreteDynamics(ConstrainedMotion[DiscreteMechanics]):
+    """The formulation the variational integrator steps: the compiled discrete mechanics of
+    the midpoint rule with the holonomic constraints, at the parameters p (x = [q; q_dot])."""
+
+    multiplier_names: tuple[str, ...] = ()
+
+    def constraint_rows(self, t: np.ndarray, q: np.ndarray, q_dot: np.ndarray) -> None:
+        return None  # the march computes them on the way (Integration.multipliers)
 
 
-def _holonomic_constraints(system: System | None) -> tuple[Holonomic, ...]:
-    """The System's constraints, all holonomic, or raise naming those that are not."""
-    if system is None:
-        return ()
-    problems = [
-        Problem(
-            label(i, c),
-            f"the {c.kind} constraint {statement(c)} is not holonomic; method='variational' "
-            "holds holonomic constraints h(q, t) = 0 only",
-            "use another method (RK45, DOP853, ...), which integrates it in the multiplier form",
-        )
-        for i, c in enumerate(system.constraints)
-        if not isinstance(c, Holonomic)
-    ]
-    raise_if_problems(problems, "Cannot integrate variationally", SimulationError)
-    return tuple(c for c in system.constraints if isinstance(c, Holonomic))
+@dataclasses.dataclass(frozen=True)
+class VariationalIntegrator:
+    """The midpoint-rule variational integrator over the grid of :func:`step_grid`."""
 
-
-def _require_supported(eom: EquationsOfMotion, events: Sequence[EventFunction]) -> None:
-    if events:
-        raise SimulationError(
-            "method='variational' does not locate events yet: use another method with events=."
-        )
-    if any(order != 2 for order in eom.coordinate_orders.values()):
-        raise SimulationError(
-            "method='variational' needs every coordinate to have inertia (a regular Legendre "
-            "map p = dL/dq_dot): use another method."
+    def run(
+        self,
+        dynamics: DiscreteDynamics,
+        inputs: Inputs,
+        watch: EventWatch | None,
+        progress: Progress | None,
+    ) -> Integration:
+        grid, outputs = step_grid(inputs)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            run = march(dynamics.form, inputs.x0, inputs.p, grid, outputs, progress)
+        x = np.hstack((run.q, run.q_dot))
+        steps = max(int(np.searchsorted(grid, run.reached)), 1)
+        constrained = bool(dynamics.multiplier_names)
+        return Integration(
+            t=grid[run.outputs],
+            x=x,
+            t_reached=run.reached,
+            x_reached=x[-1] if len(x) else np.asarray(inputs.x0, dtype=float),
+            failure=run.failure,
+            interrupted=run.interrupted,
+            multipliers=run.multipliers if constrained else None,
+            constraint_residual=run.constraint_residual if constrained else None,
+            note=(
+                f"Variational integrator (midpoint rule, dt = {inputs.dt:g}) reached the end of "
+                f"the time span ({run.evaluations / steps:.3g} evaluations of the discrete "
+                "equations per step)."
+            ),
         )
 
 
-def _on_constraints(
-    system: System, mechanics: DiscreteMechanics, inputs: Inputs, project_initial: bool
-) -> Inputs:
-    """``inputs`` with an initial state on the constraints (projected when asked), or raise,
-    as the multiplier form does."""
-    n, t0 = len(mechanics.coordinates), inputs.t_span[0]
-    h, c = mechanics.residuals(inputs.x0[:n], inputs.x0[n:], t0, inputs.p)
-    residual = float(np.max(np.abs(np.concatenate((h, c))), initial=0.0))
-    return start_on_constraints(system, mechanics.coordinates, inputs, residual, project_initial)
-
-
-def _grid(inputs: Inputs) -> tuple[np.ndarray, np.ndarray]:
+def step_grid(inputs: Inputs) -> tuple[np.ndarray, np.ndarray]:
     """The step times (steps of dt, a shorter last one, plus every output time) and the indices
     of the output times in them (every step when no output times are asked for)."""
     t0, t1 = inputs.t_span
@@ -158,27 +112,3 @@ def _grid(inputs: Inputs) -> tuple[np.ndarray, np.ndarray]:
     grid = grid[np.concatenate(([True], np.diff(grid) > 1e-9 * dt))]
     outputs = np.searchsorted(grid, inputs.t_out - 1e-9 * dt)
     return grid, np.clip(outputs, 0, len(grid) - 1)
-
-
-def _trajectory(
-    compiled: CompiledEquations,
-    inputs: Inputs,
-    grid: np.ndarray,
-    run: Run,
-) -> Trajectory:
-    """The march as a Trajectory, built as every integration's is (:func:`trajectory_of`:
-    energies from the state x = [q; q_dot]), with the variational integrator's message."""
-    x = np.hstack((run.q, run.q_dot))
-    last = x[-1] if len(x) else np.asarray(inputs.x0, dtype=float)
-    integration = Integration(grid[run.outputs], x, (), run.failure, run.reached, last, None)
-    if run.failure is not None:
-        message = f"Integration failed after t = {run.reached:.6g}: {run.failure}."
-    else:
-        steps = max(int(np.searchsorted(grid, run.reached)), 1)
-        message = (
-            f"Variational integrator (midpoint rule, dt = {inputs.dt:g}) reached the end of "
-            f"the time span ({run.evaluations / steps:.3g} evaluations of the discrete "
-            "equations per step)."
-        )
-    trajectory = trajectory_of(compiled, inputs, integration, None)
-    return dataclasses.replace(trajectory, message=message)

@@ -36,7 +36,7 @@ class Run(NamedTuple):
     ``constraint_residual`` is max(|h|, |A q_dot + dh/dt|) at each output; ``reached`` the
     last time reached; ``evaluations`` the number of evaluations of the compiled discrete
     equations (midpoint terms and Legendre map: the work done); ``failure`` what stopped the
-    march early, or None.
+    march early, or None; ``interrupted`` whether Ctrl-C did.
     """
 
     outputs: np.ndarray
@@ -47,6 +47,7 @@ class Run(NamedTuple):
     reached: float
     evaluations: int
     failure: str | None
+    interrupted: bool = False
 
 
 def march(
@@ -60,7 +61,8 @@ def march(
     """Step from the state x0 = [q; q_dot] over the nodes ``grid``, keeping the ``outputs``.
 
     With constraints every step solves for the velocity (it fixes p_{k+1}); without, only the
-    steps ending at an output do (the inverse Legendre map).  A failed step ends the march.
+    steps ending at an output do (the inverse Legendre map).  A failed step, or Ctrl-C,
+    ends the march with the nodes computed before it.
     """
     n, m, p = len(mechanics.coordinates), mechanics.constraint_count, parameters
     row_of = np.full(len(grid), -1)
@@ -73,16 +75,19 @@ def march(
     h, jacobian, rate = mechanics.constraints(q, grid[0], p)
     lam = np.zeros(m)
     history: tuple[np.ndarray, ...] = ()
-    failure, last, evaluations = None, 0, 1
+    failure, last, evaluations, interrupted = None, 0, 1, False
     for k in range(len(grid)):
         row = row_of[k]
         if row >= 0:
             q_out[row], v_out[row] = q, v
             residual_out[row] = np.max(np.abs((*h, *(jacobian @ v + rate))), initial=0.0)
-        if k == len(grid) - 1:
-            break
-        t0, dt = float(grid[k]), float(grid[k + 1] - grid[k])
-        try:
+        t0 = float(grid[k])
+        try:  # node k is kept: a failure or Ctrl-C from here on ends the march at it
+            if progress is not None and k:
+                progress(t0)
+            if k == len(grid) - 1:
+                break
+            dt = float(grid[k + 1]) - t0
             position = position_step(
                 mechanics, q, momentum, t0, dt, p, jacobian, _guess(grid, k, q, history), lam
             )
@@ -98,11 +103,12 @@ def march(
         except SimulationError as error:
             failure = str(error)
             break
+        except KeyboardInterrupt:
+            interrupted = True
+            break
         history = (q, *history[:1])
         q, lam = position.q, position.multipliers
         lam_steps[k], last = lam, k + 1
-        if progress is not None:
-            progress(float(grid[k + 1]))
     rows = int(np.searchsorted(outputs, last, side="right"))
     multipliers = node_multipliers(grid, lam_steps, mu_steps, last, outputs[:rows])
     return Run(
@@ -114,6 +120,7 @@ def march(
         float(grid[last]),
         evaluations,
         failure,
+        interrupted,
     )
 
 

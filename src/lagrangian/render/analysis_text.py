@@ -1,0 +1,158 @@
+"""``lagrangian analyze --format text``: an analysis report for people, one section per part.
+
+The degrees of freedom come first, with the difference between the dimension of the
+configuration manifold and the number of independent velocities spelled out for a
+non-holonomic system; then the constraints, momenta, cyclic coordinates (each with whether its
+momentum is conserved and what changes it), conserved quantities (with their conditions), the
+energy function, the Hamiltonian (or why there is none), equilibria, normal modes, the
+linearization, and the parts that could not be computed.
+
+>>> import lagrangian as lg
+>>> text = analysis_text(lg.analyze(lg.examples.simple_pendulum()))
+>>> text.splitlines()[0]
+'simple_pendulum: 1 coordinate, no constraint: dof = 1'
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from typing import Any
+
+import sympy as sp
+
+from lagrangian.analysis import AnalysisReport, CyclicCoordinate, Equilibrium, Linearization
+from lagrangian.analysis.momenta import condition_text
+
+VERDICTS = {True: "stable", False: "unstable", None: "stability undetermined"}
+
+
+def _state(state: Mapping[sp.Symbol, Any]) -> str:
+    return ", ".join(f"{q} = {v}" for q, v in state.items())
+
+
+def _section(title: str, lines: Iterable[str]) -> list[str]:
+    body = [f"  {line}" for line in lines]
+    return ["", f"{title}:", *body] if body else []
+
+
+def _cyclic_line(c: CyclicCoordinate) -> str:
+    if c.conserved and c.condition == sp.true:
+        verdict = "momentum conserved"
+    elif c.conserved:
+        verdict = f"momentum conserved when {condition_text(c.condition)}"
+    else:
+        verdict = f"momentum not conserved ({', '.join(c.obstructions)})"
+    return f"{c.coordinate}: p_{c.coordinate} = {c.momentum}; {verdict}. {c.reason}"
+
+
+def _equilibrium_line(e: Equilibrium) -> str:
+    line = f"{_state(e.state)}: {VERDICTS[e.stable]} ({e.reason})"
+    if e.multipliers:
+        line += f"; multipliers {_state(e.multipliers)}"
+    if e.condition != sp.true:
+        line += f"; exists when {e.condition}"
+    return line
+
+
+def _linearization_lines(lin: Linearization) -> list[str]:
+    lines = [
+        f"about {_state(lin.state)}",
+        f"state vector x = ({', '.join(s.name for s in lin.state_vector)})",
+    ]
+    if lin.dependent:
+        lines.append(
+            "eliminated at the linear level (constraints): "
+            + ", ".join(s.name for s in lin.dependent)
+        )
+    lines.append(f"A = {lin.A.tolist()}")
+    if lin.inputs:
+        lines.append(f"B = {lin.B.tolist()} (inputs {', '.join(u.name for u in lin.inputs)})")
+    lines += [
+        f"eigenvalues: {', '.join(str(v) for v in lin.eigenvalues) or 'none'}",
+        f"frequencies (rad/s): {', '.join(str(w) for w in lin.frequencies) or 'none'}",
+        f"growth rates (1/s): {', '.join(str(g) for g in lin.growth_rates) or 'none'}",
+        lin.note,
+    ]
+    return lines
+
+
+def _energy_lines(report: AnalysisReport) -> list[str]:
+    energy = report.energy
+    if energy is None:
+        return []
+    verdict = "conserved" if energy.conserved else "not conserved"
+    lines = [f"h = {energy.energy_function}", f"dh/dt = {energy.rate}: {verdict}", energy.reason]
+    if energy.equals_total_energy:
+        lines.append("h = T + V")
+    else:
+        lines.append(energy.total_energy_reason)
+    return lines
+
+
+def _hamiltonian_lines(report: AnalysisReport) -> list[str]:
+    legendre = report.hamiltonian
+    if legendre is None:
+        return [f"none: {report.failure('hamiltonian')}"]
+    lines = [f"H = {legendre.hamiltonian}", legendre.reason]
+    canonical = report.hamilton_equations
+    if canonical is not None:
+        for q, rate in zip(canonical.coordinates, canonical.coordinate_rates):
+            lines.append(f"{q}_dot = {rate}")
+        for p, rate in zip(canonical.momenta, canonical.momentum_rates):
+            lines.append(f"{p}_dot = {rate}")
+    return lines
+
+
+def analysis_text(report: AnalysisReport) -> str:
+    """The report as plain text (see the module docstring)."""
+    lines = [f"{report.name or 'system'}: {report.freedom or f'dof = {report.dof}'}"]
+    lines += _section(
+        "Constraints",
+        (f"{c['kind']} {c['expression']} = 0: {c['reason']}" for c in report.constraints),
+    )
+    if report.momenta is not None:
+        lines += _section("Momenta", (f"p_{q} = {p}" for q, p in report.momenta.by_name().items()))
+    lines += _section("Cyclic coordinates (absent from L and F)", map(_cyclic_line, report.cyclic))
+    lines += _section(
+        "Conserved",
+        (
+            f"{c.name} = {c.expression}"
+            + (f" (when {condition_text(c.condition)})" if c.condition != sp.true else "")
+            for c in report.conserved
+        ),
+    )
+    lines += _section("Energy function", _energy_lines(report))
+    lines += _section("Hamiltonian", _hamiltonian_lines(report))
+    if report.equilibria is not None:
+        found = [_equilibrium_line(e) for e in report.equilibria] or [report.equilibria.reason]
+        lines += _section("Equilibria", found)
+    if report.steady_motions is not None:
+        steady = report.steady_motions
+        lines += _section(
+            "Steady motions (moving with the constraints)",
+            [
+                f"V_eff = {steady.effective_potential}; {steady.reason}",
+                *(
+                    f"{_equilibrium_line(e)}; velocities {_state(v)}"
+                    for e, v in zip(steady.motions, steady.velocities)
+                    if e.exists is not False
+                ),
+            ],
+        )
+    if report.normal_modes is not None:
+        modes = report.normal_modes
+        lines += _section(
+            "Normal modes",
+            [
+                f"about {_state(modes.about)}: {modes.reason}",
+                *(f"omega = {w}, shape {list(v)}" for w, v in zip(modes.frequencies, modes.shapes)),
+            ],
+        )
+    if report.linearization is not None:
+        lines += _section("Linearization", _linearization_lines(report.linearization))
+    skipped = {"hamiltonian"} if report.hamiltonian is None else set()
+    lines += _section(
+        "Not computed",
+        (f"{f.part}: {f.reason}" for f in report.failures if f.part not in skipped),
+    )
+    return "\n".join(lines)

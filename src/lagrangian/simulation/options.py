@@ -1,0 +1,295 @@
+"""How a simulation integrates: the options of :func:`lagrangian.simulate`, one frozen record
+checked at construction against the method and the system.
+
+An option that does not apply is refused by name, never ignored: ``rtol`` with the fixed-step
+RK4, ``dt`` with an adaptive method, ``baumgarte`` on a system without constraints, ``events``
+with the variational integrator...  Every problem is collected and raised once, as a
+:class:`~lagrangian.errors.SimulationInputError` whose fixes are written as keywords.
+
+The keywords that choose the method, its step and the output times are declared once, in
+:class:`StepKeywords`, for :func:`lagrangian.simulate` and :func:`lagrangian.simulate_batch`.
+
+>>> Options(method="RK4", given=frozenset({"rtol"}))
+Traceback (most recent call last):
+...
+lagrangian.errors.SimulationInputError: Cannot simulate (1 problem):
+  - rtol: rtol steers the adaptive methods (RK45, RK23, DOP853, Radau, BDF, LSODA), not RK4 — \
+remove rtol=, or choose an adaptive method such as method='DOP853'
+>>> Options(method="DOP853").gains
+(0.0, 0.0)
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any, TypedDict
+
+from numpy.typing import ArrayLike
+
+from lagrangian.errors import Problem, SimulationError, SimulationInputError, raise_if_problems
+from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, label, statement
+from lagrangian.simulation.methods import (
+    DEFAULT_METHOD,
+    TABLE,
+    VARIATIONAL,
+    Method,
+    names_where,
+    suggest_method,
+)
+
+#: The backends of simulate and simulate_batch.
+BACKENDS = ("numpy", "numba")
+_NUMPY_FIX = "use backend='numpy' (the default)"
+
+
+class StepKeywords(TypedDict, total=False):
+    """The keywords of simulate and simulate_batch that choose the method, its step and the
+    output times (each also read from ``System.simulation`` when not given, but ``max_step``).
+
+    method:
+        A name of :data:`lagrangian.simulation.methods.TABLE` (default RK45).
+    rtol, atol, max_step:
+        Tolerances (default 1e-8, 1e-10) and largest step of an adaptive method.
+    dt:
+        The step of a fixed-step method (RK4, variational); default: the spacing of
+        ``samples``.
+    samples, t_eval:
+        ``samples`` evenly spaced output times, or the output times ``t_eval``.
+    """
+
+    method: str
+    rtol: float
+    atol: float
+    max_step: float
+    dt: float
+    samples: int
+    t_eval: ArrayLike
+
+
+def check_keywords(keywords: Mapping[str, Any], function: str) -> None:
+    """Refuse a keyword that is not a :class:`StepKeywords` name, as Python refuses an
+    unexpected keyword (TypeError), with the closest name."""
+    known = tuple(StepKeywords.__annotations__)
+    for name in keywords:
+        if name not in known:
+            close = difflib.get_close_matches(name, known, n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise TypeError(f"{function}() got an unexpected keyword argument {name!r}{hint}")
+
+
+@dataclass(frozen=True)
+class Options:
+    """The options of one simulation, as asked (see the module docstring).
+
+    Attributes
+    ----------
+    method:
+        The method used: given, else the System's, else RK45.
+    backend:
+        ``"numpy"`` or ``"numba"``.
+    given:
+        The step keywords passed explicitly (``rtol``, ``atol``, ``max_step``, ``dt``): those
+        must apply to the method; the System's own settings that do not are left out.
+    baumgarte, project_initial, project_steps:
+        Constraint drift control (None: no Baumgarte stabilization asked).
+    events:
+        How many event functions are watched.
+    constraints, inertia:
+        The system's constraints, and whether every coordinate has inertia (second order).
+    driver:
+        ``"simulate"`` or ``"simulate_batch"`` (a batch has its own loops: RK45, DOP853, RK4,
+        no constraints).
+    """
+
+    method: str = DEFAULT_METHOD
+    backend: str = "numpy"
+    given: frozenset[str] = frozenset()
+    baumgarte: tuple[float, float] | None = None
+    project_initial: bool = False
+    project_steps: bool = False
+    events: int = 0
+    constraints: tuple[Constraint, ...] = ()
+    inertia: bool = True
+    driver: str = "simulate"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "given", frozenset(self.given))
+        object.__setattr__(self, "constraints", tuple(self.constraints))
+        problems: list[Problem] = []
+        if self.method not in TABLE:
+            problems.append(
+                Problem("method", f"unknown method {self.method!r}", suggest_method(self.method))
+            )
+        else:
+            for check in _CHECKS:
+                problems.extend(check(self))
+        raise_if_problems(problems, "Cannot simulate", SimulationInputError)
+        if self.baumgarte is not None:
+            object.__setattr__(self, "baumgarte", tuple(float(v) for v in self.baumgarte))
+
+    @property
+    def spec(self) -> Method:
+        """The method's row of the table."""
+        return TABLE[self.method]
+
+    @property
+    def gains(self) -> tuple[float, float]:
+        """Baumgarte's (alpha, beta); (0, 0) when not asked (off)."""
+        return (0.0, 0.0) if self.baumgarte is None else (self.baumgarte[0], self.baumgarte[1])
+
+    @property
+    def unilateral(self) -> bool:
+        """Whether some constraint is unilateral (integrated by active sets)."""
+        return any(isinstance(c, Unilateral) for c in self.constraints)
+
+
+def _step_keywords(options: Options) -> list[Problem]:
+    """rtol, atol and max_step steer the adaptive methods, dt is the step of the others."""
+    method, problems = options.spec, []
+    adaptive = ", ".join(names_where("takes_tolerances"))
+    for name in sorted(options.given & {"rtol", "atol", "max_step"}):
+        if not method.takes_tolerances:
+            fix = f"remove {name}=, or choose an adaptive method such as method='DOP853'"
+            message = f"{name} steers the adaptive methods ({adaptive}), not {method.name}"
+            problems.append(Problem(name, message, fix))
+    if "dt" in options.given and not method.takes_step:
+        problems.append(
+            Problem(
+                "dt",
+                f"dt is the step of the fixed-step RK4, not of {method.name}",
+                "use max_step to bound an adaptive method's steps, or method='RK4'",
+            )
+        )
+    return problems
+
+
+def _baumgarte(options: Options) -> list[Problem]:
+    if options.baumgarte is None:
+        return []
+    try:
+        alpha, beta = (float(v) for v in options.baumgarte)
+    except (TypeError, ValueError):
+        alpha = beta = math.nan
+    if not (math.isfinite(alpha) and math.isfinite(beta) and alpha >= 0 and beta >= 0):
+        message = (
+            f"baumgarte must be a pair (alpha, beta) of non-negative numbers, not "
+            f"{options.baumgarte!r}"
+        )
+        return [Problem("baumgarte", message, "pass baumgarte=(alpha, beta), e.g. (10, 10)")]
+    if not options.constraints:
+        message = "baumgarte stabilizes constraints, and this system has none"
+        return [Problem("baumgarte", message, "remove baumgarte=")]
+    if options.method == VARIATIONAL:
+        message = "method='variational' holds the constraints exactly at every step"
+        return [Problem("baumgarte", message, "remove baumgarte=, or choose another method")]
+    return []
+
+
+def _projections(options: Options) -> list[Problem]:
+    problems = []
+    for name in ("project_initial", "project_steps"):
+        if getattr(options, name) and not options.constraints:
+            message = f"{name} moves states onto the constraints, and this system has none"
+            problems.append(Problem(name, message, f"remove {name}=True"))
+    if not (options.project_steps and options.constraints):
+        return problems
+    explicit = names_where("explicit")
+    if options.unilateral:
+        message = (
+            "project_steps does not apply to unilateral constraints (they are active only "
+            "part of the time)"
+        )
+        problems.append(Problem("project_steps", message, "use baumgarte=(alpha, beta)"))
+    elif options.method not in explicit:
+        methods = ", ".join(explicit)
+        message = f"project_steps works with the methods {methods}, not {options.method}"
+        fix = "choose one of them, or baumgarte=(alpha, beta) instead"
+        problems.append(Problem("project_steps", message, fix))
+    return problems
+
+
+def _backend(options: Options) -> list[Problem]:
+    if options.backend not in BACKENDS:
+        message = f"unknown backend {options.backend!r}"
+        return [Problem("backend", message, "backends: 'numpy' (the default), 'numba'")]
+    if options.backend != "numba":
+        return []
+    problems = []
+    if not options.spec.compiled:
+        message = f"the numba backend has no method {options.method!r}"
+        fix = f"methods: {names_where('compiled')}, or {_NUMPY_FIX}"
+        problems.append(Problem("method", message, fix))
+    if options.events:
+        fix = f"{_NUMPY_FIX}, or simulate_batch(..., stop_when=...)"
+        problems.append(Problem("events", "the numba backend does not locate events", fix))
+    if options.constraints and options.driver == "simulate":
+        message = "the numba backend does not integrate constrained systems"
+        problems.append(Problem("constraints", message, _NUMPY_FIX))
+    return problems + _numba_installed()
+
+
+def _numba_installed() -> list[Problem]:
+    from lagrangian.numerics.fast import require_numba  # loads no numba itself
+
+    try:
+        require_numba()
+    except SimulationError as error:
+        return [Problem("backend", str(error))]
+    return []
+
+
+def _variational(options: Options) -> list[Problem]:
+    if options.method != VARIATIONAL:
+        return []
+    problems = []
+    if options.events:
+        message = "method='variational' does not locate events yet"
+        problems.append(Problem("events", message, "use another method with events="))
+    if not options.inertia:
+        message = (
+            "method='variational' needs every coordinate to have inertia (a regular "
+            "Legendre map p = dL/dq_dot)"
+        )
+        problems.append(Problem("method", message, "use another method"))
+    for i, constraint in enumerate(options.constraints):
+        if not isinstance(constraint, Holonomic):
+            message = (
+                f"the {constraint.kind} constraint {statement(constraint)} is not holonomic; "
+                "method='variational' holds holonomic constraints h(q, t) = 0 only"
+            )
+            fix = "use another method (RK45, DOP853, ...): it integrates the multiplier form"
+            problems.append(Problem(label(i, constraint), message, fix))
+    return problems
+
+
+def _formulation(options: Options) -> list[Problem]:
+    """What the multiplier form and the batch loops cannot take."""
+    if options.driver == "simulate_batch":
+        problems = []
+        if not options.spec.compiled:
+            message = f"simulate_batch has no method {options.method!r}"
+            problems.append(Problem("method", message, f"methods: {names_where('compiled')}"))
+        if options.constraints:
+            message = "simulate_batch does not integrate constrained systems"
+            problems.append(Problem("constraints", message, "call simulate for each member"))
+        return problems
+    if options.constraints and not options.inertia and options.method != VARIATIONAL:
+        message = (
+            "simulating constraints with first-order coordinates (no inertia) is not "
+            "supported: every coordinate needs a velocity in the state"
+        )
+        return [Problem("constraints", message, "give every coordinate a kinetic energy term")]
+    return []
+
+
+_CHECKS: tuple[Callable[[Options], list[Problem]], ...] = (
+    _step_keywords,
+    _baumgarte,
+    _projections,
+    _backend,
+    _variational,
+    _formulation,
+)

@@ -1,0 +1,131 @@
+"""The run setup: one simulation checked and ready, as a frozen value.
+
+:func:`prepare` reads what simulate was given — the System (derived here) or its equations,
+the initial values, time span, parameters, options and events — checks all of it at once
+(the :class:`~lagrangian.simulation.options.Options`, the inputs, the conserved quantities:
+every problem in one SimulationInputError) and returns the :class:`RunSetup` every
+integrator starts from.
+
+>>> import lagrangian as lg
+>>> setup = prepare(lg.examples.simple_pendulum(), {"theta": 0.1}, 2.0, {"samples": 3})
+>>> setup.inputs.t_out, setup.options.method
+(array([0., 1., 2.]), 'RK45')
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, TypeVar
+
+import sympy as sp
+
+from lagrangian.derivation import EquationsOfMotion, derive
+from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
+from lagrangian.model import System
+from lagrangian.numerics.compile import CompiledEquations, compile_equations
+from lagrangian.simulation.conserved import conserved_expressions
+from lagrangian.simulation.events import EventFunction
+from lagrangian.simulation.gimbal import GimbalGuard, gimbal_guard
+from lagrangian.simulation.inputs import Fallbacks, Inputs, checked_inputs
+from lagrangian.simulation.methods import DEFAULT_METHOD
+from lagrangian.simulation.options import Options
+
+T = TypeVar("T")
+
+
+@dataclass(frozen=True)
+class RunSetup:
+    """Everything one simulation needs, checked: the System and its equations, their
+    compiled functions, the options, the inputs (initial state, parameters, times), the
+    events to watch (the caller's and the gimbal locks'), the conserved quantities to
+    follow, and the guard against gimbal lock."""
+
+    system: System
+    eom: EquationsOfMotion
+    compiled: CompiledEquations
+    options: Options
+    inputs: Inputs
+    events: tuple[EventFunction, ...]
+    quantities: Mapping[str, sp.Expr]
+    guard: GimbalGuard
+
+
+def prepare(
+    system_or_eom: System | EquationsOfMotion,
+    initial: Mapping[Any, float] | None,
+    t_span: float | tuple[float, float] | None,
+    stepping: Mapping[str, Any],
+    *,
+    parameters: Mapping[Any, float] | None = None,
+    events: Sequence[EventFunction] = (),
+    conserved: Mapping[str, Any] | None = None,
+    **options: Any,
+) -> RunSetup:
+    """Check one simulate call and return its setup; SimulationInputError with every problem
+    found.  ``stepping`` holds the :class:`~lagrangian.simulation.options.StepKeywords`
+    given, ``options`` the other :class:`~lagrangian.simulation.options.Options` (backend,
+    baumgarte, project_initial, project_steps)."""
+    eom, system, fallbacks = describe_system(system_or_eom)
+    compiled = compile_equations(eom)
+    problems: list[Problem] = []
+    chosen = options_for(system, compiled, stepping, fallbacks, events=len(events), **options)
+    checked = collect(problems, chosen)
+    given = {"initial": initial, "parameters": parameters, "t_span": t_span, **stepping}
+    inputs, found = checked_inputs(compiled, given, fallbacks)
+    problems.extend(found)
+    quantities = collect(problems, lambda: conserved_expressions(eom, system, conserved or {}))
+    raise_if_problems(problems, "Cannot simulate", SimulationInputError)
+    assert checked is not None and quantities is not None  # no problems: both were made
+    takes_events = checked.backend == "numpy" and checked.spec.takes_events
+    guard = gimbal_guard(eom, system, inputs, takes_events)
+    return RunSetup(
+        system, eom, compiled, checked, inputs, (*events, *guard.events), quantities, guard
+    )
+
+
+def options_for(
+    system: System,
+    compiled: CompiledEquations,
+    stepping: Mapping[str, Any],
+    fallbacks: Fallbacks,
+    **options: Any,
+) -> Callable[[], Options]:
+    """The Options of a call, to be made (and checked) by the caller: the method given, else
+    the System's, else the default; the step keywords given explicitly."""
+    method = stepping.get("method") or fallbacks.settings.get("method") or DEFAULT_METHOD
+    given = frozenset(k for k in ("rtol", "atol", "max_step", "dt") if stepping.get(k) is not None)
+    return lambda: Options(
+        method=method,
+        given=given,
+        constraints=tuple(system.constraints),
+        inertia=compiled.regular,
+        **options,
+    )
+
+
+def collect(problems: list[Problem], make: Callable[[], T]) -> T | None:
+    """``make()``, or None with its problems added to ``problems`` when it raises
+    SimulationInputError (so that every problem is raised once, together)."""
+    try:
+        return make()
+    except SimulationInputError as error:
+        problems.extend(error.problems or [Problem("input", str(error))])
+        return None
+
+
+def describe_system(
+    system_or_eom: System | EquationsOfMotion,
+) -> tuple[EquationsOfMotion, System, Fallbacks]:
+    """The equations, the System, and the initial values and simulation settings to fall
+    back on: a System gives its own (derived once, :func:`lagrangian.derive`); equations of
+    motion give none, and the System they were derived from."""
+    if isinstance(system_or_eom, System):
+        fallbacks = Fallbacks(system_or_eom.initial, system_or_eom.simulation)
+        return derive(system_or_eom), system_or_eom, fallbacks
+    if isinstance(system_or_eom, EquationsOfMotion):
+        return system_or_eom, system_or_eom.system, Fallbacks()
+    raise SimulationInputError(
+        f"simulate needs a System or the EquationsOfMotion of one, not "
+        f"{type(system_or_eom).__name__}."
+    )
