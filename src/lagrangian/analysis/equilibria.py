@@ -45,6 +45,7 @@ from lagrangian.analysis.roots import normalize_angles, periodic_coordinates
 from lagrangian.analysis.simplification import simplify_small_matrix
 from lagrangian.analysis.stability import stability_of, stiffness_matrix, sylvester_condition
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model.nonsmooth import jacobian
 from lagrangian.model.probe import depends_on, is_zero
 
 
@@ -77,7 +78,7 @@ def _stability(
         missing = ", ".join(sorted(s.name for s in numeric.free_symbols))
         return stable, f"stable when {condition} (no values for {missing})", stiffness, condition
     forcing = sp.Matrix(eom.forcing).xreplace(dict(subs))
-    velocity_jacobian = forcing.jacobian(list(eom.velocities)).xreplace(point)
+    velocity_jacobian = jacobian(forcing, eom.velocities).xreplace(point)
     gyroscopic = evaluate(velocity_jacobian.extract(kept, kept), numbers)
     if gyroscopic.free_symbols:
         gyroscopic = None

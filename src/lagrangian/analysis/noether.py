@@ -30,6 +30,7 @@ import sympy as sp
 
 from lagrangian.analysis.arguments import Subject, Values, equations_of, substitute, substitutions
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model.nonsmooth import derivative
 from lagrangian.model.probe import is_zero
 
 DIGITS = 30
@@ -50,8 +51,8 @@ def _variation_columns(lagrangian: sp.Expr, eom: EquationsOfMotion) -> list[sp.E
     """d(delta L)/d(unknown) for the unknowns A_jk (row-major), then b_j:
     dL/dq_j q_k + dL/dq_dot_j q_dot_k, and dL/dq_j."""
     q, v = eom.coordinates, eom.velocities
-    dq = [lagrangian.diff(s) for s in q]
-    dv = [lagrangian.diff(s) for s in v]
+    dq = [derivative(lagrangian, s) for s in q]  # d|u| = sign(u) du, as by hand
+    dv = [derivative(lagrangian, s) for s in v]
     columns = [dq[j] * q[k] + dv[j] * v[k] for j in range(len(q)) for k in range(len(q))]
     return columns + dq
 

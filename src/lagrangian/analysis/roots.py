@@ -21,6 +21,7 @@ import sympy as sp
 
 from lagrangian.analysis.arguments import assuming_positive, evaluate
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model.nonsmooth import NONSMOOTH
 
 STARTS = 24
 TOLERANCE = 1e-8
@@ -151,6 +152,8 @@ def numeric_roots(
     if len(system) != len(unknowns) or set().union(*[e.free_symbols for e in system]) - set(
         unknowns
     ):
+        return []
+    if any(e.has(*NONSMOOTH) for e in system):  # Newton's method needs the derivatives
         return []
     found: list[dict] = []
     for start in starts if starts is not None else _starts(unknowns, angles):

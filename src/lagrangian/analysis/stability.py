@@ -20,13 +20,14 @@ from collections.abc import Sequence
 import sympy as sp
 
 from lagrangian.analysis.spectrum import symmetric_eigenvalues
+from lagrangian.model.nonsmooth import jacobian
 
 TOLERANCE = 1e-10
 
 
 def stiffness_matrix(static: sp.MatrixBase, coordinates: Sequence[sp.Symbol]) -> sp.Matrix:
     """K = -d(static forces)/dq."""
-    return -sp.Matrix(static).jacobian(list(coordinates))
+    return -jacobian(static, coordinates)  # d|u| = sign(u) du, as by hand
 
 
 def sylvester_condition(stiffness: sp.MatrixBase) -> sp.Basic:

@@ -13,6 +13,8 @@ from typing import Any
 import symengine as se
 import sympy as sp
 
+from lagrangian.model.nonsmooth import piecewise_smooth
+
 Backend = Any  # a symengine expression
 
 
@@ -64,7 +66,8 @@ class SympyView:
         return result
 
     def _fallback(self, expr: Backend) -> sp.Expr:
-        result = sp.sympify(expr)
+        # SymEngine knows only SymPy's complex Abs, sign and Heaviside
+        result = piecewise_smooth(sp.sympify(expr))
         swap = {
             s: self.by_name[s.name]
             for s in result.free_symbols

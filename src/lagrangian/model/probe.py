@@ -34,6 +34,8 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from lagrangian.model.nonsmooth import piecewise_smooth
+
 SEED = 20240605
 PROBES = 3
 DIGITS = 30
@@ -135,6 +137,8 @@ class PointFunction:
     def __init__(self, exprs: sp.MatrixBase, symbols: Sequence[sp.Symbol]) -> None:
         self.shape = exprs.shape
         self.symbols = tuple(symbols)
+        # a derivative of |u| SymPy left unevaluated cannot be printed
+        exprs = exprs.applyfunc(piecewise_smooth) if 0 not in self.shape else exprs
         self._function: Callable[..., Any] = (
             sp.lambdify(self.symbols, exprs, modules=MODULES) if 0 not in self.shape else list
         )

@@ -30,6 +30,8 @@ import numpy as np
 import symengine as se
 import sympy as sp
 
+from lagrangian.model.nonsmooth import piecewise_smooth
+
 #: Whether to compile with SymEngine's LLVM backend (False: always sympy.lambdify; tests
 #: compare the two).
 NATIVE = True
@@ -50,7 +52,8 @@ class NumericFunction:
         self, groups: Sequence[Group], expressions: Sequence[sp.Expr], shape: tuple[int, ...]
     ) -> None:
         self._args: list[Any] = [list(g) if isinstance(g, Sequence) else g for g in groups]
-        self._expressions = list(expressions)
+        # a derivative of |u| SymPy left unevaluated cannot be printed (nor sent to SymEngine)
+        self._expressions = [piecewise_smooth(e) for e in expressions]
         self.shape = shape
         # the number of dimensions of each argument when it carries a batch
         self._batch_ndim = tuple(2 if isinstance(g, list) else 1 for g in self._args)

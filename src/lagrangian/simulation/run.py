@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any
 
 from lagrangian.constraints import constrained_equations, multiplier_symbols
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
 from lagrangian.numerics.constrained import compile_constrained
 from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics
@@ -38,6 +39,7 @@ from lagrangian.simulation.options import StepKeywords, check_keywords
 from lagrangian.simulation.outcome import conclude
 from lagrangian.simulation.setup import RunSetup, prepare
 from lagrangian.simulation.stepping import SolverIntegrator
+from lagrangian.simulation.switching import SwitchedDynamics, SwitchedIntegrator, has_switching
 from lagrangian.simulation.trajectory import Trajectory
 from lagrangian.simulation.unilateral import ActiveSetIntegrator, UnilateralDynamics
 from lagrangian.simulation.variational import DiscreteDynamics, VariationalIntegrator
@@ -173,5 +175,12 @@ def plan(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
             setup.system, numeric, p, options.gains, options.project_steps
         )
         return multipliers, SolverIntegrator()
+    if has_switching(eom) and all(order == 2 for order in eom.coordinate_orders.values()):
+        if options.backend == "numba":
+            raise SimulationInputError(
+                "backend: the numba loops do not locate where sign or Heaviside switch the "
+                "right-hand side — use backend='numpy' (the default)"
+            )
+        return SwitchedDynamics(eom, p), SwitchedIntegrator()
     compiled_loop = eom if options.backend == "numba" else None
     return FreeDynamics(setup.compiled, p), SolverIntegrator(compiled_loop)

@@ -111,7 +111,7 @@ class _Output:
 
     def stop(self, t: float, x: np.ndarray) -> None:
         """End the output at a terminal event: its time and state are the last row."""
-        if self.times is not None and t > self.t[-1]:
+        if self.times is not None and (not self.t or t > self.t[-1]):
             self.t.append(t)
             self.x.append(x)
 

@@ -45,6 +45,7 @@ from lagrangian.simulation.dynamics import INITIAL_TOLERANCE, MultiplierDynamics
 from lagrangian.simulation.events import EventFunction, EventWatch
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integration import Integration, Progress
+from lagrangian.simulation.pieces import continued_from, joined
 from lagrangian.simulation.stepping import SolverIntegrator
 
 #: How far below zero an inactive constraint's g may go before it counts as a re-contact.
@@ -192,8 +193,8 @@ class ActiveSetIntegrator:
             active.discard(event.index)
             if t_event >= t1:
                 break
-            current = _from(current, t_event, x_event)
-        return _joined(pieces)
+            current = continued_from(current, t_event, x_event)
+        return joined(pieces)
 
 
 def _pulling(
@@ -211,17 +212,6 @@ def _pulling(
 
 def _start(inputs: Inputs) -> tuple[float, np.ndarray]:
     return inputs.t_span[0], inputs.x0
-
-
-def _from(inputs: Inputs, t: float, x: np.ndarray) -> Inputs:
-    """The inputs of the next piece, from the state at t."""
-    t_out = inputs.t_out
-    return dataclasses.replace(
-        inputs,
-        x0=np.array(x, dtype=float),
-        t_span=(t, inputs.t_span[1]),
-        t_out=None if t_out is None else t_out[t_out >= t],
-    )
 
 
 def _with_multipliers(
@@ -256,37 +246,6 @@ def _recontact(
         "there"
     )
     return dataclasses.replace(run, failure=failure, stopped_by=None, t_reached=t, x_reached=x)
-
-
-def _joined(pieces: list[Integration]) -> Integration:
-    """The pieces end to end (a row repeated at a junction is kept once)."""
-    keep = [pieces[0]]
-    for piece in pieces[1:]:
-        last = keep[-1].t[-1] if len(keep[-1].t) else -np.inf
-        later = piece.t > last
-        keep.append(
-            dataclasses.replace(
-                piece,
-                t=piece.t[later],
-                x=piece.x[later],
-                multipliers=_rows(piece.multipliers, later),
-                constraint_residual=_rows(piece.constraint_residual, later),
-            )
-        )
-    final = pieces[-1]
-    return dataclasses.replace(
-        final,
-        t=np.concatenate([p.t for p in keep]),
-        x=np.concatenate([p.x for p in keep]),
-        events=tuple(event for p in pieces for event in p.events),
-        multipliers=np.concatenate([_rows(p.multipliers, None) for p in keep]),
-        constraint_residual=np.concatenate([_rows(p.constraint_residual, None) for p in keep]),
-    )
-
-
-def _rows(values: np.ndarray | None, mask: np.ndarray | None) -> np.ndarray:
-    assert values is not None  # every piece has them (_with_multipliers)
-    return values if mask is None else values[mask]
 
 
 def _bilateral(constraint: Constraint) -> Constraint:
