@@ -197,7 +197,32 @@ def main(argv: Sequence[str] | None = None) -> int:
         prefix = "internal error: " if internal else ""  # a bug: say so plainly
         sys.stderr.write(f"lagrangian: {prefix}{error}\n")
         return code
-    sys.stdout.write(output if output.endswith("\n") else output + "\n")
+    return write_output(output if output.endswith("\n") else output + "\n")
+
+
+#: Bytes written to standard output at a time (a closed pipe is noticed within one chunk).
+CHUNK = 1 << 16
+
+
+def write_output(text: str) -> int:
+    """Write ``text`` to standard output; a reader that closes the pipe early (``| head``) is
+    an error, said in one line: exit 1, never a success with the data silently lost."""
+    data = text.encode(sys.stdout.encoding or "utf-8", errors="replace")
+    written = 0
+    try:
+        sys.stdout.flush()
+        for start in range(0, len(data), CHUNK):
+            sys.stdout.buffer.write(data[start : start + CHUNK])
+            sys.stdout.buffer.flush()
+            written = min(len(data), start + CHUNK)
+    except BrokenPipeError:
+        # nothing more can reach the reader; keep Python's own flush at exit quiet
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        sys.stderr.write(
+            f"lagrangian: the output pipe was closed by its reader after at most {written} of "
+            f"{len(data)} bytes; write to a file with --out to keep all of it\n"
+        )
+        return FAILURE
     return OK
 
 

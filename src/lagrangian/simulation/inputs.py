@@ -24,6 +24,7 @@ import numpy as np
 from lagrangian.errors import Problem
 from lagrangian.model.symbols import name_of
 from lagrangian.numerics.compile import CompiledEquations
+from lagrangian.simulation.budget import DEFAULT_MAX_STEPS
 from lagrangian.simulation.methods import DEFAULT_METHOD, TABLE
 
 #: The tolerances of the adaptive methods when neither the call nor the System gives them.
@@ -44,6 +45,8 @@ class Inputs:
     atol: float
     dt: float | None
     max_step: float
+    max_steps: int = DEFAULT_MAX_STEPS
+    max_wall_time: float | None = None
 
 
 @dataclass(frozen=True)
@@ -90,6 +93,8 @@ def checked_inputs(
         max_step = _max_step(given.get("max_step"), problems)
     else:
         dt = _step(method.name, setting("dt"), t_out, problems)
+    max_steps, max_wall_time = _budget(given, problems)
+    _affordable(t_span, dt, max_step, max_steps, problems)
     inputs = Inputs(
         parameters=values,
         p=np.array([values[name] for name in compiled.parameters], dtype=float),
@@ -101,8 +106,57 @@ def checked_inputs(
         atol=atol,
         dt=dt,
         max_step=max_step,
+        max_steps=max_steps,
+        max_wall_time=max_wall_time,
     )
     return inputs, problems
+
+
+def _budget(given: Mapping[str, Any], problems: list[Problem]) -> tuple[int, float | None]:
+    """max_steps (a positive integer) and max_wall_time (positive seconds, or None)."""
+    max_steps = given.get("max_steps")
+    if max_steps is None:
+        max_steps = DEFAULT_MAX_STEPS
+    elif (
+        isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) or max_steps < 1
+    ):
+        problems.append(
+            Problem("max_steps", f"{max_steps!r} is not a positive integer", "pass e.g. 10**7")
+        )
+        max_steps = DEFAULT_MAX_STEPS
+    wall = given.get("max_wall_time")
+    if wall is not None:
+        wall = _positive("max_wall_time", wall, problems)
+    return int(max_steps), wall
+
+
+def _is_integer(value: Any) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+
+
+def _affordable(
+    t_span: tuple[float, float],
+    dt: float | None,
+    max_step: float,
+    max_steps: int,
+    problems: list[Problem],
+) -> None:
+    """Refuse a step so small that the run could not end within max_steps (dt = 1e-300 would
+    otherwise run for ever)."""
+    span = abs(t_span[1] - t_span[0])
+    for name, step in (("dt", dt), ("max_step", max_step)):
+        if step is None or not math.isfinite(step) or step <= 0:
+            continue
+        needed = span / step
+        if needed > max_steps:
+            problems.append(
+                Problem(
+                    name,
+                    f"{name}={step:g} needs {needed:.3g} steps over the time span, more than "
+                    f"max_steps={max_steps:,}",
+                    f"use a larger {name}, a shorter time span, or pass max_steps=",
+                )
+            )
 
 
 def parameter_values(

@@ -58,6 +58,10 @@ class StepKeywords(TypedDict, total=False):
         ``samples``.
     samples, t_eval:
         ``samples`` evenly spaced output times, or the output times ``t_eval``.
+    max_steps, max_wall_time:
+        The run's budget: at most ``max_steps`` accepted steps (default one million) and
+        ``max_wall_time`` seconds (default no limit); see
+        :mod:`lagrangian.simulation.budget`.
     """
 
     method: str
@@ -67,6 +71,8 @@ class StepKeywords(TypedDict, total=False):
     dt: float
     samples: int
     t_eval: ArrayLike
+    max_steps: int
+    max_wall_time: float
 
 
 def check_keywords(keywords: Mapping[str, Any], function: str) -> None:
@@ -225,6 +231,9 @@ def _backend(options: Options) -> list[Problem]:
     if options.events:
         fix = f"{_NUMPY_FIX}, or simulate_batch(..., stop_when=...)"
         problems.append(Problem("events", "the numba backend does not locate events", fix))
+    for name in sorted(options.given & {"max_steps", "max_wall_time"}):
+        message = f"the numba loops run to the end without a {name} budget"
+        problems.append(Problem(name, message, f"remove {name}=, or {_NUMPY_FIX}"))
     if options.constraints and options.driver == "simulate":
         message = "the numba backend does not integrate constrained systems"
         problems.append(Problem("constraints", message, _NUMPY_FIX))

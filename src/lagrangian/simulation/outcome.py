@@ -16,6 +16,8 @@ Without it the Trajectory is returned, with status ``"failed"`` or ``"interrupte
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from lagrangian.errors import SimulationError
@@ -57,7 +59,54 @@ def conclude(
 
 
 def trajectory_of(setup: RunSetup, motion: Motion, run: Integration) -> Trajectory:
-    """Every column of the Trajectory at the rows of ``run``."""
+    """Every column of the Trajectory at the rows of ``run``; a run whose state, energies,
+    multipliers or conserved quantities stop being finite numbers is cut at the first such row
+    and fails there, naming the quantity (never NaN or inf in a Trajectory)."""
+    trajectory = _columns(setup, motion, run)
+    found = first_non_finite(trajectory)
+    if found is None:
+        return trajectory
+    row, name = found
+    t_bad = float(run.t[row])
+    keep = slice(0, row)
+    cut = dataclasses.replace(
+        run,
+        t=run.t[keep],
+        x=run.x[keep],
+        multipliers=None if run.multipliers is None else run.multipliers[keep],
+        constraint_residual=(
+            None if run.constraint_residual is None else run.constraint_residual[keep]
+        ),
+        events=tuple(e for e in run.events if e[1] < t_bad),
+        stopped_by=None,
+        interrupted=False,
+        t_reached=t_bad,
+        x_reached=run.x[row],
+        failure=f"{name} is not a finite number at t = {t_bad:.6g} (the rows before it are kept)",
+    )
+    return _columns(setup, motion, cut)
+
+
+def first_non_finite(trajectory: Trajectory) -> tuple[int, str] | None:
+    """(first row, column name) where a column of ``trajectory`` is NaN or infinite, or None."""
+    first: tuple[int, str] | None = None
+    inactive = set(trajectory.multiplier_names)  # NaN is an inactive unilateral constraint
+    for name, values in trajectory.columns().items():
+        if name in inactive:
+            continue
+        bad = np.flatnonzero(~np.isfinite(np.asarray(values, dtype=float)))
+        if len(bad) and (first is None or bad[0] < first[0]):
+            first = (int(bad[0]), _quantity(name))
+    return first
+
+
+def _quantity(column: str) -> str:
+    return {"energy": "the energy E = T + V", "energy_function": "the energy function h"}.get(
+        column, column
+    )
+
+
+def _columns(setup: RunSetup, motion: Motion, run: Integration) -> Trajectory:
     compiled, inputs, eom = setup.compiled, setup.inputs, setup.eom
     n, p = len(compiled.coordinates), inputs.p
     t, x = run.t, run.x

@@ -94,7 +94,8 @@ def options_for(
     """The Options of a call, to be made (and checked) by the caller: the method given, else
     the System's, else the default; the step keywords given explicitly."""
     method = stepping.get("method") or fallbacks.settings.get("method") or DEFAULT_METHOD
-    given = frozenset(k for k in ("rtol", "atol", "max_step", "dt") if stepping.get(k) is not None)
+    steering = ("rtol", "atol", "max_step", "dt", "max_steps", "max_wall_time")
+    given = frozenset(k for k in steering if stepping.get(k) is not None)
     return lambda: Options(
         method=method,
         given=given,

@@ -24,6 +24,7 @@ from scipy.integrate import DenseOutput, OdeSolver
 
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationError
+from lagrangian.simulation.budget import Budget
 from lagrangian.simulation.compiled_run import integrate_compiled
 from lagrangian.simulation.events import EventWatch
 from lagrangian.simulation.inputs import Inputs
@@ -62,6 +63,7 @@ class SolverIntegrator:
                 watch,
                 progress,
                 dynamics.projection(),
+                Budget(inputs.method, inputs.max_steps, inputs.max_wall_time),
             )
 
 
@@ -128,6 +130,7 @@ def integrate(
     watch: EventWatch | None = None,
     progress: Progress | None = None,
     project: Callable[[float, np.ndarray], np.ndarray] | None = None,
+    budget: Budget | None = None,
 ) -> Integration:
     """Run the solver ``start()`` to its end, a terminal event, a failure or Ctrl-C.
 
@@ -136,8 +139,11 @@ def integrate(
     everything before them.  ``project`` (explicit Runge–Kutta solvers only: they keep no
     history but the last state and its derivative) moves every accepted step's state, and
     every output row, onto a manifold (coordinate projection, Hairer, Lubich & Wanner,
-    Geometric Numerical Integration IV.4).
+    Geometric Numerical Integration IV.4).  ``budget`` (default: the default step budget)
+    stops a run that takes too many steps or too long, or is stiff for an explicit method
+    (:mod:`lagrangian.simulation.budget`).
     """
+    budget = budget if budget is not None else Budget("")
     output = _Output(times, t0, x0)
     events: list[tuple[str, float, np.ndarray]] = []
     t_reached, x_reached, failure, stopped_by = t0, x0, None, None
@@ -147,7 +153,7 @@ def integrate(
         if watch is not None:
             watch.start(t0, x0)
         while solver.status == "running":
-            t_old = solver.t
+            t_old, y_old = solver.t, solver.y.copy()
             message = solver.step()
             if solver.status == "failed":
                 failure = message or "the solver failed"
@@ -155,6 +161,7 @@ def integrate(
             if not np.all(np.isfinite(solver.y)):
                 failure = "The state is no longer finite (the solution blew up)."
                 break
+            over_budget = budget.spend(solver, t_old, y_old, solver.t_bound)
             if project is not None:
                 solver.y = project(solver.t, solver.y)
                 solver.f = solver.fun(solver.t, solver.y)  # the next step starts from here
@@ -174,12 +181,25 @@ def integrate(
             if stopped_by is not None:
                 output.stop(t_stop, x_stop)
                 break
+            if over_budget is not None:
+                failure = over_budget
+                break
     except FAILURES as error:
         failure = str(error)
     except KeyboardInterrupt:  # Ctrl-C: keep what was computed, the caller decides
         interrupted = True
     t, x = output.arrays(len(x0))
-    return Integration(t, x, t_reached, x_reached, tuple(events), failure, interrupted, stopped_by)
+    return Integration(
+        t,
+        x,
+        t_reached,
+        x_reached,
+        tuple(events),
+        failure,
+        interrupted,
+        stopped_by,
+        note=budget.note(),
+    )
 
 
 def _projected(

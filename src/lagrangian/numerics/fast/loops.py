@@ -20,6 +20,7 @@ file only: after editing the helpers it calls (``dense.py``, ``rates.py``), dele
 
 from __future__ import annotations
 
+import pickle
 import warnings
 from functools import cache
 from typing import Any
@@ -90,9 +91,14 @@ def _arguments(kind: str) -> tuple[Any, ...]:
     return (*system, *run, _vector, _matrix, _CONFIG[kind])
 
 
+#: What numba raises reading a cache file that is cut short or garbled.
+CORRUPT_CACHE = (pickle.UnpicklingError, EOFError, ValueError, TypeError, AttributeError)
+
+
 def compile_cached(signature: Any, function: Any) -> Any:
     """``function`` compiled by numba for ``signature``, from the on-disk cache when there
-    is one; compiled in this process when no cache folder is writable."""
+    is one; compiled in this process when no cache folder is writable; compiled again and
+    cached anew when the cache is corrupt."""
     options: dict[str, Any] = {"nogil": True, "error_model": "numpy"}
     with warnings.catch_warnings():
         # first-class function values are what makes one loop serve every system
@@ -103,6 +109,9 @@ def compile_cached(signature: Any, function: Any) -> Any:
             if "cannot cache" not in str(error):
                 raise
             return njit(signature, cache=False, **options)(function)
+        except CORRUPT_CACHE:  # a cache file cut short (a full disk, a killed process)
+            njit(cache=True, **options)(function)._cache.flush()  # forget it, then rebuild
+            return njit(signature, cache=True, **options)(function)
 
 
 @cache

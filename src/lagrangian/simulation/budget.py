@@ -1,0 +1,119 @@
+"""How long a run may take: a step budget, a wall-time budget, and stiffness detection.
+
+A run that cannot end in reasonable time is stopped with a message that says why and what to
+change, keeping the rows computed so far:
+
+* ``max_steps`` (default :data:`DEFAULT_MAX_STEPS`) accepted steps, and ``max_wall_time``
+  seconds when given;
+* **stiffness on an explicit method.**  An explicit Runge–Kutta method on a stiff problem
+  takes steps as small as its stability region allows, however smooth the solution.  After
+  each step the dominant eigenvalue of the Jacobian is estimated from two stages at the same
+  time (the stage of the step's end, y_j, and the new state y1, Hairer & Wanner, *Solving
+  Ordinary Differential Equations II*, §IV.2, the test of DOPRI5 and DOP853):
+
+      h |lambda| ~ h ||f(y1) - f(y_j)|| / ||y1 - y_j||,
+
+  and the problem is stiff for the method when h |lambda| stays near the edge of its
+  stability region (3.3 for RK45, 6.1 for DOP853) for most of the recent steps.  A stiff
+  run that still needs more than :data:`STIFF_STEPS_LEFT` steps at its current step size is
+  stopped with the advice to use an implicit method (Radau, BDF, LSODA); a shorter one ends
+  normally, with the advice in its note.
+"""
+
+from __future__ import annotations
+
+import time
+from collections import deque
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import OdeSolver
+
+#: Accepted steps a run may take unless ``max_steps`` says otherwise (about a minute and a
+#: half of SciPy's Python stepping).
+DEFAULT_MAX_STEPS = 1_000_000
+#: A stiff run that still needs more steps than this at its current step size is stopped.
+STIFF_STEPS_LEFT = 100_000
+#: |h lambda| at the edge of each explicit method's stability region on the negative real axis.
+STABILITY_EDGE = {"RK45": 3.3, "DOP853": 6.1}
+#: The share of the last ``WINDOW`` steps near the edge that makes a run stiff.
+WINDOW, SHARE, NEAR = 50, 0.8, 0.85
+IMPLICIT_ADVICE = "use an implicit method: method='Radau' (or 'BDF', 'LSODA')"
+
+
+@dataclass
+class Budget:
+    """The budget of one run, checked after every accepted step."""
+
+    method: str
+    max_steps: int = DEFAULT_MAX_STEPS
+    max_wall_time: float | None = None
+    steps: int = 0
+    started: float = field(default_factory=time.monotonic)
+    stiff_since: float | None = None
+    _recent: deque[bool] = field(default_factory=lambda: deque(maxlen=WINDOW))
+
+    def spend(self, solver: OdeSolver, t_old: float, y_old: np.ndarray, t_end: float) -> str | None:
+        """Count the step just taken; the reason to stop, or None."""
+        self.steps += 1
+        self._watch_stiffness(solver, t_old, y_old)
+        if self.stiff_since is not None:
+            step = abs(solver.t - t_old)
+            if step > 0 and abs(t_end - solver.t) / step > STIFF_STEPS_LEFT:
+                return (
+                    f"the problem is stiff for {self.method} (since t = {self.stiff_since:.6g}, "
+                    f"steps of {step:.3g} held by stability, not accuracy): it would need more "
+                    f"than {STIFF_STEPS_LEFT:,} further steps — {IMPLICIT_ADVICE}"
+                )
+        if self.steps >= self.max_steps:
+            return (
+                f"the step budget max_steps={self.max_steps:,} is used up"
+                f"{self._stiff_hint()} — pass max_steps= to allow more steps"
+            )
+        if self.max_wall_time is not None and time.monotonic() - self.started > self.max_wall_time:
+            return (
+                f"the wall-time budget max_wall_time={self.max_wall_time:g} s is used up after "
+                f"{self.steps:,} steps{self._stiff_hint()} — pass a larger max_wall_time="
+            )
+        return None
+
+    def note(self) -> str:
+        """What a run that reached its end should say about stiffness ('' if nothing)."""
+        if self.stiff_since is None:
+            return ""
+        return (
+            f"The problem is stiff for {self.method} from t = {self.stiff_since:.6g}; "
+            f"an implicit method (Radau, BDF, LSODA) would take fewer steps."
+        )
+
+    def _stiff_hint(self) -> str:
+        return "" if self.stiff_since is None else f" (the problem is stiff: {IMPLICIT_ADVICE})"
+
+    def _watch_stiffness(self, solver: OdeSolver, t_old: float, y_old: np.ndarray) -> None:
+        edge = STABILITY_EDGE.get(self.method)
+        if edge is None or self.stiff_since is not None:
+            return
+        h_lambda = step_eigenvalue(solver, t_old, y_old)
+        if h_lambda is None:
+            return
+        self._recent.append(h_lambda > NEAR * edge)
+        if len(self._recent) == WINDOW and sum(self._recent) >= SHARE * WINDOW:
+            self.stiff_since = float(solver.t)
+
+
+def step_eigenvalue(solver: OdeSolver, t_old: float, y_old: np.ndarray) -> float | None:
+    """h ||f(y1) - f(y_j)|| / ||y1 - y_j|| for the last step of an explicit Runge–Kutta
+    solver of SciPy, y_j the stage with c_j = 1 (None for a solver without one)."""
+    c = getattr(solver, "C", None)
+    stages = getattr(solver, "K", None)
+    if c is None or stages is None:
+        return None
+    ends = [j for j in range(1, len(c)) if c[j] == 1.0]
+    if not ends:
+        return None
+    j, h = ends[0], solver.t - t_old
+    y_j = y_old + h * (solver.A[j, :j] @ stages[:j])
+    distance = float(np.linalg.norm(solver.y - y_j))
+    if distance == 0.0 or not np.isfinite(distance):
+        return None
+    return abs(h) * float(np.linalg.norm(stages[-1] - stages[j])) / distance

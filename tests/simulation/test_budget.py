@@ -1,0 +1,87 @@
+"""Runs that cannot end in reasonable time, or stop being finite, end with a reason and their
+rows: step and wall-time budgets, stiffness on an explicit method, steps too small to finish,
+NaN or inf in a column."""
+
+import numpy as np
+import pytest
+
+import lagrangian as lg
+from lagrangian.errors import SimulationError, SimulationInputError
+from lagrangian.io.load import loads
+
+VAN_DER_POL = """
+name: van der Pol oscillator
+coordinates: [x]
+parameters: {mu: 10000}
+kinetic: x_dot**2/2
+potential: x**2/2
+generalized_forces: {x: mu*(1 - x**2)*x_dot}
+initial: {x: 2, x_dot: 0}
+"""
+
+
+def test_a_stiff_problem_on_an_explicit_method_stops_with_the_advice():
+    system = loads(VAN_DER_POL)
+    with pytest.raises(SimulationError, match=r"stiff for RK45.*Radau"):
+        lg.simulate(system, t_span=3000.0)
+    kept = lg.simulate(system, t_span=3000.0, raise_on_failure=False)
+    assert kept.status == "failed" and len(kept.t) > 1
+    assert np.all(np.isfinite(kept.q))
+    # the implicit method the message names does the run (van der Pol's relaxation period
+    # is about (3 - 2 ln 2) mu = 1.61e4 for large mu, so x stays on the slow branch near 2)
+    done = lg.simulate(system, t_span=3000.0, method="Radau")
+    assert done.success and 1.0 < done["x"][-1] < 2.0
+
+
+def test_a_long_smooth_run_is_not_taken_for_stiff():
+    pendulum = lg.examples.simple_pendulum()
+    run = lg.simulate(pendulum, {"theta": 1.0}, 2000.0, method="DOP853", rtol=1e-10)
+    assert run.success and "stiff" not in run.message
+    run = lg.simulate(pendulum, {"theta": 1.0}, 300.0, method="RK45")
+    assert run.success and "stiff" not in run.message
+
+
+def test_the_step_budget_and_the_wall_time_budget():
+    pendulum = lg.examples.simple_pendulum()
+    with pytest.raises(SimulationError, match="max_steps=50 is used up"):
+        lg.simulate(pendulum, {"theta": 1.0}, 100.0, max_steps=50)
+    kept = lg.simulate(pendulum, {"theta": 1.0}, 100.0, max_steps=50, raise_on_failure=False)
+    assert kept.status == "failed" and 0 < kept.t[-1] < 100.0 and "max_steps=50" in kept.message
+    with pytest.raises(SimulationError, match="wall-time budget"):
+        lg.simulate(pendulum, {"theta": 1.0}, 1000.0, max_wall_time=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("keywords", "field"),
+    [
+        ({"method": "RK4", "dt": 1e-300}, "dt"),
+        ({"max_step": 1e-300}, "max_step"),
+        ({"max_steps": "many"}, "max_steps"),
+        ({"max_steps": 0}, "max_steps"),
+        ({"max_wall_time": -1.0}, "max_wall_time"),
+    ],
+)
+def test_budgets_that_cannot_work_are_refused_before_the_run(keywords, field):
+    with pytest.raises(SimulationInputError, match=field):
+        lg.simulate(lg.examples.simple_pendulum(), {"theta": 1.0}, 10.0, **keywords)
+
+
+def test_the_numba_loops_refuse_a_budget():
+    pytest.importorskip("numba")
+    with pytest.raises(SimulationInputError, match="max_steps"):
+        lg.simulate(
+            lg.examples.simple_pendulum(), {"theta": 1.0}, 1.0, backend="numba", max_steps=10
+        )
+
+
+def test_a_column_that_stops_being_finite_ends_the_run_there():
+    # exp(-x**2) underflows to 0 once x > 27, and log(0) makes the energy infinite
+    system = loads(
+        "name: overflow\ncoordinates: [x]\nparameters: {m: 1}\nkinetic: m*x_dot**2/2\n"
+        "potential: x**2 + log(exp(-x**2))\n"
+    )
+    with pytest.raises(SimulationError, match="energy E = T \\+ V is not a finite number"):
+        lg.simulate(system, {"x": 0.0, "x_dot": 100.0}, 1.0, samples=101)
+    kept = lg.simulate(system, {"x": 0.0, "x_dot": 100.0}, 1.0, samples=101, raise_on_failure=False)
+    assert kept.status == "failed"
+    assert np.all(np.isfinite(kept.energy)) and 0.25 < kept.t[-1] < 0.3
