@@ -85,3 +85,17 @@ def test_a_column_that_stops_being_finite_ends_the_run_there():
     kept = lg.simulate(system, {"x": 0.0, "x_dot": 100.0}, 1.0, samples=101, raise_on_failure=False)
     assert kept.status == "failed"
     assert np.all(np.isfinite(kept.energy)) and 0.25 < kept.t[-1] < 0.3
+
+
+def test_a_collapsed_step_size_stops_the_run_at_the_singularity():
+    # a particle falling from rest at x = 1 into -k/x hits x = 0 at t = pi / (2 sqrt(2 k/m));
+    # LSODA creeps towards it at ever smaller steps instead of failing
+    system = loads(
+        "name: fall\ncoordinates: [x]\nparameters: {m: 1, k: 1}\nkinetic: m*x_dot**2/2\n"
+        "potential: -k/x\n"
+    )
+    kept = lg.simulate(
+        system, {"x": 1.0, "x_dot": 0.0}, 3.0, method="LSODA", raise_on_failure=False
+    )
+    assert kept.status == "failed" and "collapsed" in kept.message
+    assert kept.t[-1] == pytest.approx(np.pi / (2 * np.sqrt(2)), rel=1e-6)

@@ -17,7 +17,10 @@ change, keeping the rows computed so far:
   stability region (3.3 for RK45, 6.1 for DOP853) for most of the recent steps.  A stiff
   run that still needs more than :data:`STIFF_STEPS_LEFT` steps at its current step size is
   stopped with the advice to use an implicit method (Radau, BDF, LSODA); a shorter one ends
-  normally, with the advice in its note.
+  normally, with the advice in its note;
+* a **collapsed step size** (the last :data:`COLLAPSE_STEPS` steps advanced t by less than
+  :data:`COLLAPSE` of the time span) stops the run: an integrator creeping at 1e-12 per step
+  at a singularity would otherwise fill the memory before its step budget is spent.
 """
 
 from __future__ import annotations
@@ -38,6 +41,9 @@ STIFF_STEPS_LEFT = 100_000
 STABILITY_EDGE = {"RK45": 3.3, "DOP853": 6.1}
 #: The share of the last ``WINDOW`` steps near the edge that makes a run stiff.
 WINDOW, SHARE, NEAR = 50, 0.8, 0.85
+#: A run whose last COLLAPSE_STEPS steps advanced t by less than COLLAPSE of the time span
+#: has a collapsed step size (LSODA creeping at 1e-12 per step, for ever).
+COLLAPSE_STEPS, COLLAPSE = 10_000, 1e-9
 IMPLICIT_ADVICE = "use an implicit method: method='Radau' (or 'BDF', 'LSODA')"
 
 
@@ -48,15 +54,27 @@ class Budget:
     method: str
     max_steps: int = DEFAULT_MAX_STEPS
     max_wall_time: float | None = None
+    start: float = 0.0  # t0 of the run
     steps: int = 0
     started: float = field(default_factory=time.monotonic)
     stiff_since: float | None = None
     _recent: deque[bool] = field(default_factory=lambda: deque(maxlen=WINDOW))
+    _times: deque[float] = field(default_factory=lambda: deque(maxlen=COLLAPSE_STEPS))
 
     def spend(self, solver: OdeSolver, t_old: float, y_old: np.ndarray, t_end: float) -> str | None:
         """Count the step just taken; the reason to stop, or None."""
         self.steps += 1
         self._watch_stiffness(solver, t_old, y_old)
+        self._times.append(float(solver.t))
+        if len(self._times) == COLLAPSE_STEPS:
+            advanced = abs(self._times[-1] - self._times[0])
+            if advanced <= COLLAPSE * max(abs(t_end - self.start), abs(solver.t), 1e-300):
+                return (
+                    f"the step size collapsed: the last {COLLAPSE_STEPS:,} steps advanced t by "
+                    f"{advanced:.3g} near t = {solver.t:.6g} — the equations may be singular "
+                    "there (a collision, a blow-up, a mass matrix losing rank) or stiff; "
+                    f"check the model near that state, or {IMPLICIT_ADVICE}"
+                )
         if self.stiff_since is not None:
             step = abs(solver.t - t_old)
             if step > 0 and abs(t_end - solver.t) / step > STIFF_STEPS_LEFT:

@@ -63,7 +63,9 @@ class SolverIntegrator:
                 watch,
                 progress,
                 dynamics.projection(),
-                Budget(inputs.method, inputs.max_steps, inputs.max_wall_time),
+                Budget(
+                    inputs.method, inputs.max_steps, inputs.max_wall_time, start=inputs.t_span[0]
+                ),
             )
 
 
@@ -143,7 +145,7 @@ def integrate(
     stops a run that takes too many steps or too long, or is stiff for an explicit method
     (:mod:`lagrangian.simulation.budget`).
     """
-    budget = budget if budget is not None else Budget("")
+    budget = budget if budget is not None else Budget("", start=t0)
     output = _Output(times, t0, x0)
     events: list[tuple[str, float, np.ndarray]] = []
     t_reached, x_reached, failure, stopped_by = t0, x0, None, None
