@@ -71,3 +71,23 @@ def test_the_report_lists_steady_motions_when_the_constraints_turn() -> None:
 def test_constraints_that_do_not_move_have_no_steady_motion_family() -> None:
     with pytest.raises(AnalysisError, match="no family of steady motions"):
         steady_motions(cs.pendulum())
+
+
+def test_equilibrium_search_is_bounded_and_says_what_it_did_not_search():
+    # degree-6 static equations in three unknowns: Groebner bases take hours, so the search
+    # is numeric (seconds), and every root found is a root
+    import lagrangian as lg
+    from lagrangian.analysis.equilibria import equilibria
+    from lagrangian.io.load import loads
+
+    system = loads(
+        "name: degree seven\ncoordinates: [x, y, z]\nparameters: {m: 1}\n"
+        "kinetic: m*(x_dot**2 + y_dot**2 + z_dot**2)/2\n"
+        "potential: x**7 + y**7 + z**7 - 3*x*y*z**4 + x**2*y**3 - y*z + x**3 - 2*x*y\n"
+    )
+    found = equilibria(system)
+    assert found.method == "numeric"
+    static = lg.derive(system).gravity
+    for e in found:
+        assert max(abs(float(g.subs(e.state))) for g in static) < 1e-9
+    assert any(all(abs(float(v)) < 1e-12 for v in e.state.values()) for e in found)  # origin

@@ -18,6 +18,7 @@ import sympy as sp
 
 from lagrangian.analysis.arguments import evaluate, frozen
 from lagrangian.analysis.roots import (
+    SEARCH_SECONDS,
     branch_condition,
     mixes_functions,
     numeric_roots,
@@ -28,6 +29,7 @@ from lagrangian.errors import AnalysisError
 
 SYMBOLIC_LIMIT = 400  # count_ops of the static equations beyond which solve is not tried
 UNWIELDY = 80  # count_ops of a root beyond which it is reported as a number
+BEZOUT_LIMIT = 16  # roots (Bezout's bound) of a polynomial system beyond which solve is not tried
 
 
 @dataclass(frozen=True)
@@ -78,7 +80,7 @@ def _symbolic(static: sp.MatrixBase, unknowns: list[sp.Symbol], most: int = 3) -
     equations = [e for e in static if e != 0]
     if len(unknowns) > most or sum(sp.count_ops(e) for e in equations) > SYMBOLIC_LIMIT:
         return None
-    if mixes_functions(equations, unknowns):
+    if mixes_functions(equations, unknowns) or _many_roots(equations, unknowns):
         return None
     # Factored first, so sympy.solve sees each branch (sin(theta) (R omega^2 cos(theta) - g)).
     equations = [sp.factor(e) for e in equations]
@@ -87,6 +89,21 @@ def _symbolic(static: sp.MatrixBase, unknowns: list[sp.Symbol], most: int = 3) -
     except (NotImplementedError, ValueError, TypeError):
         return None
     return solutions
+
+
+def _many_roots(equations: list[sp.Expr], unknowns: list[sp.Symbol]) -> bool:
+    """A polynomial system in several unknowns with more than ``BEZOUT_LIMIT`` roots by
+    Bezout's bound (the product of the degrees): sympy.solve's Groebner bases take minutes to
+    hours there (degree 6 in three unknowns), the numeric search seconds."""
+    if len(unknowns) < 2:
+        return False
+    bound = 1
+    for e in equations:
+        try:
+            bound *= max(1, sp.Poly(e, *unknowns).total_degree())
+        except sp.PolynomialError:
+            return False
+    return bound > BEZOUT_LIMIT
 
 
 def _unwieldy(solution: Mapping[sp.Symbol, sp.Expr]) -> bool:
@@ -178,8 +195,15 @@ def solve_static(
         names = ", ".join(sorted(s.name for s in missing))
         return None, "none", f"sympy.solve failed and {names} have no values to search with"
     angles = periodic_coordinates(unknowns, static)
-    roots = numeric_roots(numeric, unknowns, angles, starts() if starts else None)
-    return roots, "numeric", "sympy.nsolve from several starting points at the parameter values"
+    tried: list[int] = []
+    roots = numeric_roots(numeric, unknowns, angles, starts() if starts else None, tried=tried)
+    reason = "sympy.nsolve from several starting points at the parameter values"
+    if tried and tried[0] < tried[1]:
+        reason += (
+            f" (the search's {SEARCH_SECONDS:g} s ran out after {tried[0]} of {tried[1]} "
+            "starting points: equilibria near the others were not searched)"
+        )
+    return roots, "numeric", reason
 
 
 def no_rest(static: sp.ImmutableMatrix, reason: str) -> Equilibria:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import random
+import time
 from collections.abc import Mapping, Sequence
 
 import sympy as sp
@@ -25,6 +26,8 @@ from lagrangian.model.nonsmooth import NONSMOOTH
 
 STARTS = 24
 TOLERANCE = 1e-8
+#: Seconds the numeric search may take; the starting points not tried by then are reported.
+SEARCH_SECONDS = 5.0
 
 
 def _only_in_trig(expr: sp.Basic, q: sp.Symbol) -> bool:
@@ -144,10 +147,13 @@ def numeric_roots(
     unknowns: Sequence[sp.Symbol],
     angles: Sequence[sp.Symbol],
     starts: Sequence[Sequence[float]] | None = None,
+    seconds: float = SEARCH_SECONDS,
+    tried: list[int] | None = None,
 ) -> list[dict]:
     """Distinct roots found by sympy.nsolve from several starting points (``starts``, or
     random ones), angles wrapped into (-pi, pi], round-off below 1e-12 of the largest
-    entry set to 0, sorted."""
+    entry set to 0, sorted.  No new start is tried after ``seconds``; ``tried``, when
+    given, receives (starts tried, starts there were)."""
     system = [e for e in equations if e != 0]
     if len(system) != len(unknowns) or set().union(*[e.free_symbols for e in system]) - set(
         unknowns
@@ -156,7 +162,13 @@ def numeric_roots(
     if any(e.has(*NONSMOOTH) for e in system):  # Newton's method needs the derivatives
         return []
     found: list[dict] = []
-    for start in starts if starts is not None else _starts(unknowns, angles):
+    points = list(starts) if starts is not None else _starts(unknowns, angles)
+    deadline = time.monotonic() + seconds
+    count = 0
+    for start in points:
+        if time.monotonic() > deadline:
+            break
+        count += 1
         try:
             root = sp.nsolve(system, list(unknowns), list(start), prec=20)
         except (ValueError, ZeroDivisionError, TypeError):
@@ -171,4 +183,6 @@ def numeric_roots(
             values[q] = sp.Float(number, 15)
         if not any(_same(values, other) for other in found):
             found.append(values)
+    if tried is not None:
+        tried.extend((count, len(points)))
     return sorted(found, key=lambda s: [float(s[q]) for q in unknowns])

@@ -124,7 +124,9 @@ def analysis_text(report: AnalysisReport) -> str:
     lines += _section("Energy function", _energy_lines(report))
     lines += _section("Hamiltonian", _hamiltonian_lines(report))
     if report.equilibria is not None:
-        found = [_equilibrium_line(e) for e in report.equilibria] or [report.equilibria.reason]
+        found = [_equilibrium_line(e) for e in report.equilibria]
+        if report.equilibria.method == "numeric" or not found:
+            found.append(f"({report.equilibria.reason})")  # how far the search went
         lines += _section("Equilibria", found)
     if report.steady_motions is not None:
         steady = report.steady_motions
