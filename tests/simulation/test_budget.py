@@ -59,6 +59,10 @@ def test_the_step_budget_and_the_wall_time_budget():
         ({"max_steps": "many"}, "max_steps"),
         ({"max_steps": 0}, "max_steps"),
         ({"max_wall_time": -1.0}, "max_wall_time"),
+        ({"samples": 10**12}, "samples"),  # refused before numpy allocates anything
+        ({"samples": 2**70}, "samples"),
+        ({"samples": 30_000_000}, "GiB"),  # the memory estimate of the rows
+        ({"rtol": 1e-300}, "rtol"),  # SciPy would clip it with a warning only
     ],
 )
 def test_budgets_that_cannot_work_are_refused_before_the_run(keywords, field):

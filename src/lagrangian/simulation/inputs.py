@@ -95,6 +95,8 @@ def checked_inputs(
         dt = _step(method.name, setting("dt"), t_out, problems)
     max_steps, max_wall_time = _budget(given, problems)
     _affordable(t_span, dt, max_step, max_steps, problems)
+    _honoured(rtol, problems)
+    _fits_in_memory(t_out, len(x0), problems)
     inputs = Inputs(
         parameters=values,
         p=np.array([values[name] for name in compiled.parameters], dtype=float),
@@ -128,6 +130,36 @@ def _budget(given: Mapping[str, Any], problems: list[Problem]) -> tuple[int, flo
     if wall is not None:
         wall = _positive("max_wall_time", wall, problems)
     return int(max_steps), wall
+
+
+#: The smallest rtol SciPy's solvers honour (below it they clip it with a warning).
+SMALLEST_RTOL = 100 * float(np.finfo(float).eps)
+#: The memory the output rows of one run may take (the states, velocities, energies and
+#: their working copies, about four numbers per state variable and row).
+OUTPUT_BYTES = 2 * 1024**3
+
+
+def _honoured(rtol: float, problems: list[Problem]) -> None:
+    if 0 < rtol < SMALLEST_RTOL:
+        message = (
+            f"rtol={rtol:g} is below {SMALLEST_RTOL:.2g}, the smallest relative tolerance the "
+            "solvers honour (100 times the machine epsilon)"
+        )
+        problems.append(Problem("rtol", message, f"pass rtol >= {SMALLEST_RTOL:.2g}"))
+
+
+def _fits_in_memory(t_out: np.ndarray | None, size: int, problems: list[Problem]) -> None:
+    """Refuse output times whose rows would not fit in :data:`OUTPUT_BYTES` (checked before
+    anything is allocated but the times themselves)."""
+    if t_out is None:
+        return
+    needed = len(t_out) * (4 * size + 4) * 8
+    if needed > OUTPUT_BYTES:
+        message = (
+            f"{len(t_out):,} output rows would take about {needed / 1024**3:.1f} GiB, more than "
+            f"the {OUTPUT_BYTES / 1024**3:g} GiB a run may use"
+        )
+        problems.append(Problem("samples", message, "ask for fewer samples or output times"))
 
 
 def _is_integer(value: Any) -> bool:
@@ -232,6 +264,10 @@ def time_span(given: Any, t_end: Any, problems: list[Problem]) -> tuple[float, f
     return (t0, t1)
 
 
+#: The most output times a run may ask for (refused before any is allocated).
+MAX_SAMPLES = 50_000_000
+
+
 def output_times(
     t_span: tuple[float, float], samples: Any, t_eval: Any, problems: list[Problem]
 ) -> np.ndarray | None:
@@ -242,6 +278,10 @@ def output_times(
     if samples is not None:
         if not isinstance(samples, (int, np.integer)) or samples < 2:
             problems.append(Problem("samples", f"{samples!r} is not an integer >= 2"))
+            return None
+        if samples > MAX_SAMPLES:
+            message = f"{samples:,} samples are more than the {MAX_SAMPLES:,} a run may write"
+            problems.append(Problem("samples", message, "ask for fewer samples"))
             return None
         return np.linspace(*t_span, int(samples))
     if t_eval is not None:
