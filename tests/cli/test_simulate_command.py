@@ -104,7 +104,7 @@ def test_ctrl_c_before_the_integration_writes_nothing(
 @pytest.mark.parametrize(
     ("option", "name", "message"),
     [
-        ("--plot", "picture.jpg", "is not a .png file"),
+        ("--plot", "picture.jpg", "is not a .png, .pdf or .svg file"),
         ("--animate", "movie.avi", "no animation format .avi"),
         ("--animate", "movie", "no animation format (none)"),
     ],

@@ -235,7 +235,7 @@ def interrupted(message: str) -> NoReturn:
 
 
 #: The output formats of --plot and --animate.
-PLOT_SUFFIXES = (".png",)
+PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 ANIMATION_SUFFIXES = (".gif", ".html", ".mp4")
 
 
@@ -248,7 +248,13 @@ def check_outputs(out: str, plot: str | None, animate: str | None) -> None:
             raise FileNotFoundError(errno.ENOENT, os.strerror(errno.ENOENT), path)
     problems = []
     if plot is not None and Path(plot).suffix not in PLOT_SUFFIXES:
-        problems.append(Problem("--plot", f"{plot!r} is not a .png file", "name it FILE.png"))
+        problems.append(
+            Problem(
+                "--plot",
+                f"{plot!r} is not a .png, .pdf or .svg file",
+                "name it FILE.png, FILE.pdf or FILE.svg",
+            )
+        )
     suffix = Path(animate).suffix if animate is not None else None
     if suffix is not None and suffix not in ANIMATION_SUFFIXES:
         problems.append(

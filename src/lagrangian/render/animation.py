@@ -4,7 +4,8 @@ GIF, MP4 (when ffmpeg is installed) or HTML, and shown in Jupyter.
 What is drawn: every particle and body centre as a dot, with a fading trail; a rod between
 consecutive points (the origin, then the points in order) whose distance never changes — the
 pendulum's rods, found from the positions themselves (|r_b - r_a|^2 free of the coordinates);
-springs and dampers as lines between their points.
+springs and dampers as lines between their points.  A system with nothing that moves in space
+(a circuit) is shown as gauges of its coordinates and rates (:mod:`lagrangian.render.gauges`).
 
 >>> import lagrangian as lg
 >>> system = lg.examples.simple_pendulum()
@@ -26,6 +27,7 @@ import sympy as sp
 
 from lagrangian.model import System
 from lagrangian.numerics.points import PointPositions, compile_points
+from lagrangian.render.gauges import gauge_scene
 from lagrangian.simulation.trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -94,10 +96,12 @@ def _scene(
     3-D systems are drawn with a 3-D axes, others in the plane."""
     from matplotlib.figure import Figure
 
+    chosen = _frames(trajectory, frames)
+    if not [name for name in system.points() if name != "origin"]:
+        return gauge_scene(system, trajectory, chosen)  # a circuit: nothing moves in space
     points = compile_points(system)
     positions = _positions(system, trajectory, points)
     links = _links(system)
-    chosen = _frames(trajectory, frames)
     three_d = points.dimension == 3
     figure = Figure(figsize=(5, 5))
     axes: Any = figure.add_subplot(projection="3d" if three_d else None)
@@ -136,7 +140,7 @@ def _scene(
                 ]
             )
             _set(line, [ends[:, k] for k in range(dims)], three_d)
-        clock.set_text(f"t = {trajectory.t[frame]:.2f}")
+        clock.set_text(f"t = {trajectory.t[frame]:.3g}")  # a 5 ms run is not t = 0.00
         return [*dots, *trails, *link_lines, clock]
 
     return figure, draw, chosen

@@ -98,10 +98,20 @@ def overview(trajectory: Trajectory, coordinate: str | None = None) -> Figure:
 def save_plots(
     trajectory: Trajectory, path: str | os.PathLike[str], coordinate: str | None = None
 ) -> Path:
-    """:func:`overview` as a PNG file; returns the path written."""
+    """:func:`overview` as a picture in the format of the file's suffix (one of
+    :data:`PLOT_FORMATS`: PNG, or the vector formats PDF and SVG for papers); returns the path
+    written."""
     target = Path(path)
-    overview(trajectory, coordinate).savefig(target, format="png", dpi=100)
+    picture = target.suffix.lower().lstrip(".")
+    if picture not in PLOT_FORMATS:
+        known = ", ".join("." + f for f in PLOT_FORMATS)
+        raise ValueError(f"{str(target)!r}: plots are written as {known}, not {target.suffix!r}")
+    overview(trajectory, coordinate).savefig(target, format=picture, dpi=100)
     return target
+
+
+#: The picture formats of :func:`save_plots`.
+PLOT_FORMATS = ("png", "pdf", "svg")
 
 
 def overview_png(trajectory: Trajectory) -> bytes:
