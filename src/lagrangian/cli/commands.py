@@ -20,7 +20,13 @@ from lagrangian.analysis.manifold import require_on_manifold
 from lagrangian.cli.progress import progress_bar
 from lagrangian.constraints import ConstrainedEquations, constrained_equations
 from lagrangian.derivation import derive
-from lagrangian.errors import ModelError, Problem, SimulationError, SimulationInputError
+from lagrangian.errors import (
+    ModelError,
+    Problem,
+    SimulationError,
+    SimulationInputError,
+    raise_if_problems,
+)
 from lagrangian.io import load
 from lagrangian.model import System
 from lagrangian.numerics.export import export
@@ -199,6 +205,7 @@ def simulate_command(
     settings: Sequence[str],
     animate: str | None = None,
     progress: bool = False,
+    phase: str | None = None,
 ) -> str:
     """Simulate; the CSV of docs/architecture.md goes to ``out`` (``-``: returned for standard
     output), then the plot, then the animation, each file written atomically.  The file
@@ -208,6 +215,7 @@ def simulate_command(
     check_outputs(out, plot, animate)
     try:
         system = apply_settings(load_system(reference), settings)
+        check_phase(system, phase, plot)
         given = {key: value for key, value in options.items() if value is not None}
         t_end = given.pop("t_end", None)
         end = t_end if t_end is not None else system.simulation.get("t_end", 0.0)
@@ -218,9 +226,23 @@ def simulate_command(
             )
         except SimulationInputError as error:
             raise in_command_line_words(error) from None
-        return write_simulation(system, trajectory, out, plot, animate)
+        return write_simulation(system, trajectory, out, plot, animate, phase)
     except KeyboardInterrupt:  # before or after the integration: no file half written
         interrupted("Interrupted (Ctrl-C); files not finished were not written.")
+
+
+def check_phase(system: System, phase: str | None, plot: str | None) -> None:
+    """Refuse, before simulating, a --phase that is not a coordinate or comes without --plot."""
+    if phase is None:
+        return
+    names = [q.name for q in system.coordinates]
+    problems = []
+    if phase not in names:
+        fix = "name one of " + ", ".join(names)
+        problems.append(Problem("--phase", f"{phase!r} is not a coordinate", fix))
+    if plot is None:
+        problems.append(Problem("--phase", "the phase portrait is part of --plot", "add --plot"))
+    raise_if_problems(problems, "Cannot simulate", SimulationInputError)
 
 
 #: The exit code of a command stopped by Ctrl-C: 128 + SIGINT, as shells report it.
@@ -283,7 +305,12 @@ def _ffmpeg_available() -> bool:
 
 
 def write_simulation(
-    system: System, trajectory: Trajectory, out: str, plot: str | None, animate: str | None
+    system: System,
+    trajectory: Trajectory,
+    out: str,
+    plot: str | None,
+    animate: str | None,
+    phase: str | None = None,
 ) -> str:
     """Write the CSV, then the plot and the animation of a run that reached its end; the
     CSV alone of one that did not, and raise saying where it stopped."""
@@ -303,7 +330,7 @@ def write_simulation(
     messages = [f"{len(trajectory.t)} samples written to {out}; {trajectory.drift_summary()}"]
     if plot:
         with written_atomically(plot) as temporary:
-            save_plots(trajectory, temporary)
+            save_plots(trajectory, temporary, phase)
         messages.append(f"plot written to {plot}")
     if animate:
         with written_atomically(animate) as temporary:
@@ -325,6 +352,10 @@ _FLAGS = {
     "rtol": "--rtol",
     "atol": "--atol",
     "samples": "--samples",
+    "dt": "--dt",
+    "max_steps": "--max-steps",
+    "max_wall_time": "--max-wall-time",
+    "project_initial": "--project-initial",
 }
 
 
@@ -332,6 +363,8 @@ _FLAGS = {
 _PHRASES = (
     (" or t_span=(t0, T)", ""),
     ("give the System simulation={'t_end': T}", "give the model simulate: {t_end: T}"),
+    (" with lagrangian.constraints.project_state, or pass", ": pass"),
+    ("project_initial=True", "--project-initial"),
 )
 
 

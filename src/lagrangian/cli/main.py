@@ -159,12 +159,29 @@ def build_parser() -> argparse.ArgumentParser:
         "lagrangian simulate examples/double_pendulum --t-end 10 --out traj.csv --plot traj.png",
     )
     simulate.add_argument("--t-end", type=float, help="end time (default: the model's)")
-    simulate.add_argument("--method", help="RK45, RK23, DOP853, Radau, BDF, LSODA or RK4")
+    simulate.add_argument("--method", help=f"one of {method_names()} (default RK45)")
     simulate.add_argument("--rtol", type=float, help="relative tolerance")
     simulate.add_argument("--atol", type=float, help="absolute tolerance")
+    simulate.add_argument("--dt", type=float, help="the step of a fixed-step method")
     simulate.add_argument("--samples", type=int, help="number of evenly spaced output times")
+    simulate.add_argument(
+        "--max-steps", type=int, help="stop after this many steps (default 1,000,000)"
+    )
+    simulate.add_argument(
+        "--max-wall-time", type=float, metavar="SECONDS", help="stop after this many seconds"
+    )
+    simulate.add_argument(
+        "--project-initial",
+        action="store_true",
+        help="move an initial state that violates the constraints onto them",
+    )
+    simulate.add_argument(
+        "--phase", metavar="NAME", help="the coordinate of the plot's phase portrait"
+    )
     simulate.add_argument("--out", default="-", help="CSV file, or - for standard output")
-    simulate.add_argument("--plot", help="write time series, phase portrait and energy (PNG)")
+    simulate.add_argument(
+        "--plot", help="write time series, phase portrait and energy (.png, .pdf or .svg)"
+    )
     simulate.add_argument(
         "--animate", metavar="FILE", help="write an animation: .gif, .html, or .mp4 (needs ffmpeg)"
     )
@@ -182,6 +199,13 @@ def build_parser() -> argparse.ArgumentParser:
     examples.add_argument("name", nargs="?", help="an example to describe")
     _debug_option(examples)
     return parser
+
+
+def method_names() -> str:
+    """The simulation methods, from the one table of them (imports no SciPy)."""
+    from lagrangian.simulation.methods import TABLE
+
+    return ", ".join(TABLE)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -250,6 +274,10 @@ def run(args: argparse.Namespace) -> str:
             "rtol": args.rtol,
             "atol": args.atol,
             "samples": args.samples,
+            "dt": args.dt,
+            "max_steps": args.max_steps,
+            "max_wall_time": args.max_wall_time,
+            "project_initial": args.project_initial or None,
         }
         return commands.simulate_command(
             args.model,
@@ -259,6 +287,7 @@ def run(args: argparse.Namespace) -> str:
             settings=args.set,
             animate=args.animate,
             progress=args.progress,
+            phase=args.phase,
         )
     if args.command == "export":
         return commands.export_command(
