@@ -301,14 +301,16 @@ class _Formatter:
 def test_register_adds_latex_formatters(
     monkeypatch: pytest.MonkeyPatch, pendulum: lg.EquationsOfMotion
 ) -> None:
-    formatter, pictures = _Formatter(), _Formatter()
+    run = lg.simulate(lg.examples.mass_spring_damper(), t_span=1.0, samples=5)
+    formatter, pictures, pages = _Formatter(), _Formatter(), _Formatter()
     shell = types.SimpleNamespace(
         display_formatter=types.SimpleNamespace(
-            formatters={"text/latex": formatter, "image/png": pictures}
+            formatters={"text/latex": formatter, "image/png": pictures, "text/html": pages}
         )
     )
     fake = types.ModuleType("IPython")
     fake.get_ipython = lambda: shell  # type: ignore[attr-defined]
+    fake.version_info = (8, 30)  # type: ignore[attr-defined]  (matplotlib's canvas asks)
     monkeypatch.setitem(sys.modules, "IPython", fake)
     assert render.register() is True
     printers = formatter.printers
@@ -317,6 +319,7 @@ def test_register_adds_latex_formatters(
     assert set(printers) == {
         lg.EquationsOfMotion,
         lg.CoordinateSteps,
+        type(pendulum.steps),
         lg.System,
         lg.analysis.AnalysisReport,
         *RESULT_TYPES,
@@ -327,6 +330,12 @@ def test_register_adds_latex_formatters(
     assert equations.startswith(r"$$\begin{aligned}") and equations.endswith(r"\end{aligned}$$")
     assert r"\ddot{\theta}" in equations
     assert r"\partial L" in printers[lg.CoordinateSteps](pendulum.steps[0])
+    assert r"\partial L" in printers[type(pendulum.steps)](pendulum.steps)
+    (drift_table,) = pages.printers.values()
+    table = drift_table(run.drift())
+    assert (
+        table.startswith("<table>") and "energy_not_conserved" in table and "dissipation" in table
+    )
     assert "simple" in printers[lg.System](lg.examples.simple_pendulum())
     trajectory = lg.simulate(lg.examples.simple_pendulum(), t_span=1.0, samples=20)
     assert pictures.printers[lg.Trajectory](trajectory).startswith(b"\x89PNG")

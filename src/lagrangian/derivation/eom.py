@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagrangian.derivation.solved import explicit_solution, mass_matrix_is_regular
-from lagrangian.derivation.steps import CoordinateSteps, coordinate_steps
+from lagrangian.derivation.steps import Steps, coordinate_steps
 from lagrangian.derivation.terms import coriolis_matrix
 from lagrangian.errors import DerivationError
 from lagrangian.model import System
@@ -104,7 +104,7 @@ class EquationsOfMotion:
         return mass_matrix_is_regular(self)
 
     @property
-    def steps(self) -> tuple[CoordinateSteps, ...]:
+    def steps(self) -> Steps:
         """The derivation for each coordinate of :attr:`system`, step by step as by hand."""
         return coordinate_steps(self.system)
 

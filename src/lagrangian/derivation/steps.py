@@ -38,10 +38,17 @@ class CoordinateSteps:
         return self.dL_dvelocity
 
 
-_STEPS: IdentityCache[System, tuple[CoordinateSteps, ...]] = IdentityCache()
+class Steps(tuple[CoordinateSteps, ...]):
+    """The steps of every coordinate, in order: a tuple (after ``lg.render.register()``,
+    or ``%load_ext lagrangian``, Jupyter typesets it)."""
+
+    __slots__ = ()
 
 
-def coordinate_steps(system: System) -> tuple[CoordinateSteps, ...]:
+_STEPS: IdentityCache[System, Steps] = IdentityCache()
+
+
+def coordinate_steps(system: System) -> Steps:
     """The steps of every coordinate of ``system``, in order (computed once per System).
 
     >>> import lagrangian as lg
@@ -52,7 +59,7 @@ def coordinate_steps(system: System) -> tuple[CoordinateSteps, ...]:
     return _STEPS.get(system, _differentiate_lagrangian)
 
 
-def _differentiate_lagrangian(system: System) -> tuple[CoordinateSteps, ...]:
+def _differentiate_lagrangian(system: System) -> Steps:
     terms = euler_lagrange_terms(system)
     asm, sympy = terms.assembly, terms.sympy
     lagrangian = terms.kinetic.kinetic_energy - asm.potential - asm.velocity_potential
@@ -75,4 +82,4 @@ def _differentiate_lagrangian(system: System) -> tuple[CoordinateSteps, ...]:
                 equation=sympy(rate - slope + friction - asm.applied[j]),
             )
         )
-    return tuple(result)
+    return Steps(result)

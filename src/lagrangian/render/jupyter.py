@@ -13,11 +13,13 @@ True
 
 from __future__ import annotations
 
+import html
 from dataclasses import dataclass
 from typing import Any
 
 from lagrangian.analysis import AnalysisReport
 from lagrangian.derivation import CoordinateSteps, EquationsOfMotion
+from lagrangian.derivation.steps import Steps
 from lagrangian.model import System
 from lagrangian.render.analysis_latex import RESULT_TYPES, analysis_latex, result_latex
 from lagrangian.render.latex import (
@@ -27,7 +29,7 @@ from lagrangian.render.latex import (
     system_latex,
 )
 from lagrangian.render.plots import overview_png
-from lagrangian.simulation.trajectory import Trajectory
+from lagrangian.simulation.trajectory import Drift, Trajectory
 
 # MathJax 3 and KaTeX refuse align* inside $$...$$ ("erroneous nesting"); aligned works.
 _NESTED = "aligned"
@@ -63,6 +65,20 @@ def _coordinate_steps_latex(steps: CoordinateSteps) -> str:
     return Latex(coordinate_steps_latex(steps, environment=_NESTED))._repr_latex_()
 
 
+def _every_steps_latex(steps: Steps) -> str:
+    return "\n".join(_coordinate_steps_latex(one) for one in steps)
+
+
+def drift_html(drift: Drift) -> str:
+    """The drift report as an HTML table: each quantity, its drift or why it has none."""
+    rows = []
+    for key, value in drift.items():
+        shown = f"{value:.3g}" if isinstance(value, float) else html.escape(str(value))
+        rows.append(f"<tr><td>{html.escape(key)}</td><td>{shown}</td></tr>")
+    head = "<tr><th>quantity</th><th>drift, or why it has none</th></tr>"
+    return f"<table>{head}{''.join(rows)}</table>"
+
+
 def _system_latex(system: System) -> str:
     return Latex(system_latex(system, environment=_NESTED))._repr_latex_()
 
@@ -79,9 +95,10 @@ def _result_latex(result: object) -> str | None:
 
 
 def register(shell: Any = None) -> bool:
-    """Register 'text/latex' formatters for EquationsOfMotion, CoordinateSteps, System,
-    AnalysisReport and the analysis results, and an 'image/png' one for Trajectory (time
-    series, phase portrait, energy drift), in ``shell`` (the running IPython when None).
+    """Register 'text/latex' formatters for EquationsOfMotion, CoordinateSteps (and the
+    ``eom.steps`` of every coordinate), System, AnalysisReport and the analysis results, an
+    'image/png' one for Trajectory (time series, phase portrait, energy drift) and a
+    'text/html' table for ``Trajectory.drift()``, in ``shell`` (the running IPython when None).
     Importing lagrangian registers nothing: call this, or ``%load_ext lagrangian``.
     Animations display with ``IPython.display.HTML(animation_html(system, trajectory))``.
 
@@ -101,9 +118,11 @@ def register(shell: Any = None) -> bool:
     formatter = shell.display_formatter.formatters["text/latex"]
     formatter.for_type(EquationsOfMotion, _eom_latex)
     formatter.for_type(CoordinateSteps, _coordinate_steps_latex)
+    formatter.for_type(Steps, _every_steps_latex)
     formatter.for_type(System, _system_latex)
     formatter.for_type(AnalysisReport, _analysis_latex)
     for kind in RESULT_TYPES:
         formatter.for_type(kind, _result_latex)
     shell.display_formatter.formatters["image/png"].for_type(Trajectory, overview_png)
+    shell.display_formatter.formatters["text/html"].for_type(Drift, drift_html)
     return True
