@@ -126,10 +126,10 @@ def test_options_are_a_frozen_record_checked_at_construction() -> None:
 
 
 def test_the_method_table_is_the_one_list_of_names() -> None:
-    assert set(METHODS) | {"variational"} == set(TABLE)
+    assert set(METHODS) | {"variational", "gauss4", "gauss6"} == set(TABLE)
     assert names_where("compiled") == ("RK45", "DOP853", "RK4")
     assert names_where("explicit") == ("RK45", "RK23", "DOP853", "RK4")
-    assert names_where("takes_step") == ("RK4", "variational")
+    assert names_where("takes_step") == ("RK4", "variational", "gauss4", "gauss6")
     assert "did you mean 'variational'" in suggest_method("Variational")
 
 

@@ -11,10 +11,16 @@ derivative needs the Hessian blocks L_qq, L_qv, L_vv there.  The forces that are
     Q = generalized_forces - dF/dq_dot       (applied forces, forces at points, dissipation),
 
 enter the discrete Lagrange-d'Alembert principle with their Jacobians Q_q, Q_v; holonomic
-constraints h(q, t) = 0 with A = dh/dq and dh/dt.
+constraints h(q, t) = 0 with A = dh/dq, dh/dt and the Hessians d2h_j/dq2 (the collocation
+integrators evaluate A at stages that move with the unknowns).
 
 * :func:`compile_lagrangian` — L, L_q, L_v (for the discrete action of Hamilton's principle);
-* :func:`compile_discrete_mechanics` — everything the variational integrator evaluates.
+* :func:`compile_discrete_mechanics` — everything the variational integrators evaluate, as
+  NumPy functions, and the same terms as expressions (:class:`DiscreteTerms`) for the
+  compiled loops of :mod:`lagrangian.numerics.fast.discrete`.
+
+The Newton iterations that solve the discrete equations, in NumPy or compiled, share one set
+of tolerances: :data:`MAX_ITERATIONS`, :data:`SMALL_CORRECTION`, :data:`RESIDUAL_GUARD`.
 
 >>> import numpy as np, lagrangian as lg
 >>> eom = lg.derive(lg.examples.simple_pendulum())
@@ -37,6 +43,15 @@ from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationInputError
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
+
+#: Newton iterations allowed per solve of the discrete equations.
+MAX_ITERATIONS = 25
+#: A Newton correction below this fraction of the size of the unknowns ends the iteration:
+#: the error after it is of its square (quadratic convergence), below rounding.
+SMALL_CORRECTION = 1e-8
+#: The residual accepted after the last correction, relative to the size of its terms (a
+#: guard against a correction that converged to nonsense).
+RESIDUAL_GUARD = 1e-8
 
 
 @dataclass(frozen=True)
@@ -69,6 +84,24 @@ def _compile_lagrangian(eom: EquationsOfMotion) -> LagrangianFunctions:
 
 
 @dataclass(frozen=True)
+class DiscreteTerms:
+    """The expressions behind :class:`DiscreteMechanics`, for compilers other than NumPy's.
+
+    ``midpoint`` (3n + 5n^2 terms: L_q, L_v, Q, then L_qq, L_qv, L_vv, Q_q, Q_v row by row)
+    and ``legendre`` (L_v, L_vv) are functions of [q, v, t, p]; ``constraints`` (h, A row by
+    row, dh/dt, then the Hessian of each h_j row by row: m(2 + n + n^2) terms) of [q, t, p].
+    """
+
+    coordinates: tuple[sp.Symbol, ...]
+    velocities: tuple[sp.Symbol, ...]
+    time: sp.Symbol
+    parameters: tuple[sp.Symbol, ...]
+    midpoint: tuple[sp.Expr, ...]
+    legendre: tuple[sp.Expr, ...]
+    constraints: tuple[sp.Expr, ...]
+
+
+@dataclass(frozen=True)
 class DiscreteMechanics:
     """NumPy functions of one system for the variational integrator (one state at a time).
 
@@ -83,6 +116,8 @@ class DiscreteMechanics:
     legendre_linear:
         Whether L_vv does not depend on the velocities (L quadratic in them), so that the
         Legendre map p = L_v(q, v, t) is affine in v and one Newton step inverts it.
+    terms:
+        The same functions as expressions.
     """
 
     coordinates: tuple[str, ...]
@@ -90,6 +125,7 @@ class DiscreteMechanics:
     constraint_count: int
     forced: bool
     legendre_linear: bool
+    terms: DiscreteTerms = field(repr=False, compare=False)
     _midpoint: NumericFunction = field(repr=False)
     _legendre: NumericFunction = field(repr=False)
     _constraints: NumericFunction = field(repr=False)
@@ -119,7 +155,15 @@ class DiscreteMechanics:
         if m == 0:
             return np.zeros(0), np.zeros((0, n)), np.zeros(0)
         values = np.array(self._constraints.raw(q, t, p), dtype=float)
-        return values[:m], values[m : m + m * n].reshape(m, n), values[m + m * n :]
+        return values[:m], values[m : m + m * n].reshape(m, n), values[m + m * n : 2 * m + m * n]
+
+    def constraint_hessians(self, q: np.ndarray, t: float, p: np.ndarray) -> np.ndarray:
+        """d2h_j/dq_a dq_b at (q, t), shape (m, n, n)."""
+        n, m = len(self.coordinates), self.constraint_count
+        if m == 0:
+            return np.zeros((0, n, n))
+        values = np.array(self._constraints.raw(q, t, p), dtype=float)
+        return values[2 * m + m * n :].reshape(m, n, n)
 
     def residuals(
         self, q: np.ndarray, v: np.ndarray, t: float, p: np.ndarray
@@ -165,19 +209,25 @@ def _compile_mechanics(
         *_jacobian(forces, q),
         *_jacobian(forces, v),
     ]
+    A = _jacobian(list(constraints), q)
     constraint_terms = [
         *constraints,
-        *_jacobian(list(constraints), q),
+        *A,
         *(sp.diff(h, t) for h in constraints),
+        *_jacobian(A, q),  # row (j, a), column b: d2h_j/dq_a dq_b
     ]
+    terms = DiscreteTerms(
+        tuple(q), tuple(v), t, tuple(p), tuple(midpoint), (*L_v, *L_vv), tuple(constraint_terms)
+    )
     return DiscreteMechanics(
         coordinates=tuple(s.name for s in q),
         parameters=tuple(s.name for s in p),
         constraint_count=len(constraints),
         forced=any(f != 0 for f in forces),
         legendre_linear=not any(e.free_symbols & set(v) for e in L_vv),
+        terms=terms,
         _midpoint=NumericFunction((q, v, t, p), midpoint, (len(midpoint),)),
-        _legendre=NumericFunction((q, v, t, p), [*L_v, *L_vv], (len(q) * (len(q) + 1),)),
+        _legendre=NumericFunction((q, v, t, p), terms.legendre, (len(q) * (len(q) + 1),)),
         _constraints=NumericFunction((q, t, p), constraint_terms, (len(constraint_terms),)),
     )
 

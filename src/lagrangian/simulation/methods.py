@@ -4,13 +4,16 @@ every driver (which options apply, which backend runs a method, which may be pro
 * adaptive: SciPy's ``solve_ivp`` methods, the step chosen from ``rtol``, ``atol`` and
   bounded by ``max_step``;
 * fixed: the classical RK4 (:mod:`lagrangian.simulation.rk4`), step ``dt``;
-* variational: the midpoint-rule variational integrator
-  (:mod:`lagrangian.simulation.variational`), step ``dt``.
+* variational: the variational integrators, step ``dt``: the midpoint rule
+  (``variational``, :mod:`lagrangian.simulation.variational`) and the symplectic collocation
+  methods of order 4 and 6 (``gauss4``, ``gauss6``, :mod:`lagrangian.simulation.collocation`).
 
 >>> method_named("DOP853").stepping, method_named("RK4").takes_tolerances
 ('adaptive', False)
 >>> METHODS
 ('RK45', 'RK23', 'DOP853', 'Radau', 'BDF', 'LSODA', 'RK4')
+>>> names_where("variational")
+('variational', 'gauss4', 'gauss6')
 """
 
 from __future__ import annotations
@@ -31,7 +34,7 @@ class Method:
 
     ``stepping`` is ``"adaptive"`` (tolerances), ``"fixed"`` (``dt``) or ``"variational"``
     (``dt``, a discrete Lagrangian instead of a vector field); ``solver`` the
-    ``module:Class`` of its SciPy ``OdeSolver`` (empty for the variational one);
+    ``module:Class`` of its SciPy ``OdeSolver`` (empty for the variational ones);
     ``explicit`` whether it is an explicit Runge–Kutta method, which carries nothing but its
     last state from step to step, so that state may be projected onto constraints;
     ``compiled`` whether the numba backend runs it.
@@ -52,6 +55,12 @@ class Method:
     def takes_step(self) -> bool:
         """Whether it steps by ``dt`` (the fixed-step and variational methods)."""
         return self.stepping != "adaptive"
+
+    @property
+    def variational(self) -> bool:
+        """Whether it is a variational integrator (the discrete equations of motion of
+        :mod:`lagrangian.simulation.variational`, not a vector field)."""
+        return self.stepping == "variational"
 
     @property
     def takes_events(self) -> bool:
@@ -80,6 +89,8 @@ TABLE = MappingProxyType(
             Method("LSODA", "adaptive", f"{_SCIPY}:LSODA", explicit=False, compiled=False),
             Method("RK4", "fixed", "lagrangian.simulation.rk4:RK4", explicit=True, compiled=True),
             Method("variational", "variational", "", explicit=False, compiled=False),
+            Method("gauss4", "variational", "", explicit=False, compiled=False),
+            Method("gauss6", "variational", "", explicit=False, compiled=False),
         )
     }
 )
@@ -87,7 +98,7 @@ TABLE = MappingProxyType(
 DEFAULT_METHOD = "RK45"
 #: The methods that integrate the state equations dx/dt = f(t, x) (all but the variational).
 METHODS = tuple(name for name, method in TABLE.items() if method.solver)
-#: The variational integrator's name.
+#: The midpoint-rule variational integrator's name.
 VARIATIONAL = "variational"
 
 
@@ -98,7 +109,8 @@ def method_named(name: str) -> Method:
 
 def names_where(condition: str) -> tuple[str, ...]:
     """The names of the methods with the true attribute ``condition`` (``"explicit"``,
-    ``"compiled"``, ``"takes_tolerances"``, ``"takes_step"``), as the messages list them."""
+    ``"compiled"``, ``"takes_tolerances"``, ``"takes_step"``, ``"variational"``), as the
+    messages list them."""
     return tuple(name for name, method in TABLE.items() if getattr(method, condition))
 
 

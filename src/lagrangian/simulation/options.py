@@ -34,7 +34,6 @@ from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, labe
 from lagrangian.simulation.methods import (
     DEFAULT_METHOD,
     TABLE,
-    VARIATIONAL,
     Method,
     names_where,
     suggest_method,
@@ -188,8 +187,8 @@ def _baumgarte(options: Options) -> list[Problem]:
     if not options.constraints:
         message = "baumgarte stabilizes constraints, and this system has none"
         return [Problem("baumgarte", message, "remove baumgarte=")]
-    if options.method == VARIATIONAL:
-        message = "method='variational' holds the constraints exactly at every step"
+    if options.spec.variational:
+        message = f"method={options.method!r} holds the constraints exactly at every step"
         return [Problem("baumgarte", message, "remove baumgarte=, or choose another method")]
     return []
 
@@ -223,6 +222,12 @@ def _backend(options: Options) -> list[Problem]:
         return [Problem("backend", message, "backends: 'numpy' (the default), 'numba'")]
     if options.backend != "numba":
         return []
+    if options.spec.variational:
+        message = (
+            f"method={options.method!r} runs on compiled loops whenever numba is installed; "
+            "backend='numba' chooses them for the solve_ivp methods"
+        )
+        return [Problem("backend", message, "remove backend='numba'")]
     problems = []
     if not options.spec.compiled:
         message = f"the numba backend has no method {options.method!r}"
@@ -251,23 +256,24 @@ def _numba_installed() -> list[Problem]:
 
 
 def _variational(options: Options) -> list[Problem]:
-    if options.method != VARIATIONAL:
+    """The variational integrators (midpoint rule, collocation) step a regular Lagrangian
+    with holonomic constraints, and locate no events."""
+    if not options.spec.variational:
         return []
-    problems = []
+    problems, named = [], f"method={options.method!r}"
     if options.events:
-        message = "method='variational' does not locate events yet"
+        message = f"{named} does not locate events yet"
         problems.append(Problem("events", message, "use another method with events="))
     if not options.inertia:
         message = (
-            "method='variational' needs every coordinate to have inertia (a regular "
-            "Legendre map p = dL/dq_dot)"
+            f"{named} needs every coordinate to have inertia (a regular Legendre map p = dL/dq_dot)"
         )
         problems.append(Problem("method", message, "use another method"))
     for i, constraint in enumerate(options.constraints):
         if not isinstance(constraint, Holonomic):
             message = (
                 f"the {constraint.kind} constraint {statement(constraint)} is not holonomic; "
-                "method='variational' holds holonomic constraints h(q, t) = 0 only"
+                f"{named} holds holonomic constraints h(q, t) = 0 only"
             )
             fix = "use another method (RK45, DOP853, ...): it integrates the multiplier form"
             problems.append(Problem(label(i, constraint), message, fix))
@@ -285,7 +291,7 @@ def _formulation(options: Options) -> list[Problem]:
             message = "simulate_batch does not integrate constrained systems"
             problems.append(Problem("constraints", message, "call simulate for each member"))
         return problems
-    if options.constraints and not options.inertia and options.method != VARIATIONAL:
+    if options.constraints and not options.inertia and not options.spec.variational:
         message = (
             "simulating constraints with first-order coordinates (no inertia) is not "
             "supported: every coordinate needs a velocity in the state"

@@ -34,7 +34,6 @@ from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics
 from lagrangian.simulation.dynamics import FreeDynamics, MultiplierDynamics
 from lagrangian.simulation.events import EventFunction, EventWatch
 from lagrangian.simulation.integration import Integrator, Motion
-from lagrangian.simulation.methods import VARIATIONAL
 from lagrangian.simulation.options import StepKeywords, check_keywords
 from lagrangian.simulation.outcome import conclude
 from lagrangian.simulation.setup import RunSetup, prepare
@@ -84,7 +83,10 @@ def simulate(
         (fixed step ``dt``: the symplectic midpoint-rule integrator of
         :mod:`lagrangian.simulation.variational`, with applied forces, dissipation and
         holonomic constraints held exactly at every step; on a conservative system the energy
-        error stays bounded instead of drifting).  The names are those of
+        error stays bounded instead of drifting), or ``gauss4``, ``gauss6`` (fixed step ``dt``:
+        the symplectic Gauss–Legendre collocation of order 4 and 6, Lobatto IIIA–IIIB with
+        holonomic constraints, :mod:`lagrangian.simulation.collocation`; these three run
+        compiled when numba is installed).  The names are those of
         :data:`lagrangian.simulation.methods.TABLE`.
     rtol, atol, max_step:
         Tolerances (default 1e-8, 1e-10) and largest step of the adaptive methods (refused
@@ -104,7 +106,8 @@ def simulate(
         :class:`~lagrangian.simulation.outcome.SimulationInterrupted` (a KeyboardInterrupt
         holding that Trajectory).
     progress:
-        Called with the time reached after every accepted step (for a progress bar).
+        Called with the time reached after every accepted step (for a progress bar; the
+        compiled variational loops call it at least every 1% of the run).
     baumgarte:
         With constraints: Baumgarte's (alpha, beta) stabilization of the constraint drift
         (default off); see :mod:`lagrangian.simulation.dynamics`.
@@ -162,10 +165,11 @@ def plan(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
     options, eom, p = setup.options, setup.eom, setup.inputs.p
     constraints = setup.system.constraints
     names = tuple(s.name for s in multiplier_symbols(len(constraints)))
-    if options.method == VARIATIONAL:
+    if options.spec.variational:
         expressions = [c.expression for c in constraints]
         mechanics = compile_discrete_mechanics(eom, expressions)
-        return DiscreteDynamics(setup.system, mechanics, p, names), VariationalIntegrator()
+        discrete = DiscreteDynamics(setup.system, mechanics, p, names)
+        return discrete, VariationalIntegrator(options.method)
     if options.unilateral:
         dynamics = UnilateralDynamics(setup.system, eom, p, options.gains, names)
         return dynamics, ActiveSetIntegrator()

@@ -96,7 +96,7 @@ def march(
                 jacobian, rate, h = position.jacobian, position.rate, position.h
                 slope = (position.q - q) / dt
                 velocity = velocity_step(
-                    mechanics, position.q, momentum, t0 + dt, dt, p, jacobian, rate, slope
+                    mechanics, position.q, momentum, t0 + dt, dt / 2, p, jacobian, rate, slope
                 )
                 v, mu_steps[k], momentum = velocity.v, velocity.multipliers, velocity.momentum
                 evaluations += velocity.evaluations

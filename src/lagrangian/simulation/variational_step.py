@@ -33,7 +33,7 @@ bordered by dt/2 A(q0)^T and A(q1); that of the velocity equations is [[L_vv, -d
 >>> p, no_rows = np.array([1.0, 9.81, 1.0]), np.zeros((0, 1))
 >>> position = position_step(mechanics, np.array([0.0]), np.array([1.0]), 0.0, 0.01, p,
 ...                          no_rows, np.array([0.01]), np.zeros(0))
->>> velocity = velocity_step(mechanics, position.q, position.momentum, 0.01, 0.01, p,
+>>> velocity = velocity_step(mechanics, position.q, position.momentum, 0.01, 0.005, p,
 ...                          no_rows, np.zeros(0), np.array([1.0]))
 >>> round(float(position.q[0]), 6), round(float(velocity.v[0]), 4)  # exact 0.009998, 0.9995
 (0.009998, 0.9995)
@@ -47,16 +47,12 @@ import numpy as np
 from scipy.linalg.lapack import dgesv
 
 from lagrangian.errors import SimulationError
-from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics
-
-#: Newton iterations allowed per equation solve.
-MAX_ITERATIONS = 25
-#: A Newton correction below this fraction of the size of q (or v) ends the iteration: the
-#: error after it is of its square (quadratic convergence), below rounding.
-SMALL_CORRECTION = 1e-8
-#: The residual accepted after the last correction, relative to the size of its terms (a
-#: guard against a correction that converged to nonsense).
-RESIDUAL_GUARD = 1e-8
+from lagrangian.numerics.discrete_lagrangian import (
+    MAX_ITERATIONS,
+    RESIDUAL_GUARD,
+    SMALL_CORRECTION,
+    DiscreteMechanics,
+)
 
 
 class PositionSolution(NamedTuple):
@@ -115,17 +111,14 @@ def position_step(
         force = dt / 2 * (L_q + Q)
         impulse = matrix[:n, n:] @ lam
         momentum_rows = p0 + force - L_v + impulse
-        if small and _acceptable(momentum_rows, (p0, force, L_v, impulse), h, a1, q1, q0):
+        if small and acceptable(momentum_rows, (p0, force, L_v, impulse), h, a1, q1, q0):
             return PositionSolution(q1, lam, force + L_v, h, a1, rate, iteration + 1)
         matrix[:n, :n] = dt / 4 * (L_qq + Q_q) + (L_qv - L_qv.T + Q_v) / 2 - L_vv / dt
         matrix[n:, :n] = a1
-        correction = _solve(matrix, np.concatenate((momentum_rows, h)), "position")
+        correction = solve_correction(matrix, np.concatenate((momentum_rows, h)), "position")
         z = z - correction
-        small = _small(correction[:n], q1, q0)
-    raise SimulationError(
-        f"Newton's method for the discrete Euler-Lagrange equations did not converge in "
-        f"{MAX_ITERATIONS} iterations from t = {t0:.6g}: try a smaller dt"
-    )
+        small = small_correction(correction[:n], q1, q0)
+    raise SimulationError(not_converged("position", t0))
 
 
 def velocity_step(
@@ -133,18 +126,20 @@ def velocity_step(
     q1: np.ndarray,
     momentum: np.ndarray,
     t1: float,
-    dt: float,
+    weight: float,
     parameters: np.ndarray,
     jacobian1: np.ndarray,
     rate1: np.ndarray,
     v: np.ndarray,
 ) -> VelocitySolution:
-    """Solve dL/dq_dot(q1, v1, t1) = momentum + dt/2 A1^T mu, A1 v1 + dh/dt = 0 for (v1, mu)
-    from the guess ``v``; ``jacobian1``, ``rate1`` are A and dh/dt at (q1, t1).  With no
-    constraints this inverts the Legendre map.  Raises SimulationError when it fails."""
+    """Solve dL/dq_dot(q1, v1, t1) = momentum + weight A1^T mu, A1 v1 + dh/dt = 0 for
+    (v1, mu) from the guess ``v``; ``weight`` is the share of the step's constraint impulse
+    at its end (dt/2 for the midpoint rule), ``jacobian1``, ``rate1`` are A and dh/dt at
+    (q1, t1).  With no constraints this inverts the Legendre map.  Raises SimulationError
+    when it fails."""
     n, m = len(q1), len(rate1)
     matrix = np.zeros((n + m, n + m))
-    matrix[:n, n:], matrix[n:, :n] = -dt / 2 * jacobian1.T, jacobian1
+    matrix[:n, n:], matrix[n:, :n] = -weight * jacobian1.T, jacobian1
     z = np.concatenate((v, np.zeros(m)))
     small = False
     for iteration in range(MAX_ITERATIONS + 1):
@@ -152,41 +147,59 @@ def velocity_step(
         L_v, L_vv = mechanics.legendre(q1, v, t1, parameters)
         impulse = matrix[:n, n:] @ mu
         momentum_rows = L_v - momentum + impulse
-        if small and _acceptable(momentum_rows, (L_v, momentum), np.zeros(0), jacobian1, v, v):
+        if small and acceptable(momentum_rows, (L_v, momentum), np.zeros(0), jacobian1, v, v):
             return VelocitySolution(v, mu, momentum - impulse, iteration + 1)
         matrix[:n, :n] = L_vv
         residual = np.concatenate((momentum_rows, jacobian1 @ v + rate1))
-        correction = _solve(matrix, residual, "velocity")
+        correction = solve_correction(matrix, residual, "velocity")
         z = z - correction
         if mechanics.legendre_linear:  # the equations are linear in (v1, mu): solved exactly
             return VelocitySolution(z[:n], z[n:], momentum - matrix[:n, n:] @ z[n:], 1)
-        small = _small(correction[:n], z[:n], v)
-    raise SimulationError(
-        f"Newton's method for the velocity at t = {t1:.6g} from the discrete momentum (the "
-        f"Legendre map) did not converge in {MAX_ITERATIONS} iterations: try a smaller dt"
+        small = small_correction(correction[:n], z[:n], v)
+    raise SimulationError(not_converged("velocity", t1))
+
+
+def not_converged(which: str, t: float) -> str:
+    """The message of a Newton iteration that did not converge: of the ``"position"``
+    equations of the step from t, or of the ``"velocity"`` (the Legendre map) at t."""
+    if which == "velocity":
+        return (
+            f"Newton's method for the velocity at t = {t:.6g} from the discrete momentum (the "
+            f"Legendre map) did not converge in {MAX_ITERATIONS} iterations: try a smaller dt"
+        )
+    return (
+        f"Newton's method for the discrete Euler-Lagrange equations did not converge in "
+        f"{MAX_ITERATIONS} iterations from t = {t:.6g}: try a smaller dt"
     )
 
 
-def _solve(matrix: np.ndarray, residual: np.ndarray, which: str) -> np.ndarray:
-    """matrix^-1 residual by LAPACK's dgesv (a fifth of numpy.linalg.solve's overhead)."""
+def singular(which: str) -> str:
+    """The message of a singular Jacobian of the ``"position"`` or ``"velocity"``
+    equations."""
+    return (
+        f"the Jacobian of the discrete {which} equations is singular (a coordinate "
+        "singularity, dependent constraints, or a coordinate without inertia); try a "
+        "smaller dt"
+    )
+
+
+def solve_correction(matrix: np.ndarray, residual: np.ndarray, which: str) -> np.ndarray:
+    """matrix^-1 residual by LAPACK's dgesv (a fifth of numpy.linalg.solve's overhead);
+    SimulationError (:func:`singular`) when the matrix is singular."""
     *_, solution, info = dgesv(matrix, residual)
     if info != 0 or not np.isfinite(solution).all():
-        raise SimulationError(
-            f"the Jacobian of the discrete {which} equations is singular (a coordinate "
-            "singularity, dependent constraints, or a coordinate without inertia); try a "
-            "smaller dt"
-        )
+        raise SimulationError(singular(which))
     return solution
 
 
-def _small(correction: np.ndarray, q1: np.ndarray, q0: np.ndarray) -> bool:
+def small_correction(correction: np.ndarray, q1: np.ndarray, q0: np.ndarray) -> bool:
     """Whether a Newton correction of q1 is below SMALL_CORRECTION of the size of q1 and of
     its change from q0 (False for NaN)."""
     size = max(np.abs(q1).max(), np.abs(q1 - q0).max())
     return bool(np.abs(correction).max() <= SMALL_CORRECTION * (size or 1.0))
 
 
-def _acceptable(
+def acceptable(
     momentum_rows: np.ndarray,
     terms: tuple[np.ndarray, ...],
     h: np.ndarray,

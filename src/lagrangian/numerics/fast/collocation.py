@@ -1,0 +1,268 @@
+"""The collocation integrators (Gauss–Legendre, the Lobatto IIIA–IIIB pair) compiled: a chunk
+of steps in one call.
+
+The stage equations and their Newton iteration are those of
+:mod:`lagrangian.simulation.collocation_step` (unknowns the stage velocities V_i and the
+scaled multipliers h Lambda_1..h Lambda_{s-1}; the momenta at every stage and the
+constraints at stages 2..s divided by h), the march that of
+:mod:`lagrangian.simulation.collocation_march`; the tableau arrives as arrays
+``(a, a_hat, b, c)``.  This module is imported only when numba is installed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from lagrangian.numerics.discrete_lagrangian import (
+    MAX_ITERATIONS,
+    RESIDUAL_GUARD,
+    SMALL_CORRECTION,
+)
+from lagrangian.numerics.fast.midpoint import record
+from lagrangian.numerics.fast.newton import (
+    FINISHED,
+    OK,
+    POSITION_DIVERGED,
+    POSITION_SINGULAR,
+    RUNNING,
+    bind,
+    call,
+    evaluate_constraints,
+    largest,
+    solve,
+    velocity_step,
+    within,
+)
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def evaluate_stages(system, tableau, q0, t0, dt, V, stages):
+    """The terms at the stages Q_i = q0 + dt sum_j a_ij V_j, t_i = t0 + c_i dt into ``stages``
+    = (Q, F = L_q + Q_f, L_v, L_qv, L_qv + Q_v, L_vv, L_qq + Q_q, h, A, Hessians, dh/dt)."""
+    a, c = tableau[0], tableau[3]
+    Q, F, L_v, L_qv, F_v, L_vv, K, h, A, H, rate = stages
+    s, n = V.shape
+    size = n * n
+    for i in range(s):
+        for b in range(n):
+            total = 0.0
+            for j in range(s):
+                total += a[i, j] * V[j, b]
+            Q[i, b] = q0[b] + dt * total
+        t = t0 + c[i] * dt
+        values = call(system[0], Q[i], V[i], t)
+        for b in range(n):
+            F[i, b] = values[b] + values[2 * n + b]
+            L_v[i, b] = values[n + b]
+        base = 3 * n
+        for e in range(size):
+            row, col = e // n, e % n
+            K[i, row, col] = values[base + e] + values[base + 3 * size + e]
+            L_qv[i, row, col] = values[base + size + e]
+            F_v[i, row, col] = values[base + size + e] + values[base + 4 * size + e]
+            L_vv[i, row, col] = values[base + 2 * size + e]
+        evaluate_constraints(system, Q[i], t, h[i], A[i], rate[i], H[i])
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def stage_residual(tableau, p0, dt, lam, stages, forces, rhs):
+    """The momentum rows and the scaled constraint rows into ``rhs``; ``forces`` receives
+    F_j + A_j^T Lambda_j.  Returns the size of the momentum rows' terms."""
+    a_hat = tableau[1]
+    Q, F, L_v, h, A = stages[0], stages[1], stages[2], stages[7], stages[8]
+    s, n = Q.shape
+    r, m = lam.shape
+    for j in range(s):
+        for b in range(n):
+            total = F[j, b]
+            if j < r:
+                for l in range(m):
+                    total += A[j, l, b] * lam[j, l]
+            forces[j, b] = total
+    size = 0.0
+    for i in range(s):
+        for b in range(n):
+            pushed = 0.0
+            for j in range(s):
+                pushed += dt * a_hat[i, j] * forces[j, b]
+            rhs[i * n + b] = L_v[i, b] - p0[b] - pushed
+            size = max(size, abs(L_v[i, b]), abs(p0[b]), abs(pushed))
+    for i in range(r):
+        for l in range(m):
+            rhs[s * n + i * m + l] = h[i + 1, l] / dt
+    return size
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def stage_jacobian(tableau, dt, lam, stages, matrix):
+    """The Jacobian of the stage equations in (V, dt Lambda) (see
+    :mod:`lagrangian.simulation.collocation_step`); adds the constraint Hessians to K."""
+    a, a_hat = tableau[0], tableau[1]
+    L_qv, F_v, L_vv, K, A, H = stages[3], stages[4], stages[5], stages[6], stages[8], stages[9]
+    s, n = L_vv.shape[0], L_vv.shape[1]
+    r, m = lam.shape
+    for j in range(r):
+        for l in range(m):
+            for e in range(n * n):
+                K[j, e // n, e % n] += lam[j, l] * H[j, l, e // n, e % n]
+    for i in range(s):
+        for k in range(s):
+            for e in range(n * n):
+                x, y = e // n, e % n
+                coupling = 0.0
+                for j in range(s):
+                    coupling += a_hat[i, j] * a[j, k] * K[j, x, y]
+                value = dt * a[i, k] * L_qv[i, y, x] - dt * a_hat[i, k] * F_v[k, x, y]
+                value -= dt * dt * coupling
+                if i == k:
+                    value += L_vv[i, x, y]
+                matrix[i * n + x, k * n + y] = value
+        for k in range(r):
+            for x in range(n):
+                for l in range(m):
+                    matrix[i * n + x, s * n + k * m + l] = -a_hat[i, k] * A[k, l, x]
+    for i in range(r):
+        for l in range(m):
+            for k in range(s):
+                for y in range(n):
+                    matrix[s * n + i * m + l, k * n + y] = a[i + 1, k] * A[i + 1, l, y]
+            for k in range(r * m):
+                matrix[s * n + i * m + l, s * n + k] = 0.0
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def stages_hold(stages, q0, r) -> bool:
+    """|h| <= RESIDUAL_GUARD |A| (|Q| + |Q - q0|) at the constrained stages 2..r+1."""
+    if r == 0:
+        return True
+    Q, h, A = stages[0][1 : r + 1], stages[7][1 : r + 1], stages[8][1 : r + 1]
+    change = 0.0
+    for i in range(r):
+        for b in range(q0.size):
+            change = max(change, abs(Q[i, b] - q0[b]))
+    return within(largest(h), largest(A) * (largest(Q) + change), RESIDUAL_GUARD)
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def stage_step(system, tableau, q0, p0, t0, dt, V, lam, found, work):
+    """Solve the stage equations for V (s, n) and Lambda (r, m) in place from their guesses;
+    ``found`` = (q1, momentum before the impulse of Lambda_s).  Returns (status, stage
+    evaluations)."""
+    b, lobatto = tableau[2], tableau[4]
+    stages, forces, matrix, rhs = work
+    q1, momentum = found
+    s, n = V.shape
+    r, m = lam.shape
+    small = False
+    for iteration in range(MAX_ITERATIONS + 1):
+        evaluate_stages(system, tableau, q0, t0, dt, V, stages)
+        size = stage_residual(tableau, p0, dt, lam, stages, forces, rhs)
+        accept = small and within(largest(rhs[: s * n]), size, RESIDUAL_GUARD)
+        if accept and stages_hold(stages, q0, r):
+            for x in range(n):
+                q1[x] = stages[0][s - 1, x] if lobatto else q0[x] + dt * weighted(b, V, x)
+                momentum[x] = p0[x] + dt * weighted(b, forces, x)
+            return OK, (iteration + 1) * s
+        stage_jacobian(tableau, dt, lam, stages, matrix)
+        reach = 0.0
+        for i in range(s):
+            for x in range(n):
+                reach = max(reach, abs(stages[0][i, x]), abs(stages[0][i, x] - q0[x]))
+        if not solve(matrix, rhs):
+            return POSITION_SINGULAR, (iteration + 1) * s
+        for i in range(s):
+            for x in range(n):
+                V[i, x] -= rhs[i * n + x]
+        for i in range(r):
+            for l in range(m):
+                lam[i, l] -= rhs[s * n + i * m + l] / dt
+        small = within(dt * largest(rhs[: s * n]), reach, SMALL_CORRECTION)
+    return POSITION_DIVERGED, (MAX_ITERATIONS + 1) * s
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def weighted(b, rows, x) -> float:
+    """sum_i b_i rows[i, x]."""
+    total = 0.0
+    for i in range(b.size):
+        total += b[i] * rows[i, x]
+    return total
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def extrapolate(c, ratio, V, scratch):
+    """V_i <- sum_j l_j(1 + ratio c_i) V_j (l_j the Lagrange polynomials of the nodes c)."""
+    s, n = V.shape
+    for i in range(s):
+        x = 1.0 + ratio * c[i]
+        for y in range(n):
+            scratch[i, y] = 0.0
+        for j in range(s):
+            basis = 1.0
+            for k in range(s):
+                if k != j:
+                    basis *= (x - c[k]) / (c[j] - c[k])
+            for y in range(n):
+                scratch[i, y] += basis * V[j, y]
+    V[:] = scratch
+
+
+def march_collocation(
+    midpoint, legendre, constraints, data, p, grid, row_of, nodes, linear, tableau, state,
+    counts, out,
+):  # fmt: skip
+    """Nodes nodes[0]..nodes[1]-1 of ``grid`` by the collocation method ``tableau`` =
+    (a, a_hat, b, c, lobatto): record each output node, step to the next.
+
+    Arguments as :func:`lagrangian.numerics.fast.midpoint.march_midpoint`, but ``state`` =
+    (q, v, p, h, A, dh/dt, V, Lambda, [previous step]) and ``counts`` = [0, evaluations, last
+    node reached].  Returns RUNNING, FINISHED or the failure.
+    """
+    q, v, momentum, h, jacobian, rate, V, lam, previous = state
+    n, m, s, r = q.size, h.size, V.shape[0], lam.shape[0]
+    system = bind((midpoint, legendre, constraints), data, p, n, m)
+    vectors, matrices = (np.empty((s, n)), np.empty((s, n)), np.empty((s, n))), (
+        np.empty((s, n, n)), np.empty((s, n, n)), np.empty((s, n, n)), np.empty((s, n, n))
+    )  # fmt: skip
+    rows = (np.empty((s, m)), np.empty((s, m, n)), np.empty((s, m, n, n)), np.empty((s, m)))
+    stages = vectors + matrices + rows
+    size = s * n + r * m
+    work = (stages, np.empty((s, n)), np.empty((size, size)), np.empty(size))
+    q1, momentum1, mu, scratch = np.empty(n), np.empty(n), np.empty(m), np.empty((s, n))
+    velocity_work = (np.empty((n + m, n + m)), np.empty(n + m), np.empty(n))
+    for k in range(nodes[0], nodes[1]):
+        if row_of[k] >= 0:
+            record(row_of[k], q, v, h, jacobian, rate, out)
+        if k == grid.size - 1:
+            return FINISHED
+        t0, dt = grid[k], grid[k + 1] - grid[k]
+        if previous[0] > 0.0:
+            extrapolate(tableau[3], dt / previous[0], V, scratch)
+        status, evaluations = stage_step(
+            system, tableau, q, momentum, t0, dt, V, lam, (q1, momentum1), work
+        )
+        counts[1] += evaluations
+        if status != OK:
+            return status
+        momentum[:] = momentum1
+        if m > 0 or row_of[k + 1] >= 0:
+            h[:] = stages[7][s - 1]
+            jacobian[:] = stages[8][s - 1]
+            rate[:] = stages[10][s - 1]
+            v[:] = V[s - 1]
+            weight = dt * tableau[2][s - 1]
+            status, evaluations = velocity_step(
+                system, q1, momentum, t0 + dt, weight, (jacobian, rate), linear, v, mu,
+                velocity_work,
+            )  # fmt: skip
+            counts[1] += evaluations
+            if status != OK:
+                return status
+        q[:] = q1
+        previous[0] = dt
+        counts[2] = k + 1
+    k = nodes[1]  # the node reached is kept now: the caller may stop before the next chunk
+    if k < grid.size and row_of[k] >= 0:
+        record(row_of[k], q, v, h, jacobian, rate, out)
+    return RUNNING

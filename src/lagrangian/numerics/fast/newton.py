@@ -1,0 +1,203 @@
+"""What the compiled variational integrators share: the system's C functions bound to their
+buffers, the sizes and tests of a Newton iteration, and the velocity equations that end
+every step.
+
+A system reaches the loops as the three C functions of
+:mod:`lagrangian.numerics.fast.discrete` (midpoint terms, Legendre map, constraints) and their
+``user_data`` pointers; :func:`bind` gives them their input and output buffers, with the
+parameters written once, and :func:`evaluate_midpoint`, :func:`evaluate_legendre`,
+:func:`evaluate_constraints` call them.
+
+:func:`velocity_step` solves the velocity equations of a step's end,
+
+    dL/dq_dot(q1, v1, t1) = momentum + weight A1^T mu,     A1 v1 + dh/dt(q1, t1) = 0,
+
+for (v1, mu) by Newton's method (one solve when the Legendre map is affine in v), as
+:func:`lagrangian.simulation.variational_step.velocity_step` does in NumPy, with the same
+tolerances (:mod:`lagrangian.numerics.discrete_lagrangian`).  Every function returns a status
+(:data:`OK` or the failure) instead of raising.  This module is imported only when numba is
+installed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from lagrangian.numerics.discrete_lagrangian import (
+    MAX_ITERATIONS,
+    RESIDUAL_GUARD,
+    SMALL_CORRECTION,
+)
+from lagrangian.numerics.fast.linear import solve_linear
+
+#: Statuses of a step, and of a chunk of steps (RUNNING: done, the end not reached yet).
+OK = RUNNING = 0
+FINISHED = 1
+POSITION_DIVERGED = 2
+POSITION_SINGULAR = 3
+VELOCITY_DIVERGED = 4
+VELOCITY_SINGULAR = 5
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def bind(functions, data, p, n, m):
+    """(f, user_data, in, out) of the midpoint terms, the Legendre map and the constraints
+    (``data`` their user_data) of n coordinates and m constraints, with ``in`` holding the
+    parameters p already (after [q, v, t] or [q, t])."""
+    midpoint, legendre, constraints = functions
+    m_in, m_out = np.empty(2 * n + 1 + p.size), np.empty(3 * n + 5 * n * n)
+    l_in, l_out = np.empty(2 * n + 1 + p.size), np.empty(n + n * n)
+    c_in = np.empty(n + 1 + p.size)
+    for i in range(p.size):
+        m_in[2 * n + 1 + i] = p[i]
+        l_in[2 * n + 1 + i] = p[i]
+        c_in[n + 1 + i] = p[i]
+    c_out = np.empty(max(m * (2 + n + n * n), 1))
+    return (
+        (midpoint, data[0], m_in, m_out),
+        (legendre, data[1], l_in, l_out),
+        (constraints, data[2], c_in, c_out),
+    )
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def call(function, q, v, t):
+    """out of ``function`` = (f, user_data, in, out) at (q, v, t), or at (q, t) for an
+    empty v."""
+    f, user_data, inputs, outputs = function
+    n = q.size
+    for i in range(n):
+        inputs[i] = q[i]
+    for i in range(v.size):
+        inputs[n + i] = v[i]
+    inputs[n + v.size] = t
+    f(outputs.ctypes, inputs.ctypes, user_data)
+    return outputs
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def evaluate_constraints(system, q, t, h, jacobian, rate, hessians):
+    """h, A, dh/dt and the Hessians d2h_j/dq2 at (q, t) into the given arrays."""
+    m, n = h.size, q.size
+    if m == 0:
+        return
+    values = call(system[2], q, q[:0], t)
+    for j in range(m):
+        h[j] = values[j]
+        rate[j] = values[m + m * n + j]
+        for i in range(n):
+            jacobian[j, i] = values[m + j * n + i]
+            for k in range(n):
+                hessians[j, i, k] = values[2 * m + m * n + (j * n + i) * n + k]
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def largest(x) -> float:
+    """max |x_i| over every entry (0 when empty), NaN when an entry is NaN."""
+    result = 0.0
+    for value in x.flat:
+        size = abs(value)
+        if size > result or size != size:
+            result = size
+            if size != size:
+                return size
+    return result
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def within(residual, size, tolerance) -> bool:
+    """residual <= tolerance * size (size 0 counts as 1); False for NaN."""
+    return residual <= tolerance * (size if size != 0.0 else 1.0)
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def small_correction(correction, new, old) -> bool:
+    """Whether a Newton correction is below SMALL_CORRECTION of the size of ``new`` and of
+    its change from ``old`` (False for NaN)."""
+    size = 0.0
+    for i in range(new.size):
+        size = max(size, abs(new[i]), abs(new[i] - old[i]))
+    if size != size:
+        return False
+    return within(largest(correction), size, SMALL_CORRECTION)
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def constraints_hold(h, jacobian, q1, q0) -> bool:
+    """|h| <= RESIDUAL_GUARD |A| (|q1| + |q1 - q0|) (True without constraints)."""
+    if h.size == 0:
+        return True
+    change = 0.0
+    for i in range(q1.size):
+        change = max(change, abs(q1[i] - q0[i]))
+    reach = largest(jacobian) * (largest(q1) + change)
+    return within(largest(h), reach, RESIDUAL_GUARD)
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def solve(matrix, rhs) -> bool:
+    """rhs <- matrix^-1 rhs; False when the matrix is singular or the solution not finite."""
+    if not solve_linear(matrix, rhs):
+        return False
+    for value in rhs:  # noqa: SIM110 (a loop numba compiles without allocating)
+        if not np.isfinite(value):
+            return False
+    return True
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def velocity_step(system, q1, momentum, t1, weight, constraint, linear, v, mu, work):
+    """Solve the velocity equations (module docstring) for v (in place, from its guess) and
+    mu; ``constraint`` = (A1, dh/dt) at (q1, t1); ``momentum`` becomes momentum + weight
+    A1^T mu.  Returns (status, evaluations of the Legendre map)."""
+    jacobian, rate = constraint
+    matrix, rhs, v_old = work
+    n, m = q1.size, mu.size
+    mu[:] = 0.0
+    small = False
+    for iteration in range(MAX_ITERATIONS + 1):
+        values = call(system[1], q1, v, t1)
+        size = max(largest(values[:n]), largest(momentum))
+        for i in range(n):
+            impulse = 0.0
+            for j in range(m):
+                impulse += -weight * jacobian[j, i] * mu[j]
+            rhs[i] = values[i] - momentum[i] + impulse
+        if small and within(largest(rhs[:n]), size, RESIDUAL_GUARD):
+            add_impulse(momentum, weight, jacobian, mu)
+            return OK, iteration + 1
+        for i in range(n):
+            for k in range(n):
+                matrix[i, k] = values[n + i * n + k]
+        for j in range(m):
+            total = rate[j]
+            for i in range(n):
+                matrix[i, n + j] = -weight * jacobian[j, i]
+                matrix[n + j, i] = jacobian[j, i]
+                total += jacobian[j, i] * v[i]
+            rhs[n + j] = total
+            for k in range(m):
+                matrix[n + j, n + k] = 0.0
+        if not solve(matrix, rhs):
+            return VELOCITY_SINGULAR, iteration + 1
+        for i in range(n):
+            v_old[i] = v[i]
+            v[i] -= rhs[i]
+        for j in range(m):
+            mu[j] -= rhs[n + j]
+        if linear:  # the equations are linear in (v1, mu): solved exactly
+            add_impulse(momentum, weight, jacobian, mu)
+            return OK, 1
+        small = small_correction(rhs[:n], v, v_old)
+    return VELOCITY_DIVERGED, MAX_ITERATIONS + 1
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def add_impulse(momentum, weight, jacobian, mu):
+    """momentum += weight A^T mu."""
+    for i in range(momentum.size):
+        impulse = 0.0
+        for j in range(mu.size):
+            impulse += -weight * jacobian[j, i] * mu[j]
+        momentum[i] -= impulse

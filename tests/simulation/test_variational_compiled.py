@@ -1,0 +1,188 @@
+"""The variational integrators on the compiled path (numba loops calling the system's LLVM
+functions) give the NumPy marches' trajectories to rounding, on free, forced and damped, and
+constrained systems; the midpoint rule keeps its energy error bounded over 10^5 steps; the
+compiled march reports progress, stops on Ctrl-C keeping its rows, fails with the NumPy
+march's message, and gives way to the NumPy march where numba is missing."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import lagrangian as lg
+from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics
+from lagrangian.simulation import simulate, variational
+from lagrangian.simulation.collocation import gauss, lobatto
+from lagrangian.simulation.collocation_march import collocation_march
+from lagrangian.simulation.variational_march import march
+
+pytest.importorskip("numba")
+
+from lagrangian.simulation import variational_fast
+
+
+def forced_double_pendulum() -> lg.System:
+    """The double pendulum with Rayleigh dissipation and a time-dependent torque."""
+    theta_dot, phi_dot, c, tau, t = sp.symbols("theta_dot phi_dot c tau t")
+    pendulum = lg.examples.double_pendulum()
+    return pendulum.replace(
+        parameters={**pendulum.parameters, c: 0.3, tau: 0.5},
+        dissipation=c * (theta_dot**2 + theta_dot * phi_dot + phi_dot**2),
+        generalized_forces={sp.Symbol("theta"): tau * sp.cos(t) * sp.Symbol("phi")},
+    )
+
+
+def cartesian_double_pendulum() -> lg.System:
+    x1, y1, x2, y2, m1, m2, l1, l2, g = sp.symbols("x1 y1 x2 y2 m1 m2 l1 l2 g")
+    return lg.System(
+        coordinates=[x1, y1, x2, y2],
+        parameters={m1: 1.0, m2: 1.0, l1: 1.0, l2: 1.0, g: 9.81},
+        gravity=(0, -g),
+        particles=[lg.Particle("bob1", m1, (x1, y1)), lg.Particle("bob2", m2, (x2, y2))],
+        constraints=[
+            lg.Holonomic(x1**2 + y1**2 - l1**2, name="upper rod"),
+            lg.Holonomic((x2 - x1) ** 2 + (y2 - y1) ** 2 - l2**2, name="lower rod"),
+        ],
+    )
+
+
+def cartesian_start(theta: float = 1.0, phi: float = 0.5) -> dict[str, float]:
+    """The Cartesian double pendulum at rest at the angles theta, phi."""
+    x1, y1 = np.sin(theta), -np.cos(theta)
+    position = {"x1": x1, "y1": y1, "x2": x1 + np.sin(phi), "y2": y1 - np.cos(phi)}
+    return {**position, **{f"{name}_dot": 0.0 for name in position}}
+
+
+ANGLES = {"theta": 1.0, "phi": 0.5, "theta_dot": 0.0, "phi_dot": 0.0}
+CASES = {
+    "double pendulum": (lg.examples.double_pendulum, ANGLES),
+    "forced, damped": (forced_double_pendulum, {**ANGLES, "phi_dot": 0.3}),
+    "Cartesian, two rods": (cartesian_double_pendulum, cartesian_start()),
+}
+
+
+@pytest.fixture
+def spy(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """The names of the compiled marches called."""
+    called: list[str] = []
+    for name in ("fast_march", "fast_collocation_march"):
+        original = getattr(variational_fast, name)
+
+        def wrapped(*args: object, _original=original, _name=name, **kwargs: object) -> object:
+            called.append(_name)
+            return _original(*args, **kwargs)
+
+        monkeypatch.setattr(variational_fast, name, wrapped)
+    return called
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_the_compiled_midpoint_rule_gives_the_numpy_trajectory(
+    case: str, spy: list[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    make, start = CASES[case]
+    eom = lg.derive(make())
+    compiled = simulate(eom, start, 5.0, method="variational", dt=0.01)
+    assert spy == ["fast_march"]
+    monkeypatch.setattr(variational, "COMPILED", False)
+    reference = simulate(eom, start, 5.0, method="variational", dt=0.01)
+    assert spy == ["fast_march"] and len(compiled.t) == len(reference.t) == 501
+    np.testing.assert_allclose(compiled.q, reference.q, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(compiled.q_dot, reference.q_dot, rtol=0, atol=1e-10)
+    if eom.system.constraints:
+        np.testing.assert_allclose(compiled.multipliers, reference.multipliers, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "tableau", [gauss(2), gauss(3), lobatto(3), lobatto(4)], ids=lambda tableau: tableau.name
+)
+def test_the_compiled_collocation_march_gives_the_numpy_trajectory(tableau: object) -> None:
+    constrained = tableau.lobatto  # type: ignore[attr-defined]
+    system = cartesian_double_pendulum() if constrained else forced_double_pendulum()
+    eom = lg.derive(system)
+    mechanics = compile_discrete_mechanics(eom, [c.expression for c in system.constraints])
+    p = np.array([float(eom.system.parameters[s]) for s in eom.parameters])
+    start = cartesian_start() if constrained else ANGLES
+    x0 = np.array([start[s.name] for s in (*eom.coordinates, *eom.velocities)])
+    grid, outputs = np.linspace(0.0, 2.0, 101), np.arange(0, 101, 10)
+    compiled = variational_fast.fast_collocation_march(mechanics, tableau, x0, p, grid, outputs)
+    reference = collocation_march(mechanics, tableau, x0, p, grid, outputs)
+    assert compiled.failure is None and reference.failure is None
+    assert compiled.evaluations == reference.evaluations
+    np.testing.assert_allclose(compiled.q, reference.q, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(compiled.q_dot, reference.q_dot, rtol=0, atol=1e-10)
+
+
+def test_the_energy_error_stays_bounded_over_100000_steps() -> None:
+    # chaotic motion, t = 1000 s: the largest error over the last tenth of the run is that of
+    # the first tenth (a drift would grow with t)
+    pendulum = lg.examples.double_pendulum()
+    run = simulate(lg.derive(pendulum), pendulum.initial, 1000.0, method="variational", dt=0.01)
+    assert run.success and len(run.t) == 100_001
+    error = np.abs(run.energy / run.energy[0] - 1)
+    tenth = len(error) // 10
+    first, last = error[1:tenth].max(), error[-tenth:].max()
+    assert error.max() < 1e-4
+    assert last < 1.05 * first, (first, last)
+
+
+def test_progress_is_reported_and_ctrl_c_keeps_the_rows() -> None:
+    pendulum = lg.examples.double_pendulum()
+    eom, reached = lg.derive(pendulum), []
+
+    def progress(t: float) -> None:
+        reached.append(t)
+        if len(reached) == 2:
+            raise KeyboardInterrupt
+
+    run = simulate(
+        eom, pendulum.initial, 200.0, method="variational", dt=0.01, progress=progress,
+        raise_on_failure=False,
+    )  # fmt: skip
+    assert run.status == "interrupted"
+    assert reached[0] < reached[1] < 200.0
+    assert run.t[-1] == pytest.approx(reached[1])
+    full = simulate(eom, pendulum.initial, run.t[-1], method="variational", dt=0.01)
+    np.testing.assert_allclose(run.q, full.q, atol=1e-12)
+
+
+def test_a_failed_step_keeps_the_rows_with_the_numpy_message(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # a rod twice around in one step: Newton's method cannot find the next position
+    system = cartesian_double_pendulum()
+    start = {**cartesian_start(), "x2_dot": 40.0, "y2_dot": 40.0}
+    kwargs = {"method": "variational", "dt": 0.5, "raise_on_failure": False}
+    compiled = simulate(system, start, 20.0, project_initial=True, **kwargs)
+    monkeypatch.setattr(variational, "COMPILED", False)
+    reference = simulate(system, start, 20.0, project_initial=True, **kwargs)
+    assert compiled.status == reference.status == "failed"
+    assert compiled.message == reference.message
+    np.testing.assert_allclose(compiled.q, reference.q, atol=1e-10)
+
+
+def test_without_numba_the_numpy_march_runs(
+    spy: list[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(variational, "numba_available", lambda: False)
+    run = simulate(lg.examples.simple_pendulum(), {"theta": 0.5}, 1.0, method="variational")
+    assert run.success and spy == []
+
+
+def test_terms_without_a_compiled_form_fall_back_to_numpy(monkeypatch: pytest.MonkeyPatch) -> None:
+    from lagrangian.errors import SimulationError
+
+    def refuse(*args: object, **kwargs: object) -> None:
+        raise SimulationError("no compiled form")
+
+    monkeypatch.setattr(variational_fast, "native_mechanics", refuse)
+    eom = lg.derive(lg.examples.simple_pendulum())
+    run = simulate(eom, {"theta": 0.5, "theta_dot": 0.0}, 1.0, method="variational", dt=0.01)
+    mechanics = compile_discrete_mechanics(eom)
+    grid = np.linspace(0.0, 1.0, 101)
+    numpy_run = march(
+        mechanics, np.array([0.5, 0.0]), np.array([1.0, 9.81, 1.0]), grid, np.array([0, 100])
+    )
+    assert run.success
+    assert run.q[-1, 0] == pytest.approx(numpy_run.q[-1, 0], abs=1e-12)
