@@ -155,9 +155,11 @@ class Formatter:
     def for_type(self, kind, printer):
         self.types.append(kind.__name__)
 
-latex, png = Formatter(), Formatter()
+latex, png, page = Formatter(), Formatter(), Formatter()
 shell = types.SimpleNamespace(
-    display_formatter=types.SimpleNamespace(formatters={"text/latex": latex, "image/png": png})
+    display_formatter=types.SimpleNamespace(
+        formatters={"text/latex": latex, "image/png": png, "text/html": page}
+    )
 )
 fake = types.ModuleType("IPython")
 fake.get_ipython = lambda: shell
@@ -172,7 +174,7 @@ def test_importing_inside_ipython_registers_nothing() -> None:
 import lagrangian as lg
 eom = lg.derive(lg.examples.simple_pendulum())
 lg.render.steps_text(eom)
-print(json.dumps(latex.types + png.types))
+print(json.dumps(latex.types + png.types + page.types))
 """
     )
     assert registered == []
@@ -184,9 +186,12 @@ def test_load_ext_registers_the_formatters() -> None:
         + """
 import lagrangian
 lagrangian.load_ipython_extension(shell)  # what %load_ext lagrangian calls
-print(json.dumps([latex.types, png.types]))
+print(json.dumps([latex.types, png.types, page.types]))
 """
     )
-    latex, png = registered  # type: ignore[misc]
-    assert {"EquationsOfMotion", "CoordinateSteps", "System", "AnalysisReport"} <= set(latex)
+    latex, png, page = registered  # type: ignore[misc]
+    assert {"EquationsOfMotion", "CoordinateSteps", "Steps", "System", "AnalysisReport"} <= set(
+        latex
+    )
     assert png == ["Trajectory"]
+    assert page == ["Drift"]
