@@ -27,7 +27,7 @@ from lagrangian.errors import (
     SimulationInputError,
     raise_if_problems,
 )
-from lagrangian.io import load
+from lagrangian.io import load, loads
 from lagrangian.model import System
 from lagrangian.numerics.export import export
 from lagrangian.render.analysis_json import analysis_document
@@ -43,12 +43,14 @@ EXAMPLE_PREFIX = "examples/"
 
 
 def load_system(reference: str) -> System:
-    """A System from ``examples/NAME``, a model file (YAML, TOML, JSON) or ``-`` (stdin)."""
+    """A System from ``examples/NAME`` (``NAME:SIZE`` for an example built to a size, such as
+    ``n_link_pendulum:5``), a model file (YAML, TOML, JSON) or ``-``: standard input, read as
+    the text of a model (YAML or JSON), never as a file name."""
     if reference == "-":
-        return load(sys.stdin.read())
-    name = reference.removeprefix(EXAMPLE_PREFIX)
+        return loads(sys.stdin.read(), source="<standard input>")
+    name, _, size = reference.removeprefix(EXAMPLE_PREFIX).partition(":")
     if reference.startswith(EXAMPLE_PREFIX) or name in examples.CATALOG:
-        return examples.get(name)()
+        return _example(name, size)
     path = Path(reference)
     if not path.is_file():
         raise ModelError(
@@ -57,6 +59,27 @@ def load_system(reference: str) -> System:
             "read standard input."
         )
     return load(path)
+
+
+def _example(name: str, size: str) -> System:
+    builder = examples.get(name)
+    if not size:
+        return builder()
+    if name not in SCALABLE:
+        raise ModelError(
+            f"The example {name!r} has no size: write examples/{name}; "
+            f"{', '.join(SCALABLE)} take one, as in {next(iter(SCALABLE))}:5."
+        )
+    if not size.isdigit() or not 1 <= int(size) <= MAX_SIZE:
+        raise ModelError(
+            f"{name}:{size}: the size must be a whole number from 1 to {MAX_SIZE}, as in {name}:5."
+        )
+    return builder(int(size))
+
+
+#: The examples built to a size (``NAME:SIZE`` on the command line), and the largest size.
+SCALABLE = ("n_link_pendulum",)
+MAX_SIZE = 200
 
 
 def apply_settings(system: System, settings: Sequence[str]) -> System:
