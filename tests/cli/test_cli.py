@@ -368,7 +368,9 @@ def test_a_bug_is_an_internal_error_exiting_1(
 
     monkeypatch.setattr("lagrangian.cli.commands.examples_command", broken)
     code, _, err = run(capsys, "examples")
-    assert code == 1 and err == "lagrangian: internal error: 'oops'\n"
+    first, hint = err.splitlines()
+    assert code == 1 and first == "lagrangian: internal error: 'oops'"
+    assert "a bug in lagrangian" in hint and "--debug" in hint
 
 
 def test_help_and_version_load_neither_sympy_nor_numpy() -> None:

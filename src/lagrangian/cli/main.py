@@ -201,6 +201,13 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: What an internal error (a bug, not bad input) adds.
+BUG_HINT = (
+    "this is a bug in lagrangian, not a problem with your input: please report it with the "
+    "output of the same command run with --debug"
+)
+
+
 def method_names() -> str:
     """The simulation methods, from the one table of them (imports no SciPy)."""
     from lagrangian.simulation.methods import TABLE
@@ -220,6 +227,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         internal = not isinstance(error, (LagrangianError, OSError))
         prefix = "internal error: " if internal else ""  # a bug: say so plainly
         sys.stderr.write(f"lagrangian: {prefix}{error}\n")
+        if internal and not args.debug:
+            sys.stderr.write(f"lagrangian: {BUG_HINT}\n")
         return code
     return write_output(output if output.endswith("\n") else output + "\n")
 
