@@ -34,7 +34,9 @@ from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.analysis_text import analysis_text
 from lagrangian.render.animation import animate as write_animation
+from lagrangian.render.constrained import constrained_latex, constrained_mathml
 from lagrangian.render.json import constrained_document, eom_document
+from lagrangian.render.mathml import matrix_form_mathml
 from lagrangian.render.plots import save_plots
 from lagrangian.simulation import Trajectory, simulate
 from lagrangian.simulation.files import written_atomically
@@ -128,15 +130,39 @@ def derive_command(
             document.update(constrained_document(constrained))
         return json.dumps(document, indent=2, ensure_ascii=False)
     if fmt == "mathml":
-        return render.steps_mathml(eom) if steps else render.equations_mathml(eom)
+        parts = [render.steps_mathml(eom) if steps else render.equations_mathml(eom)]
+        if matrix:
+            parts.append(matrix_form_mathml(eom))
+        if constrained is not None:
+            parts.append(constrained_mathml(constrained, matrix))
+        return "\n".join(parts)
     if fmt == "latex":
-        return render.steps_latex(eom) if steps else render.equations_latex(eom)
+        parts = [render.steps_latex(eom) if steps else render.equations_latex(eom)]
+        if matrix:
+            parts.append(render.equations_latex(eom, form="matrix"))
+        if constrained is not None:
+            parts.append(constrained_latex(constrained, matrix))
+        return "\n".join(parts)
     parts = [render.steps_text(eom) if steps else render.equations_text(eom)]
     if constrained is not None:
         parts.append(constrained_text(constrained))
     if matrix:
         parts.append(render.matrix_form_text(eom))
+        if constrained is not None:
+            parts.append(augmented_text(constrained))
     return "\n\n".join(parts)
+
+
+def augmented_text(equations: ConstrainedEquations) -> str:
+    """The augmented system of the multiplier form, in plain text."""
+    return "\n".join(
+        [
+            "augmented form [M, -A^T; A, 0] [q_ddot; lambda] = [forcing; gamma]:",
+            f"  matrix: {equations.augmented_matrix.tolist()}",
+            f"  unknowns: {list(equations.unknowns)}",
+            f"  right side: {list(equations.augmented_rhs)}",
+        ]
+    )
 
 
 def constrained_text(equations: ConstrainedEquations) -> str:

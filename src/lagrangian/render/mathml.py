@@ -37,7 +37,7 @@ def _placeholder(index: int) -> str:
     return "lgdotted" + letters
 
 
-class _Dotted:
+class Dotted:
     """Prints expressions with q_dot as q̇ and q_ddot as q̈."""
 
     def __init__(self, eom: EquationsOfMotion) -> None:
@@ -62,7 +62,8 @@ class _Dotted:
         return text
 
 
-def _table(rows: Iterable[tuple[str, str]]) -> str:
+def mathml_table(rows: Iterable[tuple[str, str]]) -> str:
+    """One display-math table of ``left = right`` rows (MathML fragments)."""
     body = "".join(
         f'<mtr><mtd columnalign="right">{left}</mtd><mtd columnalign="left"><mo>=</mo>{right}'
         "</mtd></mtr>"
@@ -76,8 +77,8 @@ def _table(rows: Iterable[tuple[str, str]]) -> str:
 
 def equations_mathml(eom: EquationsOfMotion) -> str:
     """Every equation as ``residual = 0``, one table row each."""
-    dotted = _Dotted(eom)
-    return _table((dotted(e), "<mn>0</mn>") for e in eom.equations)
+    dotted = Dotted(eom)
+    return mathml_table((dotted(e), "<mn>0</mn>") for e in eom.equations)
 
 
 def _label(row: Row, q: str, v: str) -> str:
@@ -98,7 +99,7 @@ def _label(row: Row, q: str, v: str) -> str:
 
 def steps_mathml(eom: EquationsOfMotion) -> str:
     """The derivation, coordinate by coordinate: the step-by-step rows, then the equation."""
-    dotted = _Dotted(eom)
+    dotted = Dotted(eom)
     rows = [("<mi>L</mi>", dotted(eom.lagrangian))]
     for steps in eom.steps:
         q, v = dotted(steps.coordinate), dotted(steps.velocity)
@@ -107,4 +108,11 @@ def steps_mathml(eom: EquationsOfMotion) -> str:
                 rows.append((dotted(expr), "<mn>0</mn>"))
             else:
                 rows.append((_label(row, q, v), dotted(expr)))
-    return _table(rows)
+    return mathml_table(rows)
+
+
+def matrix_form_mathml(eom: EquationsOfMotion) -> str:
+    """The matrix form M q̈ = forcing, with the matrices written out."""
+    dotted = Dotted(eom)
+    left = dotted(eom.mass_matrix) + dotted(sp.Matrix(eom.accelerations))
+    return mathml_table([(left, dotted(eom.forcing))])
