@@ -86,3 +86,21 @@ def test_every_format_keeps_every_constraint(models, capsys, fmt, matrix):
             assert out.count("matrix" if fmt == "latex" else "<mtable") >= 3
         if matrix and fmt == "text":
             assert "augmented form" in out
+
+
+@pytest.mark.parametrize("language", ["c", "numpy", "matlab", "julia"])
+def test_no_export_drops_a_constraint(models, capsys, language, tmp_path):
+    for model in models:
+        code = main(["export", model, "--language", language, "--out", str(tmp_path)])
+        error = capsys.readouterr().err
+        assert code == 2, (model, language)
+        assert "has constraints" in error and "eliminate" in error
+        assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_the_python_export_refuses_a_constrained_system(models):
+    from lagrangian.errors import ModelError
+    from lagrangian.numerics.export import export
+
+    with pytest.raises(ModelError, match="holonomic"):
+        export(lg.derive(load_system(models[2])), "numpy")
