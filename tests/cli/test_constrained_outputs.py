@@ -89,18 +89,23 @@ def test_every_format_keeps_every_constraint(models, capsys, fmt, matrix):
 
 
 @pytest.mark.parametrize("language", ["c", "numpy", "matlab", "julia"])
-def test_no_export_drops_a_constraint(models, capsys, language, tmp_path):
+def test_every_export_carries_the_constraints(models, capsys, language, tmp_path):
     for model in models:
-        code = main(["export", model, "--language", language, "--out", str(tmp_path)])
-        error = capsys.readouterr().err
-        assert code == 2, (model, language)
-        assert "has constraints" in error and "eliminate" in error
-        assert not list(tmp_path.iterdir())  # nothing written
+        out = tmp_path / f"{language}-{abs(hash(model))}"
+        out.mkdir()
+        code = main(["export", model, "--language", language, "--out", str(out)])
+        capsys.readouterr()
+        assert code == 0, (model, language)
+        text = "\n".join(path.read_text() for path in out.iterdir())
+        for function in ("constraint_jacobian", "augmented_matrix", "multipliers"):
+            assert function in text, (model, language, function)
+        assert "baumgarte_alpha" in text
 
 
-def test_the_python_export_refuses_a_constrained_system(models):
-    from lagrangian.errors import ModelError
-    from lagrangian.numerics.export import export
-
-    with pytest.raises(ModelError, match="holonomic"):
-        export(lg.derive(load_system(models[2])), "numpy")
+def test_a_unilateral_constraint_cannot_be_exported(tmp_path, capsys):
+    model = tmp_path / "bead.yaml"
+    model.write_text(
+        CARTESIAN_PENDULUM.replace("{holonomic: x**2 + y**2 - l**2}", "{unilateral: 1 - y}")
+    )
+    code = main(["export", str(model), "--language", "c", "--out", str(tmp_path)])
+    assert code == 2 and "unilateral" in capsys.readouterr().err

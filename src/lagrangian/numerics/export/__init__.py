@@ -10,6 +10,11 @@ Every language gets the same functions, with ``p`` the parameter vector in the o
     forcing(q, qd, t, p)              M q_ddot = forcing
     rhs(t, x, p)                      x = [q; qd] -> [qd; q_ddot]   (regular M only)
 
+and for a system with holonomic or velocity constraints the multiplier form
+(:mod:`lagrangian.numerics.export.multiplier_form`): ``constraint_jacobian``,
+``constraint_rhs``, ``augmented_matrix``, ``augmented_forcing``, an ``rhs`` that solves the
+augmented system, and ``multipliers(t, x, p)``; Baumgarte's gains are the last two parameters.
+
 >>> import lagrangian as lg
 >>> from lagrangian.numerics.export import export
 >>> sorted(export(lg.derive(lg.examples.simple_pendulum()), "c"))
@@ -64,23 +69,7 @@ def export(eom: EquationsOfMotion, language: str) -> dict[str, str]:
     writer = LANGUAGES.get(language.strip().lower())
     if writer is None:
         raise ModelError(f"Cannot export to {language!r}: choose one of {', '.join(LANGUAGES)}.")
-    refuse_constraints(eom)
     return writer(eom, sanitize(eom.name))
-
-
-def refuse_constraints(eom: EquationsOfMotion) -> None:
-    """Never a silently unconstrained right-hand side: a system with constraints is refused,
-    naming them, with the ways to export it."""
-    constraints = eom.system.constraints
-    if not constraints:
-        return
-    listed = "; ".join(f"{c.kind} {c.expression}" for c in constraints)
-    raise ModelError(
-        f"Cannot export {eom.name or 'this system'}: it has constraints ({listed}), and the "
-        "exported functions would describe the free motion without them. Eliminate the "
-        "holonomic constraints first (lagrangian.constraints.eliminate, then export the "
-        "minimal-coordinate system), or simulate it with lagrangian itself."
-    )
 
 
 __all__ = ["LANGUAGES", "export", "export_c", "export_julia", "export_matlab", "export_numpy"]

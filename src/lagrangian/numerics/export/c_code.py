@@ -100,7 +100,7 @@ def _rhs_signature(plan: ExportPlan) -> str:
 
 
 def _routine_doc(routine: Routine) -> str:
-    layout = f" Row-major: M[{routine.outputs.rows}*i + j]." if routine.is_matrix else ""
+    layout = f" Row-major: [{routine.outputs.cols}*i + j]." if routine.is_matrix else ""
     return f"/* {routine.summary}{layout} */"
 
 
@@ -125,6 +125,11 @@ def _header(plan: ExportPlan) -> str:
             f"/* {RHS_SUMMARY}\n * x and dx have 2*{plan.n} elements. Returns 0, or -1 when M is "
             f"singular at this state. */\n{_rhs_signature(plan)};"
         )
+        if plan.m:
+            lines.append(
+                f"/* The {plan.m} Lagrange multipliers at the state x. Returns 0, or -1 when "
+                f"the augmented matrix is singular. */\n{_multipliers_signature(plan)};"
+            )
     else:
         lines.append("/* No rhs: the mass matrix is singular (see the comment at the top). */")
     lines += ["#ifdef __cplusplus\n}\n#endif", f"#endif /* {guard} */"]
@@ -149,6 +154,7 @@ def _source(plan: ExportPlan) -> str:
         )
     parts += bodies
     parts += [_SOLVER, _rhs(plan)] if plan.has_rhs else []
+    parts += [_multipliers(plan)] if plan.has_rhs and plan.m else []
     return "\n\n".join(parts) + "\n"
 
 
@@ -176,6 +182,45 @@ def _function(plan: ExportPlan, routine: Routine) -> str:
     return "\n".join(lines)
 
 
+def _solve(plan: ExportPlan) -> list[str]:
+    """The body lines that solve M q_ddot = forcing (or the augmented system) into y."""
+    size = plan.n + plan.m
+    matrix, vector = plan.solved
+    return [
+        "    const double *q = x;",
+        f"    const double *qd = x + {plan.n};",
+        f"    double K[{size * size}];",
+        f"    double y[{size}];",
+        f"    {plan.base}_{matrix}({plan.solved_call}, K);",
+        f"    {plan.base}_{vector}(q, qd, t, p, y);",
+        f"    if (solve_in_place({size}, K, y) != 0) {{",
+        "        return -1;",
+        "    }",
+    ]
+
+
+def _multipliers_signature(plan: ExportPlan) -> str:
+    return (
+        f"int {plan.base}_multipliers(double t, const double *x, const double *p, double *lambda)"
+    )
+
+
+def _multipliers(plan: ExportPlan) -> str:
+    return "\n".join(
+        [
+            "/* The Lagrange multipliers lambda at the state x. */",
+            _multipliers_signature(plan),
+            "{",
+            *_solve(plan),
+            f"    for (int j = 0; j < {plan.m}; ++j) {{",
+            f"        lambda[j] = y[{plan.n} + j];",
+            "    }",
+            "    return 0;",
+            "}",
+        ]
+    )
+
+
 def _rhs(plan: ExportPlan) -> str:
     n = plan.n
     return "\n".join(
@@ -183,18 +228,10 @@ def _rhs(plan: ExportPlan) -> str:
             f"/* {RHS_SUMMARY} */",
             _rhs_signature(plan),
             "{",
-            "    const double *q = x;",
-            f"    const double *qd = x + {n};",
-            f"    double M[{n * n}];",
-            f"    double q_ddot[{n}];",
-            f"    {plan.base}_mass_matrix({plan.mass_matrix_call}, M);",
-            f"    {plan.base}_forcing(q, qd, t, p, q_ddot);",
-            f"    if (solve_in_place({n}, M, q_ddot) != 0) {{",
-            "        return -1;",
-            "    }",
+            *_solve(plan),
             f"    for (int i = 0; i < {n}; ++i) {{",
             "        dx[i] = qd[i];",
-            f"        dx[{n} + i] = q_ddot[i];",
+            f"        dx[{n} + i] = y[i];",
             "    }",
             "    return 0;",
             "}",

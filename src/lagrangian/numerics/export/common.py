@@ -27,6 +27,8 @@ from sympy.printing.codeprinter import CodePrinter, PrintMethodNotImplementedErr
 
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import ModelError
+from lagrangian.numerics.export.multiplier_form import HEADER as MULTIPLIER_HEADER
+from lagrangian.numerics.export.multiplier_form import multiplier_pieces
 
 #: Formats an array element for the header comments: (array name, 0-based position) -> text.
 IndexFormat = Callable[[str, int], str]
@@ -38,7 +40,13 @@ OUTPUTS: dict[str, tuple[str, str]] = {
     "gravity": ("G", "Potential forces G = dV/dq."),
     "generalized_forces": ("Q", "Applied generalized forces Q."),
     "forcing": ("f", "Right-hand side of M q_ddot = forcing."),
+    "constraint_jacobian": ("A", "Constraint Jacobian A ({n} x n): A q_ddot = gamma."),
+    "constraint_rhs": ("gamma", "gamma - 2 alpha c - beta^2 h, the right side of A q_ddot."),
+    "augmented_matrix": ("K", "Augmented matrix [M, -A^T; A, 0] ({n} x {n})."),
+    "augmented_forcing": ("r", "Augmented right side [forcing; gamma - 2 alpha c - beta^2 h]."),
 }
+#: The functions whose output is a matrix (the others return vectors).
+MATRICES = ("mass_matrix", "constraint_jacobian", "augmented_matrix")
 RHS_SUMMARY = "State derivative [qd; q_ddot] of x = [q; qd], with M q_ddot = forcing solved."
 
 
@@ -61,7 +69,7 @@ class Routine:
 
     @property
     def is_matrix(self) -> bool:
-        return self.name == "mass_matrix"
+        return self.name in MATRICES
 
     def uses(self, argument: str) -> bool:
         """Whether the generated body reads ``argument`` (``"q"``, ``"qd"``, ``"t"``, ``"p"``)."""
@@ -86,10 +94,34 @@ class ExportPlan:
     parameters: tuple[tuple[str, float | None], ...]
     routines: tuple[Routine, ...]
     singular_reason: str
+    multipliers: tuple[str, ...] = ()
 
     @property
     def n(self) -> int:
         return len(self.coordinates)
+
+    @property
+    def m(self) -> int:
+        """The number of constraints (0: the free equations)."""
+        return len(self.multipliers)
+
+    @property
+    def solved(self) -> tuple[str, str]:
+        """The functions rhs solves: (matrix, vector) of M q_ddot = forcing, or of the
+        augmented system with constraints."""
+        if self.m:
+            return "augmented_matrix", "augmented_forcing"
+        return "mass_matrix", "forcing"
+
+    @property
+    def solved_name(self) -> str:
+        """The generated code's name for the matrix rhs solves: M, or K when augmented."""
+        return "K" if self.m else "M"
+
+    @property
+    def solved_call(self) -> str:
+        """The arguments rhs passes to the matrix it solves."""
+        return ", ".join(self.routine(self.solved[0]).arguments)
 
     @property
     def has_rhs(self) -> bool:
@@ -97,11 +129,6 @@ class ExportPlan:
 
     def routine(self, name: str) -> Routine:
         return next(r for r in self.routines if r.name == name)
-
-    @property
-    def mass_matrix_call(self) -> str:
-        """The arguments the rhs passes to mass_matrix: ``"q, t, p"`` or ``"q, qd, t, p"``."""
-        return ", ".join(self.routine("mass_matrix").arguments)
 
     def header(self, index: IndexFormat) -> list[str]:
         """The documentation every file starts with (lines without comment markers)."""
@@ -113,8 +140,14 @@ class ExportPlan:
             "              - coriolis - explicit time terms - gravity",
             "",
         ]
+        if self.m:
+            lines += [*MULTIPLIER_HEADER, ""]
         if self.has_rhs:
             lines.append("State x = [q; qd]; rhs(t, x, p) returns dx/dt = [qd; q_ddot].")
+            if self.m:
+                lines.append(
+                    "multipliers(t, x, p) returns lambda (in the order of the constraints)."
+                )
         else:
             lines.extend(["NO rhs IS GENERATED.", *wrap(self.singular_reason)])
         for routine in self.routines:
@@ -136,27 +169,32 @@ def plan_export(
     every function's outputs together."""
     _check_symbols(eom)
     n = len(eom.coordinates)
-    mapping: dict[sp.Basic, sp.Basic] = {eom.time: sp.Symbol("t")}
-    for base, symbols in (
-        ("q", eom.coordinates),
-        ("qd", eom.velocities),
-        ("p", tuple(eom.parameters)),
-    ):
-        array = sp.IndexedBase(base, shape=(len(symbols) + first_index,))
-        mapping.update({s: array[i + first_index] for i, s in enumerate(symbols)})
-    pieces = {
+    pieces: dict[str, sp.MatrixBase] = {
         "mass_matrix": eom.mass_matrix,
         "coriolis": eom.coriolis,
         "gravity": eom.gravity,
         "generalized_forces": eom.generalized_forces,
         "forcing": eom.forcing,
     }
+    parameters = tuple((s, eom.parameters[s]) for s in eom.parameters)
+    multipliers: tuple[str, ...] = ()
+    if eom.system.constraints:
+        extra, gains, multipliers = multiplier_pieces(eom)
+        pieces.update(extra)
+        parameters += tuple((gain, 0.0) for gain in gains)
+    mapping: dict[sp.Basic, sp.Basic] = {eom.time: sp.Symbol("t")}
+    for base, symbols in (
+        ("q", eom.coordinates),
+        ("qd", eom.velocities),
+        ("p", tuple(s for s, _ in parameters)),
+    ):
+        array = sp.IndexedBase(base, shape=(len(symbols) + first_index,))
+        mapping.update({s: array[i + first_index] for i, s in enumerate(symbols)})
     velocities = set(eom.velocities)
     routines = []
     for routine_name, matrix in pieces.items():
-        with_qd = routine_name not in ("mass_matrix", "gravity") or bool(
-            matrix.free_symbols & velocities
-        )
+        positional = ("mass_matrix", "gravity", "constraint_jacobian", "augmented_matrix")
+        with_qd = routine_name not in positional or bool(matrix.free_symbols & velocities)
         arguments = ("q", "qd", "t", "p") if with_qd else ("q", "t", "p")
         routines.append(_routine(routine_name, arguments, sp.Matrix(matrix), mapping))
     title = " ".join(eom.name.split()) or "model"
@@ -164,11 +202,10 @@ def plan_export(
         title=title,
         base=sanitize(name if name is not None else eom.name),
         coordinates=tuple(q.name for q in eom.coordinates),
-        parameters=tuple(
-            (s.name, None if v is None else float(v)) for s, v in eom.parameters.items()
-        ),
+        parameters=tuple((s.name, None if v is None else float(v)) for s, v in parameters),
         routines=tuple(routines),
         singular_reason="" if eom.mass_matrix_is_regular else _singular_reason(eom, n),
+        multipliers=multipliers,
     )
 
 

@@ -41,7 +41,8 @@ def export_julia(eom: EquationsOfMotion) -> str:
     True
     """
     plan = plan_export(eom, first_index=1)
-    names = [r.name for r in plan.routines] + (["rhs"] if plan.has_rhs else [])
+    solvers = (["rhs", "multipliers"] if plan.m else ["rhs"]) if plan.has_rhs else []
+    names = [r.name for r in plan.routines] + solvers
     parts = [
         comment(plan.header(lambda base, i: f"{base}[{i + 1}]"), "#"),
         f"module {camel_case(plan.base)}",
@@ -94,14 +95,34 @@ def _function(routine: Routine) -> str:
 
 def _rhs(plan: ExportPlan) -> str:
     n = plan.n
-    return "\n".join(
-        [
-            _docstring("rhs(t, x, p)", RHS_SUMMARY),
-            "function rhs(t, x, p)",
-            f"    q = x[1:{n}]",
-            f"    qd = x[{n + 1}:{2 * n}]",
-            f"    M = mass_matrix({plan.mass_matrix_call})",
-            "    return vcat(qd, M \\ forcing(q, qd, t, p))",
-            "end",
-        ]
-    )
+    matrix, vector = plan.solved
+    solve = [
+        f"    q = x[1:{n}]",
+        f"    qd = x[{n + 1}:{2 * n}]",
+        f"    {plan.solved_name} = {matrix}({plan.solved_call})",
+        f"    y = {plan.solved_name} \\ {vector}(q, qd, t, p)",
+    ]
+    parts = [
+        "\n".join(
+            [
+                _docstring("rhs(t, x, p)", RHS_SUMMARY),
+                "function rhs(t, x, p)",
+                *solve,
+                f"    return vcat(qd, y[1:{n}])",
+                "end",
+            ]
+        )
+    ]
+    if plan.m:
+        parts.append(
+            "\n".join(
+                [
+                    _docstring("multipliers(t, x, p)", "The Lagrange multipliers at the state x."),
+                    "function multipliers(t, x, p)",
+                    *solve,
+                    f"    return y[{n + 1}:end]",
+                    "end",
+                ]
+            )
+        )
+    return "\n\n".join(parts)

@@ -35,6 +35,8 @@ def export_matlab(eom: EquationsOfMotion) -> dict[str, str]:
     files = {f"{r.name}.m": _function(plan, r) for r in plan.routines}
     if plan.has_rhs:
         files["rhs.m"] = _rhs(plan)
+        if plan.m:
+            files["multipliers.m"] = _multipliers(plan)
     files["default_parameters.m"] = _defaults(plan)
     return files
 
@@ -60,17 +62,38 @@ def _function(plan: ExportPlan, routine: Routine) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _rhs(plan: ExportPlan) -> str:
+def _solve(plan: ExportPlan) -> list[str]:
     n = plan.n
+    matrix, vector = plan.solved
+    return [
+        "  x = x(:);",
+        f"  q = x(1:{n});",
+        f"  qd = x({n + 1}:{2 * n});",
+        f"  {plan.solved_name} = {matrix}({plan.solved_call});",
+        f"  y = {plan.solved_name} \\ {vector}(q, qd, t, p);",
+    ]
+
+
+def _rhs(plan: ExportPlan) -> str:
     return "\n".join(
         [
             "function dx = rhs(t, x, p)",
             _help(plan, "rhs", RHS_SUMMARY),
-            "  x = x(:);",
-            f"  q = x(1:{n});",
-            f"  qd = x({n + 1}:{2 * n});",
-            f"  M = mass_matrix({plan.mass_matrix_call});",
-            "  dx = [qd; M \\ forcing(q, qd, t, p)];",
+            *_solve(plan),
+            f"  dx = [qd; y(1:{plan.n})];",
+            "end",
+            "",
+        ]
+    )
+
+
+def _multipliers(plan: ExportPlan) -> str:
+    return "\n".join(
+        [
+            "function lambda = multipliers(t, x, p)",
+            _help(plan, "multipliers", "The Lagrange multipliers lambda at the state x."),
+            *_solve(plan),
+            f"  lambda = y({plan.n + 1}:end);",
             "end",
             "",
         ]

@@ -74,17 +74,35 @@ def _function(routine: Routine) -> str:
 
 
 def _rhs(plan: ExportPlan) -> str:
-    return "\n".join(
-        [
-            "def rhs(t, x, p):",
-            f'    """{RHS_SUMMARY}"""',
-            "    x = numpy.asarray(x, dtype=float)",
-            f"    q, qd = x[:{plan.n}], x[{plan.n}:]",
-            f"    M = mass_matrix({plan.mass_matrix_call})",
-            "    q_ddot = numpy.linalg.solve(M, forcing(q, qd, t, p))",
-            "    return numpy.concatenate([qd, q_ddot])",
-        ]
-    )
+    matrix, vector = plan.solved
+    solve = [
+        "    x = numpy.asarray(x, dtype=float)",
+        f"    q, qd = x[:{plan.n}], x[{plan.n}:]",
+        f"    {plan.solved_name} = {matrix}({plan.solved_call})",
+        f"    y = numpy.linalg.solve({plan.solved_name}, {vector}(q, qd, t, p))",
+    ]
+    parts = [
+        "\n".join(
+            [
+                "def rhs(t, x, p):",
+                f'    """{RHS_SUMMARY}"""',
+                *solve,
+                f"    return numpy.concatenate([qd, y[:{plan.n}]])",
+            ]
+        )
+    ]
+    if plan.m:
+        parts.append(
+            "\n".join(
+                [
+                    "def multipliers(t, x, p):",
+                    '    """The Lagrange multipliers lambda at the state x."""',
+                    *solve,
+                    f"    return y[{plan.n}:]",
+                ]
+            )
+        )
+    return "\n\n\n".join(parts)
 
 
 def _missing_rhs(plan: ExportPlan) -> str:
