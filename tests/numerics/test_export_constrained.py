@@ -228,3 +228,28 @@ def test_a_unilateral_constraint_is_refused():
     for language in ("numpy", "c", "matlab", "julia"):
         with pytest.raises(ModelError, match="unilateral"):
             export(lg.derive(system), language)
+
+
+def test_the_minimal_form_in_chosen_coordinates(tmp_path, capsys):
+    from lagrangian.cli.main import main
+
+    model = tmp_path / "pendulum.yaml"
+    start = _pendulum_start(0.6)
+    model.write_text(
+        PENDULUM + f"initial: {{x: {float(start['x'])!r}, y: {float(start['y'])!r}}}\n"
+    )
+    out = tmp_path / "minimal"
+    assert main(["export", str(model), "--independent", "x", "--out", str(out)]) == 0
+    (path,) = out.iterdir()
+    spec = importlib.util.spec_from_file_location(path.stem, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert module.COORDINATES == ("x",)
+    # at rest at angle theta, the bob's horizontal acceleration is -g sin(theta) cos(theta)
+    p = np.array(module.DEFAULTS)
+    acceleration = module.rhs(0.0, np.array([start["x"], 0.0]), p)[1]
+    assert acceleration == pytest.approx(-9.81 * np.sin(0.6) * np.cos(0.6), rel=1e-12)
+    capsys.readouterr()
+    disc = ["export", "rolling_disc", "--independent", "x,y", "--out", str(tmp_path / "d")]
+    assert main(disc) == 2
+    assert "only holonomic constraints" in capsys.readouterr().err

@@ -18,9 +18,10 @@ from lagrangian.analysis import analyze
 from lagrangian.analysis.arguments import numeric_values, operating_state
 from lagrangian.analysis.manifold import require_on_manifold
 from lagrangian.cli.progress import progress_bar
-from lagrangian.constraints import ConstrainedEquations, constrained_equations
+from lagrangian.constraints import ConstrainedEquations, constrained_equations, eliminate
 from lagrangian.derivation import derive
 from lagrangian.errors import (
+    ConstraintError,
     ModelError,
     Problem,
     SimulationError,
@@ -28,7 +29,7 @@ from lagrangian.errors import (
     raise_if_problems,
 )
 from lagrangian.io import load, loads
-from lagrangian.model import System
+from lagrangian.model import Holonomic, System
 from lagrangian.numerics.export import export
 from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
@@ -176,9 +177,34 @@ def constrained_text(equations: ConstrainedEquations) -> str:
     return "\n".join(lines)
 
 
-def export_command(reference: str, *, language: str, out: str, settings: Sequence[str]) -> str:
-    """Generated code for ``language``: printed (``out`` is ``-``) or written into a folder."""
+def export_command(
+    reference: str,
+    *,
+    language: str,
+    out: str,
+    settings: Sequence[str],
+    independent: str | None = None,
+) -> str:
+    """Generated code for ``language``: printed (``out`` is ``-``) or written into a folder.
+    With ``independent`` (comma-separated coordinates) the holonomic constraints are
+    eliminated first and the minimal-coordinate form is exported."""
     system = apply_settings(load_system(reference), settings)
+    if independent is not None:
+        names = [name.strip() for name in independent.split(",") if name.strip()]
+        by_name = {q.name: q for q in system.coordinates}
+        unknown = [name for name in names if name not in by_name]
+        if unknown or not names:
+            raise ConstraintError(
+                f"--independent {independent!r}: name coordinates of the model "
+                f"({', '.join(by_name)}), as many as it has degrees of freedom"
+            )
+        if any(not isinstance(c, Holonomic) for c in system.constraints):
+            raise ConstraintError(
+                "--independent: only holonomic constraints h(q, t) = 0 can be eliminated; "
+                "this model has velocity or unilateral constraints — leave out --independent "
+                "to export the multiplier form"
+            )
+        system = eliminate(system, [by_name[name] for name in names])
     files = export(derive(system), language)
     if out == "-":
         return "\n".join(

@@ -121,6 +121,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     export.add_argument("--language", choices=["numpy", "c", "matlab", "julia"], default="numpy")
     export.add_argument("--out", default="-", help="a folder for the files, or - for stdout")
+    export.add_argument(
+        "--independent",
+        metavar="NAMES",
+        help="export the minimal form in these coordinates (comma-separated), the holonomic "
+        "constraints eliminated; default with constraints: the multiplier form",
+    )
 
     analyze = _command(
         sub,
@@ -300,7 +306,11 @@ def run(args: argparse.Namespace) -> str:
         )
     if args.command == "export":
         return commands.export_command(
-            args.model, language=args.language, out=args.out, settings=args.set
+            args.model,
+            language=args.language,
+            out=args.out,
+            settings=args.set,
+            independent=args.independent,
         )
     return commands.examples_command(args.name)
 
