@@ -20,6 +20,7 @@ from lagrangian.numerics.export.common import (
     Routine,
     comment,
     literal,
+    one_line,
     plan_export,
     print_code,
     temporaries_code,
@@ -147,7 +148,7 @@ def _source(plan: ExportPlan) -> str:
         parts.append(fallbacks)
     if plan.parameters:
         values = ", ".join(literal(v, "NAN", "INFINITY") for _, v in plan.parameters)
-        names = ", ".join(name for name, _ in plan.parameters)
+        names = ", ".join(one_line(name) for name, _ in plan.parameters)
         parts.append(
             f"/* {names} */\nconst double {plan.base}_defaults"
             f"[{plan.base.upper()}_N_PARAMETERS] = {{{values}}};"

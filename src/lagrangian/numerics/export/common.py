@@ -154,12 +154,20 @@ class ExportPlan:
             if "qd" in routine.arguments and routine.name in ("mass_matrix", "gravity"):
                 lines.append(f"{routine.name} depends on the velocities, so it takes qd too.")
         lines += ["", "Coordinates q (velocities qd in the same order):"]
-        lines += [f"    {index('q', i)}  {name}" for i, name in enumerate(self.coordinates)]
+        lines += [
+            f"    {index('q', i)}  {one_line(name)}" for i, name in enumerate(self.coordinates)
+        ]
         lines.append("Parameters p (default):" if self.parameters else "Parameters p: none.")
         for i, (name, default) in enumerate(self.parameters):
             value = "no default" if default is None else repr(default)
-            lines.append(f"    {index('p', i)}  {name} = {value}")
+            lines.append(f"    {index('p', i)}  {one_line(name)} = {value}")
         return lines
+
+
+def one_line(name: str) -> str:
+    """``name`` as printable ASCII on one line (escapes for anything else), so that a name
+    written into a comment can never end the comment and start code."""
+    return name.encode("unicode_escape").decode("ascii")
 
 
 def plan_export(
@@ -197,7 +205,7 @@ def plan_export(
         with_qd = routine_name not in positional or bool(matrix.free_symbols & velocities)
         arguments = ("q", "qd", "t", "p") if with_qd else ("q", "t", "p")
         routines.append(_routine(routine_name, arguments, sp.Matrix(matrix), mapping))
-    title = " ".join(eom.name.split()) or "model"
+    title = one_line(" ".join(eom.name.split())) or "model"
     return ExportPlan(
         title=title,
         base=sanitize(name if name is not None else eom.name),

@@ -56,8 +56,8 @@ def export_julia(eom: EquationsOfMotion) -> str:
 
 
 def _constants(plan: ExportPlan) -> str:
-    coordinates = [json.dumps(q) for q in plan.coordinates]
-    names = [json.dumps(name) for name, _ in plan.parameters]
+    coordinates = [julia_string(q) for q in plan.coordinates]
+    names = [julia_string(name) for name, _ in plan.parameters]
     values = [literal(v, "NaN", "Inf") for _, v in plan.parameters]
     return "\n".join(
         [
@@ -66,6 +66,12 @@ def _constants(plan: ExportPlan) -> str:
             f"const DEFAULTS = {_vector(values, 'Float64[]')}  # NaN: no default",
         ]
     )
+
+
+def julia_string(text: str) -> str:
+    """A Julia string literal of ``text``: JSON's escapes, and ``$`` escaped, since Julia
+    interpolates ``$(...)`` inside strings (a name must never run code)."""
+    return json.dumps(text).replace("$", "\\$")
 
 
 def _vector(items: list[str], empty: str) -> str:
