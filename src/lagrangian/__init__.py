@@ -55,7 +55,7 @@ if TYPE_CHECKING:
         newton_euler,
         nielsen_equations,
     )
-    from lagrangian.io import load
+    from lagrangian.io import load, loads
     from lagrangian.model import (
         Capacitor,
         Damper,
@@ -111,6 +111,7 @@ _HOMES = {
         "lagrangian.derivation",
     ),
     "load": "lagrangian.io",
+    "loads": "lagrangian.io",
     **dict.fromkeys(
         (
             "Capacitor",
@@ -232,6 +233,7 @@ __all__ = [
     "examples",
     "io",
     "load",
+    "loads",
     "newton_euler",
     "nielsen_equations",
     "particle_constraint_forces",

@@ -141,8 +141,28 @@ def test_round_trip_through_a_file(tmp_path: Path, format: str) -> None:
 
 
 def test_text_is_recognised_as_json_or_yaml() -> None:
-    assert load(PENDULUM_JSON) == load(PENDULUM_YAML) == double_pendulum()
-    assert load(PENDULUM_TOML, format="toml") == double_pendulum()
+    assert loads(PENDULUM_JSON) == loads(PENDULUM_YAML) == double_pendulum()
+    assert loads(PENDULUM_TOML, format="toml") == double_pendulum()
+
+
+def test_load_never_takes_text_for_a_path(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    for text in (PENDULUM_JSON, PENDULUM_YAML, "coordinates: [x]"):
+        with pytest.raises(ModelError, match=r"lagrangian\.loads"):
+            load(text)
+    with pytest.raises(ModelError, match="not int"):
+        load(5)  # type: ignore[arg-type]
+    with pytest.raises(ModelError, match="not NoneType"):
+        loads(None)  # type: ignore[arg-type]
+
+
+def test_text_naming_a_file_is_read_as_text_and_the_file_is_never_quoted(
+    tmp_path: Path,
+) -> None:
+    secret = tmp_path / "shadow"
+    secret.write_text("root:$6$very-secret-hash:19000:0:99999:7:::\n", encoding="utf-8")
+    with pytest.raises(ModelError) as refused:
+        loads(str(secret))  # untrusted text that happens to be a path
+    assert "very-secret-hash" not in str(refused.value)
 
 
 def test_the_name_defaults_to_the_file_stem(tmp_path: Path) -> None:

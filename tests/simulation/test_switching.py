@@ -29,13 +29,6 @@ def block(text_forces: str = "", dissipation: str = "mu*m*g*Abs(x_dot)", **param
     )
 
 
-@pytest.fixture(autouse=True)
-def _loads_or_load(monkeypatch):
-    # lg.loads is the text entry point; until it exists everywhere, load accepts the text
-    if not hasattr(lg, "loads"):
-        monkeypatch.setattr(lg, "loads", lg.load, raising=False)
-
-
 def test_coulomb_friction_derives_sign():
     eom = lg.derive(block())
     assert sp.simplify(eom.equations[0] - sp.sympify("g*m*mu*sign(x_dot) + m*x_ddot")) == 0

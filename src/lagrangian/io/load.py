@@ -48,44 +48,55 @@ SUFFIXES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml", ".json": "json"}
 _NOT_A_PATH = re.compile(r"[\n{}\[\]]|: ")
 
 
-def load(path_or_text: str | os.PathLike[str], *, format: str | None = None) -> System:
-    """The System described by a model file, given its path or its text.
+def load(path: str | os.PathLike[str], *, format: str | None = None) -> System:
+    """The System described by the model file at ``path`` (format from the extension .yaml,
+    .yml, .toml or .json, or ``format``).
 
-    A ``Path`` or the name of an existing file is read (format from the extension .yaml,
-    .yml, .toml or .json); anything else is the text itself (JSON if it starts with ``{``,
-    else YAML).  ``format`` ("yaml", "toml" or "json") overrides the guess.
+    ``load`` reads files only: the text of a model is read by :func:`loads`, never here.  A
+    string that looks like model text (a newline, braces, ``key: value``) is refused without
+    being opened, so text from elsewhere can never be taken for the name of a file whose lines
+    an error message would then quote.
 
-    >>> load('{"coordinates": ["x"], "kinetic": "x_dot**2/2"}').kinetic
-    x_dot**2/2
+    >>> load("double_pendulum.yaml")  # doctest: +SKIP
+    >>> load('{"coordinates": ["x"]}')  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    lagrangian.errors.ModelError: load takes the path of a model file, and this looks like ...
     """
-    path = _as_path(path_or_text)
-    if path is None:
-        text = str(path_or_text)
-        return loads(text, format or _guess_format(text))
-    text = path.read_text(encoding="utf-8")
-    chosen = format or SUFFIXES.get(path.suffix.lower()) or _guess_format(text)
-    return _load_text(text, chosen, str(path), path.stem)
+    file = _as_path(path)
+    text = file.read_text(encoding="utf-8")
+    chosen = format or SUFFIXES.get(file.suffix.lower()) or _guess_format(text)
+    return _load_text(text, chosen, str(file), file.stem)
 
 
-def loads(text: str, format: str = "yaml", source: str = "<string>") -> System:
-    """The System described by the model text ``text`` in ``format`` ("yaml", "toml", "json").
+def loads(text: str, format: str | None = None, source: str = "<string>") -> System:
+    """The System described by the model text ``text`` in ``format`` ("yaml", "toml",
+    "json"; default JSON when the text starts with ``{``, else YAML).
 
     ``source`` names the text in messages.
 
     >>> loads('coordinates = ["x"]', format="toml").coordinates
     (x,)
     """
-    return _load_text(text, format, source, "")
+    if not isinstance(text, str):
+        raise ModelError(f"loads takes the text of a model (a str), not {type(text).__name__}")
+    return _load_text(text, format or _guess_format(text), source, "")
 
 
-def _as_path(value: str | os.PathLike[str]) -> Path | None:
+def _as_path(value: object) -> Path:
     if isinstance(value, os.PathLike):
         return Path(value)
+    if not isinstance(value, str):
+        raise ModelError(
+            f"load takes the path of a model file (a str or a pathlib.Path), not "
+            f"{type(value).__name__}; model text goes to lagrangian.loads(text)"
+        )
     if _NOT_A_PATH.search(value) or len(value) > 4096:
-        return None
-    if os.path.isfile(value) or Path(value).suffix.lower() in SUFFIXES:
-        return Path(value)  # a missing model file raises FileNotFoundError
-    return None
+        raise ModelError(
+            "load takes the path of a model file, and this looks like the text of a model: "
+            "read text with lagrangian.loads(text) (format='toml' for TOML)"
+        )
+    return Path(value)  # a missing file raises FileNotFoundError, naming it
 
 
 def _guess_format(text: str) -> str:
