@@ -24,6 +24,7 @@ import sympy as sp
 from lagrangian.derivation import EquationsOfMotion, derive
 from lagrangian.errors import AnalysisError, Problem, raise_if_problems
 from lagrangian.model import System
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.frozen import frozen as frozen  # results' mappings are read-only
 from lagrangian.model.probe import is_zero
 
@@ -61,7 +62,7 @@ def _lookup(
                 )
             )
             continue
-        resolved[names[name]] = sp.sympify(value)
+        resolved[names[name]] = to_sympy(value)
     raise_if_problems(problems, f"Unknown names in {field}", AnalysisError)
     return resolved
 
@@ -75,7 +76,7 @@ def substitutions(eom: EquationsOfMotion, parameters: Values | None) -> dict[sp.
 def numeric_values(eom: EquationsOfMotion, parameters: Values | None = None) -> dict:
     """Parameter symbol -> value: the substitutions given, else the defaults (when set)."""
     values: dict[sp.Symbol, sp.Expr] = {
-        p: sp.sympify(v) for p, v in eom.parameters.items() if v is not None
+        p: to_sympy(v) for p, v in eom.parameters.items() if v is not None
     }
     values.update(substitutions(eom, parameters))
     return values
@@ -110,7 +111,7 @@ def operating_state(eom: EquationsOfMotion, about: Values | None) -> dict[sp.Sym
 def is_zero_value(value: Any) -> bool:
     """A state value that is 0: the number 0 (also the float 0.0, which SymPy does not
     call equal to 0) or an expression identically 0."""
-    value = sp.sympify(value)
+    value = to_sympy(value)
     if value.is_Number:
         return bool(value.is_zero)
     return is_zero(value)

@@ -25,6 +25,7 @@ from lagrangian.analysis.arguments import Subject, equations_of
 from lagrangian.derivation import EquationsOfMotion, derive
 from lagrangian.errors import AnalysisError, Problem, raise_if_problems
 from lagrangian.model import System, velocity
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.probe import all_zero, depends_on, is_zero
 from lagrangian.model.symbols import name_of, t, time_derivative
 
@@ -57,7 +58,7 @@ def equivalent_under_total_derivative(subject: Subject, gauge: Any) -> TotalDeri
     of motion, the Euler–Lagrange operator is applied to dF/dt here.
     """
     eom = equations_of(subject)
-    f = sp.sympify(gauge)
+    f = to_sympy(gauge)
     if depends_on(f, (*eom.velocities, *eom.accelerations)):
         raise AnalysisError(
             f"F = {f} depends on velocities: L + dF/dt would contain accelerations. "
@@ -93,7 +94,7 @@ def _validate(eom, mapping, new) -> dict[sp.Symbol, sp.Expr]:
     problems, resolved = [], {}
     for key, value in mapping.items():
         name = name_of(key)
-        expr = sp.sympify(value)
+        expr = to_sympy(value)
         if name not in by_name:
             problems.append(Problem(f"mapping.{name}", "is not a coordinate", "map each old one"))
         else:

@@ -44,6 +44,7 @@ from lagrangian.constraints.projection import Violation, project_state, violatio
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import ConstraintError, raise_if_problems
 from lagrangian.model.constraints import Constraint, label
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.model.probe import PROBES, SEED, is_zero, random_values
 from lagrangian.model.probe import evaluate as value_at
@@ -181,11 +182,11 @@ def numeric_point(
 ) -> dict[sp.Symbol, float]:
     """The state and the parameter values as floats; ConstraintError when a parameter that
     the constraints use has no value."""
-    point = {s: float(evaluate(sp.sympify(v), numbers)) for s, v in state.items()}
+    point = {s: float(evaluate(to_sympy(v), numbers)) for s, v in state.items()}
     used = set().union(*(c.expression.free_symbols for c in eom.system.constraints))
     missing = []
     for p in eom.parameters:
-        value = evaluate(sp.sympify(numbers.get(p, p)), numbers)
+        value = evaluate(to_sympy(numbers.get(p, p)), numbers)
         if value.free_symbols:
             if p in used:
                 missing.append(p.name)

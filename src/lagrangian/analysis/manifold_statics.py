@@ -54,6 +54,7 @@ from lagrangian.analysis.stability import stability_of, sylvester_condition
 from lagrangian.constraints.projection import project
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.probe import SEED, depends_on, is_zero
 
 #: Unknowns beyond the multipliers up to which sympy.solve is tried (as for free systems).
@@ -89,7 +90,7 @@ def _pushing(manifold: ConstraintManifold, multipliers, numbers) -> list[str]:
     """Labels of the velocity-level constraints whose multiplier is not 0 at rest."""
     pushing = []
     for row in manifold.velocity_rows:
-        value = evaluate(sp.sympify(multipliers.get(manifold.multipliers[row], 0)), numbers)
+        value = evaluate(to_sympy(multipliers.get(manifold.multipliers[row], 0)), numbers)
         if value.free_symbols or abs(complex(value)) > 1e-9:
             pushing.append(manifold.labels[row])
     return pushing
@@ -148,7 +149,7 @@ def symbolic_limit(static: sp.MatrixBase, coordinates: list[sp.Symbol], multipli
     to ``COORDINATE_UNKNOWNS`` coordinates when the equations are polynomial in them, two
     when functions of them appear (trigonometric systems in three angles, as a four-bar
     linkage's, keep sympy.solve busy for minutes)."""
-    polynomial = all(sp.sympify(e).is_polynomial(*coordinates) for e in static)
+    polynomial = all(to_sympy(e).is_polynomial(*coordinates) for e in static)
     return multipliers + (COORDINATE_UNKNOWNS if polynomial else 2)
 
 

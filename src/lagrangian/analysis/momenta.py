@@ -25,6 +25,7 @@ from lagrangian.analysis.manifold import constraint_manifold
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 from lagrangian.model.constraints import label
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.probe import is_zero
 
 
@@ -134,7 +135,7 @@ def _vanishing_condition(expr: sp.Expr, numbers: Mapping[sp.Symbol, sp.Expr]) ->
     """The parameter values (those at 0 first, else all it uses) at which ``expr``
     vanishes identically in the state, or None when they do not make it vanish."""
     used = sorted((p for p in expr.free_symbols if p in numbers), key=str)
-    zeros = [p for p in used if sp.sympify(numbers[p]).is_zero]
+    zeros = [p for p in used if to_sympy(numbers[p]).is_zero]
     for chosen in (zeros, used):
         values = {p: sp.Integer(0) if p in zeros else numbers[p] for p in chosen}
         if chosen and _vanishes(expr.xreplace(values)):

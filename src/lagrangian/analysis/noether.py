@@ -30,6 +30,7 @@ import sympy as sp
 
 from lagrangian.analysis.arguments import Subject, Values, equations_of, substitute, substitutions
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.nonsmooth import derivative
 from lagrangian.model.probe import is_zero
 
@@ -168,7 +169,7 @@ def point_symmetries(subject: Subject, parameters: Values | None = None) -> tupl
     if not all(is_zero(f) for f in (*eom.generalized_forces, *eom.dissipation_forces)):
         return ()
     values = substitutions(eom, parameters)
-    lagrangian = sp.sympify(substitute(eom.lagrangian, values))
+    lagrangian = to_sympy(substitute(eom.lagrangian, values))
     q, n = eom.coordinates, len(eom.coordinates)
     if n == 0:
         return ()

@@ -37,6 +37,7 @@ from lagrangian.constraints.eliminate import elimination_rule
 from lagrangian.derivation import derive
 from lagrangian.errors import AnalysisError, LagrangianError
 from lagrangian.model import System
+from lagrangian.model.conversion import to_sympy
 
 #: Choices of independent coordinates tried before giving up.
 CHOICES = 12
@@ -72,7 +73,7 @@ def _reference(system: System, through: Mapping[sp.Symbol, Any] | None) -> Syste
     initial = dict(system.initial)
     for q in system.coordinates:
         if q in through and q not in initial:
-            number = evaluate(sp.sympify(through[q]), values)
+            number = evaluate(to_sympy(through[q]), values)
             if not number.free_symbols:
                 initial[q] = float(number)
     return system.replace(initial=initial)
@@ -162,6 +163,6 @@ def stable_state(eom: Any, found: Any, parameters: Mapping | None) -> dict | Non
         return None
     numbers = numeric_values(eom, parameters)
     return {
-        q: 0 if q in stable[0].free else evaluate(sp.sympify(v), numbers)
+        q: 0 if q in stable[0].free else evaluate(to_sympy(v), numbers)
         for q, v in stable[0].state.items()
     }

@@ -22,6 +22,7 @@ import sympy as sp
 
 from lagrangian.analysis.arguments import assuming_positive, evaluate
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.nonsmooth import NONSMOOTH
 
 STARTS = 24
@@ -46,7 +47,7 @@ def _only_in_trig(expr: sp.Basic, q: sp.Symbol) -> bool:
 
 def periodic_coordinates(coordinates: Sequence[sp.Symbol], exprs) -> list[sp.Symbol]:
     """The coordinates that every expression contains only through sin/cos of k q."""
-    return [q for q in coordinates if all(_only_in_trig(sp.sympify(e), q) for e in exprs)]
+    return [q for q in coordinates if all(_only_in_trig(to_sympy(e), q) for e in exprs)]
 
 
 def _occurrences(expr: sp.Basic, q: sp.Symbol, inside: bool, found: set[bool]) -> None:
@@ -64,7 +65,7 @@ def mixes_functions(exprs, unknowns: Sequence[sp.Symbol]) -> bool:
     for q in unknowns:
         found: set[bool] = set()
         for e in exprs:
-            _occurrences(sp.sympify(e), q, False, found)
+            _occurrences(to_sympy(e), q, False, found)
         if found == {True, False}:
             return True
     return False
@@ -119,7 +120,7 @@ def _same(a: Mapping, b: Mapping) -> bool:
     if set(a) != set(b):
         return False
     for q in a:
-        difference = sp.sympify(a[q] - b[q])
+        difference = to_sympy(a[q] - b[q])
         if difference.free_symbols:
             if sp.simplify(difference) != 0:
                 return False

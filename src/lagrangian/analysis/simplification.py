@@ -18,6 +18,7 @@ from typing import Any
 
 import sympy as sp
 
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.probe import SMALL, is_small
 
 #: A stricter limit for results that are many and rarely simplify much (rates, A and B).
@@ -26,7 +27,7 @@ QUICK = 30
 
 def simplify_small(expr: Any, limit: int = SMALL) -> sp.Expr:
     """``sympy.simplify(expr)`` when ``expr`` has at most ``limit`` operations, else ``expr``."""
-    expr = sp.sympify(expr)
+    expr = to_sympy(expr)
     return sp.simplify(expr) if is_small(expr, limit) else expr
 
 

@@ -36,6 +36,7 @@ from lagrangian.constraints.dependence import dependence
 from lagrangian.errors import ConstraintError
 from lagrangian.model import Holonomic, System, Unilateral, VelocityConstraint, VoltageSource, t
 from lagrangian.model.constraints import Constraint, label, statement
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.probe import is_zero
 from lagrangian.model.rotation import Orientation
 from lagrangian.model.symbols import as_coordinate, from_time_functions, velocity
@@ -99,7 +100,7 @@ def _symbols(items: Sequence[Any], what: str) -> tuple[sp.Symbol, ...]:
 
 
 def _canonical(expr: Any, system: System, new: Sequence[sp.Symbol]) -> sp.Expr:
-    expr = from_time_functions(sp.sympify(expr))
+    expr = from_time_functions(to_sympy(expr))
     names = {s.name: s for s in (*system.parameters, *new, t)}
     return expr.xreplace({s: names[s.name] for s in expr.free_symbols if s.name in names})
 

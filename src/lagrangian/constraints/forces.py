@@ -32,6 +32,7 @@ import sympy as sp
 
 from lagrangian.constraints.multipliers import ConstrainedEquations
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
+from lagrangian.model.conversion import to_sympy
 
 
 def particle_constraint_forces(
@@ -48,7 +49,7 @@ def particle_constraint_forces(
         s
         for position in positions
         for x in position
-        for s in sp.sympify(x).free_symbols
+        for s in to_sympy(x).free_symbols
         if s in system.coordinates
     )
     index = {q: k for k, q in enumerate(system.coordinates)}

@@ -20,12 +20,14 @@ from collections.abc import Iterable, Mapping, Sequence
 
 import sympy as sp
 
+from lagrangian.model.conversion import to_sympy
+
 Form = dict[tuple[int, ...], sp.Expr]
 
 
 def one_form(coefficients: Iterable[sp.Expr]) -> Form:
     """sum_k a_k dz_k from its coefficients (zeros left out)."""
-    return {(k,): sp.sympify(a) for k, a in enumerate(coefficients) if a != 0}
+    return {(k,): to_sympy(a) for k, a in enumerate(coefficients) if a != 0}
 
 
 def _sorted_with_sign(indices: tuple[int, ...]) -> tuple[tuple[int, ...], int]:

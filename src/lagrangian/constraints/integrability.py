@@ -28,6 +28,7 @@ from itertools import combinations
 import sympy as sp
 
 from lagrangian.constraints.forms import Form, describe, exterior_derivative, one_form, wedge
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.probe import is_small, is_zero
 
 
@@ -88,9 +89,9 @@ def integrate_form(
 def _candidate_factors(
     coefficients: Sequence[sp.Expr], variables: Sequence[sp.Symbol]
 ) -> list[sp.Expr]:
-    present = [z for z in variables if any(z in sp.sympify(a).free_symbols for a in coefficients)]
+    present = [z for z in variables if any(z in to_sympy(a).free_symbols for a in coefficients)]
     found: list[sp.Expr] = []
-    nonzero = [sp.sympify(a) for a in coefficients if a != 0]
+    nonzero = [to_sympy(a) for a in coefficients if a != 0]
     for a in nonzero:
         found += [1 / a, 1 / a**2]
     for z in present:

@@ -13,6 +13,7 @@ from typing import Any
 import symengine as se
 import sympy as sp
 
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.nonsmooth import piecewise_smooth
 
 Backend = Any  # a symengine expression
@@ -59,7 +60,7 @@ class SympyView:
         elif type(expr) in _TRIG:
             result = self._trig(_TRIG[type(expr)], self(expr.args[0]))
         elif expr.is_Number:
-            result = sp.sympify(expr)
+            result = to_sympy(expr)
         else:
             result = self._fallback(expr)
         memo[expr] = result
@@ -67,7 +68,7 @@ class SympyView:
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs, sign and Heaviside
-        result = piecewise_smooth(sp.sympify(expr))
+        result = piecewise_smooth(to_sympy(expr))
         swap = {
             s: self.by_name[s.name]
             for s in result.free_symbols

@@ -52,6 +52,7 @@ from lagrangian.derivation.lagrange import derive
 from lagrangian.derivation.trig import combine_trig_matrix, combine_trig_sympy
 from lagrangian.errors import DerivationError, Problem, raise_if_problems
 from lagrangian.model import System
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.elements import Damper, Spring
 from lagrangian.model.symbols import t, time_derivative, velocity
 
@@ -167,18 +168,18 @@ _BODIES = "describe the masses as particles and rigid bodies"
 
 
 def _velocity_part(system: System) -> sp.Expr:
-    L = sp.sympify(system.lagrangian)
+    L = to_sympy(system.lagrangian)
     return sp.expand(L - L.xreplace({v: 0 for v in system.velocities}))
 
 
 def _generalized_rest(system: System) -> sp.ImmutableMatrix:
     """Q_j - dV/dq_j - dF/dq_dot_j of the potential, dissipation and generalized forces given
     on the coordinates (L without velocities acts as -V)."""
-    potential = sp.sympify(system.potential) - sp.sympify(system.lagrangian)
+    potential = to_sympy(system.potential) - to_sympy(system.lagrangian)
     rows = []
     for q in system.coordinates:
-        given = sp.sympify(system.generalized_forces.get(q, 0))
-        rows.append(given - potential.diff(q) - sp.sympify(system.dissipation).diff(velocity(q)))
+        given = to_sympy(system.generalized_forces.get(q, 0))
+        rows.append(given - potential.diff(q) - to_sympy(system.dissipation).diff(velocity(q)))
     return sp.ImmutableMatrix([combine_trig_sympy(r) for r in rows])
 
 
@@ -197,7 +198,7 @@ def _spatial_loads(system: System, frames: Sequence[BodyFrame]) -> dict[str, sp.
         frame, point = _carrier(ref, by_name, named, q)
         if frame is not None:
             loads[frame.name] += point_wrench(frame.kind, point, force)
-        elif any(sp.sympify(x).free_symbols & {*q, t} for x in point):
+        elif any(to_sympy(x).free_symbols & {*q, t} for x in point):
             problems.append(_unattached(field, point))
 
     for frame in frames:

@@ -20,6 +20,7 @@ import sympy as sp
 
 from lagrangian.derivation.backend import SympyView, to_backend
 from lagrangian.derivation.collect import collect_state
+from lagrangian.model.conversion import to_sympy
 
 MAX_TRIG_DEGREE = 8  # beyond this a term is left as it is (2**(d-1) Fourier terms)
 
@@ -156,7 +157,7 @@ def combine_trig_sympy(expr: Any) -> sp.Expr:
     >>> combine_trig_sympy(sp.sin(a) ** 2 * sp.cos(b) + sp.cos(a) ** 2 * sp.cos(b))
     cos(b)
     """
-    expr = sp.sympify(expr)
+    expr = to_sympy(expr)
     return SympyView(expr.free_symbols)(combine_trig(to_backend(expr)))
 
 

@@ -28,6 +28,7 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem, raise_if_problems
+from lagrangian.model.conversion import to_matrix, to_sympy
 from lagrangian.model.rotation import (
     as_expression,
     as_orientation,
@@ -167,7 +168,7 @@ def rotated(inertia: Any, rotation: Any) -> sp.ImmutableMatrix:
     1/12
     """
     R = as_orientation(rotation).matrix
-    return sp.ImmutableMatrix((R * sp.Matrix(inertia) * R.T).applyfunc(sp.expand))
+    return sp.ImmutableMatrix((R * to_matrix(inertia) * R.T).applyfunc(sp.expand))
 
 
 def parallel_axis(inertia_centre: Any, mass: Any, offset: Sequence[Any]) -> sp.ImmutableMatrix:
@@ -177,8 +178,8 @@ def parallel_axis(inertia_centre: Any, mass: Any, offset: Sequence[Any]) -> sp.I
     >>> parallel_axis(rod(1, 1), 1, [0, 0, 1])[0, 0]
     13/12
     """
-    d = sp.Matrix(list(offset))
-    shifted = sp.Matrix(inertia_centre) + sp.sympify(mass) * (d.dot(d) * sp.eye(3) - d * d.T)
+    d = to_matrix(list(offset))
+    shifted = to_matrix(inertia_centre) + to_sympy(mass) * (d.dot(d) * sp.eye(3) - d * d.T)
     return sp.ImmutableMatrix(shifted.applyfunc(sp.expand))
 
 
@@ -219,7 +220,7 @@ def generalized_inertia(mass: Any, inertia: Any) -> sp.ImmutableMatrix:
     >>> generalized_inertia(2, sp.eye(3)).diagonal()
     Matrix([[2, 2, 2, 1, 1, 1]])
     """
-    block = sp.BlockMatrix([[mass * sp.eye(3), sp.zeros(3)], [sp.zeros(3), sp.Matrix(inertia)]])
+    block = sp.BlockMatrix([[mass * sp.eye(3), sp.zeros(3)], [sp.zeros(3), to_matrix(inertia)]])
     return sp.ImmutableMatrix(block.as_explicit())
 
 
@@ -242,7 +243,7 @@ def spatial_inertia(
 
 def _decidable_problems(inertia: sp.MatrixBase, field: str, subject: str) -> list[Problem]:
     """What SymPy's assumptions decide about a tensor with unknown values."""
-    diagonal = [sp.sympify(inertia[i, i]) for i in range(3)]
+    diagonal = [to_sympy(inertia[i, i]) for i in range(3)]
     if any(d.is_negative for d in diagonal):
         fix = "moments of inertia are >= 0; check the signs"
         return [Problem(field, f"{subject} has a negative moment on its diagonal", fix)]
@@ -255,7 +256,7 @@ def _decidable_problems(inertia: sp.MatrixBase, field: str, subject: str) -> lis
 
 
 def _triangle_problem(field: str, subject: str, moments: Sequence[Any]) -> Problem:
-    listed = ", ".join(f"{float(m):.4g}" if sp.sympify(m).is_number else str(m) for m in moments)
+    listed = ", ".join(f"{float(m):.4g}" if to_sympy(m).is_number else str(m) for m in moments)
     return Problem(
         field,
         f"the principal moments of {subject} ({listed}) violate the triangle inequality "
@@ -292,7 +293,7 @@ def check_inertia(
     >>> check_inertia(sp.diag(1, 1, 3), "I", {})[0].message.split(" violate ")[1]
     'the triangle inequality I1 + I2 >= I3'
     """
-    matrix = sp.Matrix(inertia)
+    matrix = to_matrix(inertia)
     if _asymmetric(matrix, values):
         fix = "an inertia tensor is symmetric: I_xy = I_yx, I_xz = I_zx, I_yz = I_zy"
         return [Problem(field, f"{subject} is not symmetric", fix)]

@@ -35,6 +35,8 @@ from typing import Any
 
 import sympy as sp
 
+from lagrangian.model.conversion import to_sympy
+
 
 class _RealAbs(sp.Function):
     """|u| of a real u, inside :func:`derivative` only (never returned)."""
@@ -65,7 +67,7 @@ NONSMOOTH = tuple(_TO_REAL)
 
 def derivative(expr: Any, *variables: Any) -> sp.Expr:
     """d expr / d variables with d|u| = sign(u) du and d sign(u) = d Heaviside(u) = 0."""
-    expr = sp.sympify(expr)
+    expr = to_sympy(expr)
     if not expr.has(*NONSMOOTH):
         return expr.diff(*variables)
     real = expr.replace(lambda e: type(e) in _TO_REAL, lambda e: _TO_REAL[type(e)](*e.args))

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem, raise_if_problems
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.elements import as_expression
 from lagrangian.model.frozen import FrozenMapping
 from lagrangian.model.inertia import Shape
@@ -86,7 +87,7 @@ def _parameter_value(name: str, value: Any, problems: list[Problem]) -> float | 
     if value is None:
         return None
     try:
-        number = sp.sympify(value) if isinstance(value, (int, float, sp.Basic)) else None
+        number = to_sympy(value) if isinstance(value, (int, float, sp.Basic)) else None
     except (TypeError, sp.SympifyError):
         number = None
     if number is None or not number.is_number or not number.is_real:

@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.nonsmooth import piecewise_smooth
 
 SEED = 20240605
@@ -56,7 +57,7 @@ def evaluate(expr: Any, values: Mapping[sp.Symbol, float]) -> float | None:
     or not real there."""
     try:
         exact = {s: sp.Float(v, DIGITS) for s, v in values.items()}
-        number = complex(sp.sympify(expr).xreplace(exact).evalf(DIGITS))
+        number = complex(to_sympy(expr).xreplace(exact).evalf(DIGITS))
     except (TypeError, ValueError, ZeroDivisionError):
         return None
     if not np.isfinite(number) or abs(number.imag) > 1e-12 * max(1.0, abs(number.real)):
@@ -79,7 +80,7 @@ def is_zero(expr: Any) -> bool:
     are confirmed by ``sympy.simplify`` when the expression is small, and accepted otherwise
     (a non-zero analytic expression vanishes on a set of measure zero).
     """
-    expr = sp.sympify(expr)
+    expr = to_sympy(expr)
     if expr == 0 or (expr.is_Number and expr.is_zero):  # 0.0 == 0 is False in SymPy
         return True
     if not expr.free_symbols:
@@ -101,7 +102,7 @@ def all_zero(exprs: Iterable[Any]) -> bool:
 
 def depends_on(expr: Any, symbols: Iterable[Any]) -> bool:
     """True when any of ``symbols`` is free in ``expr`` (SymPy or SymEngine)."""
-    free = expr.free_symbols if hasattr(expr, "free_symbols") else sp.sympify(expr).free_symbols
+    free = expr.free_symbols if hasattr(expr, "free_symbols") else to_sympy(expr).free_symbols
     return any(s in free for s in symbols)
 
 

@@ -32,6 +32,7 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.symbols import t, time_derivative, velocity
 
 #: The 12 Euler-angle sequences: 6 Tait–Bryan (three different axes), 6 proper Euler.
@@ -53,7 +54,7 @@ def as_expression(value: Any, field: str = "value") -> sp.Expr:
     if isinstance(value, float):
         return sp.nsimplify(value, rational=True)
     if isinstance(value, sp.Expr) or (isinstance(value, int) and not isinstance(value, bool)):
-        return sp.sympify(value)
+        return to_sympy(value)
     fix = "give a SymPy expression or a number (Symbols, not text)"
     raise ModelError(
         f"{value!r} is not an expression", [Problem(field, f"{value!r} is not an expression", fix)]
@@ -80,7 +81,7 @@ def vee(skew: sp.MatrixBase) -> sp.ImmutableMatrix:
 
 
 def _unit(axis: Sequence[Any]) -> sp.ImmutableMatrix:
-    n = sp.ImmutableMatrix([sp.sympify(a) for a in axis])
+    n = sp.ImmutableMatrix([to_sympy(a) for a in axis])
     length_squared = sp.expand(n.dot(n))
     return n if length_squared == 1 else n / sp.sqrt(length_squared)
 
@@ -245,11 +246,11 @@ def quaternion_rotation(w: Any, x: Any, y: Any, z: Any) -> Orientation:
 
 
 def _rate(expr: Any, coordinates: Sequence[sp.Symbol]) -> sp.Expr:
-    return time_derivative(sp.sympify(expr), coordinates)
+    return time_derivative(to_sympy(expr), coordinates)
 
 
 def _constant(expr: Any, coordinates: Sequence[sp.Symbol]) -> bool:
-    return not (sp.sympify(expr).free_symbols & {*coordinates, t})
+    return not (to_sympy(expr).free_symbols & {*coordinates, t})
 
 
 def _quaternion_rates(orientation: Orientation, coordinates: Sequence[sp.Symbol]) -> tuple:
@@ -348,7 +349,7 @@ def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) ->
     """The real numbers of ``matrix`` at ``values``; None if any entry is not finite and real."""
     exact = {s: sp.Float(v, 30) for s, v in values.items()}
     try:
-        entries = [complex(sp.sympify(e).xreplace(exact).evalf(30)) for e in matrix]
+        entries = [complex(to_sympy(e).xreplace(exact).evalf(30)) for e in matrix]
     except (TypeError, ValueError, ZeroDivisionError):
         return None
     array = np.array(entries).reshape(matrix.shape)

@@ -18,6 +18,7 @@ from typing import Any
 
 import sympy as sp
 
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.rotation import (
     as_orientation,
     body_angular_velocity,
@@ -64,7 +65,7 @@ def body_twist(
     """
     q = tuple(coordinates)
     R = as_orientation(orientation).matrix
-    p_dot = sp.Matrix([time_derivative(sp.sympify(x), q) for x in position])
+    p_dot = sp.Matrix([time_derivative(to_sympy(x), q) for x in position])
     return sp.ImmutableMatrix.vstack(
         sp.ImmutableMatrix(R.T * p_dot), body_angular_velocity(orientation, q)
     )

@@ -31,6 +31,7 @@ from scipy.linalg.lapack import dgesv
 
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationError, SimulationInputError
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
 from lagrangian.numerics.state_equations import StateEquations, state_equations
@@ -215,7 +216,7 @@ def _energy_functions(eom: EquationsOfMotion) -> tuple[sp.Expr, sp.Expr, bool]:
     difference = se.expand(difference)  # SymEngine: a tenth of SymPy's time on a 10-link T
     if difference == 0:
         return energy, energy, False
-    return energy, energy + sp.sympify(difference), True
+    return energy, energy + to_sympy(difference), True
 
 
 def _euler(expr: sp.Expr, velocities: tuple[sp.Symbol, ...]) -> Any:

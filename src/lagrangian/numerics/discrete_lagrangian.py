@@ -41,6 +41,7 @@ import sympy as sp
 
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationInputError
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
 
@@ -183,7 +184,7 @@ def compile_discrete_mechanics(
     """The functions of :class:`DiscreteMechanics` for ``eom`` and the holonomic constraints
     h_j(q, t) = 0 given by their expressions (compiled once per eom and constraints)."""
     known = _MECHANICS_CACHE.get(eom, lambda _: {})
-    key = tuple(sp.sympify(h) for h in constraints)
+    key = tuple(to_sympy(h) for h in constraints)
     if key not in known:
         known[key] = _compile_mechanics(eom, key)
     return known[key]
@@ -241,7 +242,7 @@ def _require_known(eom: EquationsOfMotion, expressions: Sequence[sp.Expr], what:
     known = {*eom.coordinates, *eom.velocities, eom.time, *eom.parameters}
     used: set[sp.Basic] = set()
     for expression in expressions:
-        used |= sp.sympify(expression).free_symbols
+        used |= to_sympy(expression).free_symbols
     unknown = sorted(str(s) for s in used - known)
     if unknown:
         raise SimulationInputError(

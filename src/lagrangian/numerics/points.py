@@ -15,9 +15,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import sympy as sp
 
 from lagrangian.model import System
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.symbols import t
 from lagrangian.numerics.evaluate import NumericFunction
 
@@ -45,7 +45,7 @@ def compile_points(system: System) -> PointPositions:
     """The positions of ``system``'s particles and rigid-body centres as a NumPy function."""
     points = {name: r for name, r in system.points().items() if name != "origin"}
     dimension = system.dimension
-    expressions = [sp.sympify(x) for r in points.values() for x in r]
+    expressions = [to_sympy(x) for r in points.values() for x in r]
     defaults = tuple(float("nan") if v is None else float(v) for v in system.parameters.values())
     function = NumericFunction(
         (list(system.coordinates), t, list(system.parameters)),

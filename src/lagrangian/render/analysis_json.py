@@ -42,11 +42,12 @@ from lagrangian.analysis import (
     NormalModes,
 )
 from lagrangian.analysis.steady_motions import SteadyMotions
+from lagrangian.model.conversion import to_sympy
 from lagrangian.render.json import expression_string
 
 
 def _strings(values: Iterable[Any]) -> list[str]:
-    return [expression_string(sp.sympify(v)) for v in values]
+    return [expression_string(to_sympy(v)) for v in values]
 
 
 def _matrix(matrix: sp.MatrixBase) -> list[list[str]]:
@@ -54,11 +55,11 @@ def _matrix(matrix: sp.MatrixBase) -> list[list[str]]:
 
 
 def _state(state: Mapping[sp.Symbol, Any]) -> dict[str, str]:
-    return {s.name: expression_string(sp.sympify(v)) for s, v in state.items()}
+    return {s.name: expression_string(to_sympy(v)) for s, v in state.items()}
 
 
 def _strings_by_name(values: Mapping[str, Any]) -> dict[str, str]:
-    return {name: expression_string(sp.sympify(v)) for name, v in values.items()}
+    return {name: expression_string(to_sympy(v)) for name, v in values.items()}
 
 
 def _flag(value: Any) -> bool | None:

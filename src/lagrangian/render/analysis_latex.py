@@ -22,6 +22,7 @@ from lagrangian.analysis import (
     NormalModes,
     Symmetry,
 )
+from lagrangian.model.conversion import to_sympy
 from lagrangian.render.latex import block, symbol_names
 
 #: Characters that LaTeX text mode does not take as they are (reasons quote formulas).
@@ -38,7 +39,7 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
     names = symbol_names(report.coordinates)
 
     def tex(expr: sp.Basic) -> str:
-        return sp.latex(sp.sympify(expr), symbol_names=names)
+        return sp.latex(to_sympy(expr), symbol_names=names)
 
     lines = [rf"&{_text(report.name or 'system')}:\ {report.dof}\ {_text('degrees of freedom')}"]
     if report.freedom and report.configuration_dimension != report.independent_velocities:
@@ -98,7 +99,7 @@ def analysis_latex(report: AnalysisReport, environment: str = "align*") -> str:
 
 def _tex(expr: object) -> str:
     """LaTeX of an expression whose velocities are written NAME_dot (dotted by name)."""
-    value = sp.sympify(expr)
+    value = to_sympy(expr)
     coordinates = {
         sp.Symbol(s.name.removesuffix("_ddot").removesuffix("_dot")) for s in value.free_symbols
     }

@@ -26,6 +26,7 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.model import System
+from lagrangian.model.conversion import to_sympy
 from lagrangian.numerics.points import PointPositions, compile_points
 from lagrangian.render.gauges import gauge_scene
 from lagrangian.simulation.trajectory import Trajectory
@@ -39,9 +40,7 @@ TRAIL = 40  # samples of trail behind each point
 
 
 def _constant_distance(a: Sequence[Any], b: Sequence[Any], coordinates: set[sp.Symbol]) -> bool:
-    squared = sp.trigsimp(
-        sp.expand(sum((sp.sympify(x) - sp.sympify(y)) ** 2 for x, y in zip(a, b)))
-    )
+    squared = sp.trigsimp(sp.expand(sum((to_sympy(x) - to_sympy(y)) ** 2 for x, y in zip(a, b))))
     return not (squared.free_symbols & coordinates) and squared != 0
 
 
@@ -85,7 +84,7 @@ def _anchor(ref: Any, names: tuple[str, ...], positions: np.ndarray, frame: int)
             return np.zeros(3)
         return positions[frame, names.index(ref)]
     fixed = np.zeros(3)
-    fixed[: len(ref)] = [float(sp.sympify(x)) if sp.sympify(x).is_number else np.nan for x in ref]
+    fixed[: len(ref)] = [float(to_sympy(x)) if to_sympy(x).is_number else np.nan for x in ref]
     return fixed
 
 

@@ -15,6 +15,7 @@ from string import ascii_lowercase
 import sympy as sp
 
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model.conversion import to_sympy
 from lagrangian.render.rows import Row, step_rows
 
 DOT, DDOT = "&#729;", "&#168;"  # ˙ and ¨ as accents over the coordinate
@@ -54,7 +55,7 @@ class Dotted:
             )
 
     def __call__(self, expr: sp.Basic) -> str:
-        text = sp.mathml(sp.sympify(expr).xreplace(self.swap), printer="presentation")
+        text = sp.mathml(to_sympy(expr).xreplace(self.swap), printer="presentation")
         for placeholder, markup in self.markup.items():
             text = text.replace(placeholder, markup)
         for entity, code in NAMED_ENTITIES.items():  # numeric, so the output is plain XML

@@ -27,6 +27,7 @@ from lagrangian.analysis.momenta import CyclicCoordinate, cyclic_coordinates
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import ExpressionError, Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.expressions import parse_expression
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.model.symbols import from_time_functions
@@ -164,7 +165,7 @@ def _expression(value: Any, names: Mapping[str, sp.Basic], field: str) -> sp.Exp
         raise SimulationInputError(
             f"{field} is a {type(value).__name__}; give an expression (text or SymPy)."
         )
-    expr = sp.sympify(from_time_functions(value))
+    expr = to_sympy(from_time_functions(value))
     unknown = sorted(s.name for s in expr.free_symbols if names.get(s.name) != s)
     if unknown:
         raise SimulationInputError(f"{field} uses {', '.join(unknown)}, not a name of this system.")

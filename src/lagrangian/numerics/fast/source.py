@@ -32,6 +32,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from lagrangian.errors import SimulationError
+from lagrangian.model.conversion import to_sympy
 
 INDENT = "    "
 
@@ -63,7 +64,7 @@ def values_source(symbols: Sequence[sp.Symbol], expressions: Sequence[sp.Expr]) 
     """
     names = {symbol: sp.Symbol(f"a_{i}") for i, symbol in enumerate(symbols)}
     _require_known(expressions, set(names))
-    entries = [sp.sympify(e).xreplace(names) for e in expressions]
+    entries = [to_sympy(e).xreplace(names) for e in expressions]
     used = set().union(*(e.free_symbols for e in entries))
     lines = [
         "def values(out, inputs, user_data):",
@@ -84,7 +85,7 @@ def values_source(symbols: Sequence[sp.Symbol], expressions: Sequence[sp.Expr]) 
 
 
 def _require_known(expressions: Sequence[sp.Expr], known: set[sp.Symbol]) -> None:
-    unknown = sorted({s.name for e in expressions for s in sp.sympify(e).free_symbols - known})
+    unknown = sorted({s.name for e in expressions for s in to_sympy(e).free_symbols - known})
     if unknown:
         raise SimulationError(
             f"The equations use {', '.join(unknown)}, which are neither coordinates nor "
