@@ -26,7 +26,6 @@ import sympy as sp
 from lagrangian.analysis.arguments import (
     Subject,
     Values,
-    assuming_positive,
     equations_of,
     evaluate,
     numeric_values,
@@ -39,11 +38,12 @@ from lagrangian.analysis.rest import (
     StabilityTest,
     build_equilibrium,
     no_rest,
+    positivity_condition,
     solve_static,
 )
 from lagrangian.analysis.roots import normalize_angles, periodic_coordinates
 from lagrangian.analysis.simplification import simplify_small_matrix
-from lagrangian.analysis.stability import stability_of, stiffness_matrix, sylvester_condition
+from lagrangian.analysis.stability import stability_of, stiffness_matrix
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.model.nonsmooth import jacobian
 from lagrangian.model.probe import depends_on, is_zero
@@ -68,9 +68,7 @@ def _stability(
     stiffness = simplify_small_matrix(stiffness_matrix(static, eom.coordinates).xreplace(point))
     kept = [j for j, q in enumerate(eom.coordinates) if q not in free]
     reduced = stiffness.extract(kept, kept)
-    condition = None
-    if exact and 0 < reduced.rows <= 3:
-        condition = assuming_positive(sylvester_condition(reduced), eom)
+    condition = positivity_condition(reduced, eom, exact)
     numeric = evaluate(reduced, numbers)
     if numeric.free_symbols:
         verdict = condition if condition in (sp.true, sp.false) else None

@@ -33,7 +33,6 @@ import sympy as sp
 
 from lagrangian.analysis.arguments import (
     Values,
-    assuming_positive,
     evaluate,
     numeric_values,
     substitutions,
@@ -45,12 +44,13 @@ from lagrangian.analysis.rest import (
     StabilityTest,
     build_equilibrium,
     no_rest,
+    positivity_condition,
     solve_static,
 )
 from lagrangian.analysis.roots import STARTS, normalize_angles, periodic_coordinates
 from lagrangian.analysis.simplification import simplify_small_matrix
 from lagrangian.analysis.spectrum import eigenvalues, growth_rates
-from lagrangian.analysis.stability import stability_of, sylvester_condition
+from lagrangian.analysis.stability import stability_of
 from lagrangian.constraints.projection import project
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
@@ -120,9 +120,7 @@ def _manifold_test(eom, manifold, numbers, subs) -> StabilityTest:
         )
         kept = [i for i, q in enumerate(independent) if q not in free]
         reduced = stiffness.extract(kept, kept)
-        condition = None
-        if exact and 0 < reduced.rows <= 3:
-            condition = assuming_positive(sylvester_condition(reduced), eom)
+        condition = positivity_condition(reduced, eom, exact)
         pushing = _pushing(manifold, multipliers, numbers)
         numeric = evaluate(reduced, numbers)
         point = {**at_rest, **{v: 0 for v in eom.velocities}}

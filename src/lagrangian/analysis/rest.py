@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.analysis.arguments import evaluate, frozen
+from lagrangian.analysis.arguments import assuming_positive, evaluate, frozen
 from lagrangian.analysis.roots import (
     SEARCH_SECONDS,
     branch_condition,
@@ -24,6 +24,7 @@ from lagrangian.analysis.roots import (
     numeric_roots,
     periodic_coordinates,
 )
+from lagrangian.analysis.stability import sylvester_condition
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 
@@ -166,6 +167,16 @@ def build_equilibrium(
         multipliers,
         written_in,
     )
+
+
+def positivity_condition(
+    reduced: sp.MatrixBase, eom: EquationsOfMotion, exact: bool
+) -> sp.Basic | None:
+    """Sylvester's condition for the stiffness ``reduced`` to be positive definite, the
+    parameters taken positive, when it is short enough to state (exact, at most 3 x 3)."""
+    if exact and 0 < reduced.rows <= 3:
+        return assuming_positive(sylvester_condition(reduced), eom)
+    return None
 
 
 def _holds(condition: sp.Basic, numbers: Mapping) -> bool | None:

@@ -28,7 +28,6 @@ import sympy as sp
 from lagrangian.analysis.arguments import (
     Subject,
     Values,
-    assuming_positive,
     equations_of,
     evaluate,
     frozen,
@@ -40,9 +39,15 @@ from lagrangian.analysis.manifold_linearize import numbers_at, reduced_state_spa
 from lagrangian.analysis.manifold_statics import complete_solutions, symbolic_limit
 from lagrangian.analysis.manifold_symmetries import JacobiIntegral, jacobi_integral
 from lagrangian.analysis.partition import dependent_columns
-from lagrangian.analysis.rest import Equilibrium, StabilityTest, build_equilibrium, solve_static
+from lagrangian.analysis.rest import (
+    Equilibrium,
+    StabilityTest,
+    build_equilibrium,
+    positivity_condition,
+    solve_static,
+)
 from lagrangian.analysis.simplification import simplify_small, simplify_small_matrix
-from lagrangian.analysis.stability import stability_of, sylvester_condition
+from lagrangian.analysis.stability import stability_of
 from lagrangian.errors import AnalysisError
 from lagrangian.model.probe import depends_on
 
@@ -96,9 +101,7 @@ def _relative_test(eom, manifold, potential, levels, numbers) -> StabilityTest:
         kept = [k for k, j in enumerate(independent) if q[j] not in free]
         stiffness = simplify_small_matrix(basis.T * bordered.xreplace(point) * basis)
         reduced = stiffness.extract(kept, kept)
-        condition = None
-        if exact and 0 < reduced.rows <= 3:
-            condition = assuming_positive(sylvester_condition(reduced), eom)
+        condition = positivity_condition(reduced, eom, exact)
         numeric = evaluate(reduced, numbers)
         if numeric.free_symbols:
             return None, "no values for the parameters", stiffness, condition, ()
