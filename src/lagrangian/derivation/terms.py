@@ -68,7 +68,10 @@ class EulerLagrangeTerms:
         self.orders = self._orders()
 
     def tidy(self, expr: Backend) -> Backend:
-        """Trigonometric products combined, terms grouped by state monomial."""
+        """Trigonometric products combined, terms grouped by state monomial (a single term,
+        which neither can shorten, as it is: most entries of a mass matrix)."""
+        if not expr.is_Add and not any(arg.is_Add for arg in expr.args):
+            return expr
         return combine_and_collect(expr, self.state)
 
     def sympy(self, expr: Backend) -> sp.Expr:
