@@ -144,7 +144,7 @@ REFUSALS = [
     ("1/0", "division by zero"),
     ("x/(y - y)", "division by zero"),
     ("0**-1", "zero to a negative power"),
-    ("log(0)", r"this part is undefined \(zoo\)"),
+    ("log(0)", r"log\(0\) is undefined"),
     ("atan2(0, 0)", r"this part is undefined \(nan\)"),
     ("Heaviside(asin(1.5))", r"this part is not a real number \(asin\(3/2\)\)"),
     ("log(1, asin(3))", r"this part is not a real number \(asin\(3\)\)"),
@@ -474,6 +474,8 @@ def test_grammar_generated_expressions_parse_to_what_sympy_builds(built: Built) 
         if re.search(BOUNDS, str(error)):  # such as exp(exp(9)): the bounds are tested above
             return
         assert re.search(r"zero|undefined|not a real|SymPy cannot", str(error)), error
+        if re.search(r"log\(0\)|to the base|identically zero", str(error)):
+            return  # refused here where SymPy quietly gives 0 (log(x, 0) = log(x)/log(0))
         # SymPy's own failures are refused too.
         with pytest.raises((Undefined, ArithmeticError, ValueError)):
             build()

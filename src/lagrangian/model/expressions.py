@@ -74,7 +74,7 @@ FUNCTIONS: dict[str, tuple[Callable[..., sp.Expr], tuple[int, ...]]] = {
     **{f.__name__: (f, (1,)) for f in _ONE_ARGUMENT},
     "atan2": (sp.atan2, (2,)),
     "exp": (sp.exp, (1,)),
-    "log": (sp.log, (1, 2)),
+    "log": (lambda *args: _logarithm(*args), (1, 2)),
     "sqrt": (sp.sqrt, (1,)),
     **{f.__name__: (_by_sign(f), (1,)) for f in (sp.Abs, sp.sign, sp.Heaviside)},
 }
@@ -424,8 +424,38 @@ def _read(text: str) -> ast.Expression:
         raise _Refusal(f"cannot read the expression: {error}", "remove odd characters") from None
 
 
+def _logarithm(argument: sp.Expr, base: sp.Expr | None = None) -> sp.Expr:
+    """log(x) or log(x, b), refusing what SymPy would quietly turn into 0 or zoo: a base of 0
+    or 1 (log(x, 0) is log(x)/log(0) = 0 to SymPy) or a logarithm of 0."""
+    if argument == 0:
+        raise _Refusal("log(0) is undefined", "check the argument of log")
+    if base is None:
+        return sp.log(argument)
+    if base.is_number and (base == 0 or base == 1 or base.is_negative):
+        raise _Refusal(f"log to the base {base} is undefined", "use a positive base other than 1")
+    return sp.log(argument, base)
+
+
+def _check_denominators(value: sp.Basic) -> None:
+    """Refuse a division by an expression that is identically zero, such as
+    1/(sin(x)**2 + cos(x)**2 - 1), which SymPy keeps and a simulation would hang on."""
+    from lagrangian.model.probe import is_zero  # the probe imports this module's users
+
+    for part in sp.preorder_traversal(value):
+        if (
+            isinstance(part, sp.Pow)
+            and part.exp.is_negative
+            and part.base.free_symbols
+            and is_zero(part.base)
+        ):
+            raise _Refusal(
+                f"division by {part.base}, which is identically zero", "check the denominator"
+            )
+
+
 def _check_result(value: sp.Basic) -> None:
     """Products and powers merge numbers and exponents (``x**999*x**9``): check the result."""
+    _check_denominators(value)
     for part in sp.preorder_traversal(value):
         if part in _UNDEFINED:
             raise _Refusal(f"the expression is undefined ({part})", "check the formula")
