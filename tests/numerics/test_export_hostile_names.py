@@ -1,6 +1,8 @@
-"""Names that try to escape into the exported code (a newline ending a comment, Julia's
-string interpolation) are written as inert text in every language, and the code still runs."""
+"""Names that try to escape into exported code (a newline ending a comment, Julia's string
+interpolation) are refused by the System; and should one reach an exporter anyway, it is
+written as inert text in every language, and the code still runs."""
 
+import dataclasses
 import importlib.util
 import shutil
 import subprocess
@@ -10,42 +12,68 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.numerics.export import export
+from lagrangian.errors import ModelError
+from lagrangian.numerics import export as export_package
+from lagrangian.numerics.export import c_code, export, julia, matlab, numpy_module
+from lagrangian.numerics.export.common import plan_export
 
 
-def _hostile_system(sentinels):
-    q = sp.Symbol(f"q\nrun(`touch {sentinels / 'julia'}`) # $(run(`touch {sentinels / 'j2'}`))")
-    k = sp.Symbol(f"k\nsystem('touch {sentinels / 'matlab'}'); % \nimport os; os.mknod('x')")
-    q_dot = sp.Symbol(q.name + "_dot")
-    return lg.System(
-        coordinates=[q],
-        kinetic=q_dot**2 / 2,
-        potential=k * q**2 / 2,
-        parameters={k: 4.0},
-        name="oscillator\nsystem('touch boom')",
-    )
+def _hostile_names(sentinels):
+    coordinate = f"q\nrun(`touch {sentinels / 'julia'}`) # $(run(`touch {sentinels / 'j2'}`))"
+    parameter = f"k\nsystem('touch {sentinels / 'matlab'}'); % \nimport os; os.mknod('x')"
+    return coordinate, parameter
 
 
-def _build(tmp_path):
+def test_the_system_refuses_names_that_are_not_identifiers(tmp_path):
+    coordinate, parameter = _hostile_names(tmp_path)
+    q, k = sp.Symbol(coordinate), sp.Symbol(parameter)
+    with pytest.raises(ModelError, match="is not a name"):
+        lg.System(
+            coordinates=[q],
+            kinetic=sp.Symbol(coordinate + "_dot") ** 2 / 2,
+            potential=k * q**2 / 2,
+            parameters={k: 4.0},
+        )
+
+
+@pytest.fixture
+def hostile_export(tmp_path, monkeypatch):
+    """Every exporter given a plan whose names are hostile (as if a System had let them in)."""
     sentinels = tmp_path / "sentinels"
     sentinels.mkdir()
-    try:
-        system = _hostile_system(sentinels)
-    except lg.LagrangianError:
-        pytest.skip("the System refuses such names before any export")
+    coordinate, parameter = _hostile_names(sentinels)
+
+    def hostile_plan(*args, **kwargs):
+        plan = plan_export(*args, **kwargs)
+        return dataclasses.replace(
+            plan,
+            title="oscillator\nsystem('touch boom')",
+            coordinates=(coordinate,),
+            parameters=((parameter, 4.0),),
+        )
+
+    for module in (c_code, julia, matlab, numpy_module):
+        monkeypatch.setattr(module, "plan_export", hostile_plan)
+    k, q = sp.symbols("k q")
+    system = lg.System(
+        coordinates=[q],
+        kinetic=sp.Symbol("q_dot") ** 2 / 2,
+        potential=k * q**2 / 2,
+        parameters={k: 4.0},
+    )
     return lg.derive(system), sentinels
 
 
 @pytest.mark.parametrize("language", ["numpy", "c", "matlab", "julia"])
-def test_no_name_starts_a_line_of_code(language, tmp_path):
-    eom, _ = _build(tmp_path)
-    for text in export(eom, language).values():
+def test_no_name_starts_a_line_of_code(hostile_export, language):
+    eom, _ = hostile_export
+    for text in export_package.export(eom, language).values():
         for line in text.splitlines():
             assert not line.lstrip().startswith(("run(", "system(", "import os")), line
 
 
-def test_the_exported_code_runs_and_runs_nothing_else(tmp_path):
-    eom, sentinels = _build(tmp_path)
+def test_the_exported_code_runs_and_runs_nothing_else(hostile_export, tmp_path):
+    eom, sentinels = hostile_export
     ((name, text),) = export(eom, "numpy").items()
     path = tmp_path / name
     path.write_text(text)
@@ -56,8 +84,7 @@ def test_the_exported_code_runs_and_runs_nothing_else(tmp_path):
     if shutil.which("octave-cli"):
         for file_name, source in export(eom, "matlab").items():
             (tmp_path / file_name).write_text(source)
-        script = "disp(rhs(0, [1; 0], default_parameters()))\n"
-        (tmp_path / "check.m").write_text(script)
+        (tmp_path / "check.m").write_text("disp(rhs(0, [1; 0], default_parameters()))\n")
         result = subprocess.run(
             ["octave-cli", "--quiet", "check.m"], cwd=tmp_path, capture_output=True, text=True
         )

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import difflib
 import random
+import unicodedata
 from collections.abc import Iterable
 from typing import Any
 
@@ -94,7 +95,34 @@ class NameScope:
         )
 
 
+def identifier_problem(name: str, field: str) -> Problem | None:
+    """Why ``name`` cannot name a coordinate or parameter, or None.
+
+    A name is an identifier (letters, digits, underscores; not starting with a digit) in the
+    normal form NFKC that Python's own tokenizer (and so the model files' parser) reads names
+    in: a fullwidth ``ｘ`` or a ligature ``ﬁ`` would be read as ``x`` or ``fi`` in every
+    expression, so one of two names would silently merge with the other, or could never be
+    referenced.  Newlines, spaces and quotes, which could carry text into exported code, are
+    not identifiers."""
+    normal = unicodedata.normalize("NFKC", name)
+    if not normal.isidentifier():
+        shown = name.encode("unicode_escape").decode("ascii")
+        return Problem(
+            field,
+            f"{shown!r} is not a name (letters, digits and underscores, not starting with a digit)",
+            "rename it, e.g. x1 or theta_2",
+        )
+    if normal != name:
+        return Problem(field, f"{name!r} is read as {normal!r} in expressions", f"write {normal}")
+    return None
+
+
 def _check_names(values: dict[str, Any], problems: list[Problem]) -> None:
+    for kind in ("coordinates", "parameters"):
+        for symbol in values[kind]:
+            found = identifier_problem(symbol.name, f"{kind}.{symbol.name!r}")
+            if found is not None:
+                problems.append(found)
     coordinates = values["coordinates"]
     if not coordinates:
         problems.append(

@@ -133,7 +133,7 @@ class ExportPlan:
     def header(self, index: IndexFormat) -> list[str]:
         """The documentation every file starts with (lines without comment markers)."""
         lines = [
-            f"{self.title}: equations of motion exported by lagrangian.",
+            f"{one_line(self.title)}: equations of motion exported by lagrangian.",
             "",
             "    M(q, t) q_ddot = forcing(q, qd, t)",
             "    forcing = generalized_forces + dissipation and velocity-potential forces",
@@ -205,7 +205,7 @@ def plan_export(
         with_qd = routine_name not in positional or bool(matrix.free_symbols & velocities)
         arguments = ("q", "qd", "t", "p") if with_qd else ("q", "t", "p")
         routines.append(_routine(routine_name, arguments, sp.Matrix(matrix), mapping))
-    title = one_line(" ".join(eom.name.split())) or "model"
+    title = " ".join(eom.name.split()) or "model"
     return ExportPlan(
         title=title,
         base=sanitize(name if name is not None else eom.name),
