@@ -123,29 +123,36 @@ class SwitchedDynamics:
     def field_in(self, mode: np.ndarray, t: float, x: np.ndarray) -> np.ndarray:
         return self.compiled.rhs(t, x, np.concatenate([self.p, mode]))
 
-    def rates(self, k: int, t: float, x: np.ndarray) -> tuple[float, float, float]:
-        """du_k/dt along f+ and f- (s_k = +1, -1, the others as in the mode), and the size of
-        the terms (for the tolerance of a decision)."""
+    def sides(self, k: int, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The fields f+ and f- (s_k = +1, -1, the others as in the mode) and the gradient of
+        u_k in (q, q_dot, t): everything a switch or a slide on surface k needs, two field
+        evaluations."""
         grad = np.asarray(self._gradient(x[: self.n], x[self.n :], t, self.p))[k]
-        out = []
-        for side in (1.0, -1.0):
-            mode = self.mode.copy()
-            mode[k] = side
-            f = self.field_in(mode, t, x)
-            out.append(float(grad[:-1] @ f + grad[-1]))
-        scale = float(np.abs(grad[:-1]).sum() * np.abs(self.field_in(self.mode, t, x)).max())
-        return out[0], out[1], scale + abs(grad[-1]) + 1e-300
+        plus, minus = self.mode.copy(), self.mode.copy()
+        plus[k], minus[k] = 1.0, -1.0
+        return self.field_in(plus, t, x), self.field_in(minus, t, x), grad
+
+    def rates(self, k: int, t: float, x: np.ndarray) -> tuple[float, float, float]:
+        """du_k/dt along f+ and f-, and the size of the terms (for the tolerance of a
+        decision)."""
+        up, down, scale, _, _ = self._rates_and_fields(k, t, x)
+        return up, down, scale
 
     def sliding_share(self, k: int, t: float, x: np.ndarray) -> tuple[float, np.ndarray]:
         """lam and the Filippov field on the surface u_k = 0."""
-        up, down, _ = self.rates(k, t, x)
+        up, down, _, f_plus, f_minus = self._rates_and_fields(k, t, x)
         lam = -(up + down) / (up - down) if up != down else 0.0
-        plus, minus = self.mode.copy(), self.mode.copy()
-        plus[k], minus[k] = 1.0, -1.0
-        field = (1 + lam) / 2 * self.field_in(plus, t, x) + (1 - lam) / 2 * self.field_in(
-            minus, t, x
-        )
-        return lam, field
+        return lam, (1 + lam) / 2 * f_plus + (1 - lam) / 2 * f_minus
+
+    def _rates_and_fields(
+        self, k: int, t: float, x: np.ndarray
+    ) -> tuple[float, float, float, np.ndarray, np.ndarray]:
+        f_plus, f_minus, grad = self.sides(k, t, x)
+        up = float(grad[:-1] @ f_plus + grad[-1])
+        down = float(grad[:-1] @ f_minus + grad[-1])
+        largest = max(np.abs(f_plus).max(), np.abs(f_minus).max())
+        scale = float(np.abs(grad[:-1]).sum() * largest) + abs(grad[-1]) + 1e-300
+        return up, down, scale, f_plus, f_minus
 
     def decide(self, k: int, t: float, x: np.ndarray, moving: float) -> str:
         """At u_k = 0: set the mode of surface k and say "slide", "plus" or "minus";
