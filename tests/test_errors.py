@@ -22,7 +22,8 @@ def test_bad_input_is_2_and_a_failure_1_for_every_error_class() -> None:
     kinds = _every_error_class()
     assert {errors.ModelError, errors.SimulationInputError, errors.DerivationError} <= set(kinds)
     for kind in kinds:
-        expected = errors.BAD_INPUT if issubclass(kind, ValueError) else errors.FAILURE
+        bad_input = issubclass(kind, (ValueError, errors.ArgumentError))
+        expected = errors.BAD_INPUT if bad_input else errors.FAILURE
         assert kind.exit_code == expected, kind.__name__
     assert (errors.BAD_INPUT, errors.FAILURE) == (2, 1)
 

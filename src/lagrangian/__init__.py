@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 from lagrangian.errors import (
     AnalysisError,
+    ArgumentError,
     ConstraintError,
     DerivationError,
     ExpressionError,
@@ -191,6 +192,7 @@ def load_ipython_extension(ipython: Any) -> None:
 __all__ = [
     "AnalysisError",
     "AnalysisReport",
+    "ArgumentError",
     "Batch",
     "Capacitor",
     "ConstrainedEquations",

@@ -6,9 +6,10 @@ so ``except ValueError`` keeps working.  Errors about user input carry every pro
 once (``problems``), each naming the field and the fix.
 
 The class decides what the error means to a shell (``exit_code``, as click's
-``ClickException.exit_code``): bad input — every error that is also a ``ValueError`` — is
-:data:`BAD_INPUT` (2) wherever it is found; anything else, a computation that failed, is
-:data:`FAILURE` (1).  The command line prints the message and returns ``error.exit_code``.
+``ClickException.exit_code``): bad input — every error that is also a ``ValueError``, and a
+wrong argument (:class:`ArgumentError`) — is :data:`BAD_INPUT` (2) wherever it is found;
+anything else, a computation that failed, is :data:`FAILURE` (1).  The command line prints
+the message and returns ``error.exit_code``.
 
 >>> ModelError("unknown name 'kk'").exit_code, SimulationError("step size too small").exit_code
 (2, 1)
@@ -94,6 +95,14 @@ class AnalysisError(LagrangianError, ValueError):
     exit_code = BAD_INPUT
 
 
+class ArgumentError(LagrangianError, TypeError):
+    """A public function was called with an argument of the wrong kind (``derive(None)``, a
+    list where a mapping of names belongs): also a ``TypeError``, as Python raises for a wrong
+    argument, and bad input to the command line."""
+
+    exit_code = BAD_INPUT
+
+
 class SimulationError(LagrangianError, RuntimeError):
     """Numerical integration failed (a step size underflow, a singular mass matrix on the way,
     a solution that blew up); bad input to a simulation is a :class:`SimulationInputError`."""
@@ -105,6 +114,20 @@ class SimulationInputError(SimulationError, ValueError):
     ``except SimulationError`` still catches it, and a ``ValueError``, as all bad input."""
 
     exit_code = BAD_INPUT
+
+
+def require(value: object, kinds: type | tuple[type, ...], argument: str, fix: str) -> None:
+    """Raise :class:`ArgumentError` naming ``argument`` unless ``value`` is one of ``kinds``.
+
+    >>> require(None, int, "f(n)", "give a count")
+    Traceback (most recent call last):
+    ...
+    lagrangian.errors.ArgumentError: f(n) takes int, not NoneType: give a count
+    """
+    if not isinstance(value, kinds):
+        wanted = kinds if isinstance(kinds, tuple) else (kinds,)
+        names = " or ".join(kind.__name__ for kind in wanted)
+        raise ArgumentError(f"{argument} takes {names}, not {type(value).__name__}: {fix}")
 
 
 def raise_if_problems(problems: list[Problem], summary: str, kind: type[LagrangianError]) -> None:

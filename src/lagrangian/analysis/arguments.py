@@ -21,12 +21,14 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.derivation import EquationsOfMotion, derive
-from lagrangian.errors import AnalysisError, Problem, raise_if_problems
+from lagrangian import derivation
+from lagrangian.derivation import EquationsOfMotion
+from lagrangian.errors import AnalysisError, Problem, raise_if_problems, require
 from lagrangian.model import System
 from lagrangian.model.conversion import to_sympy
 from lagrangian.model.frozen import frozen as frozen  # results' mappings are read-only
 from lagrangian.model.probe import is_zero
+from lagrangian.model.validation import not_finite_real
 
 Subject = System | EquationsOfMotion
 #: Parameter substitutions as a user gives them: name or Symbol -> number or expression.
@@ -35,20 +37,14 @@ Values = Mapping[Any, Any]
 
 def equations_of(subject: Subject) -> EquationsOfMotion:
     """The equations of motion of ``subject`` (derived when it is a System, once per System)."""
-    if isinstance(subject, EquationsOfMotion):
-        return subject
-    if isinstance(subject, System):
-        return derive(subject)
-    raise AnalysisError(
-        f"Expected a System or EquationsOfMotion, got {type(subject).__name__}: "
-        "build one with lagrangian.System(...) or lagrangian.derive(system)."
-    )
+    return derivation.equations_of(subject, "an analysis")
 
 
 def _lookup(
     eom: EquationsOfMotion, field: str, noun: str, names: Mapping[str, sp.Symbol], given: Values
 ) -> dict[sp.Symbol, sp.Expr]:
     """``given`` with keys resolved to symbols of ``names``; every unknown key is a problem."""
+    require(given, Mapping, field, f"give {{name: value, ...}} for {noun} names")
     resolved: dict[sp.Symbol, sp.Expr] = {}
     problems = []
     for key, value in given.items():
@@ -62,8 +58,18 @@ def _lookup(
                 )
             )
             continue
-        resolved[names[name]] = to_sympy(value)
-    raise_if_problems(problems, f"Unknown names in {field}", AnalysisError)
+        try:
+            number = to_sympy(value, f"{field}.{name}")
+        except (sp.SympifyError, TypeError):
+            number = None
+        wrong = "is not a number or expression" if not isinstance(number, sp.Expr) else None
+        wrong = wrong or not_finite_real(number)
+        if wrong is not None:
+            shown = wrong if isinstance(number, sp.Expr) else f"{value!r} {wrong}"
+            problems.append(Problem(f"{field}.{name}", shown, "give a real number"))
+            continue
+        resolved[names[name]] = number
+    raise_if_problems(problems, f"Wrong names or values in {field}", AnalysisError)
     return resolved
 
 

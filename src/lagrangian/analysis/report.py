@@ -30,6 +30,7 @@ from lagrangian.analysis.arguments import (
     equations_of,
     numeric_values,
     operating_state,
+    substitutions,
 )
 from lagrangian.analysis.energy import EnergyConservation, energy_conservation
 from lagrangian.analysis.equilibria import equilibria
@@ -210,6 +211,9 @@ def analyze(
     linearization keeps.
     """
     eom = equations_of(subject)
+    substitutions(eom, parameters)  # wrong names and values are the caller's to fix, at once
+    if about is not None:
+        operating_state(eom, about)
     if eom.system.constraints:
         return constrained_report(eom, about, parameters, inputs, project, independent)
     attempts = _Attempts()

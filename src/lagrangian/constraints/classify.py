@@ -40,6 +40,7 @@ from lagrangian.constraints.pfaffian import pfaffian_form
 from lagrangian.constraints.projection import numeric_state
 from lagrangian.model import System, t
 from lagrangian.model.probe import PointFunction, numeric_rank
+from lagrangian.model.system import require_system
 
 
 @dataclass(frozen=True)
@@ -141,6 +142,7 @@ def classify(system: System, state: Mapping[Any, float] | None = None) -> Constr
     the rank of the Jacobian and the constraints' residuals there.  Raises ConstraintError
     when the constraints are inconsistent.
     """
+    require_system(system, "classify(system)")
     coordinates = tuple(system.coordinates)
     forms = [pfaffian_form(c, coordinates) for c in system.constraints]
     found = dependence(system)

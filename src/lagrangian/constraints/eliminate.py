@@ -40,6 +40,7 @@ from lagrangian.model.conversion import to_sympy
 from lagrangian.model.probe import is_zero
 from lagrangian.model.rotation import Orientation
 from lagrangian.model.symbols import as_coordinate, from_time_functions, velocity
+from lagrangian.model.system import require_system
 
 
 def eliminate(
@@ -54,6 +55,7 @@ def eliminate(
     else ConstraintError asks for a parametrization.  Raises ConstraintError when the
     parametrization violates a constraint or the count of independent coordinates is not the
     number of degrees of freedom."""
+    require_system(system, "eliminate(system, ...)")
     new = _symbols(independent, "independent")
     old = tuple(system.coordinates)
     rule = _rule(system, new, parametrization)

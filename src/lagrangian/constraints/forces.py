@@ -31,7 +31,7 @@ from collections import Counter
 import sympy as sp
 
 from lagrangian.constraints.multipliers import ConstrainedEquations
-from lagrangian.errors import ConstraintError, Problem, raise_if_problems
+from lagrangian.errors import ConstraintError, Problem, raise_if_problems, require
 from lagrangian.model.conversion import to_sympy
 
 
@@ -43,6 +43,12 @@ def particle_constraint_forces(
 
     Every particle's position must be coordinates of its own (no other particle or body uses
     them); ConstraintError names the particles that are not."""
+    require(
+        equations,
+        ConstrainedEquations,
+        "particle_constraint_forces(equations)",
+        "make them with lagrangian.constrained_equations(system)",
+    )
     system = equations.system
     positions = [p.position for p in system.particles] + [b.position for b in system.rigid_bodies]
     used = Counter(

@@ -46,7 +46,7 @@ import sympy as sp
 
 from lagrangian.constraints.dependence import dependence
 from lagrangian.constraints.pfaffian import acceleration_terms, pfaffian_form
-from lagrangian.derivation import EquationsOfMotion, derive
+from lagrangian.derivation import EquationsOfMotion, equations_of
 from lagrangian.derivation.trig import combine_trig_sympy
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import System
@@ -150,16 +150,16 @@ def constrained_equations(
     ConstraintError for inconsistent or redundant constraints (the multipliers of redundant
     ones are not determined: remove them).
     """
+    eom = equations_of(subject, "constrained_equations(subject)")  # free of constraints
     if isinstance(subject, System):
-        eom = derive(subject)  # the constraints do not enter the free equations
         chosen = tuple(subject.constraints if constraints is None else constraints)
+    elif constraints is None:
+        raise ConstraintError(
+            "An EquationsOfMotion does not carry constraints: pass constraints=[...] or "
+            "give the System."
+        )
     else:
-        if constraints is None:
-            raise ConstraintError(
-                "An EquationsOfMotion does not carry constraints: pass constraints=[...] or "
-                "give the System."
-            )
-        eom, chosen = subject, tuple(constraints)
+        chosen = tuple(constraints)
     forms = _FORMS.get(eom, lambda _: {})
     try:
         known = forms.get(chosen)

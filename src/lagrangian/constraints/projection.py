@@ -36,6 +36,7 @@ from lagrangian.model import Holonomic, System, Unilateral, VelocityConstraint, 
 from lagrangian.model.constraints import label, statement
 from lagrangian.model.probe import SEED, PointFunction, random_values
 from lagrangian.model.symbols import name_of
+from lagrangian.model.system import require_system
 
 #: Largest |h| of a configuration that satisfies the constraints.
 SATISFIED = 1e-8
@@ -143,6 +144,7 @@ def numeric_state(system: System, state: Mapping[Any, float]) -> dict[sp.Symbol,
 def project_state(system: System, state: Mapping[Any, float]) -> dict[sp.Symbol, float]:
     """``state`` moved onto the constraints: coordinates onto the holonomic (and active
     unilateral, g = 0 when g < 0) constraints, then velocities onto A q_dot + b = 0."""
+    require_system(system, "project_state(system, state)")
     values = numeric_state(system, state)
     for v in system.velocities:
         values.setdefault(v, 0.0)

@@ -43,6 +43,7 @@ from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.rotation import evaluate_matrix
 from lagrangian.model.symbols import name_of, t
+from lagrangian.model.system import require_system
 
 
 @dataclass(frozen=True)
@@ -75,6 +76,7 @@ def reaction_wrenches(
 
     Raises ConstraintError when a body does not move by coordinates of its own.
     """
+    require_system(system, "reaction_wrenches(system, state)")
     frames = body_frames(system)
     columns = _own_columns(system, frames)
     equations = constrained_equations(system)

@@ -3,7 +3,7 @@ and the Newton–Euler equations of its bodies checked against them.  :func:`der
 the equations of the Systems it derived last (:func:`forget_derivations` drops them)."""
 
 from lagrangian.derivation.eom import EquationsOfMotion
-from lagrangian.derivation.lagrange import derive, forget_derivations
+from lagrangian.derivation.lagrange import derive, equations_of, forget_derivations
 from lagrangian.derivation.newton_euler import (
     BodyEquations,
     NewtonEuler,
@@ -22,6 +22,7 @@ __all__ = [
     "NewtonEulerCheck",
     "check_newton_euler",
     "derive",
+    "equations_of",
     "forget_derivations",
     "newton_euler",
     "nielsen_equations",

@@ -16,12 +16,16 @@ at once); a System is immutable, so a remembered derivation is never stale.
 
 from __future__ import annotations
 
+from typing import Any
+
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.derivation.terms import euler_lagrange_terms
+from lagrangian.errors import require
 from lagrangian.model import System
 from lagrangian.model.frozen import FrozenMapping, frozen
 from lagrangian.model.identity_cache import RecentCache
 from lagrangian.model.symbols import t
+from lagrangian.model.system import require_system
 
 #: How many Systems (the most recently derived) keep their EquationsOfMotion remembered.
 RECENT_SYSTEMS = 32
@@ -40,7 +44,22 @@ def derive(system: System) -> EquationsOfMotion:
     >>> eom.mass_matrix, eom.forcing
     (Matrix([[m]]), Matrix([[-k*x]]))
     """
-    return _RECENT.get(system, equations_of_motion)
+    return _RECENT.get(require_system(system, "derive(system)"), equations_of_motion)
+
+
+def equations_of(subject: Any, argument: str) -> EquationsOfMotion:
+    """The equations of motion of ``subject``, a System (derived once, :func:`derive`) or its
+    EquationsOfMotion; anything else is an ArgumentError naming ``argument``."""
+    if isinstance(subject, System):
+        return derive(subject)
+    require(
+        subject,
+        (System, EquationsOfMotion),
+        argument,
+        "build one with lagrangian.System(...) or lagrangian.load(path), or derive it with "
+        "lagrangian.derive(system)",
+    )
+    return subject
 
 
 def forget_derivations() -> None:

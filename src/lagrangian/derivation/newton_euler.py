@@ -55,6 +55,7 @@ from lagrangian.model import System
 from lagrangian.model.conversion import to_sympy
 from lagrangian.model.elements import Damper, Spring
 from lagrangian.model.symbols import t, time_derivative, velocity
+from lagrangian.model.system import require_system
 
 #: Size (operations) up to which a difference that trigonometric collection leaves is put
 #: over one denominator, whose numerator is collected, before falling back to numbers.
@@ -120,6 +121,7 @@ def newton_euler(system: System) -> NewtonEuler:
     split among bodies, and DerivationError says so.  So does a force applied at a moving
     point that moves with no body.
     """
+    require_system(system, "newton_euler(system)")
     _refuse_unsplittable(system)
     q = tuple(system.coordinates)
     frames = body_frames(system)

@@ -10,20 +10,24 @@ same equations, used to check the Euler–Lagrange form.
 
 from __future__ import annotations
 
+from typing import Any
+
 import sympy as sp
 
-from lagrangian.derivation.eom import EquationsOfMotion
+from lagrangian.derivation.lagrange import equations_of
 from lagrangian.model.symbols import time_derivative
 
 
-def nielsen_equations(eom: EquationsOfMotion) -> sp.ImmutableMatrix:
-    """Residuals dT_dot/dq_dot_j - 2 dT/dq_j - Q_j (each = 0), Q_j all generalized forces.
+def nielsen_equations(subject: Any) -> sp.ImmutableMatrix:
+    """Residuals dT_dot/dq_dot_j - 2 dT/dq_j - Q_j (each = 0), Q_j all generalized forces, of
+    a System or its EquationsOfMotion.
 
     >>> import lagrangian as lg
     >>> eom = lg.derive(lg.examples.simple_pendulum())
     >>> nielsen_equations(eom)[0]
     g*l*m*sin(theta) + l**2*m*theta_ddot
     """
+    eom = equations_of(subject, "nielsen_equations(subject)")
     kinetic = eom.kinetic_energy
     kinetic_rate = time_derivative(kinetic, eom.coordinates)
     u = eom.velocity_potential

@@ -76,7 +76,6 @@ class Unilateral:
 
 
 Constraint = Holonomic | VelocityConstraint | Unilateral
-CONSTRAINT_TYPES = (Holonomic, VelocityConstraint, Unilateral)
 
 
 def label(index: int, constraint: Any) -> str:
@@ -97,15 +96,6 @@ def check_constraints(values: dict[str, Any], scope: NameScope, problems: list[P
     names: dict[str, int] = {}
     for i, item in enumerate(values["constraints"]):
         field = f"constraints[{i}]"
-        if not isinstance(item, CONSTRAINT_TYPES):
-            problems.append(
-                Problem(
-                    field,
-                    f"{type(item).__name__} is not a constraint",
-                    "use Holonomic, VelocityConstraint or Unilateral",
-                )
-            )
-            continue
         if item.name:
             if item.name in names:
                 problems.append(

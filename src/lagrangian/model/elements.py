@@ -45,6 +45,13 @@ def _point(value: Any) -> Any:
     return value if isinstance(value, str) else _vector(value)
 
 
+def _points(value: Any) -> Any:
+    """The two ends of a spring or damper; anything but a list is kept for the validator."""
+    if isinstance(value, (list, tuple)):
+        return tuple(_point(p) for p in value)
+    return value
+
+
 @dataclass(frozen=True)
 class Particle:
     """A point mass at ``position`` (1, 2 or 3 components, functions of q and t).
@@ -143,7 +150,7 @@ class Spring:
     name: str = ""
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "between", tuple(_point(p) for p in self.between))
+        object.__setattr__(self, "between", _points(self.between))
         object.__setattr__(self, "stiffness", as_expression(self.stiffness))
         object.__setattr__(self, "rest_length", as_expression(self.rest_length))
 
@@ -161,7 +168,7 @@ class Damper:
     name: str = ""
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "between", tuple(_point(p) for p in self.between))
+        object.__setattr__(self, "between", _points(self.between))
         object.__setattr__(self, "coefficient", as_expression(self.coefficient))
 
 

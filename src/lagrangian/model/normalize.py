@@ -8,15 +8,26 @@ objects (a user's ``Symbol('m', positive=True)`` and ``Symbol('m')`` are one par
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import math
+from collections.abc import Iterable, Mapping
 from dataclasses import fields, is_dataclass, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, get_args
 
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem, raise_if_problems
+from lagrangian.model.circuit import CircuitElement
+from lagrangian.model.constraints import Constraint
 from lagrangian.model.conversion import to_sympy
-from lagrangian.model.elements import as_expression
+from lagrangian.model.elements import (
+    Damper,
+    Force,
+    Particle,
+    RigidBody,
+    Spring,
+    Torque,
+    as_expression,
+)
 from lagrangian.model.frozen import FrozenMapping
 from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import Orientation
@@ -67,6 +78,11 @@ class _Canonicalizer:
 def _coordinates(raw: Any, problems: list[Problem]) -> tuple[sp.Symbol, ...]:
     if isinstance(raw, (str, sp.Basic)):
         raw = raw.replace(",", " ").split() if isinstance(raw, str) else [raw]
+    if not isinstance(raw, Iterable):
+        problems.append(
+            Problem("coordinates", f"{raw!r} is not a list of coordinates", "give ['x', 'theta']")
+        )
+        return ()
     result = []
     for i, item in enumerate(raw):
         symbol = as_coordinate(item)
@@ -90,7 +106,12 @@ def _parameter_value(name: str, value: Any, problems: list[Problem]) -> float | 
         number = to_sympy(value) if isinstance(value, (int, float, sp.Basic)) else None
     except (TypeError, sp.SympifyError):
         number = None
-    if number is None or not number.is_number or not number.is_real:
+    if (
+        number is None
+        or not number.is_number
+        or not number.is_real
+        or not math.isfinite(float(number))
+    ):
         problems.append(
             Problem(
                 f"parameters.{name}",
@@ -105,6 +126,15 @@ def _parameter_value(name: str, value: Any, problems: list[Problem]) -> float | 
 def _parameters(raw: Any, problems: list[Problem]) -> dict[sp.Symbol, float | None]:
     if isinstance(raw, str):
         raw = raw.replace(",", " ").split()
+    if not isinstance(raw, Iterable):
+        problems.append(
+            Problem(
+                "parameters",
+                f"{raw!r} is not a mapping of parameters",
+                "give {'m': 1.0, 'g': 9.81} (or a list of names)",
+            )
+        )
+        return {}
     items = raw.items() if isinstance(raw, Mapping) else ((name, None) for name in raw)
     result: dict[sp.Symbol, float | None] = {}
     for key, value in items:
@@ -138,13 +168,12 @@ def _element(item: Any, canon: _Canonicalizer) -> Any:
         if f.name == "coordinate":  # a voltage source names the charge it drives
             changes[f.name] = as_coordinate(value) if value is not None else value
             continue
-        if f.name in ("between", "at"):
-            value = (
-                tuple(v if isinstance(v, str) else canon(v) for v in value)
-                if f.name == "between"
-                else (value if isinstance(value, str) else canon(value))
-            )
-            changes[f.name] = value
+        if f.name == "between":  # point names stay names; a malformed pair is the validator's
+            if isinstance(value, tuple):
+                changes[f.name] = tuple(v if isinstance(v, str) else canon(v) for v in value)
+            continue
+        if f.name == "at":
+            changes[f.name] = value if isinstance(value, str) else canon(value)
             continue
         changes[f.name] = canon(value)
     return replace(item, **changes)
@@ -161,16 +190,21 @@ def normalize_system(system: System) -> dict[str, Any]:
     for name in EXPRESSION_FIELDS:
         values[name] = canon(getattr(system, name))
     forces = {}
-    for key, value in dict(system.generalized_forces).items():
+    given = _mapping(system.generalized_forces, "generalized_forces", problems)
+    for key, value in given.items():
         coordinate = as_coordinate(key)
         forces[coordinate if coordinate is not None else key] = canon(value)
     values["generalized_forces"] = forces
     values["gravity"] = None if system.gravity is None else canon(_as_vector(system.gravity))
+    misfits: list[Problem] = []  # elements of the wrong kind, reported with the rest
     for name in ELEMENT_FIELDS:
-        values[name] = tuple(_element(item, canon) for item in getattr(system, name))
-    values["initial"] = {(as_coordinate(k) or k): v for k, v in dict(system.initial).items()}
-    values["simulation"] = dict(system.simulation)
+        items = _elements_of_kind(name, getattr(system, name), misfits)
+        values[name] = tuple(_element(item, canon) for item in items)
+    values["initial"] = _mapping(system.initial, "initial", problems)
+    values["initial"] = {(as_coordinate(k) or k): v for k, v in values["initial"].items()}
+    values["simulation"] = _mapping(system.simulation, "simulation", problems)
     raise_if_problems(problems, "The system's coordinates or parameters are not valid", ModelError)
+    problems.extend(misfits)
     problems.extend(validate(values))
     raise_if_problems(
         problems, f"The system {system.name or ''} is not valid".replace("  ", " "), ModelError
@@ -178,6 +212,49 @@ def normalize_system(system: System) -> dict[str, Any]:
     for name in MAPPING_FIELDS:  # a System is a value: its mappings are read-only
         values[name] = FrozenMapping(values[name])
     return values
+
+
+#: What each element field holds: its classes, one of them called, and how to build one.
+ELEMENT_KINDS: dict[str, tuple[tuple[type, ...], str, str]] = {
+    "particles": ((Particle,), "particle", "lagrangian.Particle(...)"),
+    "rigid_bodies": ((RigidBody,), "rigid body", "lagrangian.RigidBody(...)"),
+    "springs": ((Spring,), "spring", "lagrangian.Spring(...)"),
+    "dampers": ((Damper,), "damper", "lagrangian.Damper(...)"),
+    "forces": ((Force,), "force", "lagrangian.Force(...)"),
+    "torques": ((Torque,), "torque", "lagrangian.Torque(...)"),
+    "circuit": (
+        get_args(CircuitElement),
+        "circuit element",
+        "Resistor, Capacitor, Inductor, MutualInductance or VoltageSource",
+    ),
+    "constraints": (
+        get_args(Constraint),
+        "constraint",
+        "Holonomic, VelocityConstraint or Unilateral",
+    ),
+}
+
+
+def _elements_of_kind(name: str, items: tuple[Any, ...], problems: list[Problem]) -> list[Any]:
+    """The items of element field ``name`` that are elements of its kind; a problem for each
+    other one."""
+    kinds, noun, maker = ELEMENT_KINDS[name]
+    kept = []
+    for i, item in enumerate(items):
+        if isinstance(item, kinds):
+            kept.append(item)
+        else:
+            message = f"{type(item).__name__} is not a {noun}"
+            problems.append(Problem(f"{name}[{i}]", message, f"use {maker}"))
+    return kept
+
+
+def _mapping(value: Any, field: str, problems: list[Problem]) -> dict[Any, Any]:
+    """``value`` as a dict; a problem (and nothing) when it is not a mapping."""
+    if isinstance(value, Mapping):
+        return dict(value)
+    problems.append(Problem(field, f"{value!r} is not a mapping", "give {name: value, ...}"))
+    return {}
 
 
 def _as_vector(value: Any) -> Any:

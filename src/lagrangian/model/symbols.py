@@ -14,6 +14,8 @@ from typing import Any
 
 import sympy as sp
 
+from lagrangian.errors import require
+
 #: The time symbol every expression of lagrangian uses.
 t = sp.Symbol("t")
 
@@ -21,14 +23,23 @@ DOT_SUFFIX = "_dot"
 DDOT_SUFFIX = "_ddot"
 
 
-def velocity(coordinate: sp.Symbol) -> sp.Symbol:
-    """The generalized velocity symbol of ``coordinate``: ``theta`` -> ``theta_dot``."""
-    return sp.Symbol(coordinate.name + DOT_SUFFIX)
+def velocity(coordinate: sp.Symbol | str) -> sp.Symbol:
+    """The generalized velocity symbol of ``coordinate`` (a Symbol or a name): ``theta`` ->
+    ``theta_dot``."""
+    return sp.Symbol(_coordinate_name(coordinate, "velocity") + DOT_SUFFIX)
 
 
-def acceleration(coordinate: sp.Symbol) -> sp.Symbol:
-    """The generalized acceleration symbol of ``coordinate``: ``theta`` -> ``theta_ddot``."""
-    return sp.Symbol(coordinate.name + DDOT_SUFFIX)
+def acceleration(coordinate: sp.Symbol | str) -> sp.Symbol:
+    """The generalized acceleration symbol of ``coordinate`` (a Symbol or a name): ``theta``
+    -> ``theta_ddot``."""
+    return sp.Symbol(_coordinate_name(coordinate, "acceleration") + DDOT_SUFFIX)
+
+
+def _coordinate_name(coordinate: Any, function: str) -> str:
+    if isinstance(coordinate, sp.Symbol):
+        return coordinate.name
+    require(coordinate, (sp.Symbol, str), f"{function}(coordinate)", "give a Symbol or a name")
+    return str(coordinate)
 
 
 def name_of(key: Any) -> str:
@@ -52,6 +63,11 @@ def coordinates(names: str | Iterable[str]) -> tuple[sp.Symbol, ...]:
     """
     if isinstance(names, str):
         names = names.replace(",", " ").split()
+    fix = "give names such as 'x theta' or ['x', 'theta']"
+    require(names, Iterable, "coordinates(names)", fix)
+    names = list(names)
+    for name in names:
+        require(name, str, "coordinates(names)", fix)
     return tuple(sp.Symbol(name) for name in names)
 
 

@@ -28,6 +28,7 @@ from typing import Any
 
 import sympy as sp
 
+from lagrangian.errors import require
 from lagrangian.model.circuit import CircuitElement
 from lagrangian.model.constraints import Constraint
 from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque, as_tuple
@@ -144,6 +145,18 @@ class System:
         for key, value in values.items():
             new[by_name[str(key)]] = value
         return self.replace(parameters=new)
+
+
+def require_system(value: Any, argument: str) -> System:
+    """``value`` when it is a System; else an ArgumentError naming ``argument`` (as
+    ``"classify(system)"``) and how to make one."""
+    require(
+        value,
+        System,
+        argument,
+        "build one with lagrangian.System(...), lagrangian.load(path) or lagrangian.examples",
+    )
+    return value
 
 
 def sequence_of_names(items: Iterable[Any] | str) -> Sequence[Any]:

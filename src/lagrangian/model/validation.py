@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import difflib
 import random
+import sys
 import unicodedata
 from collections.abc import Iterable
 from typing import Any
@@ -60,6 +61,11 @@ class NameScope:
                 )
             )
             return
+        found = not_finite_real(value)
+        if found is not None:
+            problems.append(
+                Problem(field, found, "energies, forces and positions are real numbers")
+            )
         allowed = self.configuration if kind == CONFIGURATION else self.state
         for symbol in sorted(value.free_symbols - allowed, key=str):
             problems.append(self._diagnose(symbol, field, kind))
@@ -93,6 +99,24 @@ class NameScope:
         return Problem(
             field, f"unknown name {name!r}", hint + "declare it in parameters (or coordinates)"
         )
+
+
+#: The largest magnitude a double holds: a number beyond it is infinite in every computation.
+LARGEST_DOUBLE = sp.Float(sys.float_info.max)
+_NOT_FINITE = (sp.nan, sp.zoo, sp.oo, sp.S.NegativeInfinity)
+
+
+def not_finite_real(value: sp.Expr) -> str | None:
+    """Why ``value`` cannot be a real, finite quantity (it holds nan, an infinity, the
+    imaginary unit or a number too large for a double), or None."""
+    if value.has(*_NOT_FINITE):
+        return f"{value} holds an undefined or infinite value (nan, oo or zoo)"
+    if value.has(sp.I):
+        return f"{value} is complex (holds I)"
+    for number in value.atoms(sp.Number):
+        if abs(number) > LARGEST_DOUBLE:
+            return f"the number {sp.Float(number, 3)} is too large for a double (beyond 1.8e308)"
+    return None
 
 
 def identifier_problem(name: str, field: str) -> Problem | None:
@@ -326,12 +350,13 @@ def _check_elements(
     for group, attr in (("springs", "stiffness"), ("dampers", "coefficient")):
         for i, item in enumerate(values[group]):
             field = f"{group}[{i}]"
-            if len(item.between) != 2:
+            if not isinstance(item.between, tuple) or len(item.between) != 2:
                 problems.append(
                     Problem(
                         f"{field}.between", "needs exactly two points", "give [point_a, point_b]"
                     )
                 )
+                continue
             for j, ref in enumerate(item.between):
                 _check_point_ref(ref, f"{field}.between[{j}]", points, scope, problems)
             scope.check(getattr(item, attr), f"{field}.{attr}", CONFIGURATION, problems)

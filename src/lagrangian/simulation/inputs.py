@@ -78,8 +78,9 @@ def checked_inputs(
         value = given.get(name)
         return value if value is not None else settings.get(name, default)
 
-    values = parameter_values(compiled, given.get("parameters") or {}, problems)
-    x0 = initial_state(compiled, given.get("initial") or {}, fallbacks.initial, problems)
+    values = parameter_values(compiled, _names_to_values(given, "parameters", problems), problems)
+    initial = _names_to_values(given, "initial", problems)
+    x0 = initial_state(compiled, initial, fallbacks.initial, problems)
     t_span = time_span(given.get("t_span"), settings.get("t_end"), problems)
     t_eval = given.get("t_eval")
     samples = setting("samples") if t_eval is None else given.get("samples")
@@ -285,7 +286,14 @@ def output_times(
             return None
         return np.linspace(*t_span, int(samples))
     if t_eval is not None:
-        times = np.asarray(t_eval, dtype=float).ravel()
+        try:
+            times = np.asarray(t_eval, dtype=float).ravel()
+        except (TypeError, ValueError):
+            problems.append(Problem("t_eval", f"{t_eval!r} is not a list of times"))
+            return None
+        if not np.all(np.isfinite(times)) or times.size == 0:
+            problems.append(Problem("t_eval", "the times must be finite numbers, at least one"))
+            return None
         inside = (times >= t_span[0]) & (times <= t_span[1])
         if not np.all(inside) or np.any(np.diff(times) <= 0):
             problems.append(
@@ -334,6 +342,18 @@ def _number(field: str, value: Any, problems: list[Problem]) -> float | None:
         problems.append(Problem(field, f"{value!r} is not a finite number"))
         return None
     return number
+
+
+def _names_to_values(given: Mapping[str, Any], field: str, problems: list[Problem]) -> Mapping:
+    """The mapping ``given[field]`` (empty when absent); a problem when it is not one."""
+    value = given.get(field)
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        fix = f"pass {field}={{'name': value, ...}}, by name or symbol"
+        problems.append(Problem(field, f"{value!r} is not a mapping of names to values", fix))
+        return {}
+    return value
 
 
 def _unknown(field: str, name: str, kind: str, known: Iterable[str]) -> Problem:

@@ -25,8 +25,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from lagrangian.derivation import equations_of
 from lagrangian.derivation.eom import EquationsOfMotion
-from lagrangian.errors import ModelError
+from lagrangian.errors import ModelError, require
+from lagrangian.model import System
 from lagrangian.numerics.export.c_code import export_c
 from lagrangian.numerics.export.common import sanitize
 from lagrangian.numerics.export.julia import export_julia
@@ -60,12 +62,15 @@ LANGUAGES: dict[str, Callable[[EquationsOfMotion, str], dict[str, str]]] = {
 }
 
 
-def export(eom: EquationsOfMotion, language: str) -> dict[str, str]:
-    """The generated files for ``language`` ("numpy", "c", "matlab" or "julia"), as file
-    name -> content; file names come from the system's name (or "model").
+def export(subject: System | EquationsOfMotion, language: str) -> dict[str, str]:
+    """The generated files for ``language`` ("numpy", "c", "matlab" or "julia") of a System
+    or its equations of motion, as file name -> content; file names come from the system's
+    name (or "model").
 
     Raises ModelError for any other language.
     """
+    eom = equations_of(subject, "export(subject, language)")
+    require(language, str, "export(subject, language)", f"name one of {', '.join(LANGUAGES)}")
     writer = LANGUAGES.get(language.strip().lower())
     if writer is None:
         raise ModelError(f"Cannot export to {language!r}: choose one of {', '.join(LANGUAGES)}.")
