@@ -110,7 +110,7 @@ def test_simulate_names_the_wrong_argument(arguments, field):
     "about", [{"theta": math.nan}, {"theta": math.inf}, {"theta": 1j}, {"theta": object()}]
 )
 def test_analysis_refuses_a_state_that_is_not_real_and_finite(about):
-    with pytest.raises(lg.AnalysisError, match="state.theta"):
+    with pytest.raises(lg.AnalysisError, match=r"state\.theta"):
         lg.analyze(pendulum(), about=about)
 
 

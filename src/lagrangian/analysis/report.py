@@ -34,6 +34,11 @@ from lagrangian.analysis.arguments import (
 )
 from lagrangian.analysis.energy import EnergyConservation, energy_conservation
 from lagrangian.analysis.equilibria import equilibria
+from lagrangian.analysis.first_integrals import (
+    ConservedQuantity,
+    FirstIntegralSearch,
+    first_integrals,
+)
 from lagrangian.analysis.hamiltonian import (
     HamiltonEquations,
     Hamiltonian,
@@ -64,16 +69,6 @@ from lagrangian.errors import LagrangianError
 from lagrangian.model.probe import is_zero
 
 T = TypeVar("T")
-
-
-@dataclass(frozen=True)
-class ConservedQuantity:
-    """A constant of the motion: its name (``p_phi``, ``h``), expression and why."""
-
-    name: str
-    expression: sp.Expr
-    reason: str
-    condition: sp.Basic = sp.true
 
 
 @dataclass(frozen=True)
@@ -111,6 +106,8 @@ class AnalysisReport:
     independent_velocities: int | None = None
     freedom: str = ""
     steady_motions: SteadyMotions | None = None
+    #: What the search for first integrals beyond cyclic coordinates and h covered.
+    searched: tuple[str, ...] = ()
 
     def failure(self, part: str) -> str | None:
         """Why ``part`` failed, or None when it did not."""
@@ -122,13 +119,18 @@ def conserved_quantities(
     energy: EnergyConservation | None,
     symmetries: Sequence[Symmetry] = (),
     jacobi: JacobiIntegral | None = None,
+    search: FirstIntegralSearch | None = None,
 ) -> tuple[ConservedQuantity, ...]:
     """The momenta of cyclic coordinates that are conserved (with their conditions), the
-    Noether charges of the other point symmetries, h when it is conserved, and the Jacobi
-    integral of constraints that move by a symmetry."""
+    Noether charges of the other point symmetries, h when it is conserved, the Jacobi
+    integral of constraints that move by a symmetry, and the independent first integrals of
+    the ``search``."""
     kept = [c for c in cyclic if c.conserved]
     found = [
-        ConservedQuantity(f"p_{c.coordinate.name}", c.momentum, c.reason, c.condition) for c in kept
+        ConservedQuantity(
+            f"p_{c.coordinate.name}", c.momentum, c.reason, c.condition, "cyclic coordinate"
+        )
+        for c in kept
     ]
     known = [c.momentum for c in kept]
     for symmetry in symmetries:
@@ -141,12 +143,17 @@ def conserved_quantities(
                 f"noether_{len(found) + 1}",
                 symmetry.conserved,
                 f"Noether: L is invariant under the {symmetry.description}",
+                origin="point symmetry",
             )
         )
     if energy is not None and energy.conserved:
-        found.append(ConservedQuantity("h", energy.energy_function, energy.reason))
+        found.append(ConservedQuantity("h", energy.energy_function, energy.reason, origin="energy"))
     if jacobi is not None:
-        found.append(ConservedQuantity("jacobi", jacobi.expression, jacobi.reason))
+        found.append(
+            ConservedQuantity("jacobi", jacobi.expression, jacobi.reason, origin="Jacobi integral")
+        )
+    if search is not None:
+        found += search.found
     return tuple(found)
 
 
@@ -221,6 +228,11 @@ def analyze(
     cyclic = run("cyclic", lambda: cyclic_coordinates(eom, parameters)) or ()
     symmetries = run("symmetries", lambda: point_symmetries(eom)) or ()
     energy = run("energy", lambda: energy_conservation(eom))
+    known = conserved_quantities(cyclic, energy, symmetries)
+    search = run(
+        "first_integrals",
+        lambda: first_integrals(eom, parameters, [c.expression for c in known]),
+    )
     legendre = run("hamiltonian", lambda: hamiltonian(eom))
     canonical = (
         run("hamilton_equations", lambda: hamilton_equations(eom, legendre)) if legendre else None
@@ -241,7 +253,8 @@ def analyze(
         coordinates=tuple(eom.coordinates),
         momenta=run("momenta", lambda: conjugate_momenta(eom)),
         cyclic=tuple(cyclic),
-        conserved=conserved_quantities(cyclic, energy, symmetries),
+        conserved=conserved_quantities(cyclic, energy, symmetries, search=search),
+        searched=search.searched if search is not None else (),
         energy=energy,
         hamiltonian=legendre,
         hamilton_equations=canonical,

@@ -182,6 +182,8 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
                 "expression": expression_string(c.expression),
                 "reason": c.reason,
                 "condition": expression_string(c.condition),
+                "origin": c.origin,
+                "explicit_time": c.explicit_time,
             }
             for c in report.conserved
         ],
@@ -199,6 +201,7 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
         else [_equilibrium(e) for e in report.equilibria],
         "normal_modes": None if report.normal_modes is None else _modes(report.normal_modes),
         "steady_motions": None if report.steady_motions is None else _steady(report.steady_motions),
+        "first_integral_search": list(report.searched),
         "failures": {f.part: f.reason for f in report.failures},
     }
     if report.linearization is not None or report.failure("linearization"):

@@ -1,0 +1,163 @@
+"""Exact solutions of a linear system found numerically: the null vectors of a sampled
+determining system, with their coefficients recovered as rationals times monomials in the
+parameters.
+
+A determining equation sum_k c_k column_k(t, q, q_dot; p) = 0, required identically, is
+sampled at random points; the null space of the samples holds every solution.  The basis is
+brought to reduced row-echelon form (each vector has a pivot coefficient 1 where the others
+vanish), so a vector is one symmetry, not an arbitrary mixture.  Its coefficients depend on
+the parameters p; they are found at a generic point p* and again (on the same support) with
+each parameter doubled:
+c(2 p_j) / c(p*) = 2**e_j gives the exponent of p_j (a textbook coefficient is a monomial: m,
+q*B, m*k), and c(p*) / prod p*_j**e_j a small rational.  Whatever does not fit that shape is
+dropped; whatever fits is then verified symbolically by the caller.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from fractions import Fraction
+
+import numpy as np
+import sympy as sp
+
+#: Singular values below this, relative to the largest, may span the null space: it ends at
+#: the widest gap (at least ``GAP``) among them, since near-dependences of smooth functions
+#: on the samples reach 1e-9 while exact null vectors sit at rounding level.
+NULL = 1e-7
+GAP = 1e3
+#: Pivots smaller than this (relative) are numerical noise in the row-echelon form.
+PIVOT = 1e-7
+#: Tolerance of a coefficient's exponent and of its rational value.
+FIT = 1e-6
+#: Largest denominator accepted for a rational coefficient.
+DENOMINATOR = 1000
+
+
+def null_basis(matrix: np.ndarray) -> tuple[np.ndarray, tuple[int, ...]]:
+    """The null space of ``matrix`` in reduced row-echelon form (rows, pivot 1) and the pivot
+    columns; columns are scaled to unit norm first and the scaling undone after."""
+    if matrix.shape[1] == 0:
+        return np.zeros((0, 0)), ()
+    norms = np.linalg.norm(matrix, axis=0)
+    norms[norms == 0] = 1.0
+    scaled = matrix / norms
+    _, singular, vt = np.linalg.svd(scaled, full_matrices=scaled.shape[0] < scaled.shape[1])
+    null = vt[_rank(singular, scaled.shape[1]) :] / norms  # back to the unknowns' own scale
+    return _row_echelon(null)
+
+
+def _rank(singular: np.ndarray, unknowns: int) -> int:
+    """The numerical rank: the count before the widest gap among the small singular values
+    (the unknowns beyond the rows count as zeros)."""
+    values = np.concatenate([singular, np.zeros(max(0, unknowns - singular.size))])
+    largest = values[0] if values.size else 1.0
+    small = np.flatnonzero(values < NULL * largest)
+    if small.size == 0:
+        return unknowns
+    floor = 1e-15 * largest + 1e-300  # rounding level: every exact zero alike
+    tail = np.maximum(values[small[0] - 1 :], floor)
+    gaps = tail[:-1] / tail[1:]
+    widest = int(np.argmax(gaps))
+    if gaps[widest] < GAP:
+        return unknowns  # no clear null space: nothing is exactly a solution
+    return small[0] - 1 + widest + 1
+
+
+def _row_echelon(rows: np.ndarray) -> tuple[np.ndarray, tuple[int, ...]]:
+    rows = rows.copy()
+    pivots: list[int] = []
+    r = 0
+    for column in range(rows.shape[1]):
+        if r == len(rows):
+            break
+        best = r + int(np.argmax(np.abs(rows[r:, column])))
+        if abs(rows[best, column]) <= PIVOT * np.max(np.abs(rows[r:])):
+            continue  # noise: no pivot in this column
+        rows[[r, best]] = rows[[best, r]]
+        rows[r] /= rows[r, column]
+        for other in range(len(rows)):
+            if other != r:
+                rows[other] -= rows[other, column] * rows[r]
+        pivots.append(column)
+        r += 1
+    rows = rows[:r]
+    rows[np.abs(rows) < PIVOT] = 0.0
+    return rows, tuple(pivots)
+
+
+def _rational(value: float) -> sp.Rational | None:
+    fraction = Fraction(value).limit_denominator(DENOMINATOR)
+    if abs(float(fraction) - value) > FIT * max(1.0, abs(value)):
+        return None
+    return sp.Rational(fraction.numerator, fraction.denominator)
+
+
+def exact_null_vectors(
+    sampled: Callable[[dict[sp.Symbol, float]], np.ndarray],
+    parameters: Sequence[sp.Symbol],
+    generic: dict[sp.Symbol, float],
+) -> list[list[sp.Expr]]:
+    """The solutions of the sampled system ``sampled(parameter values)`` as exact vectors
+    (rationals times monomials in ``parameters``), from its null space at ``generic`` and
+    with each parameter doubled; vectors whose coefficients do not fit are left out."""
+    base, pivots = null_basis(sampled(generic))
+    if not len(base):
+        return []
+    exponents = np.zeros((len(parameters), *base.shape))
+    for j, p in enumerate(parameters):
+        moved = _same_support(sampled({**generic, p: 2 * generic[p]}), base, pivots)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            exponents[j] = np.log2(np.abs(moved / base))
+    exact = []
+    for i, row in enumerate(base):
+        vector = _exact_row(row, exponents[:, i, :], parameters, generic)
+        if vector is not None:
+            exact.append(vector)
+    return exact
+
+
+def _same_support(matrix: np.ndarray, base: np.ndarray, pivots: Sequence[int]) -> np.ndarray:
+    """The null vectors of ``matrix`` with the support and pivot of each row of ``base``
+    (pivot 1): a small least-squares solve per vector instead of a new decomposition.  A row
+    that is no null vector of ``matrix`` comes back as NaN (its fit then fails)."""
+    moved = np.full_like(base, np.nan)
+    for i, (row, pivot) in enumerate(zip(base, pivots)):
+        support: list[int] = [int(k) for k in np.flatnonzero(row) if k != pivot]
+        vector = np.zeros_like(row)
+        vector[pivot] = 1.0
+        if support:
+            columns = matrix[:, support]
+            solution, *_ = np.linalg.lstsq(columns, -matrix[:, pivot], rcond=None)
+            vector[support] = solution
+        residual = np.linalg.norm(matrix @ vector)
+        scale = np.linalg.norm(matrix[:, [pivot, *support]]) * max(1.0, np.abs(vector).max())
+        if residual <= NULL * scale:
+            moved[i] = vector
+    return moved
+
+
+def _exact_row(
+    row: np.ndarray,
+    exponents: np.ndarray,
+    parameters: Sequence[sp.Symbol],
+    generic: dict[sp.Symbol, float],
+) -> list[sp.Expr] | None:
+    vector: list[sp.Expr] = []
+    for k, value in enumerate(row):
+        if value == 0.0:
+            vector.append(sp.Integer(0))
+            continue
+        powers = [round(2 * e) / 2 for e in exponents[:, k]]
+        if any(
+            not math.isfinite(e) or abs(e - p) > 1e3 * FIT for e, p in zip(exponents[:, k], powers)
+        ):
+            return None
+        scale = math.prod(generic[p] ** e for p, e in zip(parameters, powers))
+        number = _rational(value / scale)
+        if number is None:
+            return None
+        monomial = sp.Mul(*(p ** sp.nsimplify(e) for p, e in zip(parameters, powers)))
+        vector.append(number * monomial)
+    return vector
