@@ -21,6 +21,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
+from lagrangian.cli import sweep_command
 from lagrangian.errors import BAD_INPUT, FAILURE, LagrangianError
 
 OK = 0
@@ -197,6 +198,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="show a progress bar even when stderr is not a terminal",
     )
 
+    sweep_command.add_sweep_options(
+        _command(sub, "sweep", sweep_command.SUMMARY, sweep_command.EXAMPLE)
+    )
+
     examples = sub.add_parser(
         "examples",
         help="list or describe the built-in examples",
@@ -312,6 +317,8 @@ def run(args: argparse.Namespace) -> str:
             settings=args.set,
             independent=args.independent,
         )
+    if args.command == "sweep":
+        return sweep_command.run_sweep(args)
     return commands.examples_command(args.name)
 
 

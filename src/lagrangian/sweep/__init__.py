@@ -1,0 +1,33 @@
+"""Sweeps: many members of one System (a grid of parameters and initial values, random
+samples) integrated on a Dask cluster into a Zarr store, resumable (docs/architecture.md).
+
+Needs ``pip install lagrangian[sweep]`` (Dask, xarray, Zarr), imported only when a sweep runs.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from lagrangian.sweep.grid import Grid, build_grid
+    from lagrangian.sweep.run import SweepReport, sweep
+    from lagrangian.sweep.stop_expression import StopExpression, stop_expression
+
+_HOMES = {
+    "Grid": "lagrangian.sweep.grid",
+    "build_grid": "lagrangian.sweep.grid",
+    "SweepReport": "lagrangian.sweep.run",
+    "sweep": "lagrangian.sweep.run",
+    "StopExpression": "lagrangian.sweep.stop_expression",
+    "stop_expression": "lagrangian.sweep.stop_expression",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _HOMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(_HOMES[name]), name)
+
+
+__all__ = ["Grid", "StopExpression", "SweepReport", "build_grid", "stop_expression", "sweep"]

@@ -1,0 +1,292 @@
+"""sweep(system, vary, t_span, out=...) -> SweepReport: many members on a Dask cluster,
+written to Zarr block by block, resumable.
+
+The members (the product of the ``vary`` axes, times the ``random`` samples,
+:mod:`lagrangian.sweep.grid`) are cut into blocks (:mod:`lagrangian.sweep.blocks`); each block
+is one task integrating its members as one compiled batch (:func:`lagrangian.simulate_batch`)
+on a worker.  The System is scattered to every worker once.  The client writes each block
+into the store as it finishes (:mod:`lagrangian.sweep.store`), its ``done`` flags last; with
+``resume=True`` the blocks already done are skipped.  A task that raises is retried
+(``retries``) and a task whose worker dies is run again on another by Dask.
+
+>>> import tempfile, pathlib, lagrangian as lg  # doctest: +SKIP
+>>> out = pathlib.Path(tempfile.mkdtemp()) / "map.zarr"  # doctest: +SKIP
+>>> report = sweep(lg.examples.simple_pendulum(), {"theta": [0.1, 0.2], "l": [1, 2]}, 2.0,
+...                out=out, samples=5, workers=2)  # doctest: +SKIP
+>>> report.dataset()["theta"].dims  # doctest: +SKIP
+('theta_0', 'l', 't')
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import time
+import uuid
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
+from lagrangian.model import System
+from lagrangian.model.system import require_system
+from lagrangian.simulation.batch import StopCondition
+from lagrangian.simulation.options import StepKeywords
+from lagrangian.sweep.blocks import DEFAULT_CHUNK_SIZE, block_shape, region_size, regions
+from lagrangian.sweep.chunk_run import ChunkSettings, run_chunk
+from lagrangian.sweep.cluster import check_cluster_options, dask_client
+from lagrangian.sweep.dependencies import require_sweep_packages
+from lagrangian.sweep.grid import Grid, build_grid
+from lagrangian.sweep.inputs import checked_times
+from lagrangian.sweep.progress import ProgressLine
+from lagrangian.sweep.stop_expression import StopExpression, stop_expression
+from lagrangian.sweep.store import SweepWriter, check_resumable, create_store
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
+
+#: Times Dask runs a block again after it raised.
+RETRIES = 2
+
+
+@dataclass(frozen=True)
+class SweepReport:
+    """What a sweep did: the store, its members by status, and how this run went."""
+
+    out: Path
+    members: int
+    computed: int
+    skipped: int
+    status: Mapping[str, int]
+    seconds: float
+    dashboard: str | None = None
+
+    def dataset(self) -> Any:
+        """The result as an xarray Dataset (``xarray.open_zarr(out)``)."""
+        import xarray as xr
+
+        return xr.open_zarr(self.out)
+
+    def summary(self) -> str:
+        """One line for people."""
+        counts = ", ".join(f"{n} {s}" for s, n in self.status.items() if n)
+        rate = f", {self.computed / self.seconds:.4g} members/s" if self.seconds > 0 else ""
+        resumed = f" ({self.skipped} already written)" if self.skipped else ""
+        return (
+            f"{self.members} members{resumed}: {counts or 'none'}; {self.computed} computed in "
+            f"{self.seconds:.3g} s{rate}; written to {self.out}"
+        )
+
+
+def sweep(
+    system: System,
+    vary: Mapping[Any, ArrayLike] | None = None,
+    t_span: float | tuple[float, float] | None = None,
+    *,
+    out: str | os.PathLike[str],
+    random: Mapping[Any, tuple[float, float, int]] | None = None,
+    seed: int = 0,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    resume: bool = False,
+    stop_when: str | StopCondition | None = None,
+    chunk_size: int = DEFAULT_CHUNK_SIZE,
+    backend: str = "numpy",
+    progress: bool | None = None,
+    messages: Callable[[str], None] | None = None,
+    retries: int = RETRIES,
+    **stepping: Unpack[StepKeywords],
+) -> SweepReport:
+    """Simulate every member of a grid on a Dask cluster into the Zarr store ``out``.
+
+    Parameters
+    ----------
+    vary:
+        NAME -> values: a parameter, or an initial value (a coordinate or ``NAME_dot``).  The
+        members are the product of the axes; each is a dimension of the result, the
+        parameter's own name or ``NAME_0`` for an initial value.
+    t_span, method, rtol, atol, samples, ...:
+        As for :func:`lagrangian.simulate_batch` (without ``samples``: the ends only).
+    random, seed:
+        NAME -> (low, high, N): N members drawn uniformly, along the dimension ``sample``
+        (every random name the same N), seeded.
+    scheduler, workers:
+        A running cluster's address ``tcp://HOST:PORT``, or else a local cluster of
+        ``workers`` processes (default one per core) on 127.0.0.1.
+    resume:
+        Continue the sweep already in ``out`` (same model and options), skipping the blocks
+        written; without it an existing ``out`` is refused.
+    stop_when:
+        g(t, q, q_dot) or its text (``"pi - Abs(theta)"``): a member stops where g turns
+        negative; its time is the variable ``stop_time``.
+    chunk_size:
+        Members per block (one task, one chunk of the store).
+    progress, messages:
+        The progress line on standard error (None: when it is a terminal), and a function
+        told the dashboard address and other news.
+
+    Raises
+    ------
+    SimulationInputError
+        Bad input, every problem naming its field, before any cluster starts.
+    SimulationError
+        The sweep packages are missing (``pip install lagrangian[sweep]``) or the scheduler
+        cannot be reached.
+    """
+    require_sweep_packages()
+    system = require_system(system, "sweep(system)")
+    path = Path(out)
+    grid = build_grid(system, vary, random, seed)
+    _check_options(path, resume, chunk_size, retries)
+    check_cluster_options(scheduler, workers)
+    condition = _stop_condition(system, grid, stop_when)
+    block = block_shape(grid.shape, chunk_size)
+    parts = list(regions(grid.shape, block))
+    initial, parameters = grid.columns(parts[0])
+    t = checked_times(system, initial, parameters, t_span, stepping, backend)
+    description = _description(system, grid, t, stepping, condition, backend)
+    if path.exists():
+        check_resumable(path, description)
+    else:
+        coordinates = tuple(q.name for q in system.coordinates)
+        create_store(path, grid, coordinates, t, block, description, condition is not None)
+    writer = SweepWriter(path, tuple(q.name for q in system.coordinates))
+    todo = [part for part, done in zip(parts, writer.done(parts)) if not done]
+    skipped = grid.size - sum(region_size(part) for part in todo)
+    settings = ChunkSettings(t_span, dict(stepping), condition, backend, len(t))
+    start = time.perf_counter()
+    dashboard = None
+    if todo:
+        line = ProgressLine(sum(region_size(part) for part in todo), force=bool(progress))
+        line.shown = line.shown if progress is None else bool(progress)
+        with dask_client(scheduler, workers) as client:
+            dashboard = client.dashboard_link
+            if messages:
+                messages(f"Dask dashboard: {dashboard}")
+            try:
+                _run_blocks(client, system, grid, todo, settings, writer, line, retries)
+            finally:
+                line.close()
+    return SweepReport(
+        out=path,
+        members=grid.size,
+        computed=grid.size - skipped,
+        skipped=skipped,
+        status=writer.status_counts(),
+        seconds=time.perf_counter() - start,
+        dashboard=dashboard,
+    )
+
+
+def _run_blocks(
+    client: Any,
+    system: System,
+    grid: Grid,
+    todo: list[Any],
+    settings: ChunkSettings,
+    writer: SweepWriter,
+    line: ProgressLine,
+    retries: int,
+) -> None:
+    """Submit every block, write each as it finishes; on an error, cancel the rest."""
+    from dask.distributed import as_completed
+
+    model = client.scatter(system, broadcast=True, hash=False)
+    run = uuid.uuid4().hex[:12]
+    futures = {}
+    for index, part in enumerate(todo):
+        initial, parameters = grid.columns(part)
+        future = client.submit(
+            run_chunk,
+            model,
+            initial,
+            parameters,
+            settings,
+            key=f"lagrangian-sweep-{run}-{index}",
+            retries=retries,
+            pure=False,
+        )
+        futures[future.key] = (future, part)
+    try:
+        for future in as_completed([f for f, _ in futures.values()]):
+            result = future.result()
+            part = futures.pop(future.key)[1]
+            writer.write(part, result)
+            line.advance(region_size(part))
+            future.release()
+    finally:
+        client.cancel([f for f, _ in futures.values()])
+
+
+def _check_options(path: Path, resume: bool, chunk_size: Any, retries: Any) -> None:
+    problems = []
+    if path.exists() and not resume:
+        fix = "pass resume=True to continue it, or choose another path"
+        problems.append(Problem("out", f"{path} already exists", fix))
+    if not path.parent.is_dir():
+        fix = "create the folder first, or choose a path in an existing one"
+        problems.append(Problem("out", f"the folder {path.parent} does not exist", fix))
+    for name, value, least in (("chunk_size", chunk_size, 1), ("retries", retries, 0)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
+            fix = f"give a whole number >= {least}"
+            problems.append(Problem(name, f"{value!r} is not a whole number >= {least}", fix))
+    raise_if_problems(problems, "Cannot sweep", SimulationInputError)
+
+
+def _stop_condition(
+    system: System, grid: Grid, stop_when: str | StopCondition | None
+) -> StopCondition | None:
+    if isinstance(stop_when, str):
+        varied = {a.name for a in (*grid.axes, *grid.random) if a.kind == "parameter"}
+        return stop_expression(system, stop_when, varied)
+    if stop_when is not None and not callable(stop_when):
+        fix = "give g(t, q, q_dot) or its text, e.g. 'pi - Abs(theta)'"
+        raise SimulationInputError(
+            "Cannot sweep:", [Problem("stop_when", f"{stop_when!r} is not callable", fix)]
+        )
+    return stop_when
+
+
+def _description(
+    system: System,
+    grid: Grid,
+    t: np.ndarray,
+    stepping: Mapping[str, Any],
+    condition: StopCondition | None,
+    backend: str,
+) -> dict[str, Any]:
+    """What identifies a sweep, as JSON values: a resume must match it."""
+    model = repr(system)  # every field of the value, printed the same in every process
+    stop: str | None = None
+    if isinstance(condition, StopExpression):
+        stop = condition.text
+    else:
+        stop = getattr(condition, "__qualname__", repr(condition)) if condition else None
+    return {
+        "model": system.name,
+        "model_digest": hashlib.sha256(model.encode()).hexdigest(),
+        "dims": list(grid.dims),
+        "shape": list(grid.shape),
+        "grid_digest": _grid_digest(grid),
+        "t": [float(t[0]), float(t[-1]), len(t)],
+        "stepping": {key: _plain(value) for key, value in sorted(stepping.items())},
+        "stop_when": stop,
+        "backend": backend,
+    }
+
+
+def _grid_digest(grid: Grid) -> str:
+    digest = hashlib.sha256()
+    for axis in (*grid.axes, *grid.random):
+        digest.update(axis.name.encode() + b"\0" + np.ascontiguousarray(axis.values).tobytes())
+    return digest.hexdigest()
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, (str, int, float, bool)) or value is None:
+        return value
+    return np.asarray(value, dtype=float).tolist()

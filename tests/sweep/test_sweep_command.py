@@ -1,0 +1,145 @@
+"""``lagrangian sweep``: bad flags exit 2 naming the flag; a sweep killed midway (the whole
+client, or one worker) resumes or completes with every member present."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+import zarr
+
+import lagrangian as lg
+from lagrangian.cli.main import main
+from lagrangian.sweep import sweep
+
+
+@pytest.mark.parametrize(
+    ("flags", "named"),
+    [
+        (["--vary", "kk=1,2"], r"--vary kk=1,2: 'kk' is not a name"),
+        (["--vary", "theta=0:1"], r"--vary theta=0:1: expected NAME=START:STOP:COUNT"),
+        (["--vary", "theta=0:1:0"], r"--vary theta=0:1:0"),
+        (["--random", "l=2:1:5"], r"--random l=2:1:5: expected NAME=LOW:HIGH:N"),
+        (["--vary", "theta=0,1", "--stop-when", "theta + zz"], r"--stop-when: unknown \['zz'\]"),
+        (["--vary", "theta=0,1", "--method", "nope"], r"--method: unknown method"),
+        (["--vary", "theta=0,1", "--t-end", "-1"], r"--t-end: the end time"),
+        (["--vary", "theta=0,1", "--chunk-size", "0"], r"--chunk-size"),
+    ],
+)
+def test_bad_flags_exit_2_naming_the_flag(flags, named, tmp_path: Path, capsys) -> None:
+    out = tmp_path / "r.zarr"
+    code = main(["sweep", "examples/simple_pendulum", *flags, "--out", str(out)])
+    assert code == 2
+    assert __import__("re").search(named, capsys.readouterr().err)
+    assert not out.exists()
+
+
+def test_an_existing_out_needs_resume(tmp_path: Path, capsys) -> None:
+    out = tmp_path / "r.zarr"
+    out.mkdir()
+    assert main(["sweep", "examples/simple_pendulum", "--vary", "theta=0,1", "--out", str(out)])
+    assert "--out" in (err := capsys.readouterr().err) and "add --resume" in err
+
+
+COMMAND = [
+    sys.executable,
+    "-m",
+    "lagrangian",
+    "sweep",
+    "examples/double_pendulum",
+    "--vary",
+    "theta=0.5:2.5:12",
+    "--vary",
+    "phi=0,1",
+    "--t-end",
+    "20",
+    "--samples",
+    "5",
+    "--method",
+    "DOP853",
+    "--rtol",
+    "1e-10",
+    "--atol",
+    "1e-10",
+    "--chunk-size",
+    "2",
+    "--workers",
+    "1",
+]
+
+
+def _done(out: Path) -> int:
+    try:
+        return int(np.sum(zarr.open_group(str(out), mode="r")["done"][...]))
+    except Exception:  # not laid out yet, or a chunk being written
+        return 0
+
+
+@pytest.mark.slow
+def test_a_sweep_killed_midway_resumes_with_every_member(tmp_path: Path) -> None:
+    out, clean = tmp_path / "killed.zarr", tmp_path / "clean.zarr"
+    # the client, its scheduler and its workers share a session: SIGKILL them all at once
+    process = subprocess.Popen(
+        [*COMMAND, "--out", str(out)], start_new_session=True, stderr=subprocess.DEVNULL
+    )
+    try:
+        deadline = time.monotonic() + 120
+        while _done(out) < 4 and process.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+    finally:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
+    written = _done(out)
+    assert 4 <= written < 24, "the sweep was to be killed midway"
+    subprocess.run([*COMMAND, "--out", str(out), "--resume"], check=True, capture_output=True)
+    subprocess.run([*COMMAND, "--out", str(clean)], check=True, capture_output=True)
+    resumed, reference = xr.open_zarr(out).load(), xr.open_zarr(clean).load()
+    assert bool(resumed["done"].all()) and set(resumed["status"].values.ravel()) == {"success"}
+    xr.testing.assert_identical(resumed, reference)
+
+
+@pytest.mark.slow
+def test_a_worker_killed_midway_is_replaced_and_the_sweep_completes(
+    cluster, tmp_path: Path
+) -> None:
+    from dask.distributed import Client
+
+    out = tmp_path / "worker.zarr"
+    system = lg.examples.double_pendulum()
+    vary = {"theta": np.linspace(0.5, 2.5, 16), "phi": [0.0, 1.0]}
+    options = {"samples": 3, "method": "DOP853", "rtol": 1e-10, "atol": 1e-10}
+    found: dict[str, object] = {}
+
+    def run() -> None:
+        found["report"] = sweep(
+            system,
+            vary,
+            20.0,
+            out=out,
+            chunk_size=2,
+            scheduler=cluster.scheduler_address,
+            **options,
+        )
+
+    thread = threading.Thread(target=run)
+    thread.start()
+    deadline = time.monotonic() + 120
+    while _done(out) < 2 and thread.is_alive() and time.monotonic() < deadline:
+        time.sleep(0.02)
+    with Client(cluster.scheduler_address) as client:
+        victim = next(iter(client.run(os.getpid).values()))
+    os.kill(victim, signal.SIGKILL)
+    thread.join(timeout=300)
+    report = found["report"]
+    assert report.status == {"success": 32}  # type: ignore[attr-defined]
+    data = xr.open_zarr(out)
+    alone = lg.simulate(system, {"theta": 0.5, "phi": 1.0}, 20.0, **options)
+    np.testing.assert_allclose(data["theta"][0, -1], alone.q[:, 0], rtol=0, atol=1e-8)
