@@ -12,7 +12,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "lagrangian"
 RANKS = {
     "cli": 9,
     "web": 9,
-    "sweep": 9,
+    "sweeps": 9,
     "simulation": 8,
     "numerics": 7,
     "analysis": 6,
@@ -69,8 +69,8 @@ def _violations() -> list[str]:
             if own in ALLOWED_SIDE:
                 ok = target in ALLOWED_SIDE[own]
             elif target in ALLOWED_SIDE:
-                ok = (target == "io" and own in {"cli", "web", "sweep"}) or (
-                    target in {"examples", "render"} and own in {"cli", "web", "sweep"}
+                ok = (target == "io" and own in {"cli", "web", "sweeps"}) or (
+                    target in {"examples", "render"} and own in {"cli", "web", "sweeps"}
                 )
             else:
                 ok = RANKS.get(target, 99) <= RANKS.get(own, -1)

@@ -79,6 +79,7 @@ if TYPE_CHECKING:
         velocity,
     )
     from lagrangian.simulation import Batch, Event, Trajectory, simulate, simulate_batch
+    from lagrangian.sweeps import SweepReport, sweep
 
     __version__: str
 
@@ -140,6 +141,7 @@ _HOMES = {
     **dict.fromkeys(
         ("Batch", "Event", "Trajectory", "simulate", "simulate_batch"), "lagrangian.simulation"
     ),
+    **dict.fromkeys(("SweepReport", "sweep"), "lagrangian.sweeps"),
 }
 #: Subpackages reachable as attributes (``lg.examples.double_pendulum()``, ``lg.constraints``).
 _SUBPACKAGES = (
@@ -152,6 +154,7 @@ _SUBPACKAGES = (
     "numerics",
     "render",
     "simulation",
+    "sweeps",
 )
 
 
@@ -219,6 +222,7 @@ __all__ = [
     "SimulationError",
     "SimulationInputError",
     "Spring",
+    "SweepReport",
     "System",
     "Torque",
     "Trajectory",
@@ -244,6 +248,7 @@ __all__ = [
     "render",
     "simulate",
     "simulate_batch",
+    "sweep",
     "t",
     "velocity",
 ]

@@ -158,3 +158,14 @@ def test_the_heavy_symmetric_top_keeps_its_three_classical_integrals():
 def test_the_search_is_bounded_and_says_so():
     search = first_integrals(lg.examples.n_link_pendulum(6), known=())
     assert any("not searched" in line for line in search.searched)
+
+
+def test_an_atwood_machine_has_a_time_dependent_momentum():
+    # translating y changes L by g (m1 - m2) = d/dt[g (m1 - m2) t]: the coefficient is a sum of
+    # parameters, not a monomial, and is fitted as a polynomial in them
+    system = lg.examples.atwood_machine()
+    y_, m1, m2 = sp.symbols("y m1 m2")
+    momentum = (m1 + m2) * lg.velocity(y_) - g * (m1 - m2) * t
+    found = [c.expression for c in lg.analyze(system).conserved]
+    assert any(proportional(f, momentum) for f in found)
+    assert drift(system, momentum, {"y": 0.5, "y_dot": 0.2}) < 1e-8

@@ -18,7 +18,7 @@ import zarr
 
 import lagrangian as lg
 from lagrangian.cli.main import main
-from lagrangian.sweep import sweep
+from lagrangian.sweeps import sweep
 
 
 @pytest.mark.parametrize(

@@ -15,6 +15,7 @@ dropped; whatever fits is then verified symbolically by the caller.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable, Sequence
 from fractions import Fraction
@@ -110,12 +111,85 @@ def exact_null_vectors(
         moved = _same_support(sampled({**generic, p: 2 * generic[p]}), base, pivots)
         with np.errstate(divide="ignore", invalid="ignore"):
             exponents[j] = np.log2(np.abs(moved / base))
+    polynomial = _PolynomialFit(sampled, parameters, generic, base, pivots)
     exact = []
     for i, row in enumerate(base):
         vector = _exact_row(row, exponents[:, i, :], parameters, generic)
+        vector = vector or polynomial.vector(i)
         if vector is not None:
             exact.append(vector)
     return exact
+
+
+#: Highest total degree of a coefficient fitted as a polynomial in the parameters.
+POLYNOMIAL_DEGREE = 2
+
+
+class _PolynomialFit:
+    """Coefficients that are polynomials in the parameters (g*(m1 - m2) of an Atwood
+    machine's time-dependent momentum), fitted by least squares to the null vectors at random
+    parameter points; sampled only when a vector's coefficients are not all monomials."""
+
+    def __init__(
+        self,
+        sampled: Callable[[dict[sp.Symbol, float]], np.ndarray],
+        parameters: Sequence[sp.Symbol],
+        generic: dict[sp.Symbol, float],
+        base: np.ndarray,
+        pivots: Sequence[int],
+    ) -> None:
+        self.sampled, self.parameters, self.generic = sampled, tuple(parameters), generic
+        self.base, self.pivots = base, pivots
+        self.monomials = [
+            sp.Mul(*chosen)
+            for d in range(POLYNOMIAL_DEGREE + 1)
+            for chosen in itertools.combinations_with_replacement(self.parameters, d)
+        ]
+        self.values: np.ndarray | None = None
+        self.design: np.ndarray | None = None
+
+    def _sample(self) -> tuple[np.ndarray, np.ndarray]:
+        rng = np.random.default_rng(29)
+        points = [self.generic] + [
+            {p: float(rng.uniform(0.7, 1.7)) for p in self.parameters}
+            for _ in range(len(self.monomials) + 4)
+        ]
+        self.values = np.array(
+            [_same_support(self.sampled(point), self.base, self.pivots) for point in points]
+        )
+        compiled = sp.lambdify(self.parameters, self.monomials, modules="numpy")
+        self.design = np.array(
+            [
+                np.broadcast_to(compiled(*(pt[p] for p in self.parameters)), len(self.monomials))
+                for pt in points
+            ],
+            dtype=float,
+        )
+        return self.values, self.design
+
+    def vector(self, i: int) -> list[sp.Expr] | None:
+        """Row ``i`` of the null basis with polynomial coefficients, or None."""
+        if not self.parameters:
+            return None
+        values, design = self._sample() if self.values is None else (self.values, self.design)
+        assert design is not None
+        vector: list[sp.Expr] = []
+        for k in range(self.base.shape[1]):
+            column = values[:, i, k]
+            if self.base[i, k] == 0.0:
+                vector.append(sp.Integer(0))
+                continue
+            if not np.all(np.isfinite(column)):
+                return None
+            fitted, *_ = np.linalg.lstsq(design, column, rcond=None)
+            numbers = [_rational(float(c)) if abs(c) > PIVOT else sp.Integer(0) for c in fitted]
+            if any(n is None for n in numbers):
+                return None
+            exact = np.array([float(n) for n in numbers])  # type: ignore[arg-type]
+            if np.max(np.abs(design @ exact - column)) > FIT * max(1.0, np.abs(column).max()):
+                return None
+            vector.append(sp.Add(*(n * m for n, m in zip(numbers, self.monomials))))
+        return vector
 
 
 def _same_support(matrix: np.ndarray, base: np.ndarray, pivots: Sequence[int]) -> np.ndarray:

@@ -1,7 +1,7 @@
 """``lagrangian sweep``: a grid of parameters and initial values simulated on Dask into Zarr.
 
 The parser part needs neither NumPy nor Dask (``lagrangian --help`` stays fast); the sweep
-itself (:func:`lagrangian.sweep.sweep`) loads when the command runs.  Bad flags exit 2 with
+itself (:func:`lagrangian.sweeps.sweep`) loads when the command runs.  Bad flags exit 2 with
 a message naming the flag; Ctrl-C keeps the blocks written, and ``--resume`` finishes them.
 
 >>> parse_vary(["theta=0:1:3", "l=1,2"])
@@ -85,7 +85,7 @@ def add_sweep_options(command: argparse.ArgumentParser) -> None:
 def run_sweep(args: argparse.Namespace) -> str:
     """Run the parsed ``sweep`` command; its one-line summary."""
     from lagrangian.cli.commands import apply_settings, interrupted, load_system
-    from lagrangian.sweep import build_grid, sweep
+    from lagrangian.sweeps import build_grid, sweep
 
     system = apply_settings(load_system(args.model), args.set)
     problems: list[Problem] = []

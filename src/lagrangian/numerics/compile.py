@@ -159,8 +159,11 @@ class CompiledEquations:
                 return np.linalg.solve(matrix, vector[..., None])[..., 0]
             except np.linalg.LinAlgError:
                 pass
-        state = ", ".join(f"{name}={value:.6g}" for name, value in zip(self.state_names, x))
-        where = f"at t = {t:.6g}, {state}" if x.ndim == 1 else "in this batch of states"
+        if x.ndim == 1:
+            state = ", ".join(f"{name}={value:.6g}" for name, value in zip(self.state_names, x))
+            where = f"at t = {float(t):.6g}, {state}"
+        else:  # a batch: t and x hold one row per member
+            where = "in this batch of states"
         raise SimulationError(
             f"The mass matrix is singular {where}: the equations of motion do not "
             "determine the accelerations there (a coordinate singularity, or a body "

@@ -121,6 +121,8 @@ class NumericFunction:
         if size is None:
             flat = np.concatenate([np.ravel(c) for c in columns])
             return np.asarray(self._native(flat), dtype=float).reshape(self.shape)  # type: ignore[misc]
+        if size == 0:  # no state left to evaluate (every member of a batch has ended)
+            return np.zeros((0, *self.shape))
         rows = [
             c.reshape(size, -1) if c.ndim == b else np.broadcast_to(c.ravel(), (size, c.size))
             for c, b in zip(columns, self._batch_ndim)

@@ -52,9 +52,10 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
         lines.append(rf"&{tex(c.coordinate)}\ {_text('cyclic; momentum ' + verdict)}")
     for quantity in report.conserved:
         when = "" if quantity.condition == sp.true else f" when {quantity.condition}"
+        origin = f"; {quantity.origin}" if quantity.origin else ""
         lines.append(
             rf"{_text(quantity.name)} &= {tex(quantity.expression)}"
-            rf"\quad {_text('(conserved' + when + ')')}"
+            rf"\quad {_text('(conserved' + when + origin + ')')}"
         )
     if report.energy is not None and not report.energy.conserved:
         lines.append(

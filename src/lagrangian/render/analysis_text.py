@@ -118,9 +118,11 @@ def analysis_text(report: AnalysisReport) -> str:
         (
             f"{c.name} = {c.expression}"
             + (f" (when {condition_text(c.condition)})" if c.condition != sp.true else "")
+            + (f"  [{c.origin}]" if c.origin else "")
             for c in report.conserved
         ),
     )
+    lines += _section("Search for first integrals", report.searched)
     lines += _section("Energy function", _energy_lines(report))
     lines += _section("Hamiltonian", _hamiltonian_lines(report))
     if report.equilibria is not None:

@@ -28,6 +28,7 @@ from lagrangian.numerics.fast.outcome import (
     FINISHED,
     NOT_FINITE,
     SINGULAR,
+    STEP_BUDGET,
     STEP_TOO_SMALL,
     STOPPED,
 )
@@ -109,6 +110,7 @@ class _Run:
         self.t, self.x = np.full(k, settings.span[0]), X0.astype(float).copy()
         self.f, self.h = np.zeros((k, nx)), np.zeros(k)
         self.rejected = np.zeros(k, dtype=bool)
+        self.trials = np.zeros(k, dtype=np.int64)  # trial steps per member, for max_steps
         self.g = np.ones(k)
         self.status = np.full(k, FINISHED)
         self.t_final, self.x_final = np.full(k, settings.span[1]), self.x.copy()
@@ -187,6 +189,10 @@ class _Run:
         assert self.tableau is not None
         s, tableau = self.settings, self.tableau
         rows = self.active
+        if s.max_steps is not None:
+            self.trials[rows] += 1
+            self.end(rows[self.trials[rows] > s.max_steps], STEP_BUDGET)
+            rows = self.active
         t, y, f = self.t[rows], self.x[rows], self.f[rows]
         min_step = 10 * np.abs(np.nextafter(t, np.inf) - t)
         h_abs = self.h[rows]

@@ -48,5 +48,12 @@ def loop_settings(inputs: Inputs, t_out: np.ndarray) -> Settings:
     """The settings of the hand-written loops (numba's and the NumPy batch's) from checked
     inputs, with the output times ``t_out`` (empty: every step)."""
     return Settings(
-        inputs.method, inputs.t_span, t_out, inputs.rtol, inputs.atol, inputs.max_step, inputs.dt
+        inputs.method,
+        inputs.t_span,
+        t_out,
+        inputs.rtol,
+        inputs.atol,
+        inputs.max_step,
+        inputs.dt,
+        inputs.max_steps,
     )

@@ -16,6 +16,8 @@ STEP_TOO_SMALL = 2
 NOT_FINITE = 3
 #: The matrix of the state equations was singular.
 SINGULAR = 4
+#: The member took ``max_steps`` trial steps without reaching the end.
+STEP_BUDGET = 5
 
 _MESSAGES = {
     FINISHED: "The integration reached the end of the time span.",
@@ -25,6 +27,10 @@ _MESSAGES = {
     SINGULAR: (
         "The mass matrix is singular: the equations of motion do not determine the "
         "accelerations there (a coordinate singularity, or a body without inertia)."
+    ),
+    STEP_BUDGET: (
+        "The step budget (max_steps) was spent before the end of the time span: raise "
+        "max_steps, or use Radau, BDF or LSODA if the problem is stiff."
     ),
 }
 

@@ -30,3 +30,5 @@ class Settings:
     atol: float = 1e-10
     max_step: float = math.inf
     dt: float | None = None
+    #: Trial steps a member may take (None: no limit); the NumPy batch honours it.
+    max_steps: int | None = None

@@ -10,17 +10,17 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from lagrangian.sweep.grid import Grid, build_grid
-    from lagrangian.sweep.run import SweepReport, sweep
-    from lagrangian.sweep.stop_expression import StopExpression, stop_expression
+    from lagrangian.sweeps.grid import Grid, build_grid
+    from lagrangian.sweeps.run import SweepReport, sweep
+    from lagrangian.sweeps.stop_expression import StopExpression, stop_expression
 
 _HOMES = {
-    "Grid": "lagrangian.sweep.grid",
-    "build_grid": "lagrangian.sweep.grid",
-    "SweepReport": "lagrangian.sweep.run",
-    "sweep": "lagrangian.sweep.run",
-    "StopExpression": "lagrangian.sweep.stop_expression",
-    "stop_expression": "lagrangian.sweep.stop_expression",
+    "Grid": "lagrangian.sweeps.grid",
+    "build_grid": "lagrangian.sweeps.grid",
+    "SweepReport": "lagrangian.sweeps.run",
+    "sweep": "lagrangian.sweeps.run",
+    "StopExpression": "lagrangian.sweeps.stop_expression",
+    "stop_expression": "lagrangian.sweeps.stop_expression",
 }
 
 

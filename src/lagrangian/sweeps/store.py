@@ -21,8 +21,8 @@ import numpy as np
 
 from lagrangian.errors import Problem, SimulationInputError
 from lagrangian.simulation.trajectory import DOT
-from lagrangian.sweep.chunk_run import ChunkResult
-from lagrangian.sweep.grid import SAMPLE, Grid, Region
+from lagrangian.sweeps.chunk_run import ChunkResult
+from lagrangian.sweeps.grid import SAMPLE, Grid, Region
 
 #: The attribute describing the sweep that wrote a store.
 DESCRIPTION = "lagrangian_sweep"

@@ -16,7 +16,7 @@ import itertools
 import math
 from collections.abc import Iterator
 
-from lagrangian.sweep.grid import Region
+from lagrangian.sweeps.grid import Region
 
 #: Members per block unless asked otherwise: enough to keep a vectorized batch busy, few
 #: enough that a resumed sweep loses little.

@@ -2,10 +2,10 @@
 written to Zarr block by block, resumable.
 
 The members (the product of the ``vary`` axes, times the ``random`` samples,
-:mod:`lagrangian.sweep.grid`) are cut into blocks (:mod:`lagrangian.sweep.blocks`); each block
+:mod:`lagrangian.sweeps.grid`) are cut into blocks (:mod:`lagrangian.sweeps.blocks`); each block
 is one task integrating its members as one compiled batch (:func:`lagrangian.simulate_batch`)
 on a worker.  The System is scattered to every worker once.  The client writes each block
-into the store as it finishes (:mod:`lagrangian.sweep.store`), its ``done`` flags last; with
+into the store as it finishes (:mod:`lagrangian.sweeps.store`), its ``done`` flags last; with
 ``resume=True`` the blocks already done are skipped.  A task that raises is retried
 (``retries``) and a task whose worker dies is run again on another by Dask.
 
@@ -36,15 +36,15 @@ from lagrangian.model import System
 from lagrangian.model.system import require_system
 from lagrangian.simulation.batch import StopCondition
 from lagrangian.simulation.options import StepKeywords
-from lagrangian.sweep.blocks import DEFAULT_CHUNK_SIZE, block_shape, region_size, regions
-from lagrangian.sweep.chunk_run import ChunkSettings, run_chunk
-from lagrangian.sweep.cluster import check_cluster_options, dask_client
-from lagrangian.sweep.dependencies import require_sweep_packages
-from lagrangian.sweep.grid import Grid, build_grid
-from lagrangian.sweep.inputs import checked_times
-from lagrangian.sweep.progress import ProgressLine
-from lagrangian.sweep.stop_expression import StopExpression, stop_expression
-from lagrangian.sweep.store import SweepWriter, check_resumable, create_store
+from lagrangian.sweeps.blocks import DEFAULT_CHUNK_SIZE, block_shape, region_size, regions
+from lagrangian.sweeps.chunk_run import ChunkSettings, run_chunk
+from lagrangian.sweeps.cluster import check_cluster_options, dask_client
+from lagrangian.sweeps.dependencies import require_sweep_packages
+from lagrangian.sweeps.grid import Grid, build_grid
+from lagrangian.sweeps.inputs import checked_times
+from lagrangian.sweeps.progress import ProgressLine
+from lagrangian.sweeps.stop_expression import StopExpression, stop_expression
+from lagrangian.sweeps.store import SweepWriter, check_resumable, create_store
 
 if TYPE_CHECKING:
     from typing_extensions import Unpack
