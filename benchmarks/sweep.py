@@ -1,4 +1,4 @@
-"""Members per second of ``lagrangian.sweep`` with 1 and 2 Dask workers, against a plain
+"""Members per second of ``lagrangian.sweeps`` with 1 and 2 Dask workers, against a plain
 ``scipy.integrate.solve_ivp`` loop over the same members.
 
 The members: double-pendulum starts at rest on a grid of (theta, phi) in [-2, 2]^2
@@ -31,7 +31,7 @@ sys.path.insert(0, str(HERE.parents[1] / "src"))  # the checkout, installed or n
 
 import lagrangian as lg  # noqa: E402
 from lagrangian.numerics.compile import compile_equations  # noqa: E402
-from lagrangian.sweep import sweep  # noqa: E402
+from lagrangian.sweeps import sweep  # noqa: E402
 
 OPTIONS = {"method": "DOP853", "rtol": 1e-9, "atol": 1e-9}
 
