@@ -169,3 +169,13 @@ def test_an_atwood_machine_has_a_time_dependent_momentum():
     found = [c.expression for c in lg.analyze(system).conserved]
     assert any(proportional(f, momentum) for f in found)
     assert drift(system, momentum, {"y": 0.5, "y_dot": 0.2}) < 1e-8
+
+
+def test_the_search_can_be_bounded_or_switched_off():
+    system = lg.examples.atwood_machine()
+    assert [c.origin for c in lg.analyze(system, search_degree=0).conserved] == ["energy"]
+    assert lg.analyze(system, search_degree=0).searched == ()
+    with pytest.raises(lg.AnalysisError, match="search_degree"):
+        lg.analyze(system, search_degree=-1)
+    skipped = lg.analyze(system, search_seconds=-1.0).searched
+    assert all("budget" in line for line in skipped)

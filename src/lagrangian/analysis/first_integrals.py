@@ -31,7 +31,8 @@ from lagrangian.analysis.quadratic_integrals import quadratic_integrals
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.derivation.solved import mass_matrix_is_regular
 from lagrangian.model.conversion import to_sympy
-from lagrangian.model.probe import RANK_TOLERANCE
+from lagrangian.model.nonsmooth import derivative
+from lagrangian.model.probe import RANK_TOLERANCE, evaluate
 
 #: The largest number of unknown coefficients a search may have (a basis beyond it is cut
 #: to a lower degree, then the search is skipped and the report says so).
@@ -162,9 +163,11 @@ class _Independence:
         """True (and remembered) when ``expression`` is independent of those before."""
         expression = to_sympy(expression)
         point = self._point(set(expression.free_symbols) | set(self.variables) | {self.time})
-        gradient = [sp.diff(expression, s) for s in self.variables]
-        values = np.array([complex(g.evalf(20, subs=point)).real for g in gradient], dtype=float)
-        if not np.all(np.isfinite(values)) or not np.any(np.abs(values) > RANK_TOLERANCE):
+        gradient = [evaluate(derivative(expression, s), point) for s in self.variables]
+        if any(g is None for g in gradient):
+            return False  # not real and finite at the probe point: no judgement, not kept
+        values = np.array(gradient, dtype=float)
+        if not np.any(np.abs(values) > RANK_TOLERANCE):
             return False
         stacked = np.array([*self.rows, values])
         scaled = stacked / np.linalg.norm(stacked, axis=1, keepdims=True)

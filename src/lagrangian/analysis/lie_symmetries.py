@@ -125,9 +125,7 @@ def lie_point_symmetries(
     eom = equations_of(subject)
     problem = search_problem(eom, parameters)
     q, v = eom.coordinates, eom.velocities
-    n = len(q)
-    if n == 0:
-        return ()
+    n = len(q)  # at least 1: a System has coordinates
     lagrangian = problem.lagrangian
     pieces = [
         lagrangian,
@@ -210,7 +208,7 @@ def readable(expr: sp.Expr, parameters: Sequence[sp.Symbol] = ()) -> sp.Expr:
     """``expr`` in its shortest form among expanded, factored and (when small) simplified,
     after clearing the parameters from its denominators (a constant multiple of a conserved
     quantity is conserved: k*x/(m*r) + ... reads better as k*x/r + m*...)."""
-    expanded = sp.expand(expr)
+    expanded = sp.expand(expr.replace(sp.cot, lambda u: sp.cos(u) / sp.sin(u)))
     terms = sp.Add.make_args(expanded)
     for p in parameters:
         lowest = sp.Integer(0) + min(term.as_powers_dict().get(p, 0) for term in terms)

@@ -35,6 +35,7 @@ from lagrangian.analysis.arguments import (
 from lagrangian.analysis.energy import EnergyConservation, energy_conservation
 from lagrangian.analysis.equilibria import equilibria
 from lagrangian.analysis.first_integrals import (
+    SEARCH_SECONDS,
     ConservedQuantity,
     FirstIntegralSearch,
     first_integrals,
@@ -65,7 +66,7 @@ from lagrangian.analysis.rest import Equilibria, first_stable
 from lagrangian.analysis.steady_motions import SteadyMotions, steady_motions
 from lagrangian.constraints import project_state
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import LagrangianError
+from lagrangian.errors import AnalysisError, LagrangianError
 from lagrangian.model.probe import is_zero
 
 T = TypeVar("T")
@@ -205,6 +206,8 @@ def analyze(
     inputs: Sequence[Any] = (),
     project: bool = False,
     independent: Sequence[Any] | None = None,
+    search_degree: int = 2,
+    search_seconds: float = SEARCH_SECONDS,
 ) -> AnalysisReport:
     """Momenta, cyclic coordinates, conserved quantities, energy function, Hamiltonian and
     Hamilton's equations, equilibria, normal modes, and (with ``about``) the linearization;
@@ -215,8 +218,12 @@ def analyze(
     as inputs u of the linearization.  On a constrained system ``about`` must satisfy the
     constraints (ConstraintError names each one it misses) unless ``project``, which moves
     it onto them first; ``independent`` names the coordinates and velocities the
-    linearization keeps.
+    linearization keeps.  ``search_degree`` bounds the degree of the functions in which
+    further first integrals are sought (0: no search), ``search_seconds`` its time
+    (:mod:`lagrangian.analysis.first_integrals`).
     """
+    if isinstance(search_degree, bool) or not isinstance(search_degree, int) or search_degree < 0:
+        raise AnalysisError(f"search_degree must be a whole number >= 0, not {search_degree!r}")
     eom = equations_of(subject)
     substitutions(eom, parameters)  # wrong names and values are the caller's to fix, at once
     if about is not None:
@@ -229,10 +236,14 @@ def analyze(
     symmetries = run("symmetries", lambda: point_symmetries(eom)) or ()
     energy = run("energy", lambda: energy_conservation(eom))
     known = conserved_quantities(cyclic, energy, symmetries)
-    search = run(
-        "first_integrals",
-        lambda: first_integrals(eom, parameters, [c.expression for c in known]),
-    )
+    search = None
+    if search_degree > 0:
+        search = run(
+            "first_integrals",
+            lambda: first_integrals(
+                eom, parameters, [c.expression for c in known], search_degree, search_seconds
+            ),
+        )
     legendre = run("hamiltonian", lambda: hamiltonian(eom))
     canonical = (
         run("hamilton_equations", lambda: hamilton_equations(eom, legendre)) if legendre else None

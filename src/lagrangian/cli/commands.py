@@ -251,11 +251,12 @@ def analyze_command(
     settings: Sequence[str],
     fmt: str = "json",
     project: bool = False,
+    search_degree: int = 2,
 ) -> str:
     """The analysis of docs/architecture.md as JSON, text or LaTeX (with ``linearization``
-    when ``--about`` is given).  On a constrained model an ``--about`` state off the
-    constraints is refused, each missed constraint with its residual, unless ``--project``
-    moves it onto them."""
+    when ``--about`` is given; further first integrals sought up to ``search_degree``).  On
+    a constrained model an ``--about`` state off the constraints is refused, each missed
+    constraint with its residual, unless ``--project`` moves it onto them."""
     system = apply_settings(load_system(reference), settings)
     state = parse_state(about)
     if about and system.constraints and not project:
@@ -263,7 +264,13 @@ def analyze_command(
         point = operating_state(eom, state)
         fix = "add --project to move the --about state onto the constraints"
         require_on_manifold(eom, point, numeric_values(eom), fix)
-    report = analyze(system, about=state if about else None, inputs=list(inputs), project=project)
+    report = analyze(
+        system,
+        about=state if about else None,
+        inputs=list(inputs),
+        project=project,
+        search_degree=search_degree,
+    )
     if fmt == "text":
         return analysis_text(report)
     if fmt == "latex":

@@ -158,6 +158,14 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="PARAMETER",
         help="a parameter taken as an input u of the linearization",
     )
+    analyze.add_argument(
+        "--search-degree",
+        type=int,
+        default=2,
+        metavar="N",
+        help="degree of the functions in which further first integrals are sought "
+        "(Lie point symmetries, integrals quadratic in the velocities); 0: no search",
+    )
 
     simulate = _command(
         sub,
@@ -286,6 +294,7 @@ def run(args: argparse.Namespace) -> str:
             settings=args.set,
             fmt=args.format,
             project=args.project,
+            search_degree=args.search_degree,
         )
     if args.command == "simulate":
         options = {

@@ -87,17 +87,9 @@ def simulate_batch(
         Bad input, every problem listed, naming the field (constrained systems too: simulate
         them member by member).
     """
-    check_keywords(stepping, "simulate_batch")
-    eom, system, fallbacks = describe_system(system_or_eom)
-    compiled = compile_equations(eom)
-    problems: list[Problem] = []
-    chosen = options_for(
-        system, compiled, stepping, fallbacks, backend=backend, driver="simulate_batch"
+    eom, compiled, batch = prepared_batch(
+        system_or_eom, initial, parameters, t_span, stepping, backend, "simulate_batch"
     )
-    collect(problems, chosen)
-    given = {"initial": initial, "parameters": parameters, "t_span": t_span, **stepping}
-    batch, found = checked_batch(compiled, given, fallbacks)
-    raise_if_problems(problems + found, "Cannot simulate the batch", SimulationInputError)
     loops = loop_settings(batch.inputs, batch.t_out)
     if backend == "numba":
         out, status, t_final, x_final = _numba_members(
@@ -109,6 +101,31 @@ def simulate_batch(
             compiled, loops, batch.X0, batch.P, stop_when, bar
         )
     return _result(compiled, batch, backend, out, status, t_final, x_final)
+
+
+def prepared_batch(
+    system_or_eom: System | EquationsOfMotion,
+    initial: Mapping[Any, ArrayLike] | None,
+    parameters: Mapping[Any, ArrayLike] | None,
+    t_span: float | tuple[float, float] | None,
+    stepping: Mapping[str, Any],
+    backend: str,
+    driver: str,
+) -> tuple[EquationsOfMotion, CompiledEquations, BatchInputs]:
+    """The equations, their compiled form and the checked members of a batch, without
+    integrating; SimulationInputError lists every problem (``driver`` names the caller)."""
+    check_keywords(stepping, driver)
+    eom, system, fallbacks = describe_system(system_or_eom)
+    compiled = compile_equations(eom)
+    problems: list[Problem] = []
+    chosen = options_for(
+        system, compiled, stepping, fallbacks, backend=backend, driver="simulate_batch"
+    )
+    collect(problems, chosen)
+    given = {"initial": initial, "parameters": parameters, "t_span": t_span, **stepping}
+    batch, found = checked_batch(compiled, given, fallbacks)
+    raise_if_problems(problems + found, f"Cannot run {driver}", SimulationInputError)
+    return eom, compiled, batch
 
 
 def _numba_members(

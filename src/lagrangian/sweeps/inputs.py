@@ -14,12 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
-from lagrangian.numerics.compile import compile_equations
-from lagrangian.simulation.batch_inputs import checked_batch
-from lagrangian.simulation.options import check_keywords
-from lagrangian.simulation.setup import collect, describe_system, options_for
+from lagrangian.simulation.batch import prepared_batch
 
 
 def checked_times(
@@ -32,15 +28,5 @@ def checked_times(
 ) -> np.ndarray:
     """The output times shared by every member; SimulationInputError on bad input (the
     checks of :func:`lagrangian.simulate_batch`, without integrating)."""
-    check_keywords(stepping, "sweep")
-    eom, system, fallbacks = describe_system(system)
-    compiled = compile_equations(eom)
-    problems: list[Problem] = []
-    chosen = options_for(
-        system, compiled, stepping, fallbacks, backend=backend, driver="simulate_batch"
-    )
-    collect(problems, chosen)
-    given = {"initial": initial, "parameters": parameters, "t_span": t_span, **stepping}
-    batch, found = checked_batch(compiled, given, fallbacks)
-    raise_if_problems(problems + found, "Cannot sweep", SimulationInputError)
+    *_, batch = prepared_batch(system, initial, parameters, t_span, stepping, backend, "sweep")
     return np.asarray(batch.t_out, dtype=float)
