@@ -21,6 +21,12 @@ from lagrangian.errors import Problem
 from lagrangian.io.document import Document, Position, child, syntax_error
 
 _MAX_DEPTH = 64
+#: The most values a file may expand to: YAML aliases repeat what they name, so a few lines
+#: of nested aliases ("billion laughs") would otherwise expand to gigabytes.
+MAX_VALUES = 100_000
+#: The most digits of an integer: a longer one is beyond a double (1.8e308 has 309).
+MAX_DIGITS = 309
+_COLLECTION_TAGS = ("tag:yaml.org,2002:seq", "tag:yaml.org,2002:map")
 
 
 class _Loader(yaml.SafeLoader):
@@ -56,11 +62,24 @@ class _TreeBuilder:
         self.keys: dict[str, Position] = {}
         self.problems: list[Problem] = []
         self._constructor = SafeConstructor()
+        self.count = 0
 
     def build(self, node: yaml.Node, path: str, depth: int = 0) -> Any:
         self.values[path] = _position(node)
+        self.count += 1
+        if self.count > MAX_VALUES:
+            if self.count == MAX_VALUES + 1:
+                self._problem(
+                    path,
+                    f"the file expands to more than {MAX_VALUES:,} values (YAML aliases?)",
+                    "write the model without repeating anchors (*name)",
+                )
+            return None
         if depth > _MAX_DEPTH:
             self._problem(path, "is nested too deeply (a recursive alias?)", "flatten it")
+            return None
+        if isinstance(node, yaml.CollectionNode) and node.tag not in _COLLECTION_TAGS:
+            self._unknown_tag(node, path)
             return None
         if isinstance(node, yaml.MappingNode):
             return self._mapping(node, path, depth)
@@ -68,7 +87,24 @@ class _TreeBuilder:
             return [
                 self.build(item, child(path, i), depth + 1) for i, item in enumerate(node.value)
             ]
-        return self._constructor.construct_object(node, deep=True)
+        return self._scalar(node, path)
+
+    def _scalar(self, node: yaml.Node, path: str) -> Any:
+        try:
+            value = self._constructor.construct_object(node, deep=True)
+        except yaml.constructor.ConstructorError:
+            self._unknown_tag(node, path)
+            return None
+        if isinstance(value, int) and not isinstance(value, bool):
+            digits = len(str(node.value).lstrip("+-").replace("_", ""))
+            if digits > MAX_DIGITS:
+                self._problem(
+                    path,
+                    f"an integer of {digits} digits is beyond a double (about 1.8e308)",
+                    "give a smaller number, or write it in scientific notation",
+                )
+                return None
+        return value
 
     def _mapping(self, node: yaml.MappingNode, path: str, depth: int) -> dict[str, Any]:
         result: dict[str, Any] = {}
@@ -95,6 +131,13 @@ class _TreeBuilder:
             result[key] = self.build(value_node, key_path, depth + 1)
         return result
 
+    def _unknown_tag(self, node: yaml.Node, path: str) -> None:
+        self._problem(
+            path,
+            f"unknown YAML tag {node.tag!r}",
+            "remove it: model files use plain values (no !include, no !!python)",
+        )
+
     def _problem(self, path: str, message: str, fix: str, where: Position | None = None) -> None:
         line, column = where or self.values.get(path, (None, None))
         self.problems.append(Problem(path, message, fix, line, column, self.source))
@@ -103,6 +146,9 @@ class _TreeBuilder:
 def _compose(text: str, source: str, language: str) -> yaml.Node | None:
     try:
         return yaml.compose(text, Loader=_Loader)  # a SafeLoader subclass
+    except RecursionError:
+        detail = "lists or maps nested too deeply"
+        raise syntax_error(source, language, detail, None, None) from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         line, column = (mark.line + 1, mark.column + 1) if mark else (None, None)
@@ -135,6 +181,8 @@ def read_json(text: str, source: str) -> tuple[Document, list[Problem]]:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise syntax_error(source, "JSON", exc.msg, exc.lineno, exc.colno) from None
+    except RecursionError:
+        raise syntax_error(source, "JSON", "lists or maps nested too deeply", None, None) from None
     try:
         # Raw tabs can only be whitespace in valid JSON; YAML refuses them in places.
         document, problems = _tree(_compose(text.replace("\t", " "), source, "JSON"), source)

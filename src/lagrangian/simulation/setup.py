@@ -18,6 +18,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
+import numpy as np
 import sympy as sp
 
 from lagrangian.derivation import EquationsOfMotion, derive
@@ -79,9 +80,33 @@ def prepare(
     assert checked is not None and quantities is not None  # no problems: both were made
     takes_events = checked.backend == "numpy" and checked.spec.takes_events
     guard = gimbal_guard(eom, system, inputs, takes_events)
+    require_positive_inertia(compiled, inputs)
     return RunSetup(
         system, eom, compiled, checked, inputs, (*events, *guard.events), quantities, guard
     )
+
+
+def require_positive_inertia(compiled: CompiledEquations, inputs: Inputs) -> None:
+    """SimulationInputError when the mass matrix at the start has a negative eigenvalue: the
+    kinetic energy is not positive there (a negative mass, inertia or inductance, often from
+    ``--set m=-1``), and the motion would be unphysical.  Systems with first-order
+    coordinates (circuits with resistors and capacitors only) are not checked."""
+    if not compiled.regular:
+        return
+    n = len(compiled.coordinates)
+    q, qd = inputs.x0[:n], inputs.x0[n:]
+    with np.errstate(all="ignore"):
+        mass = np.asarray(compiled.mass_matrix(q, inputs.t_span[0], inputs.p, qd), dtype=float)
+    if not np.all(np.isfinite(mass)):
+        return  # reported by the run itself, with the time and the quantity
+    eigenvalues = np.linalg.eigvalsh((mass + mass.T) / 2)
+    if eigenvalues[0] < -1e-12 * max(1.0, float(np.max(np.abs(eigenvalues)))):
+        values = ", ".join(f"{name}={value:g}" for name, value in inputs.parameters.items())
+        raise SimulationInputError(
+            f"The kinetic energy is negative for some velocities at the start: the mass matrix "
+            f"has the eigenvalue {eigenvalues[0]:.6g} (parameters {values}). A mass, "
+            "inertia or inductance is negative: give it a positive value."
+        )
 
 
 def options_for(
