@@ -38,6 +38,9 @@ MAX_LENGTH = 10_000
 MAX_DEPTH = 100
 MAX_DIGITS = 1000
 MAX_EXPONENT = 1000
+#: The most terms an expression may expand to: derivation expands products and powers of
+#: sums, and (sin(x) + ... + sin(39*x))**30 would expand to 10**19 terms (hours, gigabytes).
+MAX_TERMS = 100_000
 _NUMBER_LIMIT = 10**MAX_DIGITS
 # Cost guards, in bits.  A power of numbers is computed only when it is small (the estimate
 # may exceed the size by a bit per factor; the exact size is checked after).  Roots cost more:
@@ -453,9 +456,73 @@ def _check_denominators(value: sp.Basic) -> None:
             )
 
 
+def expanded_terms(value: sp.Basic, limit: int = MAX_TERMS) -> int:
+    """At most how many terms ``value`` has once its products and integer powers of sums are
+    multiplied out (at most ``limit + 1``: the count stops there): the smaller of the count
+    of products and of the monomials its degrees allow (a product of 29 factors x + i has 30
+    terms, not 2**29).
+
+    >>> x, y = sp.symbols("x y")
+    >>> expanded_terms((x + y + 1) ** 2), expanded_terms(sp.sin((x + y) ** 9))
+    (6, 1)
+    """
+    monomials = 1
+    for degree in _degrees(value).values():
+        monomials = min(limit + 1, monomials * (degree + 1))
+    return min(monomials, _products(value, limit))
+
+
+def _degrees(value: sp.Basic) -> dict[sp.Basic, int]:
+    """The degree of ``value`` in each of its generators (symbols, and functions or powers
+    that are not polynomial), read from its tree without expanding it."""
+    if isinstance(value, (sp.Add, sp.Mul)):
+        parts = [_degrees(a) for a in value.args]
+        found: dict[sp.Basic, int] = {}
+        for part in parts:
+            for generator, degree in part.items():
+                if isinstance(value, sp.Add):
+                    found[generator] = max(found.get(generator, 0), degree)
+                else:
+                    found[generator] = found.get(generator, 0) + degree
+        return found
+    if isinstance(value, sp.Pow) and value.exp.is_Integer and value.exp > 0:
+        return {g: d * int(value.exp) for g, d in _degrees(value.base).items()}
+    if value.is_number:
+        return {}
+    return {value: 1}
+
+
+def _products(value: sp.Basic, limit: int) -> int:
+    """The terms of ``value`` multiplied out, like terms not merged (at most ``limit + 1``)."""
+    if isinstance(value, sp.Add):
+        return min(limit + 1, sum(_products(a, limit) for a in value.args))
+    if isinstance(value, sp.Mul):
+        total = 1
+        for factor in value.args:
+            total = min(limit + 1, total * _products(factor, limit))
+        return total
+    if isinstance(value, sp.Pow) and value.exp.is_Integer and value.exp > 1:
+        terms = _products(value.base, limit)
+        if terms == 1:
+            return 1
+        n = int(value.exp)
+        count = 1  # C(n + terms - 1, terms - 1): the monomials of degree n in ``terms``
+        for i in range(1, min(n, terms - 1) + 1):
+            count = count * (n + terms - 1 - min(n, terms - 1) + i) // i
+            if count > limit:
+                return limit + 1
+        return count
+    return 1  # a symbol, a number, a function: its arguments are not multiplied out
+
+
 def _check_result(value: sp.Basic) -> None:
     """Products and powers merge numbers and exponents (``x**999*x**9``): check the result."""
     _check_denominators(value)
+    if expanded_terms(value) > MAX_TERMS:
+        raise _Refusal(
+            f"multiplied out, this expression has more than {MAX_TERMS:,} terms",
+            "write it with fewer or shorter sums under powers and products",
+        )
     for part in sp.preorder_traversal(value):
         if part in _UNDEFINED:
             raise _Refusal(f"the expression is undefined ({part})", "check the formula")
