@@ -80,6 +80,7 @@ if TYPE_CHECKING:
     )
     from lagrangian.simulation import Batch, Event, Trajectory, simulate, simulate_batch
     from lagrangian.sweeps import SweepReport, sweep
+    from lagrangian.web import serve
 
     __version__: str
 
@@ -142,6 +143,7 @@ _HOMES = {
         ("Batch", "Event", "Trajectory", "simulate", "simulate_batch"), "lagrangian.simulation"
     ),
     **dict.fromkeys(("SweepReport", "sweep"), "lagrangian.sweeps"),
+    "serve": "lagrangian.web",
 }
 #: Subpackages reachable as attributes (``lg.examples.double_pendulum()``, ``lg.constraints``).
 _SUBPACKAGES = (
@@ -246,6 +248,7 @@ __all__ = [
     "project_state",
     "reaction_wrenches",
     "render",
+    "serve",
     "simulate",
     "simulate_batch",
     "sweep",

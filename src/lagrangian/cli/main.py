@@ -21,7 +21,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
-from lagrangian.cli import sweep_command
+from lagrangian.cli import serve_command, sweep_command
 from lagrangian.errors import BAD_INPUT, FAILURE, LagrangianError
 
 OK = 0
@@ -210,6 +210,8 @@ def build_parser() -> argparse.ArgumentParser:
         _command(sub, "sweep", sweep_command.SUMMARY, sweep_command.EXAMPLE)
     )
 
+    serve_command.add_serve_parser(sub)
+
     examples = sub.add_parser(
         "examples",
         help="list or describe the built-in examples",
@@ -328,6 +330,8 @@ def run(args: argparse.Namespace) -> str:
         )
     if args.command == "sweep":
         return sweep_command.run_sweep(args)
+    if args.command == "serve":
+        return serve_command.run_serve(args)
     return commands.examples_command(args.name)
 
 

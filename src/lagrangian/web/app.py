@@ -1,0 +1,207 @@
+"""The playground's ASGI application (Starlette): the page at ``/``, its assets under
+``/static/``, and the JSON API that mirrors the command line (shared/DESIGN.md):
+
+- ``POST /api/derive``, ``/api/analyze``, ``/api/simulate`` with ``{"model": TEXT, "format":
+  "yaml|toml|json", "options": {...}}``: the command's JSON; a bad model or option is 422
+  with ``{"problems": [{"field", "line", "column", "message", "fix"}]}``, a body over
+  ``Limits.max_body_bytes`` 413, a full queue 503, a body not sent as JSON 415;
+- ``GET /api/examples``: the built-in examples that have a model file, with a line each;
+- ``GET /api/examples/NAME``: ``{"name", "description", "format", "model"}``;
+- ``GET /api/health``: the workers running and the requests admitted.
+
+The work runs in worker processes (:mod:`.pool`); the server itself only reads, checks and
+forwards, so one slow request never stalls another.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from functools import cache
+from pathlib import Path
+
+from starlette.applications import Starlette
+from starlette.datastructures import MutableHeaders
+from starlette.requests import Request
+from starlette.responses import FileResponse, JSONResponse, Response
+from starlette.routing import Mount, Route
+from starlette.staticfiles import StaticFiles
+from starlette.types import ASGIApp, Message, Receive, Scope, Send
+
+from lagrangian.errors import LagrangianError, Problem
+from lagrangian.web.limits import Limits
+from lagrangian.web.options import OPTIONS, read_request
+from lagrangian.web.pool import PoolBusy, WorkerLost, WorkerPool
+
+STATIC = Path(__file__).resolve().parent / "static"
+#: The page may load its own scripts, styles and fonts only (KaTeX sets inline styles).
+HEADERS = {
+    "Content-Security-Policy": (
+        "default-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; "
+        "font-src 'self'; object-src 'none'; base-uri 'none'; frame-ancestors 'none'"
+    ),
+    "X-Content-Type-Options": "nosniff",
+    "Referrer-Policy": "no-referrer",
+}
+
+
+def problems_response(status: int, problems: list[Problem], summary: str = "") -> JSONResponse:
+    """An error answer: ``{"error": summary, "problems": [...]}``."""
+    listed = [
+        {"field": p.field, "line": p.line, "column": p.column, "message": p.message, "fix": p.fix}
+        for p in problems
+    ]
+    return JSONResponse({"error": summary or problems[0].message, "problems": listed}, status)
+
+
+class BodyTooLarge(Exception):
+    """The request's body is over the limit."""
+
+
+async def read_body(request: Request, limit: int) -> bytes:
+    """The body, refused (BodyTooLarge) as soon as it passes ``limit`` bytes."""
+    declared = request.headers.get("content-length", "")
+    if declared.isdigit() and int(declared) > limit:
+        raise BodyTooLarge
+    chunks, size = [], 0
+    async for chunk in request.stream():
+        size += len(chunk)
+        if size > limit:
+            raise BodyTooLarge
+        chunks.append(chunk)
+    return b"".join(chunks)
+
+
+async def command(request: Request) -> Response:
+    """``POST /api/{derive,analyze,simulate}``."""
+    name = request.path_params["command"]
+    limits: Limits = request.app.state.limits
+    if name not in OPTIONS:
+        fix = "POST to /api/derive, /api/analyze or /api/simulate"
+        return problems_response(404, [Problem("path", f"no command {name!r}", fix)])
+    if "json" not in request.headers.get("content-type", ""):
+        fix = "send the body as JSON with Content-Type: application/json"
+        return problems_response(415, [Problem("body", "the body is not JSON", fix)])
+    try:
+        raw = await read_body(request, limits.max_body_bytes)
+    except BodyTooLarge:
+        size = f"{limits.max_body_bytes // 1000} kB"
+        fix = "send a smaller model; large systems run with the lagrangian command"
+        return problems_response(413, [Problem("body", f"the request is over {size}", fix)])
+    try:
+        body = json.loads(raw)
+    except (ValueError, RecursionError) as error:
+        fix = '{"model": "coordinates: [x] ...", "format": "yaml", "options": {}}'
+        return problems_response(400, [Problem("body", f"not valid JSON: {error}", fix)])
+    try:
+        checked = read_request(name, body, limits.max_samples)
+    except LagrangianError as error:
+        return problems_response(422, list(error.problems), str(error).splitlines()[0])
+    pool: WorkerPool = request.app.state.pool
+    try:
+        status, answer = await pool.run((name, checked.model, checked.format, checked.options))
+    except PoolBusy:
+        problem = Problem("server", "every worker is busy and the queue is full", "try again")
+        response = problems_response(503, [problem])
+        response.headers["Retry-After"] = "2"
+        return response
+    except WorkerLost as lost:
+        fix = "make the model smaller or simpler, or run it with the lagrangian command"
+        problem = Problem("model", f"{lost} and was stopped", fix)
+        return problems_response(422, [problem])
+    return Response(answer, status, media_type="application/json")
+
+
+@cache
+def example_list() -> list[dict[str, str]]:
+    """The examples that ship a model file: name and one line each."""
+    from lagrangian import examples
+
+    return [
+        {"name": name, "description": examples.describe(name)}
+        for name in examples.names()
+        if examples.MODELS.joinpath(f"{name}.yaml").is_file()
+    ]
+
+
+async def list_examples(request: Request) -> Response:
+    return JSONResponse({"examples": await asyncio.to_thread(example_list)})
+
+
+async def example(request: Request) -> Response:
+    """``GET /api/examples/NAME``: the model file of one example."""
+    name = request.path_params["name"]
+    known = {entry["name"]: entry for entry in await asyncio.to_thread(example_list)}
+    if name not in known:
+        fix = "GET /api/examples lists them"
+        return problems_response(404, [Problem("name", f"no example {name!r}", fix)])
+    from lagrangian import examples
+
+    text = examples.model_text(name)
+    return JSONResponse({**known[name], "format": "yaml", "model": text})
+
+
+async def health(request: Request) -> Response:
+    pool: WorkerPool = request.app.state.pool
+    return JSONResponse(
+        {"workers": pool.alive(), "admitted": pool.admitted, "replaced": pool.replaced}
+    )
+
+
+async def page(request: Request) -> Response:
+    return FileResponse(STATIC / "index.html", media_type="text/html")
+
+
+def create_app(limits: Limits | None = None) -> Starlette:
+    """The playground application; its worker processes start with the app (lifespan) and
+    are stopped with it."""
+    chosen = limits or Limits()
+
+    @asynccontextmanager
+    async def lifespan(app: Starlette) -> AsyncIterator[None]:
+        pool = WorkerPool(chosen)
+        pool.start()
+        app.state.pool = pool
+        await asyncio.to_thread(pool.wait_ready)
+        try:
+            yield
+        finally:
+            await asyncio.to_thread(pool.close)
+
+    app = Starlette(
+        routes=[
+            Route("/", page),
+            Route("/api/examples", list_examples),
+            Route("/api/examples/{name}", example),
+            Route("/api/health", health),
+            Route("/api/{command}", command, methods=["POST"]),
+            Mount("/static", StaticFiles(directory=STATIC), name="static"),
+        ],
+        lifespan=lifespan,
+    )
+    app.state.limits = chosen
+    app.add_middleware(SecurityHeaders)
+    return app
+
+
+class SecurityHeaders:
+    """ASGI middleware adding :data:`HEADERS` to every HTTP answer."""
+
+    def __init__(self, app: ASGIApp) -> None:
+        self.app = app
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+
+        async def send_with_headers(message: Message) -> None:
+            if message["type"] == "http.response.start":
+                headers = MutableHeaders(scope=message)
+                for key, value in HEADERS.items():
+                    headers[key] = value
+            await send(message)
+
+        await self.app(scope, receive, send_with_headers)

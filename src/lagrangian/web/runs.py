@@ -1,0 +1,233 @@
+"""The work behind each API call, done in a worker process: the model text read with
+:func:`lagrangian.io.loads` (never evaluated), then the command's own pieces from
+:mod:`lagrangian.cli.commands`, so each answer is the JSON the command line prints, with the
+LaTeX the page typesets beside it (``latex``).
+
+An error with the input is an answer too: HTTP 422 and ``{"problems": [{"field", "line",
+"column", "message", "fix"}]}``.
+
+>>> status, body = run("derive", "coordinates: [x]\\nkinetic: x_dot**2/2\\n", "yaml", {})
+>>> status, json.loads(body)["equations"]
+(200, ['x_ddot'])
+>>> status, body = run("derive", "coordinates: [x]\\nkinetic: x_dot**\\n", "yaml", {})
+>>> status, json.loads(body)["problems"][0]["line"]
+(422, 2)
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from lagrangian.analysis import analyze
+from lagrangian.analysis.arguments import numeric_values, operating_state
+from lagrangian.analysis.manifold import require_on_manifold
+from lagrangian.cli.commands import apply_settings, in_command_line_words, parse_state
+from lagrangian.constraints import constrained_equations
+from lagrangian.derivation import derive
+from lagrangian.errors import LagrangianError, Problem, SimulationError, SimulationInputError
+from lagrangian.io import loads
+from lagrangian.model import System
+from lagrangian.model.conversion import to_sympy
+from lagrangian.numerics.points import compile_points
+from lagrangian.render import equations_latex, steps_latex
+from lagrangian.render.analysis_json import analysis_document
+from lagrangian.render.analysis_latex import analysis_latex
+from lagrangian.render.animation import rods
+from lagrangian.render.constrained import constrained_latex
+from lagrangian.render.json import constrained_document, eom_document
+from lagrangian.simulation import Trajectory, simulate
+from lagrangian.web.limits import TimeLimitExceeded
+
+#: Output times of a simulation asked without ``samples`` (the model's own count wins).
+DEFAULT_SAMPLES = 1000
+#: The name of the model text in messages.
+SOURCE = "model"
+
+
+def system_of(model: str, fmt: str, options: dict[str, Any]) -> System:
+    """The System of the model text with the ``set`` overrides (``--set NAME=VALUE``)."""
+    return apply_settings(loads(model, format=fmt, source=SOURCE), options.get("set", []))
+
+
+def derive_document(model: str, fmt: str, options: dict[str, Any]) -> dict[str, Any]:
+    """``lagrangian derive --format json --steps`` and, as ``latex``, ``--format latex --steps
+    --matrix``."""
+    system = system_of(model, fmt, options)
+    eom = derive(system)
+    constrained = constrained_equations(eom, system.constraints) if system.constraints else None
+    steps = options.get("steps", True)
+    document = eom_document(eom, steps=steps)
+    latex = [steps_latex(eom) if steps else equations_latex(eom), equations_latex(eom, "matrix")]
+    if constrained is not None:
+        document.update(constrained_document(constrained))
+        latex.append(constrained_latex(constrained, True))
+    document["latex"] = "\n".join(latex)
+    return document
+
+
+def analyze_document(model: str, fmt: str, options: dict[str, Any]) -> dict[str, Any]:
+    """``lagrangian analyze --format json`` (with ``--about``, ``--input``, ``--project``) and,
+    as ``latex``, ``--format latex``, from one analysis."""
+    system = system_of(model, fmt, options)
+    about, project = options.get("about"), options.get("project", False)
+    state = parse_state(about)
+    if about and system.constraints and not project:
+        eom = derive(system)
+        fix = "add options.project = true to move the about state onto the constraints"
+        require_on_manifold(eom, operating_state(eom, state), numeric_values(eom), fix)
+    report = analyze(
+        system, about=state if about else None, inputs=options.get("input", []), project=project
+    )
+    return {**analysis_document(report), "latex": analysis_latex(report)}
+
+
+def simulate_document(
+    model: str, fmt: str, options: dict[str, Any], wall_seconds: float | None = None
+) -> dict[str, Any]:
+    """``lagrangian simulate`` as ``{"columns": {"t": [...], NAME: [...]}, "summary": {...},
+    "scene": {...}}``: the CSV's columns, the run's status and drift, and the positions of
+    the particles and bodies for an animation (``scene`` is null for a circuit)."""
+    system = system_of(model, fmt, options)
+    given = {key: value for key, value in options.items() if key != "set"}
+    t_end = given.pop("t_end", None)
+    if "samples" not in given and "samples" not in system.simulation:
+        given["samples"] = DEFAULT_SAMPLES
+    if wall_seconds is not None:
+        given["max_wall_time"] = wall_seconds
+    try:
+        trajectory = simulate(system, t_span=t_end, raise_on_failure=False, **given)
+    except SimulationInputError as error:
+        raise in_command_line_words(error) from None
+    if not trajectory.success:
+        rows = len(trajectory.t)
+        where = f" ({rows} rows, up to t = {trajectory.t[-1]:.6g})" if rows else ""
+        raise SimulationError(f"{trajectory.message}{where}")
+    return {
+        "columns": {name: finite_list(values) for name, values in trajectory.columns().items()},
+        "summary": simulation_summary(trajectory),
+        "scene": scene(system, trajectory),
+    }
+
+
+def simulation_summary(trajectory: Trajectory) -> dict[str, Any]:
+    """What ``lagrangian simulate`` says after the run: samples, method, drift."""
+    return {
+        "status": trajectory.status,
+        "message": trajectory.message,
+        "method": trajectory.method,
+        "samples": len(trajectory.t),
+        "parameters": dict(trajectory.parameters),
+        "drift": {key: _finite(value) for key, value in trajectory.drift().items()},
+        "drift_summary": trajectory.drift_summary(),
+    }
+
+
+def scene(system: System, trajectory: Trajectory) -> dict[str, Any] | None:
+    """The named points' positions at every sample and the links drawn between them (rods,
+    springs, dampers), each end a point's name or fixed coordinates; None with no points."""
+    if not [name for name in system.points() if name != "origin"]:
+        return None
+    points = compile_points(system)
+    p = points.parameter_vector(dict(trajectory.parameters))
+    values = np.asarray(points(trajectory.q, trajectory.t, p)).reshape(
+        len(trajectory.t), len(points.names), points.dimension
+    )
+    links: list[list[Any]] = [[a, b] for a, b in rods(system)]
+    ends = [spring.between for spring in system.springs]
+    ends += [damper.between for damper in system.dampers]
+    links += [[_end(ref, trajectory) for ref in pair] for pair in ends]
+    return {
+        "dimension": points.dimension,
+        "points": {name: finite_list(values[:, i, :]) for i, name in enumerate(points.names)},
+        "links": links,
+    }
+
+
+def _end(ref: Any, trajectory: Trajectory) -> Any:
+    """A link's end: a point's name, or a fixed position (parameters put in)."""
+    if isinstance(ref, str):
+        return ref
+    values = {name: value for name, value in trajectory.parameters.items()}
+    fixed = [to_sympy(x).subs(values) for x in ref]
+    return [float(x) if x.is_number else None for x in fixed]
+
+
+def _finite(value: Any) -> Any:
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def finite_list(values: np.ndarray) -> list[Any]:
+    """An array as nested lists, with None for NaN and infinities (JSON has neither)."""
+    array = np.asarray(values, dtype=float)
+    if np.isfinite(array).all():
+        return list(array.tolist())
+    shown = array.astype(object)
+    shown[~np.isfinite(array)] = None
+    return list(shown.tolist())
+
+
+def problem_document(problem: Problem) -> dict[str, Any]:
+    """A problem as the API gives it: field, line, column, message, fix."""
+    return {
+        "field": problem.field,
+        "line": problem.line,
+        "column": problem.column,
+        "message": problem.message,
+        "fix": problem.fix,
+    }
+
+
+def error_document(message: str, problems: tuple[Problem, ...] = (), fix: str = "") -> bytes:
+    """The body of an error answer: every problem, or one made of the message."""
+    listed = problems or (Problem("", message.splitlines()[0] if message else "error", fix),)
+    summary = message.splitlines()[0] if message else ""
+    return _json({"error": summary, "problems": [problem_document(p) for p in listed]})
+
+
+def _json(document: dict[str, Any]) -> bytes:
+    return json.dumps(document, ensure_ascii=False, allow_nan=False).encode("utf-8")
+
+
+Runner = Callable[[str, str, dict[str, Any]], dict[str, Any]]
+RUNS: dict[str, Runner] = {
+    "derive": derive_document,
+    "analyze": analyze_document,
+    "simulate": simulate_document,
+}
+
+#: Statuses of the answers.
+OK, UNPROCESSABLE, INTERNAL = 200, 422, 500
+
+
+def run(
+    command: str, model: str, fmt: str, options: dict[str, Any], cpu_seconds: float | None = None
+) -> tuple[int, bytes]:
+    """The HTTP status and JSON body of ``command`` on the model text."""
+    try:
+        if command == "simulate":
+            document = simulate_document(model, fmt, options, cpu_seconds)
+        else:
+            document = RUNS[command](model, fmt, options)
+        return OK, _json(document)
+    except LagrangianError as error:
+        return UNPROCESSABLE, error_document(str(error), error.problems)
+    except TimeLimitExceeded:
+        limit = f" of {cpu_seconds:g} s" if cpu_seconds else ""
+        fix = "make the model smaller or simpler, or run it with the lagrangian command"
+        return UNPROCESSABLE, error_document(f"The work used its CPU time{limit}", fix=fix)
+    except MemoryError:
+        fix = "make the model smaller or simpler, or run it with the lagrangian command"
+        return UNPROCESSABLE, error_document("The work used all the memory it may use", fix=fix)
+    except RecursionError:
+        fix = "write the expressions with fewer nested parentheses"
+        return UNPROCESSABLE, error_document("The model is nested too deeply", fix=fix)
+    except Exception as error:  # a bug: say so plainly, the server goes on
+        message = f"internal error: {type(error).__name__}: {error}"
+        return INTERNAL, error_document(message, fix="please report it with the model")

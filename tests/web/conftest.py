@@ -1,0 +1,58 @@
+"""Fixtures of the playground's tests: the application under Starlette's TestClient, and a
+real uvicorn server on the loopback address in a thread (for the load and browser tests)."""
+
+from __future__ import annotations
+
+import threading
+import time
+import warnings
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+from playground_setup import TEST_LIMITS, free_port
+
+
+def _app() -> Any:
+    """The application with the tests' limits (skip without the web extra)."""
+    for module in ("starlette", "uvicorn", "httpx"):
+        pytest.importorskip(module, reason=f"the playground's tests need {module}: .[test]")
+    from lagrangian.web import create_app
+
+    return create_app(TEST_LIMITS)
+
+
+def testclient_class() -> Any:
+    """Starlette's TestClient (Starlette 1.x warns when it runs on httpx, not httpx2, and
+    either works for these tests)."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*httpx2.*")
+        from starlette.testclient import TestClient
+    return TestClient
+
+
+@pytest.fixture(scope="session")
+def client() -> Iterator[Any]:
+    with testclient_class()(_app()) as test_client:
+        yield test_client
+
+
+@pytest.fixture(scope="session")
+def live_server() -> Iterator[str]:
+    """The playground served by uvicorn on 127.0.0.1 in a thread; its base URL."""
+    app = _app()
+    import uvicorn
+
+    port = free_port()
+    config = uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning")
+    server = uvicorn.Server(config)
+    thread = threading.Thread(target=server.run, daemon=True)
+    thread.start()
+    for _ in range(600):
+        if server.started or not thread.is_alive():
+            break
+        time.sleep(0.1)
+    assert server.started, "the server did not start"
+    yield f"http://127.0.0.1:{port}"
+    server.should_exit = True
+    thread.join(timeout=30)

@@ -1,0 +1,172 @@
+"""The JSON API answers what the command line prints (shared/DESIGN.md), with every problem
+of a bad request listed at its place."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import numpy as np
+import pytest
+
+import lagrangian as lg
+from lagrangian import examples
+from lagrangian.cli import commands
+
+DOUBLE = examples.model_text("double_pendulum")
+SIMPLE = examples.model_text("simple_pendulum")
+
+
+def test_the_examples_menu_lists_the_model_files(client: Any) -> None:
+    listed = client.get("/api/examples").json()["examples"]
+    names = [entry["name"] for entry in listed]
+    assert "double_pendulum" in names and "n_link_pendulum" not in names  # no model file
+    answer = client.get("/api/examples/series_rlc").json()
+    assert answer["model"] == examples.model_text("series_rlc")
+    assert answer["format"] == "yaml" and answer["description"] == examples.describe("series_rlc")
+
+
+def test_an_unknown_example_is_404(client: Any) -> None:
+    answer = client.get("/api/examples/no_such_thing")
+    assert answer.status_code == 404
+    assert answer.json()["problems"][0]["field"] == "name"
+
+
+def test_derive_answers_the_cli_json(client: Any) -> None:
+    answer = client.post("/api/derive", json={"model": DOUBLE, "options": {"set": {"m1": 2}}})
+    assert answer.status_code == 200
+    document = answer.json()
+    cli = json.loads(
+        commands.derive_command(
+            "examples/double_pendulum", fmt="json", steps=True, matrix=False, settings=["m1=2"]
+        )
+    )
+    latex = document.pop("latex")
+    assert document == cli
+    assert r"\frac{d}{dt}" in latex and r"\ddot{\theta}" in latex
+
+
+def test_derive_with_constraints_adds_the_multipliers(client: Any) -> None:
+    model = examples.model_text("atwood_machine")
+    document = client.post("/api/derive", json={"model": model}).json()
+    cli = json.loads(
+        commands.derive_command(
+            "examples/atwood_machine", fmt="json", steps=True, matrix=False, settings=[]
+        )
+    )
+    document.pop("latex")
+    assert document == cli
+
+
+def test_analyze_answers_the_cli_json(client: Any) -> None:
+    model = examples.model_text("spherical_pendulum")
+    options = {"about": {"theta": 0.5, "phi_dot": 2.0}}
+    document = client.post("/api/analyze", json={"model": model, "options": options}).json()
+    cli = json.loads(
+        commands.analyze_command(
+            "examples/spherical_pendulum", about="theta=0.5,phi_dot=2", inputs=[], settings=[]
+        )
+    )
+    for key in ("dof", "momenta", "conserved", "hamiltonian", "equilibria", "linearization"):
+        assert document[key] == cli[key], key
+    assert "p_{\\phi}" in document["latex"]
+
+
+def test_simulate_gives_the_columns_of_the_csv_and_the_scene(client: Any) -> None:
+    options = {"t_end": 2.0, "samples": 41, "set": ["l=2"]}
+    answer = client.post("/api/simulate", json={"model": SIMPLE, "options": options})
+    assert answer.status_code == 200
+    document = answer.json()
+    reference = lg.simulate(
+        lg.examples.simple_pendulum(), t_span=2.0, samples=41, parameters={"l": 2.0}
+    )
+    columns = document["columns"]
+    assert list(columns) == list(reference.names)
+    for name in reference.names:
+        np.testing.assert_allclose(columns[name], reference[name], rtol=1e-12, atol=1e-12)
+    summary = document["summary"]
+    assert summary["status"] == "success" and summary["samples"] == 41
+    assert summary["parameters"]["l"] == 2.0 and summary["drift"]["energy_relative"] < 1e-4
+    # the bob at (l sin theta, -l cos theta): the closed form, not the library's code
+    theta = np.array(columns["theta"])
+    bob = np.array(document["scene"]["points"]["bob"])
+    np.testing.assert_allclose(bob, np.c_[2 * np.sin(theta), -2 * np.cos(theta)], atol=1e-12)
+    assert document["scene"]["links"] == [["origin", "bob"]]
+
+
+def test_a_circuit_has_no_scene(client: Any) -> None:
+    model = examples.model_text("series_rlc")
+    document = client.post(
+        "/api/simulate", json={"model": model, "options": {"samples": 11}}
+    ).json()
+    assert document["scene"] is None and len(document["columns"]["t"]) == 11
+
+
+@pytest.mark.parametrize(
+    ("text", "fmt"),
+    [
+        ('coordinates = ["x"]\nkinetic = "x_dot**2/2"\npotential = "x**2/2"\n', "toml"),
+        ('{"coordinates": ["x"], "kinetic": "x_dot**2/2", "potential": "x**2/2"}', "json"),
+    ],
+)
+def test_toml_and_json_models(client: Any, text: str, fmt: str) -> None:
+    document = client.post("/api/derive", json={"model": text, "format": fmt}).json()
+    assert document["equations"] == ["x + x_ddot"]
+
+
+def test_a_bad_model_is_422_with_its_line_and_column(client: Any) -> None:
+    model = "coordinates: [x]\nparameters: {k: 1}\npotential: k*x**\n"
+    answer = client.post("/api/derive", json={"model": model})
+    assert answer.status_code == 422
+    (problem,) = answer.json()["problems"]
+    assert set(problem) == {"field", "line", "column", "message", "fix"}
+    assert (problem["field"], problem["line"]) == ("potential", 3)
+    assert problem["column"] >= 12 and problem["fix"]
+
+
+def test_every_problem_of_the_request_at_once(client: Any) -> None:
+    body = {"model": "", "format": "xml", "options": {"t_end": "long", "colour": 1}, "x": 1}
+    answer = client.post("/api/simulate", json=body)
+    assert answer.status_code == 422
+    fields = sorted(problem["field"] for problem in answer.json()["problems"])
+    assert fields == ["format", "model", "options.colour", "options.t_end", "x"]
+
+
+def test_a_failed_simulation_is_422(client: Any) -> None:
+    options = {"method": "RK99"}
+    answer = client.post("/api/simulate", json={"model": SIMPLE, "options": options})
+    assert answer.status_code == 422
+    assert any("--method" in p["field"] + p["fix"] for p in answer.json()["problems"])
+
+
+def test_an_oversized_body_is_413(client: Any) -> None:
+    model = "coordinates: [x]\nkinetic: x_dot**2/2\n" + "# padding\n" * 25_000
+    answer = client.post("/api/derive", json={"model": model})
+    assert answer.status_code == 413
+    assert "kB" in answer.json()["problems"][0]["message"]
+
+
+def test_a_body_that_is_not_json(client: Any) -> None:
+    assert client.post("/api/derive", content=b"coordinates: [x]").status_code == 415
+    headers = {"Content-Type": "application/json"}
+    answer = client.post("/api/derive", content=b"{not json", headers=headers)
+    assert answer.status_code == 400 and answer.json()["problems"][0]["field"] == "body"
+
+
+def test_an_unknown_command_is_404(client: Any) -> None:
+    assert client.post("/api/export", json={"model": SIMPLE}).status_code == 404
+
+
+def test_the_page_and_its_assets_are_served_locally(client: Any) -> None:
+    page = client.get("/")
+    assert page.status_code == 200
+    for testid in ("editor", "derive-button", "analyze-button", "simulate-button"):
+        assert f'data-testid="{testid}"' in page.text
+    for testid in ("equations", "canvas", "errors"):
+        assert f'data-testid="{testid}"' in page.text
+    assert "default-src 'self'" in page.headers["content-security-policy"]
+    assert "http" not in page.text.replace('lang="en"', "")  # no asset from elsewhere
+    for asset in ("app.js", "style.css", "katex/katex.min.js", "katex/katex.min.css"):
+        assert client.get(f"/static/{asset}").status_code == 200
+    font = client.get("/static/katex/fonts/KaTeX_Main-Regular.woff2")
+    assert font.status_code == 200 and font.content[:4] == b"wOF2"

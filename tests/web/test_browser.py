@@ -1,0 +1,120 @@
+"""The page in a real browser (headless Chromium from the system's packages, driven by
+Playwright): an example is typeset with KaTeX and animated on the canvas, a slider re-runs
+the simulation, an error is listed at its line, the URL keeps the model.  Screenshots go to
+tests/web/artifacts/ (and, with LAGRANGIAN_README_SCREENSHOT=1, to docs/playground.png)."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+ARTIFACTS = Path(__file__).resolve().parent / "artifacts"
+README_PICTURE = Path(__file__).resolve().parents[2] / "docs" / "playground.png"
+CHROMIUM = next(
+    (path for name in ("chromium", "chromium-browser") if (path := shutil.which(name))), None
+)
+BROKEN = "coordinates: [x]\nparameters: {k: 1}\npotential: k*x**\nkinetic: x_dot**2/2\n"
+#: How many pixels of a canvas are not its white background.
+INK = """(id) => {
+  const canvas = document.getElementById(id);
+  const data = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
+  let ink = 0;
+  for (let i = 0; i < data.length; i += 4) {
+    if (data[i] < 240 || data[i + 1] < 240 || data[i + 2] < 240) ink += 1;
+  }
+  return ink;
+}"""
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    playwright_api = pytest.importorskip(
+        "playwright.sync_api", reason="Playwright for Python is not installed"
+    )
+    if CHROMIUM is None:
+        pytest.skip("Chromium is not installed (apt-get install chromium)")
+    with playwright_api.sync_playwright() as playwright:
+        launched = playwright.chromium.launch(
+            executable_path=CHROMIUM, args=["--no-sandbox", "--disable-gpu"]
+        )
+        yield launched
+        launched.close()
+
+
+@pytest.fixture
+def page(browser: Any, live_server: str) -> Iterator[Any]:
+    context = browser.new_context(viewport={"width": 1400, "height": 1000})
+    opened = context.new_page()
+    failures: list[str] = []
+    opened.on("requestfailed", lambda request: failures.append(request.url))
+    opened.goto(live_server + "/")
+    opened.wait_for_selector("body[data-ready=true]", timeout=90_000)
+    yield opened
+    context.close()
+    assert not failures, failures
+
+
+def _shot(page: Any, name: str) -> None:
+    ARTIFACTS.mkdir(exist_ok=True)
+    page.screenshot(path=str(ARTIFACTS / name), full_page=True)
+
+
+def test_an_example_is_typeset_and_animated(page: Any) -> None:
+    assert "double pendulum" in page.input_value("[data-testid=editor]").lower()
+    assert page.locator("[data-testid=equations] .katex").count() >= 2  # steps, matrix form
+    assert page.locator("[data-testid=equations] .katex-error").count() == 0
+    page.wait_for_timeout(500)  # a few frames of the animation
+    assert page.evaluate(INK, "canvas") > 500
+    assert page.evaluate(INK, "plot") > 500
+    page.click("[data-testid=analyze-button]")
+    page.wait_for_selector("[data-testid=analysis] .katex", timeout=90_000)
+    _shot(page, "double_pendulum.png")
+    if os.environ.get("LAGRANGIAN_README_SCREENSHOT"):
+        page.screenshot(path=str(README_PICTURE))
+
+
+def test_a_slider_reruns_the_simulation(page: Any) -> None:
+    page.select_option("[data-testid=examples]", "simple_pendulum")
+    page.wait_for_selector("#sliders input[data-name=l]", timeout=60_000)
+    assert "simple" in page.input_value("[data-testid=editor]").lower()
+    with page.expect_response(lambda r: r.url.endswith("/api/simulate")) as answer:
+        page.eval_on_selector(
+            "#sliders input[data-name=l]",
+            "(el) => { el.value = 2.5; el.dispatchEvent(new Event('input')); }",
+        )
+    response = answer.value
+    chosen = float(page.input_value("#sliders input[data-name=l]"))  # 2.5 on the slider's steps
+    assert response.status == 200 and abs(chosen - 2.5) < 0.05
+    assert f"l={chosen:g}" in response.request.post_data
+    assert response.json()["summary"]["parameters"]["l"] == pytest.approx(chosen)
+    page.wait_for_timeout(300)
+    assert page.evaluate(INK, "canvas") > 200
+    _shot(page, "slider.png")
+
+
+def test_an_error_is_listed_at_its_line(page: Any) -> None:
+    page.fill("[data-testid=editor]", BROKEN)
+    item = page.wait_for_selector("[data-testid=errors] li", timeout=60_000)
+    assert "line 3" in item.inner_text() and "potential" in item.inner_text()
+    assert page.inner_text("#gutter .bad") == "3"
+    _shot(page, "error.png")
+
+
+def test_the_url_keeps_the_model(page: Any, browser: Any) -> None:
+    model = "coordinates: [x]\nkinetic: x_dot**2/2\npotential: x**4/4\n"
+    page.fill("[data-testid=editor]", model)
+    page.wait_for_function("location.hash.includes('model=')")
+    link = page.url
+    other = browser.new_page()
+    other.goto(link)
+    other.wait_for_selector("body[data-ready=true]", timeout=90_000)
+    assert other.input_value("[data-testid=editor]") == model
+    assert other.locator("[data-testid=equations] .katex").count() >= 1
+    other.close()
