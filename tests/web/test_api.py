@@ -170,3 +170,16 @@ def test_the_page_and_its_assets_are_served_locally(client: Any) -> None:
         assert client.get(f"/static/{asset}").status_code == 200
     font = client.get("/static/katex/fonts/KaTeX_Main-Regular.woff2")
     assert font.status_code == 200 and font.content[:4] == b"wOF2"
+
+
+def test_analyze_takes_the_search_degree_of_the_command_line(client: Any) -> None:
+    model = examples.model_text("atwood_machine")
+    searched = client.post("/api/analyze", json={"model": model}).json()
+    # the Atwood machine's time-dependent momentum (m1 + m2) y_dot - g (m1 - m2) t
+    assert "point symmetry" in {q["origin"] for q in searched["conserved_quantities"]}
+    off = {"model": model, "options": {"search_degree": 0}}
+    document = client.post("/api/analyze", json=off).json()
+    assert document["first_integral_search"] == []
+    assert [q["origin"] for q in document["conserved_quantities"]] == ["energy"]
+    bad = client.post("/api/analyze", json={"model": model, "options": {"search_degree": 9}})
+    assert bad.status_code == 422 and "search_degree" in bad.text

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from lagrangian import examples, render
-from lagrangian.analysis import analyze
+from lagrangian.analysis import AnalysisReport, analyze
 from lagrangian.analysis.arguments import numeric_values, operating_state
 from lagrangian.analysis.manifold import require_on_manifold
 from lagrangian.cli.progress import progress_bar
@@ -119,30 +119,44 @@ def apply_settings(system: System, settings: Sequence[str]) -> System:
     return system.replace(parameters=new_parameters, initial=new_initial)
 
 
+def derivation_document(system: System, steps: bool) -> dict[str, Any]:
+    """What ``derive --format json`` prints: the equations (with ``steps``), and the
+    multiplier form of a constrained system."""
+    eom = derive(system)
+    document = eom_document(eom, steps=steps)
+    if system.constraints:
+        document.update(constrained_document(constrained_equations(eom, system.constraints)))
+    return document
+
+
+def derivation_latex(system: System, steps: bool, matrix: bool) -> str:
+    """What ``derive --format latex`` prints (with ``--steps``, ``--matrix``)."""
+    eom = derive(system)
+    parts = [render.steps_latex(eom) if steps else render.equations_latex(eom)]
+    if matrix:
+        parts.append(render.equations_latex(eom, form="matrix"))
+    if system.constraints:
+        equations = constrained_equations(eom, system.constraints)
+        parts.append(constrained_latex(equations, matrix))
+    return "\n".join(parts)
+
+
 def derive_command(
     reference: str, *, fmt: str, steps: bool, matrix: bool, settings: Sequence[str]
 ) -> str:
     system = apply_settings(load_system(reference), settings)
+    if fmt == "json":
+        return json.dumps(derivation_document(system, steps), indent=2, ensure_ascii=False)
+    if fmt == "latex":
+        return derivation_latex(system, steps, matrix)
     eom = derive(system)
     constrained = constrained_equations(eom, system.constraints) if system.constraints else None
-    if fmt == "json":
-        document = eom_document(eom, steps=steps)
-        if constrained is not None:
-            document.update(constrained_document(constrained))
-        return json.dumps(document, indent=2, ensure_ascii=False)
     if fmt == "mathml":
         parts = [render.steps_mathml(eom) if steps else render.equations_mathml(eom)]
         if matrix:
             parts.append(matrix_form_mathml(eom))
         if constrained is not None:
             parts.append(constrained_mathml(constrained, matrix))
-        return "\n".join(parts)
-    if fmt == "latex":
-        parts = [render.steps_latex(eom) if steps else render.equations_latex(eom)]
-        if matrix:
-            parts.append(render.equations_latex(eom, form="matrix"))
-        if constrained is not None:
-            parts.append(constrained_latex(constrained, matrix))
         return "\n".join(parts)
     parts = [render.steps_text(eom) if steps else render.equations_text(eom)]
     if constrained is not None:
@@ -258,24 +272,38 @@ def analyze_command(
     a constrained model an ``--about`` state off the constraints is refused, each missed
     constraint with its residual, unless ``--project`` moves it onto them."""
     system = apply_settings(load_system(reference), settings)
+    fix = "add --project to move the --about state onto the constraints"
+    report = analysis_of(system, about, inputs, project, search_degree, fix)
+    if fmt == "text":
+        return analysis_text(report)
+    if fmt == "latex":
+        return analysis_latex(report)
+    return json.dumps(analysis_document(report), indent=2, ensure_ascii=False)
+
+
+def analysis_of(
+    system: System,
+    about: str | None,
+    inputs: Sequence[str],
+    project: bool,
+    search_degree: int,
+    off_constraints_fix: str,
+) -> AnalysisReport:
+    """The analysis ``analyze`` prints, ``about`` as the command line writes a state
+    (``theta=0.5,phi_dot=2``); on a constrained model a state off the constraints is refused
+    with ``off_constraints_fix`` unless ``project``."""
     state = parse_state(about)
     if about and system.constraints and not project:
         eom = derive(system)
         point = operating_state(eom, state)
-        fix = "add --project to move the --about state onto the constraints"
-        require_on_manifold(eom, point, numeric_values(eom), fix)
-    report = analyze(
+        require_on_manifold(eom, point, numeric_values(eom), off_constraints_fix)
+    return analyze(
         system,
         about=state if about else None,
         inputs=list(inputs),
         project=project,
         search_degree=search_degree,
     )
-    if fmt == "text":
-        return analysis_text(report)
-    if fmt == "latex":
-        return analysis_latex(report)
-    return json.dumps(analysis_document(report), indent=2, ensure_ascii=False)
 
 
 def simulate_command(

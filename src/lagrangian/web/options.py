@@ -30,6 +30,12 @@ def _count(name: str, value: Any) -> int:
     return value
 
 
+def _degree(name: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 3:
+        raise ValueError(f"options.{name} is a whole number from 0 (no search) to 3")
+    return value
+
+
 def _flag(name: str, value: Any) -> bool:
     if not isinstance(value, bool):
         raise ValueError(f"options.{name} is true or false")
@@ -68,7 +74,13 @@ Reader = Callable[[str, Any], Any]
 #: The options of each command, with how each is read.
 OPTIONS: dict[str, dict[str, Reader]] = {
     "derive": {"set": _assignments, "steps": _flag},
-    "analyze": {"set": _assignments, "about": _state, "input": _names, "project": _flag},
+    "analyze": {
+        "set": _assignments,
+        "about": _state,
+        "input": _names,
+        "project": _flag,
+        "search_degree": _degree,
+    },
     "simulate": {
         "set": _assignments,
         "t_end": _number,

@@ -23,23 +23,21 @@ from typing import Any
 
 import numpy as np
 
-from lagrangian.analysis import analyze
-from lagrangian.analysis.arguments import numeric_values, operating_state
-from lagrangian.analysis.manifold import require_on_manifold
-from lagrangian.cli.commands import apply_settings, in_command_line_words, parse_state
-from lagrangian.constraints import constrained_equations
-from lagrangian.derivation import derive
+from lagrangian.cli.commands import (
+    analysis_of,
+    apply_settings,
+    derivation_document,
+    derivation_latex,
+    in_command_line_words,
+)
 from lagrangian.errors import LagrangianError, Problem, SimulationError, SimulationInputError
 from lagrangian.io import loads
 from lagrangian.model import System
 from lagrangian.model.conversion import to_sympy
 from lagrangian.numerics.points import compile_points
-from lagrangian.render import equations_latex, steps_latex
 from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.animation import rods
-from lagrangian.render.constrained import constrained_latex
-from lagrangian.render.json import constrained_document, eom_document
 from lagrangian.simulation import Trajectory, simulate
 from lagrangian.web.limits import TimeLimitExceeded
 
@@ -58,30 +56,21 @@ def derive_document(model: str, fmt: str, options: dict[str, Any]) -> dict[str, 
     """``lagrangian derive --format json --steps`` and, as ``latex``, ``--format latex --steps
     --matrix``."""
     system = system_of(model, fmt, options)
-    eom = derive(system)
-    constrained = constrained_equations(eom, system.constraints) if system.constraints else None
     steps = options.get("steps", True)
-    document = eom_document(eom, steps=steps)
-    latex = [steps_latex(eom) if steps else equations_latex(eom), equations_latex(eom, "matrix")]
-    if constrained is not None:
-        document.update(constrained_document(constrained))
-        latex.append(constrained_latex(constrained, True))
-    document["latex"] = "\n".join(latex)
-    return document
+    return {**derivation_document(system, steps), "latex": derivation_latex(system, steps, True)}
 
 
 def analyze_document(model: str, fmt: str, options: dict[str, Any]) -> dict[str, Any]:
-    """``lagrangian analyze --format json`` (with ``--about``, ``--input``, ``--project``) and,
-    as ``latex``, ``--format latex``, from one analysis."""
+    """``lagrangian analyze --format json`` (with ``--about``, ``--input``, ``--project``,
+    ``--search-degree``) and, as ``latex``, ``--format latex``, from one analysis."""
     system = system_of(model, fmt, options)
-    about, project = options.get("about"), options.get("project", False)
-    state = parse_state(about)
-    if about and system.constraints and not project:
-        eom = derive(system)
-        fix = "add options.project = true to move the about state onto the constraints"
-        require_on_manifold(eom, operating_state(eom, state), numeric_values(eom), fix)
-    report = analyze(
-        system, about=state if about else None, inputs=options.get("input", []), project=project
+    report = analysis_of(
+        system,
+        options.get("about"),
+        options.get("input", []),
+        options.get("project", False),
+        options.get("search_degree", 2),
+        "add options.project = true to move the about state onto the constraints",
     )
     return {**analysis_document(report), "latex": analysis_latex(report)}
 
