@@ -481,3 +481,13 @@ def test_grammar_generated_expressions_parse_to_what_sympy_builds(built: Built) 
             build()
         return
     assert parsed == build()
+
+
+def test_the_reciprocal_functions_are_the_quotients_they_name():
+    x = sp.Symbol("x")
+    names = {"x": x}
+    for text, expected in (("cot(x)", sp.cos(x) / sp.sin(x)), ("sec(x)", 1 / sp.cos(x))):
+        parsed = parse_expression(text, names, field="potential")
+        assert sp.simplify(parsed - expected) == 0
+    parsed = parse_expression("csc(x)", names, field="potential")
+    assert sp.simplify(parsed.diff(x) + sp.cos(x) / sp.sin(x) ** 2) == 0  # d csc = -csc cot

@@ -317,6 +317,8 @@ def test_register_adds_latex_formatters(
     from lagrangian.render.analysis_latex import RESULT_TYPES
 
     assert set(printers) == {
+        sp.Basic,
+        sp.MatrixBase,
         lg.EquationsOfMotion,
         lg.CoordinateSteps,
         type(pendulum.steps),
@@ -330,6 +332,12 @@ def test_register_adds_latex_formatters(
     assert equations.startswith(r"$$\begin{aligned}") and equations.endswith(r"\end{aligned}$$")
     assert r"\ddot{\theta}" in equations
     assert r"\partial L" in printers[lg.CoordinateSteps](pendulum.steps[0])
+    # a bare equation typesets theta_ddot as a double-dotted theta, not theta with a subscript
+    bare = printers[sp.Basic](pendulum.equations[0])
+    assert r"\ddot{\theta}" in bare and "ddot}" not in bare.replace(r"\ddot{", "")
+    assert r"\ddot{\theta}" in printers[sp.MatrixBase](
+        pendulum.mass_matrix * sp.Matrix(pendulum.accelerations)
+    )
     assert r"\partial L" in printers[type(pendulum.steps)](pendulum.steps)
     (drift_table,) = pages.printers.values()
     table = drift_table(run.drift())

@@ -4,7 +4,8 @@ Grammar, and nothing else::
 
     expr := number | name | expr OP expr | ("+" | "-") expr | "(" expr ")" | FUNC "(" args ")"
     OP   := + - * / **
-    FUNC := sin cos tan asin acos atan atan2 sinh cosh tanh exp log sqrt Abs sign Heaviside
+    FUNC := sin cos tan cot sec csc asin acos atan atan2 sinh cosh tanh exp log sqrt
+            Abs sign Heaviside
 
 The text is read by :func:`ast.parse` and the tree is walked against an allow-list, building
 SymPy objects directly: nothing is evaluated as code (no ``eval``, no ``sympify`` of text).
@@ -75,6 +76,11 @@ def _by_sign(function: type[sp.Function]) -> Callable[[sp.Expr], sp.Expr]:
 _ONE_ARGUMENT = (sp.sin, sp.cos, sp.tan, sp.asin, sp.acos, sp.atan, sp.sinh, sp.cosh, sp.tanh)
 FUNCTIONS: dict[str, tuple[Callable[..., sp.Expr], tuple[int, ...]]] = {
     **{f.__name__: (f, (1,)) for f in _ONE_ARGUMENT},
+    # the reciprocal functions as the quotients they are, which every printer and compiler
+    # downstream knows (C has no cot)
+    "cot": (lambda a: 1 / sp.tan(a), (1,)),
+    "sec": (lambda a: 1 / sp.cos(a), (1,)),
+    "csc": (lambda a: 1 / sp.sin(a), (1,)),
     "atan2": (sp.atan2, (2,)),
     "exp": (sp.exp, (1,)),
     "log": (lambda *args: _logarithm(*args), (1, 2)),
@@ -544,7 +550,7 @@ def parse_expression(
     """The SymPy expression a model file's text means, or an ExpressionError saying why not.
 
     The language (see the module): numbers, names, ``+ - * / **``, parentheses and calls of
-    sin cos tan asin acos atan atan2 sinh cosh tanh exp log sqrt Abs sign Heaviside.
+    sin cos tan cot sec csc asin acos atan atan2 sinh cosh tanh exp log sqrt Abs sign Heaviside.
     ``names`` maps every allowed identifier to its SymPy object (``pi`` and ``E`` are added
     unless given).  ``field`` is the dotted path of the field, ``source`` the file name, and
     ``line``/``column`` where the text starts in the file (1-based); without them positions

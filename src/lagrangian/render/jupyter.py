@@ -17,14 +17,18 @@ import html
 from dataclasses import dataclass
 from typing import Any
 
+import sympy as sp
+
 from lagrangian.analysis import AnalysisReport
 from lagrangian.derivation import CoordinateSteps, EquationsOfMotion
 from lagrangian.derivation.steps import Steps
 from lagrangian.model import System
+from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX
 from lagrangian.render.analysis_latex import RESULT_TYPES, analysis_latex, result_latex
 from lagrangian.render.latex import (
     coordinate_steps_latex,
     equations_latex,
+    expression_latex,
     steps_latex,
     system_latex,
 )
@@ -94,8 +98,26 @@ def _result_latex(result: object) -> str | None:
     return Latex(text.replace("align*", _NESTED))._repr_latex_()
 
 
+def dotted_latex(expr: sp.Basic) -> str:
+    r"""``expr`` (an expression or a matrix) as display LaTeX with every ``NAME_dot`` and
+    ``NAME_ddot`` typeset as a dotted name (θ̇, θ̈), not as a subscript.
+
+    >>> print(dotted_latex(sp.Symbol("theta_ddot") + sp.Symbol("phi_dot")))
+    $\displaystyle \dot{\phi} + \ddot{\theta}$
+    """
+    stems = set()
+    for symbol in expr.free_symbols:
+        name = getattr(symbol, "name", "")
+        for suffix in (DDOT_SUFFIX, DOT_SUFFIX):
+            if name.endswith(suffix) and len(name) > len(suffix):
+                stems.add(sp.Symbol(name[: -len(suffix)]))
+                break
+    return f"$\\displaystyle {expression_latex(expr, sorted(stems, key=str))}$"
+
+
 def register(shell: Any = None) -> bool:
-    """Register 'text/latex' formatters for EquationsOfMotion, CoordinateSteps (and the
+    """Register 'text/latex' formatters for SymPy expressions and matrices (velocities and
+    accelerations as dotted names), EquationsOfMotion, CoordinateSteps (and the
     ``eom.steps`` of every coordinate), System, AnalysisReport and the analysis results, an
     'image/png' one for Trajectory (time series, phase portrait, energy drift) and a
     'text/html' table for ``Trajectory.drift()``, in ``shell`` (the running IPython when None).
@@ -116,6 +138,8 @@ def register(shell: Any = None) -> bool:
         if shell is None:
             return False
     formatter = shell.display_formatter.formatters["text/latex"]
+    formatter.for_type(sp.Basic, dotted_latex)  # theta_ddot as a double-dotted theta
+    formatter.for_type(sp.MatrixBase, dotted_latex)
     formatter.for_type(EquationsOfMotion, _eom_latex)
     formatter.for_type(CoordinateSteps, _coordinate_steps_latex)
     formatter.for_type(Steps, _every_steps_latex)
