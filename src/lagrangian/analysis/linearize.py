@@ -66,6 +66,9 @@ class Linearization:
     dependent: tuple[sp.Symbol, ...] = ()
     embedding: sp.ImmutableMatrix | None = None
     multipliers: Mapping[sp.Symbol, sp.Expr] = frozen({})
+    #: A with every parameter that has a value replaced by it (A itself keeps the symbols);
+    #: None when that changes nothing.
+    A_at_values: sp.ImmutableMatrix | None = None
 
     def full_deviation(self, x: Sequence[Any]) -> sp.ImmutableMatrix:
         """[dq; dq_dot] of every coordinate and velocity for a deviation ``x`` of the state
@@ -243,4 +246,16 @@ def linearize(
         dependent=reduced.dependent if reduced else (),
         embedding=reduced.embedding if reduced else None,
         multipliers=frozen(reduced.multipliers if reduced else {}),
+        A_at_values=_at_values(a, numbers),
     )
+
+
+def _at_values(
+    matrix: sp.Matrix, numbers: Mapping[sp.Symbol, sp.Expr]
+) -> sp.ImmutableMatrix | None:
+    """``matrix`` at the parameter values (numbers to 15 digits), or None when it holds no
+    parameter that has one."""
+    known = {p: v for p, v in numbers.items() if p in matrix.free_symbols}
+    if not known:
+        return None
+    return sp.ImmutableMatrix(matrix.xreplace(known).evalf(15))

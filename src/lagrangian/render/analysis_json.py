@@ -123,6 +123,7 @@ def _linearization(linear: Linearization) -> dict[str, Any]:
         "state_vector": [s.name for s in linear.state_vector],
         "inputs": [u.name for u in linear.inputs],
         "A": _matrix(linear.A),
+        "A_at_values": None if linear.A_at_values is None else _matrix(linear.A_at_values),
         "B": _matrix(linear.B),
         "eigenvalues": _strings(linear.eigenvalues),
         "frequencies": _strings(linear.frequencies),

@@ -65,6 +65,8 @@ def _linearization_lines(lin: Linearization) -> list[str]:
             + ", ".join(s.name for s in lin.dependent)
         )
     lines.append(f"A = {lin.A.tolist()}")
+    if lin.A_at_values is not None:
+        lines.append(f"A at the parameter values = {lin.A_at_values.tolist()}")
     if lin.inputs:
         lines.append(f"B = {lin.B.tolist()} (inputs {', '.join(u.name for u in lin.inputs)})")
     lines += [
