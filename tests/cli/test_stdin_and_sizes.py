@@ -36,3 +36,12 @@ def test_an_example_built_to_a_size(capsys, monkeypatch):
     assert code == 2 and "has no size" in error
     code, _, error = run(capsys, monkeypatch, ["derive", "n_link_pendulum:many"])
     assert code == 2 and "whole number" in error
+
+
+def test_standard_input_in_toml_with_input_format(capsys, monkeypatch):
+    model = 'coordinates = ["x"]\nkinetic = "x_dot**2/2"\npotential = "x**2/2"\n'
+    code, out, _ = run(capsys, monkeypatch, ["derive", "-", "--input-format", "toml"], stdin=model)
+    assert code == 0 and "x + x_ddot = 0" in out
+    # without it the text is read as YAML, which it is not: a clear refusal, exit 2
+    code, _, error = run(capsys, monkeypatch, ["derive", "-"], stdin=model)
+    assert code == 2 and "standard input" in error

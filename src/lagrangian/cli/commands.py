@@ -48,9 +48,13 @@ EXAMPLE_PREFIX = "examples/"
 def load_system(reference: str) -> System:
     """A System from ``examples/NAME`` (``NAME:SIZE`` for an example built to a size, such as
     ``n_link_pendulum:5``), a model file (YAML, TOML, JSON) or ``-``: standard input, read as
-    the text of a model (YAML or JSON), never as a file name."""
-    if reference == "-":
-        return loads(sys.stdin.read(), source="<standard input>")
+    the text of a model (YAML or JSON, or as ``--input-format`` says: ``-:toml``), never as a
+    file name."""
+    if reference == "-" or reference.startswith("-:"):
+        fmt = reference[2:] or None
+        if fmt not in (None, "yaml", "toml", "json"):
+            raise ModelError(f"{reference!r}: standard input is read as -:yaml, -:toml or -:json")
+        return loads(sys.stdin.read(), format=fmt, source="<standard input>")
     name, _, size = reference.removeprefix(EXAMPLE_PREFIX).partition(":")
     if reference.startswith(EXAMPLE_PREFIX) or name in examples.CATALOG:
         return _example(name, size)

@@ -75,6 +75,12 @@ def _command(sub: Any, name: str, summary: str, example: str) -> argparse.Argume
     )
     command.add_argument("model", help="examples/NAME, a model file, or - for stdin")
     command.add_argument(
+        "--input-format",
+        choices=["yaml", "toml", "json"],
+        help="the format of the model read from standard input (default: JSON when it starts "
+        "with {, else YAML)",
+    )
+    command.add_argument(
         "--set",
         action="append",
         default=[],
@@ -284,6 +290,8 @@ def run(args: argparse.Namespace) -> str:
     """The text the parsed command prints (SymPy, NumPy and the rest load here)."""
     from lagrangian.cli import commands
 
+    if getattr(args, "input_format", None) and args.model == "-":
+        args.model = f"-:{args.input_format}"  # standard input in the format given
     if args.command == "derive":
         return commands.derive_command(
             args.model, fmt=args.format, steps=args.steps, matrix=args.matrix, settings=args.set
