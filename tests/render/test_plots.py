@@ -57,3 +57,14 @@ def test_energy_drift_is_relative_unless_the_initial_energy_is_zero(swing: Traje
     pivot = simulate(lg.examples.moving_pivot_pendulum(), t_span=1.0, samples=11)
     labels = [line.get_label() for line in plot_energy_drift(pivot).get_lines()]
     assert labels == ["E = T + V", "h"]
+
+
+def test_coordinates_of_different_sizes_get_panels_of_their_own():
+    # the heavy top spins: psi grows to tens of radians while theta nods by a fraction of one
+    from lagrangian.render.plots import overview, scale_groups
+
+    top = lg.simulate(lg.examples.heavy_symmetric_top(), t_span=10.0, samples=200)
+    groups = scale_groups(top)  # psi ~ 480 rad, phi ~ 27 rad, theta within 0.62 rad
+    assert ["theta"] in groups and ["psi"] in groups
+    figure = overview(top)
+    assert len(figure.axes) == len(groups) + 2  # the panels, the phase portrait, the energy

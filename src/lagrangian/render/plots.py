@@ -85,14 +85,53 @@ def overview(trajectory: Trajectory, coordinate: str | None = None) -> Figure:
     first) and the energy drift, side by side."""
     from matplotlib.figure import Figure
 
-    figure = Figure(figsize=(15, 4.5), layout="constrained")
-    left, middle, right = figure.subplots(1, 3)
-    plot_time_series(trajectory, ax=left)
+    groups = scale_groups(trajectory)
+    figure = Figure(
+        figsize=(15, 4.5 if len(groups) == 1 else 2.6 * len(groups)), layout="constrained"
+    )
+    grid = figure.add_gridspec(len(groups), 3)
+    for row, names in enumerate(groups):  # one panel per scale: 95 rad of spin hides a nutation
+        plot_time_series(trajectory, names, ax=figure.add_subplot(grid[row, 0]))
+    middle = figure.add_subplot(grid[:, 1])
+    right = figure.add_subplot(grid[:, 2])
     plot_phase_portrait(trajectory, coordinate or trajectory.coordinates[0], ax=middle)
     plot_energy_drift(trajectory, ax=right)
     if trajectory.method:
         figure.suptitle(f"{', '.join(trajectory.coordinates)} ({trajectory.method})")
     return figure
+
+
+#: Coordinates whose ranges differ by more than this factor are drawn in panels of their own.
+SCALE_RATIO = 10.0
+
+
+def scale_groups(trajectory: Trajectory) -> list[list[str]]:
+    """The coordinates grouped by the size of their excursions, each group within a factor
+    ``SCALE_RATIO`` (largest first): a spin angle growing to 95 rad gets its own panel, so the
+    nutation of the tilt stays visible.
+
+    >>> import lagrangian as lg
+    >>> from lagrangian.simulation import simulate
+    >>> scale_groups(simulate(lg.examples.double_pendulum(), t_span=1.0, samples=20))
+    [['theta', 'phi']]
+    """
+    import numpy as np
+
+    sizes = {}
+    for name in trajectory.coordinates:
+        values = np.asarray(trajectory[name], dtype=float)
+        finite = values[np.isfinite(values)]
+        sizes[name] = float(np.max(np.abs(finite))) if finite.size else 0.0
+    largest = max(sizes.values(), default=0.0)
+    groups: list[list[str]] = []
+    for name in sorted(sizes, key=lambda n: -sizes[n]):
+        at_rest = sizes[name] <= 1e-9 * largest  # a coordinate that stays put: no panel of its own
+        if groups and (at_rest or sizes[groups[-1][0]] <= SCALE_RATIO * sizes[name]):
+            groups[-1].append(name)
+        else:
+            groups.append([name])
+    order = {name: i for i, name in enumerate(trajectory.coordinates)}
+    return [sorted(group, key=order.__getitem__) for group in groups]
 
 
 def save_plots(
