@@ -103,6 +103,11 @@ class ArgumentError(LagrangianError, TypeError):
     exit_code = BAD_INPUT
 
 
+class TimeLimitError(LagrangianError, TimeoutError):
+    """A command ran past the time it was given (``lagrangian --timeout``): the input may be
+    fine, the work was too large for the budget."""
+
+
 class SimulationError(LagrangianError, RuntimeError):
     """Numerical integration failed (a step size underflow, a singular mass matrix on the way,
     a solution that blew up); bad input to a simulation is a :class:`SimulationInputError`."""

@@ -66,7 +66,7 @@ from lagrangian.analysis.rest import Equilibria, first_stable
 from lagrangian.analysis.steady_motions import SteadyMotions, steady_motions
 from lagrangian.constraints import project_state
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import AnalysisError, LagrangianError
+from lagrangian.errors import AnalysisError, LagrangianError, TimeLimitError
 from lagrangian.model.probe import is_zero
 
 T = TypeVar("T")
@@ -167,6 +167,8 @@ class _Attempts:
     def run(self, part: str, compute: Callable[[], T]) -> T | None:
         try:
             return compute()
+        except TimeLimitError:  # the command's time is spent: no later part may start
+            raise
         except LagrangianError as error:
             self.failures.append(Failure(part, str(error)))
         except Exception as error:  # a bug or a SymPy limitation: report it, keep going

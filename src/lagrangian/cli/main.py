@@ -14,15 +14,17 @@ lagrangian derive examples/NAME --steps   derive with every step
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
+import signal
 import sys
 import traceback
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
 from lagrangian.cli import serve_command, sweep_command
-from lagrangian.errors import BAD_INPUT, FAILURE, LagrangianError
+from lagrangian.errors import BAD_INPUT, FAILURE, ArgumentError, LagrangianError, TimeLimitError
 
 OK = 0
 
@@ -92,11 +94,17 @@ def _command(sub: Any, name: str, summary: str, example: str) -> argparse.Argume
 
 
 def _debug_option(command: argparse.ArgumentParser) -> None:
-    """``--debug`` after the subcommand; absent, it leaves the one before it (``lagrangian
-    --debug derive ...``) as it was instead of resetting it to False."""
+    """``--debug`` and ``--timeout`` after the subcommand; absent, they leave the ones before
+    it (``lagrangian --debug derive ...``) as they were instead of resetting them."""
     command.add_argument(
         "--debug", action="store_true", default=argparse.SUPPRESS, help="show tracebacks"
     )
+    command.add_argument(
+        "--timeout", type=float, default=argparse.SUPPRESS, metavar="SECONDS", help=TIMEOUT_HELP
+    )
+
+
+TIMEOUT_HELP = "stop the command after this many seconds of wall time (exit 1, with a message)"
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -108,6 +116,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action=_Version)
     parser.add_argument("--debug", action="store_true", help="show tracebacks")
+    parser.add_argument("--timeout", type=float, metavar="SECONDS", help=TIMEOUT_HELP)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     derive = _command(
@@ -246,7 +255,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     args = build_parser().parse_args(argv)
     try:
-        output = run(args)
+        with time_limit(args.timeout):
+            output = run(args)
     except Exception as error:
         code = exit_code(error, given_paths(args))
         if args.debug:
@@ -258,6 +268,32 @@ def main(argv: Sequence[str] | None = None) -> int:
             sys.stderr.write(f"lagrangian: {BUG_HINT}\n")
         return code
     return write_output(output if output.endswith("\n") else output + "\n")
+
+
+@contextlib.contextmanager
+def time_limit(seconds: float | None) -> Iterator[None]:
+    """Raise TimeLimitError in the command when ``seconds`` of wall time have passed (a
+    symbolic computation that grows without end, a run asked for too long); nothing when
+    None, or where the system has no interval timer (Windows)."""
+    if seconds is None or not hasattr(signal, "setitimer"):
+        yield
+        return
+    if not seconds > 0:
+        raise ArgumentError(f"--timeout {seconds:g}: give a positive number of seconds")
+
+    def expire(*_: Any) -> NoReturn:
+        raise TimeLimitError(
+            f"stopped after --timeout {seconds:g} s: the work on this model is larger than the "
+            "time given (a long expression, a long run); give more time, or simplify the model"
+        )
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 #: Bytes written to standard output at a time (a closed pipe is noticed within one chunk).

@@ -33,7 +33,7 @@ from typing import NoReturn
 
 import sympy as sp
 
-from lagrangian.errors import ExpressionError, Problem, raise_if_problems
+from lagrangian.errors import ExpressionError, Problem, TimeLimitError, raise_if_problems
 
 MAX_LENGTH = 10_000
 MAX_DEPTH = 100
@@ -170,6 +170,8 @@ def _magnitude_bits(value: sp.Basic) -> int:
     """About log2|value| of a constant, from a 5-digit evaluation (0 if it cannot be had)."""
     try:
         parts = sp.N(value, 5).as_real_imag()
+    except TimeLimitError:
+        raise
     except Exception:
         return 0
     return max([p._mpf_[2] + p._mpf_[3] for p in parts if isinstance(p, sp.Float)] + [0])
@@ -200,6 +202,8 @@ def _is_complex_constant(value: sp.Basic) -> bool:
     SymPy cannot evaluate at low precision; those count as real."""
     try:
         return bool(value.is_number and value.is_extended_real is False)
+    except TimeLimitError:
+        raise
     except Exception:
         return False
 
@@ -278,6 +282,8 @@ class _Builder:
                 raise _Refusal(f"this part is not a real number ({_short(value)})", _REAL_DOMAINS)
         except _Refusal as refusal:
             refusal.at = refusal.at or self.at(node)
+            raise
+        except TimeLimitError:  # the command's time ran out here: not the expression's fault
             raise
         except Exception as error:  # SymPy's own refusals, such as Heaviside(asin(2))
             message = f"SymPy cannot form this part ({type(error).__name__}: {str(error)[:99]})"
