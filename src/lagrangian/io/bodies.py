@@ -7,6 +7,8 @@
     orientation: {axis: [0, 0, 1], angle: theta}
     orientation: {quaternion: [q0, q1, q2, q3]}         # scalar first
     orientation: [[1, 0, 0], [0, "cos(a)", "-sin(a)"], [0, "sin(a)", "cos(a)"]]
+    parent: gimbal                                      # relative to a body or a frame,
+    rotations: [[z, psi], [x, theta], [z, phi]]         # by simple rotations about body axes
 
 >>> import sympy as sp
 >>> from lagrangian.io.document import Document
@@ -28,6 +30,7 @@ from lagrangian.io.model_schema import entry_keys
 from lagrangian.io.reader import Reader, describe, suggestion
 from lagrangian.model.inertia import SHAPES, Shape, shape
 from lagrangian.model.rotation import (
+    AXIS_NAMES,
     EULER_SEQUENCES,
     Orientation,
     as_orientation,
@@ -154,6 +157,34 @@ def _build_orientation(
         reader.problem(where, f"must be true or false, got {describe(intrinsic)}", "give false")
         return None
     return None if angles is None else euler_rotation(sequence, angles, intrinsic=intrinsic)
+
+
+def read_axis(reader: Reader, value: Any, path: str) -> str | tuple[sp.Expr, ...] | None:
+    """An axis: x, y or z (body axes; any other name is judged by the model, which names
+    the body) or a vector of 3 expressions."""
+    if isinstance(value, str):
+        return value
+    if isinstance(value, list):
+        return _sized(reader, value, path, 3, "[0, 0, 1]")
+    reader.problem(path, f"{describe(value)} is not an axis", "give x, y, z or [a, b, c]")
+    return None
+
+
+def read_rotations(reader: Reader, value: Any, path: str) -> tuple[Any, ...] | None:
+    """Simple rotations ``[[axis, angle], ...]`` about successive body axes."""
+    turns = []
+    for k, item in enumerate(reader.items(value, path)):
+        where = child(path, k)
+        if not (isinstance(item, list) and len(item) == 2):
+            example = "write [axis, angle] with axis " + ", ".join(AXIS_NAMES) + ", e.g. [z, psi]"
+            reader.problem(where, f"{describe(item)} is not one rotation", example)
+            return None
+        axis = read_axis(reader, item[0], child(where, 0))
+        angle = reader.expression(item[1], child(where, 1))
+        if axis is None or angle is None:
+            return None
+        turns.append((axis, angle))
+    return tuple(turns)
 
 
 def _sized(reader: Reader, value: Any, path: str, size: int, example: str) -> Any:

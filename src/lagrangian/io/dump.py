@@ -27,6 +27,7 @@ from lagrangian.model import (
     System,
     VoltageSource,
 )
+from lagrangian.model.contact import GENERATED
 from lagrangian.model.inertia import Shape
 
 CIRCUIT_SECTIONS = (
@@ -76,7 +77,45 @@ def _rigid_body(body: RigidBody) -> dict[str, Any]:
     else:
         entry["inertia"] = _matrix(body.inertia)
     entry["position"] = _point(body.position)
-    return {**entry, "orientation": _orientation(body.orientation)}
+    if body.relative:
+        return {**entry, **_relative(body)}
+    given = body.orientation
+    if given is not None and given.form == "rotations" and given.parent is None:
+        # built with rotation_sequence: written back as the same rotations
+        return {**entry, "rotations": [[_axis(a), _expr(x)] for a, x in given.rotations]}
+    return {**entry, "orientation": _orientation(given)}
+
+
+def _relative(item: Any) -> dict[str, Any]:
+    """``parent`` and ``rotations`` of a body or frame oriented relative to a parent."""
+    parent = {} if item.parent is None else {"parent": item.parent}
+    turns = [[_axis(a), _expr(x)] for a, x in item.rotations]
+    return {**parent, "rotations": turns}
+
+
+def _frame(frame: Any) -> dict[str, Any]:
+    if frame.relative:
+        return {"name": frame.name, **_relative(frame)}
+    given = {} if frame.orientation is None else {"orientation": _orientation(frame.orientation)}
+    return {"name": frame.name, **given}
+
+
+def _rolling(disc: Any) -> dict[str, Any]:
+    axis = {} if disc.axis is None else {"axis": _axis(disc.axis)}
+    name = {"name": disc.name} if disc.name else {}
+    return {"body": disc.body, "radius": _expr(disc.radius), **axis, **name}
+
+
+def _axis(axis: Any) -> Any:
+    """x, y, z for a body axis (named or a unit vector along it), else the vector."""
+    if isinstance(axis, str):
+        return axis.lower()
+    units: dict[tuple[str, ...], str] = {
+        ("1", "0", "0"): "x",
+        ("0", "1", "0"): "y",
+        ("0", "0", "1"): "z",
+    }
+    return units.get(tuple(str(e) for e in axis), _point(axis))
 
 
 def _orientation(orientation: Any) -> Any:
@@ -95,6 +134,7 @@ def _mechanics(system: System) -> dict[str, Any]:
     sections: dict[str, Any] = {}
     if system.gravity is not None:
         sections["gravity"] = [_expr(g) for g in system.gravity]
+    sections["frames"] = [_frame(f) for f in system.frames]
     sections["particles"] = [
         {"name": p.name, "mass": _expr(p.mass), "position": _point(p.position)}
         for p in system.particles
@@ -124,6 +164,7 @@ def _mechanics(system: System) -> dict[str, Any]:
         _with_name({"body": tq.body, "torque": _scalar_or_vector(tq.torque)}, tq.name)
         for tq in system.torques
     ]
+    sections["rolling"] = [_rolling(disc) for disc in system.rolling]
     return {key: value for key, value in sections.items() if value}
 
 
@@ -173,10 +214,9 @@ def model_document(system: System) -> dict[str, Any]:
     circuit = _circuit(system.circuit)
     if circuit:
         document["circuit"] = circuit
-    if system.constraints:
-        document["constraints"] = [
-            _with_name({c.kind: _expr(c.expression)}, c.name) for c in system.constraints
-        ]
+    given = [c for c in system.constraints if not isinstance(c, GENERATED)]  # not rolling's
+    if given:
+        document["constraints"] = [_with_name({c.kind: _expr(c.expression)}, c.name) for c in given]
     if system.initial:
         document["initial"] = {s.name: float(v) for s, v in system.initial.items()}
     if system.simulation:

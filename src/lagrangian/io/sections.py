@@ -19,7 +19,7 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.io.bodies import read_inertia, read_orientation
+from lagrangian.io.bodies import read_axis, read_inertia, read_orientation, read_rotations
 from lagrangian.io.document import child
 from lagrangian.io.model_schema import entry_keys
 from lagrangian.io.reader import Reader, describe, suggestion
@@ -27,12 +27,14 @@ from lagrangian.model import (
     Capacitor,
     Damper,
     Force,
+    Frame,
     Holonomic,
     Inductor,
     MutualInductance,
     Particle,
     Resistor,
     RigidBody,
+    RollingDisc,
     Spring,
     Torque,
     Unilateral,
@@ -45,12 +47,14 @@ ENERGIES = ("kinetic", "potential", "lagrangian", "velocity_potential", "dissipa
 
 #: Section -> schema definition of its entries.
 MECHANICAL_SECTIONS = {
+    "frames": "frame",
     "particles": "particle",
     "rigid_bodies": "rigid_body",
     "springs": "spring",
     "dampers": "damper",
     "forces": "force",
     "torques": "torque",
+    "rolling": "rolling",
 }
 #: circuit key -> schema definition; System.circuit lists them in this order.
 CIRCUIT_SECTIONS = {
@@ -62,6 +66,8 @@ CIRCUIT_SECTIONS = {
 }
 #: Schema definition -> the model type it becomes.
 ELEMENT_TYPES: dict[str, type] = {
+    "frame": Frame,
+    "rolling": RollingDisc,
     "particle": Particle,
     "rigid_body": RigidBody,
     "spring": Spring,
@@ -89,10 +95,12 @@ _READ_AS = {
     "current": "expression",
     "charge": "expression",
     "voltage": "expression",
+    "radius": "expression",
     "position": "vector",
     "force": "vector",
     "at": "point",
     "body": "name",
+    "parent": "name",
 }
 
 
@@ -139,6 +147,10 @@ def read_fields(
             values[key] = read_inertia(reader, value, where)
         elif key == "orientation":
             values[key] = read_orientation(reader, value, where)
+        elif key == "rotations":
+            values[key] = read_rotations(reader, value, where)
+        elif key == "axis":  # a rolling disc's axle
+            values[key] = read_axis(reader, value, where)
         elif key == "torque" and isinstance(value, list):  # on a 3-D body: [tx, ty, tz]
             values[key] = reader.vector(value, where)
         elif key in _READ_AS:

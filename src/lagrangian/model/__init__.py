@@ -16,7 +16,9 @@ from lagrangian.model.circuit import (
     VoltageSource,
 )
 from lagrangian.model.constraints import Holonomic, Unilateral, VelocityConstraint
+from lagrangian.model.contact import RollingDisc
 from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque
+from lagrangian.model.frames import Frame
 from lagrangian.model.inertia import Shape, shape
 from lagrangian.model.rotation import (
     Orientation,
@@ -24,6 +26,7 @@ from lagrangian.model.rotation import (
     body_angular_velocity,
     euler_rotation,
     quaternion_rotation,
+    rotation_sequence,
     spatial_angular_velocity,
 )
 from lagrangian.model.symbols import acceleration, coordinates, from_time_functions, t, velocity
@@ -33,6 +36,7 @@ __all__ = [
     "Capacitor",
     "Damper",
     "Force",
+    "Frame",
     "Holonomic",
     "Inductor",
     "MutualInductance",
@@ -40,6 +44,7 @@ __all__ = [
     "Particle",
     "Resistor",
     "RigidBody",
+    "RollingDisc",
     "Shape",
     "Spring",
     "System",
@@ -56,6 +61,7 @@ __all__ = [
     "inertia",
     "quaternion_rotation",
     "rotation",
+    "rotation_sequence",
     "shape",
     "spatial_angular_velocity",
     "t",

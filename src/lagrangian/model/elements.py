@@ -85,11 +85,30 @@ def _inertia(value: Any) -> Any:
     return value if isinstance(value, Shape) else as_expression(_matrix(value))
 
 
-def _orientation(value: Any) -> Any:
+def orientation_value(value: Any) -> Any:
+    """An Orientation from an Orientation or a 3x3 matrix; None and anything else kept (for
+    the validator to judge)."""
     if value is None or isinstance(value, Orientation):
         return value
     matrix = _matrix(value)
     return as_orientation(matrix) if isinstance(matrix, sp.MatrixBase) else value
+
+
+def as_rotations(value: Any) -> Any:
+    """Simple rotations ``[(axis, angle), ...]`` as a tuple of pairs, the angles as
+    expressions and the axes as given (a name or a vector, judged by the validator);
+    anything else is kept for the validator."""
+    if not isinstance(value, (list, tuple)):
+        return value
+    pairs = []
+    for item in value:
+        if isinstance(item, (list, tuple)) and len(item) == 2:
+            axis, angle = item
+            axis = axis if isinstance(axis, str) else _vector(axis)
+            pairs.append((axis, as_expression(angle)))
+        else:
+            pairs.append(item)
+    return tuple(pairs)
 
 
 @dataclass(frozen=True)
@@ -105,6 +124,13 @@ class RigidBody:
     :class:`~lagrangian.model.inertia.Shape`, whose tensor follows from the mass):
 
         T = 1/2 m v_c . v_c + 1/2 omega_b^T I omega_b,   omega_b = vee(R^T R_dot).
+
+    A 3-D body may instead be oriented relative to a ``parent`` (the name of a 3-D body or a
+    :class:`~lagrangian.model.frames.Frame`; the world when None) by ``rotations``, simple
+    rotations ``[("z", psi), ("x", theta), ...]`` about its own successive axes:
+    R = R_parent R1(psi) R2(theta) ..., and omega is composed from the parent's
+    (:func:`~lagrangian.model.rotation.rotation_sequence`).  The System fills ``orientation``
+    with that composed rotation; ``position`` stays in world axes.
     """
 
     name: str
@@ -113,18 +139,26 @@ class RigidBody:
     position: tuple[sp.Expr, ...]
     angle: sp.Expr | None = None
     orientation: Orientation | None = None
+    parent: str | None = None
+    rotations: tuple[tuple[Any, sp.Expr], ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "mass", as_expression(self.mass))
         object.__setattr__(self, "inertia", _inertia(self.inertia))
         object.__setattr__(self, "position", _vector(self.position))
         object.__setattr__(self, "angle", None if self.angle is None else as_expression(self.angle))
-        object.__setattr__(self, "orientation", _orientation(self.orientation))
+        object.__setattr__(self, "orientation", orientation_value(self.orientation))
+        object.__setattr__(self, "rotations", as_rotations(self.rotations))
+
+    @property
+    def relative(self) -> bool:
+        """True when the body is oriented by ``rotations`` relative to a parent (or the world)."""
+        return self.parent is not None or bool(self.rotations)
 
     @property
     def planar(self) -> bool:
         """True for a planar body (given an angle), False for a 3-D one (an orientation)."""
-        return self.orientation is None
+        return self.orientation is None and not self.relative
 
     @property
     def inertia_tensor(self) -> sp.ImmutableMatrix:

@@ -18,6 +18,7 @@ import sympy as sp
 from lagrangian.errors import ModelError, Problem, raise_if_problems
 from lagrangian.model.circuit import CircuitElement
 from lagrangian.model.constraints import Constraint
+from lagrangian.model.contact import RollingDisc, add_rolling_constraints, move_contact_forces
 from lagrangian.model.conversion import to_sympy
 from lagrangian.model.elements import (
     Damper,
@@ -28,6 +29,7 @@ from lagrangian.model.elements import (
     Torque,
     as_expression,
 )
+from lagrangian.model.frames import Frame, resolve_orientations
 from lagrangian.model.frozen import FrozenMapping
 from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import Orientation
@@ -48,6 +50,8 @@ ELEMENT_FIELDS = (
     "torques",
     "circuit",
     "constraints",
+    "frames",
+    "rolling",
 )
 
 
@@ -205,6 +209,9 @@ def normalize_system(system: System) -> dict[str, Any]:
     values["simulation"] = _mapping(system.simulation, "simulation", problems)
     raise_if_problems(problems, "The system's coordinates or parameters are not valid", ModelError)
     problems.extend(misfits)
+    problems.extend(resolve_orientations(values))  # before the bodies' rotations are checked
+    problems.extend(add_rolling_constraints(values))
+    move_contact_forces(values)  # onto the body, before the points are checked
     problems.extend(validate(values))
     raise_if_problems(
         problems, f"The system {system.name or ''} is not valid".replace("  ", " "), ModelError
@@ -232,6 +239,8 @@ ELEMENT_KINDS: dict[str, tuple[tuple[type, ...], str, str]] = {
         "constraint",
         "Holonomic, VelocityConstraint or Unilateral",
     ),
+    "frames": ((Frame,), "frame", "lagrangian.model.Frame(...)"),
+    "rolling": ((RollingDisc,), "rolling disc", "lagrangian.model.RollingDisc(...)"),
 }
 
 

@@ -41,7 +41,9 @@ EULER_SEQUENCES = (
     *("XYX", "XZX", "YXY", "YZY", "ZXZ", "ZYZ"),
 )
 _AXES = {"X": 0, "Y": 1, "Z": 2}
-FORMS = ("matrix", "euler", "axis_angle", "quaternion")
+#: The names of the body axes a simple rotation may turn about (or give a vector).
+AXIS_NAMES = ("x", "y", "z")
+FORMS = ("matrix", "euler", "axis_angle", "quaternion", "rotations")
 
 
 def as_expression(value: Any, field: str = "value") -> sp.Expr:
@@ -103,8 +105,10 @@ class Orientation:
     """A rotation R(q, t) of a body (body axes -> world axes) and how it was given.
 
     Build one with :func:`euler_rotation`, :func:`axis_angle`, :func:`quaternion_rotation`,
-    or from a 3x3 matrix with :func:`as_orientation`.  ``form`` is one of ``"matrix"``,
-    ``"euler"``, ``"axis_angle"``, ``"quaternion"``; the fields of the other forms are empty.
+    :func:`rotation_sequence` (simple rotations about body axes, relative to a ``parent``
+    orientation or to the world), or from a 3x3 matrix with :func:`as_orientation`.
+    ``form`` is one of ``"matrix"``, ``"euler"``, ``"axis_angle"``, ``"quaternion"``,
+    ``"rotations"``; the fields of the other forms are empty.
     """
 
     matrix: sp.ImmutableMatrix
@@ -114,6 +118,8 @@ class Orientation:
     angles: tuple[Any, ...] = ()  # euler: 3 angles; axis_angle: (angle,)
     axis: tuple[Any, ...] = ()  # axis_angle: the axis as given (normalized in the matrix)
     quaternion: tuple[Any, ...] = ()  # quaternion: (w, x, y, z) as given
+    rotations: tuple[tuple[tuple[Any, ...], Any], ...] = ()  # rotations: ((axis, angle), ...)
+    parent: Orientation | None = None  # rotations: the orientation they are relative to
 
     @property
     def gimbal_lock(self) -> sp.Expr | None:
@@ -136,7 +142,16 @@ class Orientation:
             return tuple(pairs if self.intrinsic else reversed(pairs))
         if self.form == "axis_angle":
             return ((_unit(self.axis), self.angles[0]),)
+        if self.form == "rotations":
+            inherited = () if self.parent is None else self.parent.factors()
+            if self.parent is None or inherited:
+                return (*inherited, *self.own_factors())
         return ()
+
+    def own_factors(self) -> tuple[tuple[sp.ImmutableMatrix, Any], ...]:
+        """The simple rotations of a ``"rotations"`` orientation relative to its parent,
+        ((unit axis, angle), ...) in product order; () for the other forms."""
+        return tuple((_unit(axis), angle) for axis, angle in self.rotations)
 
     def map(self, function: Callable[[Any], Any]) -> Orientation:
         """The same orientation with ``function`` applied to every expression in it."""
@@ -147,6 +162,10 @@ class Orientation:
             return axis_angle(tuple(function(a) for a in self.axis), function(self.angles[0]))
         if self.form == "quaternion":
             return quaternion_rotation(*(function(c) for c in self.quaternion))
+        if self.form == "rotations":
+            turns = [(tuple(function(e) for e in n), function(a)) for n, a in self.rotations]
+            parent = None if self.parent is None else self.parent.map(function)
+            return rotation_sequence(turns, parent)
         return Orientation(sp.ImmutableMatrix(self.matrix.applyfunc(function)))
 
 
@@ -208,6 +227,55 @@ def axis_angle(axis: Sequence[Any], angle: Any) -> Orientation:
         raise _refuse("axis", "the axis is the zero vector", "give a direction such as [0, 0, 1]")
     angle = as_expression(angle, "angle")
     return Orientation(_about(_unit(values), angle), "axis_angle", angles=(angle,), axis=values)
+
+
+def rotation_axis(axis: Any, field: str = "axis") -> tuple[sp.Expr, ...]:
+    """The body axis ``"x"``, ``"y"`` or ``"z"`` (any case) or a 3-vector, as 3 components.
+
+    >>> rotation_axis("Z")
+    (0, 0, 1)
+    """
+    if isinstance(axis, str):
+        if axis.lower() in AXIS_NAMES:
+            return tuple(sp.eye(3)[:, AXIS_NAMES.index(axis.lower())])
+        close = difflib.get_close_matches(axis.lower(), AXIS_NAMES, n=1)
+        hint = f"did you mean {close[0]!r}? " if close else ""
+        fix = hint + "use x, y or z (the body's own axes) or a vector [a, b, c]"
+        raise _refuse(field, f"unknown axis {axis!r}", fix)
+    if isinstance(axis, (sp.MatrixBase, list, tuple)):
+        values = tuple(as_expression(a, field) for a in axis)
+        if len(values) == 3 and not all(v == 0 for v in values):
+            return values
+    raise _refuse(field, f"{axis!r} is not an axis", "use x, y, z or a non-zero vector [a, b, c]")
+
+
+def rotation_sequence(rotations: Iterable[Any], parent: Any = None) -> Orientation:
+    """Simple rotations about body axes, one after another, relative to ``parent`` (an
+    Orientation or a 3x3 matrix; the world when None):
+
+        R = R_parent R1(a1) R2(a2) ... Rm(am),
+
+    each ``(axis, angle)`` turning about an axis of the frame the rotations before it made
+    (``"x"``, ``"y"``, ``"z"`` or a vector in those axes), as ``orient_body_fixed`` in
+    sympy.physics.mechanics.  The angular velocity is composed, not differentiated:
+    omega_s = omega_s(parent) + R_parent sum_k R1..R(k-1) n_k a_k_dot.
+
+    >>> a, b = sp.symbols("a b")
+    >>> rotation_sequence([("z", a), ("x", b)]).matrix == euler_rotation("ZXZ", (a, b, 0)).matrix
+    True
+    """
+    turns = []
+    for k, item in enumerate(rotations):
+        field = f"rotations[{k}]"
+        if not (isinstance(item, (list, tuple)) and len(item) == 2):
+            raise _refuse(field, f"{item!r} is not an (axis, angle) pair", "write [z, psi]")
+        axis, angle = item
+        turns.append((rotation_axis(axis, field), as_expression(angle, field)))
+    base = None if parent is None else as_orientation(parent)
+    matrix = sp.eye(3) if base is None else sp.Matrix(base.matrix)
+    for axis, angle in turns:
+        matrix = matrix * _about(_unit(axis), angle)
+    return Orientation(sp.ImmutableMatrix(matrix), "rotations", rotations=tuple(turns), parent=base)
 
 
 def _norm_squared(w: Any, x: Any, y: Any, z: Any) -> sp.Expr:
@@ -289,6 +357,34 @@ def _moving_axis(
     return sp.ImmutableMatrix(omega)
 
 
+def _composed(
+    parent: Orientation | None,
+    factors: Sequence[tuple[sp.ImmutableMatrix, Any]],
+    q: Sequence[sp.Symbol],
+    body: bool,
+) -> sp.ImmutableMatrix:
+    """The angular velocity of R = R_parent F1 F2 ... Fm, F_k = exp(a_k hat(n_k)) about
+    constant axes n_k, composed from the parent's (zero for the world):
+
+        omega_b = (F1..Fm)^T omega_b(parent) + sum_k (F(k+1)..Fm)^T n_k a_k_dot
+                  (w <- F_k^T w + n_k a_k_dot, k = 1..m),
+        omega_s = omega_s(parent) + R_parent sum_k F1..F(k-1) n_k a_k_dot
+                  (s <- n_k a_k_dot + F_k s, k = m..1, as F_k n_k = n_k),
+
+    matrix-vector products only: nothing is differentiated but the angles."""
+    if body:
+        w = sp.zeros(3, 1) if parent is None else sp.Matrix(_angular_velocity(parent, q, True))
+        for n, a in factors:
+            w = _about(n, a).T * w + n * _rate(a, q)
+        return sp.ImmutableMatrix(w.applyfunc(sp.expand))
+    s = sp.zeros(3, 1)
+    for n, a in reversed(factors):
+        s = n * _rate(a, q) + _about(n, a) * s
+    if parent is not None:
+        s = parent.matrix * s + _angular_velocity(parent, q, False)
+    return sp.ImmutableMatrix(s.applyfunc(sp.expand))
+
+
 def _angular_velocity(
     orientation: Any, coordinates: Iterable[sp.Symbol], body: bool
 ) -> sp.ImmutableMatrix:
@@ -296,17 +392,11 @@ def _angular_velocity(
     q = tuple(coordinates)
     factors = orientation.factors()
     if factors and all(_constant(e, q) for axis, _ in factors for e in axis):
-        # R = F1 F2 ... Fm, F_k = exp(a_k hat(n_k)) about constant axes n_k:
-        # omega_s = sum_k F1..F(k-1) n_k a_k_dot,  omega_b = sum_k (F(k+1)..Fm)^T n_k a_k_dot
-        rotations = [_about(n, a) for n, a in factors]
-        total = sp.zeros(3, 1)
-        for k, (n, a) in enumerate(factors):
-            rest = rotations[k + 1 :] if body else rotations[:k]
-            carry = sp.eye(3)
-            for F in rest:
-                carry = carry * F
-            total += (carry.T if body else carry) * n * _rate(a, q)
-        return sp.ImmutableMatrix(total.applyfunc(sp.expand))
+        return _composed(None, factors, q, body)
+    if orientation.form == "rotations":
+        own = orientation.own_factors()
+        if all(_constant(e, q) for axis, _ in own for e in axis):
+            return _composed(orientation.parent, own, q, body)
     if orientation.form == "axis_angle":
         return _moving_axis(orientation, q, body)
     if orientation.form == "quaternion":

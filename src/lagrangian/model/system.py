@@ -31,7 +31,9 @@ import sympy as sp
 from lagrangian.errors import require
 from lagrangian.model.circuit import CircuitElement
 from lagrangian.model.constraints import Constraint
+from lagrangian.model.contact import RollingDisc
 from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque, as_tuple
+from lagrangian.model.frames import Frame
 from lagrangian.model.normalize import ELEMENT_FIELDS, normalize_system
 from lagrangian.model.symbols import acceleration, t, velocity
 
@@ -66,6 +68,13 @@ class System:
         g(q, t) >= 0 constraints (:mod:`lagrangian.model.constraints`).  They are declarations:
         :func:`lagrangian.derive` gives the unconstrained equations, and
         :mod:`lagrangian.constraints` classifies, enforces and eliminates the constraints.
+        The constraints of the ``rolling`` discs are added after them.
+    frames:
+        Massless reference frames (:class:`~lagrangian.model.frames.Frame`) that bodies and
+        other frames may be oriented relative to (their ``parent``).
+    rolling:
+        Discs rolling without slipping on the plane z = 0
+        (:class:`~lagrangian.model.contact.RollingDisc`): each adds its contact constraints.
     initial:
         Initial values of coordinates and velocities (``theta``, ``theta_dot``), for simulation.
     simulation:
@@ -89,6 +98,8 @@ class System:
     torques: Sequence[Torque] = ()
     circuit: Sequence[CircuitElement] = ()
     constraints: Sequence[Constraint] = ()
+    frames: Sequence[Frame] = ()
+    rolling: Sequence[RollingDisc] = ()
     initial: Mapping[Any, float] = field(default_factory=dict)
     simulation: Mapping[str, Any] = field(default_factory=dict)
     name: str = ""
