@@ -5,17 +5,25 @@ What is measured
         rest, absolute angles) over 10 s with DOP853, rtol = atol = 1e-9, output at every step:
         pydy        sympy.physics.mechanics KanesMethod, ``pydy.codegen.ode_function_generators.
                     generate_ode_function(..., generator="cython")``, scipy.integrate.solve_ivp;
-        numba       ``lagrangian.simulate(..., backend="numba")``: the right-hand side compiled
-                    by SymEngine's LLVM backend, the integration loop by numba once per machine;
-        numpy       ``lagrangian.simulate`` (SciPy's DOP853 on the LLVM-compiled equations).
+        native C loop
+                    ``lagrangian.simulate`` as it is called by default: SciPy's DOP853 step
+                    for step in the C loop compiled once per machine by the system C compiler
+                    (``numerics/fast/c_loop.c``), calling the right-hand side compiled by
+                    SymEngine's LLVM backend through its C function pointer;
+        numba       ``lagrangian.simulate(..., backend="numba")``: the same right-hand side,
+                    the integration loop compiled by numba once per machine;
+        SciPy solvers
+                    ``lagrangian.simulate`` with no C compiler found (the default backend's
+                    fallback): SciPy's DOP853 on the LLVM-compiled equations.
         "simulate" times the integration alone, everything compiled and warm (best of 5 calls in
         the process); "end to end" times loading the model + derive + compilation + simulate
         in a fresh process, its packages (numba too) imported before the clock starts, with
-        empty caches (a new NUMBA_CACHE_DIR; PyDy compiles its Cython in a new temporary
-        directory). "numba, loops cached" is the end-to-end time when numba's on-disk cache
-        already holds the integration loops, which are the same for every system: the case of
-        every run after the first on a machine. "with imports" adds the time of the imports to
-        the end-to-end time. The final states are compared.
+        empty caches (a new NUMBA_CACHE_DIR and XDG_CACHE_HOME; PyDy compiles its Cython in a
+        new temporary directory). "numba, loops cached" and "native C loop, library cached" are
+        the end-to-end times when the on-disk cache already holds the integration loops (numba's
+        cache, or the C loop's shared library), which are the same for every system: the case
+        of every run after the first on a machine. "with imports" adds the time of the imports
+        to the end-to-end time. The final states are compared.
     (b) 10^4 double pendulums (masses and rods 1, starts at rest with angles drawn uniformly in
         [-1, 1]^2, seed 0) over 10 s, DOP853, rtol = atol = 1e-9, final state only:
         ``lagrangian.simulate_batch`` with backend numba (one thread) and numpy, against a Python
@@ -23,7 +31,10 @@ What is measured
         starts only (its throughput, trajectories per second, does not depend on how many).
     (c) Where the end-to-end time of "numba, loops cached" goes (fresh processes, median): the
         import of numba, numba's start-up with the first cached loop loaded, the derivation,
-        the LLVM compilation of the right-hand side, and the loop alone.
+        the LLVM compilation of the right-hand side, and the loop alone; and the same for
+        "native C loop, library cached": loading the library, the derivation, the LLVM
+        compilation, the loop alone, and the rest of the first ``lagrangian.simulate`` call
+        (input checks, the functions of the energies, the Trajectory).
     (d) The right-hand side solved in the loop against the solved rates compiled: for the
         10-link pendulum, the LLVM compile time and the cost of one call from a compiled loop
         of (i) the matrix and vector of M q_ddot = forcing plus the compiled Gaussian
@@ -62,10 +73,14 @@ LINKS, T_END, TOL = 10, 10.0, 1e-9
 LOOP_SUBSET = 200
 #: (what, contender, at least this many times PyDy's speed, or the solve_ivp loop's for batches)
 TARGETS = (
+    ("simulate", "native C loop, library cached", 8.0),
+    ("end to end", "native C loop, library cached", 25.0),
     ("simulate", "numba", 8.0),
     ("end to end", "numba, loops cached", 25.0),
     ("batch", "numba", 50.0),
 )
+#: Worker contender -> backend of lagrangian.simulate ("scipy": no C compiler is found).
+BACKENDS = {"native": "numpy", "numba": "numba", "scipy": "numpy"}
 #: The largest difference of the final state from PyDy's accepted as "the same state".
 SAME_STATE = 1e-9
 
@@ -120,11 +135,12 @@ def run_pydy(rhs, n: int):
     return np.asarray(sol.y[:, -1])
 
 
-def run_lagrangian(eom, n: int, backend: str):
+def run_lagrangian(eom, n: int, contender: str):
     import numpy as np
 
     import lagrangian as lg
 
+    backend = BACKENDS[contender]
     x0, _ = pendulum_start(n)
     names = [f"theta{i}" for i in range(1, n + 1)]
     initial = dict(zip(names + [f"{s}_dot" for s in names], x0))
@@ -203,9 +219,13 @@ def worker(kind: str, contender: str, size: int) -> dict:
         import numba  # noqa: F401
 
         import lagrangian.numerics.fast.run
+    if contender == "scipy":  # the default backend on a machine without a C compiler
+        from lagrangian.numerics.fast import c_build
+
+        c_build.find_compiler = lambda: None
     imports = time.perf_counter() - imports
     if kind == "startup":
-        return startup_parts()
+        return startup_parts() if contender == "numba" else native_startup_parts()
     if kind == "rhs":
         import warnings
 
@@ -237,15 +257,21 @@ def worker(kind: str, contender: str, size: int) -> dict:
         "simulate": min(runs),
         "final": final.tolist(),
     }
-    if contender == "numba":
-        result["loop"] = time_loop_alone(eom, LINKS)
+    if contender in ("numba", "native"):
+        result["loop"] = time_loop_alone(eom, LINKS, contender)
     return result
 
 
-def time_loop_alone(eom, n: int) -> float:
+def time_loop_alone(eom, n: int, contender: str) -> float:
     """Best of 5 of the compiled loop alone (no input checks, no Trajectory)."""
-    from lagrangian.numerics.fast import fast_equations
-    from lagrangian.numerics.fast.run import Settings, integrate
+    from lagrangian.numerics.fast.settings import Settings
+
+    if contender == "numba":
+        from lagrangian.numerics.fast import fast_equations
+        from lagrangian.numerics.fast.run import integrate
+    else:
+        from lagrangian.numerics.fast.c_loop import integrate
+        from lagrangian.numerics.fast.c_loop import native_equations as fast_equations
 
     x0, p = pendulum_start(n)
     settings = Settings("DOP853", (0.0, T_END), x0[:0], TOL, TOL)
@@ -255,6 +281,36 @@ def time_loop_alone(eom, n: int) -> float:
         integrate(fast_equations(eom), settings, x0, p)
         runs.append(time.perf_counter() - start)
     return min(runs)
+
+
+def native_startup_parts() -> dict:
+    """Seconds of each part of the end-to-end run of the native C loop with its library
+    cached (the modules of lagrangian.simulate imported before)."""
+    import lagrangian as lg
+    from lagrangian.numerics.fast import c_build, c_loop
+    from lagrangian.numerics.fast.settings import Settings
+
+    clock = time.perf_counter()
+
+    def lap() -> float:
+        nonlocal clock
+        now = time.perf_counter()
+        seconds, clock = now - clock, now
+        return seconds
+
+    assert c_loop.available()
+    parts = {"load the C loop's library (and check its digest)": lap()}
+    eom = lg.derive(lg.examples.n_link_pendulum(LINKS))
+    parts["load and derive"] = lap()
+    fast = c_loop.native_equations(eom)
+    parts["LLVM compilation of the right-hand side"] = lap()
+    x0, p = pendulum_start(LINKS)
+    c_loop.integrate(fast, Settings("DOP853", (0.0, T_END), x0[:0], TOL, TOL), x0, p)
+    parts["the loop (first call)"] = lap()
+    run_lagrangian(eom, LINKS, "native")
+    parts["the rest of the first simulate call (checks, energies, Trajectory)"] = lap()
+    assert c_build.loop_library() is not None
+    return parts
 
 
 def startup_parts() -> dict:
@@ -358,7 +414,8 @@ def run_worker(kind: str, contender: str, size: int, cache: str | None) -> dict:
     env = dict(os.environ)
     env.pop("PYTHONDONTWRITEBYTECODE", None)  # imports as on any machine: from bytecode
     with tempfile.TemporaryDirectory() as empty:
-        env["NUMBA_CACHE_DIR"] = cache or empty
+        # numba's cache and the C loop's library (in XDG_CACHE_HOME/lagrangian)
+        env["NUMBA_CACHE_DIR"] = env["XDG_CACHE_HOME"] = cache or empty
         command = [sys.executable, str(HERE), "--worker", kind, contender, str(size)]
         done = subprocess.run(command, capture_output=True, text=True, env=env, timeout=3600)
     for line in done.stdout.splitlines():
@@ -374,12 +431,16 @@ def measure(repeat: int, batch_size: int) -> dict:
     """Every measurement ``repeat`` times, alternating contenders."""
     warm_cache = tempfile.mkdtemp(prefix="numba-loops-")
     run_worker("pendulum", "numba", 0, warm_cache)  # fills the cache with the loops
+    run_worker("pendulum", "native", 0, warm_cache)  # and with the C loop's library
     plan = [
         ("pendulum", "pydy", 0, None),
+        ("pendulum", "native C loop, library cached", 0, warm_cache),
+        ("pendulum", "native C loop, empty cache", 0, None),
         ("pendulum", "numba", 0, None),
         ("pendulum", "numba, loops cached", 0, warm_cache),
-        ("pendulum", "numpy", 0, None),
+        ("pendulum", "SciPy solvers", 0, None),
         ("startup", "numba", 0, warm_cache),
+        ("startup", "native", 0, warm_cache),
         ("batch", "numba", batch_size, warm_cache),
         ("batch", "numpy", batch_size, None),
         ("batch", "loop", LOOP_SUBSET, None),
@@ -387,7 +448,7 @@ def measure(repeat: int, batch_size: int) -> dict:
     results: dict = {("rhs", "numba"): [run_worker("rhs", "numba", 0, warm_cache)]}
     for r in range(repeat):
         for kind, label, size, cache in plan:
-            contender = label.split(",")[0]
+            contender = CONTENDERS.get(label.split(",")[0], label.split(",")[0])
             result = run_worker(kind, contender, size, cache)
             results.setdefault((kind, label), []).append(result)
             print(
@@ -396,6 +457,10 @@ def measure(repeat: int, batch_size: int) -> dict:
                 file=sys.stderr,
             )
     return results
+
+
+#: Row labels -> worker contenders.
+CONTENDERS = {"native C loop": "native", "SciPy solvers": "scipy"}
 
 
 def _median(runs: list[dict], key: str) -> float:
@@ -437,7 +502,8 @@ def report(results: dict, batch_size: int) -> str:
         "end to end": lambda label: pydy["end_to_end"] / _median(pendulum[label], "end_to_end"),
         "batch": lambda label: _throughput(results, label) / _throughput(results, "loop"),
     }
-    lines += _startup_lines(results) + _rhs_lines(results) + ["", "```"]
+    lines += _startup_lines(results, "numba") + _startup_lines(results, "native")
+    lines += [*_rhs_lines(results), "", "```"]
     for name, label, factor in TARGETS:
         ratio = ratios[name](label)
         verdict = "PASS" if ratio >= factor else "FAIL"
@@ -445,7 +511,8 @@ def report(results: dict, batch_size: int) -> str:
     worst = max(differences[label] for label in pendulum)
     verdict = "PASS" if worst <= SAME_STATE else "FAIL"
     lines.append(f"{verdict}  same final state as PyDy to {SAME_STATE:g} ({worst:.2g})")
-    lines += ["```", "", NOTES.format(loop=_median(pendulum["numba"], "loop"))]
+    native = _median(pendulum["native C loop, library cached"], "loop")
+    lines += ["```", "", NOTES.format(loop=_median(pendulum["numba"], "loop"), native=native)]
     return "\n".join(lines)
 
 
@@ -478,11 +545,12 @@ def _batch_lines(results: dict, batch_size: int) -> list[str]:
     return lines
 
 
-def _startup_lines(results: dict) -> list[str]:
-    runs = results[("startup", "numba")]
+def _startup_lines(results: dict, contender: str) -> list[str]:
+    runs = results[("startup", contender)]
+    label = {"numba": "numba, loops cached", "native": "native C loop, library cached"}
     lines = [
         "",
-        "(c) Where the end-to-end time goes with the loops cached (fresh processes, median).",
+        f"(c) Where the end-to-end time of {label[contender]} goes (fresh processes, median).",
         "",
         "| part | seconds |",
         "|---|---:|",
@@ -512,14 +580,27 @@ def _rhs_lines(results: dict) -> list[str]:
 
 NOTES = """Notes. "simulate" is the whole ``lagrangian.simulate`` call: input checks, the run, and
 the Trajectory (energies and conserved quantities of every output row); the compiled loop
-alone takes {loop:.3g} s. The numba backend compiles each model's right-hand side with
-SymEngine's LLVM backend (table (c)) and calls it from integration loops that numba compiles
-once per machine and keeps in its on-disk cache: the "numba" row with an empty cache
-compiles them (several seconds, once), "numba, loops cached" is every later run. What
-remains end to end is mostly numba's own start-up in each new process (table (c)),
-which the imports before the clock do not include; "with imports" adds every import.
-The right-hand side is solved in the loop (table (d)): the explicit rates are faster a
-call but take longer to compile and grow as n^3."""
+alone takes {native:.3g} s in C, {loop:.3g} s in numba. Both compile each model's right-hand
+side with SymEngine's LLVM backend (tables (c)) and call it from an integration loop
+compiled once per machine: the C loop by the system C compiler into a shared library kept
+in the user's cache folder (the "empty cache" row compiles it, about a second, once), the
+numba loops by numba into its on-disk cache (the "numba" row compiles them, several
+seconds, once). Loading the C library takes a millisecond; numba starts up in each new
+process (tables (c)), which the imports before the clock do not include; "with imports"
+adds every import. The right-hand side is solved in the loop (table (d)): the explicit
+rates are faster a call but take longer to compile and grow as n^3."""
+
+
+def c_compiler() -> str:
+    """The C compiler the C loop is built with, and the first line of its --version."""
+    sys.path.insert(0, str(SRC))
+    from lagrangian.numerics.fast.c_build import find_compiler
+
+    compiler = find_compiler()
+    if compiler is None:
+        return "none found"
+    done = subprocess.run([compiler, "--version"], capture_output=True, text=True, timeout=60)
+    return f"{compiler} ({(done.stdout.splitlines() or ['unknown'])[0]})"
 
 
 def record(text: str, note: str) -> None:
@@ -536,6 +617,7 @@ def record(text: str, note: str) -> None:
             f"{name} {package_version(name)}"
             for name in ("numpy", "scipy", "numba", "pydy", "cython")
         ),
+        f"- C compiler of the C loop: {c_compiler()}",
         f"- 1-minute load average at the end: {os.getloadavg()[0]:.2f}",
     ]
     now = datetime.datetime.now().astimezone().isoformat(timespec="minutes")

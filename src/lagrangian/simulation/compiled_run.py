@@ -1,4 +1,13 @@
-"""simulate(..., backend="numba"): the whole integration in one compiled call.
+"""The whole integration in one compiled call: the C loop of the default backend, and
+simulate(..., backend="numba").
+
+The default backend runs RK45 and DOP853 on a free system without events in the C loop
+compiled once per machine (:mod:`lagrangian.numerics.fast.c_loop`, :class:`NativeIntegrator`):
+SciPy's steps, the right-hand side compiled by SymEngine's LLVM backend, the budget of
+:mod:`lagrangian.simulation.budget` checked after every step with the same messages, a
+progress callback after every step and Ctrl-C keeping the rows so far.  Where there is no C
+compiler, or SymEngine cannot compile the equations, :func:`native_integrator` is None and
+SciPy's solvers run instead.
 
 The numba backend (:mod:`lagrangian.numerics.fast`) runs SciPy's RK45 and DOP853, step for
 step, and the fixed-step RK4, with the right-hand side and the loop compiled, so no Python
@@ -11,12 +20,128 @@ callback is called once, at the end.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
 import numpy as np
 
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.errors import SimulationError
+from lagrangian.numerics.fast import c_loop
+from lagrangian.numerics.fast.compiled_rates import FastEquations
+from lagrangian.numerics.fast.outcome import FINISHED, SINGULAR, STEP_BUDGET
 from lagrangian.numerics.fast.settings import Settings
+from lagrangian.numerics.fast.tableaus import ADAPTIVE
+from lagrangian.simulation.budget import (
+    COLLAPSE,
+    COLLAPSE_STEPS,
+    IMPLICIT_ADVICE,
+    NEAR,
+    SHARE,
+    STABILITY_EDGE,
+    STIFF_STEPS_LEFT,
+    WINDOW,
+    Budget,
+)
+from lagrangian.simulation.events import EventWatch
 from lagrangian.simulation.inputs import Inputs
-from lagrangian.simulation.integration import Integration, Progress
+from lagrangian.simulation.integration import Dynamics, Integration, Progress
+from lagrangian.simulation.options import Options
+
+
+def native_integrator(
+    eom: EquationsOfMotion, options: Options, events: Sequence[Any]
+) -> NativeIntegrator | None:
+    """The C loop's integrator for a run of the default backend that it can take (RK45 or
+    DOP853, no constraints, no events), or None: another run, no C compiler, or equations
+    SymEngine's LLVM backend cannot compile (SciPy's solvers take those)."""
+    if options.backend != "numpy" or options.method not in ADAPTIVE:
+        return None
+    if events or options.constraints or not c_loop.available():
+        return None
+    fast = c_loop.native_equations(eom)
+    return None if fast is None else NativeIntegrator(fast)
+
+
+@dataclass(frozen=True)
+class NativeIntegrator:
+    """RK45 and DOP853 of a free system in the C loop (module docstring), the
+    :class:`~lagrangian.simulation.integration.Integrator` of the default backend where it
+    applies: what :class:`~lagrangian.simulation.stepping.SolverIntegrator` gives, to
+    rounding (the same steps, failures, budget and messages)."""
+
+    fast: FastEquations
+
+    def run(
+        self,
+        dynamics: Dynamics,
+        inputs: Inputs,
+        watch: EventWatch | None,
+        progress: Progress | None,
+    ) -> Integration:
+        t_out = inputs.t_out if inputs.t_out is not None else np.zeros(0)
+        limits = c_loop.Limits(
+            max_steps=inputs.max_steps,
+            max_wall_time=inputs.max_wall_time,
+            stiffness_edge=STABILITY_EDGE.get(inputs.method, 0.0),
+            near=NEAR,
+            share=SHARE,
+            window=WINDOW,
+            stiff_steps_left=STIFF_STEPS_LEFT,
+            collapse_steps=COLLAPSE_STEPS,
+            collapse=COLLAPSE,
+        )
+        settings = loop_settings(inputs, t_out)
+        run = c_loop.integrate(self.fast, settings, inputs.x0, inputs.p, limits, progress)
+        return Integration(
+            t=run.t,
+            x=run.x,
+            t_reached=run.t_reached,
+            x_reached=run.x_reached,
+            failure=None if run.interrupted else failure(run, dynamics, inputs),
+            interrupted=run.interrupted,
+            note=Budget(inputs.method, stiff_since=run.stiff_since).note(),
+        )
+
+
+def failure(run: c_loop.LoopRun, dynamics: Dynamics, inputs: Inputs) -> str | None:
+    """Why the C loop's ``run`` failed, in the words SciPy's path uses for it
+    (:func:`lagrangian.simulation.stepping.integrate` and its Budget), or None."""
+    status = run.status
+    if status == FINISHED:
+        return None
+    if status == SINGULAR and run.failed_at is not None:
+        try:  # the NumPy right-hand side's own message, with the time and the state
+            with np.errstate(all="ignore"):
+                dynamics.field(*run.failed_at)
+        except SimulationError as error:
+            return str(error)
+    stiff = "" if run.stiff_since is None else f" (the problem is stiff: {IMPLICIT_ADVICE})"
+    if status == STEP_BUDGET:
+        return (
+            f"the step budget max_steps={inputs.max_steps:,} is used up{stiff} — pass "
+            "max_steps= to allow more steps"
+        )
+    if status == c_loop.WALL_TIME:
+        return (
+            f"the wall-time budget max_wall_time={inputs.max_wall_time:g} s is used up after "
+            f"{run.steps:,} steps{stiff} — pass a larger max_wall_time="
+        )
+    if status == c_loop.STIFF:
+        return (
+            f"the problem is stiff for {inputs.method} (since t = {run.stiff_since:.6g}, "
+            f"steps of {abs(run.last_step):.3g} held by stability, not accuracy): it would "
+            f"need more than {STIFF_STEPS_LEFT:,} further steps — {IMPLICIT_ADVICE}"
+        )
+    if status == c_loop.COLLAPSED:
+        return (
+            f"the step size collapsed: the last {COLLAPSE_STEPS:,} steps advanced t by "
+            f"{run.advanced:.3g} near t = {run.t_reached:.6g} — the equations may be singular "
+            "there (a collision, a blow-up, a mass matrix losing rank) or stiff; check the "
+            f"model near that state, or {IMPLICIT_ADVICE}"
+        )
+    return c_loop.describe_status(status)
 
 
 def integrate_compiled(

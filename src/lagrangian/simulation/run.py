@@ -31,6 +31,7 @@ from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
 from lagrangian.numerics.constrained import compile_constrained
 from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics
+from lagrangian.simulation.compiled_run import native_integrator
 from lagrangian.simulation.dynamics import FreeDynamics, MultiplierDynamics
 from lagrangian.simulation.events import EventFunction, EventWatch
 from lagrangian.simulation.integration import Integrator, Motion
@@ -123,8 +124,10 @@ def simulate(
         cyclic coordinates in ``Trajectory.conserved`` and its drift report
         (:mod:`lagrangian.simulation.conserved`).
     backend:
-        ``"numpy"`` (default, the reference) or ``"numba"``: the right-hand side and the whole
-        RK45, DOP853 or RK4 loop compiled (:mod:`lagrangian.simulation.compiled_run`; needs
+        ``"numpy"`` (default): SciPy's solvers, where RK45 and DOP853 on a system without
+        constraints or events run step for step in a C loop compiled once per machine when a
+        C compiler is present (:mod:`lagrangian.simulation.compiled_run`); or ``"numba"``: the
+        right-hand side and the whole RK45, DOP853 or RK4 loop compiled (needs
         ``pip install lagrangian[fast]``; no events or constraints; the steps are SciPy's).
 
     A System with holonomic or velocity constraints is integrated in the multiplier form
@@ -187,4 +190,7 @@ def plan(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
             )
         return SwitchedDynamics(eom, p), SwitchedIntegrator()
     compiled_loop = eom if options.backend == "numba" else None
-    return FreeDynamics(setup.compiled, p), SolverIntegrator(compiled_loop)
+    # the default backend: RK45 and DOP853 in the C loop compiled once per machine where it
+    # can run (a C compiler, equations LLVM compiles, no events), else SciPy's solvers
+    native = native_integrator(eom, options, setup.events)
+    return FreeDynamics(setup.compiled, p), native or SolverIntegrator(compiled_loop)

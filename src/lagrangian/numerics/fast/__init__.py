@@ -15,6 +15,12 @@ The multiplier form of a constrained system runs on the same loops
 (:mod:`~lagrangian.numerics.fast.constrained`).  This path needs numba
 (``pip install lagrangian[fast]``).
 
+The default ``simulate`` of a system without constraints or events needs no numba: the same
+RK45/DOP853 loop written in C (:mod:`~lagrangian.numerics.fast.c_loop`, ``c_loop.c``) is
+compiled once per machine by the system's C compiler into a cached shared library
+(:mod:`~lagrangian.numerics.fast.c_build`) and drives the LLVM right-hand side through its C
+function pointer; without a compiler the run falls back to SciPy's solvers.
+
 The right-hand side lives in :mod:`~lagrangian.numerics.fast.compiled_rates`, the drivers in
 :mod:`~lagrangian.numerics.fast.run` (imported only when numba is installed).
 
