@@ -47,6 +47,48 @@ COLLAPSE_STEPS, COLLAPSE = 10_000, 1e-9
 IMPLICIT_ADVICE = "use an implicit method: method='Radau' (or 'BDF', 'LSODA')"
 
 
+# The reasons a run stops, in the words every integrator uses (SciPy's steps, the C loop).
+
+
+def collapse_message(advanced: float, t: float) -> str:
+    """The last ``COLLAPSE_STEPS`` steps advanced t by only ``advanced``, near ``t``."""
+    return (
+        f"the step size collapsed: the last {COLLAPSE_STEPS:,} steps advanced t by "
+        f"{advanced:.3g} near t = {t:.6g} — the equations may be singular "
+        "there (a collision, a blow-up, a mass matrix losing rank) or stiff; "
+        f"check the model near that state, or {IMPLICIT_ADVICE}"
+    )
+
+
+def stiffness_message(method: str, stiff_since: float, step: float) -> str:
+    """Stiff since ``stiff_since``, steps of ``step`` too small to finish."""
+    return (
+        f"the problem is stiff for {method} (since t = {stiff_since:.6g}, "
+        f"steps of {step:.3g} held by stability, not accuracy): it would need more "
+        f"than {STIFF_STEPS_LEFT:,} further steps — {IMPLICIT_ADVICE}"
+    )
+
+
+def step_budget_message(max_steps: int, stiff_since: float | None) -> str:
+    """``max_steps`` taken before the end."""
+    return (
+        f"the step budget max_steps={max_steps:,} is used up"
+        f"{_stiff_hint(stiff_since)} — pass max_steps= to allow more steps"
+    )
+
+
+def wall_time_message(max_wall_time: float, steps: int, stiff_since: float | None) -> str:
+    """``max_wall_time`` seconds spent after ``steps`` steps."""
+    return (
+        f"the wall-time budget max_wall_time={max_wall_time:g} s is used up after "
+        f"{steps:,} steps{_stiff_hint(stiff_since)} — pass a larger max_wall_time="
+    )
+
+
+def _stiff_hint(stiff_since: float | None) -> str:
+    return "" if stiff_since is None else f" (the problem is stiff: {IMPLICIT_ADVICE})"
+
+
 @dataclass
 class Budget:
     """The budget of one run, checked after every accepted step."""
@@ -69,30 +111,15 @@ class Budget:
         if len(self._times) == COLLAPSE_STEPS:
             advanced = abs(self._times[-1] - self._times[0])
             if advanced <= COLLAPSE * max(abs(t_end - self.start), abs(solver.t), 1e-300):
-                return (
-                    f"the step size collapsed: the last {COLLAPSE_STEPS:,} steps advanced t by "
-                    f"{advanced:.3g} near t = {solver.t:.6g} — the equations may be singular "
-                    "there (a collision, a blow-up, a mass matrix losing rank) or stiff; "
-                    f"check the model near that state, or {IMPLICIT_ADVICE}"
-                )
+                return collapse_message(advanced, float(solver.t))
         if self.stiff_since is not None:
             step = abs(solver.t - t_old)
             if step > 0 and abs(t_end - solver.t) / step > STIFF_STEPS_LEFT:
-                return (
-                    f"the problem is stiff for {self.method} (since t = {self.stiff_since:.6g}, "
-                    f"steps of {step:.3g} held by stability, not accuracy): it would need more "
-                    f"than {STIFF_STEPS_LEFT:,} further steps — {IMPLICIT_ADVICE}"
-                )
+                return stiffness_message(self.method, self.stiff_since, step)
         if self.steps >= self.max_steps:
-            return (
-                f"the step budget max_steps={self.max_steps:,} is used up"
-                f"{self._stiff_hint()} — pass max_steps= to allow more steps"
-            )
+            return step_budget_message(self.max_steps, self.stiff_since)
         if self.max_wall_time is not None and time.monotonic() - self.started > self.max_wall_time:
-            return (
-                f"the wall-time budget max_wall_time={self.max_wall_time:g} s is used up after "
-                f"{self.steps:,} steps{self._stiff_hint()} — pass a larger max_wall_time="
-            )
+            return wall_time_message(self.max_wall_time, self.steps, self.stiff_since)
         return None
 
     def note(self) -> str:
@@ -103,9 +130,6 @@ class Budget:
             f"The problem is stiff for {self.method} from t = {self.stiff_since:.6g}; "
             f"an implicit method (Radau, BDF, LSODA) would take fewer steps."
         )
-
-    def _stiff_hint(self) -> str:
-        return "" if self.stiff_since is None else f" (the problem is stiff: {IMPLICIT_ADVICE})"
 
     def _watch_stiffness(self, solver: OdeSolver, t_old: float, y_old: np.ndarray) -> None:
         edge = STABILITY_EDGE.get(self.method)

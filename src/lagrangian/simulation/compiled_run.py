@@ -36,13 +36,16 @@ from lagrangian.numerics.fast.tableaus import ADAPTIVE
 from lagrangian.simulation.budget import (
     COLLAPSE,
     COLLAPSE_STEPS,
-    IMPLICIT_ADVICE,
     NEAR,
     SHARE,
     STABILITY_EDGE,
     STIFF_STEPS_LEFT,
     WINDOW,
     Budget,
+    collapse_message,
+    step_budget_message,
+    stiffness_message,
+    wall_time_message,
 )
 from lagrangian.simulation.events import EventWatch
 from lagrangian.simulation.inputs import Inputs
@@ -117,30 +120,14 @@ def failure(run: c_loop.LoopRun, dynamics: Dynamics, inputs: Inputs) -> str | No
                 dynamics.field(*run.failed_at)
         except SimulationError as error:
             return str(error)
-    stiff = "" if run.stiff_since is None else f" (the problem is stiff: {IMPLICIT_ADVICE})"
     if status == STEP_BUDGET:
-        return (
-            f"the step budget max_steps={inputs.max_steps:,} is used up{stiff} — pass "
-            "max_steps= to allow more steps"
-        )
-    if status == c_loop.WALL_TIME:
-        return (
-            f"the wall-time budget max_wall_time={inputs.max_wall_time:g} s is used up after "
-            f"{run.steps:,} steps{stiff} — pass a larger max_wall_time="
-        )
-    if status == c_loop.STIFF:
-        return (
-            f"the problem is stiff for {inputs.method} (since t = {run.stiff_since:.6g}, "
-            f"steps of {abs(run.last_step):.3g} held by stability, not accuracy): it would "
-            f"need more than {STIFF_STEPS_LEFT:,} further steps — {IMPLICIT_ADVICE}"
-        )
+        return step_budget_message(inputs.max_steps, run.stiff_since)
+    if status == c_loop.WALL_TIME and inputs.max_wall_time is not None:
+        return wall_time_message(inputs.max_wall_time, run.steps, run.stiff_since)
+    if status == c_loop.STIFF and run.stiff_since is not None:
+        return stiffness_message(inputs.method, run.stiff_since, abs(run.last_step))
     if status == c_loop.COLLAPSED:
-        return (
-            f"the step size collapsed: the last {COLLAPSE_STEPS:,} steps advanced t by "
-            f"{run.advanced:.3g} near t = {run.t_reached:.6g} — the equations may be singular "
-            "there (a collision, a blow-up, a mass matrix losing rank) or stiff; check the "
-            f"model near that state, or {IMPLICIT_ADVICE}"
-        )
+        return collapse_message(run.advanced, run.t_reached)
     return c_loop.describe_status(status)
 
 
