@@ -45,19 +45,9 @@ from lagrangian.simulation.inputs import Inputs
 INITIAL_TOLERANCE = 1e-9
 
 
-@dataclasses.dataclass(frozen=True)
-class FreeDynamics:
-    """dx/dt = [q_dot; q_ddot] from the compiled state equations, at the parameters p."""
-
-    compiled: CompiledEquations
-    p: np.ndarray
-    multiplier_names: tuple[str, ...] = ()
-
-    def field(self, t: float, x: np.ndarray) -> np.ndarray:
-        return self.compiled.rhs(t, x, self.p)
-
-    def unpack(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        return x[: len(self.compiled.coordinates)], self.compiled.velocities(t, x, self.p)
+class WithoutConstraints:
+    """The constraint members of a Dynamics that has no constraints: no residual, no
+    projection, no multiplier rows, and any initial state is a start."""
 
     def residual(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
         return 0.0
@@ -70,6 +60,21 @@ class FreeDynamics:
 
     def start(self, inputs: Inputs, project_initial: bool) -> Inputs:
         return inputs
+
+
+@dataclasses.dataclass(frozen=True)
+class FreeDynamics(WithoutConstraints):
+    """dx/dt = [q_dot; q_ddot] from the compiled state equations, at the parameters p."""
+
+    compiled: CompiledEquations
+    p: np.ndarray
+    multiplier_names: tuple[str, ...] = ()
+
+    def field(self, t: float, x: np.ndarray) -> np.ndarray:
+        return self.compiled.rhs(t, x, self.p)
+
+    def unpack(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return x[: len(self.compiled.coordinates)], self.compiled.velocities(t, x, self.p)
 
 
 class ConstraintForm(Protocol):

@@ -40,6 +40,7 @@ from lagrangian.errors import SimulationError
 from lagrangian.model.frozen import FrozenMapping
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.evaluate import NumericFunction
+from lagrangian.simulation.dynamics import WithoutConstraints
 from lagrangian.simulation.events import EventFunction, EventWatch
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integration import Integration, Progress
@@ -68,7 +69,7 @@ def has_switching(eom: EquationsOfMotion) -> bool:
 
 
 @dataclasses.dataclass
-class SwitchedDynamics:
+class SwitchedDynamics(WithoutConstraints):
     """The equations with each sign(u_k) replaced by a parameter s_k (the mode), and the
     switching functions u_k with their rates du_k/dt along a field."""
 
@@ -105,15 +106,6 @@ class SwitchedDynamics:
     # -- the Motion protocol ------------------------------------------------------------
     def unpack(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return x[: self.n], x[self.n :]
-
-    def residual(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
-        return 0.0
-
-    def constraint_rows(self, t: np.ndarray, q: np.ndarray, q_dot: np.ndarray) -> None:
-        return None
-
-    def start(self, inputs: Inputs, project_initial: bool) -> Inputs:
-        return inputs
 
     # -- the modes ----------------------------------------------------------------------
     def values(self, t: float, x: np.ndarray) -> np.ndarray:
@@ -184,7 +176,7 @@ class SwitchedDynamics:
 
 
 @dataclasses.dataclass(frozen=True)
-class _Piece:
+class _Piece(WithoutConstraints):
     """One mode of a SwitchedDynamics as a Dynamics (the field of its mode, or the Filippov
     field while it slides)."""
 
@@ -200,18 +192,6 @@ class _Piece:
 
     def unpack(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return self.switched.unpack(t, x)
-
-    def projection(self) -> None:
-        return None
-
-    def residual(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
-        return 0.0
-
-    def constraint_rows(self, t: np.ndarray, q: np.ndarray, q_dot: np.ndarray) -> None:
-        return None
-
-    def start(self, inputs: Inputs, project_initial: bool) -> Inputs:
-        return inputs
 
 
 class _Surface:
