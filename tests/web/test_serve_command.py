@@ -14,7 +14,7 @@ import urllib.request
 from playground_setup import free_port
 
 from lagrangian.cli.main import build_parser
-from lagrangian.web.server import is_loopback
+from lagrangian.web.server import allowed_hosts, is_loopback
 
 SIMPLE = "coordinates: [x]\nkinetic: x_dot**2/2\npotential: x**2/2\n"
 
@@ -28,9 +28,21 @@ def test_the_flags_and_the_loopback_default() -> None:
     assert is_loopback("::1") and not is_loopback("0.0.0.0") and not is_loopback("example.org")
 
 
-def _get(url: str, body: dict[str, object] | None = None) -> tuple[int, bytes]:
+def test_the_names_the_server_answers_to() -> None:
+    args = build_parser().parse_args(["serve", "--allowed-host", "Lab.Example.org"])
+    assert args.allowed_host == ["Lab.Example.org"]
+    on_loopback = allowed_hosts("127.0.0.1", args.allowed_host)
+    assert on_loopback is not None and {"localhost", "[::1]", "lab.example.org"} <= set(on_loopback)
+    assert allowed_hosts("0.0.0.0") is None  # shared without names: any Host, as told
+    assert allowed_hosts("0.0.0.0", ["lab.example.org"]) == ("lab.example.org",)
+
+
+def _get(
+    url: str, body: dict[str, object] | None = None, host: str | None = None
+) -> tuple[int, bytes]:
     data = json.dumps(body).encode() if body is not None else None
-    request = urllib.request.Request(url, data=data, headers={"Content-Type": "application/json"})
+    headers = {"Content-Type": "application/json", **({"Host": host} if host else {})}
+    request = urllib.request.Request(url, data=data, headers=headers)
     try:
         with urllib.request.urlopen(request, timeout=60) as response:
             return response.status, response.read()
@@ -56,6 +68,10 @@ def test_the_command_serves_until_interrupted() -> None:
         assert status == 200 and b'data-testid="editor"' in page
         status, answer = _get(base + "/api/derive", {"model": SIMPLE})
         assert status == 200 and json.loads(answer)["equations"] == ["x + x_ddot"]
+        # a page elsewhere whose name resolves here (DNS rebinding) is not answered
+        status, _ = _get(base + "/api/derive", {"model": SIMPLE}, host=f"evil.example:{port}")
+        assert status == 400
+        assert _get(base + "/", host=f"localhost:{port}")[0] == 200
     finally:
         server.send_signal(signal.SIGINT)
         _, stderr = server.communicate(timeout=60)

@@ -30,6 +30,14 @@ def add_serve_parser(sub: Any) -> argparse.ArgumentParser:
     )
     command.add_argument("--port", type=int, default=8000, help="port (default 8000)")
     command.add_argument(
+        "--allowed-host",
+        action="append",
+        default=[],
+        metavar="NAME",
+        help="a name the page may be reached by besides localhost (repeatable; on a shared "
+        "server, only these names are answered)",
+    )
+    command.add_argument(
         "--no-browser", action="store_true", help="do not open the page in a browser"
     )
     command.add_argument(
@@ -61,5 +69,11 @@ def run_serve(args: argparse.Namespace) -> str:
     from lagrangian.web import Limits, serve
 
     limits = Limits(workers=args.workers, cpu_seconds=args.cpu_seconds)
-    serve(args.host, args.port, open_browser=not args.no_browser, limits=limits)
+    serve(
+        args.host,
+        args.port,
+        open_browser=not args.no_browser,
+        limits=limits,
+        hosts=args.allowed_host,
+    )
     return "the playground stopped"

@@ -17,13 +17,14 @@ from __future__ import annotations
 
 import asyncio
 import json
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, Sequence
 from contextlib import asynccontextmanager
 from functools import cache
 from pathlib import Path
 
 from starlette.applications import Starlette
 from starlette.datastructures import MutableHeaders
+from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.requests import Request
 from starlette.responses import FileResponse, JSONResponse, Response
 from starlette.routing import Mount, Route
@@ -154,9 +155,16 @@ async def page(request: Request) -> Response:
     return FileResponse(STATIC / "index.html", media_type="text/html")
 
 
-def create_app(limits: Limits | None = None) -> Starlette:
+def create_app(
+    limits: Limits | None = None, allowed_hosts: Sequence[str] | None = None
+) -> Starlette:
     """The playground application; its worker processes start with the app (lifespan) and
-    are stopped with it."""
+    are stopped with it.
+
+    ``allowed_hosts`` are the names the page may be asked for in the Host header (any when
+    None): a page served on this machine only answers to its loopback names, so a web page
+    elsewhere cannot reach it through a name of its own that resolves here (DNS rebinding).
+    """
     chosen = limits or Limits()
 
     @asynccontextmanager
@@ -183,6 +191,8 @@ def create_app(limits: Limits | None = None) -> Starlette:
     )
     app.state.limits = chosen
     app.add_middleware(SecurityHeaders)
+    if allowed_hosts is not None:
+        app.add_middleware(TrustedHostMiddleware, allowed_hosts=list(allowed_hosts))
     return app
 
 
