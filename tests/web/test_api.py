@@ -154,7 +154,8 @@ def test_a_body_that_is_not_json(client: Any) -> None:
 
 
 def test_an_unknown_command_is_404(client: Any) -> None:
-    assert client.post("/api/export", json={"model": SIMPLE}).status_code == 404
+    answer = client.post("/api/integrate", json={"model": SIMPLE})
+    assert answer.status_code == 404 and "/api/export" in answer.json()["problems"][0]["fix"]
 
 
 def test_the_page_and_its_assets_are_served_locally(client: Any) -> None:
@@ -183,3 +184,54 @@ def test_analyze_takes_the_search_degree_of_the_command_line(client: Any) -> Non
     assert [q["origin"] for q in document["conserved_quantities"]] == ["energy"]
     bad = client.post("/api/analyze", json={"model": model, "options": {"search_degree": 9}})
     assert bad.status_code == 422 and "search_degree" in bad.text
+
+
+def _module_from(tmp_path: Any, name: str, text: str) -> Any:
+    import importlib.util
+
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    spec = importlib.util.spec_from_file_location(path.stem, path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_export_answers_the_generated_code(client: Any, tmp_path: Any) -> None:
+    answer = client.post(
+        "/api/export", json={"model": SIMPLE, "options": {"set": {"l": 2}, "language": "numpy"}}
+    )
+    assert answer.status_code == 200
+    files = answer.json()["files"]
+    assert list(files) == ["simple_pendulum.py"]
+    module = _module_from(tmp_path, "simple_pendulum.py", files["simple_pendulum.py"])
+    p = dict(zip(module.PARAMETERS, module.DEFAULTS, strict=True))
+    assert p["l"] == 2.0  # the setting is in the code's defaults
+    theta = 0.7  # the pendulum's theta_ddot = -(g/l) sin(theta)
+    rates = module.rhs(0.0, [theta, 0.3], list(p.values()))
+    assert rates == pytest.approx([0.3, -p["g"] / p["l"] * np.sin(theta)], rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("example", "language", "suffixes"),
+    [("atwood_machine", "c", {".c", ".h"}), ("series_rlc", "julia", {".jl"})],
+)
+def test_export_of_a_constrained_system_and_of_a_circuit(
+    client: Any, example: str, language: str, suffixes: set[str]
+) -> None:
+    model = examples.model_text(example)
+    options = {"language": language}
+    files = client.post("/api/export", json={"model": model, "options": options}).json()["files"]
+    from lagrangian.numerics.export import export
+
+    assert files == export(lg.loads(model), language)
+    assert {name[name.rindex(".") :] for name in files} == suffixes
+
+
+def test_export_refuses_an_unknown_language(client: Any) -> None:
+    options = {"language": "fortran"}
+    answer = client.post("/api/export", json={"model": SIMPLE, "options": options})
+    assert answer.status_code == 422
+    problem = answer.json()["problems"][0]
+    assert problem["field"] == "options.language" and "numpy, c, matlab, julia" in problem["fix"]

@@ -118,3 +118,21 @@ def test_the_url_keeps_the_model(page: Any, browser: Any) -> None:
     assert other.input_value("[data-testid=editor]") == model
     assert other.locator("[data-testid=equations] .katex").count() >= 1
     other.close()
+
+
+def test_the_generated_code_downloads(page: Any) -> None:
+    import lagrangian as lg
+    from lagrangian import examples
+    from lagrangian.numerics.export import export
+
+    downloads: list[Any] = []
+    page.on("download", lambda download: downloads.append(download))
+    page.select_option("[data-testid=export-language]", "c")
+    page.click("[data-testid=download-code]")
+    for _ in range(300):
+        if len(downloads) == 2:
+            break
+        page.wait_for_timeout(100)
+    expected = export(lg.loads(examples.model_text("double_pendulum")), "c")
+    got = {d.suggested_filename: Path(d.path()).read_text(encoding="utf-8") for d in downloads}
+    assert got == expected

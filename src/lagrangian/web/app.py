@@ -5,6 +5,8 @@
   "yaml|toml|json", "options": {...}}``: the command's JSON; a bad model or option is 422
   with ``{"problems": [{"field", "line", "column", "message", "fix"}]}``, a body over
   ``Limits.max_body_bytes`` 413, a full queue 503, a body not sent as JSON 415;
+- ``POST /api/export`` with ``{"options": {"language": "numpy|c|matlab|julia"}}``: the
+  generated code as ``{"language", "files": {NAME: TEXT}}``;
 - ``GET /api/examples``: the built-in examples that have a model file, with a line each;
 - ``GET /api/examples/NAME``: ``{"name", "description", "format", "model"}``;
 - ``GET /api/health``: the workers running and the requests admitted.
@@ -80,7 +82,7 @@ async def command(request: Request) -> Response:
     name = request.path_params["command"]
     limits: Limits = request.app.state.limits
     if name not in OPTIONS:
-        fix = "POST to /api/derive, /api/analyze or /api/simulate"
+        fix = "POST to /api/derive, /api/analyze, /api/simulate or /api/export"
         return problems_response(404, [Problem("path", f"no command {name!r}", fix)])
     if "json" not in request.headers.get("content-type", ""):
         fix = "send the body as JSON with Content-Type: application/json"

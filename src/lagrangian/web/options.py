@@ -70,6 +70,16 @@ def _names(name: str, value: Any) -> list[str]:
     raise ValueError(f"options.{name} is a list of parameter names, as in {{{name!r}: ['F']}}")
 
 
+#: The languages of ``lagrangian export``.
+LANGUAGES = ("numpy", "c", "matlab", "julia")
+
+
+def _language(name: str, value: Any) -> str:
+    if value not in LANGUAGES:
+        raise ValueError(f"options.{name} is one of {', '.join(LANGUAGES)}")
+    return str(value)
+
+
 Reader = Callable[[str, Any], Any]
 #: The options of each command, with how each is read.
 OPTIONS: dict[str, dict[str, Reader]] = {
@@ -92,6 +102,7 @@ OPTIONS: dict[str, dict[str, Reader]] = {
         "max_steps": _count,
         "project_initial": _flag,
     },
+    "export": {"set": _assignments, "language": _language},
 }
 
 

@@ -34,6 +34,7 @@ from lagrangian.errors import LagrangianError, Problem, SimulationError, Simulat
 from lagrangian.io import loads
 from lagrangian.model import System
 from lagrangian.model.conversion import to_sympy
+from lagrangian.numerics.export import export
 from lagrangian.numerics.points import compile_points
 from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
@@ -73,6 +74,15 @@ def analyze_document(model: str, fmt: str, options: dict[str, Any]) -> dict[str,
         "add options.project = true to move the about state onto the constraints",
     )
     return {**analysis_document(report), "latex": analysis_latex(report)}
+
+
+def export_document(model: str, fmt: str, options: dict[str, Any]) -> dict[str, Any]:
+    """``lagrangian export --language LANGUAGE`` as ``{"language", "files": {NAME: TEXT}}``:
+    the generated code of the equations (the multiplier form when the model has
+    constraints), numpy by default."""
+    language = options.get("language", "numpy")
+    files = export(system_of(model, fmt, options), language)
+    return {"language": language, "files": files}
 
 
 def simulate_document(
@@ -189,6 +199,7 @@ RUNS: dict[str, Runner] = {
     "derive": derive_document,
     "analyze": analyze_document,
     "simulate": simulate_document,
+    "export": export_document,
 }
 
 #: Statuses of the answers.

@@ -523,6 +523,13 @@ $("download-csv").addEventListener("click", (event) => {
   event.preventDefault();
   download("trajectory.csv", csvText(), "text/csv");
 });
+$("download-code").addEventListener("click", async (event) => {
+  event.preventDefault();
+  const language = $("export-language").value;
+  const answer = await call("export", { language, set: settingsList() });
+  if (!answer) return;
+  for (const [name, text] of Object.entries(answer.files)) download(name, text, "text/plain");
+});
 
 async function start() {
   await loadExamples();
