@@ -136,3 +136,19 @@ def test_the_generated_code_downloads(page: Any) -> None:
     expected = export(lg.loads(examples.model_text("double_pendulum")), "c")
     got = {d.suggested_filename: Path(d.path()).read_text(encoding="utf-8") for d in downloads}
     assert got == expected
+
+
+def test_the_plot_shows_a_phase_portrait_and_the_energy(page: Any) -> None:
+    kinds = page.eval_on_selector_all(
+        "[data-testid=plot-kind] option", "(os) => os.map(o => o.value)"
+    )
+    assert kinds == ["coordinates", "phase:theta", "phase:phi", "energy"]
+    before = page.evaluate("() => document.getElementById('plot').toDataURL()")
+    page.select_option("[data-testid=plot-kind]", "phase:phi")
+    page.wait_for_timeout(200)
+    assert page.evaluate(INK, "plot") > 500
+    assert page.evaluate("() => document.getElementById('plot').toDataURL()") != before
+    page.select_option("[data-testid=plot-kind]", "energy")
+    page.wait_for_timeout(200)
+    assert page.evaluate(INK, "plot") > 300
+    _shot(page, "phase_and_energy.png")

@@ -229,6 +229,7 @@ async function simulate(rebuild = true) {
   if (!answer) return;
   state.run = answer;
   if (rebuild) buildSliders(answer);
+  buildPlotMenu();
   $("summary").textContent =
     `${answer.summary.samples} samples, ${answer.summary.method}: ${answer.summary.drift_summary}`;
   drawPlot();
@@ -370,69 +371,124 @@ function drawGauges(context, canvas, index) {
 }
 
 // ---- the plot of the coordinates against time
-function drawPlot() {
-  const canvas = $("plot");
-  const context = canvas.getContext("2d");
-  context.fillStyle = "#fff";
-  context.fillRect(0, 0, canvas.width, canvas.height);
-  if (!state.run) return;
-  const t = state.run.columns.t;
-  const names = ((state.derived && state.derived.coordinates) || []).filter(
-    (n) => state.run.columns[n],
-  );
+// ---- the plot: the coordinates against t, a phase portrait, or the energy's change
+function plotChoices() {
+  const columns = state.run ? state.run.columns : {};
+  const names = ((state.derived && state.derived.coordinates) || []).filter((n) => columns[n]);
+  const choices = [["coordinates", "coordinates against t"]];
+  for (const n of names) if (columns[`${n}_dot`]) choices.push([`phase:${n}`, `phase portrait of ${n}`]);
+  if (columns.energy) choices.push(["energy", "energy − E(0) against t"]);
+  return choices;
+}
+
+function buildPlotMenu() {
+  const menu = $("plot-kind");
+  const chosen = menu.value;
+  menu.innerHTML = "";
+  for (const [value, text] of plotChoices()) {
+    const option = document.createElement("option");
+    option.value = value;
+    option.textContent = text;
+    menu.appendChild(option);
+  }
+  if ([...menu.options].some((o) => o.value === chosen)) menu.value = chosen;
+}
+
+// The curves of the chosen plot: [{name, xs, ys}], with the axis names.
+function plotCurves() {
+  const columns = state.run.columns;
+  const kind = $("plot-kind").value || "coordinates";
+  if (kind.startsWith("phase:")) {
+    const name = kind.slice(6);
+    return { x: name, y: `${name}_dot`, curves: [{ name, xs: columns[name], ys: columns[`${name}_dot`] }] };
+  }
+  if (kind === "energy") {
+    const e0 = columns.energy[0] ?? 0;
+    const ys = columns.energy.map((v) => (v === null ? null : v - e0));
+    const label = state.run.summary.drift_summary;
+    return { x: "t", y: "E − E(0)", curves: [{ name: label, xs: columns.t, ys }] };
+  }
+  const names = ((state.derived && state.derived.coordinates) || []).filter((n) => columns[n]);
+  return { x: "t", y: "", curves: names.map((name) => ({ name, xs: columns.t, ys: columns[name] })) };
+}
+
+function range(arrays) {
   let low = Infinity;
   let high = -Infinity;
-  for (const n of names) {
-    for (const v of state.run.columns[n]) {
+  for (const values of arrays) {
+    for (const v of values) {
       if (v !== null && isFinite(v)) {
         low = Math.min(low, v);
         high = Math.max(high, v);
       }
     }
   }
+  if (!isFinite(low)) [low, high] = [0, 1];
   if (!(high > low)) [low, high] = [low - 1, low + 1];
-  const left = 40;
+  return [low, high];
+}
+
+function drawPlot() {
+  const canvas = $("plot");
+  const context = canvas.getContext("2d");
+  context.fillStyle = "#fff";
+  context.fillRect(0, 0, canvas.width, canvas.height);
+  if (!state.run) return;
+  const plot = plotCurves();
+  const [xLow, xHigh] = range(plot.curves.map((c) => c.xs));
+  const [yLow, yHigh] = range(plot.curves.map((c) => c.ys));
+  const left = 48;
   const box = { left, top: 10, width: canvas.width - left - 10, height: canvas.height - 40 };
-  state.plotBox = { ...box, t0: t[0], t1: t[t.length - 1] };
-  const x = (v) => box.left + (box.width * (v - t[0])) / (t[t.length - 1] - t[0] || 1);
-  const y = (v) => box.top + box.height * (1 - (v - low) / (high - low));
+  const x = (v) => box.left + (box.width * (v - xLow)) / (xHigh - xLow);
+  const y = (v) => box.top + box.height * (1 - (v - yLow) / (yHigh - yLow));
+  state.plotBox = { ...box, plot, x, y };
   context.strokeStyle = "#999";
   context.strokeRect(box.left, box.top, box.width, box.height);
   context.fillStyle = "#333";
   context.font = "11px sans-serif";
-  context.fillText(high.toPrecision(3), 2, box.top + 10);
-  context.fillText(low.toPrecision(3), 2, box.top + box.height);
-  context.fillText(`t = ${t[t.length - 1].toPrecision(3)}`, box.left + box.width - 60, canvas.height - 12);
+  context.fillText(yHigh.toPrecision(3), 2, box.top + 10);
+  context.fillText(yLow.toPrecision(3), 2, box.top + box.height);
+  context.fillText(plot.y, 2, box.top + box.height / 2);
+  context.fillText(`${plot.x}: ${xLow.toPrecision(3)} … ${xHigh.toPrecision(3)}`, box.left + box.width - 150, canvas.height - 12);
   const colors = ["#1e88e5", "#e53935", "#43a047", "#fb8c00", "#8e24aa", "#00897b"];
-  names.forEach((name, i) => {
-    const column = state.run.columns[name];
+  plot.curves.forEach((curve, i) => {
     context.strokeStyle = colors[i % colors.length];
     context.lineWidth = 1.5;
     context.beginPath();
-    column.forEach((v, k) => {
-      if (k === 0) context.moveTo(x(t[k]), y(v ?? 0));
-      else context.lineTo(x(t[k]), y(v ?? 0));
+    curve.ys.forEach((v, k) => {
+      const at = [x(curve.xs[k] ?? 0), y(v ?? 0)];
+      if (k === 0) context.moveTo(...at);
+      else context.lineTo(...at);
     });
     context.stroke();
     context.fillStyle = colors[i % colors.length];
-    context.fillText(name, box.left + 8 + 70 * i, canvas.height - 12);
+    const label = plot.curves.length > 1 ? curve.name : curve.name.slice(0, 40);
+    context.fillText(label, box.left + 8 + 70 * i, canvas.height - 12);
   });
   state.plotImage = context.getImageData(0, 0, canvas.width, canvas.height);
 }
 
+// The current sample on the plot: a line at its time, or a dot on the phase curve.
 function drawPlotCursor(index) {
   if (!state.plotImage || !state.plotBox) return;
   const canvas = $("plot");
   const context = canvas.getContext("2d");
   context.putImageData(state.plotImage, 0, 0);
-  const box = state.plotBox;
-  const t = state.run.columns.t[index];
-  const x = box.left + (box.width * (t - box.t0)) / (box.t1 - box.t0 || 1);
+  const { plot, x, y, top, height } = state.plotBox;
   context.strokeStyle = "rgba(0,0,0,0.35)";
-  context.beginPath();
-  context.moveTo(x, box.top);
-  context.lineTo(x, box.top + box.height);
-  context.stroke();
+  context.fillStyle = "rgba(0,0,0,0.6)";
+  if (plot.x === "t") {
+    const at = x(state.run.columns.t[index]);
+    context.beginPath();
+    context.moveTo(at, top);
+    context.lineTo(at, top + height);
+    context.stroke();
+  } else {
+    const curve = plot.curves[0];
+    context.beginPath();
+    context.arc(x(curve.xs[index] ?? 0), y(curve.ys[index] ?? 0), 4, 0, 2 * Math.PI);
+    context.fill();
+  }
 }
 
 // ---- downloads
@@ -504,6 +560,10 @@ editor.addEventListener("keydown", (event) => {
   }
 });
 $("format").addEventListener("change", saveToUrl);
+$("plot-kind").addEventListener("change", () => {
+  drawPlot();
+  if (state.run) drawPlotCursor(currentIndex());
+});
 $("examples").addEventListener("change", (event) => loadExample(event.target.value));
 $("derive").addEventListener("click", derive);
 $("analyze").addEventListener("click", analyze);
