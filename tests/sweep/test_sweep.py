@@ -3,14 +3,12 @@ forms, failures, random samples and resuming."""
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
 import zarr
-from scipy.special import ellipk
 
 import lagrangian as lg
 from lagrangian.errors import SimulationInputError
@@ -62,26 +60,6 @@ def test_a_small_grid_equals_single_simulate_runs(cluster, tmp_path: Path) -> No
             np.testing.assert_allclose(data["energy"][i, j], alone.energy, rtol=0, atol=1e-8)
     assert bool(data["done"].all())
     assert float(data["energy_drift"].max()) < 1e-7
-
-
-def test_stop_times_are_quarter_periods(cluster, tmp_path: Path) -> None:
-    # theta turns negative a quarter period after a release at rest from theta0 > 0:
-    # T/4 = sqrt(l/g) K(m), m = sin^2(theta0/2) (complete elliptic integral of the first kind)
-    angles = np.array([0.2, 1.0, 2.5])
-    out = tmp_path / "stops.zarr"
-    sweep(
-        lg.examples.simple_pendulum(),
-        {"theta": angles},
-        5.0,
-        out=out,
-        stop_when="theta",
-        scheduler=cluster.scheduler_address,
-        **TOLERANCES,
-    )
-    data = xr.open_zarr(out)
-    expected = math.sqrt(1.0 / 9.81) * ellipk(np.sin(angles / 2) ** 2)
-    np.testing.assert_allclose(data["stop_time"], expected, rtol=1e-8)
-    assert list(data["status"].values) == ["stopped"] * 3
 
 
 def test_a_member_that_cannot_be_integrated_is_recorded_as_failed(cluster, tmp_path: Path) -> None:

@@ -4,6 +4,7 @@ client, or one worker) resumes or completes with every member present."""
 from __future__ import annotations
 
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -32,6 +33,10 @@ from lagrangian.sweeps import sweep
         (["--vary", "theta=0,1", "--method", "nope"], r"--method: unknown method"),
         (["--vary", "theta=0,1", "--t-end", "-1"], r"--t-end: the end time"),
         (["--vary", "theta=0,1", "--chunk-size", "0"], r"--chunk-size"),
+        (
+            ["--vary", "theta=0,1", "--chunk-size", "0", "--workers", "0"],
+            r"--workers: .*give --workers >= 1\n.*--chunk-size",
+        ),
     ],
 )
 def test_bad_flags_exit_2_naming_the_flag(flags, named, tmp_path: Path, capsys) -> None:
@@ -40,6 +45,62 @@ def test_bad_flags_exit_2_naming_the_flag(flags, named, tmp_path: Path, capsys) 
     assert code == 2
     assert __import__("re").search(named, capsys.readouterr().err)
     assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("model", "flags", "named"),
+    [
+        (
+            "cylinder_on_incline",
+            ["--vary", "alpha=0.1,0.2", "--backend", "numba"],
+            r"constraints: .*use --backend numpy",
+        ),
+        (
+            "cylinder_on_incline",
+            ["--vary", "x=0.1,0.2"],
+            r"violates the constraints.*--project-initial",
+        ),
+        (
+            "cylinder_on_incline",
+            ["--vary", "alpha=0.1", "--method", "variational", "--dt", "0.1", "--stop-when", "x"],
+            r"--stop-when: --method variational does not locate events.*another --method",
+        ),
+        (
+            "simple_pendulum",
+            ["--vary", "l=1,2", "--method", "RK4"],
+            r"--dt: .*pass --dt \.\.\. or --samples N",
+        ),
+        (
+            "simple_pendulum",
+            ["--vary", "l=1,2", "--project-initial"],
+            r"--project-initial: .*remove --project-initial",
+        ),
+    ],
+)
+def test_messages_say_flags_not_keywords(model, flags, named, tmp_path: Path, capsys) -> None:
+    out = tmp_path / "r.zarr"
+    assert main(["sweep", f"examples/{model}", *flags, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert re.search(named, err, flags=re.DOTALL), err
+    assert not re.search(r"\w=(True|'|\.\.\.)", err), err  # no keyword=value of the Python API
+    assert not out.exists()
+
+
+def test_a_constrained_sweep_from_the_command_line(cluster, tmp_path: Path) -> None:
+    # a solid cylinder rolling down a slope: x = g sin(alpha) t^2 / 3 and the friction
+    # multiplier lambda = -m g sin(alpha) / 3 (the model's comment)
+    out = tmp_path / "incline.zarr"
+    flags = ["--vary", "alpha=0.2,0.4", "--t-end", "1", "--samples", "3", "--method", "DOP853"]
+    flags += ["--stop-when", "0.8 - x", "--scheduler", cluster.scheduler_address]
+    assert main(["sweep", "examples/cylinder_on_incline", *flags, "--out", str(out)]) == 0
+    data = xr.open_zarr(out)
+    alpha = data["alpha"].values
+    expected = np.broadcast_to(-9.81 * np.sin(alpha)[:, None] / 3, (2, 3))
+    finite = np.isfinite(data["lambda_1"].values)
+    np.testing.assert_allclose(data["lambda_1"].values[finite], expected[finite], atol=1e-8)
+    stop = np.sqrt(2.4 / (9.81 * np.sin(alpha)))  # x = 0.8 at 1.11 (after t_end) and 0.79
+    np.testing.assert_allclose(data["stop_time"], [np.nan, stop[1]], rtol=1e-7)
+    assert list(data["status"].values) == ["success", "stopped"]
 
 
 def test_an_existing_out_needs_resume(tmp_path: Path, capsys) -> None:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import re
 import sys
 from collections.abc import Sequence
 
@@ -38,10 +39,25 @@ FLAGS = {
     "method": "--method",
     "rtol": "--rtol",
     "atol": "--atol",
+    "dt": "--dt",
+    "events": "--stop-when",
     "backend": "--backend",
+    "project_initial": "--project-initial",
+    "seed": "--seed",
 }
 #: Python phrases of the sweep's messages that the command says otherwise.
-PHRASES = (("pass resume=True", "add --resume"), ("give workers", "give --workers"))
+PHRASES = (
+    ("pass resume=True", "add --resume"),
+    ("give workers", "give --workers"),
+    ("leave out workers", "leave out --workers"),
+    ("pass project_initial=True", "add --project-initial"),
+    ("remove project_initial=True", "remove --project-initial"),
+    ("backend='numpy'", "--backend numpy"),
+    ("backend='numba'", "--backend numba"),
+    ("give its text, or a function numba compiles, or", "give another --stop-when, or"),
+    ("use another method with stop_when=", "use another --method with --stop-when"),
+    ("scheduler: cannot reach", "--scheduler: cannot reach"),
+)
 
 
 def add_sweep_options(command: argparse.ArgumentParser) -> None:
@@ -63,7 +79,11 @@ def add_sweep_options(command: argparse.ArgumentParser) -> None:
     command.add_argument("--seed", type=int, default=0, help="seed of --random (0)")
     command.add_argument("--t-end", type=float, help="end time (default: the model's)")
     command.add_argument("--samples", type=int, help="output times (default: the ends only)")
-    command.add_argument("--method", help="RK45 (default), DOP853 or RK4")
+    command.add_argument(
+        "--method",
+        help="RK45 (default), DOP853 or RK4; with constraints any method of lagrangian simulate",
+    )
+    command.add_argument("--dt", type=float, help="the step of RK4 (or give --samples)")
     command.add_argument("--rtol", type=float, help="relative tolerance")
     command.add_argument("--atol", type=float, help="absolute tolerance")
     command.add_argument("--backend", choices=["numpy", "numba"], default="numpy")
@@ -75,7 +95,14 @@ def add_sweep_options(command: argparse.ArgumentParser) -> None:
     command.add_argument("--out", required=True, help="the Zarr store to write (RESULT.zarr)")
     command.add_argument("--scheduler", metavar="ADDRESS", help="a running Dask scheduler")
     command.add_argument("--workers", type=int, help="local worker processes (one per core)")
-    command.add_argument("--chunk-size", type=int, default=512, help="members per task (512)")
+    command.add_argument(
+        "--chunk-size", type=int, help="members per task (512; 32 with constraints)"
+    )
+    command.add_argument(
+        "--project-initial",
+        action="store_true",
+        help="constrained systems: move each member's start onto the constraints",
+    )
     command.add_argument("--resume", action="store_true", help="continue the sweep in --out")
     command.add_argument(
         "--progress", action="store_true", help="show progress even when not on a terminal"
@@ -99,6 +126,7 @@ def run_sweep(args: argparse.Namespace) -> str:
             ("method", args.method),
             ("rtol", args.rtol),
             ("atol", args.atol),
+            ("dt", args.dt),
         )
         if value is not None
     }
@@ -117,6 +145,7 @@ def run_sweep(args: argparse.Namespace) -> str:
             stop_when=args.stop_when,
             chunk_size=args.chunk_size,
             backend=args.backend,
+            project_initial=args.project_initial,
             progress=True if args.progress else None,
             messages=lambda text: print(f"lagrangian: {text}", file=sys.stderr, flush=True),
             **stepping,
@@ -132,17 +161,33 @@ def run_sweep(args: argparse.Namespace) -> str:
 
 
 def in_flag_words(error: LagrangianError) -> LagrangianError:
-    """``error`` with its fields and fixes said as the command's flags."""
-    if not error.problems:
-        return error
+    """``error`` with its fields and fixes said as the command's flags: simulate's keywords
+    as the simulate command says them (:func:`lagrangian.cli.commands.in_command_line_words`),
+    then the sweep's own (:data:`FLAGS`, :data:`PHRASES`)."""
+    from lagrangian.cli.commands import in_command_line_words
+
+    if isinstance(error, SimulationInputError):
+        error = in_command_line_words(error)
 
     def flags(text: str) -> str:
         for python, shell in PHRASES:
             text = text.replace(python, shell)
+        for keyword, flag in FLAGS.items():  # method='RK4' -> --method RK4, dt=... -> --dt
+            text = re.sub(rf"\b{keyword}='?([\w.+-]+)'?", rf"{flag} \1", text)
+            text = re.sub(rf"\b{keyword}=(\.\.\.)?", flag, text)
         return text
 
+    if not error.problems:
+        if flags(str(error)) == str(error):
+            return error
+        try:
+            return type(error)(flags(str(error)))
+        except TypeError:  # an error class with another signature: keep it as it is
+            return error
     problems = [
-        dataclasses.replace(p, field=FLAGS.get(p.field, p.field), fix=flags(p.fix))
+        dataclasses.replace(
+            p, field=FLAGS.get(p.field, p.field), message=flags(p.message), fix=flags(p.fix)
+        )
         for p in error.problems
     ]
     own = "\n".join(str(p) for p in error.problems)

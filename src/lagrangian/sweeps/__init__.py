@@ -12,15 +12,15 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from lagrangian.sweeps.grid import Grid, build_grid
     from lagrangian.sweeps.run import SweepReport, sweep
-    from lagrangian.sweeps.stop_expression import StopExpression, stop_expression
+    from lagrangian.sweeps.stop_condition import StopExpression, stop_expression
 
 _HOMES = {
     "Grid": "lagrangian.sweeps.grid",
     "build_grid": "lagrangian.sweeps.grid",
     "SweepReport": "lagrangian.sweeps.run",
     "sweep": "lagrangian.sweeps.run",
-    "StopExpression": "lagrangian.sweeps.stop_expression",
-    "stop_expression": "lagrangian.sweeps.stop_expression",
+    "StopExpression": "lagrangian.sweeps.stop_condition",
+    "stop_expression": "lagrangian.sweeps.stop_condition",
 }
 
 

@@ -21,6 +21,9 @@ from lagrangian.sweeps.grid import Region
 #: Members per block unless asked otherwise: enough to keep a vectorized batch busy, few
 #: enough that a resumed sweep loses little.
 DEFAULT_CHUNK_SIZE = 512
+#: Members per block where each member is one simulate call (constrained systems), each
+#: far slower than a member of a compiled batch.
+MEMBER_CHUNK_SIZE = 32
 
 
 def block_shape(shape: tuple[int, ...], chunk_size: int) -> tuple[int, ...]:

@@ -1,19 +1,27 @@
-"""What a Dask worker does with one block: integrate its members as one compiled batch.
+"""What a Dask worker does with one block: integrate its members, then make the store's
+arrays of them.
 
 The System arrives once per worker (the sweep scatters it); :func:`lagrangian.derive` and the
 compilation are cached by its identity, so each worker derives and compiles once, whatever
-the number of blocks it runs.  The result holds plain arrays, ready to be written.
+the number of blocks it runs.  A block runs as one compiled batch (:func:`lagrangian.
+simulate_batch`), or, for a system the batch loops do not integrate (constraints:
+``SweepVariables.per_member``), member by member with :func:`lagrangian.simulate`.  Both
+give one Trajectory per member (:mod:`lagrangian.sweeps.members`), and
+:func:`chunk_of_members` makes the arrays of those, so the two paths store the same things.
+The result holds plain arrays, ready to be written.
 
 >>> import lagrangian as lg
->>> settings = ChunkSettings(1.0, {"method": "DOP853", "samples": 3}, None, "numpy", 3)
->>> result = run_chunk(lg.examples.simple_pendulum(), {"theta": [0.1, 0.2]}, {}, settings)
->>> result.q.shape, result.status
-((2, 3, 1), ('success', 'success'))
+>>> from lagrangian.sweeps.variables import sweep_variables
+>>> system = lg.examples.simple_pendulum()
+>>> settings = ChunkSettings(1.0, sweep_variables(system), (0.0, 0.5, 1.0), {"samples": 3})
+>>> result = run_chunk(system, {"theta": [0.1, 0.2]}, {}, settings)
+>>> result.series["theta"].shape, result.status
+((2, 3), ('success', 'success'))
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -22,117 +30,231 @@ import numpy as np
 from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
 from lagrangian.simulation.batch import StopCondition, simulate_batch
-from lagrangian.simulation.batch_result import Batch
+from lagrangian.simulation.trajectory import Trajectory
+from lagrangian.sweeps.members import batch_members, simulate_member, stop_time
+from lagrangian.sweeps.stop_condition import StopExpression
+from lagrangian.sweeps.variables import SweepVariables
 
 
 @dataclass(frozen=True)
 class ChunkSettings:
-    """How every block is integrated: simulate_batch's t_span, stepping keywords (method,
-    rtol, atol, samples...), stop condition and backend, and the number of output times."""
+    """How every block is integrated: the time span, what is stored (``variables``), the
+    output times ``t``, the stepping keywords (method, rtol, atol, samples...), the stop
+    condition, the backend, and ``project_initial`` (members run by simulate)."""
 
     t_span: float | tuple[float, float] | None
+    variables: SweepVariables
+    t: tuple[float, ...]
     stepping: Mapping[str, Any] = field(default_factory=dict)
     stop_when: StopCondition | None = None
     backend: str = "numpy"
-    times: int = 2
+    project_initial: bool = False
 
 
 @dataclass(frozen=True)
 class ChunkResult:
-    """The members of one block, in C order: q, q_dot (k, T, n), energy (k, T), per member
-    status, message, stop time (NaN: did not stop) and energy drift max |E - E(t0)|."""
+    """The members of one block, in C order: ``series`` by variable name (k, T) — the
+    coordinates, ``NAME_dot``, multipliers and ``energy`` — and per member (k,) the status,
+    message, stop time (NaN: did not stop), ``drifts`` by variable name (NaN where the
+    quantity is not conserved, or unknown) and ``not_conserved`` (why, in words; empty when
+    every stored quantity is conserved)."""
 
-    q: np.ndarray
-    q_dot: np.ndarray
-    energy: np.ndarray
+    series: Mapping[str, np.ndarray]
     status: tuple[str, ...]
     message: tuple[str, ...]
     stop_time: np.ndarray
-    energy_drift: np.ndarray
+    drifts: Mapping[str, np.ndarray]
+    not_conserved: tuple[str, ...]
 
 
 def run_chunk(
     system: System,
-    initial: Mapping[str, np.ndarray],
-    parameters: Mapping[str, np.ndarray],
+    initial: Mapping[str, Any],
+    parameters: Mapping[str, Any],
     settings: ChunkSettings,
 ) -> ChunkResult:
     """Integrate the members given by ``initial`` and ``parameters`` (arrays, one value per
-    member).  Bad input raises SimulationInputError.  A batch that raises as a whole is run
-    again member by member, so that a member that cannot be integrated is recorded as
-    ``failed`` with the reason and the others keep their results."""
-    try:
-        return chunk_result(
-            simulate_batch(
+    member).  Bad input for the whole block raises SimulationInputError; a member that cannot
+    be integrated is recorded as ``failed`` with the reason, and the others keep their
+    results."""
+    if settings.variables.per_member:
+        members = [
+            simulate_member(
                 system,
-                dict(initial),
+                _values(initial, i),
+                _values(parameters, i),
                 settings.t_span,
-                parameters=dict(parameters),
-                stop_when=settings.stop_when,
+                _member_stepping(settings),
+                settings.stop_when,
                 backend=settings.backend,
-                **settings.stepping,
+                project_initial=settings.project_initial,
             )
+            for i in range(_count(initial, parameters))
+        ]
+        return chunk_of_members(members, settings)
+    return _batch_chunk(system, initial, parameters, settings)
+
+
+def _batch_chunk(
+    system: System,
+    initial: Mapping[str, Any],
+    parameters: Mapping[str, Any],
+    settings: ChunkSettings,
+) -> ChunkResult:
+    """The block as one compiled batch; a batch that raises as a whole is run again member
+    by member, so that only the member that cannot be integrated is recorded as failed."""
+    stop = settings.stop_when
+    if settings.backend == "numba" and isinstance(stop, StopExpression):
+        stop = stop.scalar_function()  # numba compiles plain functions, not the record
+    try:
+        batch = simulate_batch(
+            system,
+            dict(initial),
+            settings.t_span,
+            parameters=dict(parameters),
+            stop_when=stop,
+            backend=settings.backend,
+            **settings.stepping,
         )
     except SimulationInputError:
         raise
     except Exception as error:  # one member's failure must not take the block with it
-        columns = {**initial, **parameters}
-        k = len(next(iter(columns.values()))) if columns else 1
+        k = _count(initial, parameters)
         if k == 1:
-            reason = f"Integration failed: {type(error).__name__}: {error}"
-            return failed_chunk(1, settings.times, len(system.coordinates), reason)
-        members = [
-            run_chunk(system, _member(initial, i), _member(parameters, i), settings)
-            for i in range(k)
-        ]
-        return joined(members)
+            return failed_chunk(1, settings, f"Integration failed: {type(error).__name__}: {error}")
+        return joined(
+            [
+                _batch_chunk(system, _member(initial, i), _member(parameters, i), settings)
+                for i in range(k)
+            ]
+        )
+    return chunk_of_members(batch_members(system, batch), settings)
 
 
-def _member(columns: Mapping[str, np.ndarray], i: int) -> dict[str, np.ndarray]:
+def _count(initial: Mapping[str, Any], parameters: Mapping[str, Any]) -> int:
+    columns = {**initial, **parameters}
+    return len(np.asarray(next(iter(columns.values())))) if columns else 1
+
+
+def _member(columns: Mapping[str, Any], i: int) -> dict[str, Any]:
     return {name: np.asarray(values)[i : i + 1] for name, values in columns.items()}
+
+
+def _values(columns: Mapping[str, Any], i: int) -> dict[str, float]:
+    return {name: float(np.asarray(values)[i]) for name, values in columns.items()}
+
+
+def _member_stepping(settings: ChunkSettings) -> dict[str, Any]:
+    """The stepping keywords of simulate: without output times, the ends (as the batch)."""
+    stepping = dict(settings.stepping)
+    if stepping.get("samples") is None and stepping.get("t_eval") is None:
+        stepping["t_eval"] = np.asarray(settings.t)
+    return stepping
+
+
+def chunk_of_members(members: Sequence[Trajectory], settings: ChunkSettings) -> ChunkResult:
+    """The arrays of the store for ``members``: each member's rows put at the output times
+    ``settings.t`` (NaN where it has none: after a stop or a failure)."""
+    variables, t = settings.variables, np.asarray(settings.t, dtype=float)
+    k, T = len(members), len(t)
+    names = (*variables.series, "energy")
+    series = {name: np.full((k, T), np.nan) for name in names}
+    drifts = {name: np.full(k, np.nan) for name in variables.drifts}
+    for i, member in enumerate(members):
+        rows, places = _rows_at(member.t, t)
+        for name in names:
+            column = _column(member, name, variables)
+            if column is not None:
+                series[name][i, places] = column[rows]
+        for name, value in _drifts(member, variables).items():
+            drifts[name][i] = value
+    return ChunkResult(
+        series=series,
+        status=tuple(_status(member) for member in members),
+        message=tuple(_message(member) for member in members),
+        stop_time=np.array([stop_time(member) for member in members], dtype=float),
+        drifts=drifts,
+        not_conserved=tuple(_reasons(member, variables) for member in members),
+    )
+
+
+def _rows_at(times: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(rows of ``times`` that are output times, their places in ``t``)."""
+    if len(times) <= len(t) and np.array_equal(times, t[: len(times)]):
+        return np.arange(len(times)), np.arange(len(times))  # the first rows: most members
+    order = np.argsort(t, kind="stable")
+    places = order[np.clip(np.searchsorted(t, times, sorter=order), 0, len(t) - 1)]
+    rows = np.flatnonzero(t[places] == times) if len(t) else np.zeros(0, dtype=int)
+    return rows, places[rows]
+
+
+def _column(member: Trajectory, name: str, variables: SweepVariables) -> np.ndarray | None:
+    """The member's column for the variable ``name`` (``energy``: h where it is stored)."""
+    if name == "energy":
+        stored = member.energy_function if variables.energy_function else member.energy
+        return stored if stored is not None else member.energy
+    if name in member.names:
+        return member[name]
+    return None  # a multiplier of a member without rows
+
+
+def _drifts(member: Trajectory, variables: SweepVariables) -> dict[str, float]:
+    """The member's drift numbers by variable, from :meth:`Trajectory.drift` (which leaves
+    out the quantities the system does not conserve)."""
+    report = member.drift()
+    energy = "energy_function" if variables.energy_function else "energy"
+    keys = {"energy_drift": f"{energy}_absolute", "constraint_drift": "constraint_residual_max"}
+    keys.update((f"{name}_drift", f"conserved_{name}_absolute") for name in variables.momenta)
+    found = {}
+    for name in variables.drifts:
+        value = report.get(keys[name])
+        found[name] = float("nan") if value is None or isinstance(value, str) else float(value)
+    return found
+
+
+def _reasons(member: Trajectory, variables: SweepVariables) -> str:
+    """Why stored quantities are not conserved: ``energy: dissipation; p_x: forcing``."""
+    reasons = dict(member.not_conserved or {})
+    energy = "energy_function" if variables.energy_function else "energy"
+    found = [f"energy: {reasons[energy]}"] if energy in reasons else []
+    found += [f"{name}: {reasons[name]}" for name in variables.momenta if name in reasons]
+    return "; ".join(found)
+
+
+def _status(member: Trajectory) -> str:
+    if member.status != "success":
+        return "failed"
+    return "stopped" if np.isfinite(stop_time(member)) else "success"
+
+
+def _message(member: Trajectory) -> str:
+    t_stop = stop_time(member)
+    if member.status == "success" and np.isfinite(t_stop):
+        return f"Stopped by stop_when at t = {t_stop:.6g}."
+    return member.message
 
 
 def joined(parts: list[ChunkResult]) -> ChunkResult:
     """The members of ``parts``, in order, as one result."""
+    first = parts[0]
     return ChunkResult(
-        q=np.concatenate([p.q for p in parts]),
-        q_dot=np.concatenate([p.q_dot for p in parts]),
-        energy=np.concatenate([p.energy for p in parts]),
+        series={name: np.concatenate([p.series[name] for p in parts]) for name in first.series},
         status=sum((p.status for p in parts), ()),
         message=sum((p.message for p in parts), ()),
         stop_time=np.concatenate([p.stop_time for p in parts]),
-        energy_drift=np.concatenate([p.energy_drift for p in parts]),
+        drifts={name: np.concatenate([p.drifts[name] for p in parts]) for name in first.drifts},
+        not_conserved=sum((p.not_conserved for p in parts), ()),
     )
 
 
-def chunk_result(batch: Batch) -> ChunkResult:
-    """The arrays of a Batch (its energy drift over the sampled rows and the final state)."""
-    start = batch.energy[:, :1]
-    energies = np.hstack([batch.energy, batch.final_energy[:, None]])
-    with np.errstate(invalid="ignore"):
-        change = np.abs(energies - start)
-    finite = np.isfinite(change)
-    drift = np.where(finite.any(axis=1), np.max(np.where(finite, change, 0.0), axis=1), np.nan)
-    return ChunkResult(
-        q=np.asarray(batch.q),
-        q_dot=np.asarray(batch.q_dot),
-        energy=np.asarray(batch.energy),
-        status=batch.status,
-        message=batch.message,
-        stop_time=np.asarray(batch.stop_time),
-        energy_drift=drift,
-    )
-
-
-def failed_chunk(members: int, times: int, coordinates: int, message: str) -> ChunkResult:
+def failed_chunk(members: int, settings: ChunkSettings, message: str) -> ChunkResult:
     """Every member failed for ``message``: NaN rows, status ``failed``."""
-    rows = np.full((members, times, coordinates), np.nan)
+    variables, T = settings.variables, len(settings.t)
     return ChunkResult(
-        q=rows,
-        q_dot=rows.copy(),
-        energy=np.full((members, times), np.nan),
+        series={name: np.full((members, T), np.nan) for name in (*variables.series, "energy")},
         status=("failed",) * members,
         message=(message,) * members,
         stop_time=np.full(members, np.nan),
-        energy_drift=np.full(members, np.nan),
+        drifts={name: np.full(members, np.nan) for name in variables.drifts},
+        not_conserved=("",) * members,
     )

@@ -22,6 +22,13 @@ CONNECT_TIMEOUT = 10
 
 def check_cluster_options(scheduler: str | None, workers: int | None) -> None:
     """Refuse workers that are not a positive count, or given with a scheduler."""
+    raise_if_problems(
+        cluster_problems(scheduler, workers), "Cannot start the sweep", SimulationInputError
+    )
+
+
+def cluster_problems(scheduler: str | None, workers: int | None) -> list[Problem]:
+    """What :func:`check_cluster_options` refuses, as problems (to be raised with others)."""
     problems = []
     if workers is not None and (
         isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
@@ -32,7 +39,7 @@ def check_cluster_options(scheduler: str | None, workers: int | None) -> None:
     if workers is not None and scheduler:
         fix = "leave out workers: a running cluster has its own (start more with dask worker)"
         problems.append(Problem("workers", "applies to the local cluster only", fix))
-    raise_if_problems(problems, "Cannot start the sweep", SimulationInputError)
+    return problems
 
 
 @contextmanager

@@ -1,21 +1,29 @@
 """A sweep's simulation inputs checked on the client, before a cluster starts or a store is
-made: what ``simulate_batch`` would refuse (method, tolerances, samples, time span, missing
-values, backend) is refused here, every problem at once, with the output times it would use.
+made: what the workers' integrator would refuse (method, tolerances, samples, time span,
+missing values, backend; for a constrained system also a first member off its constraints)
+is refused here, every problem at once, with the output times it would use.
 
 >>> import lagrangian as lg
 >>> checked_times(lg.examples.simple_pendulum(), {"theta": [0.1]}, {}, 2.0, {"samples": 3})
 array([0., 1., 2.])
+>>> checked_member_times(lg.examples.cylinder_on_incline(), {}, {}, 2.0, {"samples": 2})
+array([0., 2.])
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 
+from lagrangian.errors import SimulationInputError, raise_if_problems
 from lagrangian.model import System
-from lagrangian.simulation.batch import prepared_batch
+from lagrangian.simulation.batch import StopCondition, prepared_batch
+from lagrangian.simulation.run import plan
+from lagrangian.simulation.setup import prepare
+from lagrangian.sweeps.members import stop_event
 
 
 def checked_times(
@@ -30,3 +38,58 @@ def checked_times(
     checks of :func:`lagrangian.simulate_batch`, without integrating)."""
     *_, batch = prepared_batch(system, initial, parameters, t_span, stepping, backend, "sweep")
     return np.asarray(batch.t_out, dtype=float)
+
+
+def checked_member_times(
+    system: System,
+    initial: Mapping[str, float],
+    parameters: Mapping[str, float],
+    t_span: float | tuple[float, float] | None,
+    stepping: Mapping[str, Any],
+    backend: str = "numpy",
+    stop_when: StopCondition | None = None,
+    project_initial: bool = False,
+) -> np.ndarray:
+    """The output times of members run one by one with :func:`lagrangian.simulate` (the
+    ends of the time span without ``samples`` or ``t_eval``, as a batch); its checks of one
+    member (``initial`` and ``parameters``: numbers) without integrating, the start on the
+    constraints included.  SimulationInputError on bad input."""
+    try:
+        setup = prepare(
+            system,
+            initial,
+            t_span,
+            stepping,
+            parameters=parameters,
+            events=(stop_event(stop_when),) if stop_when is not None else (),
+            backend=backend,
+            project_initial=project_initial,
+        )
+        motion, _ = plan(setup)
+        motion.start(setup.inputs, project_initial)
+    except SimulationInputError as error:
+        raise_in_sweep_words(error)
+    t_out = setup.inputs.t_out
+    return np.asarray(setup.inputs.t_span if t_out is None else t_out, dtype=float)
+
+
+def raise_in_sweep_words(error: SimulationInputError) -> NoReturn:
+    """Raise the problems simulate found said with the sweep's keywords: its stop condition
+    is ``stop_when`` (simulate's ``events``)."""
+    if not error.problems:
+        raise error
+
+    def words(text: str) -> str:
+        return text.replace("events=", "stop_when=")
+
+    problems = [
+        dataclasses.replace(
+            p,
+            field="stop_when" if p.field == "events" else p.field,
+            message=words(p.message),
+            fix=words(p.fix),
+        )
+        for p in error.problems
+    ]
+    raise_if_problems(problems, "Cannot sweep", SimulationInputError)
+    raise error  # not reached: there are problems

@@ -3,11 +3,13 @@ written to Zarr block by block, resumable.
 
 The members (the product of the ``vary`` axes, times the ``random`` samples,
 :mod:`lagrangian.sweeps.grid`) are cut into blocks (:mod:`lagrangian.sweeps.blocks`); each block
-is one task integrating its members as one compiled batch (:func:`lagrangian.simulate_batch`)
-on a worker.  The System is scattered to every worker once.  The client writes each block
-into the store as it finishes (:mod:`lagrangian.sweeps.store`), its ``done`` flags last; with
-``resume=True`` the blocks already done are skipped.  A task that raises is retried
-(``retries``) and a task whose worker dies is run again on another by Dask.
+is one task integrating its members on a worker, as one compiled batch
+(:func:`lagrangian.simulate_batch`), or member by member with :func:`lagrangian.simulate` for a
+constrained system (the multiplier form, whose multipliers are stored too:
+:mod:`lagrangian.sweeps.chunk_run`).  The System is scattered to every worker once.  The
+client writes each block into the store as it finishes (:mod:`lagrangian.sweeps.store`), its
+``done`` flags last; with ``resume=True`` the blocks already done are skipped.  A task that
+raises is retried (``retries``) and a task whose worker dies is run again on another by Dask.
 
 >>> import tempfile, pathlib, lagrangian as lg  # doctest: +SKIP
 >>> out = pathlib.Path(tempfile.mkdtemp()) / "map.zarr"  # doctest: +SKIP
@@ -19,6 +21,7 @@ into the store as it finishes (:mod:`lagrangian.sweeps.store`), its ``done`` fla
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import os
 import time
@@ -31,26 +34,35 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
+from lagrangian.errors import Problem, SimulationError, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.system import require_system
 from lagrangian.simulation.batch import StopCondition
 from lagrangian.simulation.options import StepKeywords
-from lagrangian.sweeps.blocks import DEFAULT_CHUNK_SIZE, block_shape, region_size, regions
+from lagrangian.sweeps.blocks import (
+    DEFAULT_CHUNK_SIZE,
+    MEMBER_CHUNK_SIZE,
+    block_shape,
+    region_size,
+    regions,
+)
 from lagrangian.sweeps.chunk_run import ChunkSettings, run_chunk
-from lagrangian.sweeps.cluster import check_cluster_options, dask_client
+from lagrangian.sweeps.cluster import cluster_problems, dask_client
 from lagrangian.sweeps.dependencies import require_sweep_packages
-from lagrangian.sweeps.grid import Grid, build_grid
-from lagrangian.sweeps.inputs import checked_times
+from lagrangian.sweeps.grid import Grid, Region, build_grid
+from lagrangian.sweeps.inputs import checked_member_times, checked_times
 from lagrangian.sweeps.progress import ProgressLine
-from lagrangian.sweeps.stop_expression import StopExpression, stop_expression
+from lagrangian.sweeps.stop_condition import StopExpression, stop_expression
 from lagrangian.sweeps.store import SweepWriter, check_resumable, create_store
+from lagrangian.sweeps.variables import SweepVariables, sweep_variables
 
 if TYPE_CHECKING:
     from typing_extensions import Unpack
 
 #: Times Dask runs a block again after it raised.
 RETRIES = 2
+#: The version of the store's layout (a resume into a store of another layout is refused).
+LAYOUT = 2
 
 
 @dataclass(frozen=True)
@@ -94,8 +106,9 @@ def sweep(
     workers: int | None = None,
     resume: bool = False,
     stop_when: str | StopCondition | None = None,
-    chunk_size: int = DEFAULT_CHUNK_SIZE,
+    chunk_size: int | None = None,
     backend: str = "numpy",
+    project_initial: bool = False,
     progress: bool | None = None,
     messages: Callable[[str], None] | None = None,
     retries: int = RETRIES,
@@ -110,7 +123,9 @@ def sweep(
         members are the product of the axes; each is a dimension of the result, the
         parameter's own name or ``NAME_0`` for an initial value.
     t_span, method, rtol, atol, samples, ...:
-        As for :func:`lagrangian.simulate_batch` (without ``samples``: the ends only).
+        As for :func:`lagrangian.simulate_batch` (without ``samples``: the ends only).  A
+        system with constraints runs member by member with :func:`lagrangian.simulate`
+        (backend "numpy"), and its multipliers ``lambda_j`` are stored as well.
     random, seed:
         NAME -> (low, high, N): N members drawn uniformly, along the dimension ``sample``
         (every random name the same N), seeded.
@@ -122,9 +137,14 @@ def sweep(
         written; without it an existing ``out`` is refused.
     stop_when:
         g(t, q, q_dot) or its text (``"pi - Abs(theta)"``): a member stops where g turns
-        negative; its time is the variable ``stop_time``.
+        negative; its time is the variable ``stop_time``.  The text works with every backend;
+        a function must suit the backend's (:func:`lagrangian.simulate_batch`).
     chunk_size:
-        Members per block (one task, one chunk of the store).
+        Members per block (one task, one chunk of the store); default 512, or 32 for a
+        constrained system.
+    project_initial:
+        Constrained systems: move each member's initial state onto the constraints (as
+        :func:`lagrangian.simulate` does) instead of recording it as failed.
     progress, messages:
         The progress line on standard error (None: when it is a terminal), and a function
         told the dashboard address and other news.
@@ -141,23 +161,27 @@ def sweep(
     system = require_system(system, "sweep(system)")
     path = Path(out)
     grid = build_grid(system, vary, random, seed)
-    _check_options(path, resume, chunk_size, retries)
-    check_cluster_options(scheduler, workers)
+    stored = sweep_variables(system)
+    if chunk_size is None:
+        chunk_size = MEMBER_CHUNK_SIZE if stored.per_member else DEFAULT_CHUNK_SIZE
+    problems = cluster_problems(scheduler, workers)
+    _check_options(path, resume, chunk_size, retries, project_initial, stored, problems)
     condition = _stop_condition(system, grid, stop_when)
     block = block_shape(grid.shape, chunk_size)
     parts = list(regions(grid.shape, block))
-    initial, parameters = grid.columns(parts[0])
-    t = checked_times(system, initial, parameters, t_span, stepping, backend)
-    description = _description(system, grid, t, stepping, condition, backend)
+    settings = ChunkSettings(
+        t_span, stored, (), dict(stepping), condition, backend, bool(project_initial)
+    )
+    t = _checked_times(system, grid, parts[0], settings)
+    settings = dataclasses.replace(settings, t=tuple(t.tolist()))
+    description = _description(system, grid, t, settings)
     if path.exists():
         check_resumable(path, description)
     else:
-        coordinates = tuple(q.name for q in system.coordinates)
-        create_store(path, grid, coordinates, t, block, description, condition is not None)
-    writer = SweepWriter(path, tuple(q.name for q in system.coordinates))
+        create_store(path, grid, stored, t, block, description, condition is not None)
+    writer = SweepWriter(path)
     todo = [part for part, done in zip(parts, writer.done(parts)) if not done]
     skipped = grid.size - sum(region_size(part) for part in todo)
-    settings = ChunkSettings(t_span, dict(stepping), condition, backend, len(t))
     start = time.perf_counter()
     dashboard = None
     if todo:
@@ -222,8 +246,59 @@ def _run_blocks(
         client.cancel([f for f, _ in futures.values()])
 
 
-def _check_options(path: Path, resume: bool, chunk_size: Any, retries: Any) -> None:
-    problems = []
+def _checked_times(
+    system: System, grid: Grid, first: Region, settings: ChunkSettings
+) -> np.ndarray:
+    """The output times, after the checks of the integrator the workers will use: on the
+    first block for a batch, on its first member for members run one by one (the start on
+    the constraints included); a stop condition is compiled where numba will run it."""
+    initial, parameters = grid.columns(first)
+    t_span, stepping, backend = settings.t_span, settings.stepping, settings.backend
+    if settings.variables.per_member:
+        one = {name: float(values[0]) for name, values in initial.items()}
+        given = {name: float(values[0]) for name, values in parameters.items()}
+        return checked_member_times(
+            system,
+            one,
+            given,
+            t_span,
+            stepping,
+            backend,
+            settings.stop_when,
+            settings.project_initial,
+        )
+    t = checked_times(system, initial, parameters, t_span, stepping, backend)
+    if backend == "numba" and settings.stop_when is not None:
+        _require_compiles(settings.stop_when)
+    return t
+
+
+def _require_compiles(condition: StopCondition) -> None:
+    """SimulationInputError when numba cannot compile the stop condition."""
+    from lagrangian.numerics.fast.run import compile_stop
+
+    function = condition.scalar_function() if isinstance(condition, StopExpression) else condition
+    try:
+        compile_stop(function)
+    except SimulationError as error:
+        text = str(error).removeprefix("stop_when: ")
+        fix = "give its text, or a function numba compiles, or use backend='numpy'"
+        raise SimulationInputError("Cannot sweep:", [Problem("stop_when", text, fix)]) from None
+
+
+def _check_options(
+    path: Path,
+    resume: bool,
+    chunk_size: Any,
+    retries: Any,
+    project_initial: bool,
+    stored: SweepVariables,
+    problems: list[Problem],
+) -> None:
+    """Raise every problem of the sweep's own options, with ``problems`` found before."""
+    if project_initial and not stored.per_member:
+        message = "project_initial moves states onto the constraints, and this system has none"
+        problems.append(Problem("project_initial", message, "remove project_initial=True"))
     if path.exists() and not resume:
         fix = "pass resume=True to continue it, or choose another path"
         problems.append(Problem("out", f"{path} already exists", fix))
@@ -252,21 +327,18 @@ def _stop_condition(
 
 
 def _description(
-    system: System,
-    grid: Grid,
-    t: np.ndarray,
-    stepping: Mapping[str, Any],
-    condition: StopCondition | None,
-    backend: str,
+    system: System, grid: Grid, t: np.ndarray, settings: ChunkSettings
 ) -> dict[str, Any]:
     """What identifies a sweep, as JSON values: a resume must match it."""
     model = repr(system)  # every field of the value, printed the same in every process
+    condition, stepping = settings.stop_when, settings.stepping
     stop: str | None = None
     if isinstance(condition, StopExpression):
         stop = condition.text
     else:
         stop = getattr(condition, "__qualname__", repr(condition)) if condition else None
     return {
+        "layout": LAYOUT,
         "model": system.name,
         "model_digest": hashlib.sha256(model.encode()).hexdigest(),
         "dims": list(grid.dims),
@@ -275,7 +347,8 @@ def _description(
         "t": [float(t[0]), float(t[-1]), len(t)],
         "stepping": {key: _plain(value) for key, value in sorted(stepping.items())},
         "stop_when": stop,
-        "backend": backend,
+        "backend": settings.backend,
+        "project_initial": settings.project_initial,
     }
 
 

@@ -1,9 +1,14 @@
 """The Zarr store of a sweep: laid out whole before any work, then filled block by block.
 
 The store is an xarray Dataset (Zarr format 2, read by ``xarray.open_zarr``) with one
-dimension per varied name and ``t``: every coordinate and ``NAME_dot`` and the energy over
-(dims..., t); per member ``status`` (``success``, ``stopped``, ``failed``; empty while not
-computed), ``message``, ``energy_drift`` (max |E - E(t0)|), ``stop_time`` with a stop
+dimension per varied name and ``t``.  Over (dims..., t): every coordinate and ``NAME_dot``,
+with constraints the multipliers ``lambda_j``, and ``energy`` — the energy function h where it
+differs from T + V, else T + V, as its attribute ``quantity`` says
+(:mod:`lagrangian.sweeps.variables`).  Per member: ``status`` (``success``, ``stopped``,
+``failed``; empty while not computed), ``message``, the drift of each conserved quantity
+(``energy_drift`` = max |energy - energy(t0)|, ``p_NAME_drift`` for the momentum of a cyclic
+coordinate; NaN where the member does not conserve it, ``not_conserved`` saying why), with
+constraints ``constraint_drift`` (the largest constraint residual), ``stop_time`` with a stop
 condition, and ``done``.  Each block is one chunk of every array; its ``done`` flags are
 written after its data, so a block interrupted mid-write reads as not done and is computed
 again by a resumed sweep.  The attribute ``lagrangian_sweep`` describes the sweep (model,
@@ -20,20 +25,22 @@ from typing import Any
 import numpy as np
 
 from lagrangian.errors import Problem, SimulationInputError
-from lagrangian.simulation.trajectory import DOT
 from lagrangian.sweeps.chunk_run import ChunkResult
 from lagrangian.sweeps.grid import SAMPLE, Grid, Region
+from lagrangian.sweeps.variables import ENERGY_LABELS, SweepVariables
 
 #: The attribute describing the sweep that wrote a store.
 DESCRIPTION = "lagrangian_sweep"
 #: Per-member text lengths (Zarr stores fixed-width text): longer messages are cut.
-STATUS_DTYPE, MESSAGE_LENGTH = "<U7", 200
+STATUS_DTYPE, MESSAGE_LENGTH, REASONS_LENGTH = "<U7", 200, 100
+#: What each per-member drift variable measures.
+DRIFT_NAMES = {"energy_drift": "max |energy - energy(t0)|", "constraint_drift": "max residual"}
 
 
 def create_store(
     path: str | os.PathLike[str],
     grid: Grid,
-    coordinates: tuple[str, ...],
+    stored: SweepVariables,
     t: np.ndarray,
     block: tuple[int, ...],
     description: Mapping[str, Any],
@@ -50,13 +57,17 @@ def create_store(
         return da.full(shape + extra, fill, dtype=dtype, chunks=block + extra)
 
     variables: dict[str, Any] = {}
-    for name in coordinates:
+    for name in stored.series:
         variables[name] = (series, empty((len(t),), float, np.nan))
-        variables[name + DOT] = (series, empty((len(t),), float, np.nan))
-    variables["energy"] = (series, empty((len(t),), float, np.nan), {"long_name": "T + V"})
+    quantity, long_name = ENERGY_LABELS[stored.energy_function]
+    energy_attrs = {"quantity": quantity, "long_name": long_name}
+    variables["energy"] = (series, empty((len(t),), float, np.nan), energy_attrs)
     variables["status"] = (dims, empty((), STATUS_DTYPE, ""))
     variables["message"] = (dims, empty((), f"<U{MESSAGE_LENGTH}", ""))
-    variables["energy_drift"] = (dims, empty((), float, np.nan), {"long_name": "max |E - E0|"})
+    for name in stored.drifts:
+        measured = DRIFT_NAMES.get(name, f"max |{name[: -len('_drift')]} - its value at t0|")
+        variables[name] = (dims, empty((), float, np.nan), {"long_name": measured})
+    variables["not_conserved"] = (dims, empty((), f"<U{REASONS_LENGTH}", ""))
     if stop_time:
         variables["stop_time"] = (dims, empty((), float, np.nan))
     variables["done"] = (dims, empty((), bool, False))
@@ -102,11 +113,10 @@ def check_resumable(path: str | os.PathLike[str], description: Mapping[str, Any]
 class SweepWriter:
     """Writes blocks into a store made by :func:`create_store`, and reads which are done."""
 
-    def __init__(self, path: str | os.PathLike[str], coordinates: tuple[str, ...]) -> None:
+    def __init__(self, path: str | os.PathLike[str]) -> None:
         import zarr
 
         self.group: Any = zarr.open_group(os.fspath(path), mode="r+")
-        self.coordinates = coordinates
 
     def done(self, regions: Iterable[Region]) -> list[bool]:
         """Whether each block is written (all its ``done`` flags set; unreadable: not done)."""
@@ -130,16 +140,13 @@ class SweepWriter:
     def write(self, region: Region, result: ChunkResult) -> None:
         """The block's data, then its ``done`` flags."""
         shape = tuple(s.stop - s.start for s in region)
-        for j, name in enumerate(self.coordinates):
-            self._put(name, region, result.q[:, :, j], shape)
-            self._put(name + DOT, region, result.q_dot[:, :, j], shape)
-        self._put("energy", region, result.energy, shape)
+        for name, values in result.series.items():
+            self._put(name, region, values, shape)
         self._put("status", region, np.array(result.status, dtype=STATUS_DTYPE), shape)
-        messages = [
-            m if len(m) <= MESSAGE_LENGTH else m[: MESSAGE_LENGTH - 1] + "…" for m in result.message
-        ]
-        self._put("message", region, np.array(messages, dtype=f"<U{MESSAGE_LENGTH}"), shape)
-        self._put("energy_drift", region, result.energy_drift, shape)
+        self._put("message", region, _text(result.message, MESSAGE_LENGTH), shape)
+        for name, values in result.drifts.items():
+            self._put(name, region, values, shape)
+        self._put("not_conserved", region, _text(result.not_conserved, REASONS_LENGTH), shape)
         if "stop_time" in self.group:
             self._put("stop_time", region, result.stop_time, shape)
         self._put("done", region, np.ones(len(result.status), dtype=bool), shape)
@@ -148,3 +155,9 @@ class SweepWriter:
         array = self.group[name]
         extra = values.shape[1:]
         array[region + (slice(None),) * len(extra)] = values.reshape(shape + extra)
+
+
+def _text(values: Iterable[str], length: int) -> np.ndarray:
+    """Fixed-width text, each value longer than ``length`` cut with an ellipsis."""
+    cut = [v if len(v) <= length else v[: length - 1] + "…" for v in values]
+    return np.array(cut, dtype=f"<U{length}")
