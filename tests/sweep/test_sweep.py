@@ -135,6 +135,19 @@ def test_resume_refuses_a_store_of_another_sweep(cluster, tmp_path: Path) -> Non
         sweep(system, {"theta": [0.2]}, 1.0, out=out, resume=True)
 
 
+def test_an_unreachable_scheduler_leaves_no_store_behind(tmp_path: Path) -> None:
+    import socket
+
+    with socket.socket() as probe:  # a port nothing listens on
+        probe.bind(("127.0.0.1", 0))
+        address = f"tcp://127.0.0.1:{probe.getsockname()[1]}"
+    out = tmp_path / "never.zarr"
+    system = lg.examples.simple_pendulum()
+    with pytest.raises(lg.SimulationError, match="cannot reach the Dask scheduler"):
+        sweep(system, {"theta": [0.1]}, 1.0, out=out, scheduler=address)
+    assert not out.exists()  # the same command runs again without --resume
+
+
 def test_bad_input_names_the_field_before_any_cluster_starts(tmp_path: Path) -> None:
     system = lg.examples.simple_pendulum()
     with pytest.raises(SimulationInputError, match=r"vary\['kk'\].*not a name"):

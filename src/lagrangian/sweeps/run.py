@@ -21,9 +21,11 @@ raises is retried (``retries``) and a task whose worker dies is run again on ano
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import hashlib
 import os
+import shutil
 import time
 import uuid
 from collections.abc import Callable, Mapping
@@ -175,10 +177,11 @@ def sweep(
     t = _checked_times(system, grid, parts[0], settings)
     settings = dataclasses.replace(settings, t=tuple(t.tolist()))
     description = _description(system, grid, t, settings)
-    if path.exists():
-        check_resumable(path, description)
-    else:
+    created = not path.exists()
+    if created:
         create_store(path, grid, stored, t, block, description, condition is not None)
+    else:
+        check_resumable(path, description)
     writer = SweepWriter(path)
     todo = [part for part, done in zip(parts, writer.done(parts)) if not done]
     skipped = grid.size - sum(region_size(part) for part in todo)
@@ -187,7 +190,13 @@ def sweep(
     if todo:
         line = ProgressLine(sum(region_size(part) for part in todo), force=bool(progress))
         line.shown = line.shown if progress is None else bool(progress)
-        with dask_client(scheduler, workers) as client:
+        with contextlib.ExitStack() as stack:
+            try:
+                client = stack.enter_context(dask_client(scheduler, workers))
+            except SimulationError:  # no cluster: leave no empty store behind to resume
+                if created:
+                    shutil.rmtree(path, ignore_errors=True)
+                raise
             dashboard = client.dashboard_link
             if messages:
                 messages(f"Dask dashboard: {dashboard}")
