@@ -7,10 +7,15 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
+from lagrangian.analysis.conditional_integrals import candidate_relations
 from lagrangian.analysis.first_integrals import first_integrals
 from lagrangian.analysis.lie_symmetries import lie_point_symmetries
-from lagrangian.analysis.quadratic_integrals import quadratic_integrals
+from lagrangian.analysis.manifold_integrals import manifold_integrals
+from lagrangian.analysis.quadratic_integrals import cubic_integrals, quadratic_integrals
+from lagrangian.model.symbols import time_derivative
 from lagrangian.render.analysis_json import analysis_document
+from lagrangian.render.analysis_latex import analysis_latex
+from lagrangian.render.analysis_text import analysis_text
 
 x, y = lg.coordinates("x y")
 x_dot, y_dot = lg.velocity(x), lg.velocity(y)
@@ -179,3 +184,215 @@ def test_the_search_can_be_bounded_or_switched_off():
         lg.analyze(system, search_degree=-1)
     skipped = lg.analyze(system, search_seconds=-1.0).searched
     assert all("budget" in line for line in skipped)
+
+
+# --- the parameter conditions under which a quantity is conserved
+
+
+def oscillator(k1_value: float, k2_value: float) -> lg.System:
+    return plane((k1 * x**2 + k2 * y**2) / 2, k1=k1_value, k2=k2_value)
+
+
+ANGULAR = m * (x * y_dot - y * x_dot)
+OSCILLATING = {"x": 1.0, "y": 0.3, "x_dot": 0.2, "y_dot": -0.5}
+
+
+def test_the_angular_momentum_of_an_oscillator_holds_only_when_its_springs_are_equal():
+    report = lg.analyze(oscillator(1.0, 2.0))
+    [conditional] = [c for c in report.conserved if c.conditions]
+    assert conditional.conditions == (sp.Eq(k1, k2),)
+    assert proportional(conditional.expression, ANGULAR)
+    assert not conditional.holds  # k1 = 1, k2 = 2: conserved only under its condition
+    assert all(c.holds for c in report.conserved if not c.conditions)
+    # dL_z/dt = (k1 - k2) x y: it changes for the values given, and is constant when equal
+    assert drift(oscillator(1.0, 2.0), conditional.expression, OSCILLATING) > 1e-2
+    assert drift(oscillator(1.5, 1.5), conditional.expression, OSCILLATING) < 1e-8
+
+
+def test_a_condition_the_values_meet_is_reported_as_holding():
+    report = lg.analyze(oscillator(1.5, 1.5))
+    [conditional] = [c for c in report.conserved if c.conditions]
+    assert conditional.holds and proportional(conditional.expression, ANGULAR)
+    document = analysis_document(report)
+    listed = {q["name"]: q for q in document["conserved_quantities"]}[conditional.name]
+    assert listed["conditions"] == ["Eq(k1, k2)"] and listed["holds"] is True
+    assert len(document["conserved"]) == len(report.conserved)
+    assert "holds when k1 = k2, as here" in analysis_text(report)
+
+
+def test_a_condition_the_values_miss_is_said_and_kept_out_of_the_conserved_list():
+    report = lg.analyze(oscillator(1.0, 2.0))
+    document = analysis_document(report)
+    [listed] = [q for q in document["conserved_quantities"] if q["conditions"]]
+    assert listed["holds"] is False and listed["expression"] not in document["conserved"]
+    assert len(document["conserved"]) == len(report.conserved) - 1
+    text = analysis_text(report)
+    assert "holds when k1 = k2; not for the parameter values given" in text
+    assert "holds when k1 = k2" in analysis_latex(report)
+
+
+def test_the_fradkin_tensor_needs_equal_springs():
+    fradkin = m * x_dot * y_dot + k1 * x * y
+    found = quadratic_integrals(oscillator(1.0, 2.0), {"k2": "k1"})
+    assert any(proportional(i, fradkin) for i in found)
+    assert not any(proportional(i, fradkin) for i in quadratic_integrals(oscillator(1.0, 2.0)))
+    # d/dt (m x_dot y_dot + k1 x y) = (k1 - k2) x_dot y on the equations of motion
+    assert drift(oscillator(1.0, 2.0), fradkin, OSCILLATING) > 1e-2
+    assert drift(oscillator(1.0, 1.0), fradkin, OSCILLATING) < 1e-8
+
+
+def test_parameters_that_play_no_common_role_are_not_tied():
+    assert candidate_relations(plane(-k / sp.sqrt(x**2 + y**2), k=1.0)) == ()  # m, k
+    assert candidate_relations(oscillator(1.0, 2.0)) == (sp.Eq(k1, k2),)
+
+
+# --- constrained systems: on the reduced system, or on the constrained equations
+
+z = lg.coordinates("z")[0]
+z_dot = lg.velocity(z)
+STATE.update({z, z_dot})
+
+
+def cartesian_sphere(weight: int) -> lg.System:
+    """A particle on a sphere of radius R in x, y, z, gravity along -z when ``weight``."""
+    return lg.System(
+        coordinates=[x, y, z],
+        parameters={m: 1.0, g: 9.81, R: 1.0},
+        kinetic=m * (x_dot**2 + y_dot**2 + z_dot**2) / 2,
+        potential=weight * m * g * z,
+        constraints=[lg.Holonomic(x**2 + y**2 + z**2 - R**2)],
+    )
+
+
+ON_SPHERE = {"x": 0.6, "y": 0.0, "z": -0.8, "x_dot": 0.4, "y_dot": 0.9, "z_dot": 0.3}
+ANGULAR_3D = [m * (y * z_dot - z * y_dot), m * (z * x_dot - x * z_dot), ANGULAR]
+
+
+def test_the_constrained_equations_of_a_sphere_give_the_three_angular_momenta():
+    # z = +-sqrt(R**2 - x**2 - y**2) is real on part of the plane only: the search runs on
+    # the multiplier form in x, y, z, and must not take x**2 + y**2 + z**2 for an integral
+    found = manifold_integrals(cartesian_sphere(0))
+    for component in ANGULAR_3D:
+        assert any(proportional(i, component) for i in found), component
+        assert drift(cartesian_sphere(0), component, ON_SPHERE) < 1e-7
+    assert not any(i.free_symbols <= {x, y, z, R} for i in found)
+
+
+def test_a_heavy_particle_on_a_sphere_keeps_only_its_vertical_angular_momentum_and_energy():
+    system = cartesian_sphere(1)
+    report = lg.analyze(system)
+    assert len(report.conserved) == 2
+    assert any(proportional(c.expression, ANGULAR) for c in report.conserved)
+    assert "energy" in {c.origin for c in report.conserved}
+    assert "constrained equations" in report.searched[0]
+    for quantity in report.conserved:
+        assert drift(system, quantity.expression, ON_SPHERE) < 1e-7
+
+
+def test_a_knife_edge_keeps_the_centre_of_its_circle():
+    # x_dot sin(phi) = y_dot cos(phi) (Bloch, Nonholonomic Mechanics and Control, §1.6): the
+    # blade turns at a constant rate and runs round a circle whose centre is conserved,
+    # (x - y_dot/phi_dot, y + x_dot/phi_dot): integrals that come from no symmetry of L
+    J = sp.Symbol("J")
+    phi_dot = lg.velocity(phi)
+    knife = lg.System(
+        coordinates=[x, y, phi],
+        parameters={m: 1.0, J: 0.5},
+        kinetic=m * (x_dot**2 + y_dot**2) / 2 + J * phi_dot**2 / 2,
+        constraints=[lg.VelocityConstraint(x_dot * sp.sin(phi) - y_dot * sp.cos(phi))],
+    )
+    report = lg.analyze(knife)
+    found = [c.expression for c in report.conserved]
+    for centre in (x * phi_dot - y_dot, y * phi_dot + x_dot):
+        assert any(proportional(f, centre) for f in found), centre
+    assert "non-holonomic" in report.searched[0]
+    start = {"x": 0.2, "y": -0.1, "phi": 0.3, "x_dot": np.cos(0.3), "y_dot": np.sin(0.3)}
+    for quantity in found:  # none of them false
+        assert drift(knife, quantity, {**start, "phi_dot": 0.7}) < 1e-7
+
+
+@pytest.mark.slow  # the analysis of the disc takes its time, the search is not the cost
+def test_a_rolling_disc_reports_its_energy_and_nothing_false():
+    disc = lg.examples.rolling_disc()
+    report = lg.analyze(disc)
+    assert "energy" in {c.origin for c in report.conserved}
+    coordinates = {"x": 0.0, "y": 0.0, "theta": 1.2, "psi": 0.0, "phi": 0.0}
+    velocities = {"psi_dot": 2.0, "phi_dot": 3.0, "theta_dot": 0.1}
+    start = lg.constraints.project_state(disc, {**coordinates, **velocities})
+    names = {s.name for s in (*lg.derive(disc).coordinates, *lg.derive(disc).velocities)}
+    start = {s.name: value for s, value in start.items() if s.name in names}
+    for quantity in report.conserved:
+        assert drift(disc, quantity.expression, start) < 1e-7
+
+
+def test_a_constraint_solved_in_closed_form_is_searched_on_the_reduced_system():
+    report = lg.analyze(lg.examples.cylinder_on_incline())
+    assert report.searched[0].startswith("searched on the reduced system in x")
+
+
+# --- integrals cubic in the velocities
+
+q1, q2, q3 = lg.coordinates("q1 q2 q3")
+TODA_VELOCITIES = [lg.velocity(s) for s in (q1, q2, q3)]
+TODA = lg.System(  # the periodic Toda lattice of three particles, unit masses and springs
+    coordinates=[q1, q2, q3],
+    kinetic=sum(w**2 for w in TODA_VELOCITIES) / 2,
+    potential=sp.exp(q1 - q2) + sp.exp(q2 - q3) + sp.exp(q3 - q1),
+)
+p1, p2, p3 = TODA_VELOCITIES
+STATE.update({q1, q2, q3, *TODA_VELOCITIES})
+# Hénon, Phys. Rev. B 9, 1921 (1974): the third integral, cubic in the momenta
+HENON = p1 * p2 * p3 - p1 * sp.exp(q2 - q3) - p2 * sp.exp(q3 - q1) - p3 * sp.exp(q1 - q2)
+TODA_START = {"q1": 0.3, "q2": -0.2, "q3": 0.1, "q1_dot": 0.5, "q2_dot": -0.1, "q3_dot": 0.2}
+
+
+def test_henons_integral_is_constant_on_the_toda_equations():
+    # the reference checked on its own: dI/dt = 0 with q_ddot_i = -dV/dq_i
+    eom = lg.derive(TODA)
+    accelerations = {a: -eom.gravity[i] for i, a in enumerate(eom.accelerations)}
+    rate = time_derivative(HENON, eom.coordinates).xreplace(accelerations)
+    assert sp.simplify(sp.expand(rate)) == 0
+
+
+def test_the_toda_lattice_has_henons_cubic_integral():
+    found = cubic_integrals(TODA, degree=1)
+    assert any(proportional(i, HENON) for i in found)
+    assert drift(TODA, HENON, TODA_START) < 1e-8
+
+
+@pytest.mark.slow
+def test_search_degree_3_reports_the_cubic_integral():
+    report = lg.analyze(TODA, search_degree=3)
+    [cubic] = [c for c in report.conserved if c.origin == "cubic first integral"]
+    assert proportional(cubic.expression, HENON)
+    assert any("cubic in the velocities" in line for line in report.searched)
+    for quantity in report.conserved:
+        assert drift(TODA, quantity.expression, TODA_START) < 1e-8
+
+
+@pytest.mark.slow
+def test_a_free_body_spins_steadily_about_its_axis_only_when_symmetric():
+    # Euler's equation I3 omega3_dot = (I1 - I2) omega1 omega2 (Goldstein §5.6): omega3 is
+    # conserved when I1 = I2, found with psi turned by a right angle exchanging I1 and I2
+    body = lg.examples.asymmetric_body()
+    report = lg.analyze(body)
+    [conditional] = [c for c in report.conserved if c.conditions]
+    theta_, psi_ = sp.symbols("theta psi")
+    omega3 = lg.velocity(phi) * sp.cos(theta_) + lg.velocity(psi_)
+    STATE.update({theta_, psi_, lg.velocity(theta_), lg.velocity(psi_)})
+    assert proportional(conditional.expression, omega3)
+    I1, I2 = sp.symbols("I1 I2")
+    assert conditional.conditions == (sp.Eq(I1, I2),) and not conditional.holds
+    start = {"phi": 0.1, "theta": 1.0, "psi": 0.2, "phi_dot": 1.0, "theta_dot": 0.5, "psi_dot": 0.3}
+    assert drift(body, omega3, start) > 1e-2
+    assert drift(body.with_parameters({I2: 2.0, I1: 2.0}), omega3, start) < 1e-8
+
+
+def test_a_relativistic_particle_has_the_lorentz_boost_charge():
+    # L = -m sqrt(1 - x_dot**2) (c = 1) is real only for |x_dot| < 1: the samples beyond are
+    # left out.  The boost gives K = t p - x E = m (t x_dot - x) / sqrt(1 - x_dot**2)
+    system = lg.System(coordinates=[x], parameters={m: 1.0}, lagrangian=-m * sp.sqrt(1 - x_dot**2))
+    charges = [s.charge for s in lie_point_symmetries(system)]
+    boost = m * (t * x_dot - x) / sp.sqrt(1 - x_dot**2)
+    assert any(proportional(charge, boost) for charge in charges)
+    assert drift(system, boost, {"x": 0.1, "x_dot": 0.6}) < 1e-8

@@ -5,8 +5,9 @@ The basis is the products of t, the coordinates and the non-polynomial functions
 Lagrangian itself is built from, up to a total degree (Olver, *Applications of Lie
 Groups to Differential Equations*, §5.3, seeks generators the same way): sin and cos of every
 coordinate under a trigonometric function, 1/sin of those whose sine can vanish in the metric
-(the cot(theta) of a rotation about a horizontal axis in spherical coordinates), and every
-radical base to the powers -1 and 1 (r and 1/r of a Kepler potential written in x, y, z).
+(the cot(theta) of a rotation about a horizontal axis in spherical coordinates), every
+exponential of the coordinates (exp(q1 - q2) of a Toda lattice), and every radical base to the
+powers -1 and 1 (r and 1/r of a Kepler potential written in x, y, z).
 
 Products of these atoms are often linearly dependent (sin(theta) * 1/sin(theta) = 1,
 sin**2 + cos**2 = 1): :func:`function_basis` keeps a maximal independent subset, tested by the
@@ -98,13 +99,21 @@ def angles(expr: sp.Expr, coordinates: Sequence[sp.Symbol]) -> list[sp.Symbol]:
 
 def atoms(expr: sp.Expr, coordinates: Sequence[sp.Symbol]) -> list[sp.Expr]:
     """The non-polynomial building blocks of ``expr``: sin, cos, 1/sin and cot of its angles,
-    and its radical bases to the powers 1 and -1."""
+    its exponentials of the coordinates, and its radical bases to the powers 1 and -1 (those
+    that are functions of t and the coordinates alone)."""
     found: list[sp.Expr] = []
+    # functions of (t, q) alone: the basis is evaluated with no parameters or velocities
+    configuration = {t, *coordinates}
     for q in angles(expr, coordinates):
         found += [sp.sin(q), sp.cos(q), 1 / sp.sin(q), sp.cot(q)]
+    for growth in expr.atoms(sp.exp):
+        if growth.free_symbols and growth.free_symbols <= configuration and growth not in found:
+            found.append(growth)  # exp(q1 - q2) of a Toda lattice
     for power in expr.atoms(sp.Pow):
         base, exponent = power.as_base_exp()
-        if exponent.is_Rational and not exponent.is_integer and base.free_symbols:
+        if not base.free_symbols or not base.free_symbols <= configuration:
+            continue  # sqrt(1 - x_dot**2) of a relativistic particle, sqrt(R**2 - x**2)
+        if exponent.is_Rational and not exponent.is_integer:
             root = base ** sp.Rational(1, exponent.q)
             found += [a for a in (root, 1 / root) if a not in found]
     return found
@@ -137,6 +146,17 @@ def _independent(
     """A maximal linearly independent subset of ``candidates`` (over the constants), kept in
     order: Gram–Schmidt (twice, for accuracy) on their values at random points."""
     values = _evaluated(candidates, variables, points)
+    return [candidates[j] for j in independent_columns(values)]
+
+
+def independent_columns(values: np.ndarray) -> list[int]:
+    """The columns of ``values`` (functions sampled at points, one column each) that are
+    linearly independent of those before them: Gram–Schmidt, twice for accuracy, on the
+    columns scaled to unit norm.
+
+    >>> independent_columns(np.array([[1.0, 2.0, 0.0], [1.0, 2.0, 1.0]]))
+    [0, 2]
+    """
     values = values / np.maximum(np.linalg.norm(values, axis=0), 1e-300)
     kept: list[int] = []
     basis = np.zeros((values.shape[0], 0))
@@ -147,4 +167,4 @@ def _independent(
         if np.linalg.norm(residual) > DEPENDENCE:
             kept.append(j)
             basis = np.column_stack([basis, residual / np.linalg.norm(residual)])
-    return [candidates[j] for j in kept]
+    return kept

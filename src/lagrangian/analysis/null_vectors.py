@@ -102,16 +102,23 @@ def exact_null_vectors(
 ) -> list[list[sp.Expr]]:
     """The solutions of the sampled system ``sampled(parameter values)`` as exact vectors
     (rationals times monomials in ``parameters``), from its null space at ``generic`` and
-    with each parameter doubled; vectors whose coefficients do not fit are left out."""
-    base, pivots = null_basis(sampled(generic))
+    with each parameter doubled; vectors whose coefficients do not fit are left out.
+    Samples where the system is not real (sqrt(1 - x_dot**2) at |x_dot| > 1) are left out."""
+
+    def real(values: dict[sp.Symbol, float]) -> np.ndarray:
+        with np.errstate(all="ignore"):
+            matrix = sampled(values)
+        return matrix[np.all(np.isfinite(matrix), axis=1)]
+
+    base, pivots = null_basis(real(generic))
     if not len(base):
         return []
     exponents = np.zeros((len(parameters), *base.shape))
     for j, p in enumerate(parameters):
-        moved = _same_support(sampled({**generic, p: 2 * generic[p]}), base, pivots)
+        moved = _same_support(real({**generic, p: 2 * generic[p]}), base, pivots)
         with np.errstate(divide="ignore", invalid="ignore"):
             exponents[j] = np.log2(np.abs(moved / base))
-    polynomial = _PolynomialFit(sampled, parameters, generic, base, pivots)
+    polynomial = _PolynomialFit(real, parameters, generic, base, pivots)
     exact = []
     for i, row in enumerate(base):
         vector = _exact_row(row, exponents[:, i, :], parameters, generic)
@@ -223,6 +230,8 @@ def _exact_row(
         if value == 0.0:
             vector.append(sp.Integer(0))
             continue
+        if not np.all(np.isfinite(exponents[:, k])):
+            return None
         powers = [round(2 * e) / 2 for e in exponents[:, k]]
         if any(
             not math.isfinite(e) or abs(e - p) > 1e3 * FIT for e, p in zip(exponents[:, k], powers)

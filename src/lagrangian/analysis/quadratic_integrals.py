@@ -11,6 +11,10 @@ separate energies of an anisotropic oscillator and the Fradkin tensor of an isot
 (the Killing tensors of the metric, in the language of geometry).  Each one found is verified
 at random states to 30 digits, the accelerations solved from M q_ddot = forcing there.
 
+The same search with monomials of degree 3 in the velocities (:func:`cubic_integrals`) finds
+the integrals cubic in the momenta, such as the third integral of the periodic Toda lattice
+of three particles (Hénon, Phys. Rev. B 9, 1921 (1974)).
+
 >>> import lagrangian as lg
 >>> [str(i) for i in quadratic_integrals(lg.examples.simple_pendulum(), degree=1)]
 ['-2*g*cos(theta) + l*theta_dot**2']
@@ -19,6 +23,7 @@ at random states to 30 digits, the accelerations solved from M q_ddot = forcing 
 from __future__ import annotations
 
 import random
+from collections.abc import Sequence
 from itertools import combinations_with_replacement
 
 import numpy as np
@@ -46,6 +51,44 @@ def quadratic_integrals(
     """Every first integral quadratic in the velocities with coefficients in the function
     basis of total degree ``degree``, each verified at random states to 30 digits (module
     docstring)."""
+    return polynomial_integrals(subject, parameters, degree, order=2)
+
+
+def cubic_integrals(
+    subject: Subject, parameters: Values | None = None, degree: int = 1
+) -> tuple[sp.Expr, ...]:
+    """Every first integral cubic (at most) in the velocities with coefficients in the
+    function basis of total degree ``degree``: the third integral of the Toda lattice.
+
+    >>> import lagrangian as lg
+    >>> x = lg.coordinates("x")[0]
+    >>> falling = lg.System(coordinates=[x], kinetic=lg.velocity(x) ** 2 / 2, potential=x)
+    >>> cubic_integrals(falling)
+    (2*x + x_dot**2, t + x_dot)
+    """
+    return polynomial_integrals(subject, parameters, degree, order=3)
+
+
+def velocity_monomials(n: int, order: int) -> list[tuple[int, ...]]:
+    """The exponents of the monomials in n velocities of degree ``order`` down to 1, highest
+    first (the row-echelon form then pivots on the leading terms).
+
+    >>> velocity_monomials(2, 2)
+    [(2, 0), (1, 1), (0, 2), (1, 0), (0, 1)]
+    """
+    found = []
+    for d in range(order, 0, -1):
+        for chosen in combinations_with_replacement(range(n), d):
+            found.append(tuple(chosen.count(i) for i in range(n)))
+    return found
+
+
+def polynomial_integrals(
+    subject: Subject, parameters: Values | None = None, degree: int = 2, order: int = 2
+) -> tuple[sp.Expr, ...]:
+    """Every first integral I = sum over velocity monomials m of degree <= ``order`` of
+    K_m(t, q) m, with K_m in the function basis of total degree ``degree``, each verified
+    at random states to 30 digits (module docstring)."""
     eom = equations_of(subject)
     problem = search_problem(eom, parameters)
     q, v = eom.coordinates, eom.velocities
@@ -56,8 +99,8 @@ def quadratic_integrals(
     function = numeric(problem, [*mass, *forcing])
     basis = function_basis(problem.lagrangian, q, degree)
     k = len(basis.functions)
-    pairs = list(combinations_with_replacement(range(n), 2))
-    unknowns = (len(pairs) + n + 1) * k - 1
+    exponents = velocity_monomials(n, order)
+    unknowns = (len(exponents) + 1) * k - 1
     points, rates = samples(basis, unknowns, np.random.default_rng(13))
     phi, d_phi = total_derivatives(basis, points, rates)
 
@@ -66,25 +109,42 @@ def quadratic_integrals(
         table = evaluated(function, points, rates, given)
         matrices = table[:, : n * n].reshape(-1, n, n)
         a = np.linalg.solve(matrices, table[:, n * n :, None])[:, :, 0]
-        columns = []
-        for i, j in pairs:
-            product_rate = a[:, i] * rates[:, j] + rates[:, i] * a[:, j]
-            product = rates[:, i] * rates[:, j]
-            columns.append(d_phi * product[:, None] + phi * product_rate[:, None])
-        for i in range(n):
-            columns.append(d_phi * rates[:, i, None] + phi * a[:, i, None])
-        columns.append(d_phi[:, 1:])  # K_0: a constant is no integral
-        return np.column_stack(columns)
+        return velocity_columns(exponents, phi, d_phi, rates, a)
 
     rng = random.Random(5)
     generic = {p: rng.uniform(0.7, 1.7) for p in problem.parameters}
-    monomials = [v[i] * v[j] for i, j in pairs] + list(v)
+    monomials = [sp.Mul(*(s**e for s, e in zip(v, powers))) for powers in exponents]
     found = []
     for vector in exact_null_vectors(sampled, problem.parameters, generic):
-        integral = _integral(vector, basis, monomials)
-        if not is_zero(integral) and _constant_on_motions(integral, eom, mass, forcing):
+        integral = integral_of(vector, basis, monomials)
+        if not is_zero(integral) and constant_on_motions(integral, eom, mass, forcing):
             found.append(readable(integral, problem.parameters))
     return tuple(found)
+
+
+def velocity_columns(
+    exponents: Sequence[tuple[int, ...]],
+    phi: np.ndarray,
+    d_phi: np.ndarray,
+    rates: np.ndarray,
+    accelerations: np.ndarray,
+) -> np.ndarray:
+    """The samples of dI/dt, one column per unknown coefficient: for each velocity monomial
+    m and basis function phi, D(phi m) = D(phi) m + phi D(m); then D(phi) for K_0 (without
+    the constant function, which is no integral)."""
+    columns = []
+    for powers in exponents:
+        # d/dt prod v_i**a_i = sum_i a_i v_i**(a_i - 1) q_ddot_i prod_{j != i} v_j**a_j
+        product = np.prod(rates**powers, axis=1)
+        product_rate = np.zeros_like(product)
+        for i, power in enumerate(powers):
+            if power:
+                lowered = list(powers)
+                lowered[i] -= 1
+                product_rate += power * accelerations[:, i] * np.prod(rates**lowered, axis=1)
+        columns.append(d_phi * product[:, None] + phi * product_rate[:, None])
+    columns.append(d_phi[:, 1:])
+    return np.column_stack(columns)
 
 
 #: Random states at which dI/dt is evaluated on the equations of motion, and its tolerance.
@@ -93,7 +153,7 @@ DIGITS = 30
 TOLERANCE = sp.Float(1e-20)
 
 
-def _constant_on_motions(
+def constant_on_motions(
     integral: sp.Expr, eom: EquationsOfMotion, mass: sp.Matrix, forcing: sp.Matrix
 ) -> bool:
     """dI/dt = dI/dt + sum dI/dq q_dot + sum dI/dq_dot q_ddot vanishes at random states, the
@@ -123,7 +183,12 @@ def _constant_on_motions(
     return True
 
 
-def _integral(vector: list[sp.Expr], basis: FunctionBasis, monomials: list[sp.Expr]) -> sp.Expr:
+def integral_of(
+    vector: Sequence[sp.Expr], basis: FunctionBasis, monomials: Sequence[sp.Expr]
+) -> sp.Expr:
+    """sum_m K_m monomial_m + K_0 with the coefficients of ``vector`` (as the columns of
+    :func:`velocity_columns`: one block of basis functions per monomial, then K_0 without
+    the constant)."""
     k = len(basis.functions)
     total = sp.Integer(0)
     for m, monomial in enumerate(monomials):

@@ -32,6 +32,7 @@ from lagrangian.analysis.arguments import (
     operating_state,
     substitutions,
 )
+from lagrangian.analysis.constrained_integrals import constrained_first_integrals
 from lagrangian.analysis.energy import EnergyConservation, energy_conservation
 from lagrangian.analysis.equilibria import equilibria
 from lagrangian.analysis.first_integrals import (
@@ -231,7 +232,9 @@ def analyze(
     if about is not None:
         operating_state(eom, about)
     if eom.system.constraints:
-        return constrained_report(eom, about, parameters, inputs, project, independent)
+        return constrained_report(
+            eom, about, parameters, inputs, project, independent, search_degree, search_seconds
+        )
     attempts = _Attempts()
     run = attempts.run
     cyclic = run("cyclic", lambda: cyclic_coordinates(eom, parameters)) or ()
@@ -303,8 +306,13 @@ def constrained_report(
     inputs: Sequence[Any],
     project: bool,
     independent: Sequence[Any] | None,
+    search_degree: int = 2,
+    search_seconds: float = SEARCH_SECONDS,
 ) -> AnalysisReport:
-    """Every part of :func:`analyze` on the constraint manifold (docs/architecture.md)."""
+    """Every part of :func:`analyze` on the constraint manifold (docs/architecture.md); the
+    further first integrals on the reduced system when the holonomic constraints are solved
+    in closed form, else on the constrained equations
+    (:mod:`lagrangian.analysis.constrained_integrals`)."""
     attempts = _Attempts()
     run = attempts.run
     manifold = constraint_manifold(eom)  # inconsistent constraints: the error goes to the user
@@ -322,6 +330,21 @@ def constrained_report(
     found = run("equilibria", lambda: equilibria(eom, parameters))
     through = stable_state(eom, found, parameters)
     legendre = run("hamiltonian", lambda: reduced_legendre(eom, through))
+    kept = kept_symmetries(symmetries, manifold)
+    known = conserved_quantities(cyclic, energy, kept, jacobi)
+    search = None
+    if search_degree > 0:
+        search = run(
+            "first_integrals",
+            lambda: constrained_first_integrals(
+                eom,
+                parameters,
+                [c.expression for c in known],
+                search_degree,
+                search_seconds,
+                through,
+            ),
+        )
     modes = None
     if found is not None:
         modes = run(
@@ -340,9 +363,8 @@ def constrained_report(
         coordinates=tuple(eom.coordinates),
         momenta=run("momenta", lambda: conjugate_momenta(eom)),
         cyclic=tuple(cyclic),
-        conserved=conserved_quantities(
-            cyclic, energy, kept_symmetries(symmetries, manifold), jacobi
-        ),
+        conserved=conserved_quantities(cyclic, energy, kept, jacobi, search),
+        searched=search.searched if search is not None else (),
         energy=energy,
         hamiltonian=legendre[0] if legendre else None,
         hamilton_equations=legendre[1] if legendre else None,

@@ -6,8 +6,10 @@ Keys: ``dof`` (the independent velocities, n minus every equality constraint),
 ``freedom`` (the two explained), ``constraints`` (each classified: kind, holonomic,
 rheonomic, ...), ``momenta`` (coordinate name -> p), ``cyclic`` (the names of the coordinates
 absent from L and F; ``cyclic_coordinates`` has each with its momentum, whether it is
-conserved, what changes it and the condition), ``conserved`` (expressions;
-``conserved_quantities`` with their reasons and conditions), ``energy_function``,
+conserved, what changes it and the condition), ``conserved`` (the expressions conserved at
+the parameter values given; ``conserved_quantities`` all of them with their reasons, origin,
+``conditions`` (relations between parameters such as ``Eq(k1, k2)``, empty when always
+conserved) and ``holds`` (whether the values given meet the conditions)), ``energy_function``,
 ``energy_conserved``, ``hamiltonian``, ``equilibria`` (each with ``state`` and ``stable``),
 ``normal_modes`` (frequencies and shapes about a stable equilibrium), ``steady_motions`` (for
 constraints that move by a symmetry: each configuration at t = 0 with its velocities and its
@@ -176,13 +178,15 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
         "momenta": None if report.momenta is None else _strings_by_name(report.momenta.by_name()),
         "cyclic": [c.coordinate.name for c in report.cyclic],
         "cyclic_coordinates": [_cyclic(c) for c in report.cyclic],
-        "conserved": _strings(c.expression for c in report.conserved),
+        "conserved": _strings(c.expression for c in report.conserved if c.holds),
         "conserved_quantities": [
             {
                 "name": c.name,
                 "expression": expression_string(c.expression),
                 "reason": c.reason,
                 "condition": expression_string(c.condition),
+                "conditions": _strings(c.conditions),
+                "holds": bool(c.holds),
                 "origin": c.origin,
                 "explicit_time": c.explicit_time,
             }

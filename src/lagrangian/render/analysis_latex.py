@@ -51,12 +51,14 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
         verdict = "conserved" if c.conserved else "not conserved: " + ", ".join(c.obstructions)
         lines.append(rf"&{tex(c.coordinate)}\ {_text('cyclic; momentum ' + verdict)}")
     for quantity in report.conserved:
-        when = "" if quantity.condition == sp.true else f" when {quantity.condition}"
+        when = ""
+        if quantity.conditions:
+            relations = ", ".join(f"{r.lhs} = {r.rhs}" for r in quantity.conditions)
+            here = "as here" if quantity.holds else "not for the parameter values given"
+            when = f" holds when {relations}, {here}"
         origin = f"; {quantity.origin}" if quantity.origin else ""
-        lines.append(
-            rf"{_text(quantity.name)} &= {tex(quantity.expression)}"
-            rf"\quad {_text('(conserved' + when + origin + ')')}"
-        )
+        verdict = "(" + (when.strip() if when else "conserved") + origin + ")"
+        lines.append(rf"{_text(quantity.name)} &= {tex(quantity.expression)}\quad {_text(verdict)}")
     if report.energy is not None and not report.energy.conserved:
         lines.append(
             rf"\frac{{dh}}{{dt}} &= {tex(report.energy.rate)}\quad {_text('(h not conserved)')}"

@@ -20,7 +20,13 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.analysis import AnalysisReport, CyclicCoordinate, Equilibrium, Linearization
+from lagrangian.analysis import (
+    AnalysisReport,
+    ConservedQuantity,
+    CyclicCoordinate,
+    Equilibrium,
+    Linearization,
+)
 from lagrangian.analysis.momenta import condition_text
 
 VERDICTS = {True: "stable", False: "unstable", None: "stability undetermined"}
@@ -43,6 +49,15 @@ def _cyclic_line(c: CyclicCoordinate) -> str:
     else:
         verdict = f"momentum not conserved ({', '.join(c.obstructions)})"
     return f"{c.coordinate}: p_{c.coordinate} = {c.momentum}; {verdict}. {c.reason}"
+
+
+def _holds(c: ConservedQuantity) -> str:
+    """`` (holds when k1 = k2)``, and whether the parameter values given meet that."""
+    if not c.conditions:
+        return ""
+    if c.holds:
+        return f" (holds when {condition_text(c.condition)}, as here)"
+    return f" (holds when {condition_text(c.condition)}; not for the parameter values given)"
 
 
 def _equilibrium_line(e: Equilibrium) -> str:
@@ -118,9 +133,7 @@ def analysis_text(report: AnalysisReport) -> str:
     lines += _section(
         "Conserved",
         (
-            f"{c.name} = {c.expression}"
-            + (f" (when {condition_text(c.condition)})" if c.condition != sp.true else "")
-            + (f"  [{c.origin}]" if c.origin else "")
+            f"{c.name} = {c.expression}{_holds(c)}" + (f"  [{c.origin}]" if c.origin else "")
             for c in report.conserved
         ),
     )
