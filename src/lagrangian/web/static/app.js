@@ -163,7 +163,9 @@ async function analyze() {
   typeset(target, answer.latex);
   const notes = [];
   for (const c of answer.conserved_quantities || []) {
-    notes.push(`${c.name} is conserved (${c.origin}): ${c.reason}`);
+    const when = (c.conditions || []).join(", ");
+    const verdict = c.holds === false ? `is conserved only when ${when}` : "is conserved";
+    notes.push(`${c.name} ${verdict} (${c.origin}): ${c.reason}`);
   }
   if (notes.length) {
     const list = document.createElement("ul");
