@@ -26,9 +26,11 @@ What is measured
         to the end-to-end time. The final states are compared.
     (b) 10^4 double pendulums (masses and rods 1, starts at rest with angles drawn uniformly in
         [-1, 1]^2, seed 0) over 10 s, DOP853, rtol = atol = 1e-9, final state only:
-        ``lagrangian.simulate_batch`` with backend numba (one thread) and numpy, against a Python
-        loop of solve_ivp over the same compiled NumPy right-hand side, timed on the first 200
-        starts only (its throughput, trajectories per second, does not depend on how many).
+        ``lagrangian.simulate_batch`` with backend numba (one thread), the default backend
+        (member by member in the C loop) and the default backend without a C compiler (NumPy,
+        vectorized over the members), against a Python loop of solve_ivp over the same compiled
+        NumPy right-hand side, timed on the first 200 starts only (its throughput, trajectories
+        per second, does not depend on how many).
     (c) Where the end-to-end time of "numba, loops cached" goes (fresh processes, median): the
         import of numba, numba's start-up with the first cached loop loaded, the derivation,
         the LLVM compilation of the right-hand side, and the loop alone; and the same for
@@ -39,6 +41,12 @@ What is measured
         10-link pendulum, the LLVM compile time and the cost of one call from a compiled loop
         of (i) the matrix and vector of M q_ddot = forcing plus the compiled Gaussian
         elimination, and (ii) the explicit rates (SymEngine's symbolic LU solve, then LLVM).
+    (e) Events and constraints on the default path, the C loop against SciPy's solvers (no C
+        compiler found), warm, best of 5 ``lagrangian.simulate`` calls: the double pendulum
+        over 100 s (DOP853, rtol = atol = 1e-9) with two non-terminal events (theta = 0, and
+        phi_dot rising through 0), and a pendulum in Cartesian coordinates with the holonomic
+        constraint x^2 + y^2 = l^2 in the multiplier form over 100 s (the same tolerances);
+        the largest difference of the event times and of the final states.
 
 How
     Every measurement is a fresh process (this file with the hidden ``--worker``); the workers
@@ -78,9 +86,12 @@ TARGETS = (
     ("simulate", "numba", 8.0),
     ("end to end", "numba, loops cached", 25.0),
     ("batch", "numba", 50.0),
+    ("batch", "C loop", 50.0),
 )
 #: Worker contender -> backend of lagrangian.simulate ("scipy": no C compiler is found).
 BACKENDS = {"native": "numpy", "numba": "numba", "scipy": "numpy"}
+#: Batch contender -> backend of lagrangian.simulate_batch ("vectorized": no C compiler).
+BATCH_BACKENDS = {"numba": "numba", "C loop": "numpy", "vectorized": "numpy"}
 #: The largest difference of the final state from PyDy's accepted as "the same state".
 SAME_STATE = 1e-9
 
@@ -160,17 +171,87 @@ def run_batch(backend: str, k: int):
 
     eom = lg.derive(lg.examples.double_pendulum())
     starts = batch_starts(k)
+    if backend == "vectorized":  # the default backend on a machine without a C compiler
+        from lagrangian.numerics.fast import c_build
+
+        c_build.find_compiler = lambda: None
 
     def once(rows):
         initial = {"theta": rows[:, 0], "phi": rows[:, 1], "theta_dot": 0.0, "phi_dot": 0.0}
         return lg.simulate_batch(
-            eom, initial, T_END, method="DOP853", rtol=TOL, atol=TOL, backend=backend
+            eom,
+            initial,
+            T_END,
+            method="DOP853",
+            rtol=TOL,
+            atol=TOL,
+            backend=BATCH_BACKENDS[backend],
         )
 
     once(starts[:2])  # compile
     start = time.perf_counter()
     batch = once(starts)
     return time.perf_counter() - start, batch.final_q[:LOOP_SUBSET].tolist()
+
+
+def crossing(t, q, q_dot):
+    return q[0]
+
+
+def rising(t, q, q_dot):
+    return q_dot[1]
+
+
+rising.direction = 1
+
+
+def features() -> dict:
+    """(e): seconds of the C loop and of SciPy's solvers with events and with a constraint."""
+    import numpy as np
+    import sympy as sp
+
+    import lagrangian as lg
+    from lagrangian.numerics.fast import c_build, c_loop
+
+    x, y = sp.symbols("x y")
+    m, g, l = sp.symbols("m g l", positive=True)
+    cartesian = lg.System(
+        coordinates=[x, y],
+        parameters={m: 1.0, g: 9.81, l: 1.0},
+        gravity=(0, -g),
+        constraints=[lg.Holonomic(x**2 + y**2 - l**2)],
+        particles=[lg.Particle("bob", m, (x, y))],
+    )
+    cases = {
+        "events": (
+            lg.derive(lg.examples.double_pendulum()),
+            {"theta": 1.0, "phi": 0.5, "theta_dot": 0.0, "phi_dot": 0.0},
+            {"events": [crossing, rising]},
+        ),
+        "constraint": (
+            lg.derive(cartesian),
+            {"x": np.sin(1.0), "y": -np.cos(1.0), "x_dot": 0.0, "y_dot": 0.0},
+            {},
+        ),
+    }
+    result: dict = {}
+    for path in ("native", "scipy"):
+        if path == "scipy":
+            c_build.find_compiler = lambda: None
+            c_build.loop_library.cache_clear()
+        assert c_loop.available() == (path == "native")
+        for case, (eom, initial, keywords) in cases.items():
+            runs = []
+            for _ in range(5):
+                start = time.perf_counter()
+                run = lg.simulate(
+                    eom, initial, 100.0, method="DOP853", rtol=TOL, atol=TOL, **keywords
+                )
+                runs.append(time.perf_counter() - start)
+            result[f"{case} {path}"] = min(runs)
+            result[f"{case} {path} final"] = np.concatenate([run.q[-1], run.q_dot[-1]]).tolist()
+            result[f"{case} {path} events"] = [event.t for event in run.events]
+    return result
 
 
 def run_loop(k: int):
@@ -233,6 +314,8 @@ def worker(kind: str, contender: str, size: int) -> dict:
 
         warnings.simplefilter("ignore", NumbaExperimentalFeatureWarning)
         return rhs_costs()
+    if kind == "features":
+        return features()
     if kind == "batch":
         seconds, finals = run_loop(size) if contender == "loop" else run_batch(contender, size)
         return {"seconds": seconds, "count": size, "finals": finals}
@@ -442,8 +525,10 @@ def measure(repeat: int, batch_size: int) -> dict:
         ("startup", "numba", 0, warm_cache),
         ("startup", "native", 0, warm_cache),
         ("batch", "numba", batch_size, warm_cache),
-        ("batch", "numpy", batch_size, None),
+        ("batch", "C loop", batch_size, warm_cache),
+        ("batch", "vectorized", batch_size, None),
         ("batch", "loop", LOOP_SUBSET, None),
+        ("features", "native", 0, warm_cache),
     ]
     results: dict = {("rhs", "numba"): [run_worker("rhs", "numba", 0, warm_cache)]}
     for r in range(repeat):
@@ -503,7 +588,7 @@ def report(results: dict, batch_size: int) -> str:
         "batch": lambda label: _throughput(results, label) / _throughput(results, "loop"),
     }
     lines += _startup_lines(results, "numba") + _startup_lines(results, "native")
-    lines += [*_rhs_lines(results), "", "```"]
+    lines += [*_rhs_lines(results), *_feature_lines(results), "", "```"]
     for name, label, factor in TARGETS:
         ratio = ratios[name](label)
         verdict = "PASS" if ratio >= factor else "FAIL"
@@ -541,6 +626,44 @@ def _batch_lines(results: dict, batch_size: int) -> list[str]:
             f"| {label} | {_throughput(results, label):.4g} | "
             f"{_throughput(results, label) / _throughput(results, 'loop'):.3g} | "
             f"{difference:.2g} |"
+        )
+    return lines
+
+
+def _feature_lines(results: dict) -> list[str]:
+    import numpy as np
+
+    runs = results[("features", "native")]
+    lines = [
+        "",
+        "(e) Events and a constraint, 100 s, DOP853 rtol = atol = "
+        f"{TOL:g}: the C loop against SciPy's solvers (best of 5, median of the runs).",
+        "",
+        "| case | C loop s | SciPy solvers s | ratio | largest difference (events, final state) |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for case, title in (
+        ("events", "double pendulum, two events"),
+        ("constraint", "Cartesian pendulum, multiplier form"),
+    ):
+        native, scipy = _median(runs, f"{case} native"), _median(runs, f"{case} scipy")
+        first = runs[0]
+        difference = max(
+            np.max(
+                np.abs(np.subtract(first[f"{case} native final"], first[f"{case} scipy final"]))
+            ),
+            max(
+                (
+                    abs(a - b)
+                    for a, b in zip(first[f"{case} native events"], first[f"{case} scipy events"])
+                ),
+                default=0.0,
+            ),
+        )
+        same = len(first[f"{case} native events"]) == len(first[f"{case} scipy events"])
+        lines.append(
+            f"| {title} | {native:.3g} | {scipy:.3g} | {scipy / native:.3g}x | "
+            f"{difference:.2g}{'' if same else ' (event counts differ)'} |"
         )
     return lines
 

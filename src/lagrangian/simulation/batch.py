@@ -31,6 +31,7 @@ from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.fast.outcome import FINISHED, STOPPED, describe
 from lagrangian.numerics.fast.settings import Settings
 from lagrangian.simulation.batch_inputs import BatchInputs, checked_batch
+from lagrangian.simulation.batch_native import native_members
 from lagrangian.simulation.batch_numpy import integrate_members
 from lagrangian.simulation.batch_result import Batch
 from lagrangian.simulation.compiled_run import loop_settings
@@ -97,9 +98,11 @@ def simulate_batch(
         )
     else:
         bar = _bar(progress, *batch.inputs.t_span, "t = ")
-        out, status, t_final, x_final = integrate_members(
-            compiled, loops, batch.X0, batch.P, stop_when, bar
-        )
+        # RK45 and DOP853 member by member in the C loop where it can run, else vectorized
+        members = native_members(eom, compiled, loops, batch.X0, batch.P, stop_when, bar)
+        if members is None:
+            members = integrate_members(compiled, loops, batch.X0, batch.P, stop_when, bar)
+        out, status, t_final, x_final = members
     return _result(compiled, batch, backend, out, status, t_final, x_final)
 
 

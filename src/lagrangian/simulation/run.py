@@ -124,9 +124,10 @@ def simulate(
         cyclic coordinates in ``Trajectory.conserved`` and its drift report
         (:mod:`lagrangian.simulation.conserved`).
     backend:
-        ``"numpy"`` (default): SciPy's solvers, where RK45 and DOP853 on a system without
-        constraints or events run step for step in a C loop compiled once per machine when a
-        C compiler is present (:mod:`lagrangian.simulation.compiled_run`); or ``"numba"``: the
+        ``"numpy"`` (default): SciPy's solvers, where RK45 and DOP853 (free systems, and the
+        multiplier form without ``project_steps``; events that are expressions of the state)
+        run step for step in a C loop compiled once per machine when a C compiler is present
+        (:mod:`lagrangian.simulation.compiled_run`); or ``"numba"``: the
         right-hand side and the whole RK45, DOP853 or RK4 loop compiled (needs
         ``pip install lagrangian[fast]``; no events or constraints; the steps are SciPy's).
 
@@ -177,11 +178,15 @@ def plan(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
         dynamics = UnilateralDynamics(setup.system, eom, p, options.gains, names)
         return dynamics, ActiveSetIntegrator()
     if constraints:
-        numeric = compile_constrained(constrained_equations(eom, constraints))
+        equations = constrained_equations(eom, constraints)
         multipliers = MultiplierDynamics(
-            setup.system, numeric, p, options.gains, options.project_steps
+            setup.system, compile_constrained(equations), p, options.gains, options.project_steps
         )
-        return multipliers, SolverIntegrator()
+        # RK45 and DOP853 of the multiplier form in the C loop where it can run, as below
+        native = native_integrator(
+            eom, options, setup.events, setup.inputs, multipliers.unpack, equations
+        )
+        return multipliers, native or SolverIntegrator()
     if has_switching(eom) and all(order == 2 for order in eom.coordinate_orders.values()):
         if options.backend == "numba":
             raise SimulationInputError(
@@ -191,6 +196,7 @@ def plan(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
         return SwitchedDynamics(eom, p), SwitchedIntegrator()
     compiled_loop = eom if options.backend == "numba" else None
     # the default backend: RK45 and DOP853 in the C loop compiled once per machine where it
-    # can run (a C compiler, equations LLVM compiles, no events), else SciPy's solvers
-    native = native_integrator(eom, options, setup.events)
-    return FreeDynamics(setup.compiled, p), native or SolverIntegrator(compiled_loop)
+    # can run (a C compiler, equations and events LLVM compiles), else SciPy's solvers
+    free = FreeDynamics(setup.compiled, p)
+    native = native_integrator(eom, options, setup.events, setup.inputs, free.unpack)
+    return free, native or SolverIntegrator(compiled_loop)

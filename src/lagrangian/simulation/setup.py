@@ -25,6 +25,8 @@ from lagrangian.derivation import EquationsOfMotion, derive
 from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
+from lagrangian.numerics.fast import c_loop
+from lagrangian.numerics.fast.tableaus import ADAPTIVE
 from lagrangian.simulation.conserved import conserved_expressions
 from lagrangian.simulation.events import EventFunction
 from lagrangian.simulation.gimbal import GimbalGuard, gimbal_guard
@@ -80,23 +82,30 @@ def prepare(
     assert checked is not None and quantities is not None  # no problems: both were made
     takes_events = checked.backend == "numpy" and checked.spec.takes_events
     guard = gimbal_guard(eom, system, inputs, takes_events)
-    require_positive_inertia(compiled, inputs)
+    # the C loop's right-hand side evaluates M where the run will compile it anyway
+    free_loop = checked.backend == "numpy" and checked.method in ADAPTIVE
+    require_positive_inertia(
+        compiled, inputs, eom if free_loop and not checked.constraints else None
+    )
     return RunSetup(
         system, eom, compiled, checked, inputs, (*events, *guard.events), quantities, guard
     )
 
 
-def require_positive_inertia(compiled: CompiledEquations, inputs: Inputs) -> None:
+def require_positive_inertia(
+    compiled: CompiledEquations, inputs: Inputs, eom: EquationsOfMotion | None = None
+) -> None:
     """SimulationInputError when the mass matrix at the start has a negative eigenvalue: the
     kinetic energy is not positive there (a negative mass, inertia or inductance, often from
     ``--set m=-1``), and the motion would be unphysical.  Systems with first-order
-    coordinates (circuits with resistors and capacitors only) are not checked."""
+    coordinates (circuits with resistors and capacitors only) are not checked.
+
+    Given ``eom``, M is evaluated by the state equations compiled for the C loop where it
+    runs (the right-hand side the run itself calls: no compilation of M alone)."""
     if not compiled.regular:
         return
-    n = len(compiled.coordinates)
-    q, qd = inputs.x0[:n], inputs.x0[n:]
     with np.errstate(all="ignore"):
-        mass = np.asarray(compiled.mass_matrix(q, inputs.t_span[0], inputs.p, qd), dtype=float)
+        mass = _start_mass_matrix(compiled, inputs, eom)
     if not np.all(np.isfinite(mass)):
         return  # reported by the run itself, with the time and the quantity
     eigenvalues = np.linalg.eigvalsh((mass + mass.T) / 2)
@@ -107,6 +116,18 @@ def require_positive_inertia(compiled: CompiledEquations, inputs: Inputs) -> Non
             f"has the eigenvalue {eigenvalues[0]:.6g} (parameters {values}). A mass, "
             "inertia or inductance is negative: give it a positive value."
         )
+
+
+def _start_mass_matrix(
+    compiled: CompiledEquations, inputs: Inputs, eom: EquationsOfMotion | None
+) -> np.ndarray:
+    """M at the initial state of a system whose coordinates are all of second order."""
+    t0, x0, p = inputs.t_span[0], inputs.x0, inputs.p
+    fast = c_loop.native_equations(eom) if eom is not None and c_loop.available() else None
+    if fast is not None:
+        return c_loop.state_matrix(fast, t0, x0, p)
+    n = len(compiled.coordinates)
+    return np.asarray(compiled.mass_matrix(x0[:n], t0, p, x0[n:]), dtype=float)
 
 
 def options_for(

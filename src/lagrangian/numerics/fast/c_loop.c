@@ -24,8 +24,14 @@
  * The caller owns every buffer (struct lg_run).  lg_start begins a run, lg_advance continues
  * it until it ends, or returns LG_RUNNING after max_call accepted steps or at the clock time
  * chunk_end (so the caller can report progress and see Ctrl-C), or LG_FULL when the
- * every-step output needs more room.  Status codes 0-5 are those of
- * lagrangian/numerics/fast/outcome.py.
+ * every-step output needs more room, or LG_EVENTS_FULL when the event records do.  Status
+ * codes 0-5 are those of lagrangian/numerics/fast/outcome.py (LG_STOPPED: a terminal event).
+ *
+ * Events (lagrangian/simulation/events.py, as solve_ivp): the event functions are one more C
+ * function g(t, x); after every accepted step a sign change of g_i in its direction is a
+ * zero, located on the step's dense output by SciPy's brentq (xtol = rtol = 4 eps), the zeros
+ * of one step recorded in the order of time, and the run ends at the zero that completes an
+ * event's terminal count.
  */
 
 #include <math.h>
@@ -37,7 +43,7 @@
 #include <time.h>
 #endif
 
-#define LG_ABI_VERSION 1
+#define LG_ABI_VERSION 2
 
 enum {
     LG_FINISHED = 0,
@@ -50,7 +56,8 @@ enum {
     LG_STIFF = 7,
     LG_COLLAPSED = 8,
     LG_RUNNING = -1,
-    LG_FULL = -2
+    LG_FULL = -2,
+    LG_EVENTS_FULL = -3
 };
 
 #define SAFETY 0.9
@@ -120,6 +127,24 @@ typedef struct {
     /* progress, read by the caller */
     int64_t rows, steps, recent_count, recent_sum, times_count;
     double t, h_abs, h_last, stiff_since, advanced;
+    /* events (n_events = 0: none): g = event_function(in = [t, x, p]), n_events values */
+    lg_function event_function;
+    void *event_user_data;
+    double *event_inputs;     /* 1 + nx + len(p), p written once */
+    double *event_old;        /* n_events: g at the start of the step */
+    double *event_new;        /* n_events: g at its end */
+    double *event_work;       /* n_events: g inside the step */
+    double *event_state;      /* nx: the interpolated state inside the step */
+    const double *directions; /* n_events: > 0 rising zeros only, < 0 falling, 0 both */
+    const double *limits;     /* n_events: zeros that end the run (inf: never) */
+    int64_t *counts;          /* n_events: zeros so far */
+    double *roots;            /* n_events: scratch */
+    int64_t *order;           /* n_events: scratch */
+    int64_t n_events;
+    int64_t *found_index;     /* event_capacity: which event */
+    double *found_t;          /* event_capacity: when */
+    double *found_x;          /* event_capacity x nx: the state then */
+    int64_t event_capacity, n_found;
 } lg_run;
 
 /* ------------------------------------------------------------------ helpers */
@@ -439,6 +464,128 @@ static void dense_value(const lg_run *r, double t, double t_old, double h, doubl
     }
 }
 
+/* ------------------------------------------------------------------ events */
+
+/* g(t, x) into out (n_events values). */
+static void event_values(lg_run *r, double t, const double *x, double *out) {
+    double *in = r->event_inputs;
+    in[0] = t;
+    for (int64_t i = 0; i < r->system.nx; i++)
+        in[1 + i] = x[i];
+    r->event_function(out, in, r->event_user_data);
+}
+
+/* g_i on the dense output of the step (t_old, h) at s. */
+static double event_inside(lg_run *r, int64_t i, double s, double t_old, double h) {
+    dense_value(r, s, t_old, h, r->event_state);
+    event_values(r, s, r->event_state, r->event_work);
+    return r->event_work[i];
+}
+
+/* The zero of g_i in [xa, xb] by SciPy's brentq (scipy/optimize/Zeros/brentq.c: Brent's
+   method, inverse quadratic interpolation or bisection), step for step. */
+static double brent_root(lg_run *r, int64_t i, double xa, double xb, double t_old, double h) {
+    const double tol = 4 * 2.220446049250313e-16;
+    double xpre = xa, xcur = xb, xblk = 0.0, fblk = 0.0, spre = 0.0, scur = 0.0;
+    double fpre = event_inside(r, i, xpre, t_old, h);
+    double fcur = event_inside(r, i, xcur, t_old, h);
+    if (fpre == 0)
+        return xpre;
+    if (fcur == 0)
+        return xcur;
+    for (int iteration = 0; iteration < 100; iteration++) {
+        if (fpre != 0 && fcur != 0 && (signbit(fpre) != signbit(fcur))) {
+            xblk = xpre;
+            fblk = fpre;
+            spre = scur = xcur - xpre;
+        }
+        if (fabs(fblk) < fabs(fcur)) {
+            xpre = xcur;
+            xcur = xblk;
+            xblk = xpre;
+            fpre = fcur;
+            fcur = fblk;
+            fblk = fpre;
+        }
+        double delta = (tol + tol * fabs(xcur)) / 2;
+        double sbis = (xblk - xcur) / 2;
+        if (fcur == 0 || fabs(sbis) < delta)
+            return xcur;
+        if (fabs(spre) > delta && fabs(fcur) < fabs(fpre)) {
+            double stry;
+            if (xpre == xblk) { /* interpolate */
+                stry = -fcur * (xcur - xpre) / (fcur - fpre);
+            } else { /* extrapolate */
+                double dpre = (fpre - fcur) / (xpre - xcur);
+                double dblk = (fblk - fcur) / (xblk - xcur);
+                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre));
+            }
+            if (2 * fabs(stry) < py_min(fabs(spre), 3 * fabs(sbis) - delta)) {
+                spre = scur; /* a good short step */
+                scur = stry;
+            } else {
+                spre = sbis;
+                scur = sbis;
+            }
+        } else {
+            spre = sbis;
+            scur = sbis;
+        }
+        xpre = xcur;
+        fpre = fcur;
+        xcur += fabs(scur) > delta ? scur : (sbis > 0 ? delta : -delta);
+        fcur = event_inside(r, i, xcur, t_old, h);
+    }
+    return xcur;
+}
+
+/* EventWatch.check after the step (t_old, h): the zeros in (t_old, t] recorded in the order
+   of time; 1 when one of them ends the run (r->found_t of the last record is its time), 0
+   when none does, -1 when the dense output fails.  *dense says whether the step's
+   interpolant is already computed (it is computed here when a zero needs it). */
+static int check_events(lg_run *r, double t_old, double h, int *dense) {
+    int64_t m = r->n_events, n = r->system.nx, active = 0;
+    event_values(r, r->t, r->y, r->event_new);
+    for (int64_t i = 0; i < m; i++) {
+        double old = r->event_old[i], new = r->event_new[i], d = r->directions[i];
+        int up = old <= 0 && new >= 0, down = old >= 0 && new <= 0;
+        if ((up && d > 0) || (down && d < 0) || ((up || down) && d == 0))
+            r->order[active++] = i;
+    }
+    put(r->event_old, r->event_new, m);
+    if (active == 0)
+        return 0;
+    if (!*dense) {
+        if (!dense_coefficients(r, t_old, h))
+            return -1;
+        *dense = 1;
+    }
+    for (int64_t k = 0; k < active; k++)
+        r->roots[k] = brent_root(r, r->order[k], t_old, r->t, t_old, h);
+    for (int64_t k = 1; k < active; k++) { /* by time, then by index, as sorted((root, i)) */
+        double root = r->roots[k];
+        int64_t index = r->order[k], j = k - 1;
+        while (j >= 0 && (r->roots[j] > root || (r->roots[j] == root && r->order[j] > index))) {
+            r->roots[j + 1] = r->roots[j];
+            r->order[j + 1] = r->order[j];
+            j--;
+        }
+        r->roots[j + 1] = root;
+        r->order[j + 1] = index;
+    }
+    for (int64_t k = 0; k < active; k++) {
+        int64_t i = r->order[k], slot = r->n_found;
+        r->found_index[slot] = i;
+        r->found_t[slot] = r->roots[k];
+        dense_value(r, r->roots[k], t_old, h, r->found_x + slot * n);
+        r->n_found += 1;
+        r->counts[i] += 1;
+        if ((double)r->counts[i] >= r->limits[i])
+            return 1;
+    }
+    return 0;
+}
+
 /* ------------------------------------------------------------------ the budget */
 
 /* h ||f(y1) - f(y_j)|| / ||y1 - y_j|| for the step just taken (y_j the stage with c_j = 1),
@@ -521,8 +668,13 @@ int64_t lg_start(lg_run *r) {
             r->rows += 1;
         }
     }
+    r->n_found = 0;
+    for (int64_t i = 0; i < r->n_events; i++)
+        r->counts[i] = 0;
     if (!state_rates(&r->system, r->t, r->y, r->f))
         return LG_SINGULAR;
+    if (r->n_events > 0)
+        event_values(r, r->t, r->y, r->event_old);
     r->h_abs = initial_step(r);
     return r->h_abs < 0 ? LG_SINGULAR : LG_RUNNING;
 }
@@ -535,6 +687,8 @@ int64_t lg_advance(lg_run *r, int64_t max_call, double chunk_end) {
     while (r->t < r->t1) {
         if (r->n_out == 0 && r->rows >= r->capacity)
             return LG_FULL;
+        if (r->n_found + r->n_events > r->event_capacity)
+            return LG_EVENTS_FULL;
         double t_new, h;
         int status = adaptive_step(r, &t_new, &h);
         if (status != LG_FINISHED)
@@ -547,20 +701,30 @@ int64_t lg_advance(lg_run *r, int64_t max_call, double chunk_end) {
         put(r->f, r->K + tb->stages * n, n);
         r->t = t_new;
         r->h_last = h;
-        int over = spend(r, t_old);
-        if (r->n_out == 0) {
-            r->out_t[r->rows] = r->t;
-            put(r->out_x + r->rows * n, r->y, n);
-            r->rows += 1;
-        } else if (r->rows < r->n_out && r->t_out[r->rows] <= r->t) {
-            /* the interpolant only when an output time lies in the step, as solve_ivp */
-            if (!dense_coefficients(r, t_old, h))
+        int over = spend(r, t_old), dense = 0, stopped = 0;
+        if (r->n_events > 0) {
+            stopped = check_events(r, t_old, h, &dense);
+            if (stopped < 0)
                 return LG_SINGULAR;
-            while (r->rows < r->n_out && r->t_out[r->rows] <= r->t) {
+        }
+        /* the output ends at a terminal event: its time and state */
+        double t_stop = stopped ? r->found_t[r->n_found - 1] : r->t;
+        const double *x_stop = stopped ? r->found_x + (r->n_found - 1) * n : r->y;
+        if (r->n_out == 0) {
+            r->out_t[r->rows] = t_stop;
+            put(r->out_x + r->rows * n, x_stop, n);
+            r->rows += 1;
+        } else if (r->rows < r->n_out && r->t_out[r->rows] <= t_stop) {
+            /* the interpolant only when an output time lies in the step, as solve_ivp */
+            if (!dense && !dense_coefficients(r, t_old, h))
+                return LG_SINGULAR;
+            while (r->rows < r->n_out && r->t_out[r->rows] <= t_stop) {
                 dense_value(r, r->t_out[r->rows], t_old, h, r->out_x + r->rows * n);
                 r->rows += 1;
             }
         }
+        if (stopped)
+            return LG_STOPPED;
         if (over)
             return over;
         taken += 1;

@@ -7,6 +7,13 @@ the numba loop's and agree with ``solve_ivp`` to rounding.  It calls the right-h
 through the C function pointer of SymEngine's LLVM backend (``as_ctypes()``): a new model
 costs its LLVM compilation (milliseconds), no numba, no C compilation.
 
+The right-hand side may be any linear system whose first unknowns are the accelerations:
+the free state equations (:func:`native_equations`) or the multiplier form of a constrained
+system (:mod:`lagrangian.numerics.fast.c_constrained`).  Events (:class:`LoopEvents`) are one
+more compiled function g(t, x, p): after every accepted step a sign change of g_i in its
+direction is located on the step's dense output by SciPy's brentq, written in C, as
+:mod:`lagrangian.simulation.events` locates it on SciPy's path.
+
 Per step, as :mod:`lagrangian.simulation.budget` does after every step of SciPy's solvers, it
 counts the step against :class:`Limits`: accepted steps, wall time, stiffness (h |lambda| near
 the edge of the stability region for most of the last steps) and a collapsed step size.
@@ -34,12 +41,13 @@ from __future__ import annotations
 
 import ctypes
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import cache
 from typing import Any
 
 import numpy as np
+import sympy as sp
 
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.model.identity_cache import IdentityCache
@@ -58,8 +66,8 @@ WALL_TIME = 6
 STIFF = 7
 #: The step size collapsed (the last steps advanced t by almost nothing).
 COLLAPSED = 8
-#: The C loop's returns that are no end: go on, or make room for more rows.
-RUNNING, FULL = -1, -2
+#: The C loop's returns that are no end: go on, or make room for more rows or event records.
+RUNNING, FULL, EVENTS_FULL = -1, -2, -3
 #: Seconds between returns to Python (progress, Ctrl-C) when there is no progress callback.
 SLICE_SECONDS = 0.05
 #: Rows of every-step output before the first time the arrays grow.
@@ -97,16 +105,30 @@ def native_equations(eom: EquationsOfMotion) -> FastEquations | None:
     return _CACHE.get(eom, _build)
 
 
-def _build(eom: EquationsOfMotion) -> FastEquations | None:
-    equations = state_equations(eom)
-    velocities = [eom.velocities[j] for j in equations.second]
-    symbols = [eom.time, *eom.coordinates, *velocities, *eom.parameters]
-    expressions = [piecewise_smooth(e) for e in (*equations.matrix, *equations.vector)]
-    compiled = llvm_function(symbols, expressions)
+def state_symbols(eom: EquationsOfMotion) -> list[sp.Symbol]:
+    """The inputs of the loop's C functions, in order: t, the coordinates, the velocities of
+    the second-order coordinates (the state x), the parameters."""
+    second = state_equations(eom).second
+    return [eom.time, *eom.coordinates, *(eom.velocities[j] for j in second), *eom.parameters]
+
+
+def loop_function(eom: EquationsOfMotion, expressions: Sequence[sp.Expr]) -> NativeFunction | None:
+    """``expressions`` of (t, x, p) (:func:`state_symbols`) compiled by SymEngine's LLVM
+    backend as one C function of the loop's signature, or None where it cannot compile them."""
+    return c_function(state_symbols(eom), expressions)
+
+
+def c_function(
+    symbols: Sequence[sp.Symbol], expressions: Sequence[sp.Expr]
+) -> NativeFunction | None:
+    """``expressions`` of the vector ``symbols`` compiled by SymEngine's LLVM backend as one
+    C function ``f(out, in, user_data)`` (:mod:`~lagrangian.numerics.fast.native`), or None
+    where it cannot compile them (this path never falls back on numba)."""
+    compiled = llvm_function(symbols, [piecewise_smooth(e) for e in expressions])
     if compiled is None:
         return None
     trampoline, user_data = compiled.as_ctypes()
-    function = NativeFunction(
+    return NativeFunction(
         address=int(ctypes.cast(trampoline, ctypes.c_void_p).value or 0),
         user_data=int(user_data.value or 0),
         inputs=len(symbols),
@@ -114,6 +136,14 @@ def _build(eom: EquationsOfMotion) -> FastEquations | None:
         compiler="llvm",
         owner=compiled,
     )
+
+
+def _build(eom: EquationsOfMotion) -> FastEquations | None:
+    equations = state_equations(eom)
+    velocities = [eom.velocities[j] for j in equations.second]
+    function = loop_function(eom, [*equations.matrix, *equations.vector])
+    if function is None:
+        return None
     return FastEquations(
         coordinates=tuple(s.name for s in eom.coordinates),
         parameters=tuple(s.name for s in eom.parameters),
@@ -123,6 +153,15 @@ def _build(eom: EquationsOfMotion) -> FastEquations | None:
         size=len(equations.vector),
         function=function,
     )
+
+
+def state_matrix(fast: FastEquations, t: float, x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """The matrix of the state equations compiled in ``fast`` at (t, x, p), (size, size):
+    the mass matrix itself when every coordinate is of second order (evaluated by the
+    compiled function the loop calls, so it costs no compilation of its own)."""
+    inputs = np.concatenate(([t], np.asarray(x, dtype=float), np.asarray(p, dtype=float)))
+    values = np.asarray(fast.function.owner(inputs), dtype=float).ravel()
+    return values[: fast.size * fast.size].reshape(fast.size, fast.size)
 
 
 @dataclass(frozen=True)
@@ -154,6 +193,17 @@ class Limits:
 
 
 @dataclass(frozen=True)
+class LoopEvents:
+    """Event functions for the loop (:mod:`lagrangian.simulation.events`): ``function`` gives
+    g_i(t, x, p) (:func:`loop_function`), ``directions`` (> 0: rising zeros only, < 0:
+    falling, 0: both) and ``limits`` (how many zeros end the run; inf: never) one per event."""
+
+    function: NativeFunction
+    directions: np.ndarray
+    limits: np.ndarray
+
+
+@dataclass(frozen=True)
 class LoopRun:
     """One run of the C loop: output times and states, and how it ended.
 
@@ -163,7 +213,8 @@ class LoopRun:
     run became stiff (None: never); ``advanced`` how far t moved over the last
     ``collapse_steps`` steps; ``failed_at`` the (t, x) where the right-hand side failed
     (SINGULAR); ``interrupted`` whether Ctrl-C (or a KeyboardInterrupt from ``progress``)
-    ended it.
+    ended it; ``events`` the zeros of the event functions as (index, time, state) in the
+    order of time (a terminal one, STOPPED, is the last).
     """
 
     t: np.ndarray
@@ -177,6 +228,7 @@ class LoopRun:
     advanced: float
     failed_at: tuple[float, np.ndarray] | None = None
     interrupted: bool = False
+    events: tuple[tuple[int, float, np.ndarray], ...] = ()
 
 
 def integrate(
@@ -186,25 +238,30 @@ def integrate(
     p: np.ndarray,
     limits: Limits | None = None,
     progress: Callable[[float], None] | None = None,
+    events: LoopEvents | None = None,
 ) -> LoopRun:
     """Integrate from x0 with the parameters p by ``settings.method`` (RK45 or DOP853) over
     ``settings.span``, output at ``settings.t_out`` (empty: every step), within ``limits``;
-    ``progress(t)`` after every accepted step.  ``settings.max_steps`` is not read (the step
-    budget is ``limits.max_steps``).  RuntimeError when the C loop is not :func:`available`.
+    ``progress(t)`` after every accepted step; the zeros of ``events`` located (a terminal
+    one ends the run, status STOPPED, its time and state the last output row).
+    ``settings.max_steps`` is not read (the step budget is ``limits.max_steps``).
+    RuntimeError when the C loop is not :func:`available`.
     """
     functions = _functions()
     if functions is None:
         raise RuntimeError("the C integration loop needs a C compiler")
     if settings.method not in ADAPTIVE:
         raise ValueError(f"the C loop runs {ADAPTIVE}, not {settings.method!r}")
-    run = _Run(functions, fast, settings, x0, p, limits or Limits())
+    run = _Run(functions, fast, settings, x0, p, limits or Limits(), events)
     max_call = 1 if progress is not None else 2**62
     status, interrupted = RUNNING, False
     try:
         status = functions.start(run.pointer)
-        while status in (RUNNING, FULL):
+        while status in (RUNNING, FULL, EVENTS_FULL):
             if status == FULL:
                 run.grow()
+            if status == EVENTS_FULL:
+                run.grow_events()
             steps = run.struct.steps
             status = functions.advance(run.pointer, max_call, functions.clock() + SLICE_SECONDS)
             if progress is not None and run.struct.steps > steps:
@@ -268,6 +325,17 @@ class _RunStruct(ctypes.Structure):
         *((name, _INT) for name in ("rows", "steps", "recent_count", "recent_sum")),
         ("times_count", _INT),
         *((name, _DOUBLE) for name in ("t", "h_abs", "h_last", "stiff_since", "advanced")),
+        ("event_function", _POINTER),
+        ("event_user_data", _POINTER),
+        *(
+            (name, _POINTER)
+            for name in ("event_inputs", "event_old", "event_new", "event_work", "event_state")
+        ),
+        *((name, _POINTER) for name in ("directions", "limits", "counts", "roots", "order")),
+        ("n_events", _INT),
+        *((name, _POINTER) for name in ("found_index", "found_t", "found_x")),
+        ("event_capacity", _INT),
+        ("n_found", _INT),
     ]
 
 
@@ -333,8 +401,10 @@ class _Run:
         x0: np.ndarray,
         p: np.ndarray,
         limits: Limits,
+        events: LoopEvents | None = None,
     ) -> None:
         self.fast = fast  # owns the machine code of the right-hand side
+        self.events = events  # owns the machine code of the event functions
         nx, size = len(fast.state_names), fast.size
         self.tableau, sizes = _tableau_arrays(settings.method)
         k_rows = sizes["stages"] + 1 + sizes["extra"]
@@ -359,7 +429,50 @@ class _Run:
         self.times = np.empty(max(limits.collapse_steps, 0))
         self.struct = _RunStruct()
         self._fill(fast, settings, limits, sizes, functions)
+        self._fill_events(events, nx, p)
         self.pointer = ctypes.addressof(self.struct)
+
+    def _fill_events(self, events: LoopEvents | None, nx: int, p: np.ndarray) -> None:
+        m = 0 if events is None else len(events.directions)
+        self.event_arrays = {
+            name: np.zeros(m) for name in ("event_old", "event_new", "event_work", "roots")
+        } | {
+            "event_inputs": np.concatenate((np.zeros(1 + nx), p)),
+            "event_state": np.zeros(nx),
+            "counts": np.zeros(m, dtype=np.int64),
+            "order": np.zeros(m, dtype=np.int64),
+        }
+        s = self.struct
+        if events is not None:
+            self.event_arrays["directions"] = np.ascontiguousarray(events.directions, float)
+            self.event_arrays["limits"] = np.ascontiguousarray(events.limits, float)
+            s.event_function = events.function.address
+            s.event_user_data = events.function.user_data
+        for name, array in self.event_arrays.items():
+            setattr(s, name, _address(array))
+        s.n_events = m
+        self.found_index = np.zeros(4 * m, dtype=np.int64)
+        self.found_t, self.found_x = np.zeros(4 * m), np.zeros((4 * m, nx))
+        s.found_index, s.found_t = _address(self.found_index), _address(self.found_t)
+        s.found_x, s.event_capacity = _address(self.found_x), 4 * m
+
+    def grow_events(self) -> None:
+        """Twice the room for event records (those so far kept)."""
+        found, rows = int(self.struct.n_found), 2 * len(self.found_t)
+        index, t, x = (
+            np.zeros(rows, np.int64),
+            np.zeros(rows),
+            np.zeros((rows, len(self.state["y"]))),
+        )
+        index[:found], t[:found], x[:found] = (
+            self.found_index[:found],
+            self.found_t[:found],
+            self.found_x[:found],
+        )
+        self.found_index, self.found_t, self.found_x = index, t, x
+        s = self.struct
+        s.found_index, s.found_t, s.found_x = _address(index), _address(t), _address(x)
+        s.event_capacity = rows
 
     def _fill(
         self,
@@ -423,6 +536,10 @@ class _Run:
             advanced=float(s.advanced),
             failed_at=failed_at,
             interrupted=interrupted,
+            events=tuple(
+                (int(self.found_index[k]), float(self.found_t[k]), self.found_x[k].copy())
+                for k in range(int(s.n_found))
+            ),
         )
 
 

@@ -1,0 +1,151 @@
+"""A batch in the C loop: member after member through the library compiled once per machine.
+
+RK45 and DOP853 batches of the default backend run every member in the C loop
+(:mod:`lagrangian.numerics.fast.c_loop`) with the one right-hand side compiled by SymEngine's
+LLVM backend and the member's own parameters, so member i is ``simulate`` of member i alone
+(SciPy's steps), as in the NumPy batch (:mod:`lagrangian.simulation.batch_numpy`), whose
+results this returns in the same shape.  A stop condition g(t, q, q_dot) runs in the loop as
+a terminal event of falling zeros when it is an expression of the state
+(:mod:`lagrangian.simulation.event_trace`; a sweep's text condition carries its expression),
+its zero located on the dense output; a member whose g is negative at the start stops there.
+
+Where the loop cannot run (no C compiler, RK4, equations or a condition SymEngine cannot
+compile) :func:`native_members` is None and the NumPy batch runs instead.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from lagrangian.derivation import EquationsOfMotion
+from lagrangian.errors import SimulationError
+from lagrangian.numerics.compile import CompiledEquations
+from lagrangian.numerics.fast import c_loop
+from lagrangian.numerics.fast.outcome import STOPPED
+from lagrangian.numerics.fast.settings import Settings
+from lagrangian.numerics.fast.tableaus import ADAPTIVE
+from lagrangian.simulation.event_trace import traced_events
+
+#: (out (members, times, state), status, t_final, x_final), as the NumPy batch returns them.
+Members = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
+def native_members(
+    eom: EquationsOfMotion,
+    compiled: CompiledEquations,
+    settings: Settings,
+    X0: np.ndarray,
+    P: np.ndarray,
+    stop_when: Callable[..., Any] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> Members | None:
+    """Integrate every row of X0 (parameters: the same row of P) in the C loop (module
+    docstring), or None where it cannot.  ``progress`` gets, after each member, the time
+    span's share of the members done (t0 + (t1 - t0) (i + 1) / k)."""
+    if settings.method not in ADAPTIVE or not c_loop.available():
+        return None
+    fast = c_loop.native_equations(eom)
+    if fast is None:
+        return None
+    events, condition = None, None
+    if stop_when is not None:
+        condition = _condition(eom, compiled, stop_when, settings.span[0], X0, P)
+        function = None if condition is None else c_loop.loop_function(eom, [condition])
+        if function is None:
+            return None
+        events = c_loop.LoopEvents(function, np.array([-1.0]), np.array([1.0]))
+    return _run_members(fast, compiled, settings, X0, P, stop_when, events, progress)
+
+
+def _run_members(
+    fast: Any,
+    compiled: CompiledEquations,
+    settings: Settings,
+    X0: np.ndarray,
+    P: np.ndarray,
+    stop_when: Callable[..., Any] | None,
+    events: c_loop.LoopEvents | None,
+    progress: Callable[[float], None] | None,
+) -> Members:
+    k, nx = X0.shape
+    t0, t1 = settings.span
+    out = np.full((k, len(settings.t_out), nx), np.nan)
+    status = np.zeros(k, dtype=np.int64)
+    t_final, x_final = np.full(k, float(t1)), X0.astype(float).copy()
+    limits = c_loop.Limits(max_steps=settings.max_steps)
+    for i in range(k):
+        g0 = math.inf if stop_when is None else _value(compiled, stop_when, t0, X0[i], P[i])
+        if not g0 >= 0 and not math.isnan(g0):
+            first = int(np.searchsorted(settings.t_out, t0, side="right"))
+            out[i, :first] = X0[i]
+            status[i], t_final[i] = STOPPED, t0  # negative at the start: stopped there
+        else:
+            run = c_loop.integrate(fast, settings, X0[i], P[i], limits, None, events)
+            if run.interrupted:
+                raise KeyboardInterrupt  # as the NumPy batch: Ctrl-C ends the whole batch
+            out[i, : len(run.t)] = run.x
+            status[i] = run.status
+            if run.status == STOPPED and run.events:
+                t_final[i], x_final[i] = run.events[-1][1], run.events[-1][2]
+            else:
+                t_final[i], x_final[i] = run.t_reached, run.x_reached
+        if progress is not None:
+            progress(t1 if i == k - 1 else t0 + (t1 - t0) * (i + 1) / k)
+    return out, status, t_final, x_final
+
+
+def _value(
+    compiled: CompiledEquations, g: Callable[..., Any], t: float, x: np.ndarray, p: np.ndarray
+) -> float:
+    """g of one member, called as the NumPy batch calls it (arrays of one member); NaN
+    where the right-hand side is singular there (the loop then ends the member SINGULAR)."""
+    n = len(compiled.coordinates)
+    try:
+        q_dot = compiled.rhs(t, x, p)[:n]
+    except (SimulationError, np.linalg.LinAlgError):
+        return math.nan
+    values = np.asarray(g(np.array([t]), x[None, :n], q_dot[None, :]), dtype=float)
+    return float(values.reshape(-1)[0])
+
+
+def _condition(
+    eom: EquationsOfMotion,
+    compiled: CompiledEquations,
+    stop_when: Callable[..., Any],
+    t0: float,
+    X0: np.ndarray,
+    P: np.ndarray,
+) -> sp.Expr | None:
+    """The expression of ``stop_when``: its own ``expression`` (a sweep's text condition,
+    in the names of t, the coordinates and NAME_dot), else traced; checked against the
+    function at the first member's start (and a state near it)."""
+    n = len(compiled.coordinates)
+    state = c_loop.state_symbols(eom)[: 1 + X0.shape[1]]
+
+    def unpack(t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return x[:n], compiled.rhs(t, x, P[0])[:n]
+
+    def member(t: float, q: np.ndarray, q_dot: np.ndarray) -> Any:
+        if isinstance(q, np.ndarray) and q.dtype != object:  # numbers: as the batch calls it
+            return np.asarray(stop_when(np.array([t]), q[None, :], q_dot[None, :])).reshape(-1)[0]
+        return stop_when(t, q, q_dot)
+
+    given = getattr(stop_when, "expression", None)
+    if isinstance(given, sp.Expr):
+        names = {s.name: s for s in (eom.time, *eom.coordinates, *eom.velocities)}
+        renamed = given.xreplace({s: names.get(s.name, s) for s in given.free_symbols})
+
+        def symbolic(t: Any, q: Any, q_dot: Any) -> Any:
+            if isinstance(q, np.ndarray) and q.dtype == object:
+                return renamed
+            return member(t, q, q_dot)
+
+        traced = traced_events(eom, [symbolic], state, t0, X0[0], unpack)
+    else:
+        traced = traced_events(eom, [member], state, t0, X0[0], unpack)
+    return None if traced is None else traced[0]
