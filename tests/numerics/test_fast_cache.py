@@ -44,3 +44,18 @@ def test_an_unwritable_cache_folder_still_runs(tmp_path):
     blocker.write_text("not a folder")  # no folder can be made below a file, even by root
     result = _simulate(str(blocker / "cache"))
     assert result.returncode == 0 and result.stdout.strip() == "True", result.stderr
+
+
+def test_a_stop_function_is_compiled_once_per_process() -> None:
+    """A sweep's blocks on a worker share one stop function: numba compiles it once."""
+    import numpy as np
+
+    from lagrangian.numerics.fast.run import compile_stop
+
+    def stop(t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
+        return 0.5 - q[0]
+
+    compiled = compile_stop(stop)
+    assert compile_stop(stop) is compiled
+    assert compiled(0.0, np.array([0.25]), np.array([0.0])) == 0.25
+    assert compile_stop(lambda t, q, q_dot: q[0] - 0.5) is not compiled

@@ -38,15 +38,15 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.constraints import ConstrainedEquations
-from lagrangian.constraints.pfaffian import pfaffian_form
-from lagrangian.model.constraints import VelocityConstraint
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.fast.c_loop import c_function
 from lagrangian.numerics.fast.compiled_rates import FastEquations
+from lagrangian.numerics.fast.constrained import (
+    BAUMGARTE,
+    multiplier_system,
+    residual_expressions,
+)
 from lagrangian.numerics.fast.native import NativeFunction
-
-#: The names of Baumgarte's alpha and beta, appended to the parameters.
-BAUMGARTE = ("baumgarte_alpha", "baumgarte_beta")
 
 
 @dataclass(frozen=True)
@@ -95,36 +95,6 @@ def constraint_rows(
     h_and_c = np.asarray(native.residuals.owner(inputs), dtype=float).reshape(rows, -1)
     residual = np.max(np.abs(h_and_c), axis=1, initial=0.0)
     return multipliers, residual
-
-
-def multiplier_system(
-    equations: ConstrainedEquations, alpha: sp.Symbol, beta: sp.Symbol
-) -> tuple[sp.Matrix, sp.Matrix]:
-    """(matrix, vector) of the multiplier form with Baumgarte's gains ``alpha``, ``beta``."""
-    m = len(equations.multipliers)
-    h, c = residual_expressions(equations)
-    stabilization = [2 * alpha * c_j + beta**2 * h_j for h_j, c_j in zip(h, c)]
-    jacobian = equations.constraint_jacobian
-    matrix = sp.Matrix.vstack(
-        sp.Matrix.hstack(equations.mass_matrix, -jacobian.T),
-        sp.Matrix.hstack(jacobian, sp.zeros(m, m)),
-    )
-    vector = sp.Matrix.vstack(
-        sp.Matrix(equations.forcing), equations.gamma - sp.Matrix(m, 1, stabilization)
-    )
-    return matrix, vector
-
-
-def residual_expressions(equations: ConstrainedEquations) -> tuple[list[sp.Expr], list[sp.Expr]]:
-    """(h, c): the position residual of every constraint (0 for a velocity constraint) and
-    its velocity residual A q_dot + b."""
-    h: list[sp.Expr] = []
-    c: list[sp.Expr] = []
-    for constraint in equations.constraints:
-        c.append(pfaffian_form(constraint, equations.coordinates).velocity_expression)
-        velocity = isinstance(constraint, VelocityConstraint)
-        h.append(sp.S.Zero if velocity else constraint.expression)
-    return h, c
 
 
 def _build(equations: ConstrainedEquations) -> NativeConstrained | None:

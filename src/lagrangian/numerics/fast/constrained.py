@@ -51,14 +51,13 @@ def fast_constrained_equations(equations: ConstrainedEquations) -> FastEquations
     return _CACHE.get(equations, _build)
 
 
-def _build(equations: ConstrainedEquations) -> FastEquations:
-    q, n, m = equations.coordinates, len(equations.coordinates), len(equations.multipliers)
-    alpha, beta = (sp.Symbol(name) for name in BAUMGARTE)
-    stabilization = []
-    for constraint in equations.constraints:
-        c = pfaffian_form(constraint, q).velocity_expression
-        h = 0 if isinstance(constraint, VelocityConstraint) else constraint.expression
-        stabilization.append(2 * alpha * c + beta**2 * h)
+def multiplier_system(
+    equations: ConstrainedEquations, alpha: sp.Symbol, beta: sp.Symbol
+) -> tuple[sp.Matrix, sp.Matrix]:
+    """(matrix, vector) of the multiplier form with Baumgarte's gains ``alpha``, ``beta``."""
+    m = len(equations.multipliers)
+    h, c = residual_expressions(equations)
+    stabilization = [2 * alpha * c_j + beta**2 * h_j for h_j, c_j in zip(h, c)]
     jacobian = equations.constraint_jacobian
     matrix = sp.Matrix.vstack(
         sp.Matrix.hstack(equations.mass_matrix, -jacobian.T),
@@ -67,10 +66,28 @@ def _build(equations: ConstrainedEquations) -> FastEquations:
     vector = sp.Matrix.vstack(
         sp.Matrix(equations.forcing), equations.gamma - sp.Matrix(m, 1, stabilization)
     )
+    return matrix, vector
+
+
+def residual_expressions(equations: ConstrainedEquations) -> tuple[list[sp.Expr], list[sp.Expr]]:
+    """(h, c): the position residual of every constraint (0 for a velocity constraint) and
+    its velocity residual A q_dot + b."""
+    h: list[sp.Expr] = []
+    c: list[sp.Expr] = []
+    for constraint in equations.constraints:
+        c.append(pfaffian_form(constraint, equations.coordinates).velocity_expression)
+        velocity = isinstance(constraint, VelocityConstraint)
+        h.append(sp.S.Zero if velocity else constraint.expression)
+    return h, c
+
+
+def _build(equations: ConstrainedEquations) -> FastEquations:
+    q, n = equations.coordinates, len(equations.coordinates)
+    alpha, beta = (sp.Symbol(name) for name in BAUMGARTE)
     return linear_equations(
         equations.time,
         q,
         equations.velocities[:n],
         [*equations.parameters, alpha, beta],
-        (matrix, vector),
+        multiplier_system(equations, alpha, beta),
     )

@@ -9,6 +9,8 @@ run chunks at once.  This module is imported only when numba is installed.
 
 from __future__ import annotations
 
+import contextlib
+import weakref
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -81,8 +83,11 @@ def compile_stop(stop_when: Callable[..., Any] | None) -> Any:
     from numba.core.errors import NumbaError
 
     function = getattr(stop_when, "py_func", stop_when)  # also a numba function's own
+    with contextlib.suppress(TypeError):  # not weakly referable: compiled each time
+        if function in _COMPILED_STOPS:
+            return _COMPILED_STOPS[function]
     try:
-        return njit(STOP, cache=False, nogil=True, error_model="numpy")(function)
+        compiled = njit(STOP, cache=False, nogil=True, error_model="numpy")(function)
     except NumbaError as error:
         first = str(error).strip().splitlines()[0]
         raise SimulationError(
@@ -90,6 +95,13 @@ def compile_stop(stop_when: Callable[..., Any] | None) -> Any:
             f"({first}); with backend='numba' it must be a function of (t, q, q_dot) that "
             "numba compiles (NumPy and math on floats and 1-d arrays), returning a float."
         ) from error
+    with contextlib.suppress(TypeError):
+        _COMPILED_STOPS[function] = compiled
+    return compiled
+
+
+#: Each stop function compiled once per process (a sweep's blocks share one on a worker).
+_COMPILED_STOPS: weakref.WeakKeyDictionary[Any, Any] = weakref.WeakKeyDictionary()
 
 
 def integrate(
