@@ -38,6 +38,7 @@ import sympy as sp
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationError
 from lagrangian.model.frozen import FrozenMapping
+from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.evaluate import NumericFunction
 from lagrangian.simulation.dynamics import WithoutConstraints
@@ -53,7 +54,15 @@ DECISION_TOLERANCE = 1e-12
 
 def switching_functions(eom: EquationsOfMotion) -> tuple[sp.Expr, ...]:
     """The arguments u_k of sign and Heaviside in the equations of motion that depend on the
-    state or on time (their zeros are where the right-hand side jumps), in a fixed order."""
+    state or on time (their zeros are where the right-hand side jumps), in a fixed order;
+    found once per equations (every run asks)."""
+    return _SURFACES.get(eom, _surfaces)
+
+
+_SURFACES: IdentityCache[EquationsOfMotion, tuple[sp.Expr, ...]] = IdentityCache()
+
+
+def _surfaces(eom: EquationsOfMotion) -> tuple[sp.Expr, ...]:
     state = {*eom.coordinates, *eom.velocities, eom.time}
     found: dict[sp.Expr, None] = {}
     for expr in (*eom.mass_matrix, *eom.forcing):
