@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from c_loop_setup import scipy_path
 from scipy.integrate import solve_ivp
 
 import lagrangian as lg
@@ -71,19 +72,6 @@ def fresh_cache(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> Path:
     c_build.loop_library.cache_clear()
     yield tmp_path / "lagrangian"
     c_build.loop_library.cache_clear()
-
-
-def scipy_path(*arguments, **keywords) -> lg.Trajectory:
-    """lg.simulate on SciPy's solvers: the C loop switched off as on a machine without a C
-    compiler."""
-    original = c_build.find_compiler
-    c_build.find_compiler = lambda: None
-    c_build.loop_library.cache_clear()
-    try:
-        return lg.simulate(*arguments, **keywords)
-    finally:
-        c_build.find_compiler = original
-        c_build.loop_library.cache_clear()
 
 
 # --- the same numbers ------------------------------------------------------------------------

@@ -9,11 +9,12 @@ import math
 
 import numpy as np
 import pytest
+from c_loop_setup import scipy_path
 from scipy.special import ellipk
 
 import lagrangian as lg
 from lagrangian.io.load import loads
-from lagrangian.numerics.fast import c_build, c_loop
+from lagrangian.numerics.fast import c_loop
 from lagrangian.simulation.compiled_run import NativeIntegrator
 from lagrangian.simulation.run import plan
 from lagrangian.simulation.setup import prepare
@@ -30,18 +31,6 @@ potential: m*g*y
 """
 TOL = {"rtol": 1e-10, "atol": 1e-10}
 PENDULUM_START = {"theta": 1.0, "theta_dot": 0.0}
-
-
-def scipy_path(*arguments, **keywords) -> lg.Trajectory:
-    """lg.simulate on SciPy's solvers (the C loop off, as on a machine without a compiler)."""
-    original = c_build.find_compiler
-    c_build.find_compiler = lambda: None
-    c_build.loop_library.cache_clear()
-    try:
-        return lg.simulate(*arguments, **keywords)
-    finally:
-        c_build.find_compiler = original
-        c_build.loop_library.cache_clear()
 
 
 def integrator_of(eom, initial, t_end, events, **options):
