@@ -19,6 +19,7 @@ RANKS = {
     "constraints": 6,
     "derivation": 5,
     "model": 4,
+    "limits": 0,
     "errors": 0,
 }
 # Side layers: io imports only model (and errors); render imports what it draws;

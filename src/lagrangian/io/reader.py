@@ -12,7 +12,6 @@ names the path, its line and column, and the fix.
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Iterable, Mapping
 from typing import Any
@@ -22,7 +21,7 @@ import sympy as sp
 from lagrangian.errors import ExpressionError, Problem
 from lagrangian.io.document import Document, child
 from lagrangian.io.model_schema import entry_keys
-from lagrangian.model.expressions import parse_expression
+from lagrangian.model.expressions import closest_name, parse_expression
 
 _EXAMPLE_VECTOR = 'a list such as ["l*sin(theta)", "-l*cos(theta)"]'
 
@@ -48,8 +47,8 @@ def suggestion(word: str, choices: Iterable[str], fix: str = "") -> str:
     >>> suggestion("stifness", ["stiffness", "name"])
     "did you mean 'stiffness'?"
     """
-    close = difflib.get_close_matches(word, sorted(choices), n=1)
-    hint = f"did you mean {close[0]!r}?" if close else ""
+    close = closest_name(word, choices)
+    hint = f"did you mean {close!r}?" if close else ""
     return " ".join(part for part in (hint, fix) if part)
 
 
@@ -96,8 +95,8 @@ class Reader:
         meant = set()  # keys a misspelling stands for: not reported missing as well
         for key in entry:
             if key not in keys.allowed:
-                close = difflib.get_close_matches(key, keys.allowed, n=1)
-                meant.update(close)
+                close = closest_name(key, keys.allowed)
+                meant.update([close] if close else [])
                 fix = suggestion(key, keys.allowed) or "allowed: " + ", ".join(keys.allowed)
                 self.problem(child(path, key), f"unknown {word} {key!r}", fix, key=True)
         for key in keys.required:
@@ -203,7 +202,14 @@ class Reader:
 
     def number(self, value: Any, path: str) -> float | None:
         """A finite real number."""
-        if isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value):
-            return float(value)
-        self.problem(path, f"value {value!r} is not a number", "give a number such as 9.81")
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            try:
+                number = float(value)
+            except OverflowError:  # an integer past the largest double
+                number = math.inf
+            if math.isfinite(number):
+                return number
+            self.problem(path, f"{describe(value)} is not a finite number", "give a finite number")
+            return None
+        self.problem(path, f"value {describe(value)} is not a number", "give a number such as 9.81")
         return None

@@ -18,6 +18,7 @@ import re
 import sys
 
 from lagrangian.io.document import Document, Position, child, syntax_error
+from lagrangian.io.yaml_tree import MAX_DEPTH, refuse_oversized
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -27,10 +28,12 @@ else:  # pragma: no cover - Python 3.10
 _AT = re.compile(r"\(at line (\d+), column (\d+)\)")
 _BARE = re.compile(r"[A-Za-z0-9_-]+")
 _TOKEN_END = re.compile(r"[\s,\]}#]")
+_DOUBLE_BITS = 1024  # 2**1024 is past the largest double
 
 
 def read_toml(text: str, source: str) -> Document:
     """The Document of a TOML text; ModelError with line and column on bad syntax."""
+    refuse_oversized(text, source)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -38,10 +41,30 @@ def read_toml(text: str, source: str) -> Document:
         line, column = (int(found[1]), int(found[2])) if found else (None, None)
         detail = _AT.sub("", str(exc)).strip()
         raise syntax_error(source, "TOML", detail, line, column) from None
+    except RecursionError:
+        raise syntax_error(source, "TOML", "lists or maps nested too deeply", None, None) from None
+    except ValueError as exc:  # an integer beyond Python's 4,300 digits
+        raise syntax_error(source, "TOML", str(exc).split(";")[0], None, None) from None
+    _check_bounds(data, source, 0)
     scanner = _Scanner(text)
     with contextlib.suppress(IndexError, ValueError):  # best effort: keep what was found
         scanner.scan()
     return Document(data, source, scanner.values, scanner.keys)
+
+
+def _check_bounds(value: object, source: str, depth: int) -> None:
+    """The bounds the YAML reader keeps: nesting depth, and integers within a double."""
+    if depth > MAX_DEPTH:
+        raise syntax_error(source, "TOML", "lists or maps nested too deeply", None, None)
+    if isinstance(value, dict):
+        for item in value.values():
+            _check_bounds(item, source, depth + 1)
+    elif isinstance(value, list):
+        for item in value:
+            _check_bounds(item, source, depth + 1)
+    elif isinstance(value, int) and value.bit_length() > _DOUBLE_BITS:
+        detail = f"an integer of {len(str(value))} digits is beyond a double (about 1.8e308)"
+        raise syntax_error(source, "TOML", detail, None, None)
 
 
 class _Scanner:

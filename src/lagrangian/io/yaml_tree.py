@@ -17,16 +17,22 @@ from typing import Any
 import yaml
 from yaml.constructor import SafeConstructor
 
-from lagrangian.errors import Problem
+from lagrangian.errors import ModelError, Problem
 from lagrangian.io.document import Document, Position, child, syntax_error
 
-_MAX_DEPTH = 64
+#: The deepest nesting of lists and maps a model file may have.
+MAX_DEPTH = 64
 #: The most values a file may expand to: YAML aliases repeat what they name, so a few lines
 #: of nested aliases ("billion laughs") would otherwise expand to gigabytes.
 MAX_VALUES = 100_000
+#: The most characters a model file may have (the examples have 2,000; a generated model of a
+#: few thousand bodies fits): reading, composing and checking a file costs memory and time in
+#: proportion to its size.
+MAX_CHARACTERS = 1_000_000
 #: The most digits of an integer: a longer one is beyond a double (1.8e308 has 309).
 MAX_DIGITS = 309
 _COLLECTION_TAGS = ("tag:yaml.org,2002:seq", "tag:yaml.org,2002:map")
+_INT_TAG = "tag:yaml.org,2002:int"
 
 
 class _Loader(yaml.SafeLoader):
@@ -75,7 +81,7 @@ class _TreeBuilder:
                     "write the model without repeating anchors (*name)",
                 )
             return None
-        if depth > _MAX_DEPTH:
+        if depth > MAX_DEPTH:
             self._problem(path, "is nested too deeply (a recursive alias?)", "flatten it")
             return None
         if isinstance(node, yaml.CollectionNode) and node.tag not in _COLLECTION_TAGS:
@@ -90,12 +96,7 @@ class _TreeBuilder:
         return self._scalar(node, path)
 
     def _scalar(self, node: yaml.Node, path: str) -> Any:
-        try:
-            value = self._constructor.construct_object(node, deep=True)
-        except yaml.constructor.ConstructorError:
-            self._unknown_tag(node, path)
-            return None
-        if isinstance(value, int) and not isinstance(value, bool):
+        if node.tag == _INT_TAG:  # before converting: Python refuses 4,300 digits and more
             digits = len(str(node.value).lstrip("+-").replace("_", ""))
             if digits > MAX_DIGITS:
                 self._problem(
@@ -104,7 +105,19 @@ class _TreeBuilder:
                     "give a smaller number, or write it in scientific notation",
                 )
                 return None
-        return value
+        try:
+            return self._constructor.construct_object(node, deep=True)
+        except yaml.constructor.ConstructorError:
+            self._unknown_tag(node, path)
+        except (ValueError, OverflowError) as error:  # a date such as 2024-13-45
+            text = str(node.value)
+            shown = text if len(text) <= 40 else text[:37] + "..."
+            self._problem(
+                path,
+                f"{shown!r} cannot be read as a {node.tag.rsplit(':', 1)[-1]} ({error})",
+                "write it in quotes to keep it as text",
+            )
+        return None
 
     def _mapping(self, node: yaml.MappingNode, path: str, depth: int) -> dict[str, Any]:
         result: dict[str, Any] = {}
@@ -166,8 +179,29 @@ def _tree(node: yaml.Node | None, source: str) -> tuple[Document, list[Problem]]
     return Document(data, source, builder.values, builder.keys), builder.problems
 
 
+def refuse_oversized(text: str, source: str) -> None:
+    """Raise ModelError naming ``source`` when ``text`` has more than MAX_CHARACTERS.
+
+    >>> refuse_oversized("x" * (MAX_CHARACTERS + 1), "big.yaml")
+    Traceback (most recent call last):
+    ...
+    lagrangian.errors.ModelError: big.yaml cannot be read:
+      - big.yaml: size: 1,000,001 characters, more than the 1,000,000 a model file may have \
+— write the model with fewer or shorter entries
+    """
+    if len(text) > MAX_CHARACTERS:
+        problem = Problem(
+            "size",
+            f"{len(text):,} characters, more than the {MAX_CHARACTERS:,} a model file may have",
+            "write the model with fewer or shorter entries",
+            source=source,
+        )
+        raise ModelError(f"{source} cannot be read:", [problem])
+
+
 def read_yaml(text: str, source: str) -> tuple[Document, list[Problem]]:
     """The Document of a YAML text and its duplicate-key problems; ModelError on bad syntax."""
+    refuse_oversized(text, source)
     return _tree(_compose(text, source, "YAML"), source)
 
 
@@ -177,12 +211,15 @@ def read_json(text: str, source: str) -> tuple[Document, list[Problem]]:
     >>> read_json('{"coordinates": ["x"]}', "<string>")[0].value_at("coordinates[0]")
     (1, 19)
     """
+    refuse_oversized(text, source)
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise syntax_error(source, "JSON", exc.msg, exc.lineno, exc.colno) from None
     except RecursionError:
         raise syntax_error(source, "JSON", "lists or maps nested too deeply", None, None) from None
+    except ValueError as exc:  # an integer beyond Python's 4,300 digits
+        raise syntax_error(source, "JSON", str(exc).split(";")[0], None, None) from None
     try:
         # Raw tabs can only be whitespace in valid JSON; YAML refuses them in places.
         document, problems = _tree(_compose(text.replace("\t", " "), source, "JSON"), source)

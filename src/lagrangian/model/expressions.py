@@ -26,6 +26,8 @@ from __future__ import annotations
 
 import ast
 import difflib
+import functools
+import heapq
 import re
 import warnings
 from collections.abc import Callable, Iterable, Mapping
@@ -42,6 +44,15 @@ MAX_EXPONENT = 1000
 #: The most terms an expression may expand to: derivation expands products and powers of
 #: sums, and (sin(x) + ... + sin(39*x))**30 would expand to 10**19 terms (hours, gigabytes).
 MAX_TERMS = 100_000
+#: How much larger (in bits) than its largest number an expression's numbers may grow once
+#: multiplied out: derivation expands
+#: products, and the product of (x + 1)...(x + 399) has coefficients of 900 digits, which
+#: take minutes to form (a product of 150 such factors, 1,100 bits, takes a second).
+MAX_EXPANDED_BITS = 2000
+#: The most nodes an expression's tree may have once SymPy has formed it.  The text is at most
+#: 10,000 characters, but SymPy rewrites some parts into bigger ones (Abs(u)**3 is
+#: u**2*Abs(u)), and nested, such rewrites double the tree at every level.
+MAX_NODES = 20_000
 _NUMBER_LIMIT = 10**MAX_DIGITS
 # Cost guards, in bits.  A power of numbers is computed only when it is small (the estimate
 # may exceed the size by a bit per factor; the exact size is checked after).  Roots cost more:
@@ -52,6 +63,49 @@ _POWER_BITS = 4 * MAX_DIGITS
 _ROOT_BITS = 512
 _ARGUMENT_BITS = 512
 _BUDGET_BITS = 50_000
+
+
+#: Up to this many known names, a misspelling is compared with each (difflib); beyond, only
+#: with the names one deletion away, found in an index, so that a file with thousands of
+#: unknown names among thousands of known ones is answered in linear time, not quadratic.
+_COMPARE_EACH = 64
+#: Names longer than this get no suggestion (each costs its length squared to index).
+_LONGEST_SUGGESTED = 64
+
+
+def closest_name(word: str, choices: Iterable[str], cutoff: float = 0.6) -> str | None:
+    """The one of ``choices`` that ``word`` most likely misspells, or None; in bounded time
+    however many choices there are.
+
+    >>> closest_name("stifness", ["stiffness", "name"])
+    'stiffness'
+    >>> closest_name("p1999x", [f"p{i}" for i in range(5000)])
+    'p1999'
+    """
+    options = frozenset(choices)
+    if len(word) > _LONGEST_SUGGESTED:
+        return None
+    if len(options) > _COMPARE_EACH:
+        index = _deletion_index(options)
+        options = frozenset(name for variant in _deletions(word) for name in index.get(variant, ()))
+    close = difflib.get_close_matches(word, sorted(options), n=1, cutoff=cutoff)
+    return close[0] if close else None
+
+
+def _deletions(word: str) -> set[str]:
+    """``word`` and every text one letter shorter (two words within one edit of each other,
+    a letter deleted, inserted, changed or two swapped, share one of these)."""
+    return {word, *(word[:i] + word[i + 1 :] for i in range(len(word)))}
+
+
+@functools.lru_cache(maxsize=4)
+def _deletion_index(names: frozenset[str]) -> dict[str, tuple[str, ...]]:
+    index: dict[str, list[str]] = {}
+    for name in names:
+        if len(name) <= _LONGEST_SUGGESTED:
+            for variant in _deletions(name):
+                index.setdefault(variant, []).append(name)
+    return {variant: tuple(found) for variant, found in index.items()}
 
 
 def _by_sign(function: type[sp.Function]) -> Callable[[sp.Expr], sp.Expr]:
@@ -248,6 +302,7 @@ class _Builder:
         self.lines = text.split("\n")
         self.names = {**CONSTANTS, **names}
         self.budget, self.root_budget = _BUDGET_BITS, _ROOT_BITS
+        self.sizes: dict[sp.Basic, int] = {}
 
     def at(self, node: ast.AST, end: bool = False) -> tuple[int, int]:
         """(line, 0-based character column) of a node; ast columns count UTF-8 bytes."""
@@ -269,11 +324,25 @@ class _Builder:
         if self.budget < 0 or self.root_budget < 0:
             raise _Refusal("the numbers in this expression are too large", "use smaller numbers")
 
+    def size(self, value: sp.Basic) -> int:
+        """Nodes of ``value``'s tree, a shared part counted at each use (each part's size is
+        computed once, so a tree that doubles at each level costs only its levels)."""
+        size = self.sizes.get(value)
+        if size is None:
+            size = self.sizes[value] = 1 + sum(self.size(arg) for arg in value.args)
+        return size
+
     def build(self, node: ast.AST, depth: int) -> sp.Expr:
         if depth > MAX_DEPTH:
             self.refuse(node, f"nested more than {MAX_DEPTH} levels deep", "simplify it")
         try:
             value = self._dispatch(node, depth)
+            if self.size(value) > MAX_NODES:
+                raise _Refusal(
+                    f"SymPy forms this part into more than {MAX_NODES:,} operations",
+                    "write it more simply (powers of Abs(u) are rewritten as products with u, "
+                    "which nesting doubles at each level)",
+                )
             if value in _UNDEFINED:
                 raise _Refusal(f"this part is undefined ({value})", "check the formula")
             if isinstance(value, sp.Rational):
@@ -353,7 +422,7 @@ class _Builder:
         nested = isinstance(base, sp.Pow) and not (exponent.is_integer or base.exp.is_integer)
         if nested and not (base.exp.is_Number and abs(base.exp) < 1):
             return sp.Pow(base, exponent, evaluate=False)
-        return sp.Pow(base, exponent)
+        return form_power(base, exponent)
 
     def _call(self, node: ast.Call, depth: int) -> sp.Expr:
         if not isinstance(node.func, ast.Name):
@@ -363,8 +432,8 @@ class _Builder:
             self._name(node.func)  # refuses names with '_'; the others are values
             self.refuse(node.func, f"{name!r} is not a function", f"for a product: {name}*(...)")
         if name not in FUNCTIONS:
-            close = difflib.get_close_matches(name, list(FUNCTIONS), n=1)
-            fix = f"did you mean {close[0]!r}?" if close else ALLOWED
+            close = closest_name(name, FUNCTIONS)
+            fix = f"did you mean {close!r}?" if close else ALLOWED
             self.refuse(node.func, f"unknown function {name!r}", fix)
         if node.keywords:
             self.refuse(node.keywords[0], "keyword arguments are not allowed", "pass x, not x=...")
@@ -401,9 +470,11 @@ class _Builder:
             return self.names[name]
         if name in FUNCTIONS:
             self.refuse(node, f"{name!r} is a function", f"call it, such as {name}(x)")
-        close = difflib.get_close_matches(name, [n for n in self.names if n[:1] != "_"], n=1)
-        known = ", ".join(sorted(self.names)[:20]) + (", ..." if len(self.names) > 20 else "")
-        fix = f"did you mean {close[0]!r}?" if close else f"declare it; known names: {known}"
+        close = closest_name(name, (n for n in self.names if n[:1] != "_"))
+        known = ", ".join(heapq.nsmallest(20, self.names)) + (
+            ", ..." if len(self.names) > 20 else ""
+        )
+        fix = f"did you mean {close!r}?" if close else f"declare it; known names: {known}"
         self.refuse(node, f"unknown name {name!r}", fix)
 
     def _constant(self, node: ast.Constant) -> sp.Expr:
@@ -468,6 +539,23 @@ def _check_denominators(value: sp.Basic) -> None:
             )
 
 
+def form_power(base: sp.Expr, exponent: sp.Expr) -> sp.Expr:
+    """``base**exponent`` as SymPy forms it, except where SymPy's evaluation crawls.
+
+    An exponent with a sum in its denominator makes SymPy look for ``b**(c/log(b))`` through
+    ``sign(im(b))``, which splits ``b`` into real and imaginary parts: for
+    ``tan(x**999)**(x/(x + 1))`` it expands ``(re + i*im)**999`` for minutes, only to find
+    that the power is not ``exp(c)``.  Such a power is kept as written; it means the same.
+
+    >>> x = sp.Symbol("x")
+    >>> form_power(sp.tan(x**999), x / (x + 1))
+    tan(x**999)**(x/(x + 1))
+    """
+    if not exponent.is_Atom and sp.fraction(exponent)[1].is_Add:
+        return sp.Pow(base, exponent, evaluate=False)
+    return sp.Pow(base, exponent)
+
+
 def expanded_terms(value: sp.Basic, limit: int = MAX_TERMS) -> int:
     """At most how many terms ``value`` has once its products and integer powers of sums are
     multiplied out (at most ``limit + 1``: the count stops there): the smaller of the count
@@ -527,6 +615,34 @@ def _products(value: sp.Basic, limit: int) -> int:
     return 1  # a symbol, a number, a function: its arguments are not multiplied out
 
 
+def expanded_bits(value: sp.Basic) -> int:
+    """About how many bits the largest number of ``value`` has once its products and integer
+    powers of sums are multiplied out: a product adds its factors' sizes, a sum of n terms
+    adds log2(n) (a binomial coefficient), a power n multiplies by n.
+
+    >>> x = sp.Symbol("x")
+    >>> expanded_bits((x + 1) ** 10), expanded_bits((x + 3) * (x + 5))
+    (20, 7)
+    """
+    return _bits_memo(value, {})
+
+
+def _bits_memo(value: sp.Basic, memo: dict[sp.Basic, int]) -> int:
+    if value in memo:
+        return memo[value]
+    bits = 0
+    if isinstance(value, sp.Rational):
+        bits = _bits(value)
+    elif isinstance(value, sp.Add):
+        bits = max(_bits_memo(a, memo) for a in value.args) + (len(value.args) - 1).bit_length()
+    elif isinstance(value, sp.Mul):
+        bits = sum(_bits_memo(a, memo) for a in value.args)
+    elif isinstance(value, sp.Pow) and value.exp.is_Integer:
+        bits = abs(int(value.exp)) * _bits_memo(value.base, memo)
+    memo[value] = bits
+    return bits
+
+
 def _check_result(value: sp.Basic) -> None:
     """Products and powers merge numbers and exponents (``x**999*x**9``): check the result."""
     _check_denominators(value)
@@ -534,6 +650,13 @@ def _check_result(value: sp.Basic) -> None:
         raise _Refusal(
             f"multiplied out, this expression has more than {MAX_TERMS:,} terms",
             "write it with fewer or shorter sums under powers and products",
+        )
+    written = max((_bits(number) for number in value.atoms(sp.Rational)), default=0)
+    if (bits := expanded_bits(value)) > written + MAX_EXPANDED_BITS:
+        raise _Refusal(
+            f"multiplied out, this expression has numbers of about {bits * 3 // 10:,} digits",
+            "write it with fewer sums under powers and products (a long product of sums "
+            "multiplies out to huge coefficients)",
         )
     for part in sp.preorder_traversal(value):
         if part in _UNDEFINED:

@@ -3,7 +3,6 @@ boundary, collect all problems, raise once, name the field and the fix)."""
 
 from __future__ import annotations
 
-import difflib
 import random
 import sys
 import unicodedata
@@ -22,10 +21,15 @@ from lagrangian.model.circuit import (
 )
 from lagrangian.model.constraints import check_constraints
 from lagrangian.model.elements import ORIGIN
+from lagrangian.model.expressions import closest_name
 from lagrangian.model.inertia import Shape, check_inertia
 from lagrangian.model.probe import PROBES, SEED, random_values
 from lagrangian.model.rotation import Orientation, check_rotation
 from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, t, velocity
+
+#: The most generalized coordinates a System may have: the equations hold n-by-n matrices,
+#: and a chain of a few hundred links already takes minutes to derive.
+MAX_COORDINATES = 1000
 
 CONFIGURATION = "configuration"  # may depend on q, t and parameters
 STATE = "state"  # may also depend on the velocities
@@ -94,8 +98,8 @@ class NameScope:
                 f"the acceleration {name} may not appear in a model",
                 "energies and forces depend on q, q_dot and t only",
             )
-        close = difflib.get_close_matches(name, self.names, n=1)
-        hint = f"did you mean {close[0]!r}? " if close else ""
+        close = closest_name(name, self.names)
+        hint = f"did you mean {close!r}? " if close else ""
         return Problem(
             field, f"unknown name {name!r}", hint + "declare it in parameters (or coordinates)"
         )
@@ -151,6 +155,15 @@ def _check_names(values: dict[str, Any], problems: list[Problem]) -> None:
     if not coordinates:
         problems.append(
             Problem("coordinates", "no generalized coordinates", "list at least one coordinate")
+        )
+    if len(coordinates) > MAX_COORDINATES:
+        problems.append(
+            Problem(
+                "coordinates",
+                f"{len(coordinates):,} coordinates, more than the {MAX_COORDINATES:,} a system "
+                f"may have (its mass matrix alone would have {len(coordinates) ** 2:,} entries)",
+                "model fewer degrees of freedom, or split the system into parts",
+            )
         )
     seen: set[str] = set()
     for q in coordinates:
@@ -331,8 +344,8 @@ def _check_point_ref(
 ) -> None:
     if isinstance(ref, str):
         if ref not in points:
-            close = difflib.get_close_matches(ref, sorted(points), n=1)
-            hint = f"did you mean {close[0]!r}? " if close else ""
+            close = closest_name(ref, points)
+            hint = f"did you mean {close!r}? " if close else ""
             problems.append(
                 Problem(
                     field,

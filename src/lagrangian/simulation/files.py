@@ -22,13 +22,19 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+#: Characters of the target's name (and of its suffix) kept in the temporary file's name.
+NAME_KEPT = 64
+
 
 @contextmanager
 def written_atomically(path: str | os.PathLike[str]) -> Iterator[Path]:
     """A new empty file next to ``path`` to write to; when the block ends without an error it
     replaces ``path``, else it is removed and the error goes on."""
     target = Path(path)
-    temporary = target.with_name(f".{target.name}.{secrets.token_hex(6)}{target.suffix}")
+    # unique to this writer (two processes writing one file each get their own), and short
+    # enough for the file system however long the target's name is
+    unique = f".{target.name[:NAME_KEPT]}.{secrets.token_hex(8)}{target.suffix[:NAME_KEPT]}"
+    temporary = target.with_name(unique)
     try:
         with open(temporary, "x"):  # created as any new file (the umask's permissions)
             pass

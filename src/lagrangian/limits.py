@@ -1,0 +1,239 @@
+"""Time limits for symbolic work: derive, analyze and export end in bounded time.
+
+Some expressions keep SymPy busy for minutes (a power of a long sum, a chain of hundreds of
+links).  A limit turns that into a :class:`~lagrangian.errors.TimeLimitError` that says what
+to do, instead of a process that never answers.
+
+- ``with time_limit(seconds):`` bounds a block.  In the main thread of a system with interval
+  timers (Linux, macOS) a real-time timer (``signal.setitimer``) interrupts the work where it
+  is; elsewhere (another thread, Windows) the work is stopped at its next
+  :func:`check_time`, which long loops call.
+- Limits nest: an inner limit never outlives the outer one, and an inner block given no
+  number of seconds keeps the outer limit as it is.  A timer another part of the program has
+  set (``lagrangian --timeout``) counts as an outer limit.
+- Without a number, the limit is ``$LAGRANGIAN_TIME_LIMIT`` (seconds; ``none`` for no limit),
+  else :data:`DEFAULT_SECONDS`, generous for real systems.
+- :func:`bounded` makes a public function take the ``time_limit`` keyword.
+
+>>> with time_limit(5):
+...     check_time()  # well within the time
+>>> import time
+>>> with time_limit(0.05, what="sleeping"):
+...     time.sleep(1)  # doctest: +ELLIPSIS
+Traceback (most recent call last):
+...
+lagrangian.errors.TimeLimitError: sleeping stopped after its time limit of 0.05 s: ...
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import math
+import os
+import signal
+import threading
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import Any, TypeVar
+
+from lagrangian.errors import ArgumentError, TimeLimitError
+
+#: The environment variable that sets the time limit where no number is given.
+ENVIRONMENT = "LAGRANGIAN_TIME_LIMIT"
+#: The time limit, in seconds, when neither a keyword nor the environment gives one: ten
+#: minutes, several times what a 50-link pendulum takes to derive.
+DEFAULT_SECONDS = 600.0
+#: What the message of a limit reached in the Python API advises.
+FIX = (
+    f"pass a larger time_limit= (seconds), or set the environment variable {ENVIRONMENT}; "
+    "or simplify the model (fewer bodies, shorter expressions)"
+)
+_NO_LIMIT = ("none", "off", "inf", "infinity")
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+@dataclass(frozen=True)
+class _Limit:
+    deadline: float  # time.monotonic() at which the work stops
+    message: str
+
+
+class _Limits(threading.local):
+    """The limits active in this thread, outermost first."""
+
+    def __init__(self) -> None:
+        self.stack: list[_Limit] = []
+
+
+_active = _Limits()
+
+
+def configured_seconds(seconds: float | None = None) -> float | None:
+    """The time limit in seconds: ``seconds`` when given, else ``$LAGRANGIAN_TIME_LIMIT``,
+    else :data:`DEFAULT_SECONDS`; None means no limit (``math.inf``, or ``none`` in the
+    environment).
+
+    >>> configured_seconds(30.0), configured_seconds(math.inf)
+    (30.0, None)
+    """
+    if seconds is None:
+        text = os.environ.get(ENVIRONMENT, "").strip()
+        if not text:
+            return DEFAULT_SECONDS
+        if text.lower() in _NO_LIMIT:
+            return None
+        try:
+            seconds = float(text)
+        except ValueError:
+            raise ArgumentError(
+                f"{ENVIRONMENT}={text[:40]!r} is not a number of seconds: give a positive "
+                "number, or none for no limit"
+            ) from None
+        where = ENVIRONMENT
+    else:
+        where = "time_limit"
+    if isinstance(seconds, bool) or not isinstance(seconds, (int, float)):
+        raise ArgumentError(
+            f"time_limit takes a number of seconds, not {type(seconds).__name__}: "
+            "give a positive number, or math.inf for no limit"
+        )
+    if math.isnan(seconds) or seconds <= 0:
+        raise ArgumentError(f"{where}={seconds!r}: give a positive number of seconds")
+    return None if math.isinf(seconds) else float(seconds)
+
+
+def limit_message(seconds: float, what: str = "the work", fix: str = FIX) -> str:
+    """What a TimeLimitError says when ``what`` ran past ``seconds``."""
+    return f"{what} stopped after its time limit of {seconds:g} s: {fix}"
+
+
+def check_time() -> None:
+    """Raise TimeLimitError when the innermost active limit of this thread has passed; a
+    cheap check for long loops, where no timer can interrupt (threads other than the main
+    one, Windows)."""
+    stack = _active.stack
+    if stack and time.monotonic() >= min(limit.deadline for limit in stack):
+        raise TimeLimitError(_expired(stack).message)
+
+
+def remaining_seconds() -> float | None:
+    """Seconds left before the innermost active limit of this thread, or None without one."""
+    stack = _active.stack
+    if not stack:
+        return None
+    return max(0.0, min(limit.deadline for limit in stack) - time.monotonic())
+
+
+@contextlib.contextmanager
+def time_limit(
+    seconds: float | None = None,
+    *,
+    what: str = "the work",
+    fix: str = FIX,
+    message: str | None = None,
+) -> Iterator[None]:
+    """Raise TimeLimitError in the block when ``seconds`` of wall time have passed.
+
+    ``seconds`` None: the configured limit (:func:`configured_seconds`), or inside another
+    limit that limit unchanged.  ``what`` and ``fix`` make the message
+    (:func:`limit_message`); ``message`` replaces it whole.
+    """
+    outer_timer = _foreign_timer()
+    if seconds is None and (_active.stack or outer_timer):
+        yield  # inside a limit: keep it
+        return
+    limit_seconds = configured_seconds(seconds)
+    if limit_seconds is None:
+        yield
+        return
+    limit = _Limit(
+        time.monotonic() + limit_seconds, message or limit_message(limit_seconds, what, fix)
+    )
+    with _timer(limit, outer_timer):
+        yield
+
+
+def bounded(what: str) -> Callable[[F], F]:
+    """Decorate a public function whose signature has ``time_limit: float | None = None``:
+    its work runs within that limit (:func:`time_limit`), with ``what`` named in the message.
+
+    >>> @bounded("counting")
+    ... def count(n, *, time_limit=None):
+    ...     return sum(range(n))
+    >>> count(10, time_limit=5)
+    45
+    """
+
+    def decorate(function: F) -> F:
+        @functools.wraps(function)
+        def within_limit(*args: Any, **kwargs: Any) -> Any:
+            with time_limit(kwargs.get("time_limit"), what=what):
+                return function(*args, **kwargs)
+
+        return within_limit  # type: ignore[return-value]
+
+    return decorate
+
+
+def _expired(stack: list[_Limit]) -> _Limit:
+    return min(stack, key=lambda limit: limit.deadline)
+
+
+def _can_interrupt() -> bool:
+    return hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
+
+
+def _foreign_timer() -> float:
+    """Seconds left on a real-time timer that this module did not set (0 when none)."""
+    if not _can_interrupt() or _active.stack:
+        return 0.0
+    return signal.getitimer(signal.ITIMER_REAL)[0]
+
+
+@contextlib.contextmanager
+def _timer(limit: _Limit, outer_timer: float) -> Iterator[None]:
+    """Push ``limit``; in the main thread arm SIGALRM for the earliest deadline (an outer
+    timer set elsewhere included), and on the way out put back what was there before."""
+    stack = _active.stack
+    if not _can_interrupt():
+        stack.append(limit)
+        try:
+            yield
+        finally:
+            stack.remove(limit)
+        return
+    started = time.monotonic()
+    outermost = not stack
+    previous_handler = signal.getsignal(signal.SIGALRM) if outermost else None
+
+    def expire(signum: int, frame: Any) -> None:
+        if outer_timer and time.monotonic() >= started + outer_timer - 1e-3:
+            handler = previous_handler  # the outer timer's own time is up: its handler
+            if callable(handler):
+                handler(signum, frame)
+                return
+        raise TimeLimitError(_expired(_active.stack).message)
+
+    if outermost:
+        signal.signal(signal.SIGALRM, expire)
+    stack.append(limit)
+    _arm(min(limit.deadline, *(o.deadline for o in stack), started + (outer_timer or math.inf)))
+    try:
+        yield
+    finally:
+        stack.remove(limit)
+        if outermost:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, previous_handler)
+            if outer_timer:  # the other timer keeps the time it had left
+                _arm(started + outer_timer)
+        else:
+            _arm(min(o.deadline for o in stack))
+
+
+def _arm(deadline: float) -> None:
+    """Make SIGALRM come at ``deadline`` (time.monotonic()), at once if it has passed."""
+    signal.setitimer(signal.ITIMER_REAL, max(deadline - time.monotonic(), 1e-6))

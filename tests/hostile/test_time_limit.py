@@ -1,0 +1,184 @@
+"""``lagrangian.limits.time_limit``: symbolic work that runs past its time ends in a
+TimeLimitError that says what to do; limits nest, come from a keyword or the environment,
+leave no timer behind, and reach threads through ``check_time``.  The limits here are the
+behaviour under test (short budgets that must fire), not assertions on speed."""
+
+from __future__ import annotations
+
+import math
+import signal
+import threading
+import time
+
+import pytest
+
+import lagrangian as lg
+from lagrangian.errors import ArgumentError, LagrangianError, TimeLimitError
+from lagrangian.limits import (
+    DEFAULT_SECONDS,
+    ENVIRONMENT,
+    bounded,
+    check_time,
+    configured_seconds,
+    remaining_seconds,
+    time_limit,
+)
+
+# Deriving this takes minutes (the derivative of a power of tan with a quotient exponent).
+SLOW_MODEL = "coordinates: [x]\nkinetic: x_dot**2/2\npotential: tan(x**999)**(x/(x+1))\n"
+
+
+def spin(seconds: float) -> None:
+    """Busy Python work for ``seconds`` (a timer interrupts it between bytecodes)."""
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        sum(range(1000))
+
+
+def no_timer_left() -> bool:
+    return signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0) and signal.getsignal(
+        signal.SIGALRM
+    ) in (signal.SIG_DFL, signal.default_int_handler, None)
+
+
+def test_work_past_its_limit_raises_a_message_that_says_what_to_do():
+    expected = r"deriving stopped after its time limit of 0\.2 s"
+    with pytest.raises(TimeLimitError, match=expected), time_limit(0.2, what="deriving"):
+        spin(30)
+    assert no_timer_left()
+
+
+def test_the_message_names_the_keyword_and_the_environment_variable():
+    with pytest.raises(TimeLimitError, match="time_limit=") as stopped, time_limit(0.1):
+        spin(30)
+    assert ENVIRONMENT in str(stopped.value)
+    assert isinstance(stopped.value, (LagrangianError, TimeoutError))
+    assert stopped.value.exit_code == 1
+
+
+def test_work_within_its_limit_is_unaffected():
+    with time_limit(30):
+        spin(0.05)
+        check_time()
+        assert 0 < remaining_seconds() <= 30
+    assert remaining_seconds() is None and no_timer_left()
+
+
+def test_symbolic_work_that_would_take_minutes_stops():
+    system = lg.loads(SLOW_MODEL)
+    with pytest.raises(TimeLimitError, match="time limit of 2 s"), time_limit(2):
+        lg.derive(system)
+    assert no_timer_left()
+    # the interrupted derivation left nothing half-made behind: a small one still works
+    assert lg.derive(lg.examples.simple_pendulum()).equations
+
+
+def test_an_inner_limit_fires_first_and_the_outer_one_still_holds():
+    with pytest.raises(TimeLimitError, match="outer"), time_limit(1.0, what="outer"):
+        with pytest.raises(TimeLimitError, match="inner"), time_limit(0.1, what="inner"):
+            spin(30)
+        spin(30)  # the outer timer was put back
+    assert no_timer_left()
+
+
+def test_an_inner_limit_never_outlives_the_outer_one():
+    with (
+        pytest.raises(TimeLimitError, match="outer"),
+        time_limit(0.2, what="outer"),
+        time_limit(60, what="inner"),
+    ):
+        spin(30)
+
+
+def test_an_inner_block_without_seconds_keeps_the_outer_limit(monkeypatch):
+    monkeypatch.setenv(ENVIRONMENT, "0.05")  # would fire at once if it applied inside
+    with time_limit(30, what="outer"), time_limit(what="inner"):
+        spin(0.3)
+        assert remaining_seconds() > 20
+
+
+def test_the_environment_sets_the_default(monkeypatch):
+    monkeypatch.setenv(ENVIRONMENT, "0.1")
+    with pytest.raises(TimeLimitError, match=r"0\.1 s"), time_limit():
+        spin(30)
+    monkeypatch.setenv(ENVIRONMENT, "none")
+    assert configured_seconds() is None
+    monkeypatch.delenv(ENVIRONMENT)
+    assert configured_seconds() == DEFAULT_SECONDS
+
+
+@pytest.mark.parametrize("text", ["soon", "-5", "0", "nan"])
+def test_a_bad_environment_value_names_the_variable(monkeypatch, text):
+    monkeypatch.setenv(ENVIRONMENT, text)
+    with pytest.raises(ArgumentError, match=ENVIRONMENT):
+        configured_seconds()
+
+
+@pytest.mark.parametrize("seconds", [0, -1.0, math.nan, "10", True])
+def test_a_bad_keyword_names_the_keyword(seconds):
+    with pytest.raises(ArgumentError, match="time_limit"):
+        configured_seconds(seconds)
+
+
+def test_infinity_means_no_limit():
+    with time_limit(math.inf):
+        assert remaining_seconds() is None
+    assert no_timer_left()
+
+
+def test_a_timer_set_elsewhere_counts_as_the_outer_limit():
+    # As `lagrangian --timeout` arms its own: an inner default keeps it, an inner longer
+    # limit does not outlive it, and its own handler answers when its time is up.
+    fired = []
+
+    def outer_handler(*_):
+        fired.append(True)
+        raise KeyboardInterrupt  # stands for the command's own error
+
+    previous = signal.signal(signal.SIGALRM, outer_handler)
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0.3)
+        with pytest.raises(KeyboardInterrupt), time_limit(60, what="inner"):
+            spin(30)
+        assert fired
+        signal.setitimer(signal.ITIMER_REAL, 30)
+        with time_limit():  # inherits the outer timer: sets nothing of its own
+            assert signal.getsignal(signal.SIGALRM) is outer_handler
+        with time_limit(0.1, what="inner"), pytest.raises(TimeLimitError, match="inner"):
+            spin(30)
+        assert signal.getsignal(signal.SIGALRM) is outer_handler  # put back
+        assert 20 < signal.getitimer(signal.ITIMER_REAL)[0] <= 30  # with its time left
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def test_other_threads_stop_at_their_next_check():
+    outcome = []
+
+    def work():
+        try:
+            with time_limit(0.1, what="the worker"):
+                for _ in range(3000):
+                    time.sleep(0.01)
+                    check_time()
+        except TimeLimitError as error:
+            outcome.append(str(error))
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    worker.join(timeout=60)
+    assert outcome and "the worker stopped" in outcome[0]
+    assert no_timer_left()  # no signal used outside the main thread
+
+
+def test_bounded_gives_a_function_the_time_limit_keyword():
+    @bounded("deriving")
+    def derive_slowly(seconds, *, time_limit=None):
+        spin(seconds)
+        return "done"
+
+    assert derive_slowly(0.01) == "done"
+    with pytest.raises(TimeLimitError, match="deriving stopped"):
+        derive_slowly(30, time_limit=0.1)
+    assert derive_slowly.__name__ == "derive_slowly"
