@@ -182,3 +182,17 @@ def test_bounded_gives_a_function_the_time_limit_keyword():
     with pytest.raises(TimeLimitError, match="deriving stopped"):
         derive_slowly(30, time_limit=0.1)
     assert derive_slowly.__name__ == "derive_slowly"
+
+
+def test_analyze_and_export_take_the_time_limit_keyword():
+    from lagrangian.numerics.export import export
+
+    system = lg.examples.double_pendulum()
+    with pytest.raises(TimeLimitError, match=r"analyze stopped after its time limit"):
+        lg.analyze(system, time_limit=1e-3)
+    assert no_timer_left()
+    with pytest.raises(TimeLimitError, match=r"export stopped after its time limit"):
+        export(lg.examples.n_link_pendulum(4), "c", time_limit=1e-3)
+    assert no_timer_left()
+    files = export(system, "numpy", time_limit=120)  # a generous limit changes nothing
+    assert files == export(system, "numpy")

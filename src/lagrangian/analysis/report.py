@@ -68,6 +68,7 @@ from lagrangian.analysis.steady_motions import SteadyMotions, steady_motions
 from lagrangian.constraints import project_state
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError, LagrangianError, TimeLimitError
+from lagrangian.limits import bounded
 from lagrangian.model.probe import is_zero
 
 T = TypeVar("T")
@@ -202,6 +203,7 @@ def freedom_text(n: int, configuration: int, velocities: int) -> str:
     )
 
 
+@bounded("analyze")
 def analyze(
     subject: Subject,
     about: Values | None = None,
@@ -211,6 +213,8 @@ def analyze(
     independent: Sequence[Any] | None = None,
     search_degree: int = 2,
     search_seconds: float = SEARCH_SECONDS,
+    *,
+    time_limit: float | None = None,
 ) -> AnalysisReport:
     """Momenta, cyclic coordinates, conserved quantities, energy function, Hamiltonian and
     Hamilton's equations, equilibria, normal modes, and (with ``about``) the linearization;
@@ -223,7 +227,9 @@ def analyze(
     it onto them first; ``independent`` names the coordinates and velocities the
     linearization keeps.  ``search_degree`` bounds the degree of the functions in which
     further first integrals are sought (0: no search), ``search_seconds`` its time
-    (:mod:`lagrangian.analysis.first_integrals`).
+    (:mod:`lagrangian.analysis.first_integrals`).  ``time_limit`` bounds the whole analysis
+    in seconds (TimeLimitError; default ``$LAGRANGIAN_TIME_LIMIT`` or
+    :data:`lagrangian.limits.DEFAULT_SECONDS`).
     """
     if isinstance(search_degree, bool) or not isinstance(search_degree, int) or search_degree < 0:
         raise AnalysisError(f"search_degree must be a whole number >= 0, not {search_degree!r}")
@@ -308,6 +314,8 @@ def constrained_report(
     independent: Sequence[Any] | None,
     search_degree: int = 2,
     search_seconds: float = SEARCH_SECONDS,
+    *,
+    time_limit: float | None = None,
 ) -> AnalysisReport:
     """Every part of :func:`analyze` on the constraint manifold (docs/architecture.md); the
     further first integrals on the reduced system when the holonomic constraints are solved

@@ -28,6 +28,7 @@ from collections.abc import Callable
 from lagrangian.derivation import equations_of
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import ModelError, require
+from lagrangian.limits import bounded
 from lagrangian.model import System
 from lagrangian.numerics.export.c_code import export_c
 from lagrangian.numerics.export.common import sanitize
@@ -62,10 +63,14 @@ LANGUAGES: dict[str, Callable[[EquationsOfMotion, str], dict[str, str]]] = {
 }
 
 
-def export(subject: System | EquationsOfMotion, language: str) -> dict[str, str]:
+@bounded("export")
+def export(
+    subject: System | EquationsOfMotion, language: str, *, time_limit: float | None = None
+) -> dict[str, str]:
     """The generated files for ``language`` ("numpy", "c", "matlab" or "julia") of a System
     or its equations of motion, as file name -> content; file names come from the system's
-    name (or "model").
+    name (or "model").  ``time_limit`` bounds the work in seconds (TimeLimitError; default
+    ``$LAGRANGIAN_TIME_LIMIT`` or :data:`lagrangian.limits.DEFAULT_SECONDS`).
 
     Raises ModelError for any other language.
     """
