@@ -32,6 +32,7 @@ from lagrangian.errors import (
     Problem,
     SimulationError,
     SimulationInputError,
+    TimeLimitError,
 )
 
 if TYPE_CHECKING:
@@ -57,6 +58,7 @@ if TYPE_CHECKING:
         nielsen_equations,
     )
     from lagrangian.io import load, loads
+    from lagrangian.limits import time_limit
     from lagrangian.model import (
         Capacitor,
         Damper,
@@ -80,6 +82,7 @@ if TYPE_CHECKING:
         t,
         velocity,
     )
+    from lagrangian.numerics.export import export
     from lagrangian.simulation import Batch, Event, Trajectory, simulate, simulate_batch
     from lagrangian.sweeps import SweepReport, sweep
     from lagrangian.web import serve
@@ -117,6 +120,8 @@ _HOMES = {
     ),
     "load": "lagrangian.io",
     "loads": "lagrangian.io",
+    "time_limit": "lagrangian.limits",
+    "export": "lagrangian.numerics.export",
     **dict.fromkeys(
         (
             "Capacitor",
@@ -232,6 +237,7 @@ __all__ = [
     "Spring",
     "SweepReport",
     "System",
+    "TimeLimitError",
     "Torque",
     "Trajectory",
     "Unilateral",
@@ -245,6 +251,7 @@ __all__ = [
     "derive",
     "eliminate",
     "examples",
+    "export",
     "io",
     "load",
     "loads",
@@ -259,5 +266,6 @@ __all__ = [
     "simulate_batch",
     "sweep",
     "t",
+    "time_limit",
     "velocity",
 ]
