@@ -13,7 +13,6 @@ one as a suggestion.
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
@@ -22,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from lagrangian.errors import Problem
+from lagrangian.model.expressions import closest_name
 from lagrangian.model.symbols import name_of
 from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.simulation.budget import DEFAULT_MAX_STEPS
@@ -357,6 +357,7 @@ def _names_to_values(given: Mapping[str, Any], field: str, problems: list[Proble
 
 
 def _unknown(field: str, name: str, kind: str, known: Iterable[str]) -> Problem:
-    close = difflib.get_close_matches(name, list(known), n=1, cutoff=0.5)
-    fix = f"did you mean {close[0]!r}?" if close else f"known names: {', '.join(known)}"
+    known = list(known)
+    close = closest_name(name, known, cutoff=0.5)
+    fix = f"did you mean {close!r}?" if close else f"known names: {', '.join(known)}"
     return Problem(field, f"{name!r} is not {kind} of this system", fix)

@@ -25,7 +25,6 @@ array([ 0., -1.])
 
 from __future__ import annotations
 
-import difflib
 import io
 import os
 from collections.abc import Mapping
@@ -36,6 +35,7 @@ from typing import Any, NamedTuple, TextIO
 import numpy as np
 
 from lagrangian.errors import SimulationInputError
+from lagrangian.model.expressions import closest_name
 from lagrangian.simulation.files import written_atomically
 
 DOT = "_dot"
@@ -163,8 +163,8 @@ class Trajectory:
             return self.conserved[name]
         if name.endswith(DOT) and name[: -len(DOT)] in self.coordinates:
             return self.q_dot[:, self.coordinates.index(name[: -len(DOT)])]
-        close = difflib.get_close_matches(name, self.names, n=1)
-        hint = f"did you mean {close[0]!r}? " if close else ""
+        close = closest_name(name, self.names)
+        hint = f"did you mean {close!r}? " if close else ""
         raise KeyError(f"No column {name!r} in this trajectory: {hint}columns are {self.names}")
 
     def columns(self) -> dict[str, np.ndarray]:
