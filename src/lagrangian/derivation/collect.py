@@ -2,7 +2,9 @@
 coefficients:  -g l1 m1 sin(theta1) - g l1 m2 sin(theta1)  ->  -g l1 (m1 + m2) sin(theta1).
 
 This is the form a textbook writes (masses summed, lengths factored out) and it keeps the
-output small: each state monomial appears once per equation.
+output small: each state monomial appears once per equation.  Three or more monomials that
+share a coefficient (up to sign; 3-D bodies have many) are summed under it as well:
+l1 l2 (m2/2 + m3) (sin a1 sin a2 + cos a1 cos a2 cos b1 + ...).
 """
 
 from __future__ import annotations
@@ -14,6 +16,8 @@ from typing import Any
 import symengine as se
 
 ONE = se.Integer(1)
+#: How many monomials must share a coefficient for :func:`collect_state` to sum them under it.
+SHARED = 3
 
 
 def _powers(factors: list[Any]) -> tuple[Any, dict[Any, Any]]:
@@ -79,6 +83,32 @@ def collect_state(expr: Any, state: Iterable[Any]) -> Any:
                 moving[factor] = not state.isdisjoint(factor.free_symbols)
             (key if moving[factor] else coefficient).append(factor)
         groups[se.Mul(*key)].append(coefficient)
-    if all(len(v) == 1 for v in groups.values()):
+    if len(groups) < SHARED and all(len(v) == 1 for v in groups.values()):
         return expr
-    return se.Add(*[key * _factor_common(products) for key, products in groups.items()])
+    pairs = [(key, _factor_common(products)) for key, products in groups.items()]
+    if len(pairs) < SHARED:
+        return se.Add(*[key * coefficient for key, coefficient in pairs])
+    return _sum_by_coefficient(pairs, expr if all(len(v) == 1 for v in groups.values()) else None)
+
+
+def _sum_by_coefficient(pairs: list[tuple[Any, Any]], unchanged: Any) -> Any:
+    """sum key * coefficient with the keys of a coefficient (or of its negative) shared by
+    :data:`SHARED` or more summed first: c k1 - c k2 + c k3 -> c (k1 - k2 + k3); numbers are
+    not factored out.  ``unchanged`` (when not None) is returned if nothing is shared."""
+    shared: dict[Any, list[Any]] = {}
+    for key, coefficient in pairs:
+        if coefficient.is_Number:
+            shared.setdefault(coefficient, []).append(key)
+        elif -coefficient in shared:
+            shared[-coefficient].append(-key)
+        else:
+            shared.setdefault(coefficient, []).append(key)
+    if unchanged is not None and all(len(keys) < SHARED for keys in shared.values()):
+        return unchanged
+    terms = []
+    for coefficient, keys in shared.items():
+        if coefficient.is_Number or len(keys) < SHARED:
+            terms += [coefficient * key for key in keys]
+        else:
+            terms.append(coefficient * se.Add(*keys))
+    return se.Add(*terms)

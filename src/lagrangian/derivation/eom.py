@@ -9,9 +9,10 @@ Sastry 1994, ch. 4):
 
 and the residual form of every equation, d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q = 0.
 
-Every field is computed by :func:`lagrangian.derive`; the views that cost more (the steps, the
-residuals, the Christoffel form of C, the solved form, the regularity of M) are properties that
-call pure functions cached per object, so an EquationsOfMotion never changes once made.
+Every field is computed by :func:`lagrangian.derive`; the views that cost more (the pieces of
+the forcing and the energies, the steps, the residuals, the Christoffel form of C, the solved
+form, the regularity of M) are properties that call pure functions cached per object, so an
+EquationsOfMotion never changes once made.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ import sympy as sp
 
 from lagrangian.derivation.solved import explicit_solution, mass_matrix_is_regular
 from lagrangian.derivation.steps import Steps, coordinate_steps
-from lagrangian.derivation.terms import coriolis_matrix
+from lagrangian.derivation.terms import coriolis_matrix, matrix_piece
 from lagrangian.errors import DerivationError
 from lagrangian.model import System
 
@@ -45,6 +46,12 @@ class EquationsOfMotion:
     coordinate_orders:
         2 for a coordinate with inertia, 1 for one with none whose equation holds its velocity
         (a charge through a resistor only), 0 for an algebraic one (read-only).
+    system:
+        The System these equations were derived from (its constraints, initial values and
+        simulation settings are there).
+
+    Properties (of :attr:`system`, computed once per System when first read)
+    -----------------------------------------------------------------------
     kinetic_energy:
         T = 1/2 q_dot^T M q_dot + T1 + T0 (or the general T).
     potential_energy:
@@ -67,9 +74,6 @@ class EquationsOfMotion:
         -dF/dq_dot, the forces of the Rayleigh dissipation function.
     velocity_potential_forces:
         d/dt dU/dq_dot - dU/dq without its q_ddot part (which is in M).
-    system:
-        The System these equations were derived from (its constraints, initial values and
-        simulation settings are there).
     """
 
     coordinates: tuple[sp.Symbol, ...]
@@ -80,18 +84,58 @@ class EquationsOfMotion:
     mass_matrix: sp.ImmutableMatrix
     forcing: sp.ImmutableMatrix
     coordinate_orders: Mapping[sp.Symbol, int]
-    kinetic_energy: sp.Expr
-    potential_energy: sp.Expr
-    velocity_potential: sp.Expr
-    dissipation_function: sp.Expr
-    coriolis: sp.ImmutableMatrix
-    time_terms: sp.ImmutableMatrix
-    gravity: sp.ImmutableMatrix
-    generalized_forces: sp.ImmutableMatrix
-    dissipation_forces: sp.ImmutableMatrix
-    velocity_potential_forces: sp.ImmutableMatrix
     system: System
     name: str = ""
+
+    @property
+    def kinetic_energy(self) -> sp.Expr:
+        """T = 1/2 q_dot^T M q_dot + T1 + T0 (or the general T)."""
+        return matrix_piece(self.system, "kinetic_energy")
+
+    @property
+    def potential_energy(self) -> sp.Expr:
+        """V, every potential contribution (given V, gravity, springs, capacitors)."""
+        return matrix_piece(self.system, "potential_energy")
+
+    @property
+    def velocity_potential(self) -> sp.Expr:
+        """U(q, q_dot, t), the velocity-dependent potential."""
+        return matrix_piece(self.system, "velocity_potential")
+
+    @property
+    def dissipation_function(self) -> sp.Expr:
+        """F, the Rayleigh dissipation function (given F, dampers, resistors)."""
+        return matrix_piece(self.system, "dissipation_function")
+
+    @property
+    def coriolis(self) -> sp.ImmutableMatrix:
+        """The vector C(q, q_dot) q_dot."""
+        return matrix_piece(self.system, "coriolis")
+
+    @property
+    def time_terms(self) -> sp.ImmutableMatrix:
+        """What d/dt dT/dq_dot - dT/dq has besides M q_ddot + C q_dot."""
+        return matrix_piece(self.system, "time_terms")
+
+    @property
+    def gravity(self) -> sp.ImmutableMatrix:
+        """G = dV/dq."""
+        return matrix_piece(self.system, "gravity")
+
+    @property
+    def generalized_forces(self) -> sp.ImmutableMatrix:
+        """Applied Q_j (given, from forces at points, torques, sources)."""
+        return matrix_piece(self.system, "generalized_forces")
+
+    @property
+    def dissipation_forces(self) -> sp.ImmutableMatrix:
+        """-dF/dq_dot."""
+        return matrix_piece(self.system, "dissipation_forces")
+
+    @property
+    def velocity_potential_forces(self) -> sp.ImmutableMatrix:
+        """d/dt dU/dq_dot - dU/dq without its q_ddot part."""
+        return matrix_piece(self.system, "velocity_potential_forces")
 
     @property
     def lagrangian(self) -> sp.Expr:

@@ -70,7 +70,6 @@ def forget_derivations() -> None:
 def equations_of_motion(system: System) -> EquationsOfMotion:
     """The EquationsOfMotion of ``system``, derived now (:func:`derive` remembers them)."""
     terms = euler_lagrange_terms(system)
-    kinetic, asm = terms.kinetic, terms.assembly
     return EquationsOfMotion(
         coordinates=tuple(system.coordinates),
         velocities=system.velocities,
@@ -80,16 +79,6 @@ def equations_of_motion(system: System) -> EquationsOfMotion:
         mass_matrix=terms.view.symmetric_matrix(terms.mass),
         forcing=terms.view.vector(terms.forcing),
         coordinate_orders=FrozenMapping(terms.orders),
-        kinetic_energy=terms.sympy(kinetic.kinetic_energy),
-        potential_energy=terms.sympy(asm.potential),
-        velocity_potential=terms.sympy(asm.velocity_potential),
-        dissipation_function=terms.sympy(asm.dissipation),
-        coriolis=terms.sympy_vector(kinetic.coriolis),
-        time_terms=terms.sympy_vector(kinetic.time_terms),
-        gravity=terms.sympy_vector(terms.gravity),
-        generalized_forces=terms.sympy_vector(list(asm.applied)),
-        dissipation_forces=terms.sympy_vector(terms.dissipation_forces),
-        velocity_potential_forces=terms.sympy_vector(terms.velocity_potential_forces),
         system=system,
         name=system.name,
     )

@@ -9,15 +9,23 @@ steps, the Christoffel form of C).
 Every expression is tidied once (:func:`lagrangian.derivation.trig.combine_and_collect`) and
 converted to SymPy through one :class:`~lagrangian.derivation.backend.SympyView`, whose memo
 makes the shared subexpressions of M, the forcing and the steps one SymPy object each.
+
+``derive`` converts M and the forcing; the pieces the forcing is the sum of (C q_dot, G, the
+time terms, ...) and the energies are converted when first read (:func:`matrix_piece`,
+each once per System): a simulation reads none of them.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
 
 import symengine as se
 import sympy as sp
 
 from lagrangian.derivation.assemble import Assembly, assemble
 from lagrangian.derivation.backend import Backend, SympyView
+from lagrangian.derivation.collect import collect_state
 from lagrangian.derivation.kinetic import KineticForm, kinetic_form
 from lagrangian.derivation.trig import combine_and_collect
 from lagrangian.model import System
@@ -74,6 +82,11 @@ class EulerLagrangeTerms:
             return expr
         return combine_and_collect(expr, self.state)
 
+    def collect(self, expr: Backend) -> Backend:
+        """The terms of an expression whose trigonometric products are combined already
+        grouped by state monomial."""
+        return collect_state(expr, self.state) if expr.is_Add else expr
+
     def sympy(self, expr: Backend) -> sp.Expr:
         """``expr`` tidied and in SymPy, with the System's own symbols."""
         return self.view(self.tidy(expr))
@@ -89,8 +102,11 @@ class EulerLagrangeTerms:
         mass = [[se.Integer(0)] * n for _ in range(n)]
         for j in range(n):
             for k in range(j, n):
-                entry = kinetic[j][k] - u_momentum[j].diff(asm.q_dot[k])
-                mass[j][k] = mass[k][j] = self.tidy(entry)
+                u_part = u_momentum[j].diff(asm.q_dot[k])
+                if u_part == 0 and self.kinetic.quadratic:  # combined already (kinetic_form)
+                    mass[j][k] = mass[k][j] = self.collect(kinetic[j][k])
+                else:
+                    mass[j][k] = mass[k][j] = self.tidy(kinetic[j][k] - u_part)
         return mass
 
     def _orders(self) -> dict[sp.Symbol, int]:
@@ -105,6 +121,33 @@ class EulerLagrangeTerms:
             else:
                 orders[q] = 1 if depends_on(self.forcing[j], inert_velocities) else 0
         return orders
+
+
+#: How each piece of :func:`matrix_piece` is made from the backend terms.
+PIECES: dict[str, Callable[[EulerLagrangeTerms], sp.Basic]] = {
+    "kinetic_energy": lambda terms: terms.sympy(terms.kinetic.kinetic_energy),
+    "potential_energy": lambda terms: terms.sympy(terms.assembly.potential),
+    "velocity_potential": lambda terms: terms.sympy(terms.assembly.velocity_potential),
+    "dissipation_function": lambda terms: terms.sympy(terms.assembly.dissipation),
+    "coriolis": lambda terms: terms.sympy_vector(terms.kinetic.coriolis),
+    "time_terms": lambda terms: terms.sympy_vector(terms.kinetic.time_terms),
+    "gravity": lambda terms: terms.sympy_vector(terms.gravity),
+    "generalized_forces": lambda terms: terms.sympy_vector(list(terms.assembly.applied)),
+    "dissipation_forces": lambda terms: terms.sympy_vector(terms.dissipation_forces),
+    "velocity_potential_forces": lambda terms: terms.sympy_vector(terms.velocity_potential_forces),
+}
+
+_PIECES: IdentityCache[System, dict[str, sp.Basic]] = IdentityCache()
+
+
+def matrix_piece(system: System, name: str) -> Any:
+    """One of T, V, U, F (``"kinetic_energy"``, ...) or of the vectors whose sum is the
+    forcing (``"coriolis"``, ``"gravity"``, ...; the keys of :data:`PIECES`) of ``system``
+    in SymPy, tidied; each computed once per System, when first asked for."""
+    pieces = _PIECES.get(system, lambda _: {})
+    if name not in pieces:
+        pieces[name] = PIECES[name](euler_lagrange_terms(system))
+    return pieces[name]
 
 
 _CORIOLIS_MATRICES: IdentityCache[System, sp.ImmutableMatrix] = IdentityCache()

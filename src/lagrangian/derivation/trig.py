@@ -8,6 +8,13 @@ cos a cos b + sin a sin b = cos(a - b) collapse by ordinary term collection, wit
 general-purpose simplify.  :func:`combine_trig` keeps whichever form is shortest; it is the
 one trigonometric tidying of the package, on backend expressions (:func:`combine_and_collect`
 also groups the terms by state monomial) or on SymPy ones (:func:`combine_trig_sympy`).
+
+The Fourier form of a product of d sines and cosines has 2**(d-1) terms, which 3-D bodies
+turned by chains of rotations reach quickly (d = 6 to 12).  Beyond a budget of product-to-sum
+terms the Fourier form is not tried; the products stay as they are and only
+sin^2 + cos^2 = 1 is applied, as the polynomial reduction modulo s^2 + c^2 - 1 of every angle
+(:func:`pythagorean_forms`): linear in the number of terms, and canonical for polynomials in
+the sines and cosines of independent angles, so identities such as R^T R = 1 still cancel.
 """
 
 from __future__ import annotations
@@ -23,6 +30,15 @@ from lagrangian.derivation.collect import collect_state
 from lagrangian.model.conversion import to_sympy
 
 MAX_TRIG_DEGREE = 8  # beyond this a term is left as it is (2**(d-1) Fourier terms)
+#: Product-to-sum terms (sum of 2**(d-1) over the terms of degree d >= 2) beyond which
+#: :func:`combine_trig` does not try the Fourier form (see the module docstring) ...
+FOURIER_BUDGET = 256
+#: ... nor when a term has more sines and cosines than this: the angle sums of such products
+#: (cos(a + b - c) ...) read worse than the products, which sin^2 + cos^2 = 1 shortens as well.
+FOURIER_DEGREE = 3
+#: Terms beyond which :func:`combine_trig` weighs no forms: it writes cos^2 as 1 - sin^2 and
+#: stops (weighing costs more than the reduction on the equations of long chains).
+LONG_EXPRESSION = 2000
 
 
 def _trig_factors(term: Any) -> list[Any] | None:
@@ -147,40 +163,125 @@ def combine_and_collect(expr: Any, state: Any) -> Any:
     return collect_state(combine_trig(expr), state)
 
 
-def combine_trig_sympy(expr: Any) -> sp.Expr:
+def combine_trig_sympy(expr: Any, budget: int | None = None) -> sp.Expr:
     """:func:`combine_trig` of a SymPy expression, back in SymPy with its own symbols.
 
     The Fourier form is canonical for trigonometric polynomials, so a difference that is
-    identically zero becomes 0.
+    identically zero becomes 0 (with the default ``budget`` None the Fourier form is always
+    tried: this is the zero test of the Newton–Euler checks).
 
     >>> a, b = sp.symbols("a b")
     >>> combine_trig_sympy(sp.sin(a) ** 2 * sp.cos(b) + sp.cos(a) ** 2 * sp.cos(b))
     cos(b)
     """
     expr = to_sympy(expr)
-    return SympyView(expr.free_symbols)(combine_trig(to_backend(expr)))
+    return SympyView(expr.free_symbols)(combine_trig(to_backend(expr), budget))
 
 
-def combine_trig_matrix(matrix: sp.MatrixBase) -> sp.ImmutableMatrix:
+def combine_trig_matrix(matrix: sp.MatrixBase, budget: int | None = None) -> sp.ImmutableMatrix:
     """:func:`combine_trig_sympy` applied to every entry."""
-    return sp.ImmutableMatrix(sp.Matrix(matrix).applyfunc(combine_trig_sympy))
+    return sp.ImmutableMatrix(
+        sp.Matrix(matrix).applyfunc(lambda entry: combine_trig_sympy(entry, budget))
+    )
 
 
-def combine_trig(expr: Any) -> Any:
-    """The shortest of: the expanded expression, its Fourier form, and the Fourier form with
-    double angles written back as squares (cos 2x = 1 - 2 sin^2 x = 2 cos^2 x - 1), which gives
-    the textbook r^2 sin^2(theta) rather than r^2/2 - r^2 cos(2 theta)/2.  No general simplify."""
+def combine_trig(expr: Any, budget: int | None = FOURIER_BUDGET) -> Any:
+    """The shortest of: the expanded expression, its Fourier form, the Fourier form with
+    double angles written back as squares (cos 2x = 1 - 2 sin^2 x = 2 cos^2 x - 1, which gives
+    the textbook r^2 sin^2(theta) rather than r^2/2 - r^2 cos(2 theta)/2), and its
+    :func:`pythagorean_forms`.  The Fourier forms are tried only when they cost at most
+    ``budget`` product-to-sum terms and no term has more than ``FOURIER_DEGREE`` sines and
+    cosines (always when ``budget`` is None); an expression of more than
+    ``LONG_EXPRESSION`` terms only has cos^2 written as 1 - sin^2.  No general simplify."""
     expanded = se.expand(expr)
+    terms = expanded.args if expanded.is_Add else (expanded,)
+    degrees = [len(trig) for trig in map(_trig_factors, terms) if trig is not None]
+    cost = sum(2 ** (d - 1) for d in degrees if d > 1)
+    if cost == 0:  # no product of sines and cosines: only double angles to weigh
+        halves = _half_angle_forms(expanded)
+        return min((expanded, *halves), key=_textbook_size) if halves else expanded
+    if budget is not None and len(terms) > LONG_EXPRESSION:
+        return _reduce_squares(expanded, se.cos, se.sin)
+    reduced = pythagorean_forms(expanded)
+    if budget is not None and (cost > budget or max(degrees) > FOURIER_DEGREE):
+        return min((expanded, *reduced), key=collected_size)
     fourier = _fourier_of_expanded(expanded)
     halves = _half_angle_forms(fourier)
     if not halves:  # no double angles to weigh: the plain size decides
-        return expanded if fourier is expanded else min((expanded, fourier), key=size)
-    return min((expanded, fourier, *halves), key=_textbook_size)
+        return min((expanded, fourier, *reduced), key=collected_size)
+    return min((expanded, fourier, *halves, *reduced), key=_textbook_size)
+
+
+def collected_size(expr: Any) -> int:
+    """The :func:`size` of ``expr`` with its terms grouped by their product of sines and
+    cosines (the coefficients of one product summed): the size of the form the equations
+    are shown in, so K (cos a sin b) is not counted as often as K has terms.
+
+    >>> x, p, r = se.symbols("x p r")
+    >>> collected_size(se.expand((p + r) * se.sin(x))), size(se.expand((p + r) * se.sin(x)))
+    (3, 5)
+    """
+    terms = expr.args if expr.is_Add else (expr,)
+    groups: dict[Any, list[Any]] = defaultdict(list)
+    for term in terms:
+        trig: list[Any] = []
+        rest: list[Any] = []
+        for factor in term.args if term.is_Mul else (term,):
+            base = factor.args[0] if factor.is_Pow else factor
+            (trig if isinstance(base, (se.sin, se.cos)) else rest).append(factor)
+        groups[se.Mul(*trig)].append(se.Mul(*rest))
+    if len(groups) == len(terms):
+        return size(expr)
+    products = [key * se.Add(*coefficients) for key, coefficients in groups.items()]
+    return sum(size(p) for p in products) + len(products) - 1
+
+
+def pythagorean_forms(expanded: Any) -> list[Any]:
+    """``expanded`` (an expanded expression) reduced modulo sin^2 x + cos^2 x - 1 for every
+    angle x, once writing each cos^2 x as 1 - sin^2 x, once each sin^2 x as 1 - cos^2 x;
+    the forms that differ from ``expanded``.
+
+    >>> x, m = se.symbols("x m")
+    >>> pythagorean_forms(se.expand(m * se.cos(x) ** 2 * se.sin(x) + m * se.sin(x) ** 3))
+    [m*sin(x)]
+    """
+    forms: list[Any] = []
+    for square, other in ((se.cos, se.sin), (se.sin, se.cos)):
+        reduced = _reduce_squares(expanded, square, other)
+        if reduced is not expanded and all(reduced != f for f in forms):
+            forms.append(reduced)
+    return forms
+
+
+def _reduce_squares(expanded: Any, square: Any, other: Any) -> Any:
+    """Every power f(x)**k (k >= 2, f = ``square``) of ``expanded`` written as
+    f(x)**(k mod 2) (1 - g(x)**2)**(k // 2), g = ``other``; ``expanded`` itself when there
+    is none."""
+    terms = expanded.args if expanded.is_Add else (expanded,)
+    result, changed = [], False
+    for term in terms:
+        kept, swapped = [], []
+        for factor in term.args if term.is_Mul else (term,):
+            base, power = factor.args if factor.is_Pow else (factor, None)
+            if isinstance(base, square) and power is not None and power.is_Integer:
+                count = int(power)
+                if count >= 2:
+                    swapped.append((1 - other(base.args[0]) ** 2) ** (count // 2))
+                    kept.extend([base] * (count % 2))
+                    continue
+            kept.append(factor)
+        if swapped:
+            changed = True
+            result.append(se.expand(se.Mul(*kept) * se.Mul(*swapped)))
+        else:
+            result.append(term)
+    return se.Add(*result) if changed else expanded
 
 
 def _textbook_size(expr: Any) -> int:
     """Size, with multiple angles counted dearer: sin(x) cos(x) reads better than sin(2x)/2."""
-    return size(expr) + 3 * sum(1 for atom in _trig_atoms(expr) if _multiple_angles(atom))
+    multiple = sum(1 for atom in _trig_atoms(expr) if _multiple_angles(atom))
+    return collected_size(expr) + 3 * multiple
 
 
 def _half_angle_forms(expr: Any) -> list[Any]:

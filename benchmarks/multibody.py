@@ -1,0 +1,459 @@
+"""Benchmark: deriving a 3-D chain of n rigid rods joined by spherical joints.
+
+The chain
+    Rod i (mass m_i, length l_i, inertia diag(I_i, I_i, J_i) about its centre in its own axes)
+    hangs from the end of rod i - 1 (rod 1 from a fixed point at the origin) by a spherical
+    joint; gravity g along -z.  Each rod is oriented by its own Euler angles relative to the
+    world, body-fixed Z-X-Y: R_i = Rz(a_i) Rx(b_i) Ry(c_i), its axis along -R_i e_z, so
+
+        J_0 = 0,   G_i = J_(i-1) - l_i/2 R_i e_z,   J_i = J_(i-1) - l_i R_i e_z.
+
+What is measured
+    The wall time from nothing to the matrix form, in a fresh process per run:
+
+    euler      lagrangian: the 3n Euler angles as coordinates, the rods as RigidBody with
+               ``rotations`` (their angular velocities composed), then ``lg.derive`` and its
+               ``mass_matrix`` and ``forcing``;
+    cartesian  lagrangian: 6n coordinates (each centre's x, y, z and the Euler angles) and the
+               3n joints as holonomic constraints written in world axes, G_i + l_i/2 R_i e_z =
+               J_(i-1); ``lg.derive`` and ``lg.constrained_equations`` (M, forcing, the
+               constraint Jacobian A and gamma of A q_ddot = gamma);
+    kane       sympy.physics.mechanics KanesMethod on the same chain (frames by
+               ``orient_body_fixed(N, (a, b, c), "ZXY")``, centres and joints by
+               ``locatenew``/``v2pt_theory``, q' = u, gravity loads), then ``mass_matrix`` and
+               ``forcing``.
+
+    The ratios are KanesMethod's time over lagrangian's, both variants against the same Kane
+    run (Kane's minimal coordinates: the Cartesian form has 3n more coordinates and 3n
+    constraints to build).
+
+    Untimed, for n <= CHECK_MAX_N, the worker checks each result against KanesMethod at a
+    random state: for ``euler`` M^-1 f against Kane's; for ``cartesian`` the angular
+    accelerations of the augmented system [[M, -A^T], [A, 0]] [q_ddot; lambda] = [f; gamma]
+    at the configuration and velocities the joints allow.
+
+Usage
+    python benchmarks/multibody.py                  # n = 3..8, 1 run each, 600 s cap
+    python benchmarks/multibody.py --n 3 4 --repeat 3
+    python benchmarks/multibody.py --record         # also write the section in RESULTS.md
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import math
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from machine import cpu_model, package_version
+
+HERE = Path(__file__).resolve()
+SRC = HERE.parents[1] / "src"
+RESULTS = HERE.parent / "RESULTS.md"
+BEGIN, END = "<!-- multibody.py: begin -->", "<!-- multibody.py: end -->"
+
+METHODS = ("euler", "cartesian", "kane")
+LABELS = {
+    "euler": "lagrangian, Euler angles",
+    "cartesian": "lagrangian, Cartesian + joint constraints",
+    "kane": "KanesMethod",
+}
+DEFAULT_N = (3, 4, 5, 6, 7, 8)
+CHECK_MAX_N = 4
+STARTUP_SECONDS = 120.0
+
+
+# --------------------------------------------------------------------------- the chain
+
+
+def chain_symbols(n: int):
+    """Per rod (a, b, c, m, l, I, J), and g."""
+    import sympy as sp
+
+    rods = [sp.symbols(f"a{i} b{i} c{i} m{i} l{i} I{i} J{i}") for i in range(1, n + 1)]
+    return rods, sp.Symbol("g")
+
+
+def chain_geometry(n: int):
+    """R_i, G_i and J_i (SymPy, in the plain angle symbols) of the chain."""
+    import sympy as sp
+
+    from lagrangian.model import rotation_sequence
+
+    rods, _ = chain_symbols(n)
+    joint = sp.zeros(3, 1)
+    rotations, centres, joints = [], [], []
+    for a, b, c, _, l, _, _ in rods:
+        R = rotation_sequence([("z", a), ("x", b), ("y", c)]).matrix
+        axis = R * sp.Matrix([0, 0, 1])
+        centres.append((joint - l / 2 * axis).applyfunc(sp.expand))
+        joint = (joint - l * axis).applyfunc(sp.expand)
+        rotations.append(R)
+        joints.append(joint)
+    return rotations, centres, joints
+
+
+def euler_chain(n: int):
+    """The chain in lagrangian, its 3n Euler angles as coordinates."""
+    import sympy as sp
+
+    import lagrangian as lg
+
+    rods, g = chain_symbols(n)
+    _, centres, _ = chain_geometry(n)
+    bodies = [
+        lg.RigidBody(
+            f"rod{i + 1}",
+            m,
+            sp.diag(I, I, J),
+            tuple(centre),
+            rotations=[("z", a), ("x", b), ("y", c)],
+        )
+        for i, ((a, b, c, m, _, I, J), centre) in enumerate(zip(rods, centres))
+    ]
+    return lg.System(
+        coordinates=[s for rod in rods for s in rod[:3]],
+        parameters=[g, *(s for rod in rods for s in rod[3:])],
+        gravity=(0, 0, -g),
+        rigid_bodies=bodies,
+    )
+
+
+def cartesian_chain(n: int):
+    """The chain in lagrangian with each centre's x, y, z and Euler angles as coordinates and
+    the joints as holonomic constraints in world axes."""
+    import sympy as sp
+
+    import lagrangian as lg
+
+    rods, g = chain_symbols(n)
+    rotations, _, _ = chain_geometry(n)
+    coordinates, bodies, constraints = [], [], []
+    previous_end = sp.zeros(3, 1)
+    for i, ((a, b, c, m, l, I, J), R) in enumerate(zip(rods, rotations)):
+        centre = sp.Matrix(sp.symbols(f"x{i + 1} y{i + 1} z{i + 1}"))
+        coordinates += [*centre, a, b, c]
+        axis = R * sp.Matrix([0, 0, 1])
+        bodies.append(
+            lg.RigidBody(
+                f"rod{i + 1}",
+                m,
+                sp.diag(I, I, J),
+                tuple(centre),
+                rotations=[("z", a), ("x", b), ("y", c)],
+            )
+        )
+        start = centre + l / 2 * axis
+        constraints += [lg.Holonomic(sp.expand(e)) for e in start - previous_end]
+        previous_end = centre - l / 2 * axis
+    return lg.System(
+        coordinates=coordinates,
+        parameters=[g, *(s for rod in rods for s in rod[3:])],
+        gravity=(0, 0, -g),
+        rigid_bodies=bodies,
+        constraints=constraints,
+    )
+
+
+def derive_euler(n: int):
+    import lagrangian as lg
+
+    eom = lg.derive(euler_chain(n))
+    return {"mass_matrix": eom.mass_matrix, "forcing": eom.forcing}
+
+
+def derive_cartesian(n: int):
+    import lagrangian as lg
+
+    equations = lg.constrained_equations(cartesian_chain(n))
+    return {
+        "mass_matrix": equations.mass_matrix,
+        "forcing": equations.forcing,
+        "constraint_jacobian": equations.constraint_jacobian,
+        "gamma": equations.gamma,
+    }
+
+
+def kane_chain(n: int):
+    """KanesMethod on the chain: (M, forcing) of M u' = forcing, q' = u, with the dynamic
+    symbols replaced by the plain names a1, a1_dot, ... of the lagrangian systems."""
+    import sympy.physics.mechanics as me
+
+    rods, g = chain_symbols(n)
+    N = me.ReferenceFrame("N")
+    joint = me.Point("O")
+    joint.set_vel(N, 0)
+    q, u, bodies, loads = [], [], [], []
+    for i, (a, b, c, m, l, I, J) in enumerate(rods):
+        angles = me.dynamicsymbols(f"{a} {b} {c}")
+        speeds = me.dynamicsymbols(f"{a}_dot {b}_dot {c}_dot")
+        q += angles
+        u += speeds
+        B = me.ReferenceFrame(f"B{i + 1}")
+        B.orient_body_fixed(N, angles, "ZXY")
+        centre = joint.locatenew(f"G{i + 1}", -l / 2 * B.z)
+        centre.v2pt_theory(joint, N, B)
+        end = joint.locatenew(f"J{i + 1}", -l * B.z)
+        end.v2pt_theory(joint, N, B)
+        bodies.append(me.RigidBody(f"rod{i + 1}", centre, B, m, (me.inertia(B, I, I, J), centre)))
+        loads.append((centre, -m * g * N.z))
+        joint = end
+    kinematics = [qi.diff(me.dynamicsymbols._t) - ui for qi, ui in zip(q, u)]
+    method = me.KanesMethod(N, q_ind=q, u_ind=u, kd_eqs=kinematics)
+    method.kanes_equations(bodies, loads)
+    return {"mass_matrix": method.mass_matrix, "forcing": method.forcing, "q": q, "u": u}
+
+
+DERIVERS = {"euler": derive_euler, "cartesian": derive_cartesian, "kane": kane_chain}
+
+
+# --------------------------------------------------------------------------- the check
+
+
+def plain(expr, q, u):
+    """Kane's dynamic symbols as plain symbols (a1, a1_dot)."""
+    import sympy as sp
+
+    swap = {qi: sp.Symbol(str(qi.func)) for qi in q}
+    swap.update({ui: sp.Symbol(str(ui.func)) for ui in u})
+    return expr.xreplace(swap)
+
+
+def random_values(n: int) -> dict:
+    """Parameters, angles and angular rates at random, keyed by name."""
+    import numpy as np
+
+    rng = np.random.default_rng(2000 + n)
+    values = {"g": 9.81}
+    for i in range(1, n + 1):
+        for name in ("m", "l", "I", "J"):
+            values[f"{name}{i}"] = float(rng.uniform(0.5, 2.0))
+        for name in ("a", "b", "c"):
+            values[f"{name}{i}"] = float(rng.uniform(-1.2, 1.2))
+            values[f"{name}{i}_dot"] = float(rng.uniform(-1.5, 1.5))
+    return values
+
+
+def numbers(matrix, values: dict):
+    import numpy as np
+    import sympy as sp
+
+    rule = {s: values[s.name] for s in sp.Matrix(matrix).free_symbols}
+    return np.array(sp.Matrix(matrix).xreplace(rule).evalf(), dtype=float)
+
+
+def kane_accelerations(n: int, values: dict):
+    import numpy as np
+
+    result = kane_chain(n)
+    q, u = result["q"], result["u"]
+    M = numbers(plain(result["mass_matrix"], q, u), values)
+    f = numbers(plain(result["forcing"], q, u), values).ravel()
+    return np.linalg.solve(M, f)
+
+
+def cartesian_values(n: int, values: dict) -> dict:
+    """``values`` with the centres x_i, y_i, z_i and their rates the joints imply."""
+    import sympy as sp
+
+    _, centres, _ = chain_geometry(n)
+    angles = [sp.Symbol(f"{name}{i}") for i in range(1, n + 1) for name in "abc"]
+    rule = {s: values[s.name] for c in centres for s in c.free_symbols}
+    rates = sp.Matrix([values[f"{s.name}_dot"] for s in angles])
+    full = dict(values)
+    for i, centre in enumerate(centres, start=1):
+        position = centre.xreplace(rule)
+        velocity = centre.jacobian(angles).xreplace(rule) * rates
+        for k, axis in enumerate("xyz"):
+            full[f"{axis}{i}"] = float(position[k])
+            full[f"{axis}{i}_dot"] = float(velocity[k])
+    return full
+
+
+def check(method: str, n: int, result: dict) -> str:
+    """'ok', or how the result differs from KanesMethod at a random state."""
+    import numpy as np
+
+    values = random_values(n)
+    theirs = kane_accelerations(n, values)
+    if method == "euler":
+        M, f = numbers(result["mass_matrix"], values), numbers(result["forcing"], values)
+        ours = np.linalg.solve(M, f.ravel())
+    else:
+        full = cartesian_values(n, values)
+        M, f = numbers(result["mass_matrix"], full), numbers(result["forcing"], full).ravel()
+        A, gamma = numbers(result["constraint_jacobian"], full), numbers(result["gamma"], full)
+        m = A.shape[0]
+        augmented = np.block([[M, -A.T], [A, np.zeros((m, m))]])
+        solution = np.linalg.solve(augmented, np.concatenate([f, gamma.ravel()]))
+        ours = np.concatenate([solution[6 * i + 3 : 6 * i + 6] for i in range(n)])
+    if np.allclose(ours, theirs, rtol=1e-8, atol=1e-8):
+        return "ok"
+    return f"differs from KanesMethod: max |diff| = {np.max(np.abs(ours - theirs)):.3g}"
+
+
+# --------------------------------------------------------------------------- the worker
+
+
+def worker(method: str, n: int, verify: bool) -> int:
+    """Time one derivation in this fresh process; print one JSON line."""
+    sys.path.insert(0, str(SRC))  # benchmark the checkout, installed or not
+    import sympy as sp
+    import sympy.physics.mechanics
+
+    import lagrangian as lg
+
+    lg.derive  # noqa: B018  (the lazy import of the derivation, outside the clock)
+    lg.constrained_equations  # noqa: B018
+    warm_a, warm_b = sp.symbols("warm_a warm_b")
+    _ = (warm_a * sp.sin(warm_b) + warm_b * sp.cos(warm_a)) ** 2  # SymPy's lazy imports
+    start = time.perf_counter()
+    result = DERIVERS[method](n)
+    seconds = time.perf_counter() - start
+    outcome = {"seconds": seconds}
+    if verify and method != "kane" and n <= CHECK_MAX_N:
+        outcome["check"] = check(method, n, result)
+    print(json.dumps(outcome), flush=True)
+    return 0
+
+
+def run(method: str, n: int, cap: float, verify: bool) -> dict:
+    """One measurement in a fresh process; {"seconds": inf} when it overran the cap."""
+    command = [sys.executable, str(HERE), "--worker", method, str(n)]
+    command += ["--verify"] if verify else []
+    try:
+        done = subprocess.run(
+            command, capture_output=True, text=True, timeout=cap + STARTUP_SECONDS, check=False
+        )
+    except subprocess.TimeoutExpired:
+        return {"seconds": math.inf}
+    lines = [line for line in done.stdout.splitlines() if line.startswith("{")]
+    if done.returncode != 0 or not lines:
+        return {"seconds": math.nan, "error": done.stderr.strip()[-300:]}
+    return json.loads(lines[-1])
+
+
+# --------------------------------------------------------------------------- the report
+
+
+def measure(ns: list[int], repeat: int, cap: float) -> dict:
+    """Median seconds per (method, n), and the checks; methods alternate run by run."""
+    times: dict = {(m, n): [] for m in METHODS for n in ns}
+    notes: list[str] = []
+    for n in ns:
+        for r in range(repeat):
+            for method in METHODS:
+                outcome = run(method, n, cap, verify=(r == 0))
+                times[method, n].append(outcome["seconds"])
+                if "error" in outcome:
+                    notes.append(f"{LABELS[method]} n={n}: error: {outcome['error']}")
+                if outcome.get("check", "ok") != "ok":
+                    notes.append(f"WARNING {LABELS[method]} n={n}: {outcome['check']}")
+                elif "check" in outcome:
+                    notes.append(f"{LABELS[method]} n={n}: same accelerations as KanesMethod")
+                print(
+                    f"  n={n} {method:<9} run {r + 1}: {outcome['seconds']:.3g} s", file=sys.stderr
+                )
+    medians = {key: statistics.median(values) for key, values in times.items()}
+    return {"medians": medians, "notes": notes}
+
+
+def _seconds(value: float, cap: float) -> str:
+    return f"> {cap:g}" if math.isinf(value) else f"{value:.3g}"
+
+
+def _ratio(kane: float, ours: float) -> str:
+    if math.isinf(ours) or math.isnan(ours) or math.isnan(kane):
+        return "-"
+    return f"{kane / ours:.3g}"
+
+
+def report(measured: dict, ns: list[int], repeat: int, cap: float) -> str:
+    medians = measured["medians"]
+    lines = [
+        f"Median of {repeat} run(s) per cell, seconds; cap {cap:g} s per run.",
+        "",
+        "| n | coordinates (Euler / Cartesian) | Euler s | Cartesian s | Kane s "
+        "| Kane/Euler | Kane/Cartesian |",
+        "|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    verdicts = []
+    for n in ns:
+        euler, cartesian, kane = (medians[m, n] for m in METHODS)
+        lines.append(
+            f"| {n} | {3 * n} / {6 * n} | {_seconds(euler, cap)} | {_seconds(cartesian, cap)} "
+            f"| {_seconds(kane, cap)} | {_ratio(kane, euler)} | {_ratio(kane, cartesian)} |"
+        )
+        for method, ours in (("euler", euler), ("cartesian", cartesian)):
+            passed = not math.isnan(ours) and ours < kane
+            verdict = "PASS" if passed else "FAIL"
+            verdicts.append(f"{verdict}  n={n}: {LABELS[method]} faster than KanesMethod")
+    lines += ["", *measured["notes"], "", "```", *verdicts, "```"]
+    return "\n".join(lines)
+
+
+def record(text: str, command: str) -> None:
+    """Write (or replace) this benchmark's section of RESULTS.md."""
+    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="minutes")
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    section = "\n".join(
+        [
+            BEGIN,
+            f"## 3-D chains of rigid bodies (benchmarks/multibody.py), {now}",
+            "",
+            f"- platform: {platform.platform()}",
+            f"- CPU: {cpu_model()} ({os.cpu_count()} cores)",
+            f"- python {platform.python_version()}, sympy {package_version('sympy')}, "
+            f"symengine {package_version('symengine')}",
+            f"- 1-minute load average at the end: {load:.2f}",
+            "",
+            f"`{command}`; see the docstring for what is timed.",
+            "",
+            text,
+            "",
+            END,
+        ]
+    )
+    existing = RESULTS.read_text()
+    if BEGIN in existing and END in existing:
+        head, rest = existing.split(BEGIN, 1)
+        tail = rest.split(END, 1)[1]
+        updated = head + section + tail
+    else:
+        updated = existing.rstrip("\n") + "\n\n" + section + "\n"
+    RESULTS.write_text(updated)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--n", type=int, nargs="+", help=f"chain lengths (default {DEFAULT_N})")
+    parser.add_argument("--repeat", type=int, default=1, help="runs per method and n (1)")
+    parser.add_argument("--cap", type=float, default=600.0, help="seconds per run (600)")
+    parser.add_argument(
+        "--record", action="store_true", help=f"write the section in {RESULTS.name}"
+    )
+    parser.add_argument("--worker", nargs=2, metavar=("METHOD", "N"), help=argparse.SUPPRESS)
+    parser.add_argument("--verify", action="store_true", help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.worker:
+        return worker(args.worker[0], int(args.worker[1]), args.verify)
+    ns = sorted(set(args.n or DEFAULT_N))
+    measured = measure(ns, args.repeat, args.cap)
+    text = report(measured, ns, args.repeat, args.cap)
+    print(text)
+    if args.record:
+        shown = " ".join(["python benchmarks/multibody.py", *(argv or sys.argv[1:])])
+        record(text, shown.replace(" --record", ""))
+        print(f"\nwritten to {RESULTS}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,70 @@
+"""gamma of A q_ddot = gamma in the multiplier form, built from each constraint's partial
+derivatives, against -(dc/dt at q_ddot = 0) differentiated whole in SymPy, at random states:
+a contact-point constraint of a body turned by three rotations written in world axes and in
+body axes, and one too large to tidy (left unexpanded)."""
+
+from __future__ import annotations
+
+import random
+
+import sympy as sp
+
+import lagrangian as lg
+from lagrangian.constraints.multipliers import TIDY_OPS
+from lagrangian.model import rotation_sequence
+from lagrangian.model.symbols import acceleration, t, time_derivative, velocity
+
+a, b, c, x, y, z = sp.symbols("a b c x y z")
+r, m = sp.symbols("r m")
+Q = [x, y, z, a, b, c]
+R = rotation_sequence([("z", a), ("x", b), ("y", c)]).matrix
+CENTRE = sp.Matrix([x, y, z])
+
+
+def _system(constraints: list[lg.VelocityConstraint]) -> lg.System:
+    ball = lg.RigidBody("ball", m, sp.diag(m, m, m), (x, y, z), rotations=[("z", a), ("x", b)])
+    return lg.System(coordinates=Q, parameters=[r, m], rigid_bodies=[ball], constraints=constraints)
+
+
+def _omega() -> sp.Matrix:
+    """The spatial angular velocity of R, from R_dot R^T."""
+    R_dot = R.applyfunc(lambda e: time_derivative(e, Q))
+    W = R_dot * R.T
+    return sp.Matrix([W[2, 1], W[0, 2], W[1, 0]])
+
+
+def _no_slip(world: bool) -> list[lg.VelocityConstraint]:
+    """The velocity of the body point at -r R e_z (world axes), or the same in body axes."""
+    point = -r * R * sp.Matrix([0, 0, 1])
+    speed = CENTRE.applyfunc(lambda e: time_derivative(e, Q)) + _omega().cross(point)
+    rows = speed if world else R.T * speed
+    return [lg.VelocityConstraint(e) for e in rows[:2]]
+
+
+def _assert_gamma_is_the_rate(system: lg.System) -> None:
+    gamma = lg.constrained_equations(system).gamma
+    rng = random.Random(7)
+    for _ in range(3):
+        values = {s: rng.uniform(-1.2, 1.2) for s in Q}
+        values.update({velocity(s): rng.uniform(-1.5, 1.5) for s in Q})
+        values.update({r: 0.7, m: 1.3, t: 0.2})
+        for constraint, ours in zip(system.constraints, gamma):
+            rate = time_derivative(constraint.expression, Q)
+            exact = -rate.xreplace({acceleration(s): 0 for s in Q})
+            difference = (ours - exact).xreplace(values).evalf(30)
+            assert abs(difference) < 1e-12 * (1 + abs(exact.xreplace(values).evalf(30)))
+
+
+def test_gamma_of_a_contact_constraint_in_world_axes() -> None:
+    _assert_gamma_is_the_rate(_system(_no_slip(world=True)))
+
+
+def test_gamma_of_the_same_constraint_in_body_axes() -> None:
+    _assert_gamma_is_the_rate(_system(_no_slip(world=False)))
+
+
+def test_gamma_of_a_constraint_too_large_to_tidy() -> None:
+    (first, _) = _no_slip(world=True)
+    big = sp.expand(first.expression * (1 + sp.sin(a) * sp.cos(b) + sp.cos(c)) ** 3)
+    assert sp.count_ops(big.diff(a)) > TIDY_OPS
+    _assert_gamma_is_the_rate(_system([lg.VelocityConstraint(big)]))
