@@ -11,6 +11,7 @@ import threading
 import time
 
 import pytest
+import sympy as sp
 
 import lagrangian as lg
 from lagrangian.errors import ArgumentError, LagrangianError, TimeLimitError
@@ -196,3 +197,12 @@ def test_analyze_and_export_take_the_time_limit_keyword():
     assert no_timer_left()
     files = export(system, "numpy", time_limit=120)  # a generous limit changes nothing
     assert files == export(system, "numpy")
+
+
+def test_derive_takes_the_time_limit_keyword():
+    system = lg.examples.n_link_pendulum(6)
+    with pytest.raises(TimeLimitError, match=r"derive stopped after its time limit"):
+        lg.derive(system, time_limit=1e-3)
+    assert no_timer_left()
+    eom = lg.derive(system, time_limit=300)  # a stopped derivation left nothing half cached
+    assert eom.mass_matrix.shape == (6, 6) and eom.equations[0].has(sp.Symbol("theta1_ddot"))

@@ -21,6 +21,7 @@ from typing import Any
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.derivation.terms import euler_lagrange_terms
 from lagrangian.errors import require
+from lagrangian.limits import bounded
 from lagrangian.model import System
 from lagrangian.model.frozen import FrozenMapping, frozen
 from lagrangian.model.identity_cache import RecentCache
@@ -33,8 +34,11 @@ RECENT_SYSTEMS = 32
 _RECENT: RecentCache[System, EquationsOfMotion] = RecentCache(RECENT_SYSTEMS)
 
 
-def derive(system: System) -> EquationsOfMotion:
-    """The equations of motion of ``system`` (derived once per System object).
+@bounded("derive")
+def derive(system: System, *, time_limit: float | None = None) -> EquationsOfMotion:
+    """The equations of motion of ``system`` (derived once per System object), within
+    ``time_limit`` seconds (TimeLimitError; default ``$LAGRANGIAN_TIME_LIMIT`` or
+    :data:`lagrangian.limits.DEFAULT_SECONDS`).
 
     >>> import sympy as sp
     >>> from lagrangian.model import System
