@@ -10,7 +10,7 @@ import random
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.constraints.multipliers import TIDY_OPS
+from lagrangian.constraints.pfaffian import TIDY_OPS
 from lagrangian.model import rotation_sequence
 from lagrangian.model.symbols import acceleration, t, time_derivative, velocity
 

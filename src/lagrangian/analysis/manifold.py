@@ -168,9 +168,7 @@ def _build(eom: EquationsOfMotion) -> ConstraintManifold | None:
             len(forms), len(coordinates), [a for f in forms for a in f.coefficients]
         ),
         rates=sp.ImmutableMatrix(len(forms), 1, [f.time_coefficient for f in forms]),
-        gamma=sp.ImmutableMatrix(
-            len(forms), 1, [acceleration_terms(f, coordinates) for f in forms]
-        ),
+        gamma=sp.ImmutableMatrix(len(forms), 1, acceleration_terms(forms, coordinates)),
         multipliers=tuple(names[i] for i in kept),
         left_out=tuple(left_out),
         classification=report,

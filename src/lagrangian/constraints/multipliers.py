@@ -42,25 +42,20 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
-import symengine as se
 import sympy as sp
 
 from lagrangian.constraints.dependence import dependence
-from lagrangian.constraints.pfaffian import PfaffianForm, pfaffian_form
+from lagrangian.constraints.pfaffian import acceleration_terms, pfaffian_form
 from lagrangian.derivation import EquationsOfMotion, equations_of
-from lagrangian.derivation.backend import SympyView, to_backend
-from lagrangian.derivation.collect import collect_state
-from lagrangian.derivation.trig import combine_trig, combine_trig_sympy, size
+from lagrangian.derivation.trig import combine_trig_sympy
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.constraints import Constraint, VelocityConstraint, statement
 from lagrangian.model.frozen import FrozenMapping, frozen
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.model.probe import generic_rank
-from lagrangian.model.symbols import t, velocity
 
 SMALL = 4  # n up to which a dense M is solved symbolically
-TIDY_OPS = 1000  # partial derivatives of a constraint's rate beyond this are not expanded
 
 
 @dataclass(frozen=True)
@@ -187,7 +182,7 @@ def _multiplier_form(
     jacobian = sp.ImmutableMatrix(
         len(forms), len(coordinates), [a for f in forms for a in f.coefficients]
     )
-    gamma = sp.ImmutableMatrix(len(forms), 1, _acceleration_terms(forms, coordinates))
+    gamma = sp.ImmutableMatrix(len(forms), 1, acceleration_terms(forms, coordinates))
     multipliers = _multipliers(system)
     holonomic = [
         (lam, c.expression)
@@ -210,36 +205,6 @@ def _multiplier_form(
         augmented_lagrangian=augmented,
         system=system,
     )
-
-
-def _acceleration_terms(
-    forms: Sequence[PfaffianForm], coordinates: Sequence[sp.Symbol]
-) -> list[sp.Expr]:
-    """gamma_j = -(dc_j/dt at q_ddot = 0) of every constraint c_j = a_j . q_dot + b_j:
-
-        gamma_j = -(sum_l dc_j/dq_l q_dot_l + dc_j/dt),
-
-    each partial derivative expanded and its trigonometry tidied on its own in SymEngine
-    (:func:`lagrangian.derivation.trig.combine_trig`), then the terms grouped by state
-    monomial.  Never the product of whole sums expanded at once, so a constraint written with
-    a rotation matrix in world axes costs about what it costs in body axes; a partial
-    derivative of more than ``TIDY_OPS`` operations (a rolling wheel's contact point) is left
-    as it is, and so is then gamma."""
-    q = [to_backend(s) for s in coordinates]
-    q_dot = [to_backend(velocity(s)) for s in coordinates]
-    state = {*q, *q_dot, to_backend(t)}
-    view = SympyView({t, *coordinates}.union(*(f.velocity_expression.free_symbols for f in forms)))
-    result = []
-    for form in forms:
-        c = to_backend(form.velocity_expression)
-        slopes = [c.diff(x) for x in (*q, to_backend(t))]
-        if all(size(slope) <= TIDY_OPS for slope in slopes):
-            tidied = [combine_trig(slope) for slope in slopes]
-            rate = se.expand(se.Add(*[a * v for a, v in zip(tidied, q_dot)], tidied[-1]))
-            result.append(view(collect_state(-rate, state)))
-        else:
-            result.append(view(-se.Add(*[a * v for a, v in zip(slopes, q_dot)], slopes[-1])))
-    return result
 
 
 def _multipliers(system: System) -> tuple[sp.Symbol, ...]:

@@ -19,8 +19,8 @@ and differentiating c once more (holonomic: h twice) gives
 >>> form = pfaffian_form(Holonomic(x**2 + y**2 - 1), (x, y))
 >>> form.coefficients, form.time_coefficient
 ((2*x, 2*y), 0)
->>> acceleration_terms(form, (x, y))
--2*x_dot**2 - 2*y_dot**2
+>>> acceleration_terms([form], (x, y))
+[-2*x_dot**2 - 2*y_dot**2]
 """
 
 from __future__ import annotations
@@ -28,11 +28,16 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import symengine as se
 import sympy as sp
 
-from lagrangian.model import VelocityConstraint, acceleration, t, velocity
+from lagrangian.derivation.backend import SympyView, to_backend
+from lagrangian.derivation.collect import collect_state
+from lagrangian.derivation.trig import combine_trig, size
+from lagrangian.model import VelocityConstraint, t, velocity
 from lagrangian.model.constraints import Constraint
-from lagrangian.model.symbols import time_derivative
+
+TIDY_OPS = 1000  # partial derivatives of a constraint's rate beyond this are not expanded
 
 
 @dataclass(frozen=True)
@@ -61,10 +66,34 @@ def pfaffian_form(constraint: Constraint, coordinates: Sequence[sp.Symbol]) -> P
     return PfaffianForm(coefficients, expr.diff(t), rate + expr.diff(t))
 
 
-def acceleration_terms(form: PfaffianForm, coordinates: Sequence[sp.Symbol]) -> sp.Expr:
-    """gamma = -(dc/dt at q_ddot = 0), so that a . q_ddot = gamma along the motion."""
-    rate = time_derivative(form.velocity_expression, coordinates)
-    return sp.expand(-rate.xreplace({acceleration(q): 0 for q in coordinates}))
+def acceleration_terms(
+    forms: Sequence[PfaffianForm], coordinates: Sequence[sp.Symbol]
+) -> list[sp.Expr]:
+    """gamma_j = -(dc_j/dt at q_ddot = 0) of every constraint c_j = a_j . q_dot + b_j:
+
+        gamma_j = -(sum_l dc_j/dq_l q_dot_l + dc_j/dt),
+
+    each partial derivative expanded and its trigonometry tidied on its own in SymEngine
+    (:func:`lagrangian.derivation.trig.combine_trig`), then the terms grouped by state
+    monomial.  Never the product of whole sums expanded at once, so a constraint written with
+    a rotation matrix in world axes costs about what it costs in body axes; a partial
+    derivative of more than ``TIDY_OPS`` operations (a rolling wheel's contact point) is left
+    as it is, and so is then gamma."""
+    q = [to_backend(s) for s in coordinates]
+    q_dot = [to_backend(velocity(s)) for s in coordinates]
+    state = {*q, *q_dot, to_backend(t)}
+    view = SympyView({t, *coordinates}.union(*(f.velocity_expression.free_symbols for f in forms)))
+    result = []
+    for form in forms:
+        c = to_backend(form.velocity_expression)
+        slopes = [c.diff(x) for x in (*q, to_backend(t))]
+        if all(size(slope) <= TIDY_OPS for slope in slopes):
+            tidied = [combine_trig(slope) for slope in slopes]
+            rate = se.expand(se.Add(*[a * v for a, v in zip(tidied, q_dot)], tidied[-1]))
+            result.append(view(collect_state(-rate, state)))
+        else:
+            result.append(view(-se.Add(*[a * v for a, v in zip(slopes, q_dot)], slopes[-1])))
+    return result
 
 
 def jacobian(forms: Sequence[PfaffianForm], n: int) -> sp.ImmutableMatrix:
