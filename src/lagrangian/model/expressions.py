@@ -53,6 +53,9 @@ MAX_EXPANDED_BITS = 2000
 #: 10,000 characters, but SymPy rewrites some parts into bigger ones (Abs(u)**3 is
 #: u**2*Abs(u)), and nested, such rewrites double the tree at every level.
 MAX_NODES = 20_000
+#: The highest integer power inside the base of a power whose exponent varies
+#: (tan(x**999)**(x/(x + 1)) has derivatives SymPy takes minutes to form).
+MAX_POWER_UNDER_VARIABLE_EXPONENT = 100
 _NUMBER_LIMIT = 10**MAX_DIGITS
 # Cost guards, in bits.  A power of numbers is computed only when it is small (the estimate
 # may exceed the size by a bit per factor; the exact size is checked after).  Roots cost more:
@@ -416,6 +419,14 @@ class _Builder:
             if cost > (_ROOT_BITS if root else _POWER_BITS):
                 raise _Refusal("this power of numbers is too large to compute", "use smaller ones")
             self.spend(cost, root)
+        if exponent.free_symbols and _highest_power(base) > MAX_POWER_UNDER_VARIABLE_EXPONENT:
+            raise _Refusal(
+                f"a power with an exponent that varies, over a power above "
+                f"{MAX_POWER_UNDER_VARIABLE_EXPONENT} ({base}): its derivatives grow without "
+                "end",
+                "write the model without such a power (rescale the coordinate, or use exp and "
+                "log of a smaller expression)",
+            )
         # SymPy merges (b**e)**x into b**(e*x) after looking at re(b) and arg(b), expanding
         # (re + i*im)**n for a power inside b: ((x**999)**E)**E takes minutes.  Unmerged, the
         # power means the same.
@@ -537,6 +548,17 @@ def _check_denominators(value: sp.Basic) -> None:
             raise _Refusal(
                 f"division by {part.base}, which is identically zero", "check the denominator"
             )
+
+
+def _highest_power(value: sp.Expr) -> int:
+    """The largest |n| of an integer power inside ``value`` (0 when there is none).
+
+    >>> x = sp.Symbol("x")
+    >>> _highest_power(sp.tan(x**999) + x**2), _highest_power(sp.sin(x))
+    (999, 0)
+    """
+    powers = [abs(int(p.exp)) for p in value.atoms(sp.Pow) if p.exp.is_Integer]
+    return max(powers, default=0)
 
 
 def form_power(base: sp.Expr, exponent: sp.Expr) -> sp.Expr:
