@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from lagrangian.cli import commands
+from lagrangian.cli import simulate_command
 from lagrangian.cli.main import main
 
 RUNAWAY = """\
@@ -69,7 +69,7 @@ def test_a_failed_run_writes_the_rows_so_far_and_says_where_it_stopped(
 def test_ctrl_c_writes_the_rows_so_far_and_exits_130(
     capsys: pytest.CaptureFixture[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(commands, "progress_bar", ctrl_c_after(2.0))
+    monkeypatch.setattr(simulate_command, "progress_bar", ctrl_c_after(2.0))
     out = tmp_path / "swing.csv"
     code, _, err = run(capsys, "simulate", "examples/double_pendulum", "--out", str(out))
     assert code == 130 and err.startswith("lagrangian: Interrupted (Ctrl-C) at t = ")
@@ -81,7 +81,7 @@ def test_ctrl_c_writes_the_rows_so_far_and_exits_130(
 def test_ctrl_c_on_standard_output_prints_the_rows_so_far(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(commands, "progress_bar", ctrl_c_after(1.0))
+    monkeypatch.setattr(simulate_command, "progress_bar", ctrl_c_after(1.0))
     code, out, err = run(capsys, "simulate", "examples/simple_pendulum", "--samples", "101")
     assert code == 130 and "written to standard output" in err
     header, *lines = out.splitlines()
@@ -94,7 +94,7 @@ def test_ctrl_c_before_the_integration_writes_nothing(
     def interrupted(reference: str) -> None:
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(commands, "load_system", interrupted)
+    monkeypatch.setattr(simulate_command, "load_system", interrupted)
     out = tmp_path / "never.csv"
     code, _, err = run(capsys, "simulate", "examples/simple_pendulum", "--out", str(out))
     assert code == 130 and err.startswith("lagrangian: Interrupted (Ctrl-C)")
@@ -120,7 +120,7 @@ def test_output_names_are_checked_before_simulating(
     def never(*args: object, **kwargs: object) -> None:
         raise AssertionError("simulated before checking the output names")
 
-    monkeypatch.setattr(commands, "simulate", never)
+    monkeypatch.setattr(simulate_command, "simulate", never)
     out = tmp_path / "run.csv"
     target = str(tmp_path / name)
     code, _, err = run(
@@ -135,7 +135,7 @@ def test_an_mp4_without_ffmpeg_is_refused_before_simulating(
     from matplotlib.animation import FFMpegWriter
 
     monkeypatch.setattr(FFMpegWriter, "isAvailable", classmethod(lambda cls: False))
-    monkeypatch.setattr(commands, "simulate", None)  # calling it would fail the test
+    monkeypatch.setattr(simulate_command, "simulate", None)  # calling it would fail the test
     code, _, err = run(
         capsys, "simulate", "examples/simple_pendulum", "--animate", str(tmp_path / "a.mp4")
     )
@@ -148,12 +148,12 @@ def test_the_csv_is_written_before_the_animation_and_files_appear_whole(
     out, movie = tmp_path / "run.csv", tmp_path / "run.gif"
     seen: list[bool] = []
 
-    def animation(system: object, trajectory: object, path: Path) -> None:
+    def animation(system: object, trajectory: object, path: Path, **options: object) -> None:
         seen.append(out.exists())
         assert Path(path).suffix == ".gif" and Path(path) != movie  # a temporary beside it
         Path(path).write_bytes(b"GIF89a")
 
-    monkeypatch.setattr(commands, "write_animation", animation)
+    monkeypatch.setattr(simulate_command, "write_animation", animation)
     code, _, err = run(
         capsys,
         "simulate",
@@ -179,7 +179,7 @@ def test_a_failing_animation_leaves_no_file(
         Path(path).write_bytes(b"GIF8")  # half a file, then the writer fails
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(commands, "write_animation", animation)
+    monkeypatch.setattr(simulate_command, "write_animation", animation)
     out = tmp_path / "run.csv"
     code, _, _ = run(
         capsys, "simulate", "examples/simple_pendulum", "--out", str(out), "--animate", str(movie)

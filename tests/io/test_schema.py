@@ -48,6 +48,7 @@ FULL_MODEL = {
         "sources": [{"name": "u", "voltage": "u0", "coordinate": "q1"}],
     },
     "initial": {"x": 0.1, "theta_dot": 0},
+    "units": {"x": "m", "theta": "rad", "g": "m/s^2", "t": "s"},
     "simulate": {"t_end": 10, "method": "RK45", "rtol": 1e-8, "atol": 1e-10, "samples": 100},
     "constraints": [
         {"name": "c", "holonomic": "q1 - q2"},
@@ -97,6 +98,9 @@ def test_the_examples_in_the_schema_are_valid_and_load() -> None:
         ({"constraints": [{"name": "c"}]}, r"is not valid under any of the given schemas"),
         ({"constraints": [{"holonomic": "x", "rheonomic": True}]}, r"'rheonomic' was unexpected"),
         ({"kinetic": True}, r"True is not of type 'string', 'number'"),
+        ({"units": {"x": "<b>m</b>"}}, r"does not match"),
+        ({"units": {"x": "m" * 33}}, r"is too long"),
+        ({"units": {"x": 1}}, r"1 is not of type 'string'"),
     ],
 )
 def test_the_schema_refuses_what_the_loader_refuses(change: dict, match: str) -> None:

@@ -34,16 +34,16 @@ def test_save_plots_writes_one_png_of_the_double_pendulum(swing: Trajectory, tmp
 
 def test_time_series_draws_each_named_column(swing: Trajectory) -> None:
     ax = plot_time_series(swing)
-    assert [line.get_label() for line in ax.get_lines()] == ["theta", "phi"]
+    assert [line.get_label() for line in ax.get_lines()] == ["θ", "φ"]  # names as letters
     np.testing.assert_array_equal(ax.get_lines()[1].get_ydata(), swing["phi"])
     ax = plot_time_series(swing, names=["theta_dot"])
-    assert [line.get_label() for line in ax.get_lines()] == ["theta_dot"]
+    assert [line.get_label() for line in ax.get_lines()] == ["θ\u0307"]  # theta_dot: θ̇
 
 
 def test_phase_portrait_on_a_given_axes(swing: Trajectory) -> None:
     ax = Figure().add_subplot()
     assert plot_phase_portrait(swing, "phi", ax=ax) is ax
-    assert (ax.get_xlabel(), ax.get_ylabel()) == ("phi", "phi_dot")
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("φ", "φ\u0307")
     np.testing.assert_array_equal(ax.get_lines()[0].get_xdata(), swing["phi"])
 
 

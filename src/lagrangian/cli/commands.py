@@ -3,44 +3,38 @@
 from __future__ import annotations
 
 import dataclasses
-import errno
-import io
 import json
-import os
+import math
 import re
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import Any
 
 from lagrangian import examples, render
 from lagrangian.analysis import AnalysisReport, analyze
 from lagrangian.analysis.arguments import numeric_values, operating_state
 from lagrangian.analysis.manifold import require_on_manifold
-from lagrangian.cli.progress import progress_bar
 from lagrangian.constraints import ConstrainedEquations, constrained_equations, eliminate
 from lagrangian.derivation import derive
 from lagrangian.errors import (
     ConstraintError,
     ModelError,
     Problem,
-    SimulationError,
     SimulationInputError,
     raise_if_problems,
 )
 from lagrangian.io import load, loads
+from lagrangian.io.yaml_tree import MAX_CHARACTERS
 from lagrangian.model import Holonomic, System
+from lagrangian.model.expressions import closest_name
 from lagrangian.numerics.export import export
 from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.analysis_text import analysis_text
-from lagrangian.render.animation import animate as write_animation
 from lagrangian.render.constrained import constrained_latex, constrained_mathml
 from lagrangian.render.json import constrained_document, eom_document
 from lagrangian.render.mathml import matrix_form_mathml
-from lagrangian.render.plots import save_plots
-from lagrangian.simulation import Trajectory, simulate
-from lagrangian.simulation.files import written_atomically
 
 EXAMPLE_PREFIX = "examples/"
 
@@ -54,9 +48,10 @@ def load_system(reference: str) -> System:
         fmt = reference[2:] or None
         if fmt not in (None, "yaml", "toml", "json"):
             raise ModelError(f"{reference!r}: standard input is read as -:yaml, -:toml or -:json")
-        return loads(sys.stdin.read(), format=fmt, source="<standard input>")
+        text = sys.stdin.read(MAX_CHARACTERS + 1)  # no more than a model file may hold
+        return loads(text, format=fmt, source="<standard input>")
     name, _, size = reference.removeprefix(EXAMPLE_PREFIX).partition(":")
-    if reference.startswith(EXAMPLE_PREFIX) or name in examples.CATALOG:
+    if reference.startswith(EXAMPLE_PREFIX) or name in (*examples.CATALOG, *examples.BENCHMARKS):
         return _example(name, size)
     path = Path(reference)
     if not path.is_file():
@@ -106,6 +101,9 @@ def apply_settings(system: System, settings: Sequence[str]) -> System:
             value = None
         if not sep or value is None:
             problems.append(Problem(f"--set {item}", "expected NAME=NUMBER", "e.g. --set m=2.5"))
+        elif not math.isfinite(value):
+            message = f"{text.strip()} is not a finite number"
+            problems.append(Problem(f"--set {item}", message, f"e.g. --set {name}=0.5"))
         elif name in parameters:
             new_parameters[parameters[name]] = value
         elif name in initial_names:
@@ -123,11 +121,50 @@ def apply_settings(system: System, settings: Sequence[str]) -> System:
     return system.replace(parameters=new_parameters, initial=new_initial)
 
 
+def apply_initial(system: System, items: Sequence[str]) -> System:
+    """``--initial NAME=VALUE`` values of coordinates and velocities (``theta=0.5``,
+    ``theta_dot=0``), every bad one reported at once with the name it may have meant."""
+    if not items:
+        return system
+    known = {q.name: q for q in (*system.coordinates, *system.velocities)}
+    parameters = {p.name for p in system.parameters}
+    initial, problems = dict(system.initial), []
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        try:
+            value = float(text) if sep else None
+        except ValueError:
+            value = None
+        if name not in known:
+            problems.append(Problem(f"--initial {item}", *_not_initial(name, known, parameters)))
+        elif value is None or value != value or abs(value) == float("inf"):
+            problems.append(
+                Problem(f"--initial {item}", "expected NAME=NUMBER", "e.g. --initial theta=0.5")
+            )
+        else:
+            initial[known[name]] = value
+    raise_if_problems(problems, "Bad --initial option", ModelError)
+    return system.replace(initial=initial)
+
+
+def _not_initial(name: str, known: dict[str, Any], parameters: set[str]) -> tuple[str, str]:
+    """The message and the fix for ``--initial NAME=...`` of a name without an initial value."""
+    if name in parameters:
+        return f"{name!r} is a parameter", f"set it with --set {name}=VALUE"
+    close = closest_name(name, known)
+    hint = f"did you mean {close!r}? " if close else ""
+    message = f"{name!r} is not a coordinate or velocity of the system"
+    return message, hint + "choose one of: " + ", ".join(known)
+
+
 def derivation_document(system: System, steps: bool) -> dict[str, Any]:
-    """What ``derive --format json`` prints: the equations (with ``steps``), and the
-    multiplier form of a constrained system."""
+    """What ``derive --format json`` prints: the equations (with ``steps``), the ``units``
+    of names when the model gives them, and the multiplier form of a constrained system."""
     eom = derive(system)
     document = eom_document(eom, steps=steps)
+    if system.units:  # names described with their units, where the model gives them
+        document["units"] = dict(system.units)
     if system.constraints:
         document.update(constrained_document(constrained_equations(eom, system.constraints)))
     return document
@@ -310,155 +347,6 @@ def analysis_of(
     )
 
 
-def simulate_command(
-    reference: str,
-    *,
-    options: dict[str, Any],
-    out: str,
-    plot: str | None,
-    settings: Sequence[str],
-    animate: str | None = None,
-    progress: bool = False,
-    phase: str | None = None,
-) -> str:
-    """Simulate; the CSV of docs/architecture.md goes to ``out`` (``-``: returned for standard
-    output), then the plot, then the animation, each file written atomically.  The file
-    names are checked before any work.  A run that fails or is stopped by Ctrl-C writes the
-    rows computed so far, says where it stopped, and ends: SimulationError (exit 1), or
-    after Ctrl-C exit code :data:`INTERRUPTED`."""
-    check_outputs(out, plot, animate)
-    try:
-        system = apply_settings(load_system(reference), settings)
-        check_phase(system, phase, plot)
-        given = {key: value for key, value in options.items() if value is not None}
-        t_end = given.pop("t_end", None)
-        end = t_end if t_end is not None else system.simulation.get("t_end", 0.0)
-        bar = progress_bar(0.0, float(end), force=progress)
-        try:
-            trajectory = simulate(
-                system, t_span=t_end, progress=bar, raise_on_failure=False, **given
-            )
-        except SimulationInputError as error:
-            raise in_command_line_words(error) from None
-        return write_simulation(system, trajectory, out, plot, animate, phase)
-    except KeyboardInterrupt:  # before or after the integration: no file half written
-        interrupted("Interrupted (Ctrl-C); files not finished were not written.")
-
-
-def check_phase(system: System, phase: str | None, plot: str | None) -> None:
-    """Refuse, before simulating, a --phase that is not a coordinate or comes without --plot."""
-    if phase is None:
-        return
-    names = [q.name for q in system.coordinates]
-    problems = []
-    if phase not in names:
-        fix = "name one of " + ", ".join(names)
-        problems.append(Problem("--phase", f"{phase!r} is not a coordinate", fix))
-    if plot is None:
-        problems.append(Problem("--phase", "the phase portrait is part of --plot", "add --plot"))
-    raise_if_problems(problems, "Cannot simulate", SimulationInputError)
-
-
-#: The exit code of a command stopped by Ctrl-C: 128 + SIGINT, as shells report it.
-INTERRUPTED = 130
-
-
-def interrupted(message: str) -> NoReturn:
-    """End the command stopped by Ctrl-C: the message on standard error, exit code
-    :data:`INTERRUPTED` (the errors' codes are 1 and 2; an interruption is neither)."""
-    sys.stderr.write(f"lagrangian: {message}\n")
-    raise SystemExit(INTERRUPTED)
-
-
-#: The output formats of --plot and --animate.
-PLOT_SUFFIXES = (".png", ".pdf", ".svg")
-ANIMATION_SUFFIXES = (".gif", ".html", ".mp4")
-
-
-def check_outputs(out: str, plot: str | None, animate: str | None) -> None:
-    """Refuse, before simulating, an output file in a folder that does not exist
-    (FileNotFoundError naming it: bad input) or of a format that cannot be written
-    (SimulationInputError, every problem at once)."""
-    for path in (out if out != "-" else None, plot, animate):
-        if path is not None and not Path(path).resolve().parent.is_dir():
-            raise FileNotFoundError(errno.ENOENT, os.strerror(errno.ENOENT), path)
-    problems = []
-    if plot is not None and Path(plot).suffix not in PLOT_SUFFIXES:
-        problems.append(
-            Problem(
-                "--plot",
-                f"{plot!r} is not a .png, .pdf or .svg file",
-                "name it FILE.png, FILE.pdf or FILE.svg",
-            )
-        )
-    suffix = Path(animate).suffix if animate is not None else None
-    if suffix is not None and suffix not in ANIMATION_SUFFIXES:
-        problems.append(
-            Problem(
-                "--animate",
-                f"{animate!r}: no animation format {suffix or '(none)'}",
-                "name it FILE.gif, FILE.html or FILE.mp4",
-            )
-        )
-    if suffix == ".mp4" and not _ffmpeg_available():
-        problems.append(
-            Problem(
-                "--animate",
-                "an .mp4 animation needs ffmpeg, which is not installed",
-                "install ffmpeg, or name it FILE.gif or FILE.html",
-            )
-        )
-    if problems:
-        raise SimulationInputError("Cannot write the output:", problems)
-
-
-def _ffmpeg_available() -> bool:
-    from matplotlib.animation import FFMpegWriter
-
-    return bool(FFMpegWriter.isAvailable())
-
-
-def write_simulation(
-    system: System,
-    trajectory: Trajectory,
-    out: str,
-    plot: str | None,
-    animate: str | None,
-    phase: str | None = None,
-) -> str:
-    """Write the CSV, then the plot and the animation of a run that reached its end; the
-    CSV alone of one that did not, and raise saying where it stopped."""
-    if out == "-":
-        buffer = io.StringIO()
-        trajectory.to_csv(buffer)
-        csv_text, where = buffer.getvalue(), "standard output"
-    else:
-        trajectory.to_csv(out)
-        csv_text, where = "", out
-    if not trajectory.success:
-        sys.stdout.write(csv_text)  # the rows so far, before the error is reported
-        stopped = f"{trajectory.message} {_rows_written(trajectory)} written to {where}."
-        if trajectory.status == "interrupted":
-            interrupted(stopped)
-        raise SimulationError(stopped)
-    messages = [f"{len(trajectory.t)} samples written to {out}; {trajectory.drift_summary()}"]
-    if plot:
-        with written_atomically(plot) as temporary:
-            save_plots(trajectory, temporary, phase)
-        messages.append(f"plot written to {plot}")
-    if animate:
-        with written_atomically(animate) as temporary:
-            write_animation(system, trajectory, temporary)
-        messages.append(f"animation written to {animate}")
-    return csv_text if out == "-" else "\n".join(messages)
-
-
-def _rows_written(trajectory: Trajectory) -> str:
-    if not len(trajectory.t):
-        return "No rows"
-    return f"{len(trajectory.t)} rows, up to t = {trajectory.t[-1]:.6g},"
-
-
 #: The keywords of simulate that are flags of the simulate command.
 _FLAGS = {
     "t_span": "--t-end",
@@ -488,6 +376,11 @@ def in_command_line_words(error: SimulationInputError) -> SimulationInputError:
     def flags(text: str) -> str:
         for python, shell in _PHRASES:
             text = text.replace(python, shell)
+        text = re.sub(
+            r"pass initial=\{'(\w+)': \.\.\.\}",
+            r"give it with --initial \1=VALUE or in the model's initial: section",
+            text,
+        )
         for keyword, flag in _FLAGS.items():
             text = re.sub(rf"\b{keyword}='?([\w.+-]+)'?", rf"{flag} \1", text)
             text = re.sub(rf"\b{keyword}=(\.\.\.)?", flag, text)
@@ -503,8 +396,9 @@ def in_command_line_words(error: SimulationInputError) -> SimulationInputError:
 
 def examples_command(name: str | None) -> str:
     if name is None:
-        width = max(len(n) for n in examples.names())
-        return "\n".join(f"{n:<{width}}  {examples.describe(n)}" for n in examples.names())
+        listed = [*examples.names(), *examples.BENCHMARKS]
+        width = max(len(n) for n in listed)
+        return "\n".join(f"{n:<{width}}  {examples.describe(n)}" for n in listed)
     name = name.removeprefix(EXAMPLE_PREFIX)
     builder = examples.get(name)
     try:

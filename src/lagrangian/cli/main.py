@@ -37,6 +37,7 @@ EPILOG = """examples:
   lagrangian simulate examples/double_pendulum --t-end 10 --out traj.csv --plot traj.png
   lagrangian derive my_model.yaml --steps
   lagrangian analyze examples/double_pendulum
+  lagrangian analyze examples/double_pendulum --format json > analysis.json
   lagrangian analyze examples/spherical_pendulum --about theta=0.5,phi_dot=2
 """
 
@@ -153,8 +154,8 @@ def build_parser() -> argparse.ArgumentParser:
     analyze.add_argument(
         "--format",
         choices=["json", "text", "latex"],
-        default="json",
-        help="json for scripts (default), text for people, latex",
+        help="text for people (the default on a terminal), json for scripts (the default when "
+        "the output goes to a pipe or a file), latex",
     )
     analyze.add_argument(
         "--project",
@@ -179,7 +180,8 @@ def build_parser() -> argparse.ArgumentParser:
         default=2,
         metavar="N",
         help="degree of the functions in which further first integrals are sought "
-        "(Lie point symmetries, integrals quadratic in the velocities); 0: no search",
+        "(Lie point symmetries, integrals quadratic in the velocities; 3 or more also "
+        "cubic ones); 0: no search",
     )
 
     simulate = _command(
@@ -201,6 +203,20 @@ def build_parser() -> argparse.ArgumentParser:
         "--max-wall-time", type=float, metavar="SECONDS", help="stop after this many seconds"
     )
     simulate.add_argument(
+        "--initial",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="set the initial value of a coordinate or a velocity (theta=0.5, theta_dot=0; "
+        "repeatable)",
+    )
+    simulate.add_argument(
+        "--keep-failed",
+        action="store_true",
+        help="a run that fails also writes the plot and the animation of the rows computed up "
+        "to the failure (the CSV of them is always written; the exit code stays 1)",
+    )
+    simulate.add_argument(
         "--project-initial",
         action="store_true",
         help="move an initial state that violates the constraints onto them",
@@ -218,7 +234,8 @@ def build_parser() -> argparse.ArgumentParser:
     simulate.add_argument(
         "--progress",
         action="store_true",
-        help="show a progress bar even when stderr is not a terminal",
+        help="show the progress bars (the run, the frames of --animate) even when stderr is "
+        "not a terminal",
     )
 
     sweep_command.add_sweep_options(
@@ -324,7 +341,7 @@ def write_output(text: str) -> int:
 
 def run(args: argparse.Namespace) -> str:
     """The text the parsed command prints (SymPy, NumPy and the rest load here)."""
-    from lagrangian.cli import commands
+    from lagrangian.cli import commands, simulate_command
 
     if getattr(args, "input_format", None) and args.model == "-":
         args.model = f"-:{args.input_format}"  # standard input in the format given
@@ -338,7 +355,7 @@ def run(args: argparse.Namespace) -> str:
             about=args.about,
             inputs=args.input,
             settings=args.set,
-            fmt=args.format,
+            fmt=args.format or analysis_format(sys.stdout),
             project=args.project,
             search_degree=args.search_degree,
         )
@@ -354,7 +371,7 @@ def run(args: argparse.Namespace) -> str:
             "max_wall_time": args.max_wall_time,
             "project_initial": args.project_initial or None,
         }
-        return commands.simulate_command(
+        return simulate_command.run_simulate(
             args.model,
             options=options,
             out=args.out,
@@ -363,6 +380,8 @@ def run(args: argparse.Namespace) -> str:
             animate=args.animate,
             progress=args.progress,
             phase=args.phase,
+            initial=args.initial,
+            keep_failed=args.keep_failed,
         )
     if args.command == "export":
         return commands.export_command(
@@ -377,6 +396,20 @@ def run(args: argparse.Namespace) -> str:
     if args.command == "serve":
         return serve_command.run_serve(args)
     return commands.examples_command(args.name)
+
+
+def analysis_format(stdout: Any) -> str:
+    """``analyze``'s format without ``--format``: text for a person at a terminal, JSON for a
+    script (a pipe or a file), so scripts keep reading JSON.
+
+    >>> import io
+    >>> analysis_format(io.StringIO())
+    'json'
+    """
+    try:
+        return "text" if stdout.isatty() else "json"
+    except (AttributeError, ValueError):  # no stream, or a closed one
+        return "json"
 
 
 def given_paths(args: argparse.Namespace) -> tuple[str, ...]:

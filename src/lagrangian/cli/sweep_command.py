@@ -111,7 +111,8 @@ def add_sweep_options(command: argparse.ArgumentParser) -> None:
 
 def run_sweep(args: argparse.Namespace) -> str:
     """Run the parsed ``sweep`` command; its one-line summary."""
-    from lagrangian.cli.commands import apply_settings, interrupted, load_system
+    from lagrangian.cli.commands import apply_settings, load_system
+    from lagrangian.cli.simulate_command import interrupted
     from lagrangian.sweeps import build_grid, sweep
 
     system = apply_settings(load_system(args.model), args.set)

@@ -3,6 +3,7 @@
 
 :data:`CATALOG` maps every example name to a function returning its System, and
 ``lagrangian.examples.NAME()`` works for each; :func:`model_text` gives the model file itself.
+:data:`BENCHMARKS` holds the field's benchmarks (the Whipple bicycle), reached the same way.
 
 >>> import lagrangian as lg
 >>> lg.examples.simple_pendulum().coordinates
@@ -56,17 +57,27 @@ def _file_example(name: str) -> Callable[[], System]:
     return build
 
 
-def _catalog() -> dict[str, Callable[..., System]]:
-    catalog: dict[str, Callable[..., System]] = {"n_link_pendulum": n_link_pendulum}
+#: The field's benchmarks: model files whose derivation takes minutes, so they are kept out
+#: of :data:`CATALOG` (which every example-wide check walks) and reached by name.
+BENCHMARK_NAMES = ("whipple_bicycle",)
+
+
+def _catalog(benchmarks: bool = False) -> dict[str, Callable[..., System]]:
+    catalog: dict[str, Callable[..., System]] = (
+        {} if benchmarks else {"n_link_pendulum": n_link_pendulum}
+    )
     for resource in MODELS.iterdir():
         if resource.name.endswith(".yaml"):
             name = resource.name.removesuffix(".yaml")
-            catalog[name] = _file_example(name)
+            if (name in BENCHMARK_NAMES) == benchmarks:
+                catalog[name] = _file_example(name)
     return dict(sorted(catalog.items()))
 
 
 #: Example name -> function building the System (scalable ones take a size argument).
 CATALOG: dict[str, Callable[..., System]] = _catalog()
+#: Benchmark name -> function building the System (``examples/NAME`` on the command line).
+BENCHMARKS: dict[str, Callable[..., System]] = _catalog(benchmarks=True)
 
 
 def names() -> list[str]:
@@ -82,9 +93,9 @@ def describe(name: str) -> str:
 def get(name: str) -> Callable[..., System]:
     """The function building example ``name``."""
     try:
-        return CATALOG[name]
+        return CATALOG[name] if name in CATALOG else BENCHMARKS[name]
     except KeyError:
-        close = difflib.get_close_matches(name, CATALOG, n=3)
+        close = difflib.get_close_matches(name, [*CATALOG, *BENCHMARKS], n=3)
         hint = f" Did you mean {', '.join(close)}?" if close else ""
         raise ModelError(
             f"There is no example named {name!r}.{hint} lagrangian.examples.names() lists them."
@@ -92,9 +103,9 @@ def get(name: str) -> Callable[..., System]:
 
 
 def __getattr__(name: str) -> Any:
-    if name in CATALOG:
-        return CATALOG[name]
+    if name in CATALOG or name in BENCHMARKS:
+        return get(name)
     raise AttributeError(f"module 'lagrangian.examples' has no attribute {name!r}")
 
 
-__all__ = ["CATALOG", "describe", "get", "model_text", "names", *CATALOG]
+__all__ = ["BENCHMARKS", "CATALOG", "describe", "get", "model_text", "names", *CATALOG]

@@ -15,6 +15,8 @@ import sympy as sp
 from lagrangian.io.document import child
 from lagrangian.io.reader import Reader, describe, suggestion
 from lagrangian.model import t, velocity
+from lagrangian.model.system import unit_problem
+from lagrangian.model.validation import MAX_COORDINATES
 
 
 def expression_names(coordinates: Iterable[str], parameters: Iterable[str]) -> dict[str, sp.Symbol]:
@@ -34,6 +36,13 @@ def read_coordinates(reader: Reader, data: dict[str, Any]) -> list[str]:
     if "coordinates" not in data:
         return []  # reported as a missing section
     items = reader.items(data["coordinates"], "coordinates")
+    if len(items) > MAX_COORDINATES:  # refused before reading each name
+        reader.problem(
+            "coordinates",
+            f"{len(items):,} coordinates, more than the {MAX_COORDINATES:,} a system may have",
+            "model fewer degrees of freedom, or split the system into parts",
+        )
+        return []
     names: dict[str, int] = {}
     for i, item in enumerate(items):
         name = reader.name(item, child("coordinates", i))
@@ -95,6 +104,28 @@ def read_initial(
         if number is not None:
             initial[sp.Symbol(key)] = number
     return initial
+
+
+def read_units(
+    reader: Reader, data: dict[str, Any], coordinates: list[str], parameters: list[str]
+) -> dict[str, str]:
+    """Units of coordinates, parameters and ``t``, as free text (``{l: m, theta: rad}``):
+    short, in the characters of :func:`lagrangian.model.system.unit_problem`."""
+    raw = reader.mapping(data.get("units", {}), "units") or {}
+    known = [*coordinates, *parameters, "t"]
+    units: dict[str, str] = {}
+    for key, value in raw.items():
+        path = child("units", key)
+        if key not in known:
+            fix = suggestion(str(key), known, "give units of coordinates, parameters and t")
+            reader.problem(path, f"{key!r} is not a coordinate, parameter or t", fix, key=True)
+            continue
+        message = unit_problem(value)
+        if message is not None:
+            reader.problem(path, message, "write it as text such as m, rad or m/s^2")
+        else:
+            units[key] = value
+    return units
 
 
 def read_simulate(reader: Reader, data: dict[str, Any]) -> dict[str, Any]:

@@ -103,7 +103,8 @@ def _frame(frame: Any) -> dict[str, Any]:
 def _rolling(disc: Any) -> dict[str, Any]:
     axis = {} if disc.axis is None else {"axis": _axis(disc.axis)}
     name = {"name": disc.name} if disc.name else {}
-    return {"body": disc.body, "radius": _expr(disc.radius), **axis, **name}
+    tyre = {"tyre_radius": _expr(disc.tyre_radius)} if disc.tyre_radius != 0 else {}
+    return {"body": disc.body, "radius": _expr(disc.radius), **axis, **name, **tyre}
 
 
 def _axis(axis: Any) -> Any:
@@ -202,6 +203,8 @@ def model_document(system: System) -> dict[str, Any]:
         document["description"] = system.description
     document["coordinates"] = [q.name for q in system.coordinates]
     document["parameters"] = {p.name: value for p, value in system.parameters.items()}
+    if system.units:
+        document["units"] = dict(system.units)
     for field in ("kinetic", "potential", "lagrangian", "velocity_potential", "dissipation"):
         value = getattr(system, field)
         if value != 0:

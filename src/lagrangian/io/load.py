@@ -27,6 +27,7 @@ from lagrangian.io.declarations import (
     read_initial,
     read_parameters,
     read_simulate,
+    read_units,
 )
 from lagrangian.io.document import Document, parent
 from lagrangian.io.reader import Reader
@@ -40,7 +41,7 @@ from lagrangian.io.sections import (
     read_generalized_forces,
 )
 from lagrangian.io.toml_tree import read_toml
-from lagrangian.io.yaml_tree import read_json, read_yaml
+from lagrangian.io.yaml_tree import MAX_CHARACTERS, read_json, read_yaml
 from lagrangian.model import System
 
 FORMATS = ("yaml", "toml", "json")
@@ -64,7 +65,8 @@ def load(path: str | os.PathLike[str], *, format: str | None = None) -> System:
     lagrangian.errors.ModelError: load takes the path of a model file, and this looks like ...
     """
     file = _as_path(path)
-    text = file.read_text(encoding="utf-8")
+    with file.open(encoding="utf-8") as stream:  # no more than a model file may hold
+        text = stream.read(MAX_CHARACTERS + 1)
     chosen = format or SUFFIXES.get(file.suffix.lower()) or _guess_format(text)
     return _load_text(text, chosen, str(file), file.stem)
 
@@ -147,6 +149,7 @@ def _read_model(
         "generalized_forces": read_generalized_forces(reader, data, coordinates),
         "initial": read_initial(reader, data, coordinates),
         "simulation": read_simulate(reader, data),
+        "units": read_units(reader, data, coordinates, list(parameters)),
     }
     if "gravity" in data:
         fields["gravity"] = reader.vector(data["gravity"], "gravity")

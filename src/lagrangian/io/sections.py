@@ -96,6 +96,7 @@ _READ_AS = {
     "charge": "expression",
     "voltage": "expression",
     "radius": "expression",
+    "tyre_radius": "expression",
     "position": "vector",
     "force": "vector",
     "at": "point",

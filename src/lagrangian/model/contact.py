@@ -22,8 +22,18 @@ whose x and y components are velocity (Pfaffian) constraints; the z component is
 derivative of the holonomic one (the rim's tangent at its lowest point is horizontal).  The
 multipliers of the three constraints are the contact force's components in world axes.
 
-s is simplified (``trigsimp``) and its square root taken on the branch s > 0 (the disc not lying
-flat), so a disc given by heading, lean and spin has s = cos(lean).
+s = sqrt(1 - a_z^2); when ``trigsimp`` finds 1 - a_z^2 a square its root is taken on the
+branch s > 0 (the disc not lying flat), so a disc given by heading, lean and spin has
+s = cos(lean).
+
+A wheel with a round tyre (a torus: ``radius`` R from the centre to the circle through the
+tyre's centres, ``tyre_radius`` r_t) touches the plane at the lowest point of that tyre,
+
+    C = p + R d - r_t e_z,
+
+and a sphere of radius r (:func:`rolling_sphere`) is the torus with R = 0: C = p - r e_z, no
+axle needed.  The constraints are the same with this C: C_z = 0 and the x and y components of
+v_C = p_dot + omega_s x (C - p) = 0.
 """
 
 from __future__ import annotations
@@ -53,15 +63,19 @@ class RollingDisc:
     centre of mass, its axle along ``axis`` in body axes: ``"x"``, ``"y"``, ``"z"`` or a
     vector; by default the axis of the body's disc, ring or cylinder shape) rolling without
     slipping on the plane z = 0.  ``name`` names the contact point (default ``BODY_contact``).
+    With ``tyre_radius`` r_t the wheel is a torus: a round tyre of radius r_t whose centres
+    lie on the circle of radius ``radius`` (the module docstring).
     """
 
     body: str
     radius: sp.Expr
     axis: Any = None
     name: str = ""
+    tyre_radius: sp.Expr = sp.Integer(0)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "radius", as_expression(self.radius))
+        object.__setattr__(self, "tyre_radius", as_expression(self.tyre_radius))
 
     @property
     def contact(self) -> str:
@@ -86,8 +100,20 @@ class NoSlip(VelocityConstraint):
 GENERATED = (ContactHeight, NoSlip)
 
 
+def rolling_sphere(body: str, radius: Any, name: str = "") -> RollingDisc:
+    """A ball of radius ``radius`` (the rigid body ``body``, centred at its centre of mass)
+    rolling without slipping on the plane z = 0: the torus with no hole, so its contact point
+    is C = p - r e_z whatever its orientation.
+
+    >>> rolling_sphere("ball", 2).tyre_radius
+    2
+    """
+    return RollingDisc(body, 0, name=name, tyre_radius=radius)
+
+
 def contact_offset(disc: RollingDisc, body: RigidBody) -> sp.ImmutableMatrix:
-    """r d, the contact point relative to the centre in world axes (the module docstring).
+    """C - p = R d - r_t e_z, the contact point relative to the centre in world axes (the
+    module docstring).
 
     >>> import lagrangian as lg
     >>> psi, theta, r = sp.symbols("psi theta r")
@@ -96,12 +122,38 @@ def contact_offset(disc: RollingDisc, body: RigidBody) -> sp.ImmutableMatrix:
     >>> contact_offset(RollingDisc("w", r, "y"), wheel).T
     Matrix([[-r*sin(psi)*sin(theta), r*sin(theta)*cos(psi), -r*cos(theta)]])
     """
+    offset = sp.Matrix([0, 0, -disc.tyre_radius])
+    if not is_zero(disc.radius):
+        offset += disc.radius * rim_direction(disc, body)
+    return sp.ImmutableMatrix(_roots_kept(offset.applyfunc(sp.expand), offset))
+
+
+def rim_direction(disc: RollingDisc, body: RigidBody) -> sp.ImmutableMatrix:
+    """d = (a (a . e_z) - e_z) / s, the unit vector of the wheel's plane that points most
+    downward (world axes; the module docstring)."""
     n = sp.Matrix(_axle(disc, body))
     a = body.orientation.matrix * (n / sp.sqrt(sp.expand(n.dot(n))))  # type: ignore[union-attr]
     a = a.applyfunc(sp.expand)
-    s = sp.powdenest(sp.sqrt(sp.trigsimp(sp.expand(a[0] ** 2 + a[1] ** 2))), force=True)
-    d = sp.Matrix([a[0] * a[2] / s, a[1] * a[2] / s, -s])
-    return sp.ImmutableMatrix((disc.radius * d).applyfunc(sp.expand))
+    s = _horizontal_length(a[2])
+    return sp.ImmutableMatrix([a[0] * a[2] / s, a[1] * a[2] / s, -s])
+
+
+#: Above this many operations 1 - a_z^2 is not given to ``trigsimp`` (which may answer with a
+#: long sum of multiple angles, not a square).
+TRIGSIMP_OPS = 120
+
+
+def _horizontal_length(a_z: sp.Expr) -> sp.Expr:
+    """s = sqrt(a_x^2 + a_y^2) = sqrt(1 - a_z^2) for the unit axle a: the square root of
+    ``trigsimp``'s answer when that is a square (cos(lean)^2 -> cos(lean), on the branch
+    s > 0), else sqrt(1 - a_z^2) with a_z as it is (a short product of sines and cosines;
+    the sum of multiple angles ``trigsimp`` gives for a steered wheel is far longer)."""
+    square = sp.expand(1 - a_z**2)
+    if sp.count_ops(square) <= TRIGSIMP_OPS:
+        simple = sp.trigsimp(square)
+        if (simple.is_Pow and simple.exp.is_even) or not simple.free_symbols:
+            return sp.powdenest(sp.sqrt(simple), force=True)
+    return sp.sqrt(1 - a_z**2)
 
 
 def _axle(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
@@ -124,15 +176,26 @@ def rolling_constraints(disc: RollingDisc, body: RigidBody, coordinates: Any) ->
     the x and y components of v_C = p_dot + omega_s x (r d) = 0."""
     q = tuple(coordinates)
     offset = sp.Matrix(contact_offset(disc, body))
-    height = sp.expand(body.position[2] + offset[2])
+    height = _roots_kept(sp.expand(body.position[2] + offset[2]), offset)
     omega = sp.Matrix(spatial_angular_velocity(body.orientation, q))
     p_dot = sp.Matrix([time_derivative(x, q) for x in body.position])
     rates = [velocity(x) for x in q]
-    slip = (p_dot + omega.cross(offset)).applyfunc(lambda e: _tidy(e, rates))
+    slip = _roots_kept((p_dot + omega.cross(offset)).applyfunc(lambda e: _tidy(e, rates)), offset)
     name = disc.contact
     found: list[Any] = [] if is_zero(height) else [ContactHeight(height, f"{name} height", name)]
     found += [NoSlip(slip[k], f"{name} slip {axis}", name) for k, axis in ((0, "x"), (1, "y"))]
     return tuple(found)
+
+
+def _roots_kept(expr: Any, like: Any) -> Any:
+    """``expr`` with each square root of ``like`` (s, 1/s) put back as it was written there:
+    ``expand`` multiplies out the sum under sqrt(1 - a_z^2) too, which makes it far longer."""
+    table = {}
+    for power in sp.Matrix(like).atoms(sp.Pow):
+        if power.exp in (sp.S.Half, -sp.S.Half) and power.base.is_Add:
+            table[sp.Pow(sp.expand(power.base), power.exp)] = power
+            table[sp.Pow(sp.expand(power.base), -power.exp)] = 1 / power
+    return expr.xreplace(table) if table else expr
 
 
 def _tidy(expr: sp.Expr, rates: list[sp.Symbol]) -> sp.Expr:
@@ -172,10 +235,11 @@ def add_rolling_constraints(values: dict[str, Any]) -> list[Problem]:
             continue
         before = len(problems)
         scope.check(disc.radius, f"{field}.radius", CONFIGURATION, problems)
+        scope.check(disc.tyre_radius, f"{field}.tyre_radius", CONFIGURATION, problems)
         if len(problems) > before:
             continue
         try:
-            flat = _lies_flat(contact_offset(disc, body))
+            flat = not is_zero(disc.radius) and _lies_flat(rim_direction(disc, body))
         except ModelError as error:
             problems += [Problem(f"{field}.{p.field}", p.message, p.fix) for p in error.problems]
             continue
@@ -214,9 +278,9 @@ def move_contact_forces(values: dict[str, Any]) -> None:
     values["forces"], values["torques"] = tuple(forces), tuple(torques)
 
 
-def _lies_flat(offset: sp.MatrixBase) -> bool:
+def _lies_flat(direction: sp.MatrixBase) -> bool:
     """True when the axle is vertical: s = 0, so d (and the contact point) is undefined."""
-    return offset.has(sp.zoo, sp.nan) or is_zero(offset[2])
+    return direction.has(sp.zoo, sp.nan) or is_zero(direction[2])
 
 
 def _spatial(body: RigidBody) -> bool:

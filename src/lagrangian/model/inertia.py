@@ -183,6 +183,20 @@ def parallel_axis(inertia_centre: Any, mass: Any, offset: Sequence[Any]) -> sp.I
     return sp.ImmutableMatrix(shifted.applyfunc(sp.expand))
 
 
+def central_inertia(inertia_about: Any, mass: Any, centre: Sequence[Any]) -> sp.ImmutableMatrix:
+    """The inertia about the centre of mass from the inertia ``inertia_about`` a body point P
+    (the parallel-axis theorem backwards), ``centre`` the centre of mass relative to P, in
+    the same axes: I_c = I_P - m (|d|^2 1 - d d^T).
+
+    >>> m, L = sp.symbols("m L")
+    >>> central_inertia(sp.diag(m * L**2 / 3, m * L**2 / 3, 0), m, [0, 0, L / 2])[0, 0]
+    L**2*m/12
+    """
+    d = to_matrix(list(centre))
+    shift = to_sympy(mass) * (d.dot(d) * sp.eye(3) - d * d.T)
+    return sp.ImmutableMatrix((to_matrix(inertia_about) - shift).applyfunc(sp.expand))
+
+
 @dataclass(frozen=True)
 class MassProperties:
     """Mass, centre of mass and inertia about that centre (axes common to all parts)."""

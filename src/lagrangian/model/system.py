@@ -22,18 +22,21 @@ Example:
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, fields
 from typing import Any
 
 import sympy as sp
 
-from lagrangian.errors import require
+from lagrangian.errors import ModelError, Problem, raise_if_problems, require
 from lagrangian.model.circuit import CircuitElement
 from lagrangian.model.constraints import Constraint
 from lagrangian.model.contact import RollingDisc
 from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque, as_tuple
+from lagrangian.model.expressions import closest_name
 from lagrangian.model.frames import Frame
+from lagrangian.model.frozen import FrozenMapping
 from lagrangian.model.normalize import ELEMENT_FIELDS, normalize_system
 from lagrangian.model.symbols import acceleration, t, velocity
 
@@ -79,6 +82,10 @@ class System:
         Initial values of coordinates and velocities (``theta``, ``theta_dot``), for simulation.
     simulation:
         Default simulation settings (``t_end``, ``method``, ``rtol``, ``atol``, ``samples``).
+    units:
+        The unit of a parameter, a coordinate or the time ``t`` as free text (``{"l": "m",
+        "theta": "rad"}``), shown on plot axes; at most :data:`UNIT_LENGTH` characters from
+        :data:`UNIT_CHARACTERS`.  Nothing is converted: values stay as given.
     """
 
     coordinates: Sequence[Any]
@@ -104,6 +111,7 @@ class System:
     simulation: Mapping[str, Any] = field(default_factory=dict)
     name: str = ""
     description: str = ""
+    units: Mapping[Any, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -111,6 +119,8 @@ class System:
                 object.__setattr__(self, f.name, as_tuple(getattr(self, f.name)))
         for name, value in normalize_system(self).items():
             object.__setattr__(self, name, value)
+        named = [*self.coordinates, *self.parameters, t]
+        object.__setattr__(self, "units", checked_units(self.units, [s.name for s in named]))
 
     # -- vocabulary derived from the description (cheap, pure) --------------------------
     @property
@@ -144,9 +154,13 @@ class System:
         return named
 
     def replace(self, **changes: Any) -> System:
-        """A copy with some fields changed (the System itself never changes)."""
+        """A copy with some fields changed (the System itself never changes); units of names
+        the copy no longer has are dropped, unless ``units`` is given."""
         values = {f.name: getattr(self, f.name) for f in fields(self)}
         values.update(changes)
+        if "units" not in changes:
+            kept = {str(s) for s in (*values["coordinates"], *_names(values["parameters"]), t)}
+            values["units"] = {name: unit for name, unit in self.units.items() if name in kept}
         return System(**values)
 
     def with_parameters(self, values: Mapping[Any, float]) -> System:
@@ -156,6 +170,71 @@ class System:
         for key, value in values.items():
             new[by_name[str(key)]] = value
         return self.replace(parameters=new)
+
+
+#: The longest unit text, and the characters a unit may use (letters of any alphabet, digits,
+#: spaces and ``/ * ^ . · - + ( ) % °``): enough for "m/s^2" or "kg·m²", nothing that a plot,
+#: a terminal or a web page would read as markup.
+UNIT_LENGTH = 32
+UNIT_CHARACTERS = re.compile(r"[^\W_]|[ /*^.·\-+()%°²³⁻¹µΩ]")
+
+
+def checked_units(units: Any, names: Sequence[str]) -> FrozenMapping[str, str]:
+    """``units`` (name or Symbol -> unit text) keyed by name and frozen; a ModelError naming
+    every unknown name and every unit that is not short text of :data:`UNIT_CHARACTERS`.
+
+    >>> dict(checked_units({sp.Symbol("l"): "m"}, ["l", "t"]))
+    {'l': 'm'}
+    >>> checked_units({"lenght": "m"}, ["length", "t"])
+    Traceback (most recent call last):
+    ...
+    lagrangian.errors.ModelError: The units are not valid (1 problem):
+      - units.lenght: 'lenght' is not a coordinate, parameter or t — did you mean 'length'?
+    """
+    if not isinstance(units, Mapping):
+        fix = "give {'l': 'm', 'theta': 'rad'}"
+        raise_if_problems(
+            [Problem("units", f"{units!r} is not a mapping", fix)],
+            "The units are not valid",
+            ModelError,
+        )
+    problems, result = [], {}
+    for key, unit in units.items():
+        name = key.name if isinstance(key, sp.Symbol) else str(key)
+        message = unit_problem(unit)
+        if name not in names:
+            close = closest_name(name, names)
+            fix = f"did you mean {close!r}?" if close else "give units of: " + ", ".join(names)
+            problems.append(
+                Problem(f"units.{name}", f"{name!r} is not a coordinate, parameter or t", fix)
+            )
+        elif message is not None:
+            problems.append(Problem(f"units.{name}", message, "write it as m, rad or m/s^2"))
+        else:
+            result[name] = unit
+    raise_if_problems(problems, "The units are not valid", ModelError)
+    return FrozenMapping(result)
+
+
+def unit_problem(unit: Any) -> str | None:
+    """What is wrong with ``unit`` as the text of a unit, or None.
+
+    >>> unit_problem("m/s^2") is None, unit_problem("<b>")
+    (True, "'<b>' has characters a unit does not use: <>")
+    """
+    if not isinstance(unit, str) or not unit.strip():
+        return f"{unit!r} is not the text of a unit"
+    if len(unit) > UNIT_LENGTH:
+        return f"{unit[:UNIT_LENGTH]!r}... is longer than {UNIT_LENGTH} characters"
+    odd = sorted({c for c in unit if not UNIT_CHARACTERS.fullmatch(c)})
+    if odd:
+        shown = "".join(odd).encode("unicode_escape").decode("ascii")  # a newline shown as \n
+        return f"{unit!r} has characters a unit does not use: {shown}"
+    return None
+
+
+def _names(parameters: Any) -> list[Any]:
+    return list(parameters) if isinstance(parameters, (Mapping, list, tuple)) else []
 
 
 def require_system(value: Any, argument: str) -> System:

@@ -3,6 +3,7 @@ boundary, collect all problems, raise once, name the field and the fix)."""
 
 from __future__ import annotations
 
+import math
 import random
 import sys
 import unicodedata
@@ -455,7 +456,7 @@ def validate(values: dict[str, Any]) -> Iterable[Problem]:
     _check_elements(values, scope, points, problems)
     _check_circuit(values, scope, problems)
     check_constraints(values, scope, problems)
-    for key in values["initial"]:
+    for key, value in values["initial"].items():
         if key not in scope.coordinates and key not in scope.velocities:
             problems.append(
                 Problem(
@@ -464,4 +465,18 @@ def validate(values: dict[str, Any]) -> Iterable[Problem]:
                     "give initial values of coordinates and NAME_dot velocities",
                 )
             )
+        found = _not_finite_value(value)
+        if found is not None:
+            problems.append(Problem(f"initial.{key}", found, "give a finite real number"))
     return problems
+
+
+def _not_finite_value(value: Any) -> str | None:
+    """Why an initial value is not a finite real number (nan, inf, complex), or None."""
+    if isinstance(value, bool):
+        return None
+    if isinstance(value, (int, float)):
+        return None if math.isfinite(value) else f"{value!r} is not a finite number"
+    if isinstance(value, sp.Expr):
+        return not_finite_real(value)
+    return None

@@ -2,27 +2,33 @@
 
 matplotlib is imported only when a plot is made (it keeps ``import lagrangian`` fast).  Without an
 ``ax`` each function draws on a new :class:`matplotlib.figure.Figure` (no pyplot state);
-every function returns the Axes it drew on.  The energy drift is
+every function returns the Axes it drew on.  Names are shown as letters (``θ``, ``θ̇``), with
+their units when ``units`` gives them (a model's ``units:`` section, ``System.units``; a
+rate's unit is the unit over the time's, ``rad/s``).  The energy drift is
 
     (E(t) - E(t_0)) / |E(t_0)|      (E(t) - E(t_0) when E(t_0) = 0)
 
 >>> import lagrangian as lg
 >>> from lagrangian.simulation import simulate
 >>> trajectory = simulate(lg.examples.simple_pendulum(), t_span=1.0, samples=50)
->>> plot_phase_portrait(trajectory, "theta").get_xlabel()
-'theta'
+>>> plot_phase_portrait(trajectory, "theta", units={"theta": "rad"}).get_ylabel()
+'θ̇ [rad/s]'
 """
 
 from __future__ import annotations
 
 import io
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import sympy as sp
 
+from lagrangian.model import System
+from lagrangian.model.symbols import DOT_SUFFIX
+from lagrangian.render.text import DOT, label
 from lagrangian.simulation.trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -30,36 +36,100 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
+def column_label(name: str, units: Mapping[str, str] | None = None) -> str:
+    """How a plot names the column ``name``: Greek words as letters, a rate with its dot, and
+    the unit in brackets when ``units`` gives it (a rate's: the unit per unit of time).
+
+    >>> column_label("theta_dot", {"theta": "rad"}), column_label("x", {"x": "m"})
+    ('θ̇ [rad/s]', 'x [m]')
+    >>> column_label("v_dot", {"v": "m/s", "t": "ms"}), column_label("energy")
+    ('v̇ [(m/s)/ms]', 'energy')
+    """
+    unit = column_unit(name, units)
+    return f"{_letters(name)} [{unit}]" if unit is not None else _letters(name)
+
+
+def column_unit(name: str, units: Mapping[str, str] | None = None) -> str | None:
+    """The unit of column ``name`` from ``units`` (``NAME_dot``: NAME's per the time's), or
+    None when it has none."""
+    units = units or {}
+    base = name.removesuffix(DOT_SUFFIX)
+    if base == name:
+        return units.get(name)
+    unit = units.get(base)
+    return None if unit is None else per_time(unit, units.get("t", "s"))
+
+
+def _letters(name: str) -> str:
+    base = name.removesuffix(DOT_SUFFIX)
+    return label(sp.Symbol(base), DOT) if base != name else label(sp.Symbol(name))
+
+
+def per_time(unit: str, time: str = "s") -> str:
+    """``unit`` per ``time``: ``rad/s``; a compound unit in parentheses, ``(m/s)/s``."""
+
+    def grouped(text: str) -> str:
+        return f"({text})" if any(c in text for c in " /*·") else text
+
+    return f"{grouped(unit)}/{grouped(time)}"
+
+
+def time_label(units: Mapping[str, str] | None = None) -> str:
+    """The time axis: ``t``, or ``t [s]`` when the model gives units (the unit of ``t`` if it
+    names one; the model's values are SI otherwise)."""
+    return f"t [{units.get('t', 's')}]" if units else "t"
+
+
 def plot_time_series(
-    trajectory: Trajectory, names: Sequence[str] | None = None, ax: Axes | None = None
+    trajectory: Trajectory,
+    names: Sequence[str] | None = None,
+    ax: Axes | None = None,
+    *,
+    units: Mapping[str, str] | None = None,
 ) -> Axes:
-    """Columns ``names`` (default: every coordinate) against t."""
+    """Columns ``names`` (default: every coordinate) against t, labelled with ``units``."""
     ax = ax if ax is not None else _new_axes()
-    for name in names if names is not None else trajectory.coordinates:
-        ax.plot(trajectory.t, trajectory[name], label=name)
-    ax.set_xlabel("t")
+    shown = list(names if names is not None else trajectory.coordinates)
+    for name in shown:
+        ax.plot(trajectory.t, trajectory[name], label=column_label(name, units))
+    ax.set_xlabel(time_label(units))
+    given = {column_unit(name, units) for name in shown}
+    if len(given) == 1 and None not in given:  # one unit: say it once, on the axis
+        ax.set_ylabel(f"{', '.join(_letters(name) for name in shown)} [{given.pop()}]")
     ax.set_title("Time series")
     ax.legend(loc="best")
     ax.grid(True, alpha=0.3)
     return ax
 
 
-def plot_phase_portrait(trajectory: Trajectory, coordinate: str, ax: Axes | None = None) -> Axes:
-    """``coordinate_dot`` against ``coordinate``, the start marked."""
+def plot_phase_portrait(
+    trajectory: Trajectory,
+    coordinate: str,
+    ax: Axes | None = None,
+    *,
+    units: Mapping[str, str] | None = None,
+) -> Axes:
+    """``coordinate_dot`` against ``coordinate``, the start marked, labelled with ``units``."""
     ax = ax if ax is not None else _new_axes()
-    q, q_dot = trajectory[coordinate], trajectory[coordinate + "_dot"]
+    rate = coordinate + DOT_SUFFIX
+    q, q_dot = trajectory[coordinate], trajectory[rate]
     ax.plot(q, q_dot, linewidth=1.0)
     if len(q):
         ax.plot(q[:1], q_dot[:1], "o", label="start")
         ax.legend(loc="best")
-    ax.set_xlabel(coordinate)
-    ax.set_ylabel(coordinate + "_dot")
-    ax.set_title(f"Phase portrait of {coordinate}")
+    ax.set_xlabel(column_label(coordinate, units))
+    ax.set_ylabel(column_label(rate, units))
+    ax.set_title(f"Phase portrait of {label(sp.Symbol(coordinate))}")
     ax.grid(True, alpha=0.3)
     return ax
 
 
-def plot_energy_drift(trajectory: Trajectory, ax: Axes | None = None) -> Axes:
+def plot_energy_drift(
+    trajectory: Trajectory,
+    ax: Axes | None = None,
+    *,
+    units: Mapping[str, str] | None = None,
+) -> Axes:
     """Relative drift of E = T + V (and of h when it differs) against t, titled as the drift
     report says it (:meth:`Trajectory.drift`): a drift where the energy is conserved, a change
     "not conserved: dissipation" (or forcing, ...) where it is not."""
@@ -68,11 +138,11 @@ def plot_energy_drift(trajectory: Trajectory, ax: Axes | None = None) -> Axes:
     if trajectory.energy_function is not None:
         series["h"] = trajectory.energy_function
     relative = True
-    for label, values in series.items():
+    for name, values in series.items():
         change, scaled = _drift(values)
         relative = relative and scaled
-        ax.plot(trajectory.t, change, label=label)
-    ax.set_xlabel("t")
+        ax.plot(trajectory.t, change, label=name)
+    ax.set_xlabel(time_label(units))
     ax.set_ylabel("(E - E0) / |E0|" if relative else "E - E0")
     ax.set_title(energy_title(trajectory))
     ax.legend(loc="best")
@@ -80,25 +150,43 @@ def plot_energy_drift(trajectory: Trajectory, ax: Axes | None = None) -> Axes:
     return ax
 
 
-def overview(trajectory: Trajectory, coordinate: str | None = None) -> Figure:
+def overview(
+    trajectory: Trajectory, coordinate: str | None = None, system: System | None = None
+) -> Figure:
     """One figure with the time series, the phase portrait of ``coordinate`` (default: the
-    first) and the energy drift, side by side."""
+    first) and the energy drift, side by side; titled with the name of ``system`` and
+    labelled with its units when it is given."""
     from matplotlib.figure import Figure
 
+    units = dict(system.units) if system is not None else None
     groups = scale_groups(trajectory)
     figure = Figure(
         figsize=(15, 4.5 if len(groups) == 1 else 2.6 * len(groups)), layout="constrained"
     )
     grid = figure.add_gridspec(len(groups), 3)
     for row, names in enumerate(groups):  # one panel per scale: 95 rad of spin hides a nutation
-        plot_time_series(trajectory, names, ax=figure.add_subplot(grid[row, 0]))
+        plot_time_series(trajectory, names, ax=figure.add_subplot(grid[row, 0]), units=units)
     middle = figure.add_subplot(grid[:, 1])
     right = figure.add_subplot(grid[:, 2])
-    plot_phase_portrait(trajectory, coordinate or trajectory.coordinates[0], ax=middle)
-    plot_energy_drift(trajectory, ax=right)
-    if trajectory.method:
-        figure.suptitle(f"{', '.join(trajectory.coordinates)} ({trajectory.method})")
+    chosen = coordinate or trajectory.coordinates[0]
+    plot_phase_portrait(trajectory, chosen, ax=middle, units=units)
+    plot_energy_drift(trajectory, ax=right, units=units)
+    figure.suptitle(overview_title(trajectory, system))
     return figure
+
+
+def overview_title(trajectory: Trajectory, system: System | None = None) -> str:
+    """The system's name and the method: ``double_pendulum (RK45)``; ``Simulation (RK45)``
+    without a system (or a name).
+
+    >>> import lagrangian as lg
+    >>> from lagrangian.simulation import simulate
+    >>> system = lg.examples.simple_pendulum()
+    >>> overview_title(simulate(system, t_span=0.1, samples=3), system)
+    'simple_pendulum (RK45)'
+    """
+    name = system.name if system is not None and system.name else "Simulation"
+    return f"{name} ({trajectory.method})" if trajectory.method else name
 
 
 #: Coordinates whose ranges differ by more than this factor are drawn in panels of their own.
@@ -135,17 +223,20 @@ def scale_groups(trajectory: Trajectory) -> list[list[str]]:
 
 
 def save_plots(
-    trajectory: Trajectory, path: str | os.PathLike[str], coordinate: str | None = None
+    trajectory: Trajectory,
+    path: str | os.PathLike[str],
+    coordinate: str | None = None,
+    system: System | None = None,
 ) -> Path:
     """:func:`overview` as a picture in the format of the file's suffix (one of
-    :data:`PLOT_FORMATS`: PNG, or the vector formats PDF and SVG for papers); returns the path
-    written."""
+    :data:`PLOT_FORMATS`: PNG, or the vector formats PDF and SVG for papers), titled and
+    labelled from ``system`` when given; returns the path written."""
     target = Path(path)
     picture = target.suffix.lower().lstrip(".")
     if picture not in PLOT_FORMATS:
         known = ", ".join("." + f for f in PLOT_FORMATS)
         raise ValueError(f"{str(target)!r}: plots are written as {known}, not {target.suffix!r}")
-    overview(trajectory, coordinate).savefig(target, format=picture, dpi=100)
+    overview(trajectory, coordinate, system).savefig(target, format=picture, dpi=100)
     return target
 
 
