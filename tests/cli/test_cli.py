@@ -109,7 +109,9 @@ def test_debug_shows_the_traceback(capsys: pytest.CaptureFixture[str]) -> None:
 
 def test_examples_lists_and_describes(capsys: pytest.CaptureFixture[str]) -> None:
     code, out, _ = run(capsys, "examples")
-    assert code == 0 and len(out.splitlines()) == len(lg.examples.names())
+    listed = [line.split()[0] for line in out.splitlines()]
+    assert code == 0 and listed == [*lg.examples.names(), *lg.examples.BENCHMARKS]
+    assert "whipple_bicycle" in listed  # the field's benchmarks after the course examples
     code, out, _ = run(capsys, "examples", "atwood_machine")
     assert code == 0 and "name: atwood_machine" in out
 
