@@ -62,6 +62,19 @@ def wedge(a: Mapping[tuple[int, ...], sp.Expr], b: Mapping[tuple[int, ...], sp.E
     return result
 
 
+def wedge_values(
+    a: Mapping[tuple[int, ...], float], b: Mapping[tuple[int, ...], float]
+) -> dict[tuple[int, ...], float]:
+    """a ^ b of forms whose coefficients are numbers (a form's value at one point)."""
+    result: dict[tuple[int, ...], float] = {}
+    for ia, ca in a.items():
+        for ib, cb in b.items():
+            if not set(ia) & set(ib):
+                key, sign = _sorted_with_sign(ia + ib)
+                result[key] = result.get(key, 0.0) + sign * ca * cb
+    return result
+
+
 def exterior_derivative(
     a: Mapping[tuple[int, ...], sp.Expr], variables: Sequence[sp.Symbol]
 ) -> Form:

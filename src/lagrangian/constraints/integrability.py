@@ -21,15 +21,36 @@ the Frobenius condition for a Pfaffian form omega = a(q, t).dq + b(q, t) dt.
 
 from __future__ import annotations
 
+import random
 from collections.abc import Sequence
 from dataclasses import dataclass
 from itertools import combinations
 
+import numpy as np
 import sympy as sp
 
-from lagrangian.constraints.forms import Form, describe, exterior_derivative, one_form, wedge
+from lagrangian.constraints.forms import (
+    Form,
+    describe,
+    exterior_derivative,
+    one_form,
+    wedge,
+    wedge_values,
+)
 from lagrangian.model.conversion import to_sympy
-from lagrangian.model.probe import is_small, is_zero
+from lagrangian.model.probe import SEED, PointFunction, is_small, is_zero, random_values
+
+#: Forms with a coefficient of more operations are decided at random points, not by symbolic
+#: wedge products (whose expansion grows as the product of the coefficients' sizes: a
+#: bicycle's no-slip constraint has thousands of operations).
+LARGE_COEFFICIENT = 400
+#: Random points at which a large form is probed, and the relative size below which a value
+#: there counts as zero.
+PROBES = 3
+RELATIVE_ZERO = 1e-9
+
+#: A form's value at one point: index tuple -> number.
+FormValues = dict[tuple[int, ...], float]
 
 
 @dataclass(frozen=True)
@@ -59,6 +80,8 @@ def integrate_form(
     coefficients: Sequence[sp.Expr], variables: Sequence[sp.Symbol]
 ) -> Integrability:
     """Integrability of omega = sum_k coefficients[k] d variables[k]."""
+    if _large([coefficients]):
+        return _probed_form(coefficients, variables)
     omega = one_form(coefficients)
     d_omega = exterior_derivative(omega, variables)
     if _vanishes(d_omega):
@@ -135,6 +158,8 @@ def frobenius(forms: Sequence[Form], variables: Sequence[sp.Symbol]) -> tuple[bo
     for every i.  Returns (holds, reason)."""
     if len(forms) + 2 > len(variables):
         return True, "at most one direction of motion is left, which is always integrable"
+    if _large([list(form.values()) for form in forms]):
+        return _probed_frobenius(forms, variables)
     product: Form = {(): sp.Integer(1)}
     for form in forms:
         product = wedge(product, form)
@@ -147,3 +172,100 @@ def frobenius(forms: Sequence[Form], variables: Sequence[sp.Symbol]) -> tuple[bo
         if twisted:
             return False, f"d omega_{i + 1} ^ {all_forms} = {describe(twisted, variables)} != 0"
     return True, "d omega_i ^ omega_1 ^ ... ^ omega_m = 0 for every i"
+
+
+def _large(coefficient_lists: Sequence[Sequence[sp.Expr]]) -> bool:
+    return any(
+        not is_small(to_sympy(a), LARGE_COEFFICIENT) for row in coefficient_lists for a in row
+    )
+
+
+class _ProbedForms:
+    """The coefficients a_k of 1-forms and their slopes da_k/dz_i as numbers at random
+    points: ``points()`` gives, at each, the forms and their exterior derivatives."""
+
+    def __init__(self, rows: Sequence[Sequence[sp.Expr]], variables: Sequence[sp.Symbol]):
+        self.n = len(variables)
+        exprs = [to_sympy(a) for row in rows for a in row]
+        slopes = [a.diff(z) for a in exprs for z in variables]
+        symbols = set(variables).union(*(a.free_symbols for a in exprs))
+        self.symbols = sorted(symbols, key=str)
+        self.function = PointFunction(sp.Matrix([*exprs, *slopes]), self.symbols)
+        self.count = len(rows)
+
+    def points(self) -> list[list[tuple[FormValues, FormValues]]]:
+        """At each probe where every value is finite: [(omega_j, d omega_j) for each form]."""
+        rng, n = random.Random(SEED), self.n
+        found: list[list[tuple[FormValues, FormValues]]] = []
+        for _ in range(PROBES):
+            values = self.function(random_values(self.symbols, rng))
+            if values is None:
+                continue
+            values = values.ravel()
+            a = values[: self.count * n].reshape(self.count, n)
+            slopes = values[self.count * n :].reshape(self.count, n, n)  # [form, k, i]
+            forms = []
+            for j in range(self.count):
+                omega: FormValues = {(k,): float(a[j, k]) for k in range(n)}
+                curl = slopes[j].T - slopes[j]  # curl[i, k] = da_k/dz_i - da_i/dz_k
+                d_omega: FormValues = {
+                    (i, k): float(curl[i, k]) for i in range(n) for k in range(i + 1, n)
+                }
+                forms.append((omega, d_omega))
+            found.append(forms)
+        return found
+
+
+def _scale(*forms: dict[tuple[int, ...], float]) -> float:
+    return float(np.prod([max(1.0, max(map(abs, f.values()), default=0.0)) for f in forms]))
+
+
+def _component(form: dict[tuple[int, ...], float], variables: Sequence[sp.Symbol]) -> str:
+    indices, value = max(form.items(), key=lambda item: abs(item[1]))
+    return f"its {'^'.join(f'd{variables[i]}' for i in indices)} component is {value:.3g}"
+
+
+def _probed_form(coefficients: Sequence[sp.Expr], variables: Sequence[sp.Symbol]) -> Integrability:
+    """:func:`integrate_form` for a large form, decided at random points."""
+    points = _ProbedForms([coefficients], variables).points()
+    exact = bool(points)
+    for [(omega, d_omega)] in points:
+        if max(map(abs, d_omega.values()), default=0.0) > RELATIVE_ZERO * _scale(d_omega):
+            exact = False
+        twisted = wedge_values(omega, d_omega)
+        if max(map(abs, twisted.values()), default=0.0) > RELATIVE_ZERO * _scale(omega, d_omega):
+            return Integrability(
+                False,
+                None,
+                None,
+                f"omega ^ d omega != 0 (at a random point {_component(twisted, variables)}), "
+                "so by Frobenius no h(q, t) has dh proportional to omega",
+            )
+    if exact:
+        return Integrability(
+            True, None, sp.Integer(1), "omega is exact (d omega = 0 at random points)"
+        )
+    return Integrability(
+        True,
+        None,
+        None,
+        "omega ^ d omega = 0 at random points, so an integrating factor exists (Frobenius); "
+        "the form is too large to seek it",
+    )
+
+
+def _probed_frobenius(forms: Sequence[Form], variables: Sequence[sp.Symbol]) -> tuple[bool, str]:
+    """:func:`frobenius` for large forms, decided at random points."""
+    n = len(variables)
+    rows = [[form.get((k,), sp.Integer(0)) for k in range(n)] for form in forms]
+    for probed in _ProbedForms(rows, variables).points():
+        product: dict[tuple[int, ...], float] = {(): 1.0}
+        for omega, _ in probed:
+            product = wedge_values(product, omega)
+        for i, (_, d_omega) in enumerate(probed):
+            twisted = wedge_values(d_omega, product)
+            scale = _scale(d_omega, *(omega for omega, _ in probed))
+            if max(map(abs, twisted.values()), default=0.0) > RELATIVE_ZERO * scale:
+                where = _component(twisted, variables)
+                return False, f"d omega_{i + 1} ^ omega_1 ^ ... != 0 (at a random point {where})"
+    return True, "d omega_i ^ omega_1 ^ ... ^ omega_m = 0 for every i, at random points"
