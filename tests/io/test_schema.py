@@ -111,8 +111,14 @@ def test_the_schema_refuses_what_the_loader_refuses(change: dict, match: str) ->
         loads(json.dumps(model), format="json")
 
 
+#: Keys of a model file that the loader turns into another field (inertia_about: the
+#: inertia moved to the centre of mass).
+READ_INTO_OTHERS = {"rigid_body": {"inertia_about"}}
+
+
 def test_every_entry_of_the_schema_has_the_keys_of_its_model_type() -> None:
     definitions = schema()["$defs"]
     for definition, kind in ELEMENT_TYPES.items():
         fields = {f.name for f in dataclasses.fields(kind)}
-        assert set(definitions[definition]["properties"]) == fields, definition
+        keys = set(definitions[definition]["properties"]) - READ_INTO_OTHERS.get(definition, set())
+        assert keys == fields, definition

@@ -28,7 +28,7 @@ from lagrangian.errors import ModelError
 from lagrangian.io.document import child
 from lagrangian.io.model_schema import entry_keys
 from lagrangian.io.reader import Reader, describe, suggestion
-from lagrangian.model.inertia import SHAPES, Shape, shape
+from lagrangian.model.inertia import SHAPES, Shape, central_inertia, shape
 from lagrangian.model.rotation import (
     AXIS_NAMES,
     EULER_SEQUENCES,
@@ -72,6 +72,31 @@ def read_inertia(reader: Reader, value: Any, path: str) -> Any:
     if isinstance(value, dict):
         return _read_shape(reader, value, path)
     return reader.expression(value, path)
+
+
+def about_the_centre(reader: Reader, values: dict[str, Any], path: str) -> dict[str, Any] | None:
+    """The fields of a rigid body whose ``inertia`` is given about the body point
+    ``inertia_about`` (from the centre of mass, body axes), with the inertia about the centre
+    instead (the parallel-axis theorem, :func:`lagrangian.model.inertia.central_inertia`); a
+    planar body's scalar I_P gives I_c = I_P - m |d|^2.  None after a recorded problem."""
+    values = dict(values)
+    offset, inertia, mass = values.pop("inertia_about"), values.get("inertia"), values.get("mass")
+    if inertia is None or mass is None:
+        return values  # the missing field is reported as such
+    if isinstance(inertia, Shape):
+        reader.problem(path, "a shape's inertia is about its centre", "leave out inertia_about")
+        return None
+    if isinstance(inertia, sp.MatrixBase):
+        if len(offset) != 3:
+            reader.problem(path, "a 3x3 inertia needs a point [dx, dy, dz]", "give three values")
+            return None
+        values["inertia"] = central_inertia(inertia, mass, [-d for d in offset])
+        return values
+    if len(offset) != 2:
+        reader.problem(path, "a planar body's point is [dx, dy]", "give two values")
+        return None
+    values["inertia"] = sp.expand(inertia - mass * (offset[0] ** 2 + offset[1] ** 2))
+    return values
 
 
 def _read_shape(reader: Reader, value: dict[str, Any], path: str) -> Shape | None:

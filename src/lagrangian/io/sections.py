@@ -19,7 +19,13 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.io.bodies import read_axis, read_inertia, read_orientation, read_rotations
+from lagrangian.io.bodies import (
+    about_the_centre,
+    read_axis,
+    read_inertia,
+    read_orientation,
+    read_rotations,
+)
 from lagrangian.io.document import child
 from lagrangian.io.model_schema import entry_keys
 from lagrangian.io.reader import Reader, describe, suggestion
@@ -146,6 +152,8 @@ def read_fields(
             values[key] = reader.text(value, where)
         elif key == "inertia":
             values[key] = read_inertia(reader, value, where)
+        elif key == "inertia_about":
+            values[key] = reader.vector(value, where)
         elif key == "orientation":
             values[key] = read_orientation(reader, value, where)
         elif key == "rotations":
@@ -194,6 +202,8 @@ def read_elements(
     elements = []
     for path, entry in reader.entries(value, section, definition):
         values = read_fields(reader, entry, path, coordinates)
+        if values is not None and "inertia_about" in values:
+            values = about_the_centre(reader, values, child(path, "inertia_about"))
         if values is not None and required <= set(values):
             elements.append((path, kind(**values)))
     return elements
