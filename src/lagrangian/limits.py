@@ -153,7 +153,17 @@ def time_limit(
         time.monotonic() + limit_seconds, message or limit_message(limit_seconds, what, fix)
     )
     with _timer(limit, outer_timer):
-        yield
+        try:
+            yield
+        except TimeLimitError:
+            raise
+        except BaseException as error:
+            # The interruption can land in code that catches every exception (SymPy's and
+            # SymEngine's conversions do) and turns it into another error: past the deadline,
+            # that error is the time limit's.
+            if time.monotonic() >= limit.deadline:
+                raise TimeLimitError(limit.message) from error
+            raise
 
 
 def bounded(what: str) -> Callable[[F], F]:

@@ -28,12 +28,6 @@ import lagrangian as lg
 from lagrangian.model.contact import contact_point
 
 slow = pytest.mark.slow
-#: The linearization on the constraint manifold classifies the constraints first
-#: (lagrangian.constraints.classify, its integrability test), which has not finished on the
-#: bicycle's front-wheel constraints within 5 minutes of CPU time; these run once it does.
-needs_fast_classify = pytest.mark.skip(
-    reason="constraint classification of the bicycle is not yet fast enough (issue 15, item 4)"
-)
 
 G = 9.81
 R_REAR, R_FRONT = 0.3, 0.35
@@ -201,13 +195,11 @@ def test_the_written_out_positions_move_with_their_bodies() -> None:
 
 @pytest.mark.parametrize("name", ["M", "C1", "K0", "K2"])
 @slow
-@needs_fast_classify
 def test_the_linearized_lean_and_steer_equations_match_the_paper(name: str) -> None:
     np.testing.assert_allclose(_matrices()[name], PAPER[name], rtol=0, atol=1e-10)
 
 
 @slow
-@needs_fast_classify
 def test_the_speed_enters_as_the_paper_says() -> None:
     """M constant, damping v C1, stiffness g K0 + v^2 K2: checked at a third speed."""
     mass, stiffness, damping = _lean_steer(5.0)
@@ -219,13 +211,11 @@ def test_the_speed_enters_as_the_paper_says() -> None:
 
 @pytest.mark.parametrize("speed", sorted(TABLE_2))
 @slow
-@needs_fast_classify
 def test_the_eigenvalues_match_table_2(speed: float) -> None:
     np.testing.assert_allclose(_eigenvalues(_matrices(), speed), _sorted(TABLE_2[speed]), atol=1e-8)
 
 
 @slow
-@needs_fast_classify
 def test_the_linearization_at_5_m_s_has_the_published_eigenvalues() -> None:
     """lagrangian's own eigenvalues of the 10-state reduced system: the four of Table 2 and
     zeros (position, heading, wheel angles and the rear wheel's rate are neutral)."""
@@ -237,7 +227,6 @@ def test_the_linearization_at_5_m_s_has_the_published_eigenvalues() -> None:
 
 
 @slow
-@needs_fast_classify
 def test_the_weave_and_capsize_speeds_match_the_paper() -> None:
     weave, capsize = _weave_and_capsize_speeds(_matrices())
     assert weave == pytest.approx(WEAVE_SPEED, abs=1e-8)
