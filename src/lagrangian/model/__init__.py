@@ -16,7 +16,7 @@ from lagrangian.model.circuit import (
     VoltageSource,
 )
 from lagrangian.model.constraints import Holonomic, Unilateral, VelocityConstraint
-from lagrangian.model.contact import RollingDisc
+from lagrangian.model.contact import RollingDisc, rolling_sphere
 from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque
 from lagrangian.model.frames import Frame
 from lagrangian.model.inertia import Shape, shape
@@ -60,6 +60,7 @@ __all__ = [
     "from_time_functions",
     "inertia",
     "quaternion_rotation",
+    "rolling_sphere",
     "rotation",
     "rotation_sequence",
     "shape",
