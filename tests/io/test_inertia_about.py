@@ -72,3 +72,12 @@ def test_bad_points_are_refused_by_field(change: tuple[str, str], words: str) ->
         lg.loads(text)
     problem = refused.value.problems[0]
     assert problem.field.endswith("inertia_about") and words in problem.fix
+
+
+def test_a_shape_that_is_not_a_name_is_refused() -> None:
+    text = ROD_3D.replace(
+        "inertia: [[m*L**2/3, 0, 0], [0, m*L**2/3, 0], [0, 0, 0]]", "inertia: {shape: []}"
+    ).replace("    inertia_about: [0, 0, -L/2]\n", "")
+    with pytest.raises(ModelError) as refused:  # found by the fuzz run of the loader
+        lg.loads(text)
+    assert refused.value.problems[0].field.endswith("inertia.shape")

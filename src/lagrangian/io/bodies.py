@@ -106,7 +106,7 @@ def _read_shape(reader: Reader, value: dict[str, Any], path: str) -> Shape | Non
     if entry is None or "shape" not in entry:
         return None
     kind = entry["shape"]
-    if kind not in SHAPES:
+    if not isinstance(kind, str) or kind not in SHAPES:
         fix = suggestion(str(kind), SHAPES, "use one of " + ", ".join(SHAPES))
         reader.problem(child(path, "shape"), f"unknown shape {describe(kind)}", fix)
         return None
