@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 import sympy as sp
 import sympy.physics.mechanics as me
+from kane_rolling import numbers, plain_symbols
 
 import lagrangian as lg
 from lagrangian.constraints import classify, constrained_equations
@@ -140,15 +141,8 @@ def _kane() -> tuple[me.KanesMethod, list, list]:
     inertia = me.inertia(disc, m * r**2 / 4, m * r**2 / 2, m * r**2 / 4)
     body = me.RigidBody("disc", centre, disc, m, (inertia, centre))
     kane.kanes_equations([body], [(centre, -m * g * world.z)])
-    plain = {TIME: t}
-    for qi, ui in zip(q, u):
-        plain[ui] = sp.Symbol(qi.func.__name__ + "_dot")
-        plain[qi] = sp.Symbol(qi.func.__name__)
+    plain = plain_symbols(q, u)
     return kane, [s.xreplace(plain) for s in slip], plain
-
-
-def _numbers(expr: sp.Basic, values: dict) -> np.ndarray:
-    return np.array(sp.Matrix(expr).xreplace(values).evalf(30), dtype=float)
 
 
 def test_the_accelerations_match_kanes_method_at_random_rolling_states() -> None:
@@ -166,11 +160,11 @@ def test_the_accelerations_match_kanes_method_at_random_rolling_states() -> None
         values[x_dot] = values[x_dot] - float(slip[0].xreplace(values))
         values[y_dot] = values[y_dot] - float(slip[1].xreplace(values))
         solution = np.linalg.solve(
-            _numbers(equations.augmented_matrix, values),
-            _numbers(equations.augmented_rhs, values)[:, 0],
+            numbers(equations.augmented_matrix, values),
+            numbers(equations.augmented_rhs, values)[:, 0],
         )
-        mass = _numbers(kane.mass_matrix_full.xreplace(plain), values)
-        forcing = _numbers(kane.forcing_full.xreplace(plain), values)[:, 0]
+        mass = numbers(kane.mass_matrix_full.xreplace(plain), values)
+        forcing = numbers(kane.forcing_full.xreplace(plain), values)[:, 0]
         theirs = np.linalg.solve(mass, forcing)[5:]  # (q_dot, then u_dot in mechanics' order)
         order = [2, 3, 4, 0, 1]  # mechanics: independent speeds first
         np.testing.assert_allclose(solution[:5][order], theirs, rtol=1e-9, atol=1e-9)

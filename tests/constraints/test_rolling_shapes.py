@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 import sympy as sp
 import sympy.physics.mechanics as me
+from kane_rolling import numbers, plain_symbols
 
 import lagrangian as lg
 from lagrangian.constraints import constrained_equations
@@ -80,15 +81,8 @@ def _kane_torus() -> tuple[me.KanesMethod, list, dict]:
     )
     body = me.RigidBody("wheel", centre, disc, m, (me.inertia(disc, A, C, A), centre))
     kane.kanes_equations([body], [(centre, -m * g * world.z)])
-    plain = {TIME: t}
-    for qi, ui in zip(q, u):
-        plain[ui] = sp.Symbol(qi.func.__name__ + "_dot")
-        plain[qi] = sp.Symbol(qi.func.__name__)
+    plain = plain_symbols(q, u)
     return kane, [s.xreplace(plain) for s in slip], plain
-
-
-def _numbers(expr: sp.Basic, values: dict) -> np.ndarray:
-    return np.array(sp.Matrix(expr).xreplace(values).evalf(30), dtype=float)
 
 
 def test_the_torus_wheel_matches_kanes_method_at_random_rolling_states() -> None:
@@ -105,11 +99,11 @@ def test_the_torus_wheel_matches_kanes_method_at_random_rolling_states() -> None
         values[x_dot] = values[x_dot] - float(slip[0].xreplace(values))
         values[y_dot] = values[y_dot] - float(slip[1].xreplace(values))
         solution = np.linalg.solve(
-            _numbers(equations.augmented_matrix, values),
-            _numbers(equations.augmented_rhs, values)[:, 0],
+            numbers(equations.augmented_matrix, values),
+            numbers(equations.augmented_rhs, values)[:, 0],
         )
-        mass = _numbers(kane.mass_matrix_full.xreplace(plain), values)
-        forcing = _numbers(kane.forcing_full.xreplace(plain), values)[:, 0]
+        mass = numbers(kane.mass_matrix_full.xreplace(plain), values)
+        forcing = numbers(kane.forcing_full.xreplace(plain), values)[:, 0]
         theirs = np.linalg.solve(mass, forcing)[5:]
         order = [2, 3, 4, 0, 1]  # mechanics: independent speeds first
         np.testing.assert_allclose(solution[:5][order], theirs, rtol=1e-9, atol=1e-9)
@@ -146,8 +140,8 @@ def _accelerations(system: System, values: dict) -> np.ndarray:
     equations = constrained_equations(system)
     n = len(system.coordinates)
     solution = np.linalg.solve(
-        _numbers(equations.augmented_matrix, values),
-        _numbers(equations.augmented_rhs, values)[:, 0],
+        numbers(equations.augmented_matrix, values),
+        numbers(equations.augmented_rhs, values)[:, 0],
     )
     return solution[:n]
 
