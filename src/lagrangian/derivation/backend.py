@@ -14,6 +14,7 @@ import symengine as se
 import sympy as sp
 
 from lagrangian.model.conversion import to_sympy
+from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.model.nonsmooth import piecewise_smooth
 
 Backend = Any  # a symengine expression
@@ -87,16 +88,37 @@ class SympyView:
         return -value if flipped and function is sp.sin else value
 
     def vector(self, values: Iterable[Backend]) -> sp.ImmutableMatrix:
-        return sp.ImmutableMatrix([self(v) for v in values])
+        entries = list(values)
+        return _remember(sp.ImmutableMatrix([self(v) for v in entries]), entries)
 
     def matrix(self, rows: Sequence[Sequence[Backend]]) -> sp.ImmutableMatrix:
-        return sp.ImmutableMatrix([[self(v) for v in row] for row in rows])
+        converted = sp.ImmutableMatrix([[self(v) for v in row] for row in rows])
+        return _remember(converted, [v for row in rows for v in row])
 
     def symmetric_matrix(self, rows: Sequence[Sequence[Backend]]) -> sp.ImmutableMatrix:
         """Convert the upper triangle only and mirror it."""
         n = len(rows)
         upper = {(j, k): self(rows[j][k]) for j in range(n) for k in range(j, n)}
-        return sp.ImmutableMatrix(n, n, lambda j, k: upper[(min(j, k), max(j, k))])
+        converted = sp.ImmutableMatrix(n, n, lambda j, k: upper[(min(j, k), max(j, k))])
+        entries = [rows[min(j, k)][max(j, k)] for j in range(n) for k in range(n)]
+        return _remember(converted, entries)
+
+
+#: The backend entries each matrix a SympyView converted came from, row by row: numeric code
+#: compiles those directly instead of converting the SymPy matrix back (a tenth of the
+#: compile time of a 10-link pendulum's equations).
+_SOURCES: IdentityCache[sp.ImmutableMatrix, tuple[Backend, ...]] = IdentityCache()
+
+
+def _remember(converted: sp.ImmutableMatrix, entries: Sequence[Backend]) -> sp.ImmutableMatrix:
+    _SOURCES.get(converted, lambda _: tuple(entries))
+    return converted
+
+
+def backend_entries(matrix: Any) -> tuple[Backend, ...] | None:
+    """The SymEngine entries (row by row) that ``matrix`` was converted from by a
+    :class:`SympyView`, or None for a matrix built any other way."""
+    return _SOURCES.peek(matrix) if isinstance(matrix, sp.ImmutableMatrix) else None
 
 
 def _symbol_difference(argument: sp.Expr) -> tuple[sp.Symbol, sp.Symbol, bool] | None:

@@ -60,6 +60,11 @@ class IdentityCache(Generic[K, V]):
         entries[ident] = (weakref.ref(key, forget), value)
         return value
 
+    def peek(self, key: K) -> V | None:
+        """The cached value for ``key``, or None when there is none (nothing is computed)."""
+        entry = self._entries.get(id(key))
+        return entry[1] if entry is not None and entry[0]() is key else None
+
     def __len__(self) -> int:
         return len(self._entries)
 

@@ -49,6 +49,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from lagrangian.derivation.backend import backend_entries
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.model.nonsmooth import piecewise_smooth
@@ -124,7 +125,13 @@ def c_function(
     """``expressions`` of the vector ``symbols`` compiled by SymEngine's LLVM backend as one
     C function ``f(out, in, user_data)`` (:mod:`~lagrangian.numerics.fast.native`), or None
     where it cannot compile them (this path never falls back on numba)."""
-    compiled = llvm_function(symbols, [piecewise_smooth(e) for e in expressions])
+    return _native_function(symbols, [piecewise_smooth(e) for e in expressions])
+
+
+def _native_function(
+    symbols: Sequence[sp.Symbol], expressions: Sequence[Any], *, backend: bool = False
+) -> NativeFunction | None:
+    compiled = llvm_function(symbols, expressions, backend=backend)
     if compiled is None:
         return None
     trampoline, user_data = compiled.as_ctypes()
@@ -141,7 +148,9 @@ def c_function(
 def _build(eom: EquationsOfMotion) -> FastEquations | None:
     equations = state_equations(eom)
     velocities = [eom.velocities[j] for j in equations.second]
-    function = loop_function(eom, [*equations.matrix, *equations.vector])
+    function = _from_backend(eom, equations.matrix, equations.vector)
+    if function is None:
+        function = loop_function(eom, [*equations.matrix, *equations.vector])
     if function is None:
         return None
     return FastEquations(
@@ -153,6 +162,18 @@ def _build(eom: EquationsOfMotion) -> FastEquations | None:
         size=len(equations.vector),
         function=function,
     )
+
+
+def _from_backend(
+    eom: EquationsOfMotion, matrix: sp.ImmutableMatrix, vector: sp.ImmutableMatrix
+) -> NativeFunction | None:
+    """The loop's function compiled from the SymEngine entries the derivation converted to
+    ``matrix`` and ``vector`` (no conversion back from SymPy), or None when they were built
+    otherwise or contain what SymEngine cannot compile (the SymPy form resolves those)."""
+    entries = backend_entries(matrix), backend_entries(vector)
+    if entries[0] is None or entries[1] is None:
+        return None
+    return _native_function(state_symbols(eom), [*entries[0], *entries[1]], backend=True)
 
 
 def state_matrix(fast: FastEquations, t: float, x: np.ndarray, p: np.ndarray) -> np.ndarray:

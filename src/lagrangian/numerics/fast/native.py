@@ -83,14 +83,20 @@ def native_function(symbols: Sequence[sp.Symbol], expressions: Sequence[sp.Expr]
     return _numba_function(symbols, expressions)
 
 
-def llvm_function(symbols: Sequence[sp.Symbol], expressions: Sequence[sp.Expr]) -> Any:
-    """The ``symengine.Lambdify`` of ``expressions`` compiled by LLVM with common
-    subexpressions computed once, or None where SymEngine cannot compile them."""
+def llvm_function(
+    symbols: Sequence[sp.Symbol], expressions: Sequence[Any], *, backend: bool = False
+) -> Any:
+    """The ``symengine.Lambdify`` of ``expressions`` (SymPy, or SymEngine when ``backend``)
+    compiled by LLVM with common subexpressions computed once, or None where SymEngine
+    cannot compile them."""
     # SymEngine's CSE names its temporaries x0, x1, ...: a user's x1 would be taken for one,
     # so every argument gets a name no model can have
     renamed = {se.sympify(s): se.Symbol(f"_arg{i}_") for i, s in enumerate(symbols)}
     try:
-        converted = [se.sympify(_without_heaviside(e)).xreplace(renamed) for e in expressions]
+        if backend:
+            converted = [e.xreplace(renamed) for e in expressions]
+        else:
+            converted = [se.sympify(_without_heaviside(e)).xreplace(renamed) for e in expressions]
         return se.Lambdify(list(renamed.values()), converted, backend="llvm", cse=True)
     except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
         return None
