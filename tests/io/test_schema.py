@@ -112,8 +112,13 @@ def test_the_schema_refuses_what_the_loader_refuses(change: dict, match: str) ->
 
 
 #: Keys of a model file that the loader turns into another field (inertia_about: the
-#: inertia moved to the centre of mass).
-READ_INTO_OTHERS = {"rigid_body": {"inertia_about"}}
+#: inertia moved to the centre of mass; a force's offset: the force at the centre and its
+#: moment; a torque's by and frame: the reaction, generalized forces of a frame).
+READ_INTO_OTHERS = {
+    "rigid_body": {"inertia_about"},
+    "force": {"offset"},
+    "torque": {"by", "frame"},
+}
 
 
 def test_every_entry_of_the_schema_has_the_keys_of_its_model_type() -> None:

@@ -89,9 +89,37 @@ def test_a_torque_on_a_frame_gives_the_generalized_forces_of_its_rotation() -> N
     assert dict(frame_torque(direct, [a, b], (0, 0, tau))) == {a: tau}
 
 
+def test_a_force_at_a_planar_body_point_does_the_work_of_that_material_point() -> None:
+    """A planar block at (x, y) turned by a: Q_j = F . d(p + R(a) k)/dq_j."""
+    block = RigidBody("block", m, 1, (x, y), angle=a)
+    k, push = (sp.Rational(1, 3), -2), (F, 2 * F)
+    force, moment = force_at_point(block, k, push)
+    system = System(coordinates=[x, y, a], parameters=[m, F], rigid_bodies=[block])
+    ours = lg.derive(system.replace(forces=[force], torques=[moment])).generalized_forces
+    turn = sp.Matrix([[sp.cos(a), -sp.sin(a)], [sp.sin(a), sp.cos(a)]])
+    point = sp.Matrix([x, y]) + turn * sp.Matrix(k)
+    for j, q in enumerate(system.coordinates):
+        assert sp.simplify(ours[j] - sp.Matrix(push).dot(point.diff(q))) == 0
+
+
+def test_a_planar_torque_pair_is_a_scalar_and_its_reaction() -> None:
+    pair = torque_pair("rotor", "stator", tau, name="motor")
+    assert [(t.body, t.torque, t.name) for t in pair] == [
+        ("rotor", tau, "motor"),
+        ("stator", -tau, "motor reaction"),
+    ]
+
+
 def test_bad_loads_are_refused_with_the_fix() -> None:
     planar = RigidBody("disc", m, 1, (x, y), angle=a)
-    with pytest.raises(ModelError, match=r"'disc' is not a 3-D rigid body.*orientation"):
+    with pytest.raises(ModelError, match=r"offset: not a 2-vector.*\[dx, dy\]"):
         force_at_point(planar, (1, 0, 0), (F, 0, 0))
+    with pytest.raises(ModelError, match=r"force: not a 2-vector"):
+        force_at_point(planar, (1, 0), (F, 0, 0))
+    unoriented = RigidBody("box", m, sp.eye(3), (x, y, z))
+    with pytest.raises(ModelError, match=r"'box' is not a 3-D rigid body.*orientation"):
+        force_at_point(unoriented, (1, 0, 0), (F, 0, 0))
     with pytest.raises(ModelError, match=r"torque needs 3 components"):
         torque_pair("fork", "frame", (0, tau))
+    with pytest.raises(ModelError, match=r"by: a torque pair needs two bodies, got 'fork' twice"):
+        torque_pair("fork", "fork", (0, 0, tau))

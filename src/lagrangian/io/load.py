@@ -21,6 +21,7 @@ from typing import Any
 import sympy as sp
 
 from lagrangian.errors import ExpressionError, ModelError, Problem, raise_if_problems
+from lagrangian.io.applied import Loads, apply_loads, read_loads
 from lagrangian.io.declarations import (
     expression_names,
     read_coordinates,
@@ -107,8 +108,9 @@ def _guess_format(text: str) -> str:
 
 def _load_text(text: str, format: str, source: str, default_name: str) -> System:
     document, problems = _read_document(text, format, source)
-    fields, system_paths = _read_model(document, problems, default_name)
-    try:
+    fields, system_paths, loads = _read_model(document, problems, default_name)
+    try:  # the loads need the bodies' orientations: their paths are known once applied
+        system_paths = {**apply_loads(fields, loads), **system_paths}
         system = System(**fields)
     except ModelError as exc:  # the System's own checks, moved to their place in the file
         located = [_locate(p, document, system_paths) for p in exc.problems]
@@ -131,8 +133,9 @@ def _read_document(text: str, format: str, source: str) -> tuple[Document, list[
 
 def _read_model(
     document: Document, problems: list[Problem], default_name: str
-) -> tuple[dict[str, Any], dict[str, str]]:
-    """System keyword arguments read from the file, and System field -> path in the file."""
+) -> tuple[dict[str, Any], dict[str, str], Loads]:
+    """System keyword arguments read from the file, System field -> path in the file, and
+    the forces and torques (:func:`lagrangian.io.applied.apply_loads` puts them in)."""
     reader = Reader(document)
     reader.problems.extend(problems)
     data = _top_level(reader, document.data)
@@ -154,8 +157,11 @@ def _read_model(
     if "gravity" in data:
         fields["gravity"] = reader.vector(data["gravity"], "gravity")
     for section, definition in MECHANICAL_SECTIONS.items():
+        if section in ("forces", "torques"):
+            continue  # read with the loads below
         elements = read_elements(reader, data.get(section, []), section, definition, coordinates)
         fields[section] = [element for _, element in elements]
+    loads = read_loads(reader, data, coordinates)
     circuit = read_circuit(reader, data, coordinates)
     fields["circuit"] = [element for _, element in circuit]
     constraints = read_constraints(reader, data)
@@ -166,7 +172,7 @@ def _read_model(
         paths[f"constraints[{i}].expression"] = path
         paths[f"constraints[{i}]"] = parent(path) or path
     paths.update({f"coordinates.{q}": f"coordinates[{i}]" for i, q in enumerate(coordinates)})
-    return fields, paths
+    return fields, paths, loads
 
 
 def _top_level(reader: Reader, data: Any) -> dict[str, Any]:

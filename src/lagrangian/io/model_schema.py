@@ -5,8 +5,8 @@ and requires from it, so the schema and the loader cannot drift apart.
 
 >>> schema()["required"]
 ['coordinates']
->>> sorted(entry_keys("torque").required)
-['body', 'torque']
+>>> sorted(entry_keys("spring").required)
+['between', 'stiffness']
 """
 
 from __future__ import annotations

@@ -108,6 +108,9 @@ _READ_AS = {
     "at": "point",
     "body": "name",
     "parent": "name",
+    "offset": "vector",  # a force's body point
+    "by": "name",  # the body or frame that exerts a torque
+    "frame": "name",  # the frame a torque acts on
 }
 
 
