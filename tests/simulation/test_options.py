@@ -142,11 +142,15 @@ def test_every_method_of_the_table_simulates(name: str) -> None:
     assert run.method == name and run.success
 
 
-def test_a_batch_takes_the_methods_of_its_loops_and_no_constraints() -> None:
+def test_a_batch_takes_the_methods_of_its_loops_and_no_unilateral_constraints() -> None:
     with pytest.raises(SimulationInputError, match=r"simulate_batch has no method 'Radau'"):
         lg.simulate_batch(lg.examples.mass_on_spring(), SPRING, 1.0, method="Radau")
-    with pytest.raises(SimulationInputError, match=r"does not integrate constrained systems"):
-        lg.simulate_batch(cartesian_pendulum(), {**ON_THE_CIRCLE, "x": [1.0, 1.0]}, 1.0)
+    y = sp.Symbol("y")
+    floor = cartesian_pendulum(lg.Unilateral(y + 0.5, name="floor"))
+    with pytest.raises(SimulationInputError, match=r"does not integrate unilateral constraints"):
+        lg.simulate_batch(floor, {**ON_THE_CIRCLE, "x": [1.0, 1.0]}, 1.0)
+    batch = lg.simulate_batch(cartesian_pendulum(), {**ON_THE_CIRCLE, "x": [1.0, 1.0]}, 1.0)
+    assert batch.multiplier_names == ("lambda_1",)
 
 
 # --- bad input is a SimulationInputError everywhere -----------------------------------------

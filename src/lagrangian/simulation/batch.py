@@ -6,6 +6,9 @@ members are integrated in one call, each with its own adaptive steps, so member 
 (:mod:`lagrangian.simulation.batch_numpy`); "numba" runs each member through the compiled loop
 (:mod:`lagrangian.numerics.fast`).  A stop condition ``stop_when(t, q, q_dot)`` ends a member
 where it turns negative and records that time (the flip time of a pendulum, a collision...).
+A System with holonomic or velocity constraints runs each member in the multiplier form, as
+``simulate`` runs it, and the Batch holds the multipliers and the constraint residual
+(:mod:`lagrangian.simulation.batch_constrained`).
 
 >>> import numpy as np, lagrangian as lg
 >>> batch = simulate_batch(lg.examples.simple_pendulum(), {"theta": [0.1, 0.2]}, 1.0,
@@ -18,24 +21,31 @@ where it turns negative and records that time (the flip time of a pendulum, a co
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+import dataclasses
+from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from lagrangian.constraints import constrained_equations
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.fast.outcome import FINISHED, STOPPED, describe
 from lagrangian.numerics.fast.settings import Settings
+from lagrangian.simulation.batch_constrained import (
+    constraint_problems,
+    simulated_members,
+    started_members,
+)
 from lagrangian.simulation.batch_inputs import BatchInputs, checked_batch
-from lagrangian.simulation.batch_native import native_members
+from lagrangian.simulation.batch_native import native_constrained_members, native_members
 from lagrangian.simulation.batch_numpy import integrate_members
-from lagrangian.simulation.batch_result import Batch
+from lagrangian.simulation.batch_result import Batch, ConstraintRows
 from lagrangian.simulation.compiled_run import loop_settings
-from lagrangian.simulation.options import StepKeywords, check_keywords
+from lagrangian.simulation.options import Options, StepKeywords, check_keywords
 from lagrangian.simulation.progress_bar import progress_bar
 from lagrangian.simulation.setup import collect, describe_system, options_for
 
@@ -53,6 +63,8 @@ def simulate_batch(
     *,
     parameters: Mapping[Any, ArrayLike] | None = None,
     stop_when: StopCondition | None = None,
+    baumgarte: tuple[float, float] | None = None,
+    project_initial: bool = False,
     backend: str = "numpy",
     progress: bool | Callable[[float], None] = False,
     workers: int = 1,
@@ -74,8 +86,15 @@ def simulate_batch(
         output (``Batch.stop_time``).  backend "numpy" calls it with arrays t (m,), q and
         q_dot (m, n) of the running members, "numba" compiles it and calls it per member
         with a float t and 1-d q, q_dot: write it with ``q[..., j]`` to serve both.
+    baumgarte, project_initial:
+        With constraints, as for :func:`lagrangian.simulation.simulate`: Baumgarte's
+        (alpha, beta) (default off), and moving each member's start onto the constraints
+        (else members that start off them are refused).  A constrained batch runs RK45 and
+        DOP853 member by member in the C loop, else (no C compiler, RK4, a stop condition
+        SymEngine cannot compile) ``simulate`` runs each member: slower, the same members.
+        Unilateral constraints are refused.
     backend:
-        "numpy" (default) or "numba" (``pip install lagrangian[fast]``).
+        "numpy" (default) or "numba" (``pip install lagrangian[fast]``; no constraints).
     progress:
         True: a bar on standard error (over time for numpy, over members for numba); or a
         callback taking the time (numpy) or the number of members done (numba).
@@ -85,13 +104,24 @@ def simulate_batch(
     Raises
     ------
     SimulationInputError
-        Bad input, every problem listed, naming the field (constrained systems too: simulate
-        them member by member).
+        Bad input, every problem listed, naming the field (members that start off the
+        constraints by index).
     """
     eom, compiled, batch = prepared_batch(
-        system_or_eom, initial, parameters, t_span, stepping, backend, "simulate_batch"
+        system_or_eom,
+        initial,
+        parameters,
+        t_span,
+        stepping,
+        backend,
+        "simulate_batch",
+        baumgarte=baumgarte,
+        project_initial=project_initial,
     )
     loops = loop_settings(batch.inputs, batch.t_out)
+    if batch.options is not None and batch.options.constraints:
+        bar = _bar(progress, *batch.inputs.t_span, "t = ")
+        return _constrained(eom, compiled, batch, batch.options, loops, stop_when, bar)
     if backend == "numba":
         out, status, t_final, x_final = _numba_members(
             eom, batch, loops, stop_when, progress, workers
@@ -114,21 +144,59 @@ def prepared_batch(
     stepping: Mapping[str, Any],
     backend: str,
     driver: str,
+    **options: Any,
 ) -> tuple[EquationsOfMotion, CompiledEquations, BatchInputs]:
     """The equations, their compiled form and the checked members of a batch, without
-    integrating; SimulationInputError lists every problem (``driver`` names the caller)."""
+    integrating; SimulationInputError lists every problem (``driver`` names the caller).
+    ``options``: baumgarte and project_initial (checked as simulate checks them, the
+    members of a constrained system started on the constraints)."""
     check_keywords(stepping, driver)
     eom, system, fallbacks = describe_system(system_or_eom)
     compiled = compile_equations(eom)
     problems: list[Problem] = []
+    # a constrained batch takes simulate's options; what it does not take is refused below
+    loops = "simulate" if system.constraints else "simulate_batch"
     chosen = options_for(
-        system, compiled, stepping, fallbacks, backend=backend, driver="simulate_batch"
+        system, compiled, stepping, fallbacks, backend=backend, driver=loops, **options
     )
-    collect(problems, chosen)
+    checked = collect(problems, chosen)
+    if checked is not None and checked.constraints:
+        problems.extend(constraint_problems(checked))
     given = {"initial": initial, "parameters": parameters, "t_span": t_span, **stepping}
     batch, found = checked_batch(compiled, given, fallbacks)
-    raise_if_problems(problems + found, f"Cannot run {driver}", SimulationInputError)
-    return eom, compiled, batch
+    problems += found
+    if not problems and checked is not None and checked.constraints:
+        equations = constrained_equations(eom, checked.constraints)
+        X0, found = started_members(system, equations, compiled, batch, checked)
+        problems += found
+        batch = dataclasses.replace(batch, X0=X0)
+    raise_if_problems(problems, f"Cannot run {driver}", SimulationInputError)
+    return eom, compiled, dataclasses.replace(batch, options=checked)
+
+
+def _constrained(
+    eom: EquationsOfMotion,
+    compiled: CompiledEquations,
+    batch: BatchInputs,
+    options: Options,
+    settings: Settings,
+    stop_when: StopCondition | None,
+    progress: Callable[[float], None] | None,
+) -> Batch:
+    """A batch of a constrained system: in the C loop, else member by member through
+    simulate (:mod:`lagrangian.simulation.batch_constrained`)."""
+    equations = constrained_equations(eom, options.constraints)
+    gains = options.gains
+    native = native_constrained_members(
+        eom, equations, settings, batch.X0, batch.P, gains, stop_when, progress
+    )
+    if native is not None:
+        (out, status, t_final, x_final), rows = native
+        return _result(compiled, batch, "numpy", out, status, t_final, x_final, rows)
+    members, rows, messages = simulated_members(
+        eom, equations, compiled, batch, options, stop_when, progress
+    )
+    return _result(compiled, batch, "numpy", *members, rows, messages)
 
 
 def _numba_members(
@@ -163,8 +231,11 @@ def _result(
     status: np.ndarray,
     t_final: np.ndarray,
     x_final: np.ndarray,
+    constraints: ConstraintRows | None = None,
+    failures: Sequence[str | None] = (),
 ) -> Batch:
-    """The Batch value: velocities and energies of every output row, statuses and messages."""
+    """The Batch value: velocities and energies of every output row, statuses and messages
+    (``failures``: a member's own message where it failed), the constraint rows."""
     k, n = batch.size, len(compiled.coordinates)
     T = len(batch.t_out)
     states = out.reshape(k * T, -1)
@@ -175,7 +246,11 @@ def _result(
     energy = compiled.energy(q, q_dot, times, P) if k * T else np.zeros(0)
     words = {FINISHED: "success", STOPPED: "stopped"}
     names = [words.get(int(s), "failed") for s in status]
-    messages = [_message(int(s), float(t)) for s, t in zip(status, t_final)]
+    given = list(failures) + [None] * (len(status) - len(failures))
+    messages = [m or _message(int(s), float(t)) for m, s, t in zip(given, status, t_final)]
+    columns = {}
+    if constraints is not None:  # the fields of ConstraintRows are Batch's of the same names
+        columns = {f.name: getattr(constraints, f.name) for f in dataclasses.fields(constraints)}
     inputs = batch.inputs
     return Batch(
         t=batch.t_out,
@@ -193,6 +268,7 @@ def _result(
         parameters={name: batch.P[:, j] for j, name in enumerate(compiled.parameters)},
         method=inputs.method,
         backend=backend,
+        **columns,
     )
 
 

@@ -29,16 +29,19 @@ from lagrangian.errors import Problem
 from lagrangian.model.symbols import name_of
 from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.simulation.inputs import Fallbacks, Inputs, checked_inputs
+from lagrangian.simulation.options import Options
 
 
 @dataclass(frozen=True)
 class BatchInputs:
-    """Checked inputs of a batch: member 0's Inputs, one state and parameter row per member."""
+    """Checked inputs of a batch: member 0's Inputs, one state and parameter row per member,
+    the output times, and the checked options (None until the caller has checked them)."""
 
     inputs: Inputs
     X0: np.ndarray
     P: np.ndarray
     t_out: np.ndarray
+    options: Options | None = None
 
     @property
     def size(self) -> int:

@@ -2,7 +2,9 @@
 
 Member i has the rows ``q[i]``, ``q_dot[i]``, ``energy[i]`` at the shared output times ``t``
 (NaN after it stopped or failed), a status (``success``, ``stopped`` or ``failed``), and a final
-state: at the end of the time span, at its stop (``stop_time``), or at its last step.
+state: at the end of the time span, at its stop (``stop_time``), or at its last step.  A batch
+of a constrained system also holds the multipliers ``multipliers[i]`` (lambda_j at each row)
+and the constraint residual of every row and of the final state.
 
 >>> import numpy as np
 >>> batch = Batch(t=[0.0, 1.0], q=np.zeros((2, 2, 1)), q_dot=np.zeros((2, 2, 1)),
@@ -28,6 +30,19 @@ from lagrangian.simulation.trajectory import DOT, Event, Rows, Trajectory, traje
 
 
 @dataclass(frozen=True, eq=False)
+class ConstraintRows:
+    """The constraint columns of a batch's members (the fields of :class:`Batch` of the same
+    names): multipliers (k, T, m) and residuals (k, T) at the output rows, NaN where a
+    member has no row, and both at each member's final state, (k, m) and (k,)."""
+
+    multiplier_names: tuple[str, ...]
+    multipliers: np.ndarray
+    constraint_residual: np.ndarray
+    final_multipliers: np.ndarray
+    final_constraint_residual: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
 class Batch:
     """k members integrated together (see the module docstring).
 
@@ -47,6 +62,11 @@ class Batch:
         The initial state and the parameter values of every member, by name, arrays (k,).
     method, backend:
         How it was integrated.
+    multiplier_names, multipliers, constraint_residual:
+        With constraints: the names lambda_1, ..., the multipliers, shape (k, T, m), and the
+        largest constraint residual max(|h|, |A q_dot + b|), shape (k, T); else (), None.
+    final_multipliers, final_constraint_residual:
+        With constraints: both at the final state, shapes (k, m) and (k,); else None.
 
     Unlike a single simulation's Trajectory, a batch does not evaluate the energy function h
     (where it differs from T + V); ``trajectory(i)`` carries E = T + V only.
@@ -67,10 +87,27 @@ class Batch:
     parameters: Mapping[str, np.ndarray] = field(default_factory=dict)
     method: str = ""
     backend: str = "numpy"
+    multiplier_names: tuple[str, ...] = ()
+    multipliers: np.ndarray | None = None
+    constraint_residual: np.ndarray | None = None
+    final_multipliers: np.ndarray | None = None
+    final_constraint_residual: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         k, n = len(self.status), len(self.coordinates)
-        rows = len(np.asarray(self.t))
+        rows, m = len(np.asarray(self.t)), len(self.multiplier_names)
+        optional = {
+            "multipliers": (k, rows, m),
+            "constraint_residual": (k, rows),
+            "final_multipliers": (k, m),
+            "final_constraint_residual": (k,),
+        }
+        given = [name for name in optional if getattr(self, name) is not None]
+        if (given and len(given) < len(optional)) or bool(given) != bool(m):
+            raise SimulationError(
+                "Batch takes multiplier_names, multipliers, constraint_residual, "
+                "final_multipliers and final_constraint_residual together, or none of them."
+            )
         shapes = {
             "t": (rows,),
             "q": (k, rows, n),
@@ -80,6 +117,7 @@ class Batch:
             "final_q": (k, n),
             "final_q_dot": (k, n),
             "final_energy": (k,),
+            **{name: optional[name] for name in given},
         }
         for name, shape in shapes.items():
             array = np.array(getattr(self, name), dtype=float)
@@ -93,6 +131,7 @@ class Batch:
         object.__setattr__(self, "coordinates", tuple(self.coordinates))
         object.__setattr__(self, "status", tuple(self.status))
         object.__setattr__(self, "message", tuple(self.message))
+        object.__setattr__(self, "multiplier_names", tuple(self.multiplier_names))
 
     def __len__(self) -> int:
         return len(self.status)
@@ -125,6 +164,7 @@ class Batch:
             self.q_dot[i, rows],
             self.energy[i, rows],
         )
+        constraints = self._constraint_rows(i, rows)
         events: tuple[Event, ...] = ()
         if self.status[i] == "stopped":
             state = dict(zip(self.coordinates, self.final_q[i].tolist()))
@@ -134,6 +174,7 @@ class Batch:
                 t = np.append(t, self.final_t[i])
                 q, q_dot = np.vstack([q, self.final_q[i]]), np.vstack([q_dot, self.final_q_dot[i]])
                 energy = np.append(energy, self.final_energy[i])
+                constraints = self._constraint_rows(i, rows, final=True)
         return trajectory_of_rows(
             self.coordinates,
             Rows(t, q, q_dot, energy),
@@ -142,7 +183,24 @@ class Batch:
             message=self.message[i],
             method=self.method,
             parameters={name: float(values[i]) for name, values in self.parameters.items()},
+            **constraints,
         )
+
+    def _constraint_rows(self, i: int, rows: np.ndarray, final: bool = False) -> dict[str, Any]:
+        """The Trajectory fields of member i's multipliers and residuals at ``rows`` (and at
+        its final state); none without constraints."""
+        if self.multipliers is None or self.constraint_residual is None:
+            return {}
+        assert self.final_multipliers is not None and self.final_constraint_residual is not None
+        multipliers, residual = self.multipliers[i, rows], self.constraint_residual[i, rows]
+        if final:
+            multipliers = np.vstack([multipliers, self.final_multipliers[i]])
+            residual = np.append(residual, self.final_constraint_residual[i])
+        return {
+            "multipliers": multipliers,
+            "multiplier_names": self.multiplier_names,
+            "constraint_residual": residual,
+        }
 
     def __repr__(self) -> str:
         counts = {s: self.status.count(s) for s in ("success", "stopped", "failed")}

@@ -4,9 +4,11 @@ arrays of them.
 The System arrives once per worker (the sweep scatters it); :func:`lagrangian.derive` and the
 compilation are cached by its identity, so each worker derives and compiles once, whatever
 the number of blocks it runs.  A block runs as one compiled batch (:func:`lagrangian.
-simulate_batch`), or, for a system the batch loops do not integrate (constraints:
-``SweepVariables.per_member``), member by member with :func:`lagrangian.simulate`.  Both
-give one Trajectory per member (:mod:`lagrangian.sweeps.members`), and
+simulate_batch`; constrained systems, ``SweepVariables.per_member``, too: the multiplier form
+with project_initial), or, where the batch refuses the block (unilateral constraints, a member
+that starts off the constraints), member by member with :func:`lagrangian.simulate`, so that
+each member records its own reason.  Both give one Trajectory per member
+(:mod:`lagrangian.sweeps.members`), and
 :func:`chunk_of_members` makes the arrays of those, so the two paths store the same things.
 The result holds plain arrays, ready to be written.
 
@@ -78,7 +80,7 @@ def run_chunk(
     be integrated is recorded as ``failed`` with the reason, and the others keep their
     results."""
     if settings.variables.per_member:
-        members = [
+        members = _constrained_batch(system, initial, parameters, settings) or [
             simulate_member(
                 system,
                 _values(initial, i),
@@ -93,6 +95,30 @@ def run_chunk(
         ]
         return chunk_of_members(members, settings)
     return _batch_chunk(system, initial, parameters, settings)
+
+
+def _constrained_batch(
+    system: System,
+    initial: Mapping[str, Any],
+    parameters: Mapping[str, Any],
+    settings: ChunkSettings,
+) -> list[Trajectory] | None:
+    """The members of a constrained system's block as one batch (the multiplier form), or
+    None where the batch refuses or fails as a whole (then simulate runs each member)."""
+    try:
+        batch = simulate_batch(
+            system,
+            dict(initial),
+            settings.t_span,
+            parameters=dict(parameters),
+            stop_when=settings.stop_when,
+            backend=settings.backend,
+            project_initial=settings.project_initial,
+            **settings.stepping,
+        )
+    except Exception:  # each member then runs alone and records its own reason
+        return None
+    return batch_members(system, batch)
 
 
 def _batch_chunk(

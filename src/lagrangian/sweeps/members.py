@@ -1,8 +1,9 @@
 """The members of one block as Trajectories, whichever way they were integrated.
 
-A block is integrated as one compiled batch (:func:`lagrangian.simulate_batch`) where the
-batch loops take the system, and member by member with :func:`lagrangian.simulate`
-otherwise (constrained systems: the multiplier form).  Either way each member becomes the
+A block is integrated as one compiled batch (:func:`lagrangian.simulate_batch`, constrained
+systems in the multiplier form too), and member by member with :func:`lagrangian.simulate`
+where the batch refuses it (unilateral constraints, a member off the constraints).  Either
+way each member becomes the
 Trajectory a single ``simulate`` of it returns — its rows, the energy function h where it
 differs from T + V, the momenta of the cyclic coordinates, the multipliers, the constraint
 residual and which of its columns the system conserves

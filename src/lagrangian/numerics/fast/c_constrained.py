@@ -74,14 +74,16 @@ def constraint_rows(
     native: NativeConstrained, t: np.ndarray, x: np.ndarray, p: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """The multipliers (rows, m) and the largest constraint residual (rows,) at the states
-    x (rows of [q; q_dot]) at times t, the parameters p ending with alpha and beta; NaN
-    multipliers where the augmented matrix is singular."""
+    x (rows of [q; q_dot]) at times t, the parameters p ending with alpha and beta (one row
+    for every state, or a row per state: the members of a batch); NaN multipliers where the
+    augmented matrix is singular."""
     rows, m, size = len(t), native.multipliers, native.equations.size
     residual = np.zeros(rows)
     multipliers = np.full((rows, m), np.nan)
     if rows == 0:
         return multipliers, residual
-    inputs = np.column_stack((t, x, np.broadcast_to(p, (rows, len(p)))))
+    p = np.asarray(p, dtype=float)
+    inputs = np.column_stack((t, x, np.broadcast_to(p, (rows, p.shape[-1]))))
     values = np.asarray(native.equations.function.owner(inputs), dtype=float).reshape(rows, -1)
     matrix = values[:, : size * size].reshape(rows, size, size)
     vector = values[:, size * size :]
