@@ -9,8 +9,8 @@ already started (the start is reported on its own): the time covers scattering t
 each worker deriving and compiling it once, the blocks and writing the Zarr store.  Scaling
 efficiency = rate(2 workers) / (2 rate(1 worker)).
 
-Constrained systems run member by member through ``lg.simulate`` on the workers (the
-multiplier form; the batch loops do not take constraints): ``--constrained N`` times N
+Constrained systems run in the multiplier form, each block as one ``lg.simulate_batch`` on
+a worker (member by member in the C loop): ``--constrained N`` times N
 members of a pendulum in Cartesian coordinates held on its circle by a multiplier, to
 ``--constrained-t-end``, against a plain loop of ``lg.simulate`` calls in one process.
 

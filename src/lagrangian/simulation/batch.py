@@ -36,7 +36,6 @@ from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.fast.outcome import FINISHED, STOPPED, describe
 from lagrangian.numerics.fast.settings import Settings
 from lagrangian.simulation.batch_constrained import (
-    constraint_problems,
     simulated_members,
     started_members,
 )
@@ -154,14 +153,10 @@ def prepared_batch(
     eom, system, fallbacks = describe_system(system_or_eom)
     compiled = compile_equations(eom)
     problems: list[Problem] = []
-    # a constrained batch takes simulate's options; what it does not take is refused below
-    loops = "simulate" if system.constraints else "simulate_batch"
     chosen = options_for(
-        system, compiled, stepping, fallbacks, backend=backend, driver=loops, **options
+        system, compiled, stepping, fallbacks, backend=backend, driver="simulate_batch", **options
     )
     checked = collect(problems, chosen)
-    if checked is not None and checked.constraints:
-        problems.extend(constraint_problems(checked))
     given = {"initial": initial, "parameters": parameters, "t_span": t_span, **stepping}
     batch, found = checked_batch(compiled, given, fallbacks)
     problems += found

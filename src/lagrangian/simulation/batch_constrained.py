@@ -20,7 +20,7 @@ row rather than its last step.
 Every member starts as ``simulate`` starts it (:func:`started_members`): within
 ``INITIAL_TOLERANCE`` of the constraints, or moved onto them with ``project_initial``; the
 members that start off them are refused together, by index.  What only a single simulation
-does is refused by name (:func:`constraint_problems`): unilateral constraints (active
+does is refused by name (``simulation/options.py``): unilateral constraints (active
 sets), the methods of SciPy's other solvers and the variational integrators.
 
 >>> import numpy as np, sympy as sp, lagrangian as lg
@@ -55,7 +55,6 @@ from lagrangian.simulation.batch_result import ConstraintRows
 from lagrangian.simulation.dynamics import INITIAL_TOLERANCE, MultiplierDynamics
 from lagrangian.simulation.events import EventFunction
 from lagrangian.simulation.inputs import Inputs
-from lagrangian.simulation.methods import names_where
 from lagrangian.simulation.options import Options
 from lagrangian.simulation.run import simulate
 from lagrangian.simulation.trajectory import Trajectory
@@ -66,22 +65,6 @@ FAILED = -1
 STOP_EVENT = "stop_when"
 #: Members named in a message about the members that start off the constraints.
 NAMED = 8
-
-
-def constraint_problems(options: Options) -> list[Problem]:
-    """What a batch of a constrained system cannot take, by name (the other options are
-    checked as ``simulate`` checks them)."""
-    problems = []
-    if not options.spec.compiled:
-        message = f"simulate_batch has no method {options.method!r}"
-        problems.append(Problem("method", message, f"methods: {names_where('compiled')}"))
-    if options.unilateral:
-        message = (
-            "simulate_batch does not integrate unilateral constraints (their active sets "
-            "change member by member)"
-        )
-        problems.append(Problem("constraints", message, "call simulate for each member"))
-    return problems
 
 
 def member_inputs(compiled: CompiledEquations, batch: BatchInputs, i: int) -> Inputs:

@@ -239,7 +239,7 @@ def _backend(options: Options) -> list[Problem]:
     for name in sorted(options.given & {"max_steps", "max_wall_time"}):
         message = f"the numba loops run to the end without a {name} budget"
         problems.append(Problem(name, message, f"remove {name}=, or {_NUMPY_FIX}"))
-    if options.constraints and options.driver == "simulate":
+    if options.constraints:
         message = "the numba backend does not integrate constrained systems"
         problems.append(Problem("constraints", message, _NUMPY_FIX))
     return problems + _numba_installed()
@@ -282,22 +282,25 @@ def _variational(options: Options) -> list[Problem]:
 
 def _formulation(options: Options) -> list[Problem]:
     """What the multiplier form and the batch loops cannot take."""
+    problems = []
     if options.driver == "simulate_batch":
-        problems = []
         if not options.spec.compiled:
             message = f"simulate_batch has no method {options.method!r}"
             problems.append(Problem("method", message, f"methods: {names_where('compiled')}"))
-        if options.constraints:
-            message = "simulate_batch does not integrate constrained systems"
+        if options.unilateral:
+            message = (
+                "simulate_batch does not integrate unilateral constraints (their active sets "
+                "change member by member)"
+            )
             problems.append(Problem("constraints", message, "call simulate for each member"))
-        return problems
     if options.constraints and not options.inertia and not options.spec.variational:
         message = (
             "simulating constraints with first-order coordinates (no inertia) is not "
             "supported: every coordinate needs a velocity in the state"
         )
-        return [Problem("constraints", message, "give every coordinate a kinetic energy term")]
-    return []
+        fix = "give every coordinate a kinetic energy term"
+        problems.append(Problem("constraints", message, fix))
+    return problems
 
 
 _CHECKS: tuple[Callable[[Options], list[Problem]], ...] = (

@@ -4,12 +4,13 @@ written to Zarr block by block, resumable.
 The members (the product of the ``vary`` axes, times the ``random`` samples,
 :mod:`lagrangian.sweeps.grid`) are cut into blocks (:mod:`lagrangian.sweeps.blocks`); each block
 is one task integrating its members on a worker, as one compiled batch
-(:func:`lagrangian.simulate_batch`), or member by member with :func:`lagrangian.simulate` for a
-constrained system (the multiplier form, whose multipliers are stored too:
-:mod:`lagrangian.sweeps.chunk_run`).  The System is scattered to every worker once.  The
-client writes each block into the store as it finishes (:mod:`lagrangian.sweeps.store`), its
-``done`` flags last; with ``resume=True`` the blocks already done are skipped.  A task that
-raises is retried (``retries``) and a task whose worker dies is run again on another by Dask.
+(:func:`lagrangian.simulate_batch`; a constrained system's in the multiplier form, whose
+multipliers are stored too), or member by member with :func:`lagrangian.simulate` where the
+batch refuses the block (:mod:`lagrangian.sweeps.chunk_run`).  The System is scattered to
+every worker once.  The client writes each block into the store as it finishes
+(:mod:`lagrangian.sweeps.store`), its ``done`` flags last; with ``resume=True`` the blocks
+already done are skipped.  A task that raises is retried (``retries``) and a task whose
+worker dies is run again on another by Dask.
 
 >>> import tempfile, pathlib, lagrangian as lg  # doctest: +SKIP
 >>> out = pathlib.Path(tempfile.mkdtemp()) / "map.zarr"  # doctest: +SKIP
@@ -126,8 +127,8 @@ def sweep(
         parameter's own name or ``NAME_0`` for an initial value.
     t_span, method, rtol, atol, samples, ...:
         As for :func:`lagrangian.simulate_batch` (without ``samples``: the ends only).  A
-        system with constraints runs member by member with :func:`lagrangian.simulate`
-        (backend "numpy"), and its multipliers ``lambda_j`` are stored as well.
+        system with constraints runs in the multiplier form (backend "numpy"), and its
+        multipliers ``lambda_j`` are stored as well.
     random, seed:
         NAME -> (low, high, N): N members drawn uniformly, along the dimension ``sample``
         (every random name the same N), seeded.

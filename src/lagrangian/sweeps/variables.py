@@ -11,8 +11,9 @@
   for the momentum of each cyclic coordinate), and with constraints ``constraint_drift``, the
   largest constraint residual.
 
-Constrained systems run member by member through :func:`lagrangian.simulate` (the batch
-loops do not integrate them): ``per_member``.
+Constrained systems run in the multiplier form, in smaller blocks (a member the batch
+refuses, such as one with unilateral constraints, runs alone through :func:`lagrangian.simulate`):
+``per_member``.
 
 >>> import lagrangian as lg
 >>> sweep_variables(lg.examples.planet()).drifts
@@ -76,7 +77,7 @@ def sweep_variables(system: System) -> SweepVariables:
         multipliers=tuple(s.name for s in multiplier_symbols(len(constraints))),
         momenta=tuple(conserved_expressions(eom, system, {})),
         energy_function=compile_equations(eom).energy_function_differs,
-        # the batch loops do not take constraints: when simulate_batch does, this is the one
-        # switch (Batch.trajectory then carries the multipliers the store reads)
+        # blocks of constrained members are kept small: one the batch refuses runs member
+        # by member (Batch.trajectory carries the multipliers the store reads)
         per_member=bool(constraints),
     )
