@@ -154,7 +154,6 @@ def test_the_method_reproduces_the_papers_speeds_from_its_own_matrices() -> None
         np.testing.assert_allclose(_eigenvalues(paper, speed), _sorted(expected), atol=1e-10)
 
 
-@slow
 def test_the_example_has_the_benchmarks_structure() -> None:
     """8 coordinates; the front contact's height and 4 no-slip constraints (the rear
     contact's height holds identically): 7 configuration dimensions, 3 velocities."""
@@ -165,7 +164,6 @@ def test_the_example_has_the_benchmarks_structure() -> None:
     assert [c.contact for c in system.constraints].count("front_wheel_contact") == 3
 
 
-@slow
 def test_the_written_out_positions_move_with_their_bodies() -> None:
     """Each centre is a material point of its body (offsets of Table 1 turned by the body's
     composed rotation), and upright the wheels touch the ground at 0 and at the wheelbase."""

@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
+import symengine as se
 import sympy as sp
 
 from lagrangian.errors import Problem
@@ -161,12 +162,35 @@ def _check_one(item: Any, index: int, scope: NameScope, problems: list[Problem])
 
 
 def _linear(expression: sp.Expr, velocities: list[sp.Symbol]) -> bool:
-    """True when the Hessian of ``expression`` in the velocities vanishes."""
-    present = [v for v in velocities if v in expression.free_symbols]
-    first = [expression.diff(v) for v in present]
+    """True when the Hessian of ``expression`` in the velocities vanishes: at sight when it is
+    a sum of terms each at most one velocity times a factor free of velocities (the usual
+    Pfaffian a(q, t).q_dot + b(q, t)), else when every second derivative expands to zero
+    (in SymEngine, or SymPy for what SymEngine cannot hold)."""
+    used = expression.free_symbols
+    present = [v for v in velocities if v in used]
+    if _pfaffian_at_sight(expression, set(present)):
+        return True
+    try:
+        expr, names = se.sympify(expression), [se.sympify(v) for v in present]
+        expand: Any = se.expand
+    except se.SympifyError:
+        expr, names, expand = expression, present, sp.expand
+    first = [expr.diff(v) for v in names]
     for i, row in enumerate(first):
-        for v in present[i:]:
+        for v in names[i:]:
             second = row.diff(v)
-            if second != 0 and sp.expand(second) != 0:
+            if second != 0 and expand(second) != 0:
                 return False
+    return True
+
+
+def _pfaffian_at_sight(expression: sp.Expr, velocities: set[sp.Symbol]) -> bool:
+    """True when every term of ``expression`` is a product of at most one velocity (to the
+    first power) and factors free of velocities."""
+    for term in sp.Add.make_args(expression):
+        factors = sp.Mul.make_args(term)
+        if sum(f in velocities for f in factors) > 1:
+            return False
+        if any(f not in velocities and f.free_symbols & velocities for f in factors):
+            return False
     return True

@@ -22,9 +22,12 @@ whose x and y components are velocity (Pfaffian) constraints; the z component is
 derivative of the holonomic one (the rim's tangent at its lowest point is horizontal).  The
 multipliers of the three constraints are the contact force's components in world axes.
 
-s = sqrt(1 - a_z^2); when ``trigsimp`` finds 1 - a_z^2 a square its root is taken on the
-branch s > 0 (the disc not lying flat), so a disc given by heading, lean and spin has
-s = cos(lean).
+s = sqrt(1 - a_z^2), found from the form of a_z rather than by simplifying: a wheel turned
+about the vertical, then leaned by u (its axle e.g. Rz(psi) Rx(u) e_y), has a_z = sin(u) and
+s = cos(u), the root on the branch s > 0 (the disc not lying flat); a_z = cos(u) gives
+s = sin(u).  Any other a_z (a steered wheel) keeps s = sqrt(1 - a_z^2), which stands for
+itself while the constraints are expanded (SymEngine), so no expansion reaches under the root,
+and each velocity's coefficient is written over s where that is shorter.
 
 A wheel with a round tyre (a torus: ``radius`` R from the centre to the circle through the
 tyre's centres, ``tyre_radius`` r_t) touches the plane at the lowest point of that tyre,
@@ -40,17 +43,20 @@ from __future__ import annotations
 
 import difflib
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
+import symengine as se
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem
 from lagrangian.model.constraints import Holonomic, VelocityConstraint
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.elements import Force, RigidBody, Torque, as_expression
 from lagrangian.model.inertia import Shape
+from lagrangian.model.nonsmooth import piecewise_smooth
 from lagrangian.model.probe import is_zero
 from lagrangian.model.rotation import rotation_axis, spatial_angular_velocity
-from lagrangian.model.symbols import time_derivative, velocity
+from lagrangian.model.symbols import t, velocity
 from lagrangian.model.validation import CONFIGURATION, NameScope
 
 #: Shapes whose axis of symmetry is a wheel's axle.
@@ -122,38 +128,97 @@ def contact_offset(disc: RollingDisc, body: RigidBody) -> sp.ImmutableMatrix:
     >>> contact_offset(RollingDisc("w", r, "y"), wheel).T
     Matrix([[-r*sin(psi)*sin(theta), r*sin(theta)*cos(psi), -r*cos(theta)]])
     """
-    offset = sp.Matrix([0, 0, -disc.tyre_radius])
-    if not is_zero(disc.radius):
-        offset += disc.radius * rim_direction(disc, body)
-    return sp.ImmutableMatrix(_roots_kept(offset.applyfunc(sp.expand), offset))
+    geometry = _wheel_geometry(disc, body)
+    back = _Sympy(body, disc)
+    return sp.ImmutableMatrix([back(geometry.rooted(e)) for e in geometry.offset])
 
 
-def rim_direction(disc: RollingDisc, body: RigidBody) -> sp.ImmutableMatrix:
-    """d = (a (a . e_z) - e_z) / s, the unit vector of the wheel's plane that points most
-    downward (world axes; the module docstring)."""
+@dataclass(frozen=True)
+class _HorizontalLength:
+    """s = |a x e_z| = sqrt(1 - a_z^2) of the unit axle a, in SymEngine: ``value`` is its
+    closed form, or the placeholder ``_HorizontalLength.SYMBOL`` that keeps the square root out
+    of every expansion; ``root`` is what the placeholder stands for, sqrt(1 - a_z^2)."""
+
+    value: Any
+    root: Any
+    a_z: Any
+
+    #: Stands for s in expressions until :meth:`rooted`; not a name a System can declare.
+    SYMBOL: ClassVar[Any] = se.Symbol("s of the contact")
+
+    @property
+    def closed(self) -> bool:
+        """True when s has a closed form (no square root)."""
+        return self.value != self.SYMBOL
+
+    def rooted(self, expr: Any) -> Any:
+        """``expr`` with the placeholder replaced by sqrt(1 - a_z^2)."""
+        return expr if self.closed else expr.xreplace({self.SYMBOL: self.root})
+
+
+def _length_of(a_z: Any) -> _HorizontalLength:
+    """s for the axle's vertical component a_z, found from its form: a number gives a number;
+    a_z = +-sin(u) gives s = cos(u) and a_z = +-cos(u) gives s = sin(u) (a wheel leaning by u,
+    or tilted from the vertical by u: the branch on which the wheel stands, s > 0, as
+    sqrt(cos(u)^2) = cos(u) takes it); any other a_z keeps s = sqrt(1 - a_z^2) as a
+    placeholder."""
+    root = se.sqrt(1 - a_z**2)
+    unsigned = -a_z if a_z.is_Mul and a_z.args[0] == -1 else a_z
+    if a_z.is_Number:
+        return _HorizontalLength(root, root, a_z)
+    if isinstance(unsigned, se.sin):
+        return _HorizontalLength(se.cos(unsigned.args[0]), root, a_z)
+    if isinstance(unsigned, se.cos):
+        return _HorizontalLength(se.sin(unsigned.args[0]), root, a_z)
+    return _HorizontalLength(_HorizontalLength.SYMBOL, root, a_z)
+
+
+@dataclass(frozen=True)
+class _WheelGeometry:
+    """A wheel's contact geometry in SymEngine, expanded, with s kept as
+    ``_HorizontalLength.SYMBOL`` when it has no closed form: the offset C - p (world axes), and
+    whether the wheel lies flat (s = 0: its axle vertical, C undefined; the offset is then
+    that of the tyre alone)."""
+
+    offset: tuple[Any, Any, Any]
+    length: _HorizontalLength
+    flat: bool = False
+
+    def rooted(self, expr: Any) -> Any:
+        """``expr`` with s written out."""
+        return self.length.rooted(expr)
+
+
+def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
+    """C - p = R d - r_t e_z with d = (a a_z - e_z) / s (the module docstring); a sphere
+    (R = 0) has no axle and C - p = -r_t e_z."""
+    tyre = se.sympify(disc.tyre_radius)
+    below = (se.Integer(0), se.Integer(0), -tyre)
+    if is_zero(disc.radius):
+        one = se.Integer(1)
+        return _WheelGeometry(below, _HorizontalLength(one, one, se.Integer(0)))
+    a = _axle_in_world(disc, body)
+    s = _length_of(a[2])
+    if s.value == 0 or is_zero(to_sympy(s.value if s.closed else s.root)):
+        return _WheelGeometry(below, s, flat=True)
+    radius = se.sympify(disc.radius)
+    inverse = 1 / s.value
+    offset = (
+        se.expand(radius * a[0] * a[2] * inverse),
+        se.expand(radius * a[1] * a[2] * inverse),
+        se.expand(-radius * s.value - tyre),
+    )
+    return _WheelGeometry(offset, s)
+
+
+def _axle_in_world(disc: RollingDisc, body: RigidBody) -> tuple[Any, Any, Any]:
+    """a = R n / |n|, expanded (SymEngine)."""
     n = sp.Matrix(_axle(disc, body))
-    a = body.orientation.matrix * (n / sp.sqrt(sp.expand(n.dot(n))))  # type: ignore[union-attr]
-    a = a.applyfunc(sp.expand)
-    s = _horizontal_length(a[2])
-    return sp.ImmutableMatrix([a[0] * a[2] / s, a[1] * a[2] / s, -s])
-
-
-#: Above this many operations 1 - a_z^2 is not given to ``trigsimp`` (which may answer with a
-#: long sum of multiple angles, not a square).
-TRIGSIMP_OPS = 120
-
-
-def _horizontal_length(a_z: sp.Expr) -> sp.Expr:
-    """s = sqrt(a_x^2 + a_y^2) = sqrt(1 - a_z^2) for the unit axle a: the square root of
-    ``trigsimp``'s answer when that is a square (cos(lean)^2 -> cos(lean), on the branch
-    s > 0), else sqrt(1 - a_z^2) with a_z as it is (a short product of sines and cosines;
-    the sum of multiple angles ``trigsimp`` gives for a steered wheel is far longer)."""
-    square = sp.expand(1 - a_z**2)
-    if sp.count_ops(square) <= TRIGSIMP_OPS:
-        simple = sp.trigsimp(square)
-        if (simple.is_Pow and simple.exp.is_even) or not simple.free_symbols:
-            return sp.powdenest(sp.sqrt(simple), force=True)
-    return sp.sqrt(1 - a_z**2)
+    n = n / sp.sqrt(sp.expand(n.dot(n)))
+    R = body.orientation.matrix  # type: ignore[union-attr]
+    used = [(k, se.sympify(n[k])) for k in range(3) if n[k] != 0]
+    x, y, z = (se.expand(se.Add(*[se.sympify(R[i, k]) * n_k for k, n_k in used])) for i in range(3))
+    return x, y, z
 
 
 def _axle(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
@@ -167,55 +232,107 @@ def _axle(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
 
 def contact_point(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
     """C = p + r d, the lowest point of the disc's rim (world axes)."""
-    offset = contact_offset(disc, body)
-    return tuple(sp.expand(p + e) for p, e in zip(body.position, offset))
+    geometry = _wheel_geometry(disc, body)
+    back = _Sympy(body, disc)
+    return tuple(
+        back(geometry.rooted(se.expand(se.sympify(p) + e)))
+        for p, e in zip(body.position, geometry.offset)
+    )
 
 
 def rolling_constraints(disc: RollingDisc, body: RigidBody, coordinates: Any) -> tuple[Any, ...]:
     """The constraints of ``disc`` on ``body``: C_z = 0 (unless it holds identically), then
-    the x and y components of v_C = p_dot + omega_s x (r d) = 0."""
-    q = tuple(coordinates)
-    offset = sp.Matrix(contact_offset(disc, body))
-    height = _roots_kept(sp.expand(body.position[2] + offset[2]), offset)
-    omega = sp.Matrix(spatial_angular_velocity(body.orientation, q))
-    p_dot = sp.Matrix([time_derivative(x, q) for x in body.position])
+    the x and y components of v_C = p_dot + omega_s x (C - p) = 0, each the sum over the
+    velocities of (dp/dq_j + omega_j x (C - p)) q_dot_j (omega_j = d omega_s / d q_dot_j) and
+    of the explicit rate dp/dt + omega_t x (C - p)."""
+    return _constraints(disc, body, tuple(coordinates), _wheel_geometry(disc, body))
+
+
+def _constraints(
+    disc: RollingDisc, body: RigidBody, q: tuple[sp.Symbol, ...], geometry: _WheelGeometry
+) -> tuple[Any, ...]:
+    """:func:`rolling_constraints` from the wheel's ``geometry``."""
     rates = [velocity(x) for x in q]
-    slip = _roots_kept((p_dot + omega.cross(offset)).applyfunc(lambda e: _tidy(e, rates)), offset)
+    back = _Sympy(body, disc, q, rates)
+    position = [se.sympify(e) for e in body.position]
+    offset = geometry.offset
+    height = se.expand(position[2] + offset[2])
+    omega = [se.sympify(e) for e in spatial_angular_velocity(body.orientation, q)]
+    at_rest = {se.sympify(v): 0 for v in rates}
+    turns = [[se.diff(w, se.sympify(v)) for w in omega] for v in rates]
+    turns.append([w.xreplace(at_rest) for w in omega])  # omega_t, of a rheonomic orientation
+    variables = [se.sympify(x) for x in (*q, t)]
+    slip = []
+    for k in (0, 1):  # the x and y components of omega_j x (C - p): rows of the cross product
+        i, j = (k + 1) % 3, (k + 2) % 3
+        terms = []
+        for rate, variable, w in zip([*rates, sp.Integer(1)], variables, turns):
+            part = se.diff(position[k], variable) + w[i] * offset[j] - w[j] * offset[i]
+            terms.append(back(geometry.rooted(_tidy(part, geometry.length))) * rate)
+        slip.append(sp.Add(*terms))
     name = disc.contact
-    found: list[Any] = [] if is_zero(height) else [ContactHeight(height, f"{name} height", name)]
+    found: list[Any] = []
+    if height != 0:
+        value = back(geometry.rooted(height))
+        if not is_zero(value):
+            found.append(ContactHeight(value, f"{name} height", name))
     found += [NoSlip(slip[k], f"{name} slip {axis}", name) for k, axis in ((0, "x"), (1, "y"))]
     return tuple(found)
 
 
-def _roots_kept(expr: Any, like: Any) -> Any:
-    """``expr`` with each square root of ``like`` (s, 1/s) put back as it was written there:
-    ``expand`` multiplies out the sum under sqrt(1 - a_z^2) too, which makes it far longer."""
+def _tidy(expr: Any, length: _HorizontalLength) -> Any:
+    """``expr`` expanded and reduced by sin(u)^2 = 1 - cos(u)^2 where that makes it shorter;
+    with s as a placeholder also over the common denominator s (s^2 = 1 - a_z^2), where that
+    is shorter (the spin's coefficient a x (C - p) is -R (a x e_z) / s so written, not
+    -R (a x e_z) (s + a_z^2 / s))."""
+    plain = _shorter(se.expand(expr))
+    if length.closed or not plain.has(length.SYMBOL):
+        return plain
+    s = length.SYMBOL
+    numerator = _shorter(se.expand(se.expand(plain * s).xreplace({s**2: 1 - length.a_z**2})))
+    return numerator / s if _terms(numerator) < _terms(plain) else plain
+
+
+def _shorter(expr: Any) -> Any:
+    """The expanded ``expr`` with each sin(u)^k, k >= 2, written sin(u)^(k mod 2)
+    (1 - cos(u)^2)^(k div 2) (a normal form of polynomials in sines and cosines), where that
+    gives fewer terms."""
     table = {}
-    for power in sp.Matrix(like).atoms(sp.Pow):
-        if power.exp in (sp.S.Half, -sp.S.Half) and power.base.is_Add:
-            table[sp.Pow(sp.expand(power.base), power.exp)] = power
-            table[sp.Pow(sp.expand(power.base), -power.exp)] = 1 / power
-    return expr.xreplace(table) if table else expr
-
-
-def _tidy(expr: sp.Expr, rates: list[sp.Symbol]) -> sp.Expr:
-    """``expr`` with the coefficient of each velocity reduced by sin(u)^2 = 1 - cos(u)^2 (a
-    normal form of polynomials in sines and cosines), where that makes it shorter."""
-    terms = sp.collect(sp.expand(expr), rates, evaluate=False)
-    return sp.Add(*[_shorter(part) * rate for rate, part in terms.items()])
-
-
-def _shorter(expr: sp.Expr) -> sp.Expr:
-    def square_free(power: sp.Pow) -> sp.Expr:
-        k, rest = divmod(int(power.exp), 2)
-        u = power.base.args[0]
-        return sp.sin(u) ** rest * (1 - sp.cos(u) ** 2) ** k
-
-    even = [p for p in expr.atoms(sp.Pow) if p.base.func == sp.sin and p.exp.is_Integer]
-    if not [p for p in even if p.exp >= 2]:
+    for power in expr.atoms(se.Pow):
+        base, exponent = power.args
+        if isinstance(base, se.sin) and exponent.is_Integer and int(exponent) >= 2:
+            k, rest = divmod(int(exponent), 2)
+            table[power] = base**rest * (1 - se.cos(base.args[0]) ** 2) ** k
+    if not table:
         return expr
-    reduced = sp.expand(expr.xreplace({p: square_free(p) for p in even if p.exp >= 2}))
-    return reduced if sp.count_ops(reduced) < sp.count_ops(expr) else expr
+    reduced = se.expand(expr.xreplace(table))
+    return reduced if _terms(reduced) < _terms(expr) else expr
+
+
+def _terms(expr: Any) -> int:
+    return len(expr.args) if expr.is_Add else 1
+
+
+class _Sympy:
+    """SymEngine results back as SymPy, with the System's own symbol objects (which may carry
+    assumptions SymEngine does not keep)."""
+
+    def __init__(self, body: RigidBody, disc: RollingDisc, *more: Any) -> None:
+        symbols: set[sp.Symbol] = {t}
+        for value in (*body.position, body.orientation.matrix, disc.radius, disc.tyre_radius):  # type: ignore[union-attr]
+            symbols |= value.free_symbols
+        for group in more:
+            symbols.update(group)
+        self.by_name = {s.name: s for s in symbols if isinstance(s, sp.Symbol)}
+
+    def __call__(self, expr: Any) -> sp.Expr:
+        result = to_sympy(expr)
+        swap = {
+            s: self.by_name[s.name]
+            for s in result.free_symbols
+            if s.name in self.by_name and self.by_name[s.name] is not s
+        }
+        return piecewise_smooth(result.xreplace(swap) if swap else result)
 
 
 def add_rolling_constraints(values: dict[str, Any]) -> list[Problem]:
@@ -239,18 +356,27 @@ def add_rolling_constraints(values: dict[str, Any]) -> list[Problem]:
         if len(problems) > before:
             continue
         try:
-            flat = not is_zero(disc.radius) and _lies_flat(rim_direction(disc, body))
+            made += _made_by(disc, body, tuple(values["coordinates"]), field, problems)
         except ModelError as error:
             problems += [Problem(f"{field}.{p.field}", p.message, p.fix) for p in error.problems]
-            continue
-        if flat:
-            fix = "orient the body so that its axle is not vertical"
-            message = f"the disc of body {disc.body!r} lies flat on the plane"
-            problems.append(Problem(field, message, fix))
-            continue
-        made += rolling_constraints(disc, body, values["coordinates"])
+        except se.SympifyError as error:  # a function SymEngine does not know
+            fix = "write the body's position and orientation with the model language's functions"
+            problems.append(Problem(field, f"the body {disc.body!r}: {error}", fix))
     values["constraints"] = (*kept, *made)
     return problems
+
+
+def _made_by(
+    disc: RollingDisc, body: RigidBody, q: tuple[sp.Symbol, ...], field: str, problems: list
+) -> tuple[Any, ...]:
+    """The constraints of ``disc``, or none and a problem when it lies flat."""
+    geometry = _wheel_geometry(disc, body)
+    if geometry.flat:
+        fix = "orient the body so that its axle is not vertical"
+        message = f"the disc of body {disc.body!r} lies flat on the plane"
+        problems.append(Problem(field, message, fix))
+        return ()
+    return _constraints(disc, body, q, geometry)
 
 
 def move_contact_forces(values: dict[str, Any]) -> None:
@@ -276,11 +402,6 @@ def move_contact_forces(values: dict[str, Any]) -> None:
         moment = tuple(sp.expand(e) for e in arm.cross(push))
         torques.append(Torque(body.name, moment, force.name or f"{force.at} moment"))
     values["forces"], values["torques"] = tuple(forces), tuple(torques)
-
-
-def _lies_flat(direction: sp.MatrixBase) -> bool:
-    """True when the axle is vertical: s = 0, so d (and the contact point) is undefined."""
-    return direction.has(sp.zoo, sp.nan) or is_zero(direction[2])
 
 
 def _spatial(body: RigidBody) -> bool:

@@ -66,7 +66,8 @@ class NameScope:
                 )
             )
             return
-        found = not_finite_real(value)
+        parts = value.atoms(sp.Atom, sp.Derivative)  # one walk for the checks below
+        found = _not_finite(value, parts)
         if found is not None:
             problems.append(
                 Problem(field, found, "energies, forces and positions are real numbers")
@@ -74,7 +75,7 @@ class NameScope:
         allowed = self.configuration if kind == CONFIGURATION else self.state
         for symbol in sorted(value.free_symbols - allowed, key=str):
             problems.append(self._diagnose(symbol, field, kind))
-        for derivative in value.atoms(sp.Derivative):
+        for derivative in (p for p in parts if isinstance(p, sp.Derivative)):
             problems.append(
                 Problem(
                     field,
@@ -114,11 +115,16 @@ _NOT_FINITE = (sp.nan, sp.zoo, sp.oo, sp.S.NegativeInfinity)
 def not_finite_real(value: sp.Expr) -> str | None:
     """Why ``value`` cannot be a real, finite quantity (it holds nan, an infinity, the
     imaginary unit or a number too large for a double), or None."""
-    if value.has(*_NOT_FINITE):
+    return _not_finite(value, value.atoms())
+
+
+def _not_finite(value: sp.Expr, atoms: set[sp.Basic]) -> str | None:
+    """:func:`not_finite_real` of ``value`` from its ``atoms`` (a superset is fine)."""
+    if any(a in atoms for a in _NOT_FINITE):
         return f"{value} holds an undefined or infinite value (nan, oo or zoo)"
-    if value.has(sp.I):
+    if sp.I in atoms:
         return f"{value} is complex (holds I)"
-    for number in value.atoms(sp.Number):
+    for number in (a for a in atoms if isinstance(a, sp.Number)):
         if abs(number) > LARGEST_DOUBLE:
             return f"the number {sp.Float(number, 3)} is too large for a double (beyond 1.8e308)"
     return None
@@ -300,9 +306,19 @@ def _check_orientation(
     if not isinstance(orientation, Orientation) or orientation.matrix.shape != (3, 3):
         fix = "give a 3x3 matrix, or use euler_rotation, axis_angle or quaternion_rotation"
         problems.append(Problem(field, f"{orientation!r} is not a rotation", fix))
-    elif _entries_checked(orientation.matrix, field, scope, problems):
+    elif _entries_checked(orientation.matrix, field, scope, problems) and _given(orientation):
         subject = f"the orientation of body {body.name!r}"
         problems.extend(check_rotation(orientation.matrix, field, _samples(values), subject))
+
+
+def _given(orientation: Orientation) -> bool:
+    """True when ``orientation`` is, or its rotations are relative to, a matrix given as
+    such: Euler angles, an axis and angle, a quaternion and simple rotations make a rotation
+    for every real value of their (finite, real: checked) entries, so only a given matrix
+    needs the numerical check of R^T R = 1 and det R = 1."""
+    while orientation.form == "rotations" and orientation.parent is not None:
+        orientation = orientation.parent
+    return orientation.form == "matrix"
 
 
 def _check_inertia(

@@ -1,0 +1,183 @@
+"""The rolling-contact constraints as built: the Whipple bicycle's wheels against an
+independent numerical reference (the lowest rim point found by minimising its height over the
+rim angle, the material velocity there from finite differences of the position and of the
+rotation matrix, omega = R_dot R^T), the horizontal length s of the axle found from its form
+(cos(lean) for a leaning wheel, sin(tilt) for a tilted one, the square root kept whole for a
+steered one), and the cheap checks of a System (linear velocity constraints at sight, the
+numerical rotation check only for a matrix given as such)."""
+
+from __future__ import annotations
+
+import random
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import lagrangian as lg
+from lagrangian.examples import BENCHMARKS
+from lagrangian.model import Frame, RigidBody, RollingDisc, System, shape
+from lagrangian.model.contact import ContactHeight, NoSlip, contact_point
+from lagrangian.model.rotation import euler_rotation
+from lagrangian.model.symbols import velocity
+
+x, y, z, psi, theta, phi, m, r = sp.symbols("x y z psi theta phi m r")
+
+
+@pytest.fixture(scope="module")
+def bicycle() -> System:
+    return BENCHMARKS["whipple_bicycle"]()
+
+
+def _reference_slip(system: System, body_name: str, radius: str, state: dict) -> np.ndarray:
+    """(C_z, v_C . e_x, v_C . e_y) of a wheel with axle y, by numbers alone."""
+    body = next(b for b in system.rigid_bodies if b.name == body_name)
+    q = list(system.coordinates)
+    known = {p: v for p, v in system.parameters.items() if v is not None}
+    p_of = sp.lambdify(q, sp.Matrix(body.position).xreplace(known), "numpy")
+    R_of = sp.lambdify(q, sp.Matrix(body.orientation.matrix).xreplace(known), "numpy")
+    r_value = known[sp.Symbol(radius)]
+    at = np.array([state[s] for s in q])
+    rates = np.array([state[velocity(s)] for s in q])
+
+    def lowest(R: np.ndarray) -> np.ndarray:
+        # rim points p + r (cos u e1 + sin u e3): lowest where tan u = e3_z / e1_z
+        u = np.arctan2(-R[2, 2], -R[2, 0])
+        return r_value * (np.cos(u) * R[:, 0] + np.sin(u) * R[:, 2])
+
+    h = 1e-6
+    p = np.array(p_of(*at), dtype=float).ravel()
+    R = np.array(R_of(*at), dtype=float)
+    p_dot = (
+        np.array(p_of(*(at + h * rates)), dtype=float).ravel()
+        - np.array(p_of(*(at - h * rates)), dtype=float).ravel()
+    ) / (2 * h)
+    R_dot = (np.array(R_of(*(at + h * rates))) - np.array(R_of(*(at - h * rates)))) / (2 * h)
+    arm = lowest(R)
+    v = p_dot + R_dot @ R.T @ arm
+    return np.array([p[2] + arm[2], v[0], v[1]])
+
+
+def _ours(system: System, contact: str, state: dict) -> np.ndarray:
+    known = {p: v for p, v in system.parameters.items() if v is not None}
+    found = {
+        c.name.split()[-1]: c.expression for c in system.constraints if c.name.startswith(contact)
+    }
+    values = []
+    for key in ("height", "x", "y"):
+        expr = found.get(key, sp.Integer(0))
+        values.append(float(expr.xreplace(known).xreplace(state)))
+    return np.array(values)
+
+
+@pytest.mark.parametrize(("body", "radius"), [("rear_wheel", "rR"), ("front_wheel", "rF")])
+def test_the_bicycle_wheels_roll_as_their_lowest_rim_points_say(
+    bicycle: System, body: str, radius: str
+) -> None:
+    rng = random.Random(11)
+    for _ in range(4):
+        state = {s: rng.uniform(-0.6, 0.6) for s in bicycle.coordinates}
+        state.update({velocity(s): rng.uniform(-2.0, 2.0) for s in bicycle.coordinates})
+        expected = _reference_slip(bicycle, body, radius, state)
+        np.testing.assert_allclose(_ours(bicycle, f"{body}_contact", state), expected, atol=1e-7)
+
+
+def test_the_bicycle_has_the_front_contact_height_and_four_no_slip_constraints(
+    bicycle: System,
+) -> None:
+    kinds = [(type(c), c.name) for c in bicycle.constraints]
+    assert kinds == [
+        (NoSlip, "rear_wheel_contact slip x"),
+        (NoSlip, "rear_wheel_contact slip y"),
+        (ContactHeight, "front_wheel_contact height"),
+        (NoSlip, "front_wheel_contact slip x"),
+        (NoSlip, "front_wheel_contact slip y"),
+    ]
+
+
+def _roots(expr: sp.Expr) -> set[sp.Expr]:
+    return {p.base for p in expr.atoms(sp.Pow) if p.exp in (sp.S.Half, -sp.S.Half)}
+
+
+def test_a_leaning_wheel_has_s_cos_lean_and_a_steered_one_keeps_one_whole_root(
+    bicycle: System,
+) -> None:
+    rear = [c.expression for c in bicycle.constraints if c.name.startswith("rear")]
+    assert all(not _roots(e) for e in rear)
+    lean, steer = sp.symbols("lean steer")
+    front = [c.expression for c in bicycle.constraints if c.name.startswith("front")]
+    (base,) = set().union(*(_roots(e) for e in front))
+    # 1 - a_z^2 with a_z the front axle's vertical component, not multiplied out
+    a_z = sp.sympify(base - 1).args
+    assert base.is_Add and len(base.args) == 2 and any(p.is_Pow for p in a_z)
+    assert sp.expand(base.subs({lean: 0, steer: 0})) == 1
+
+
+def _wheel(orientation: lg.model.Orientation, axis: str) -> System:
+    body = RigidBody(
+        "wheel", m, shape("disc", radius=r, axis=axis), (x, y, z), orientation=orientation
+    )
+    return System(
+        coordinates=[x, y, z, psi, theta, phi],
+        parameters={m: 1.0, r: 0.3},
+        rigid_bodies=[body],
+        rolling=[RollingDisc("wheel", r)],
+    )
+
+
+@pytest.mark.parametrize(
+    ("sequence", "axis", "height"),
+    [
+        ("ZXY", "y", r * sp.cos(theta)),  # heading, lean, spin: s = cos(lean)
+        ("ZXZ", "z", r * sp.sin(theta)),  # precession, tilt, spin: s = sin(tilt)
+        ("ZYX", "x", r * sp.cos(theta)),  # heading, lean about y, spin about x
+    ],
+)
+def test_s_is_found_from_the_form_of_the_axle(sequence: str, axis: str, height: sp.Expr) -> None:
+    system = _wheel(euler_rotation(sequence, (psi, theta, phi)), axis)
+    height_constraint, *_ = system.constraints
+    assert sp.expand(height_constraint.expression - (z - height)) == 0
+    assert all(not _roots(c.expression) for c in system.constraints)
+    point = contact_point(system.rolling[0], system.rigid_bodies[0])
+    assert sp.expand(point[2] - (z - height)) == 0
+
+
+def test_a_velocity_constraint_linear_only_once_expanded_is_accepted() -> None:
+    x_dot, y_dot = velocity(x), velocity(y)
+    square = (x_dot + y_dot) * (x_dot - y_dot) - x_dot**2 + y_dot**2 + x_dot * sp.cos(y)
+    system = System(
+        coordinates=[x, y],
+        parameters={m: 1.0},
+        kinetic=m * (x_dot**2 + y_dot**2) / 2,
+        constraints=[lg.VelocityConstraint(square)],
+    )
+    assert system.constraints[0].expression == square
+
+
+def test_rotations_relative_to_a_given_matrix_are_still_checked() -> None:
+    skewed = sp.Matrix([[1, 0, 0], [0, 1, sp.Rational(1, 2)], [0, 0, 1]])
+    body = RigidBody("top", m, sp.eye(3), (0, 0, 0), parent="stand", rotations=[("z", psi)])
+    with pytest.raises(lg.ModelError, match=r"orientation of body 'top' is not orthonormal"):
+        System(
+            coordinates=[psi],
+            parameters={m: 1.0},
+            frames=[Frame("stand", orientation=skewed)],
+            rigid_bodies=[body],
+        )
+
+
+def test_a_rolling_body_whose_position_symengine_cannot_hold_is_refused_by_field() -> None:
+    body = RigidBody(
+        "wheel",
+        m,
+        shape("disc", radius=r, axis="y"),
+        (x, y, r * sp.cos(theta) + sp.Integral(x, (psi, 0, 1))),
+        orientation=euler_rotation("ZXY", (psi, theta, phi)),
+    )
+    with pytest.raises(lg.ModelError, match=r"rolling\[0\]: the body 'wheel': .*Integral"):
+        System(
+            coordinates=[x, y, psi, theta, phi],
+            parameters={m: 1.0, r: 0.3},
+            rigid_bodies=[body],
+            rolling=[RollingDisc("wheel", r)],
+        )
