@@ -21,6 +21,7 @@ array([ 0.  , -9.81])
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, TypeAlias
 
@@ -30,8 +31,8 @@ import sympy as sp
 from scipy.linalg.lapack import dgesv
 
 from lagrangian.derivation.eom import EquationsOfMotion
+from lagrangian.derivation.terms import euler_lagrange_terms, matrix_piece
 from lagrangian.errors import SimulationError, SimulationInputError
-from lagrangian.model.conversion import to_sympy
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
 from lagrangian.numerics.state_equations import StateEquations, state_equations
@@ -176,7 +177,8 @@ def _compile(eom: EquationsOfMotion) -> CompiledEquations:
     q, qd, t = list(eom.coordinates), list(eom.velocities), eom.time
     p = list(eom.parameters)
     n = len(q)
-    energy, energy_function, differs = _energy_functions(eom)
+    energy, difference, differs = _energy_functions(eom)
+    energy_function = energy + difference
     _require_known_symbols(eom, equations, energy, energy_function)
     qd_second = [qd[j] for j in equations.second]
     full = (q, qd, t, p)
@@ -194,32 +196,45 @@ def _compile(eom: EquationsOfMotion) -> CompiledEquations:
         ),
         _mass_matrix=NumericFunction(full, list(eom.mass_matrix), (n, n)),
         _forcing=NumericFunction(full, list(eom.forcing), (n,)),
-        _energy=NumericFunction(full, [energy], ()),
-        _energy_function=NumericFunction(full, [energy_function], ()),
+        _energy=NumericFunction(full, [energy], (), sympy_form=_energy_sympy(eom, 0)),
+        _energy_function=NumericFunction(
+            full, [energy_function], (), sympy_form=_energy_sympy(eom, difference)
+        ),
     )
 
 
-def _energy_functions(eom: EquationsOfMotion) -> tuple[sp.Expr, sp.Expr, bool]:
-    """E = T + V, h = sum_j q_dot_j dL/dq_dot_j - L (Goldstein, 3rd ed., §2.7), and whether they
-    differ.
+def _energy_functions(eom: EquationsOfMotion) -> tuple[Any, Any, bool]:
+    """E = T + V, h - E where h = sum_j q_dot_j dL/dq_dot_j - L (Goldstein, 3rd ed., §2.7), and
+    whether they differ: SymEngine expressions of the derivation's own T, V and U (the ones
+    ``eom.kinetic_energy`` and the others convert), compiled without a conversion.
 
     With L = T - V - U, h - E = euler(T) - 2 T - euler(U) + U, where euler(f) = sum_j q_dot_j
     df/dq_dot_j = d/ds f(s q_dot) at s = 1 (one derivative instead of n); it vanishes when T
     is quadratic and U linear in the velocities.
     """
-    kinetic, potential, velocity_potential = (
-        eom.kinetic_energy,
-        eom.potential_energy,
-        eom.velocity_potential,
-    )
-    difference = _euler(kinetic, eom.velocities) - 2 * se.sympify(kinetic)
-    if velocity_potential != 0:
-        difference += se.sympify(velocity_potential) - _euler(velocity_potential, eom.velocities)
-    energy = kinetic + potential
+    terms = euler_lagrange_terms(eom.system)
+    kinetic, assembly = terms.kinetic.kinetic_energy, terms.assembly
+    difference = _euler(kinetic, eom.velocities) - 2 * kinetic
+    if assembly.velocity_potential != 0:
+        u = assembly.velocity_potential
+        difference += u - _euler(u, eom.velocities)
+    energy = kinetic + assembly.potential
     difference = se.expand(difference)  # SymEngine: a tenth of SymPy's time on a 10-link T
-    if difference == 0:
-        return energy, energy, False
-    return energy, energy + to_sympy(difference), True
+    return energy, difference, difference != 0
+
+
+def _energy_sympy(eom: EquationsOfMotion, difference: Any) -> Callable[[], list[sp.Expr]]:
+    """The SymPy form of E (``difference`` 0) or h = E + difference, made when first asked
+    (from the System: the compiled functions must not keep ``eom``, their cache's key, alive)."""
+    system = eom.system
+
+    def form() -> list[sp.Expr]:
+        energy = matrix_piece(system, "kinetic_energy") + matrix_piece(system, "potential_energy")
+        if difference == 0:
+            return [energy]
+        return [energy + euler_lagrange_terms(system).view(difference)]
+
+    return form
 
 
 def _euler(expr: sp.Expr, velocities: tuple[sp.Symbol, ...]) -> Any:
@@ -230,13 +245,15 @@ def _euler(expr: sp.Expr, velocities: tuple[sp.Symbol, ...]) -> Any:
 
 
 def _require_known_symbols(
-    eom: EquationsOfMotion, equations: StateEquations, *scalars: sp.Expr
+    eom: EquationsOfMotion, equations: StateEquations, *scalars: Any
 ) -> None:
-    known = {*eom.coordinates, *eom.velocities, eom.time, *eom.parameters}
+    """Every name the equations and ``scalars`` (SymPy or SymEngine) use is a coordinate, a
+    velocity, the time or a parameter."""
+    known = {s.name for s in (*eom.coordinates, *eom.velocities, eom.time, *eom.parameters)}
     used = equations.matrix.free_symbols | equations.vector.free_symbols
     for expr in scalars:
         used |= expr.free_symbols
-    unknown = sorted(s.name for s in used - known)
+    unknown = sorted({str(s) for s in used} - known)
     if unknown:
         raise SimulationInputError(
             f"The equations use {', '.join(unknown)}, which are neither coordinates nor "

@@ -55,17 +55,28 @@ Group: TypeAlias = "Sequence[sp.Symbol] | sp.Symbol"
 class NumericFunction:
     """``expressions`` as a NumPy function of the argument ``groups``, reshaped to ``shape``.
 
+    The expressions are SymPy's, or SymEngine's with ``sympy_form`` giving the same in SymPy
+    (a derivation's own terms: compiled without a conversion, converted only for the fallback).
+
     ``raw`` is the lambdified function itself (it returns a list of numbers), for callers that
     have already unpacked one state and want no overhead beyond that one call.  It is built on
     first use, so functions nobody calls cost nothing.
     """
 
     def __init__(
-        self, groups: Sequence[Group], expressions: Sequence[sp.Expr], shape: tuple[int, ...]
+        self,
+        groups: Sequence[Group],
+        expressions: Sequence[Any],
+        shape: tuple[int, ...],
+        *,
+        sympy_form: Callable[[], Sequence[sp.Expr]] | None = None,
     ) -> None:
         self._args: list[Any] = [list(g) if isinstance(g, Sequence) else g for g in groups]
         # a derivative of |u| SymPy left unevaluated cannot be printed (nor sent to SymEngine)
         self._expressions = [piecewise_smooth(e) for e in expressions]
+        # expressions given in SymEngine come with their SymPy form, made only when SymEngine
+        # cannot compile them
+        self._sympy_form = sympy_form
         self.shape = shape
         # the number of dimensions of each argument when it carries a batch
         self._batch_ndim = tuple(2 if isinstance(g, list) else 1 for g in self._args)
@@ -85,7 +96,10 @@ class NumericFunction:
 
     @cached_property
     def _lambdified(self) -> Callable[..., list[Any]]:
-        return sp.lambdify(self._args, self._expressions, modules="numpy", cse=True)
+        expressions = self._expressions
+        if self._sympy_form is not None:
+            expressions = [piecewise_smooth(e) for e in self._sympy_form()]
+        return sp.lambdify(self._args, expressions, modules="numpy", cse=True)
 
     @cached_property
     def _native(self) -> Callable[[np.ndarray], np.ndarray] | None:
