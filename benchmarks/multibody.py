@@ -22,19 +22,26 @@ What is measured
                ``orient_body_fixed(N, (a, b, c), "ZXY")``, centres and joints by
                ``locatenew``/``v2pt_theory``, q' = u, gravity loads), then ``mass_matrix`` and
                ``forcing``.
+    relative   lagrangian with joint angles: rod i turned relative to rod i - 1 by its own
+               a_i, b_i, c_i (R_i = R_(i-1) Rz Rx Ry: each RigidBody has ``parent`` and
+               ``rotations``, its centre written in world axes with the rotation products
+               nested), then ``lg.derive``;
+    kane_relative  KanesMethod on that chain (each frame oriented from the rod before).
 
     The ratios are KanesMethod's time over lagrangian's, both variants against the same Kane
     run (Kane's minimal coordinates: the Cartesian form has 3n more coordinates and 3n
-    constraints to build).
+    constraints to build), and the joint-angle chain against Kane's joint-angle chain.
 
     Untimed, for n <= CHECK_MAX_N, the worker checks each result against KanesMethod at a
-    random state: for ``euler`` M^-1 f against Kane's; for ``cartesian`` the angular
-    accelerations of the augmented system [[M, -A^T], [A, 0]] [q_ddot; lambda] = [f; gamma]
-    at the configuration and velocities the joints allow.
+    random state: for ``euler`` and ``relative`` M^-1 f against Kane's (the joint-angle Kane
+    for ``relative``); for ``cartesian`` the angular accelerations of the augmented system
+    [[M, -A^T], [A, 0]] [q_ddot; lambda] = [f; gamma] at the configuration and velocities the
+    joints allow.
 
 Usage
     python benchmarks/multibody.py                  # n = 3..8, 1 run each, 600 s cap
     python benchmarks/multibody.py --n 3 4 --repeat 3
+    python benchmarks/multibody.py --n 3 4 --methods relative kane_relative
     python benchmarks/multibody.py --record         # also write the section in RESULTS.md
 """
 
@@ -59,11 +66,13 @@ SRC = HERE.parents[1] / "src"
 RESULTS = HERE.parent / "RESULTS.md"
 BEGIN, END = "<!-- multibody.py: begin -->", "<!-- multibody.py: end -->"
 
-METHODS = ("euler", "cartesian", "kane")
+METHODS = ("euler", "cartesian", "kane", "relative", "kane_relative")
 LABELS = {
     "euler": "lagrangian, Euler angles",
     "cartesian": "lagrangian, Cartesian + joint constraints",
     "kane": "KanesMethod",
+    "relative": "lagrangian, joint angles (rods relative to each other)",
+    "kane_relative": "KanesMethod, joint angles",
 }
 DEFAULT_N = (3, 4, 5, 6, 7, 8)
 CHECK_MAX_N = 4
@@ -162,6 +171,56 @@ def cartesian_chain(n: int):
     )
 
 
+def relative_chain(n: int):
+    """The chain in lagrangian with joint angles: rod i turned relative to rod i - 1 (rod 1
+    to the world) by its own a_i, b_i, c_i, R_i = R_(i-1) Rz(a_i) Rx(b_i) Ry(c_i), each rod a
+    RigidBody with ``parent`` and ``rotations`` (positions written in world axes)."""
+    import sympy as sp
+
+    import lagrangian as lg
+
+    rods, g = chain_symbols(n)
+    _, centres, _ = relative_geometry(n)
+    bodies = [
+        lg.RigidBody(
+            f"rod{i + 1}",
+            m,
+            sp.diag(I, I, J),
+            tuple(centre),
+            parent=f"rod{i}" if i else None,
+            rotations=[("z", a), ("x", b), ("y", c)],
+        )
+        for i, ((a, b, c, m, _, I, J), centre) in enumerate(zip(rods, centres))
+    ]
+    return lg.System(
+        coordinates=[s for rod in rods for s in rod[:3]],
+        parameters=[g, *(s for rod in rods for s in rod[3:])],
+        gravity=(0, 0, -g),
+        rigid_bodies=bodies,
+    )
+
+
+def relative_geometry(n: int):
+    """R_i, G_i and J_i of the chain with joint angles (R_i = R_(i-1) Rz Rx Ry), the
+    products of the rotations kept nested as a user writes them."""
+    import sympy as sp
+
+    from lagrangian.model import rotation_sequence
+
+    rods, _ = chain_symbols(n)
+    joint = sp.zeros(3, 1)
+    R = sp.eye(3)
+    rotations, centres, joints = [], [], []
+    for a, b, c, _, l, _, _ in rods:
+        R = R * rotation_sequence([("z", a), ("x", b), ("y", c)]).matrix
+        axis = R * sp.Matrix([0, 0, 1])
+        centres.append(joint - l / 2 * axis)
+        joint = joint - l * axis
+        rotations.append(R)
+        joints.append(joint)
+    return rotations, centres, joints
+
+
 def derive_euler(n: int):
     import lagrangian as lg
 
@@ -181,9 +240,17 @@ def derive_cartesian(n: int):
     }
 
 
-def kane_chain(n: int):
+def derive_relative(n: int):
+    import lagrangian as lg
+
+    eom = lg.derive(relative_chain(n))
+    return {"mass_matrix": eom.mass_matrix, "forcing": eom.forcing}
+
+
+def kane_chain(n: int, relative: bool = False):
     """KanesMethod on the chain: (M, forcing) of M u' = forcing, q' = u, with the dynamic
-    symbols replaced by the plain names a1, a1_dot, ... of the lagrangian systems."""
+    symbols replaced by the plain names a1, a1_dot, ... of the lagrangian systems; with
+    ``relative`` each rod's frame is oriented relative to the rod before (joint angles)."""
     import sympy.physics.mechanics as me
 
     rods, g = chain_symbols(n)
@@ -197,7 +264,7 @@ def kane_chain(n: int):
         q += angles
         u += speeds
         B = me.ReferenceFrame(f"B{i + 1}")
-        B.orient_body_fixed(N, angles, "ZXY")
+        B.orient_body_fixed(bodies[-1].frame if relative and bodies else N, angles, "ZXY")
         centre = joint.locatenew(f"G{i + 1}", -l / 2 * B.z)
         centre.v2pt_theory(joint, N, B)
         end = joint.locatenew(f"J{i + 1}", -l * B.z)
@@ -211,7 +278,17 @@ def kane_chain(n: int):
     return {"mass_matrix": method.mass_matrix, "forcing": method.forcing, "q": q, "u": u}
 
 
-DERIVERS = {"euler": derive_euler, "cartesian": derive_cartesian, "kane": kane_chain}
+def kane_relative(n: int):
+    return kane_chain(n, relative=True)
+
+
+DERIVERS = {
+    "euler": derive_euler,
+    "cartesian": derive_cartesian,
+    "kane": kane_chain,
+    "relative": derive_relative,
+    "kane_relative": kane_relative,
+}
 
 
 # --------------------------------------------------------------------------- the check
@@ -249,10 +326,10 @@ def numbers(matrix, values: dict):
     return np.array(sp.Matrix(matrix).xreplace(rule).evalf(), dtype=float)
 
 
-def kane_accelerations(n: int, values: dict):
+def kane_accelerations(n: int, values: dict, relative: bool = False):
     import numpy as np
 
-    result = kane_chain(n)
+    result = kane_chain(n, relative)
     q, u = result["q"], result["u"]
     M = numbers(plain(result["mass_matrix"], q, u), values)
     f = numbers(plain(result["forcing"], q, u), values).ravel()
@@ -282,8 +359,8 @@ def check(method: str, n: int, result: dict) -> str:
     import numpy as np
 
     values = random_values(n)
-    theirs = kane_accelerations(n, values)
-    if method == "euler":
+    theirs = kane_accelerations(n, values, relative=method == "relative")
+    if method in ("euler", "relative"):
         M, f = numbers(result["mass_matrix"], values), numbers(result["forcing"], values)
         ours = np.linalg.solve(M, f.ravel())
     else:
@@ -318,7 +395,7 @@ def worker(method: str, n: int, verify: bool) -> int:
     result = DERIVERS[method](n)
     seconds = time.perf_counter() - start
     outcome = {"seconds": seconds}
-    if verify and method != "kane" and n <= CHECK_MAX_N:
+    if verify and not method.startswith("kane") and n <= CHECK_MAX_N:
         outcome["check"] = check(method, n, result)
     print(json.dumps(outcome), flush=True)
     return 0
@@ -343,13 +420,15 @@ def run(method: str, n: int, cap: float, verify: bool) -> dict:
 # --------------------------------------------------------------------------- the report
 
 
-def measure(ns: list[int], repeat: int, cap: float) -> dict:
-    """Median seconds per (method, n), and the checks; methods alternate run by run."""
-    times: dict = {(m, n): [] for m in METHODS for n in ns}
+def measure(ns: list[int], repeat: int, cap: float, methods: tuple[str, ...] = METHODS) -> dict:
+    """Median seconds per (method, n), and the checks; methods alternate run by run (those
+    not in ``methods`` are left out: NaN)."""
+    times: dict = {(m, n): [math.nan] for m in METHODS for n in ns}
+    times.update({(m, n): [] for m in methods for n in ns})
     notes: list[str] = []
     for n in ns:
         for r in range(repeat):
-            for method in METHODS:
+            for method in methods:
                 outcome = run(method, n, cap, verify=(r == 0))
                 times[method, n].append(outcome["seconds"])
                 if "error" in outcome:
@@ -381,18 +460,27 @@ def report(measured: dict, ns: list[int], repeat: int, cap: float) -> str:
         f"Median of {repeat} run(s) per cell, seconds; cap {cap:g} s per run.",
         "",
         "| n | coordinates (Euler / Cartesian) | Euler s | Cartesian s | Kane s "
-        "| Kane/Euler | Kane/Cartesian |",
-        "|---:|---:|---:|---:|---:|---:|---:|",
+        "| Kane/Euler | Kane/Cartesian | joint angles s | Kane (joint angles) s "
+        "| Kane/joint angles |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     verdicts = []
     for n in ns:
-        euler, cartesian, kane = (medians[m, n] for m in METHODS)
+        euler, cartesian, kane, relative, kane_relative = (medians[m, n] for m in METHODS)
         lines.append(
             f"| {n} | {3 * n} / {6 * n} | {_seconds(euler, cap)} | {_seconds(cartesian, cap)} "
-            f"| {_seconds(kane, cap)} | {_ratio(kane, euler)} | {_ratio(kane, cartesian)} |"
+            f"| {_seconds(kane, cap)} | {_ratio(kane, euler)} | {_ratio(kane, cartesian)} "
+            f"| {_seconds(relative, cap)} | {_seconds(kane_relative, cap)} "
+            f"| {_ratio(kane_relative, relative)} |"
         )
-        for method, ours in (("euler", euler), ("cartesian", cartesian)):
-            passed = not math.isnan(ours) and ours < kane
+        for method, ours, theirs in (
+            ("euler", euler, kane),
+            ("cartesian", cartesian, kane),
+            ("relative", relative, kane_relative),
+        ):
+            if math.isnan(ours) and math.isnan(theirs):
+                continue  # not run
+            passed = not math.isnan(ours) and ours < theirs
             verdict = "PASS" if passed else "FAIL"
             verdicts.append(f"{verdict}  n={n}: {LABELS[method]} faster than KanesMethod")
     lines += ["", *measured["notes"], "", "```", *verdicts, "```"]
@@ -439,13 +527,16 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--record", action="store_true", help=f"write the section in {RESULTS.name}"
     )
+    parser.add_argument(
+        "--methods", nargs="+", choices=METHODS, help="the methods to run (all of them)"
+    )
     parser.add_argument("--worker", nargs=2, metavar=("METHOD", "N"), help=argparse.SUPPRESS)
     parser.add_argument("--verify", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.worker:
         return worker(args.worker[0], int(args.worker[1]), args.verify)
     ns = sorted(set(args.n or DEFAULT_N))
-    measured = measure(ns, args.repeat, args.cap)
+    measured = measure(ns, args.repeat, args.cap, tuple(args.methods or METHODS))
     text = report(measured, ns, args.repeat, args.cap)
     print(text)
     if args.record:

@@ -15,6 +15,7 @@ is kept apart as the time terms.
 
 from __future__ import annotations
 
+from collections import defaultdict
 from dataclasses import dataclass
 
 import symengine as se
@@ -22,6 +23,13 @@ import symengine as se
 from lagrangian.derivation.assemble import Assembly, Rotation
 from lagrangian.derivation.backend import Backend
 from lagrangian.derivation.trig import combine_trig
+from lagrangian.derivation.trig_polynomial import (
+    Key,
+    Poly,
+    PolynomialTooLarge,
+    TrigAlgebra,
+    algebra_for,
+)
 from lagrangian.model.probe import depends_on
 
 Matrix = list[list[Backend]]
@@ -36,6 +44,10 @@ class KineticForm:
     time_terms: list[Backend]
     kinetic_energy: Backend
     quadratic: bool
+    #: True when M and C q_dot were built as polynomials grouped by monomial, or kept nested
+    #: (3-D bodies): :func:`lagrangian.derivation.trig.combine_and_collect` tidies what is
+    #: made of them at once (it knows their monomials, or that they stay nested).
+    grouped: bool = False
 
 
 def _hessian(expr: Backend, symbols: tuple[Backend, ...]) -> Matrix:
@@ -126,10 +138,13 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     """Mass matrix, Coriolis vector, time terms and T of an assembled system."""
     n = len(asm.q)
     explicit = _hessian(asm.explicit_kinetic, asm.q_dot)
-    point_mass, point_low = _point_terms(asm)
     quadratic = not any(depends_on(e, asm.q_dot) for row in explicit for e in row)
     if not quadratic:
         return _general_form(asm)
+    structured = _structured_form(asm, explicit)
+    if structured is not None:
+        return structured
+    point_mass, point_low = _point_terms(asm)
     mass = [[se.Integer(0)] * n for _ in range(n)]
     for j in range(n):
         for k in range(j, n):
@@ -169,3 +184,249 @@ def _general_form(asm: Assembly) -> KineticForm:
     ]
     time_terms = [se.expand(p.diff(asm.t)) for p in momentum]
     return KineticForm(mass, coriolis, time_terms, kinetic, False)
+
+
+#: Products of Jacobian monomials (sum over the points and axes of the squared number of
+#: monomials of a row of the Jacobian) beyond which M is built as grouped polynomials.
+STRUCTURED_PRODUCTS = 2000
+#: Monomials a polynomial of the reduced form may have; beyond, M and C q_dot stay nested.
+CANONICAL_MONOMIALS = 1500
+#: Products (as :data:`STRUCTURED_PRODUCTS`) beyond which M and C q_dot stay nested at once.
+NESTED_PRODUCTS = 30000
+
+
+def _structured_form(asm: Assembly, explicit: Matrix) -> KineticForm | None:
+    """M = sum m J^T J + J_w^T I J_w and C q_dot (Christoffel symbols) of a large system
+    whose T has no explicit time dependence, as polynomials grouped by monomial
+    (:mod:`lagrangian.derivation.trig_polynomial`); None for a small or time-dependent one,
+    or one without 3-D bodies (planar chains read best in angle differences, which the
+    entry-by-entry :func:`combine_trig` finds)."""
+    if (
+        not asm.rotations
+        or any(x.diff(asm.t) != 0 for point in asm.points for x in point.position)
+        or any(
+            w.diff(asm.t) != 0 or w.subs({v: 0 for v in asm.q_dot}) != 0
+            for rotation in asm.rotations
+            for w in rotation.angular_velocity
+        )
+    ):
+        return None
+    algebra = algebra_for([*asm.q, *asm.q_dot, *asm.q_ddot, asm.t])
+    algebra.limit = CANONICAL_MONOMIALS
+    try:
+        return _canonical_form(asm, explicit, algebra)
+    except PolynomialTooLarge:
+        nested = _nested_form(asm, explicit)
+    finally:
+        algebra.limit = None
+    for expr in [*nested.coriolis, *(e for row in nested.mass_matrix for e in row)]:
+        algebra.keep_nested(expr)
+    return nested
+
+
+def _canonical_form(asm: Assembly, explicit: Matrix, algebra: TrigAlgebra) -> KineticForm | None:
+    """M and C q_dot as reduced polynomials grouped by monomial; None for a small system
+    (the entry-by-entry :func:`combine_trig` is cheap there, and reads best)."""
+    n = len(asm.q)
+    weighted = []  # (weight, rows of the Jacobian) whose J^T J enter M
+    for point in asm.points:
+        coordinates = point.position
+        if point.angle is not None and point.inertia != 0:
+            weighted.append((point.inertia, [_jacobian_row(algebra, point.angle, asm.q)]))
+        weighted.append((point.mass, [_jacobian_row(algebra, x, asm.q) for x in coordinates]))
+    products = sum(sum(len(p) for p in row) ** 2 for _, rows in weighted for row in rows)
+    if products <= STRUCTURED_PRODUCTS:
+        return None
+    if products > NESTED_PRODUCTS:
+        raise PolynomialTooLarge(f"{products} products of Jacobian monomials")
+    weighted = [(w, _turned(algebra, rows) if len(rows) == 3 else rows) for w, rows in weighted]
+    mass_poly: list[list[Poly]] = [[{} for _ in range(n)] for _ in range(n)]
+    for j in range(n):
+        for k in range(j, n):
+            parts = [algebra.convert(explicit[j][k])]
+            for weight, rows in weighted:
+                terms = [algebra.multiply(r[j], r[k]) for r in rows if r[j] and r[k]]
+                if terms:
+                    parts.append(algebra.multiply(algebra.convert(weight), algebra.add(terms)))
+            mass_poly[j][k] = algebra.add(parts)
+    for rotation in asm.rotations:
+        _add_rotation(algebra, rotation, asm, mass_poly)
+    mass = [[se.Integer(0)] * n for _ in range(n)]
+    for j in range(n):
+        for k in range(j, n):
+            mass_poly[j][k] = mass_poly[k][j] = algebra.finish(mass_poly[j][k])
+            mass[j][k] = mass[k][j] = algebra.grouped(algebra.shortest(mass_poly[j][k]))
+    quadratic_t = se.Add(
+        *[mass[j][k] * asm.q_dot[j] * asm.q_dot[k] / 2 for j in range(n) for k in range(n)]
+    )
+    coriolis = [algebra.expression(c) for c in _christoffel(algebra, mass_poly, asm)]
+    return KineticForm(mass, coriolis, [se.Integer(0)] * n, quadratic_t, True, grouped=True)
+
+
+def _nested_form(asm: Assembly, explicit: Matrix) -> KineticForm:
+    """M and C q_dot of a system whose reduced polynomials would be too large (a chain of
+    bodies turned relative to each other: products of the sines and cosines of all the
+    joint angles), kept nested as the positions and angular velocities are given, as
+    Kane's method keeps them.  C q_dot is projected from the accelerations (Kane's
+    generalized inertia forces, equal to Lagrange's for T with no explicit time):
+
+        M = sum m J^T J + J_w^T I J_w,
+        C q_dot = sum m J^T (J_dot q_dot) + J_w^T (I (J_w_dot q_dot) + omega x I omega),
+
+    J_dot q_dot = sum_l d(J q_dot)/dq_l q_dot_l, omega = omega_b = J_w q_dot."""
+    n = len(asm.q)
+    mass = [[explicit[j][k] for k in range(n)] for j in range(n)]
+    coriolis = [se.Integer(0)] * n
+    for point in asm.points:
+        columns = [(point.mass, point.position)]
+        if point.angle is not None and point.inertia != 0:
+            columns.append((point.inertia, (point.angle,)))
+        for weight, coordinates in columns:
+            jac = [[x.diff(q) for q in asm.q] for x in coordinates]
+            bias = [_rate_change(_dot(row, asm.q_dot), asm) for row in jac]
+            _project(mass, coriolis, weight, jac, bias)
+    for rotation in asm.rotations:
+        omega, inertia = rotation.angular_velocity, rotation.inertia
+        jac = [[w.diff(v) for v in asm.q_dot] for w in omega]
+        spin = [_dot(row, omega) for row in inertia]
+        gyro = [
+            omega[1] * spin[2] - omega[2] * spin[1],
+            omega[2] * spin[0] - omega[0] * spin[2],
+            omega[0] * spin[1] - omega[1] * spin[0],
+        ]
+        change = [_rate_change(w, asm) for w in omega]
+        bias = [_dot(inertia[a], change) + gyro[a] for a in range(3)]
+        for j in range(n):
+            for k in range(j, n):
+                mass[j][k] += se.Add(
+                    *[
+                        inertia[a][b] * jac[a][j] * jac[b][k]
+                        for a in range(3)
+                        for b in range(3)
+                        if inertia[a][b] != 0
+                    ]
+                )
+            coriolis[j] += _dot([row[j] for row in jac], bias)
+    for j in range(n):
+        for k in range(j + 1, n):
+            mass[k][j] = mass[j][k]
+    quadratic_t = se.Add(
+        *[mass[j][k] * asm.q_dot[j] * asm.q_dot[k] / 2 for j in range(n) for k in range(n)]
+    )
+    return KineticForm(mass, coriolis, [se.Integer(0)] * n, quadratic_t, True, grouped=True)
+
+
+def _dot(a: list[Backend] | tuple[Backend, ...], b: list[Backend] | tuple[Backend, ...]) -> Backend:
+    return se.Add(*[x * y for x, y in zip(a, b) if x != 0 and y != 0])
+
+
+def _rate_change(expr: Backend, asm: Assembly) -> Backend:
+    """sum_l d(expr)/dq_l q_dot_l: the rate of ``expr`` (linear in q_dot) without q_ddot."""
+    return se.Add(*[expr.diff(q) * v for q, v in zip(asm.q, asm.q_dot)])
+
+
+def _project(
+    mass: Matrix, coriolis: list[Backend], weight: Backend, jac: Matrix, bias: list[Backend]
+) -> None:
+    """Add weight J^T J to the upper triangle of ``mass`` and weight J^T bias to C q_dot."""
+    n = len(coriolis)
+    for j in range(n):
+        column = [row[j] for row in jac]
+        for k in range(j, n):
+            term = _dot(column, [row[k] for row in jac])
+            if term != 0:
+                mass[j][k] += weight * term
+        term = _dot(column, bias)
+        if term != 0:
+            coriolis[j] += weight * term
+
+
+def _turned(algebra: TrigAlgebra, rows: list[list[Poly]]) -> list[list[Poly]]:
+    """The rows of a point's Jacobian in axes turned about the vertical by the angle that
+    makes them shortest, (R_z(u)^T J)^T R_z(u)^T J = J^T J: a body's centre moves with the
+    heading of the frames it hangs from, and in axes turned with the heading its velocity
+    has half the monomials (fewer products to form and reduce)."""
+    size = sum(len(p) for row in rows for p in row)
+    angles = {
+        algebra.gens[i].args[0]
+        for p in rows[0]
+        for key in p
+        for i, _ in key
+        if algebra.moving[i] and (algebra.sine[i] or algebra.cosine[i])
+    }
+    best = rows
+    for angle in angles:
+        c, s = algebra.convert(se.cos(angle)), algebra.convert(se.sin(angle))
+        minus_s = algebra.scale(s, se.Integer(-1))
+        x_rows = [
+            algebra.add([algebra.multiply(c, a), algebra.multiply(s, b)]) for a, b in zip(*rows[:2])
+        ]
+        y_rows = [
+            algebra.add([algebra.multiply(minus_s, a), algebra.multiply(c, b)])
+            for a, b in zip(*rows[:2])
+        ]
+        turned = [[algebra.finish(p) for p in x_rows], [algebra.finish(p) for p in y_rows], rows[2]]
+        turned_size = sum(len(p) for row in turned for p in row)
+        if turned_size < size:
+            best, size = turned, turned_size
+    return best
+
+
+def _jacobian_row(algebra: TrigAlgebra, x: Backend, q: tuple[Backend, ...]) -> list[Poly]:
+    converted = algebra.convert(x)
+    return [algebra.finish(algebra.derivative(converted, s)) for s in q]
+
+
+def _add_rotation(
+    algebra: TrigAlgebra, rotation: Rotation, asm: Assembly, mass: list[list[Poly]]
+) -> None:
+    """J_w^T I J_w added to the upper triangle of ``mass`` (omega_b = J_w q_dot)."""
+    n, inertia = len(asm.q), rotation.inertia
+    jac = [
+        [algebra.finish(algebra.convert(se.expand(w.diff(v)))) for v in asm.q_dot]
+        for w in rotation.angular_velocity
+    ]
+    for a in range(3):
+        for b in range(a, 3):
+            if inertia[a][b] == 0:
+                continue
+            for j in range(n):
+                for k in range(j, n):
+                    terms = [algebra.multiply(jac[a][j], jac[b][k])]
+                    if a != b:
+                        terms.append(algebra.multiply(jac[b][j], jac[a][k]))
+                    term = algebra.add(terms)
+                    if term:
+                        extra = algebra.multiply(algebra.convert(inertia[a][b]), term)
+                        mass[j][k] = algebra.add([mass[j][k], extra])
+
+
+def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) -> list[Poly]:
+    """(C q_dot)_j = sum_k (dM_jk/dq_k - dM_kk/dq_j / 2) q_dot_k^2
+    + sum_(k<l) (dM_jk/dq_l + dM_jl/dq_k - dM_kl/dq_j) q_dot_k q_dot_l."""
+    n = len(asm.q)
+    slope: dict[tuple[int, int, int], Poly] = {}
+
+    def d(j: int, k: int, ell: int) -> Poly:
+        key = (min(j, k), max(j, k), ell)
+        if key not in slope:
+            slope[key] = algebra.derivative(mass[j][k], asm.q[ell])
+        return slope[key]
+
+    rates = [next(iter(algebra.convert(v))) for v in asm.q_dot]
+    half = se.Rational(-1, 2)
+    result = []
+    for j in range(n):
+        parts: dict[Key, list[Backend]] = defaultdict(list)
+        for k in range(n):
+            for ell in range(k, n):
+                pair = algebra.multiply_keys(rates[k], rates[ell])
+                if k == ell:
+                    algebra.accumulate(parts, d(j, k, k), pair)
+                    algebra.accumulate(parts, d(k, k, j), pair, half)
+                else:
+                    algebra.accumulate(parts, d(j, k, ell), pair)
+                    algebra.accumulate(parts, d(j, ell, k), pair)
+                    algebra.accumulate(parts, d(k, ell, j), pair, -1)
+        result.append(algebra.gather(parts))
+    return result

@@ -27,6 +27,7 @@ import sympy as sp
 
 from lagrangian.derivation.backend import SympyView, to_backend
 from lagrangian.derivation.collect import collect_state
+from lagrangian.derivation.trig_polynomial import PolynomialTooLarge, algebra_for, expanded_terms
 from lagrangian.model.conversion import to_sympy
 
 MAX_TRIG_DEGREE = 8  # beyond this a term is left as it is (2**(d-1) Fourier terms)
@@ -39,6 +40,17 @@ FOURIER_DEGREE = 3
 #: Terms beyond which :func:`combine_trig` weighs no forms: it writes cos^2 as 1 - sin^2 and
 #: stops (weighing costs more than the reduction on the equations of long chains).
 LONG_EXPRESSION = 2000
+#: Terms beyond which :func:`combine_and_collect` reduces an expression as a polynomial
+#: grouped by monomial (the Fourier form, whose budget is far smaller, is out of reach).
+LARGE_POLYNOMIAL = 400
+#: Monomials beyond which :func:`combine_and_collect` leaves an expression nested as it is
+#: (the equations of long chains of bodies turned relative to each other).
+NESTED_MONOMIALS = 1500
+#: Terms of the expanded form (an upper bound counted on the tree) beyond which
+#: :func:`combine_trig` leaves an expression nested.
+NESTED_TERMS = 200_000
+#: Operations (SymEngine's count, cheap) from which :func:`combine_trig` counts those terms.
+NESTED_CHECK_OPS = 2000
 
 
 def _trig_factors(term: Any) -> list[Any] | None:
@@ -159,8 +171,24 @@ def size(expr: Any) -> int:
 
 def combine_and_collect(expr: Any, state: Any) -> Any:
     """:func:`combine_trig`, then the terms grouped by their monomial in ``state`` with the
-    parameter coefficients factored (:func:`lagrangian.derivation.collect.collect_state`)."""
-    return collect_state(combine_trig(expr), state)
+    parameter coefficients factored (:func:`lagrangian.derivation.collect.collect_state`).
+
+    An expression of more than :data:`LARGE_POLYNOMIAL` terms (the equations of 3-D
+    multibody systems) is reduced modulo sin^2 + cos^2 = 1 as a polynomial grouped by
+    monomial (:mod:`lagrangian.derivation.trig_polynomial`), never expanded as a whole: the
+    shorter of its two canonical forms, which is what :func:`combine_trig` chooses between
+    for such expressions, too (the Fourier form is not tried beyond its budget)."""
+    algebra = algebra_for(state)
+    algebra.limit = NESTED_MONOMIALS
+    try:
+        polynomial = algebra.finish(algebra.convert(expr))
+    except PolynomialTooLarge:
+        return expr  # kept nested: expanded, it would be larger still
+    finally:
+        algebra.limit = None
+    if algebra.terms(polynomial) <= LARGE_POLYNOMIAL:
+        return collect_state(combine_trig(expr), state)
+    return collect_state(algebra.grouped(algebra.shortest(polynomial)), state)
 
 
 def combine_trig_sympy(expr: Any, budget: int | None = None) -> sp.Expr:
@@ -191,10 +219,23 @@ def combine_trig(expr: Any, budget: int | None = FOURIER_BUDGET) -> Any:
     the textbook r^2 sin^2(theta) rather than r^2/2 - r^2 cos(2 theta)/2), and its
     :func:`pythagorean_forms`.  The Fourier forms are tried only when they cost at most
     ``budget`` product-to-sum terms and no term has more than ``FOURIER_DEGREE`` sines and
-    cosines (always when ``budget`` is None); an expression of more than
-    ``LONG_EXPRESSION`` terms only has cos^2 written as 1 - sin^2.  No general simplify."""
+    cosines (always when ``budget`` is None).  Beyond them, an expression of more than
+    ``LARGE_POLYNOMIAL`` terms is reduced as a polynomial grouped by its products of sines
+    and cosines (:mod:`lagrangian.derivation.trig_polynomial`: the shorter pythagorean form,
+    without weighing the expanded one), and one that would expand to ``NESTED_TERMS`` terms
+    or more is returned as it is.  No general simplify."""
+    if (
+        budget is not None
+        and size(expr) > NESTED_CHECK_OPS
+        and expanded_terms(expr, NESTED_TERMS) >= NESTED_TERMS
+    ):
+        return expr  # kept nested: expanded, it would be far longer
     expanded = se.expand(expr)
     terms = expanded.args if expanded.is_Add else (expanded,)
+    if budget is not None and len(terms) > LARGE_POLYNOMIAL:
+        reduced_polynomial = _reduced_polynomial(expanded, budget)
+        if reduced_polynomial is not None:
+            return reduced_polynomial
     degrees = [len(trig) for trig in map(_trig_factors, terms) if trig is not None]
     cost = sum(2 ** (d - 1) for d in degrees if d > 1)
     if cost == 0:  # no product of sines and cosines: only double angles to weigh
@@ -210,6 +251,23 @@ def combine_trig(expr: Any, budget: int | None = FOURIER_BUDGET) -> Any:
     if not halves:  # no double angles to weigh: the plain size decides
         return min((expanded, fourier, *reduced), key=collected_size)
     return min((expanded, fourier, *halves, *reduced), key=_textbook_size)
+
+
+def _reduced_polynomial(expanded: Any, budget: int) -> Any:
+    """The shorter of the two :func:`pythagorean_forms` of a long expanded expression,
+    reduced as a polynomial in its sines and cosines (:mod:`trig_polynomial`), expanded;
+    None when the Fourier form is within ``budget`` or there is no product to reduce."""
+    algebra = algebra_for(())
+    polynomial = algebra.finish(algebra.convert(expanded))
+    cost, degree = 0, 0
+    for key, coefficient in polynomial.items():
+        d = sum(e for i, e in key if algebra.sine[i] or algebra.cosine[i])
+        degree = max(degree, d)
+        if d > 1:
+            cost += 2 ** (d - 1) * (len(coefficient.args) if coefficient.is_Add else 1)
+    if cost == 0 or (cost <= budget and degree <= FOURIER_DEGREE):
+        return None
+    return se.expand(algebra.expression(algebra.shortest(polynomial)))
 
 
 def collected_size(expr: Any) -> int:

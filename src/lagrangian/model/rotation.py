@@ -44,6 +44,8 @@ _AXES = {"X": 0, "Y": 1, "Z": 2}
 #: The names of the body axes a simple rotation may turn about (or give a vector).
 AXIS_NAMES = ("x", "y", "z")
 FORMS = ("matrix", "euler", "axis_angle", "quaternion", "rotations")
+#: Rotations with moving angles up to which a composed angular velocity is expanded.
+EXPANDED_TURNS = 6
 
 
 def as_expression(value: Any, field: str = "value") -> sp.Expr:
@@ -371,18 +373,23 @@ def _composed(
         omega_s = omega_s(parent) + R_parent sum_k F1..F(k-1) n_k a_k_dot
                   (s <- n_k a_k_dot + F_k s, k = m..1, as F_k n_k = n_k),
 
-    matrix-vector products only: nothing is differentiated but the angles."""
+    matrix-vector products only: nothing is differentiated but the angles.  The result is
+    expanded unless more than :data:`EXPANDED_TURNS` of the rotations turn with the
+    coordinates (a long chain of joints, whose expanded products of sines and cosines would
+    run to thousands of terms): then it stays nested, as the products give it."""
+    moving = sum(1 for _, a in factors if not _constant(a, q))
+    tidy = sp.expand if moving <= EXPANDED_TURNS else (lambda e: e)
     if body:
         w = sp.zeros(3, 1) if parent is None else sp.Matrix(_angular_velocity(parent, q, True))
         for n, a in factors:
             w = _about(n, a).T * w + n * _rate(a, q)
-        return sp.ImmutableMatrix(w.applyfunc(sp.expand))
+        return sp.ImmutableMatrix(w.applyfunc(tidy))
     s = sp.zeros(3, 1)
     for n, a in reversed(factors):
         s = n * _rate(a, q) + _about(n, a) * s
     if parent is not None:
         s = parent.matrix * s + _angular_velocity(parent, q, False)
-    return sp.ImmutableMatrix(s.applyfunc(sp.expand))
+    return sp.ImmutableMatrix(s.applyfunc(tidy))
 
 
 def _angular_velocity(

@@ -1,0 +1,447 @@
+"""Trigonometric polynomials kept as {monomial: coefficient}, reduced as they are multiplied.
+
+The equations of 3-D multibody systems (a bicycle, a chain of bodies turned relative to each
+other) are polynomials in the sines and cosines of their angles, in the coordinates and in
+the velocities.  Expanded, such an expression has thousands of terms, but only a hundred or
+so distinct products of sines, cosines and state variables: everything else is the
+coefficient (masses, lengths, inertias), a plain polynomial that SymEngine sums and expands
+in C++.  A polynomial here is a dict from a monomial, a sorted tuple of (generator index,
+exponent), to its coefficient; the generators are the state symbols, the sines and cosines
+(of state angles and of constant ones, such as a head-tube angle) and any other function
+of the state, taken as a whole.
+
+Every product is reduced modulo sin^2 x + cos^2 x = 1 as it is formed (cos^2 x written as
+1 - sin^2 x), the canonical form of :func:`lagrangian.derivation.trig.pythagorean_forms`,
+so identities such as R^T R = 1 cancel monomial by monomial, without expanding the whole.
+
+>>> import symengine as se
+>>> x, m = se.symbols("x m")
+>>> algebra = TrigAlgebra([x])
+>>> p = algebra.convert(m * se.cos(x) ** 2 + m * se.sin(x) ** 2)
+>>> algebra.expression(algebra.finish(p))
+m
+"""
+
+from __future__ import annotations
+
+import threading
+from collections import defaultdict
+from collections.abc import Iterable
+from math import comb
+from typing import Any
+
+import symengine as se
+
+from lagrangian.derivation.collect import factor_common
+
+Backend = Any  # a symengine expression
+Key = tuple[tuple[int, int], ...]
+Poly = dict[Key, Backend]
+
+ONE: Key = ()
+#: Terms of a coefficient beyond which :meth:`TrigAlgebra.grouped` does not factor it.
+FACTORED_TERMS = 40
+_NESTED: Poly = {(): se.Integer(0)}  # the marker of :meth:`TrigAlgebra.keep_nested`
+_ZERO = se.Integer(0)
+
+
+class PolynomialTooLarge(ArithmeticError):
+    """A polynomial outgrew the :attr:`TrigAlgebra.limit` of monomials: the expression is
+    better kept as it is (nested) than expanded."""
+
+
+class TrigAlgebra:
+    """The generators met so far (each sine registered with its cosine) and the memos of
+    conversion, products of monomials and derivatives; one per derivation."""
+
+    def __init__(self, state: Iterable[Backend]) -> None:
+        self.state = frozenset(state)
+        self.gens: list[Backend] = []
+        self.index: dict[Backend, int] = {}
+        self.partner: dict[int, int] = {}  # sin(u) <-> cos(u)
+        self.cosine: list[bool] = []
+        self.sine: list[bool] = []
+        self.moving: list[bool] = []  # the generator depends on the state
+        self._converted: dict[Backend, Poly] = {}
+        self._products: dict[tuple[Key, Key], list[tuple[Key, int]]] = {}
+        self._derivatives: dict[tuple[Key, Backend], Poly] = {}
+        self._gen_derivatives: dict[tuple[int, Backend], Poly] = {}
+        self._monomials: dict[Key, Backend] = {}
+        self._powers: dict[tuple[int, int], Backend] = {}
+        #: Monomials a product or sum may have before :class:`PolynomialTooLarge` (None: any).
+        self.limit: int | None = None
+
+    # -- generators -----------------------------------------------------------------------
+
+    def _register(
+        self, gen: Backend, moving: bool, sine: bool = False, cosine: bool = False
+    ) -> int:
+        index = len(self.gens)
+        self.gens.append(gen)
+        self.index[gen] = index
+        self.moving.append(moving)
+        self.sine.append(sine)
+        self.cosine.append(cosine)
+        return index
+
+    def _generator(self, gen: Backend) -> int:
+        if gen in self.index:
+            return self.index[gen]
+        if isinstance(gen, (se.sin, se.cos)):
+            argument = gen.args[0]
+            moving = not self.state.isdisjoint(argument.free_symbols)
+            s = self._register(se.sin(argument), moving, sine=True)
+            c = self._register(se.cos(argument), moving, cosine=True)
+            self.partner[s], self.partner[c] = c, s
+            return self.index[gen]
+        return self._register(gen, not self.state.isdisjoint(gen.free_symbols))
+
+    def _monomial(self, gen: Backend, exponent: int = 1) -> Poly:
+        index = self._generator(gen)
+        return {k: se.Integer(n) for k, n in self._reduced({index: exponent})}
+
+    # -- conversion -----------------------------------------------------------------------
+
+    def convert(self, expr: Backend) -> Poly:
+        """``expr`` as a polynomial (coefficients not yet expanded: see :meth:`finish`)."""
+        memo = self._converted
+        if expr in memo:
+            known = memo[expr]
+            if known is _NESTED:
+                raise PolynomialTooLarge("an expression kept nested")
+            return known
+        result = self._convert(expr)
+        memo[expr] = result
+        return result
+
+    def remembered(self) -> int:
+        """The number of memo entries (conversions, products, derivatives)."""
+        return len(self._converted) + len(self._products) + len(self._derivatives)
+
+    def keep_nested(self, expr: Backend) -> None:
+        """Mark ``expr`` as too large to expand: converting it (or an expression that holds
+        it) raises :class:`PolynomialTooLarge` at once."""
+        if not expr.is_Number:
+            self._converted[expr] = _NESTED
+
+    def _convert(self, expr: Backend) -> Poly:
+        if expr.is_Number:
+            return {ONE: expr} if expr != 0 else {}
+        if isinstance(expr, se.Symbol):
+            return self._monomial(expr) if expr in self.state else {ONE: expr}
+        if isinstance(expr, (se.sin, se.cos)):
+            return self._monomial(expr)
+        if expr.is_Add:
+            parts = [self.convert(a) for a in expr.args]
+            if all(_pure(p) for p in parts):
+                return {ONE: expr}
+            return self.add(parts)
+        if expr.is_Mul:
+            parts = [self.convert(a) for a in expr.args]
+            pure = [a for a, p in zip(expr.args, parts) if _pure(p)]
+            if len(pure) == len(parts):
+                return {ONE: expr}
+            result: Poly = {ONE: se.Mul(*pure)}
+            for p in parts:
+                if not _pure(p):
+                    result = self.multiply(result, p)
+            return result
+        if expr.is_Pow:
+            base, exponent = expr.args
+            converted = self.convert(base)
+            if _pure(converted) and _pure(self.convert(exponent)):
+                return {ONE: expr}
+            if exponent.is_Integer and int(exponent) > 0:
+                if isinstance(base, (se.sin, se.cos, se.Symbol)):
+                    return self._monomial(base, int(exponent))
+                return self.power(converted, int(exponent))
+            return self._monomial(expr)
+        if all(_pure(self.convert(a)) for a in expr.args):
+            return {ONE: expr}
+        return self._monomial(expr)
+
+    # -- arithmetic -----------------------------------------------------------------------
+
+    def add(self, polys: Iterable[Poly]) -> Poly:
+        parts: dict[Key, list[Backend]] = defaultdict(list)
+        for p in polys:
+            for k, c in p.items():
+                parts[k].append(c)
+        return self.gather(parts)
+
+    def multiply(self, a: Poly, b: Poly) -> Poly:
+        if len(a) == 1 and ONE in a:
+            c = a[ONE]
+            return {k: c * v for k, v in b.items()}
+        parts: dict[Key, list[Backend]] = defaultdict(list)
+        product = self._product
+        for ka, ca in a.items():
+            for kb, cb in b.items():
+                both = ca * cb
+                for k, n in product(ka, kb):
+                    parts[k].append(both if n == 1 else n * both)
+        return self.gather(parts)
+
+    def accumulate(
+        self, target: dict[Key, list[Backend]], p: Poly, factor: Key, scale: Any = 1
+    ) -> None:
+        """Add ``scale`` * monomial ``factor`` * ``p`` to the coefficient lists ``target``."""
+        product = self._product
+        for k, c in p.items():
+            value = c if scale == 1 else scale * c
+            for key, n in product(k, factor):
+                target[key].append(value if n == 1 else n * value)
+
+    def gather(self, target: dict[Key, list[Backend]]) -> Poly:
+        """The polynomial of coefficient lists (see :meth:`accumulate`)."""
+        if self.limit is not None and len(target) > self.limit:
+            raise PolynomialTooLarge(f"{len(target)} monomials")
+        return {k: v[0] if len(v) == 1 else se.Add(*v) for k, v in target.items()}
+
+    def power(self, p: Poly, exponent: int) -> Poly:
+        result: Poly = {ONE: se.Integer(1)}
+        for _ in range(exponent):
+            result = self.multiply(result, p)
+        return result
+
+    def scale(self, p: Poly, factor: Backend) -> Poly:
+        return {k: factor * c for k, c in p.items()}
+
+    def multiply_keys(self, a: Key, b: Key) -> Key:
+        """The product of two monomials that need no reduction (no cosine squared)."""
+        ((key, _),) = self._product(a, b)
+        return key
+
+    def _product(self, a: Key, b: Key) -> list[tuple[Key, int]]:
+        memo = self._products.get((a, b))
+        if memo is not None:
+            return memo
+        exponents = dict(a)
+        for i, e in b:
+            exponents[i] = exponents.get(i, 0) + e
+        cosine = self.cosine
+        if any(e > 1 and cosine[i] for i, e in exponents.items()):
+            result = self._reduced(exponents)
+        else:
+            result = [(tuple(sorted(exponents.items())), 1)]
+        self._products[(a, b)] = result
+        return result
+
+    def _reduced(
+        self, exponents: dict[int, int], squares: list[bool] | None = None
+    ) -> list[tuple[Key, int]]:
+        """The monomial of ``exponents`` with every f(x)**k, k >= 2 (f the cosine, or the
+        generators flagged in ``squares``) written as f**(k mod 2) (1 - g**2)**(k // 2)."""
+        squares = self.cosine if squares is None else squares
+        terms: list[tuple[dict[int, int], int]] = [({}, 1)]
+        for i, e in exponents.items():
+            if e == 0:
+                continue
+            if not (squares[i] and e >= 2):
+                for t, _ in terms:
+                    t[i] = t.get(i, 0) + e
+                continue
+            half, rest = divmod(e, 2)
+            other = self.partner[i]
+            expanded = []
+            for t, n in terms:
+                for j in range(half + 1):
+                    new = dict(t)
+                    if rest:
+                        new[i] = new.get(i, 0) + rest
+                    if j:
+                        new[other] = new.get(other, 0) + 2 * j
+                    expanded.append((new, n * comb(half, j) * (-1) ** j))
+            terms = expanded
+        return [(tuple(sorted((i, e) for i, e in t.items() if e)), n) for t, n in terms]
+
+    # -- calculus -------------------------------------------------------------------------
+
+    def derivative(self, p: Poly, symbol: Backend) -> Poly:
+        """dp/d``symbol`` (``symbol`` a state symbol)."""
+        parts = []
+        for k, c in p.items():
+            d = self._key_derivative(k, symbol)
+            if d:
+                parts.append(self.scale(d, c))
+        return self.add(parts)
+
+    def _key_derivative(self, key: Key, symbol: Backend) -> Poly:
+        memo = self._derivatives.get((key, symbol))
+        if memo is not None:
+            return memo
+        parts = []
+        for i, e in key:
+            if not self.moving[i]:
+                continue
+            d = self._gen_derivative(i, symbol)
+            if not d:
+                continue
+            rest = tuple((j, f - 1 if j == i else f) for j, f in key if j != i or f > 1)
+            parts.append(self.multiply({rest: se.Integer(e)}, d))
+        result = self.add(parts)
+        self._derivatives[(key, symbol)] = result
+        return result
+
+    def _gen_derivative(self, i: int, symbol: Backend) -> Poly:
+        memo = self._gen_derivatives.get((i, symbol))
+        if memo is not None:
+            return memo
+        gen = self.gens[i]
+        if isinstance(gen, se.Symbol):
+            result: Poly = {ONE: se.Integer(1)} if gen == symbol else {}
+        elif self.sine[i] or self.cosine[i]:
+            rate = self.convert(se.expand(gen.args[0].diff(symbol)))
+            turned: Poly = {((self.partner[i], 1),): se.Integer(1 if self.sine[i] else -1)}
+            result = self.multiply(turned, rate) if rate else {}
+        else:
+            result = self.convert(se.expand(gen.diff(symbol)))
+        self._gen_derivatives[(i, symbol)] = result
+        return result
+
+    # -- results --------------------------------------------------------------------------
+
+    @staticmethod
+    def finish(p: Poly) -> Poly:
+        """Coefficients expanded, zero ones dropped."""
+        result = {}
+        for k, c in p.items():
+            value = se.expand(c)
+            if value != 0:
+                result[k] = value
+        return result
+
+    def sine_form(self, p: Poly) -> Poly:
+        """A finished polynomial with every sin^2 x written as 1 - cos^2 x instead (the other
+        canonical form)."""
+        parts: dict[Key, list[Backend]] = defaultdict(list)
+        sine = self.sine
+        for k, c in p.items():
+            if not any(e > 1 and sine[i] for i, e in k):
+                parts[k].append(c)
+                continue
+            for key, n in self._reduced(dict(k), sine):
+                parts[key].append(c if n == 1 else n * c)
+        result = {}
+        for k, v in parts.items():
+            # a single coefficient kept as it is is expanded already
+            value = v[0] if len(v) == 1 and p.get(k) is v[0] else se.expand(se.Add(*v))
+            if value != 0:
+                result[k] = value
+        return result
+
+    def monomial_expression(self, key: Key) -> Backend:
+        memo = self._monomials.get(key)
+        if memo is None:
+            powers = self._powers
+            factors = []
+            for pair in key:
+                power = powers.get(pair)
+                if power is None:
+                    power = powers[pair] = self.gens[pair[0]] ** pair[1]
+                factors.append(power)
+            memo = self._monomials[key] = se.Mul(*factors)
+        return memo
+
+    def expression(self, p: Poly) -> Backend:
+        """sum monomial * coefficient (coefficients as they are); converting it back (in
+        this algebra) gives ``p`` at once."""
+        result = se.Add(*[self.monomial_expression(k) * c for k, c in p.items()])
+        self._converted.setdefault(result, p)
+        return result
+
+    def split(self, key: Key) -> tuple[Key, Key]:
+        """(the state part, the constant part) of a monomial."""
+        moving = tuple((i, e) for i, e in key if self.moving[i])
+        return moving, tuple((i, e) for i, e in key if not self.moving[i])
+
+    def shortest(self, p: Poly) -> Poly:
+        """The finished polynomial ``p`` or its :meth:`sine_form`, whichever is shorter."""
+        other = self.sine_form(p)
+        return other if self.size(other) < self.size(p) else p
+
+    def grouped(self, p: Poly) -> Backend:
+        """A finished polynomial as an expression grouped by state monomial, the constant
+        coefficient of each with its common factors pulled out
+        (:func:`lagrangian.derivation.collect.factor_common`) when it has at most
+        :data:`FACTORED_TERMS` terms (a longer one is summed by constant monomial: factoring
+        it costs more than the rest of its tidying, and reads no better)."""
+        groups: dict[Key, list[tuple[Backend, Backend]]] = defaultdict(list)
+        for k, c in p.items():
+            moving, constant = self.split(k)
+            groups[moving].append((self.monomial_expression(constant), c))
+        result = []
+        for k, parts in groups.items():
+            if sum(len(c.args) if c.is_Add else 1 for _, c in parts) <= FACTORED_TERMS:
+                terms = [f * t for f, c in parts for t in (c.args if c.is_Add else (c,))]
+                coefficient = factor_common(terms)
+            else:
+                coefficient = se.Add(*[f * c for f, c in parts])
+            result.append(self.monomial_expression(k) * coefficient)
+        return se.Add(*result)
+
+    def terms(self, p: Poly) -> int:
+        """The number of terms of the expanded form of a finished polynomial."""
+        return sum(len(c.args) if c.is_Add else 1 for c in p.values())
+
+    def size(self, p: Poly) -> int:
+        """A size for choosing between forms: terms of the coefficients plus factors."""
+        return sum((len(c.args) if c.is_Add else 1) + sum(e for _, e in k) for k, c in p.items())
+
+
+def expanded_terms(expr: Backend, cap: int) -> int:
+    """An upper bound of the number of terms of ``se.expand(expr)``, or ``cap`` when it
+    reaches ``cap`` (counted on the tree, each distinct subexpression once)."""
+    memo: dict[Backend, int] = {}
+
+    def count(e: Backend) -> int:
+        known = memo.get(e)
+        if known is not None:
+            return known
+        if e.is_Add:
+            result = min(cap, sum(count(a) for a in e.args))
+        elif e.is_Mul:
+            result = 1
+            for a in e.args:
+                result = min(cap, result * count(a))
+        elif e.is_Pow and e.args[1].is_Integer and int(e.args[1]) > 1:
+            result = min(cap, count(e.args[0]) ** min(int(e.args[1]), 64))
+        else:
+            result = 1
+        memo[e] = result
+        return result
+
+    return count(expr)
+
+
+_ALGEBRAS = threading.local()
+#: Algebras (of different states) each thread keeps, the most recently used last.
+KEPT_ALGEBRAS = 2
+#: Memo entries beyond which :func:`algebra_for` starts a kept algebra afresh.
+KEPT_MEMOS = 200_000
+
+
+def algebra_for(state: Iterable[Backend]) -> TrigAlgebra:
+    """The algebra of the state ``state`` of this thread, made when first asked for (only
+    the :data:`KEPT_ALGEBRAS` most recently used are kept): the kinetic form and the tidying
+    of the equations share its generators and conversions."""
+    key = frozenset(state)
+    kept: dict[frozenset[Backend], TrigAlgebra] = getattr(_ALGEBRAS, "kept", None) or {}
+    algebra = kept.pop(key, None)
+    if algebra is None or algebra.remembered() > KEPT_MEMOS:
+        algebra = TrigAlgebra(key)  # a long run (a sweep) does not grow the memos for ever
+    kept[key] = algebra
+    while len(kept) > KEPT_ALGEBRAS:
+        del kept[next(iter(kept))]
+    _ALGEBRAS.kept = kept
+    return algebra
+
+
+def forget_algebras() -> None:
+    """Drop this thread's algebras (and the expressions their memos hold)."""
+    _ALGEBRAS.kept = {}
+
+
+def _pure(p: Poly) -> bool:
+    """True when ``p`` is a constant (no generator): a coefficient."""
+    return len(p) <= 1 and all(k == ONE for k in p)

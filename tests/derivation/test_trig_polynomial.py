@@ -1,0 +1,170 @@
+"""Trigonometric polynomials grouped by monomial (lagrangian.derivation.trig_polynomial): the
+identities a rotation obeys cancel, long expressions keep their values, and the three routes
+to M and C q_dot of 3-D bodies (entry by entry, grouped polynomials with the Christoffel
+symbols, nested with Kane's projection) agree at random states."""
+
+from __future__ import annotations
+
+import random
+
+import numpy as np
+import pytest
+import symengine as se
+import sympy as sp
+
+import lagrangian as lg
+from lagrangian.derivation import kinetic
+from lagrangian.derivation.assemble import assemble
+from lagrangian.derivation.trig import combine_and_collect, combine_trig
+from lagrangian.derivation.trig_polynomial import TrigAlgebra, expanded_terms
+from lagrangian.model import rotation
+from lagrangian.model.rotation import body_angular_velocity, rotation_sequence
+from lagrangian.model.symbols import velocity
+
+a, b, c, m, k = se.symbols("a b c m k")
+
+
+def _turn(axis: int, angle: se.Expr) -> se.DenseMatrix:
+    cos, sin = se.cos(angle), se.sin(angle)
+    rows = {
+        0: [[1, 0, 0], [0, cos, -sin], [0, sin, cos]],
+        1: [[cos, 0, sin], [0, 1, 0], [-sin, 0, cos]],
+        2: [[cos, -sin, 0], [sin, cos, 0], [0, 0, 1]],
+    }[axis]
+    return se.DenseMatrix(rows)
+
+
+def _value(expr: se.Expr, values: dict) -> float:
+    return float(expr.subs(values))
+
+
+def test_the_transpose_of_a_rotation_product_is_its_inverse_monomial_by_monomial() -> None:
+    """R = Rz(a) Rx(b) Ry(c): every entry of R^T R reduces to 0 or 1."""
+    R = _turn(2, a) * _turn(0, b) * _turn(1, c)
+    product = R.T * R
+    algebra = TrigAlgebra([a, b, c])
+    for i in range(3):
+        for j in range(3):
+            reduced = algebra.expression(algebra.finish(algebra.convert(product[i, j])))
+            assert reduced == (1 if i == j else 0)
+
+
+def _long_polynomial(seed: int) -> se.Expr:
+    """A trigonometric polynomial of a few hundred terms in three angles and two parameters."""
+    rng = random.Random(seed)
+    atoms = [se.sin(a), se.cos(a), se.sin(b), se.cos(b), se.sin(c), se.cos(c), m, k]
+    terms = []
+    for _ in range(600):
+        factors = [rng.choice(atoms) for _ in range(rng.randint(1, 5))]
+        terms.append(rng.randint(-3, 3) * se.Mul(*factors))
+    return se.Add(*terms)
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_a_long_expression_keeps_its_value(seed: int) -> None:
+    expr = _long_polynomial(seed)
+    rng = random.Random(seed)
+    for reduced in (combine_trig(expr), combine_and_collect(expr, {a, b, c})):
+        for _ in range(3):
+            values = {s: rng.uniform(-2, 2) for s in (a, b, c, m, k)}
+            assert _value(reduced, values) == pytest.approx(_value(expr, values), rel=1e-9)
+
+
+def test_a_long_multiple_of_sin2_plus_cos2_minus_1_is_zero() -> None:
+    """The reduced form is canonical: Q (sin^2 b + cos^2 b - 1) vanishes however long Q."""
+    q = _long_polynomial(3)
+    assert combine_trig(q * (se.sin(b) ** 2 + se.cos(b) ** 2 - 1)) == 0
+    assert combine_and_collect(q * (se.sin(a) ** 2 + se.cos(a) ** 2 - 1), {a, b, c}) == 0
+
+
+def test_the_expanded_terms_are_bounded_on_the_tree() -> None:
+    rng = random.Random(5)
+    atoms = [se.sin(a), se.cos(b), m, k, a]
+    for _ in range(20):
+        expr = se.Integer(1)
+        for _ in range(rng.randint(1, 4)):
+            factor = se.Add(*[rng.choice(atoms) * rng.randint(1, 3) for _ in range(3)])
+            expr = expr * factor + rng.choice(atoms)
+        expanded = se.expand(expr)
+        actual = len(expanded.args) if expanded.is_Add else 1
+        assert expanded_terms(expr, 10**9) >= actual
+        assert expanded_terms(expr, 2) <= 2
+
+
+def _relative_chain() -> lg.System:
+    """Two rods on ZXY joints, the second turned relative to the first (joint angles)."""
+    angles = sp.symbols("a1 b1 c1 a2 b2 c2")
+    m1, m2, l1, l2, g, I1, J1, I2, J2 = sp.symbols("m1 m2 l1 l2 g I1 J1 I2 J2")
+    R1 = rotation_sequence([("z", angles[0]), ("x", angles[1]), ("y", angles[2])]).matrix
+    turns2 = [("z", angles[3]), ("x", angles[4]), ("y", angles[5])]
+    R2 = rotation_sequence(turns2, parent=R1).matrix
+    down = sp.Matrix([0, 0, -1])
+    return lg.System(
+        coordinates=list(angles),
+        parameters=[m1, m2, l1, l2, g, I1, J1, I2, J2],
+        gravity=(0, 0, -g),
+        rigid_bodies=[
+            lg.RigidBody(
+                "rod1",
+                m1,
+                sp.diag(I1, I1, J1),
+                tuple(R1 * down * l1 / 2),
+                rotations=[("z", angles[0]), ("x", angles[1]), ("y", angles[2])],
+            ),
+            lg.RigidBody(
+                "rod2",
+                m2,
+                sp.diag(I2, I2, J2),
+                tuple(R1 * down * l1 + R2 * down * l2 / 2),
+                parent="rod1",
+                rotations=turns2,
+            ),
+        ],
+    )
+
+
+def _numbers(form: kinetic.KineticForm, values: dict) -> tuple[np.ndarray, np.ndarray]:
+    mass = np.array([[_value(e, values) for e in row] for row in form.mass_matrix])
+    return mass, np.array([_value(e, values) for e in form.coriolis])
+
+
+def test_the_three_routes_to_m_and_c_agree(monkeypatch: pytest.MonkeyPatch) -> None:
+    asm = assemble(_relative_chain())
+    monkeypatch.setattr(kinetic, "STRUCTURED_PRODUCTS", 10**9)
+    entry_by_entry = kinetic.kinetic_form(asm)
+    assert not entry_by_entry.grouped
+    monkeypatch.setattr(kinetic, "STRUCTURED_PRODUCTS", 0)
+    grouped = kinetic.kinetic_form(asm)
+    monkeypatch.setattr(kinetic, "NESTED_PRODUCTS", 0)
+    nested = kinetic.kinetic_form(asm)
+    assert grouped.grouped and nested.grouped
+    rng = random.Random(7)
+    symbols = {
+        s
+        for form in (entry_by_entry, grouped, nested)
+        for e in [*(e for row in form.mass_matrix for e in row), *form.coriolis]
+        for s in e.free_symbols
+    }
+    for _ in range(3):
+        values = {s: rng.uniform(-1.2, 1.2) if s in asm.q else rng.uniform(0.5, 2) for s in symbols}
+        reference = _numbers(entry_by_entry, values)
+        for form in (grouped, nested):
+            for ours, theirs in zip(_numbers(form, values), reference):
+                np.testing.assert_allclose(ours, theirs, rtol=1e-11, atol=1e-11)
+
+
+def test_a_long_chain_keeps_its_angular_velocity_nested(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Three ZXY joints (9 turning rotations): omega_b stays as the products give it, the
+    same numbers as expanded."""
+    angles = sp.symbols("a1:10")
+    turns = [(axis, angle) for axis, angle in zip("zxy" * 3, angles)]
+    orientation = rotation_sequence(turns)
+    nested = body_angular_velocity(orientation, angles)
+    monkeypatch.setattr(rotation, "EXPANDED_TURNS", 100)
+    expanded = body_angular_velocity(orientation, angles)
+    assert sp.count_ops(nested) < sp.count_ops(expanded)
+    rng = random.Random(3)
+    values = {s: rng.uniform(-1, 1) for s in angles}
+    values.update({velocity(s): rng.uniform(-1, 1) for s in angles})
+    difference = (nested - expanded).xreplace(values)
+    assert max(abs(float(e)) for e in difference) < 1e-12
