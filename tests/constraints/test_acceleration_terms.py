@@ -1,7 +1,8 @@
 """gamma of A q_ddot = gamma in the multiplier form, built from each constraint's partial
 derivatives, against -(dc/dt at q_ddot = 0) differentiated whole in SymPy, at random states:
 a contact-point constraint of a body turned by three rotations written in world axes and in
-body axes, and one too large to tidy (left unexpanded)."""
+body axes, one too large to tidy (left unexpanded), and constraints with radicals of the state
+(differentiated through their bases), nested, in denominators and rheonomic."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import random
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.constraints.pfaffian import TIDY_OPS
+from lagrangian.constraints.pfaffian import TIDY_OPS, pfaffian_form
 from lagrangian.model import rotation_sequence
 from lagrangian.model.symbols import acceleration, t, time_derivative, velocity
 
@@ -68,3 +69,26 @@ def test_gamma_of_a_constraint_too_large_to_tidy() -> None:
     big = sp.expand(first.expression * (1 + sp.sin(a) * sp.cos(b) + sp.cos(c)) ** 3)
     assert sp.count_ops(big.diff(a)) > TIDY_OPS
     _assert_gamma_is_the_rate(_system([lg.VelocityConstraint(big)]))
+
+
+def test_gamma_of_constraints_with_radicals_of_the_state() -> None:
+    """The rate of a contact height with sqrt(1 - s**2) (a torus wheel's), whose derivative
+    has the radical in numerators and denominators, and a rheonomic nested radical."""
+    s = sp.sin(b) * sp.cos(c) + sp.sin(a) * sp.sin(c) / 3
+    height = z - r * sp.sqrt(1 - s**2) + x * sp.sqrt(1 - s**2) ** 3 / 5
+    nested = sp.sqrt(2 + x**2 + sp.sqrt(1 + t**2 * y**2 + sp.sin(a) ** 2))
+    constraints = [
+        lg.VelocityConstraint(time_derivative(height, Q)),
+        lg.VelocityConstraint(x * velocity(y) * nested + velocity(c) / nested + t * nested),
+    ]
+    _assert_gamma_is_the_rate(_system(constraints))
+
+
+def test_the_constraint_jacobian_of_a_velocity_constraint_is_expanded() -> None:
+    """a_k = dc/dq_dot_k expanded (as SymPy's expand writes it), and the form is made once
+    per constraint expression and coordinates."""
+    first = lg.VelocityConstraint(velocity(x) * (1 + sp.sin(a)) * (r + y) - velocity(y) * z)
+    form = pfaffian_form(first, Q)
+    assert form.coefficients[0] == sp.expand((1 + sp.sin(a)) * (r + y))
+    assert form.coefficients[1] == -z and form.time_coefficient == 0
+    assert pfaffian_form(lg.VelocityConstraint(first.expression, name="again"), Q) is form

@@ -62,3 +62,23 @@ def test_simulating_never_solves_the_multipliers_symbolically(solves: list[Any])
     assert len(solves) == 1
     with pytest.raises(TypeError, match="does not support item assignment"):
         form.explicit[sp.Symbol("lambda_1")] = 0  # type: ignore[index]
+
+
+def test_the_augmented_lagrangian_is_formed_when_first_read(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """L + lambda h needs L, which a derivation forms only when asked: the multiplier form
+    leaves it until someone reads it, then keeps it."""
+    calls: list[Any] = []
+    original: Callable[..., Any] = multipliers._augmented_lagrangian
+    monkeypatch.setattr(
+        multipliers, "_augmented_lagrangian", lambda e: calls.append(e) or original(e)
+    )
+    system = ring()
+    form = constrained_equations(system)
+    assert calls == []
+    augmented = form.augmented_lagrangian
+    assert form.augmented_lagrangian is augmented and len(calls) == 1
+    x, y = system.coordinates
+    expected = lg.derive(system).lagrangian + sp.Symbol("lambda_1") * (x**2 + y**2 - 1)
+    assert sp.expand(augmented - expected) == 0

@@ -24,16 +24,19 @@ Inconsistency raises :class:`~lagrangian.errors.ConstraintError` naming the cons
 from __future__ import annotations
 
 import random
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import symengine as se
 import sympy as sp
 
-from lagrangian.constraints.pfaffian import PfaffianForm, pfaffian_form
+from lagrangian.constraints.pfaffian import PfaffianForm, backend, pfaffian_form
 from lagrangian.constraints.projection import SATISFIED, project
+from lagrangian.derivation.backend import to_backend
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
-from lagrangian.model import Holonomic, System, Unilateral, t
+from lagrangian.model import Holonomic, System, Unilateral, t, velocity
 from lagrangian.model.constraints import label, statement
 from lagrangian.model.probe import SEED, PointFunction, numeric_rank, random_values
 
@@ -109,9 +112,7 @@ def dependence(system: System, active: bool = False) -> Dependence:
     point = generic_point(system, active)
     coordinates = system.coordinates
     forms: list[PfaffianForm] = [pfaffian_form(c, coordinates) for c in system.constraints]
-    symbols = sorted(point, key=str)
-    a = PointFunction(sp.Matrix([list(f.coefficients) for f in forms]), symbols)(point)
-    b = PointFunction(sp.Matrix([f.time_coefficient for f in forms]), symbols)(point)
+    a, b = _jacobian_at(forms, coordinates, point)
     if a is None or b is None:
         raise ConstraintError(
             "The constraint Jacobian is not defined at a generic configuration; check the "
@@ -130,6 +131,46 @@ def dependence(system: System, active: bool = False) -> Dependence:
     if inconsistent:
         _raise_velocity_inconsistent(system, inconsistent, kept)
     return Dependence(point, rows, tuple(sorted(redundant)), a, b.ravel())
+
+
+def _jacobian_at(
+    forms: list[PfaffianForm], coordinates: Sequence[sp.Symbol], point: dict[sp.Symbol, float]
+) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """A and b at ``point`` (None where not finite and real), each c_j = a_j . q_dot + b_j
+    evaluated in SymEngine as a_j = dc_j/dq_dot and b_j = c_j at rest.  What SymEngine cannot
+    evaluate (the derivative of |u| SymPy leaves unevaluated) goes through
+    :class:`~lagrangian.model.probe.PointFunction`."""
+    speeds = [to_backend(velocity(q)) for q in coordinates]
+    at_rest = {v: se.Integer(0) for v in speeds}
+    entries = []
+    for form in forms:
+        c = backend(form.velocity_expression)
+        entries += [*(c.diff(v) for v in speeds), c.xreplace(at_rest)]
+    try:
+        numbers = values_at(entries, point)
+    except ValueError:
+        symbols = sorted(point, key=str)
+        a = PointFunction(sp.Matrix([list(f.coefficients) for f in forms]), symbols)(point)
+        b = PointFunction(sp.Matrix([f.time_coefficient for f in forms]), symbols)(point)
+        return a, b
+    if numbers is None:
+        return None, None
+    numbers = numbers.reshape(len(forms), len(coordinates) + 1)
+    return numbers[:, :-1], numbers[:, -1:]
+
+
+def values_at(exprs: Sequence[Any], point: Mapping[sp.Symbol, float]) -> np.ndarray | None:
+    """The values of SymEngine expressions at ``point``, one substitution each (nothing
+    compiled: for the few points a probe needs, compiling costs more than it saves); None
+    where one is not finite or not real.  ValueError where SymEngine cannot evaluate one."""
+    values = {to_backend(s): se.RealDouble(v) for s, v in point.items()}
+    try:
+        numbers = np.array([complex(e.subs(values)) for e in exprs], dtype=complex)
+    except (RuntimeError, TypeError) as error:
+        raise ValueError(f"SymEngine cannot evaluate an expression: {error}") from error
+    if not np.all(np.isfinite(numbers)) or np.any(np.abs(numbers.imag) > 1e-12):
+        return None
+    return numbers.real
 
 
 def _raise_velocity_inconsistent(system: System, bad: list[int], kept: list[int]) -> None:

@@ -29,6 +29,7 @@ from itertools import combinations
 import numpy as np
 import sympy as sp
 
+from lagrangian.constraints.dependence import values_at
 from lagrangian.constraints.forms import (
     Form,
     describe,
@@ -37,6 +38,8 @@ from lagrangian.constraints.forms import (
     wedge,
     wedge_values,
 )
+from lagrangian.constraints.pfaffian import backend
+from lagrangian.derivation.backend import to_backend
 from lagrangian.model.conversion import to_sympy
 from lagrangian.model.probe import SEED, PointFunction, is_small, is_zero, random_values
 
@@ -187,11 +190,22 @@ class _ProbedForms:
     def __init__(self, rows: Sequence[Sequence[sp.Expr]], variables: Sequence[sp.Symbol]):
         self.n = len(variables)
         exprs = [to_sympy(a) for row in rows for a in row]
-        slopes = [a.diff(z) for a in exprs for z in variables]
         symbols = set(variables).union(*(a.free_symbols for a in exprs))
         self.symbols = sorted(symbols, key=str)
-        self.function = PointFunction(sp.Matrix([*exprs, *slopes]), self.symbols)
+        self.variables = tuple(variables)
+        self.exprs = exprs
+        # differentiated in SymEngine: SymPy takes seconds on a rolling wheel's coefficients
+        fast = [backend(a) for a in exprs]
+        self.entries = [*fast, *(a.diff(to_backend(z)) for a in fast for z in variables)]
         self.count = len(rows)
+
+    def function(self, point: dict[sp.Symbol, float]) -> np.ndarray | None:
+        """The coefficients, then their slopes, at ``point`` (None where not finite)."""
+        try:
+            return values_at(self.entries, point)
+        except ValueError:  # a derivative SymEngine leaves unevaluated: SymPy's
+            slopes = [a.diff(z) for a in self.exprs for z in self.variables]
+            return PointFunction(sp.Matrix([*self.exprs, *slopes]), self.symbols)(point)
 
     def points(self) -> list[list[tuple[FormValues, FormValues]]]:
         """At each probe where every value is finite: [(omega_j, d omega_j) for each form]."""

@@ -17,7 +17,9 @@ the augmented system numerically):
 
     lambda = (A M^-1 A^T)^-1 (gamma - A M^-1 forcing),   q_ddot = M^-1 (forcing + A^T lambda).
 
-The multiplier form is computed once per EquationsOfMotion object and set of constraints.
+The multiplier form is computed once per EquationsOfMotion object and set of constraints;
+the augmented Lagrangian, which needs L (a derivation computes it only when asked), on first
+request.
 
 Holonomic constraints are also the augmented Lagrangian L + sum_j lambda_j h_j (Goldstein §2.4),
 whose Euler–Lagrange equations are the first block row above.  Unilateral constraints are
@@ -46,7 +48,7 @@ import sympy as sp
 
 from lagrangian.constraints.dependence import dependence
 from lagrangian.constraints.pfaffian import acceleration_terms, pfaffian_form
-from lagrangian.derivation import EquationsOfMotion, equations_of
+from lagrangian.derivation import EquationsOfMotion, derive, equations_of
 from lagrangian.derivation.trig import combine_trig_sympy
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import System
@@ -72,11 +74,10 @@ class ConstrainedEquations:
         The right side of A q_ddot = gamma.
     multipliers:
         lambda_1, ..., lambda_m, one per constraint in order.
-    augmented_lagrangian:
-        L + sum lambda_j h_j over the holonomic and unilateral constraints (velocity
-        constraints have no h; their forces lambda_j a_j appear in the equations only).
     system:
         The System whose constraints these are.
+    free_system:
+        The System the unconstrained equations were derived from (its L).
     """
 
     coordinates: tuple[sp.Symbol, ...]
@@ -90,14 +91,21 @@ class ConstrainedEquations:
     forcing: sp.ImmutableMatrix
     constraint_jacobian: sp.ImmutableMatrix
     gamma: sp.ImmutableMatrix
-    augmented_lagrangian: sp.Expr
     system: System = field(repr=False, compare=False)
+    free_system: System = field(repr=False, compare=False)
 
     @property
     def explicit(self) -> Mapping[sp.Symbol, sp.Expr] | None:
         """q_ddot and lambda solved symbolically (computed on first request), or None when
         the system is left in augmented form (M singular, or dense with n > 4)."""
         return _SOLVED.get(self, _solve)
+
+    @property
+    def augmented_lagrangian(self) -> sp.Expr:
+        """L + sum lambda_j h_j over the holonomic and unilateral constraints (velocity
+        constraints have no h; their forces lambda_j a_j appear in the equations only);
+        computed on first request."""
+        return _AUGMENTED.get(self, _augmented_lagrangian)
 
     @property
     def unknowns(self) -> tuple[sp.Symbol, ...]:
@@ -138,6 +146,7 @@ _FORMS: IdentityCache[EquationsOfMotion, dict[tuple[Constraint, ...], Constraine
 _FORMS = IdentityCache()
 _SOLVED: IdentityCache[ConstrainedEquations, Mapping[sp.Symbol, sp.Expr] | None]
 _SOLVED = IdentityCache()
+_AUGMENTED: IdentityCache[ConstrainedEquations, sp.Expr] = IdentityCache()
 
 
 def constrained_equations(
@@ -183,13 +192,6 @@ def _multiplier_form(
         len(forms), len(coordinates), [a for f in forms for a in f.coefficients]
     )
     gamma = sp.ImmutableMatrix(len(forms), 1, acceleration_terms(forms, coordinates))
-    multipliers = _multipliers(system)
-    holonomic = [
-        (lam, c.expression)
-        for lam, c in zip(multipliers, system.constraints)
-        if not isinstance(c, VelocityConstraint)
-    ]
-    augmented = eom.lagrangian + sum((lam * h for lam, h in holonomic), sp.Integer(0))
     return ConstrainedEquations(
         coordinates=coordinates,
         velocities=tuple(eom.velocities),
@@ -197,14 +199,24 @@ def _multiplier_form(
         parameters=frozen(eom.parameters),
         time=eom.time,
         constraints=tuple(system.constraints),
-        multipliers=multipliers,
         mass_matrix=eom.mass_matrix,
         forcing=eom.forcing,
         constraint_jacobian=jacobian,
         gamma=gamma,
-        augmented_lagrangian=augmented,
+        multipliers=_multipliers(system),
         system=system,
+        free_system=own,
     )
+
+
+def _augmented_lagrangian(equations: ConstrainedEquations) -> sp.Expr:
+    """L + sum lambda_j h_j (the module docstring)."""
+    holonomic = [
+        lam * c.expression
+        for lam, c in zip(equations.multipliers, equations.constraints)
+        if not isinstance(c, VelocityConstraint)
+    ]
+    return derive(equations.free_system).lagrangian + sp.Add(*holonomic)
 
 
 def _multipliers(system: System) -> tuple[sp.Symbol, ...]:

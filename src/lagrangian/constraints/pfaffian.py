@@ -13,6 +13,9 @@ and differentiating c once more (holonomic: h twice) gives
                                                                   q_dot d/dq + q_ddot d/dq_dot
                                                                   + d/dt).
 
+The differentiation and expansion run in SymEngine; forms are cached per constraint
+expression and coordinates, since every consumer of a System's constraints asks for them.
+
 >>> import sympy as sp
 >>> from lagrangian.model import Holonomic
 >>> x, y = sp.symbols("x y")
@@ -27,17 +30,20 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
 
 import symengine as se
 import sympy as sp
 
-from lagrangian.derivation.backend import SympyView, to_backend
+from lagrangian.derivation.backend import Backend, SympyView, to_backend
 from lagrangian.derivation.collect import collect_state
 from lagrangian.derivation.trig import combine_trig, size
 from lagrangian.model import VelocityConstraint, t, velocity
 from lagrangian.model.constraints import Constraint
 
 TIDY_OPS = 1000  # partial derivatives of a constraint's rate beyond this are not expanded
+CACHED = 512  # constraint expressions whose form and SymEngine image are kept
 
 
 @dataclass(frozen=True)
@@ -55,15 +61,48 @@ class PfaffianForm:
 
 def pfaffian_form(constraint: Constraint, coordinates: Sequence[sp.Symbol]) -> PfaffianForm:
     """The Pfaffian form of ``constraint`` (holonomic and unilateral ones through h_dot)."""
-    expr = constraint.expression
-    if isinstance(constraint, VelocityConstraint):
-        coefficients = tuple(sp.expand(expr.diff(velocity(q))) for q in coordinates)
-        at_rest = {velocity(q): 0 for q in coordinates}
-        time_coefficient = sp.expand(expr.xreplace(at_rest))
-        return PfaffianForm(coefficients, time_coefficient, expr)
-    coefficients = tuple(expr.diff(q) for q in coordinates)
-    rate = sum((a * velocity(q) for a, q in zip(coefficients, coordinates)), sp.Integer(0))
-    return PfaffianForm(coefficients, expr.diff(t), rate + expr.diff(t))
+    velocity_level = isinstance(constraint, VelocityConstraint)
+    key = (velocity_level, constraint.expression, tuple(coordinates))
+    try:
+        return _cached_form(*key)
+    except TypeError:  # an unhashable expression: let the System's validation name it
+        return _form(*key)
+
+
+@lru_cache(maxsize=CACHED)
+def _cached_form(
+    velocity_level: bool, expr: sp.Expr, coordinates: tuple[sp.Symbol, ...]
+) -> PfaffianForm:
+    return _form(velocity_level, expr, coordinates)
+
+
+def _form(velocity_level: bool, expr: sp.Expr, coordinates: tuple[sp.Symbol, ...]) -> PfaffianForm:
+    c = backend(expr)
+    speeds = [velocity(q) for q in coordinates]
+    fast = [to_backend(v) for v in speeds]
+    view = SympyView({*expr.free_symbols, *coordinates, *speeds, t})
+    if velocity_level:  # a = dc/dq_dot and b = c at q_dot = 0, each expanded
+        coefficients = tuple(view(se.expand(c.diff(v))) for v in fast)
+        at_rest = se.expand(c.xreplace({v: 0 for v in fast}))
+        return PfaffianForm(coefficients, view(at_rest), expr)
+    slopes = [c.diff(to_backend(q)) for q in coordinates]  # a = dh/dq, b = dh/dt
+    time_slope = c.diff(to_backend(t))
+    rate = se.Add(*[a * v for a, v in zip(slopes, fast)], time_slope)
+    return PfaffianForm(tuple(view(a) for a in slopes), view(time_slope), view(rate))
+
+
+def backend(expr: Any) -> Backend:
+    """The SymEngine image of a constraint expression, converted once (a rolling contact's
+    no-slip constraint has thousands of operations and several consumers)."""
+    try:
+        return _cached_backend(expr)
+    except TypeError:
+        return to_backend(expr)
+
+
+@lru_cache(maxsize=CACHED)
+def _cached_backend(expr: Any) -> Backend:
+    return to_backend(expr)
 
 
 def acceleration_terms(
@@ -77,23 +116,55 @@ def acceleration_terms(
     (:func:`lagrangian.derivation.trig.combine_trig`), then the terms grouped by state
     monomial.  Never the product of whole sums expanded at once, so a constraint written with
     a rotation matrix in world axes costs about what it costs in body axes; a partial
-    derivative of more than ``TIDY_OPS`` operations (a rolling wheel's contact point) is left
-    as it is, and so is then gamma."""
-    q = [to_backend(s) for s in coordinates]
+    derivative of more than ``TIDY_OPS`` operations (a rolling wheel's contact point), or a
+    chain term below whose factors' sizes multiply past it, is left as it is, and so is then
+    gamma.
+
+    A radical u**(p/q) of a state-dependent u (a torus wheel's contact point has
+    sqrt(1 - s**2) in every term) is differentiated through its base by the chain rule,
+
+        d/dt c(q, u(q, t)) = sum_l dc/dq_l q_dot_l + dc/dt + dc/du du/dt     (u held fixed
+                                                                               in dc/dq, dc/dt),
+
+    so du/dt appears once, not inside every partial derivative."""
     q_dot = [to_backend(velocity(s)) for s in coordinates]
-    state = {*q, *q_dot, to_backend(t)}
+    variables = [*(to_backend(s) for s in coordinates), to_backend(t)]
+    rates = [*q_dot, se.Integer(1)]
+    state = {*variables, *q_dot}
     view = SympyView({t, *coordinates}.union(*(f.velocity_expression.free_symbols for f in forms)))
     result = []
     for form in forms:
-        c = to_backend(form.velocity_expression)
-        slopes = [c.diff(x) for x in (*q, to_backend(t))]
-        if all(size(slope) <= TIDY_OPS for slope in slopes):
-            tidied = [combine_trig(slope) for slope in slopes]
-            rate = se.expand(se.Add(*[a * v for a, v in zip(tidied, q_dot)], tidied[-1]))
-            result.append(view(collect_state(-rate, state)))
+        terms, held = _rate_terms(backend(form.velocity_expression), variables, rates)
+        if all(size(slope) * max(1, size(rate)) <= TIDY_OPS for slope, rate in terms):
+            rate = se.expand(se.Add(*[combine_trig(slope) * rate for slope, rate in terms]))
+            gamma = collect_state(-rate, state)
         else:
-            result.append(view(-se.Add(*[a * v for a, v in zip(slopes, q_dot)], slopes[-1])))
+            gamma = -se.Add(*[slope * rate for slope, rate in terms])
+        result.append(view(gamma.xreplace(held) if held else gamma))
     return result
+
+
+def _rate_terms(
+    c: Backend, variables: Sequence[Backend], rates: Sequence[Backend]
+) -> tuple[list[tuple[Backend, Backend]], dict[Backend, Backend]]:
+    """dc/dt (at q_ddot = 0) as a list of (partial derivative, rate) with the state-dependent
+    radical bases u held as symbols, and those symbols -> u: the partial derivatives by
+    ``variables`` times ``rates``, then dc/du times du/dt for each base."""
+    bases = {
+        p.args[0]: se.Dummy("u")
+        for p in c.atoms(se.Pow)
+        if p.args[1].is_Number and not p.args[1].is_Integer and not p.args[0].is_Symbol
+        if any(v in p.args[0].free_symbols for v in variables)
+    }
+    held = c.xreplace(bases) if bases else c
+    terms = [(held.diff(v), rate) for v, rate in zip(variables, rates)]
+    for base, symbol in bases.items():
+        inner, inner_held = _rate_terms(base, variables, rates)
+        base_rate = se.Add(*[slope * rate for slope, rate in inner])
+        terms.append(
+            (held.diff(symbol), base_rate.xreplace(inner_held) if inner_held else base_rate)
+        )
+    return terms, {symbol: base for base, symbol in bases.items()}
 
 
 def jacobian(forms: Sequence[PfaffianForm], n: int) -> sp.ImmutableMatrix:

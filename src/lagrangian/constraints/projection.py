@@ -28,9 +28,11 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import symengine as se
 import sympy as sp
 
 from lagrangian.constraints.pfaffian import pfaffian_form
+from lagrangian.derivation.backend import to_backend
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import Holonomic, System, Unilateral, VelocityConstraint, t, velocity
 from lagrangian.model.constraints import label, statement
@@ -66,7 +68,8 @@ def project(
         return Projection(dict(start), ())
     symbols = sorted(set(start) | set(unknowns), key=str)
     residual = PointFunction(sp.Matrix(equations), symbols)
-    slope = PointFunction(sp.Matrix(equations).jacobian(list(unknowns)), symbols)
+    fast = se.Matrix([to_backend(e) for e in equations])  # SymPy's diff is the slow part
+    slope = PointFunction(fast.jacobian(se.Matrix([to_backend(u) for u in unknowns])), symbols)
     rng = random.Random(SEED + 1)
     best: Projection | None = None
     for attempt in range(starts):

@@ -32,6 +32,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
 
 import numpy as np
+import symengine as se
 import sympy as sp
 
 from lagrangian.model.conversion import to_sympy
@@ -127,6 +128,12 @@ def generic_rank(matrix: Any, values: Mapping[sp.Symbol, float] | None = None) -
     return numeric_rank(numbers.real)
 
 
+def _entries(matrix: Any) -> list[Any]:
+    """The entries of a SymPy or SymEngine matrix, row by row."""
+    rows, cols = matrix.shape
+    return [matrix[i, j] for i in range(rows) for j in range(cols)]
+
+
 class PointFunction:
     """Expressions as a numerical function of a point given by name (a mapping from symbols
     to floats), vector or matrix valued; None where any value is not finite or not real.
@@ -135,14 +142,27 @@ class PointFunction:
     vectorised functions of a simulation are :class:`lagrangian.numerics.NumericFunction`.
     """
 
-    def __init__(self, exprs: sp.MatrixBase, symbols: Sequence[sp.Symbol]) -> None:
-        self.shape = exprs.shape
+    def __init__(self, exprs: Any, symbols: Sequence[sp.Symbol]) -> None:
+        """``exprs``: a SymPy or SymEngine matrix."""
+        self.shape = tuple(exprs.shape)
         self.symbols = tuple(symbols)
-        # a derivative of |u| SymPy left unevaluated cannot be printed
-        exprs = exprs.applyfunc(piecewise_smooth) if 0 not in self.shape else exprs
-        self._function: Callable[..., Any] = (
-            sp.lambdify(self.symbols, exprs, modules=MODULES) if 0 not in self.shape else list
-        )
+        self._function: Callable[..., Any] = list
+        if 0 in self.shape:
+            return
+        try:  # SymEngine compiles in milliseconds what SymPy's printer takes seconds over
+            compiled = se.Lambdify(
+                [se.sympify(s) for s in self.symbols],
+                [se.sympify(e) for e in _entries(exprs)],
+                real=False,
+                cse=True,
+            )
+            self._function = lambda *values: compiled(values)
+        except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
+            # a derivative of |u| SymPy left unevaluated: SymPy prints it piecewise smooth
+            smooth = sp.Matrix(self.shape[0], self.shape[1], [to_sympy(e) for e in _entries(exprs)])
+            self._function = sp.lambdify(
+                self.symbols, smooth.applyfunc(piecewise_smooth), modules=MODULES
+            )
 
     def __call__(self, values: Mapping[sp.Symbol, float]) -> np.ndarray | None:
         if 0 in self.shape:
