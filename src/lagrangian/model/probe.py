@@ -150,9 +150,12 @@ class PointFunction:
         if 0 in self.shape:
             return
         try:  # SymEngine compiles in milliseconds what SymPy's printer takes seconds over
+            # SymEngine's CSE names its temporaries x0, x1, ...: a user's x1 would be taken
+            # for one, so every argument gets a name no model can have
+            renamed = {se.sympify(s): se.Symbol(f"_arg{i}_") for i, s in enumerate(self.symbols)}
             compiled = se.Lambdify(
-                [se.sympify(s) for s in self.symbols],
-                [se.sympify(e) for e in _entries(exprs)],
+                list(renamed.values()),
+                [se.sympify(e).xreplace(renamed) for e in _entries(exprs)],
                 real=False,
                 cse=True,
             )
