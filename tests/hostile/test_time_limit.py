@@ -63,12 +63,22 @@ def test_work_within_its_limit_is_unaffected():
 
 
 def test_symbolic_work_that_would_take_minutes_stops():
-    system = lg.examples.n_link_pendulum(60)  # a derivation of many seconds
+    system = lg.examples.n_link_pendulum(150)  # a derivation of many seconds
     with pytest.raises(TimeLimitError, match="time limit of 2 s"), time_limit(2):
         lg.derive(system)
     assert no_timer_left()
     # the interrupted derivation left nothing half-made behind: a small one still works
     assert lg.derive(lg.examples.simple_pendulum()).equations
+
+
+def test_a_remembered_derivation_is_returned_without_a_timer():
+    system = lg.examples.double_pendulum()
+    eom = lg.derive(system)
+    # a limit far too short for any derivation: the remembered one needs none
+    assert lg.derive(system, time_limit=1e-6) is eom
+    assert no_timer_left()
+    with pytest.raises(ArgumentError, match="time_limit"):
+        lg.derive(system, time_limit=-1)
 
 
 def test_an_inner_limit_fires_first_and_the_outer_one_still_holds():

@@ -10,7 +10,7 @@ l1 l2 (m2/2 + m3) (sin a1 sin a2 + cos a1 cos a2 cos b1 + ...).
 from __future__ import annotations
 
 from collections import defaultdict
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import symengine as se
@@ -69,20 +69,39 @@ def _factor_common(products: list[Any]) -> Any:
     return outside * inside
 
 
-def collect_state(expr: Any, state: Iterable[Any]) -> Any:
-    """Group the terms of expanded ``expr`` by their factors that depend on ``state``."""
+def collect_state(
+    expr: Any, state: Iterable[Any], sums: Mapping[Any, tuple[Any, Any]] | None = None
+) -> Any:
+    """Group the terms of expanded ``expr`` by their factors that depend on ``state``.
+
+    ``sums`` maps symbols that stand for sums of parameters in ``expr`` to (the sum, the sum
+    with its common factors pulled out): the result has the sums back, as though ``expr`` had
+    been expanded with them (a coefficient that is one product takes the factored sum, several
+    that hold such symbols are expanded together and factored as one)."""
     state = set(state)
     terms = expr.args if expr.is_Add else (expr,)
     groups: dict[Any, list[list[Any]]] = defaultdict(list)
     moving: dict[Any, bool] = {}  # factor -> depends on the state (factors recur across terms)
+    swapped: dict[Any, Any] = {}  # a moving factor with a symbol of ``sums`` -> with the sum
     for term in terms:
         key: list[Any] = []
         coefficient: list[Any] = []
         for factor in term.args if term.is_Mul else (term,):
             if factor not in moving:
-                moving[factor] = not state.isdisjoint(factor.free_symbols)
-            (key if moving[factor] else coefficient).append(factor)
+                symbols = factor.free_symbols
+                moving[factor] = not state.isdisjoint(symbols)
+                if sums and moving[factor] and not symbols.isdisjoint(sums):
+                    swapped[factor] = factor.xreplace({s: sums[s][0] for s in sums})
+            if moving[factor]:
+                key.append(swapped.get(factor, factor))
+            else:
+                coefficient.append(factor)
         groups[se.Mul(*key)].append(coefficient)
+    if sums:
+        pairs = [(key, _with_sums(products, sums)) for key, products in groups.items()]
+        if len(pairs) < SHARED:
+            return se.Add(*[key * coefficient for key, coefficient in pairs])
+        return _sum_by_coefficient(pairs, None)
     if len(groups) < SHARED and all(len(v) == 1 for v in groups.values()):
         return expr
     pairs = [(key, _factor_common(products)) for key, products in groups.items()]
@@ -91,14 +110,46 @@ def collect_state(expr: Any, state: Iterable[Any]) -> Any:
     return _sum_by_coefficient(pairs, expr if all(len(v) == 1 for v in groups.values()) else None)
 
 
+def _with_sums(products: list[list[Any]], sums: Mapping[Any, tuple[Any, Any]]) -> Any:
+    """:func:`_factor_common` of ``products`` whose symbols in ``sums`` stand for sums."""
+    holding = [p for p in products if any(_base(f) in sums for f in p)]
+    if not holding:
+        return _factor_common(products)
+    if len(products) == 1:  # c S -> c (S factored), the form the expanded c S collects to
+        return se.Mul(*[_put_back(f, sums, 1) for f in products[0]])
+    expanded = se.expand(se.Add(*[se.Mul(*[_put_back(f, sums, 0) for f in p]) for p in products]))
+    if expanded.is_Number:
+        return expanded
+    terms = expanded.args if expanded.is_Add else (expanded,)
+    return _factor_common([term.args if term.is_Mul else (term,) for term in terms])
+
+
+def _base(factor: Any) -> Any:
+    return factor.args[0] if factor.is_Pow else factor
+
+
+def _put_back(factor: Any, sums: Mapping[Any, tuple[Any, Any]], form: int) -> Any:
+    """``factor`` with a symbol of ``sums`` (or its power) replaced by form 0 (the sum) or
+    1 (the factored sum)."""
+    if factor in sums:
+        return sums[factor][form]
+    if factor.is_Pow and factor.args[0] in sums:
+        return sums[factor.args[0]][form] ** factor.args[1]
+    return factor
+
+
 def _sum_by_coefficient(pairs: list[tuple[Any, Any]], unchanged: Any) -> Any:
     """sum key * coefficient with the keys of a coefficient (or of its negative) shared by
-    :data:`SHARED` or more summed first: c k1 - c k2 + c k3 -> c (k1 - k2 + k3); numbers are
-    not factored out.  ``unchanged`` (when not None) is returned if nothing is shared."""
+    :data:`SHARED` or more summed first: c k1 - c k2 + c k3 -> c (k1 - k2 + k3), c without
+    a negative number in front; numbers are not factored out.  ``unchanged`` (when not
+    None) is returned if nothing is shared."""
     shared: dict[Any, list[Any]] = {}
     for key, coefficient in pairs:
         if coefficient.is_Number:
             shared.setdefault(coefficient, []).append(key)
+        elif coefficient.is_Mul and coefficient.args[0].is_Number and coefficient.args[0] < 0:
+            # c k1 - c k2 + c k3 whichever sign comes first: the same form for the same sum
+            shared.setdefault(-coefficient, []).append(-key)
         elif -coefficient in shared:
             shared[-coefficient].append(-key)
         else:

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagrangian.derivation.solved import explicit_solution, mass_matrix_is_regular
-from lagrangian.derivation.steps import Steps, coordinate_steps
+from lagrangian.derivation.steps import Steps, coordinate_steps, equation_residuals
 from lagrangian.derivation.terms import coriolis_matrix, matrix_piece
 from lagrangian.errors import DerivationError
 from lagrangian.model import System
@@ -155,7 +155,7 @@ class EquationsOfMotion:
     @property
     def equations(self) -> sp.ImmutableMatrix:
         """Residuals d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q, each = 0 (from the steps)."""
-        return sp.ImmutableMatrix([s.equation for s in self.steps])
+        return equation_residuals(self.system)
 
     @property
     def coriolis_matrix(self) -> sp.ImmutableMatrix:

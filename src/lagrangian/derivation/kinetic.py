@@ -55,33 +55,74 @@ def _hessian(expr: Backend, symbols: tuple[Backend, ...]) -> Matrix:
     return [[first[i].diff(s) for s in symbols] for i in range(len(symbols))]
 
 
-def _point_terms(asm: Assembly) -> tuple[Matrix, Backend]:
-    """sum m J^T J (+ I g^T g) and the kinetic terms of degree 0 and 1 in the velocities."""
+def _point_terms(asm: Assembly) -> tuple[Matrix, Backend, set[tuple[int, int]]]:
+    """sum m J^T J (+ I g^T g), the kinetic terms of degree 0 and 1 in the velocities, and the
+    entries that are one combined product times a sum of weights.
+
+    The weights of each combined column product are summed before they multiply it: a chain's
+    entry is l_j l_k (m_k + ... + m_n) cos(theta_j - theta_k), never grown term by term; a
+    column that recurs (link j's in every point beyond it) is met by number, not compared."""
     n = len(asm.q)
-    mass = [[se.Integer(0)] * n for _ in range(n)]
+    weights: dict[tuple[int, int], dict[Backend, list[Backend]]] = defaultdict(dict)
     low_degree = se.Integer(0)
+    columns_seen: dict[tuple[Backend, ...], int] = {}
     combined: dict[Backend, Backend] = {}  # the same column pairs recur for every point below
+    pairs: dict[tuple[int, int], Backend] = {}  # (column, column) numbers -> combined product
     for point in asm.points:
         columns = [(point.mass, point.position)]
         if point.angle is not None and point.inertia != 0:
             columns.append((point.inertia, (point.angle,)))
         for weight, coordinates in columns:
-            jac = [[x.diff(q) for q in asm.q] for x in coordinates]
+            jac = [_gradient(x, asm.q) for x in coordinates]
             drift = [x.diff(asm.t) for x in coordinates]
+            ids = []
             for j in range(n):
-                for k in range(j, n):
-                    term = se.Add(*[row[j] * row[k] for row in jac])
-                    if term != 0:
+                column = tuple(row[j] for row in jac)
+                ids.append(
+                    -1
+                    if all(c == 0 for c in column)
+                    else columns_seen.setdefault(column, len(columns_seen))
+                )
+            moving_columns = [j for j in range(n) if ids[j] >= 0]
+            for a, j in enumerate(moving_columns):
+                for k in moving_columns[a:]:
+                    key = (ids[j], ids[k])
+                    if key not in pairs:
+                        term = se.Add(*[row[j] * row[k] for row in jac])
                         if term not in combined:
-                            combined[term] = combine_trig(term)
-                        mass[j][k] += weight * combined[term]
+                            combined[term] = combine_trig(term) if term != 0 else term
+                        pairs[key] = combined[term]
+                    product = pairs[key]
+                    if product != 0:
+                        weights[j, k].setdefault(product, []).append(weight)
             if any(d != 0 for d in drift):
                 moving = [se.Add(*[row[k] * asm.q_dot[k] for k in range(n)]) for row in jac]
                 low_degree += weight * se.Add(*[v * d for v, d in zip(moving, drift)])
                 low_degree += weight * se.Add(*[d**2 for d in drift]) / 2
+    mass = [[se.Integer(0)] * n for _ in range(n)]
+    single = set()
+    for (j, k), groups in weights.items():
+        mass[j][k] = se.Add(*[se.Add(*w) * c for c, w in groups.items()])
+        if len(groups) == 1 and not next(iter(groups)).is_Add:
+            single.add((j, k))
     for rotation in asm.rotations:
         low_degree += _rotation_terms(rotation, asm, mass, combined)
-    return mass, low_degree
+        single.clear()
+    return mass, low_degree, single
+
+
+def _gradient(expr: Backend, symbols: tuple[Backend, ...]) -> list[Backend]:
+    """[d expr/ds for s in symbols], a sum differentiated term by term by the symbols each
+    term has (a chain's position has one term per link)."""
+    terms = expr.args if expr.is_Add else (expr,)
+    index = {s: i for i, s in enumerate(symbols)}
+    parts: list[list[Backend]] = [[] for _ in symbols]
+    for term in terms:
+        for s in term.free_symbols:
+            i = index.get(s)
+            if i is not None:
+                parts[i].append(term.diff(s))
+    return [se.Add(*p) for p in parts]
 
 
 def _rotation_terms(
@@ -124,14 +165,34 @@ def _linear_part(expr: Backend, asm: Assembly) -> Backend:
 
 
 def _coriolis(mass: Matrix, asm: Assembly) -> list[Backend]:
+    """(C q_dot)_j = sum_kl (dM_jk/dq_l - 1/2 dM_kl/dq_j) q_dot_k q_dot_l, each entry of the
+    upper triangle differentiated only by the coordinates it has."""
     n = len(asm.q)
-    momentum = [se.Add(*[mass[j][k] * asm.q_dot[k] for k in range(n)]) for j in range(n)]
-    twice_t = se.Add(*[asm.q_dot[j] * momentum[j] for j in range(n)])
-    result = []
+    index = {q: ell for ell, q in enumerate(asm.q)}
+    rows: list[list[Backend]] = [[] for _ in range(n)]
+    v = asm.q_dot
+    known: dict[Backend, set[Backend]] = {}
     for j in range(n):
-        rate = se.Add(*[momentum[j].diff(q) * qd for q, qd in zip(asm.q, asm.q_dot)])
-        result.append(se.expand(rate - twice_t.diff(asm.q[j]) / 2))  # tidied by the caller
-    return result
+        for k in range(j, n):
+            entry = mass[j][k]
+            factors = entry.args if entry.is_Mul else (entry,)
+            for q in set().union(*[_symbols(f, known) for f in factors]):
+                ell = index.get(q)
+                if ell is None:
+                    continue
+                slope = entry.diff(q)
+                rows[j].append(slope * v[k] * v[ell])
+                if j != k:
+                    rows[k].append(slope * v[j] * v[ell])
+                rows[ell].append(-slope * v[j] * v[k] * (1 if j != k else se.Rational(1, 2)))
+    return [se.Add(*row) for row in rows]  # expanded and tidied by the caller
+
+
+def _symbols(factor: Backend, known: dict[Backend, set[Backend]]) -> set[Backend]:
+    """The free symbols of ``factor``, remembered in ``known`` (sums of masses recur)."""
+    if factor not in known:
+        known[factor] = factor.free_symbols
+    return known[factor]
 
 
 def kinetic_form(asm: Assembly) -> KineticForm:
@@ -141,14 +202,19 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     quadratic = not any(depends_on(e, asm.q_dot) for row in explicit for e in row)
     if not quadratic:
         return _general_form(asm)
-    structured = _structured_form(asm, explicit)
+    # 3-D bodies: grouped trigonometric polynomials; planar points and bodies (a chain of
+    # links) are summed per combined column product, each sum of weights once
+    structured = _structured_form(asm, explicit) if asm.rotations else None
     if structured is not None:
         return structured
-    point_mass, point_low = _point_terms(asm)
+    point_mass, point_low, single = _point_terms(asm)
     mass = [[se.Integer(0)] * n for _ in range(n)]
     for j in range(n):
         for k in range(j, n):
-            mass[j][k] = combine_trig(explicit[j][k] + point_mass[j][k])
+            if explicit[j][k] == 0 and (j, k) in single:  # combined already
+                mass[j][k] = point_mass[j][k]
+            else:
+                mass[j][k] = combine_trig(explicit[j][k] + point_mass[j][k])
             mass[k][j] = mass[j][k]
     low = _linear_part(asm.explicit_kinetic, asm) + point_low
     quadratic_t = se.Add(

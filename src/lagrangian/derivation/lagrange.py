@@ -18,10 +18,11 @@ from __future__ import annotations
 
 from typing import Any
 
+from lagrangian import limits
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.derivation.terms import euler_lagrange_terms
 from lagrangian.errors import require
-from lagrangian.limits import bounded
+from lagrangian.limits import configured_seconds
 from lagrangian.model import System
 from lagrangian.model.frozen import FrozenMapping, frozen
 from lagrangian.model.identity_cache import RecentCache
@@ -34,7 +35,6 @@ RECENT_SYSTEMS = 32
 _RECENT: RecentCache[System, EquationsOfMotion] = RecentCache(RECENT_SYSTEMS)
 
 
-@bounded("derive")
 def derive(system: System, *, time_limit: float | None = None) -> EquationsOfMotion:
     """The equations of motion of ``system`` (derived once per System object), within
     ``time_limit`` seconds (TimeLimitError; default ``$LAGRANGIAN_TIME_LIMIT`` or
@@ -48,7 +48,17 @@ def derive(system: System, *, time_limit: float | None = None) -> EquationsOfMot
     >>> eom.mass_matrix, eom.forcing
     (Matrix([[m]]), Matrix([[-k*x]]))
     """
-    return _RECENT.get(require_system(system, "derive(system)"), equations_of_motion)
+    configured_seconds(time_limit)  # a bad limit is refused even when the result is remembered
+    # the limit is armed only for a derivation that is not remembered yet
+    return _RECENT.get(
+        require_system(system, "derive(system)"),
+        lambda fresh: _derive_within(fresh, time_limit),
+    )
+
+
+def _derive_within(system: System, seconds: float | None) -> EquationsOfMotion:
+    with limits.time_limit(seconds, what="derive"):
+        return equations_of_motion(system)
 
 
 def equations_of(subject: Any, argument: str) -> EquationsOfMotion:

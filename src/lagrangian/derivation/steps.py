@@ -4,15 +4,19 @@ dL/dq_dot_j,  d/dt (dL/dq_dot_j),  dL/dq_j,  dF/dq_dot_j,  Q_j,
 and the equation  d/dt (dL/dq_dot_j) - dL/dq_j + dF/dq_dot_j - Q_j = 0.
 
 L itself is differentiated here (not the matrix form), so the steps are an independent route
-to the equations; they are computed on first request and once per System object.
+to the equations; they are computed on first request and once per System object, and shown
+(converted to SymPy) only when asked for: the equations alone convert one expression per
+coordinate, not six.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+import symengine as se
 import sympy as sp
 
+from lagrangian.derivation.backend import Backend
 from lagrangian.derivation.terms import euler_lagrange_terms
 from lagrangian.model import System
 from lagrangian.model.identity_cache import IdentityCache
@@ -56,30 +60,78 @@ def coordinate_steps(system: System) -> Steps:
     >>> step.dL_dvelocity
     l**2*m*theta_dot
     """
-    return _STEPS.get(system, _differentiate_lagrangian)
+    return _STEPS.get(system, _show_steps)
 
 
-def _differentiate_lagrangian(system: System) -> Steps:
+_RESIDUALS: IdentityCache[System, sp.ImmutableMatrix] = IdentityCache()
+
+
+def equation_residuals(system: System) -> sp.ImmutableMatrix:
+    """The equation of each coordinate, d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q (each = 0),
+    as the steps derive it; the steps themselves are shown (converted to SymPy) only when
+    asked for (computed once per System).
+
+    >>> import lagrangian as lg
+    >>> equation_residuals(lg.examples.simple_pendulum())
+    Matrix([[g*l*m*sin(theta) + l**2*m*theta_ddot]])
+    """
+    return _RESIDUALS.get(system, _convert_residuals)
+
+
+@dataclass(frozen=True)
+class _Derivatives:
+    """One coordinate's steps in backend form, the equation tidied."""
+
+    momentum: Backend
+    rate: Backend
+    slope: Backend
+    friction: Backend
+    equation: Backend
+
+
+_DERIVATIVES: IdentityCache[System, list[_Derivatives]] = IdentityCache()
+
+
+def _convert_residuals(system: System) -> sp.ImmutableMatrix:
+    view = euler_lagrange_terms(system).view
+    return view.vector([d.equation for d in _DERIVATIVES.get(system, _differentiate_lagrangian)])
+
+
+def _show_steps(system: System) -> Steps:
     terms = euler_lagrange_terms(system)
-    asm, sympy = terms.assembly, terms.sympy
-    lagrangian = terms.kinetic.kinetic_energy - asm.potential - asm.velocity_potential
-    result = []
-    for j, (q, v) in enumerate(zip(asm.q, asm.q_dot)):
-        momentum = lagrangian.diff(v)
-        rate = asm.time_derivative(momentum)
-        slope = lagrangian.diff(q)
-        friction = asm.dissipation.diff(v)
-        coordinate = terms.coordinates[j]
-        result.append(
-            CoordinateSteps(
-                coordinate=coordinate,
-                velocity=velocity(coordinate),
-                dL_dvelocity=sympy(momentum),
-                ddt_dL_dvelocity=sympy(rate),
-                dL_dcoordinate=sympy(slope),
-                dF_dvelocity=sympy(friction),
-                generalized_force=terms.view(asm.applied[j]),
-                equation=sympy(rate - slope + friction - asm.applied[j]),
-            )
+    derivatives = _DERIVATIVES.get(system, _differentiate_lagrangian)
+    sympy, applied = terms.sympy, terms.assembly.applied
+    return Steps(
+        CoordinateSteps(
+            coordinate=coordinate,
+            velocity=velocity(coordinate),
+            dL_dvelocity=sympy(d.momentum),
+            ddt_dL_dvelocity=sympy(d.rate),
+            dL_dcoordinate=sympy(d.slope),
+            dF_dvelocity=sympy(d.friction),
+            generalized_force=terms.view(applied[j]),
+            equation=terms.view(d.equation),
         )
-    return Steps(result)
+        for j, (coordinate, d) in enumerate(zip(terms.coordinates, derivatives))
+    )
+
+
+def _differentiate_lagrangian(system: System) -> list[_Derivatives]:
+    terms = euler_lagrange_terms(system)
+    asm = terms.assembly
+    # V expanded: a chain's V = -g sum_i m_i y_i has its y_i = -(l_1 cos theta_1 + ...) as
+    # one factor, which every theta_k would otherwise differentiate whole
+    lagrangian = terms.compress(
+        terms.kinetic.kinetic_energy - se.expand(asm.potential) - asm.velocity_potential
+    )
+    n = len(asm.q)
+    # every partial derivative of L in one pass over its terms, not one pass per coordinate
+    slopes = terms.gradient(lagrangian, [*asm.q, *asm.q_dot])
+    frictions = terms.gradient(asm.dissipation, list(asm.q_dot))
+    result = []
+    for j in range(n):
+        momentum, slope, friction = slopes[n + j], slopes[j], frictions[j]
+        rate = terms.time_derivative(momentum)
+        equation = terms.tidy_compressed(rate - slope + friction - asm.applied[j])
+        result.append(_Derivatives(momentum, rate, slope, friction, equation))
+    return result

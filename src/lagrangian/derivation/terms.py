@@ -10,6 +10,10 @@ Every expression is tidied once (:func:`lagrangian.derivation.trig.combine_and_c
 converted to SymPy through one :class:`~lagrangian.derivation.backend.SympyView`, whose memo
 makes the shared subexpressions of M, the forcing and the steps one SymPy object each.
 
+A sum of parameters that multiplies a term (the m_k + ... + m_n of a chain's link k) is tidied
+and differentiated as one symbol (:meth:`EulerLagrangeTerms.compress`), so the work on the
+equations of an n-link chain grows with their n^2 terms, not with the n^3 masses inside them.
+
 ``derive`` converts M and the forcing; the pieces the forcing is the sum of (C q_dot, G, the
 time terms, ...) and the energies are converted when first read (:func:`matrix_piece`,
 each once per System): a simulation reads none of them.
@@ -25,13 +29,21 @@ import sympy as sp
 
 from lagrangian.derivation.assemble import Assembly, assemble
 from lagrangian.derivation.backend import Backend, SympyView
-from lagrangian.derivation.collect import collect_state
+from lagrangian.derivation.collect import collect_state, factor_common
 from lagrangian.derivation.kinetic import KineticForm, kinetic_form
-from lagrangian.derivation.trig import combine_and_collect
+from lagrangian.derivation.trig import combine_and_collect, combine_trig
 from lagrangian.model import System
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.model.probe import depends_on
 from lagrangian.model.symbols import t
+
+#: The fewest terms of a sum of parameters that :meth:`EulerLagrangeTerms.compress` keeps
+#: whole: shorter ones are expanded with the rest, so a small system's equations read as the
+#: expansion and collection write them (the order of their terms included).
+LONG_SUM = 8
+
+#: What :meth:`EulerLagrangeTerms.compress` remembers of a sum that is not one of parameters.
+_MOVING = se.Integer(0)
 
 #: Kept while their System lives; they hold backend expressions, never the System itself.
 _TERMS: IdentityCache[System, EulerLagrangeTerms] = IdentityCache()
@@ -53,6 +65,12 @@ class EulerLagrangeTerms:
         self.view = SympyView([*system.coordinates, *system.parameters, t])
         asm = self.assembly
         self.state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
+        self.rates = {asm.t: se.Integer(1), **dict(zip(asm.q, asm.q_dot))}
+        self.rates.update(zip(asm.q_dot, asm.q_ddot))
+        self._symbol_of_sum: dict[Backend, Backend] = {}
+        self._sum_of_symbol: dict[Backend, Backend] = {}
+        self._sums: dict[Backend, tuple[Backend, Backend]] = {}  # symbol -> (sum, factored)
+        self._compressed: dict[Backend, Backend] = {}
         u = asm.velocity_potential
         at_rest = {a: 0 for a in asm.q_ddot}
         self.velocity_potential_forces = [
@@ -62,8 +80,14 @@ class EulerLagrangeTerms:
         self.mass = self._mass_matrix()
         self.gravity = [asm.potential.diff(q) for q in asm.q]
         self.dissipation_forces = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
+        # sums kept whole in M (a chain's m_k + ... + m_n) recur in C q_dot: keep them whole
+        # there too; with none, looking for them would only cost time
+        kept = any(
+            f.is_Add for row in self.kinetic.mass_matrix for e in row if e.is_Mul for f in e.args
+        )
+        tidy = self.tidy if kept else self._tidy_expanded
         self.forcing = [
-            self.tidy(
+            tidy(
                 asm.applied[j]
                 + self.dissipation_forces[j]
                 + self.velocity_potential_forces[j]
@@ -77,10 +101,104 @@ class EulerLagrangeTerms:
 
     def tidy(self, expr: Backend) -> Backend:
         """Trigonometric products combined, terms grouped by state monomial (a single term,
-        which neither can shorten, as it is: most entries of a mass matrix)."""
+        which neither can shorten, as it is: most entries of a mass matrix); sums of
+        parameters that multiply a term are kept whole (:meth:`compress`)."""
+        if not expr.is_Add and not any(arg.is_Add for arg in expr.args):
+            if self._sums and not self._sums.keys().isdisjoint(expr.free_symbols):
+                return collect_state(expr, self.state, self._sums)  # its sum back, factored
+            return expr
+        if self.kinetic.grouped:  # 3-D bodies: reduced trigonometric polynomials, no long sums
+            return combine_and_collect(expr, self.state)
+        return self.tidy_compressed(self.compress(expr))
+
+    def _tidy_expanded(self, expr: Backend) -> Backend:
+        """:meth:`tidy` of an expression with no sum to keep whole."""
         if not expr.is_Add and not any(arg.is_Add for arg in expr.args):
             return expr
         return combine_and_collect(expr, self.state)
+
+    def tidy_compressed(self, compact: Backend) -> Backend:
+        """:meth:`tidy` of an expression whose sums :meth:`compress` has written as symbols
+        already (derivatives of a compressed one), with the sums put back."""
+        if not self._sums:
+            return combine_and_collect(compact, self.state)
+        return collect_state(combine_trig(compact), self.state, self._sums)
+
+    def compress(self, expr: Backend) -> Backend:
+        """``expr`` with every sum of parameters that multiplies one of its terms (of it, or
+        of a sum it multiplies) written as one symbol, the same symbol for the same sum;
+        ``expr`` itself when there is none.  :meth:`expand_sums` puts the sums back.
+
+        A chain's m_k + ... + m_n is then one factor to expand, collect and differentiate,
+        however many masses it holds."""
+        known = self._compressed.get(expr)  # nested expressions share their subexpressions
+        if known is not None:
+            return known
+        if expr.is_Mul:
+            result = self._compress_product(expr)
+        elif not expr.is_Add:
+            result = expr
+        else:
+            args = expr.args  # the terms of a sum are never sums
+            parts = [self._compress_product(a) if a.is_Mul else a for a in args]
+            result = expr if all(n is o for n, o in zip(parts, args)) else se.Add(*parts)
+        self._compressed[expr] = result
+        return result
+
+    def _compress_product(self, product: Backend) -> Backend:
+        args = product.args
+        if not any(f.is_Add for f in args):
+            return product
+        parts = [self._compress_factor(f) if f.is_Add else f for f in args]
+        if all(new is old for new, old in zip(parts, args)):
+            return product
+        return se.Mul(*parts)
+
+    def _compress_factor(self, factor: Backend) -> Backend:
+        symbol = self._symbol_for(factor)
+        return self.compress(factor) if symbol is None else symbol
+
+    def _symbol_for(self, factor: Backend) -> Backend | None:
+        """The symbol standing for ``factor`` when it is a long sum of parameters, else None."""
+        symbol = self._symbol_of_sum.get(factor)
+        if symbol is not None:
+            return symbol if symbol is not _MOVING else None
+        if len(factor.args) < LONG_SUM or not self.state.isdisjoint(factor.free_symbols):
+            self._symbol_of_sum[factor] = _MOVING
+            return None
+        symbol = se.Dummy("sum")
+        self._symbol_of_sum[factor] = symbol
+        whole = self.expand_sums(factor)
+        self._sum_of_symbol[symbol] = whole
+        self._sums[symbol] = (whole, factor_common(list(whole.args)) if whole.is_Add else whole)
+        return symbol
+
+    def expand_sums(self, expr: Backend) -> Backend:
+        """``expr`` with the symbols of :meth:`compress` replaced by their sums."""
+        return expr.xreplace(self._sum_of_symbol) if self._sum_of_symbol else expr
+
+    def gradient(self, expr: Backend, symbols: list[Backend]) -> list[Backend]:
+        """[d expr/ds for s in symbols], a sum differentiated term by term, each term by the
+        symbols it has only (a term of an n-link chain's L has four of the 2n)."""
+        index = {s: i for i, s in enumerate(symbols)}
+        parts: list[list[Backend]] = [[] for _ in symbols]
+        for term in expr.args if expr.is_Add else (expr,):
+            for s in term.free_symbols:
+                i = index.get(s)
+                if i is not None:
+                    parts[i].append(term.diff(s))
+        return [se.Add(*p) for p in parts]
+
+    def time_derivative(self, expr: Backend) -> Backend:
+        """d/dt by the chain rule, sum(de/dq q_dot + de/dq_dot q_ddot) + de/dt, term by term
+        over the state symbols each term has."""
+        parts = []
+        for term in expr.args if expr.is_Add else (expr,):
+            for s in term.free_symbols:
+                rate = self.rates.get(s)
+                if rate is not None:
+                    parts.append(term.diff(s) * rate)
+        return se.Add(*parts)
 
     def collect(self, expr: Backend) -> Backend:
         """The terms of an expression whose trigonometric products are combined already
