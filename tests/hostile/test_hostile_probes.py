@@ -186,6 +186,12 @@ def test_a_varying_power_of_a_high_power_is_refused_when_read(cli):
 
 
 @pytest.mark.slow
+def test_a_fifty_link_chain_is_derived_well_within_its_timeout(cli):
+    outcome = cli(["derive", "n_link_pendulum:50", "--timeout", "20"])
+    assert outcome.code == 0, outcome
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("model", ["n_link_pendulum:200"])
 def test_a_large_legitimate_system_ends_within_its_timeout(cli, model):
     outcome = cli(["derive", model, "--timeout", "20"])
