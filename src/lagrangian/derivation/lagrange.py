@@ -18,11 +18,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from lagrangian import limits
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.derivation.terms import euler_lagrange_terms
 from lagrangian.errors import require
 from lagrangian.limits import configured_seconds
+from lagrangian.limits import time_limit as limited_to
 from lagrangian.model import System
 from lagrangian.model.frozen import FrozenMapping, frozen
 from lagrangian.model.identity_cache import RecentCache
@@ -57,7 +57,7 @@ def derive(system: System, *, time_limit: float | None = None) -> EquationsOfMot
 
 
 def _derive_within(system: System, seconds: float | None) -> EquationsOfMotion:
-    with limits.time_limit(seconds, what="derive"):
+    with limited_to(seconds, what="derive"):
         return equations_of_motion(system)
 
 
