@@ -43,18 +43,15 @@ Usage
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
 import math
-import os
-import platform
 import statistics
 import subprocess
 import sys
 import time
 from pathlib import Path
 
-from machine import cpu_model, package_version
+import multibody
 from multibody import RESULTS, SRC, STARTUP_SECONDS, plain
 
 HERE = Path(__file__).resolve()
@@ -466,33 +463,12 @@ def report(measured: dict, repeat: int, cap: float) -> str:
 
 def record(text: str, command: str) -> None:
     """Write (or replace) this benchmark's section of RESULTS.md."""
-    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="minutes")
-    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
-    section = "\n".join(
-        [
-            BEGIN,
-            f"## The Whipple bicycle against KanesMethod (benchmarks/bicycle.py), {now}",
-            "",
-            f"- platform: {platform.platform()}",
-            f"- CPU: {cpu_model()} ({os.cpu_count()} cores)",
-            f"- python {platform.python_version()}, sympy {package_version('sympy')}, "
-            f"symengine {package_version('symengine')}",
-            f"- 1-minute load average at the end: {load:.2f}",
-            "",
-            f"`{command}`; see the docstring for what is timed.",
-            "",
-            text,
-            "",
-            END,
-        ]
+    multibody.record(
+        text,
+        command,
+        "The Whipple bicycle against KanesMethod (benchmarks/bicycle.py)",
+        (BEGIN, END),
     )
-    existing = RESULTS.read_text()
-    if BEGIN in existing and END in existing:
-        head, rest = existing.split(BEGIN, 1)
-        updated = head + section + rest.split(END, 1)[1]
-    else:
-        updated = existing.rstrip("\n") + "\n\n" + section + "\n"
-    RESULTS.write_text(updated)
 
 
 def main(argv: list[str] | None = None) -> int:

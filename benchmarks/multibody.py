@@ -487,14 +487,21 @@ def report(measured: dict, ns: list[int], repeat: int, cap: float) -> str:
     return "\n".join(lines)
 
 
-def record(text: str, command: str) -> None:
-    """Write (or replace) this benchmark's section of RESULTS.md."""
+def record(
+    text: str,
+    command: str,
+    title: str = "3-D chains of rigid bodies (benchmarks/multibody.py)",
+    markers: tuple[str, str] = (BEGIN, END),
+) -> None:
+    """Write (or replace) this benchmark's section of RESULTS.md (the one between
+    ``markers``: benchmarks/bicycle.py writes its own)."""
+    begin, end = markers
     now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="minutes")
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     section = "\n".join(
         [
-            BEGIN,
-            f"## 3-D chains of rigid bodies (benchmarks/multibody.py), {now}",
+            begin,
+            f"## {title}, {now}",
             "",
             f"- platform: {platform.platform()}",
             f"- CPU: {cpu_model()} ({os.cpu_count()} cores)",
@@ -506,13 +513,13 @@ def record(text: str, command: str) -> None:
             "",
             text,
             "",
-            END,
+            end,
         ]
     )
     existing = RESULTS.read_text()
-    if BEGIN in existing and END in existing:
-        head, rest = existing.split(BEGIN, 1)
-        tail = rest.split(END, 1)[1]
+    if begin in existing and end in existing:
+        head, rest = existing.split(begin, 1)
+        tail = rest.split(end, 1)[1]
         updated = head + section + tail
     else:
         updated = existing.rstrip("\n") + "\n\n" + section + "\n"

@@ -1,4 +1,5 @@
-"""What the C loop's tests share: a run on SciPy's solvers to compare the loop with."""
+"""What the numerics tests share: a run on SciPy's solvers to compare the C loop with, and a
+model SymEngine cannot compile."""
 
 from __future__ import annotations
 
@@ -6,6 +7,15 @@ from typing import Any
 
 import lagrangian as lg
 from lagrangian.numerics.fast import c_build
+
+#: A one-sided spring: SymEngine has no Heaviside to compile, the SymPy form rewrites it.
+STOP = """
+name: one-sided stop
+coordinates: [x]
+parameters: {m: 1.0, k: 4.0, K: 100.0}
+kinetic: m*x_dot**2/2
+potential: k*x**2/2 + K*Heaviside(x - 1)*(x - 1)**2/2
+"""
 
 
 def scipy_path(*arguments: Any, **keywords: Any) -> lg.Trajectory:

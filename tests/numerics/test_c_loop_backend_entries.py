@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
+from c_loop_setup import STOP
 
 import lagrangian as lg
 from lagrangian.derivation.backend import backend_entries
@@ -24,15 +25,6 @@ parameters: {m: 1.0, k: 4.0, mu: 0.3, g: 9.81}
 kinetic: m*x_dot**2/2
 potential: k*x**2/2
 generalized_forces: {x: -mu*m*g*sign(x_dot)}
-"""
-
-#: A one-sided spring: SymEngine has no Heaviside to compile, the SymPy form rewrites it.
-STOP = """
-name: one-sided stop
-coordinates: [x]
-parameters: {m: 1.0, k: 4.0, K: 100.0}
-kinetic: m*x_dot**2/2
-potential: k*x**2/2 + K*Heaviside(x - 1)*(x - 1)**2/2
 """
 
 SYSTEMS = {

@@ -8,18 +8,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
+from c_loop_setup import STOP
 
 import lagrangian as lg
 from lagrangian.io.load import loads
 from lagrangian.numerics.compile import compile_equations
-
-STOP = """
-name: one-sided stop
-coordinates: [x]
-parameters: {m: 1.0, k: 4.0, K: 100.0}
-kinetic: m*x_dot**2/2
-potential: k*x**2/2 + K*Heaviside(x - 1)*(x - 1)**2/2
-"""
 
 SYSTEMS = {
     "double pendulum": lg.examples.double_pendulum,
