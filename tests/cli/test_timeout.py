@@ -7,8 +7,8 @@ import pytest
 
 from lagrangian.cli.main import main
 
-# Sixty links: a legitimate system whose derivation takes far longer than a second.
-SLOW = "examples/n_link_pendulum:60"
+# 150 links: a legitimate system whose derivation takes far longer than a second.
+SLOW = "examples/n_link_pendulum:150"
 
 
 @pytest.mark.parametrize(

@@ -163,12 +163,22 @@ def state_by_name(
     return values
 
 
+#: What a collapsed step size usually means, added to the integrator's words.
+COLLAPSED_STEP = (
+    " The step size collapsed: the equations are probably singular there (a division by "
+    "zero, a collision, a force without bound) or stiff (try method Radau or BDF)."
+)
+
+
 def message(compiled: CompiledEquations, run: Integration) -> str:
     """How the run ended, in one sentence: where it failed or was interrupted (time and
     state), the terminal event that stopped it, or the integrator's note on reaching the end."""
     where = ", ".join(f"{n}={v:.6g}" for n, v in zip(compiled.state_names, run.x_reached))
     if run.failure is not None:
-        return f"Integration failed at t = {run.t_reached:.6g} ({where}): {run.failure}"
+        failure = run.failure
+        if "step size is less than spacing" in failure:  # SciPy's words, and the C loop's
+            failure += COLLAPSED_STEP
+        return f"Integration failed at t = {run.t_reached:.6g} ({where}): {failure}"
     if run.interrupted:
         return f"Interrupted (Ctrl-C) at t = {run.t_reached:.6g} ({where})."
     if run.stopped_by is not None:
