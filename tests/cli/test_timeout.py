@@ -2,6 +2,7 @@
 SymPy cannot settle) stops with a message and exit 1, before or after the command name."""
 
 import io
+import time
 
 import pytest
 
@@ -31,3 +32,21 @@ def test_a_command_within_its_time_is_unaffected(capsys, monkeypatch):
     monkeypatch.setattr("sys.stdin", io.StringIO(model))
     assert main(["derive", "-", "--timeout", "60"]) == 0
     assert "x + x_ddot = 0" in capsys.readouterr().out
+
+
+def test_an_error_the_interruption_turned_into_is_still_the_timeout(capsys, monkeypatch):
+    """The timer's exception can land in C code that reports another error instead (SymPy's
+    cache: "SystemError: ... returned a result with an exception set"): past the deadline,
+    that error is the timeout's, not an internal error."""
+
+    def interrupted(args):
+        try:
+            time.sleep(5)  # the timer fires here
+        except Exception as error:
+            raise SystemError("returned a result with an exception set") from error
+        return ""
+
+    monkeypatch.setattr("lagrangian.cli.main.run", interrupted)
+    assert main(["--timeout", "0.2", "derive", "simple_pendulum"]) == 1
+    error = capsys.readouterr().err
+    assert "stopped after --timeout 0.2 s" in error and "internal error" not in error

@@ -18,6 +18,7 @@ import contextlib
 import os
 import signal
 import sys
+import time
 import traceback
 from collections.abc import Iterator, Sequence
 from pathlib import Path
@@ -298,16 +299,27 @@ def time_limit(seconds: float | None) -> Iterator[None]:
     if not seconds > 0:
         raise ArgumentError(f"--timeout {seconds:g}: give a positive number of seconds")
 
+    message = (
+        f"stopped after --timeout {seconds:g} s: the work on this model is larger than the "
+        "time given (a long expression, a long run); give more time, or simplify the model"
+    )
+    deadline = time.monotonic() + seconds
+
     def expire(*_: Any) -> NoReturn:
-        raise TimeLimitError(
-            f"stopped after --timeout {seconds:g} s: the work on this model is larger than the "
-            "time given (a long expression, a long run); give more time, or simplify the model"
-        )
+        raise TimeLimitError(message)
 
     previous = signal.signal(signal.SIGALRM, expire)
     signal.setitimer(signal.ITIMER_REAL, seconds)
     try:
         yield
+    except TimeLimitError:
+        raise
+    except Exception as error:
+        # the interruption can land in C code that turns it into another error (a
+        # SystemError from SymPy's cache): past the deadline, that error is the timeout's
+        if time.monotonic() >= deadline:
+            raise TimeLimitError(message) from error
+        raise
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
