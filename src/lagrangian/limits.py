@@ -51,6 +51,10 @@ FIX = (
     "or simplify the model (fewer bodies, shorter expressions)"
 )
 _NO_LIMIT = ("none", "off", "inf", "infinity")
+#: After its exception the timer fires again this often until the limit is left: Python
+#: swallows an exception raised in a garbage-collector callback or a destructor (the work
+#: would then run on), so the interruption is repeated until it lands in the work itself.
+RETRY_SECONDS = 0.05
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -225,6 +229,7 @@ def _timer(limit: _Limit, outer_timer: float) -> Iterator[None]:
             if callable(handler):
                 handler(signum, frame)
                 return
+        signal.setitimer(signal.ITIMER_REAL, RETRY_SECONDS)  # in case this one is swallowed
         raise TimeLimitError(_expired(_active.stack).message)
 
     if outermost:
@@ -234,9 +239,9 @@ def _timer(limit: _Limit, outer_timer: float) -> Iterator[None]:
     try:
         yield
     finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)  # first: no repeated expiry past this point
         stack.remove(limit)
         if outermost:
-            signal.setitimer(signal.ITIMER_REAL, 0)
             signal.signal(signal.SIGALRM, previous_handler)
             if outer_timer:  # the other timer keeps the time it had left
                 _arm(started + outer_timer)

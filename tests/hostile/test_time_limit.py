@@ -213,3 +213,16 @@ def test_derive_takes_the_time_limit_keyword():
     assert no_timer_left()
     eom = lg.derive(system, time_limit=300)  # a stopped derivation left nothing half cached
     assert eom.mass_matrix.shape == (6, 6) and eom.equations[0].has(sp.Symbol("theta1_ddot"))
+
+
+def test_an_interruption_that_is_swallowed_is_repeated():
+    """Python swallows an exception raised in a garbage-collector callback or a destructor:
+    the timer fires again until the interruption lands in the work itself."""
+    swallowed = []
+    with pytest.raises(TimeLimitError, match=r"time limit of 0\.2 s"), time_limit(0.2):
+        try:
+            time.sleep(3)
+        except TimeLimitError:
+            swallowed.append(True)  # as a garbage-collector callback would
+        time.sleep(3)  # the work runs on: the repeated interruption stops it
+    assert swallowed == [True] and no_timer_left()

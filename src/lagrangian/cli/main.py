@@ -26,6 +26,7 @@ from typing import Any, NoReturn
 
 from lagrangian.cli import serve_command, sweep_command
 from lagrangian.errors import BAD_INPUT, FAILURE, ArgumentError, LagrangianError, TimeLimitError
+from lagrangian.limits import RETRY_SECONDS
 
 OK = 0
 
@@ -306,6 +307,7 @@ def time_limit(seconds: float | None) -> Iterator[None]:
     deadline = time.monotonic() + seconds
 
     def expire(*_: Any) -> NoReturn:
+        signal.setitimer(signal.ITIMER_REAL, RETRY_SECONDS)  # in case this one is swallowed
         raise TimeLimitError(message)
 
     previous = signal.signal(signal.SIGALRM, expire)
