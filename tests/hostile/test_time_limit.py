@@ -25,6 +25,11 @@ from lagrangian.limits import (
     time_limit,
 )
 
+# A timer can interrupt a garbage-collector callback (Hypothesis's plugin keeps one), where
+# Python swallows the exception and reports it as unraisable; the limit then fires again
+# (lagrangian.limits.RETRY_SECONDS), which is what these tests check.
+pytestmark = pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
+
 
 def spin(seconds: float) -> None:
     """Busy Python work for ``seconds`` (a timer interrupts it between bytecodes)."""
