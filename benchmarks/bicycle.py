@@ -52,7 +52,7 @@ import time
 from pathlib import Path
 
 import multibody
-from multibody import RESULTS, SRC, STARTUP_SECONDS, plain
+from multibody import RESULTS, STARTUP_SECONDS, plain
 
 HERE = Path(__file__).resolve()
 BEGIN, END = "<!-- bicycle.py: begin -->", "<!-- bicycle.py: end -->"
@@ -353,16 +353,7 @@ def kane_accelerations(found) -> list[float]:
 
 def worker(method: str, verify: bool) -> int:
     """Time one derivation in this fresh process; print one JSON line."""
-    sys.path.insert(0, str(SRC))  # benchmark the checkout, installed or not
-    import sympy as sp
-    import sympy.physics.mechanics
-
-    import lagrangian as lg
-
-    lg.derive  # noqa: B018  (the lazy imports of the package, outside the clock)
-    lg.constrained_equations  # noqa: B018
-    warm_a, warm_b = sp.symbols("warm_a warm_b")
-    _ = (warm_a * sp.sin(warm_b) + warm_b * sp.cos(warm_a)) ** 2  # SymPy's lazy imports
+    multibody.warm_up()
     start = time.perf_counter()
     phases: dict = {}
     found = derive_lagrangian(phases) if method == "lagrangian" else derive_kane()
