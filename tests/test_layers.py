@@ -20,6 +20,7 @@ RANKS = {
     "derivation": 5,
     "model": 4,
     "limits": 0,
+    "size_limits": 0,
     "errors": 0,
 }
 # Side layers: io imports only model (and errors); render imports what it draws;

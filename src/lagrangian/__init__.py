@@ -32,6 +32,7 @@ from lagrangian.errors import (
     Problem,
     SimulationError,
     SimulationInputError,
+    SizeLimitError,
     TimeLimitError,
 )
 
@@ -59,6 +60,7 @@ if TYPE_CHECKING:
     )
     from lagrangian.io import load, loads
     from lagrangian.limits import time_limit
+    from lagrangian.size_limits import size_limit
     from lagrangian.model import (
         Capacitor,
         Damper,
@@ -121,6 +123,7 @@ _HOMES = {
     "load": "lagrangian.io",
     "loads": "lagrangian.io",
     "time_limit": "lagrangian.limits",
+    "size_limit": "lagrangian.size_limits",
     "export": "lagrangian.numerics.export",
     **dict.fromkeys(
         (
@@ -234,6 +237,7 @@ __all__ = [
     "RollingDisc",
     "SimulationError",
     "SimulationInputError",
+    "SizeLimitError",
     "Spring",
     "SweepReport",
     "System",
@@ -264,6 +268,7 @@ __all__ = [
     "serve",
     "simulate",
     "simulate_batch",
+    "size_limit",
     "sweep",
     "t",
     "time_limit",

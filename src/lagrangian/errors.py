@@ -108,6 +108,12 @@ class TimeLimitError(LagrangianError, TimeoutError):
     fine, the work was too large for the budget."""
 
 
+class SizeLimitError(LagrangianError, MemoryError):
+    """An expression grew past the size limit (``lagrangian --size-limit``,
+    :mod:`lagrangian.size_limits`): the input may be fine, its expressions are too large for
+    the budget.  Also a ``MemoryError``, which it prevents."""
+
+
 class SimulationError(LagrangianError, RuntimeError):
     """Numerical integration failed (a step size underflow, a singular mass matrix on the way,
     a solution that blew up); bad input to a simulation is a :class:`SimulationInputError`."""

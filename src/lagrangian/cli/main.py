@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import math
 import os
 import signal
 import sys
@@ -27,6 +28,7 @@ from typing import Any, NoReturn
 from lagrangian.cli import serve_command, sweep_command
 from lagrangian.errors import BAD_INPUT, FAILURE, ArgumentError, LagrangianError, TimeLimitError
 from lagrangian.limits import RETRY_SECONDS
+from lagrangian.limits import time_limit as library_limit
 
 OK = 0
 
@@ -105,9 +107,39 @@ def _debug_option(command: argparse.ArgumentParser) -> None:
     command.add_argument(
         "--timeout", type=float, default=argparse.SUPPRESS, metavar="SECONDS", help=TIMEOUT_HELP
     )
+    command.add_argument(
+        "--size-limit",
+        type=operations_option,
+        default=argparse.SUPPRESS,
+        metavar="OPERATIONS",
+        help=SIZE_LIMIT_HELP,
+    )
 
 
 TIMEOUT_HELP = "stop the command after this many seconds of wall time (exit 1, with a message)"
+TIMEOUT_FIX = (
+    "give more time with --timeout SECONDS (or the environment variable "
+    "LAGRANGIAN_TIME_LIMIT, none for no limit), or simplify the model"
+)
+SIZE_LIMIT_HELP = (
+    "stop the command when a derived expression grows past this many operations (exit 1, "
+    "naming it; default $LAGRANGIAN_SIZE_LIMIT or 5000000; none for no limit)"
+)
+
+
+def operations_option(text: str) -> float:
+    """``--size-limit``: a positive whole number of operations, or none (no limit)."""
+    if text.strip().lower() in ("none", "off", "inf"):
+        return math.inf
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(
+            f"{text[:40]!r}: give a positive whole number of operations, or none for no limit"
+        )
+    return value
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -120,6 +152,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action=_Version)
     parser.add_argument("--debug", action="store_true", help="show tracebacks")
     parser.add_argument("--timeout", type=float, metavar="SECONDS", help=TIMEOUT_HELP)
+    parser.add_argument(
+        "--size-limit", type=operations_option, metavar="OPERATIONS", help=SIZE_LIMIT_HELP
+    )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     derive = _command(
@@ -274,7 +309,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     args = build_parser().parse_args(argv)
     try:
-        with time_limit(args.timeout):
+        with time_limit(args.timeout), size_limit(args.size_limit):
             output = run(args)
     except Exception as error:
         code = exit_code(error, given_paths(args))
@@ -292,9 +327,14 @@ def main(argv: Sequence[str] | None = None) -> int:
 @contextlib.contextmanager
 def time_limit(seconds: float | None) -> Iterator[None]:
     """Raise TimeLimitError in the command when ``seconds`` of wall time have passed (a
-    symbolic computation that grows without end, a run asked for too long); nothing when
-    None, or where the system has no interval timer (Windows)."""
-    if seconds is None or not hasattr(signal, "setitimer"):
+    symbolic computation that grows without end, a run asked for too long).  None: the
+    library's own limit ($LAGRANGIAN_TIME_LIMIT, else ten minutes), its message speaking of
+    ``--timeout``; nothing where the system has no interval timer (Windows)."""
+    if seconds is None:
+        with library_limit(what="the command", fix=TIMEOUT_FIX):
+            yield
+        return
+    if not hasattr(signal, "setitimer"):
         yield
         return
     if not seconds > 0:
@@ -325,6 +365,16 @@ def time_limit(seconds: float | None) -> Iterator[None]:
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+
+
+@contextlib.contextmanager
+def size_limit(operations: float | None) -> Iterator[None]:
+    """The size limit of derived expressions in the command (:mod:`lagrangian.size_limits`:
+    ``operations``, else the configured one), its message speaking of ``--size-limit``."""
+    from lagrangian.size_limits import size_limit as sized_to
+
+    with sized_to(operations, where="--size-limit"):
+        yield
 
 
 #: Bytes written to standard output at a time (a closed pipe is noticed within one chunk).

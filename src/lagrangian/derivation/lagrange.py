@@ -19,7 +19,7 @@ from __future__ import annotations
 from typing import Any
 
 from lagrangian.derivation.eom import EquationsOfMotion
-from lagrangian.derivation.terms import euler_lagrange_terms
+from lagrangian.derivation.terms import EulerLagrangeTerms, euler_lagrange_terms
 from lagrangian.errors import require
 from lagrangian.limits import configured_seconds
 from lagrangian.limits import time_limit as limited_to
@@ -28,6 +28,8 @@ from lagrangian.model.frozen import FrozenMapping, frozen
 from lagrangian.model.identity_cache import RecentCache
 from lagrangian.model.symbols import t
 from lagrangian.model.system import require_system
+from lagrangian.size_limits import check_size, configured_operations
+from lagrangian.size_limits import size_limit as sized_to
 
 #: How many Systems (the most recently derived) keep their EquationsOfMotion remembered.
 RECENT_SYSTEMS = 32
@@ -35,10 +37,14 @@ RECENT_SYSTEMS = 32
 _RECENT: RecentCache[System, EquationsOfMotion] = RecentCache(RECENT_SYSTEMS)
 
 
-def derive(system: System, *, time_limit: float | None = None) -> EquationsOfMotion:
+def derive(
+    system: System, *, time_limit: float | None = None, size_limit: float | None = None
+) -> EquationsOfMotion:
     """The equations of motion of ``system`` (derived once per System object), within
     ``time_limit`` seconds (TimeLimitError; default ``$LAGRANGIAN_TIME_LIMIT`` or
-    :data:`lagrangian.limits.DEFAULT_SECONDS`).
+    :data:`lagrangian.limits.DEFAULT_SECONDS`) and with no entry of M or the forcing larger
+    than ``size_limit`` operations (SizeLimitError; default ``$LAGRANGIAN_SIZE_LIMIT`` or
+    :data:`lagrangian.size_limits.DEFAULT_OPERATIONS`).
 
     >>> import sympy as sp
     >>> from lagrangian.model import System
@@ -48,16 +54,20 @@ def derive(system: System, *, time_limit: float | None = None) -> EquationsOfMot
     >>> eom.mass_matrix, eom.forcing
     (Matrix([[m]]), Matrix([[-k*x]]))
     """
-    configured_seconds(time_limit)  # a bad limit is refused even when the result is remembered
-    # the limit is armed only for a derivation that is not remembered yet
+    # a bad limit is refused even when the result is remembered
+    configured_seconds(time_limit)
+    configured_operations(size_limit)
+    # the limits apply only to a derivation that is not remembered yet
     return _RECENT.get(
         require_system(system, "derive(system)"),
-        lambda fresh: _derive_within(fresh, time_limit),
+        lambda fresh: _derive_within(fresh, time_limit, size_limit),
     )
 
 
-def _derive_within(system: System, seconds: float | None) -> EquationsOfMotion:
-    with limited_to(seconds, what="derive"):
+def _derive_within(
+    system: System, seconds: float | None, operations: float | None
+) -> EquationsOfMotion:
+    with limited_to(seconds, what="derive"), sized_to(operations):
         return equations_of_motion(system)
 
 
@@ -84,6 +94,7 @@ def forget_derivations() -> None:
 def equations_of_motion(system: System) -> EquationsOfMotion:
     """The EquationsOfMotion of ``system``, derived now (:func:`derive` remembers them)."""
     terms = euler_lagrange_terms(system)
+    _check_sizes(terms)
     return EquationsOfMotion(
         coordinates=tuple(system.coordinates),
         velocities=system.velocities,
@@ -96,3 +107,15 @@ def equations_of_motion(system: System) -> EquationsOfMotion:
         system=system,
         name=system.name,
     )
+
+
+def _check_sizes(terms: EulerLagrangeTerms) -> None:
+    """Every entry of M and the forcing within the size limit (SizeLimitError naming the
+    entry), before they are converted for the user: converting, printing and compiling an
+    expression cost far more time and memory than computing it."""
+    q = terms.coordinates
+    for j, row in enumerate(terms.mass):
+        for k in range(j, len(row)):
+            check_size(row[k], f"derive: the mass matrix entry M[{q[j]}, {q[k]}]")
+    for j, entry in enumerate(terms.forcing):
+        check_size(entry, f"derive: the forcing of the equation of {q[j]}")
