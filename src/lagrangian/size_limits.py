@@ -56,6 +56,7 @@ RAISE = {
     "size_limit": "pass a larger size_limit= (math.inf for no limit)",
     "--size-limit": "give a larger --size-limit (none for no limit)",
     ENVIRONMENT: f"raise {ENVIRONMENT} (none for no limit)",
+    "playground": "run it with the lagrangian command, whose --size-limit raises the limit",
     "default": (
         f"raise the limit with size_limit= or the environment variable {ENVIRONMENT} "
         "(none for no limit)"

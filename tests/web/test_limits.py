@@ -111,3 +111,20 @@ def test_a_worker_turns_its_limits_into_errors() -> None:
         [sys.executable, "-c", WORKER_LIMITS], capture_output=True, text=True, timeout=60
     )
     assert done.stdout.split() == ["time", "memory"], done.stderr
+
+
+def test_an_expression_past_the_size_limit_is_refused_in_the_words_of_the_page(
+    monkeypatch: Any,
+) -> None:
+    import json
+
+    from lagrangian.web import runs
+
+    monkeypatch.setattr("lagrangian.size_limits.DEFAULT_OPERATIONS", 30)
+    monkeypatch.delenv("LAGRANGIAN_SIZE_LIMIT", raising=False)
+    model = "coordinates: [x]\nkinetic: x_dot**2/2\npotential: " + "cos(" * 8 + "x" + ")" * 8
+    status, body = runs.run("derive", model, "yaml", {})
+    message = json.dumps(json.loads(body))
+    assert status == runs.UNPROCESSABLE, message
+    assert "the forcing of the equation of x has 44 operations" in message
+    assert "lagrangian command" in message and "size_limit=" not in message

@@ -40,6 +40,7 @@ from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.animation import rods
 from lagrangian.simulation import Trajectory, simulate
+from lagrangian.size_limits import size_limit
 from lagrangian.web.limits import TimeLimitExceeded
 
 #: Output times of a simulation asked without ``samples`` (the model's own count wins).
@@ -211,10 +212,11 @@ def run(
 ) -> tuple[int, bytes]:
     """The HTTP status and JSON body of ``command`` on the model text."""
     try:
-        if command == "simulate":
-            document = simulate_document(model, fmt, options, cpu_seconds)
-        else:
-            document = RUNS[command](model, fmt, options)
+        with size_limit(where="playground"):  # its message speaks of what the page offers
+            if command == "simulate":
+                document = simulate_document(model, fmt, options, cpu_seconds)
+            else:
+                document = RUNS[command](model, fmt, options)
         return OK, _json(document)
     except LagrangianError as error:
         return UNPROCESSABLE, error_document(str(error), error.problems)
