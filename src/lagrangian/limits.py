@@ -124,10 +124,11 @@ def check_time() -> None:
 
 
 def remaining_seconds() -> float | None:
-    """Seconds left before the innermost active limit of this thread, or None without one."""
+    """Seconds left before the innermost active limit of this thread (a real-time timer set
+    elsewhere, ``lagrangian --timeout``, counts as one), or None without one."""
     stack = _active.stack
     if not stack:
-        return None
+        return _foreign_timer() or None
     return max(0.0, min(limit.deadline for limit in stack) - time.monotonic())
 
 

@@ -171,10 +171,14 @@ def check_size(expression: Any, what: str) -> None:
     """Raise :class:`~lagrangian.errors.SizeLimitError` when ``expression`` has more
     operations than the active limit (:func:`active_operations`); ``what`` names it in the
     message ("derive: the forcing of the equation of theta3")."""
+    if not math.isinf(active_operations()):
+        check_operations(operations(expression), what)
+
+
+def check_operations(count: int, what: str) -> None:
+    """:func:`check_size` of an expression of ``count`` operations, counted or predicted
+    (before building it)."""
     limit = _active_limit()
-    if math.isinf(limit.operations):
-        return
-    count = operations(expression)
     if count > limit.operations:
         raise SizeLimitError(
             f"{what} has {count:,} operations, more than the size limit of "
