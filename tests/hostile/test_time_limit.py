@@ -231,3 +231,14 @@ def test_an_interruption_that_is_swallowed_is_repeated():
             swallowed.append(True)  # as a garbage-collector callback would
         time.sleep(3)  # the work runs on: the repeated interruption stops it
     assert swallowed == [True] and no_timer_left()
+
+
+def test_a_timer_set_elsewhere_counts_as_the_time_remaining():
+    previous = signal.signal(signal.SIGALRM, lambda *_: None)
+    signal.setitimer(signal.ITIMER_REAL, 40)  # as lagrangian --timeout 40 sets it
+    try:
+        assert 30 < remaining_seconds() <= 40
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    assert remaining_seconds() is None and no_timer_left()
