@@ -7,7 +7,7 @@ import json
 import math
 import re
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -185,9 +185,9 @@ def derivation_latex(system: System, steps: bool, matrix: bool) -> str:
 def derive_command(
     reference: str, *, fmt: str, steps: bool, matrix: bool, settings: Sequence[str]
 ) -> str:
-    system = apply_settings(load_system(reference), settings)
     if fmt == "json":
-        return json.dumps(derivation_document(system, steps), indent=2, ensure_ascii=False)
+        return str(derive_json(reference, steps=steps, settings=settings))
+    system = apply_settings(load_system(reference), settings)
     if fmt == "latex":
         return derivation_latex(system, steps, matrix)
     eom = derive(system)
@@ -207,6 +207,28 @@ def derive_command(
         if constrained is not None:
             parts.append(augmented_text(constrained))
     return "\n\n".join(parts)
+
+
+@dataclasses.dataclass(frozen=True)
+class JsonDocument:
+    """A JSON document as the command line prints it, encoded piece by piece as it is
+    written (:meth:`chunks`): a document of a hundred megabytes (a 200-link chain) is never
+    held whole as text, nor as the list of pieces ``json.dumps`` joins."""
+
+    document: dict[str, Any]
+
+    def chunks(self) -> Iterator[str]:
+        yield from json.JSONEncoder(indent=2, ensure_ascii=False).iterencode(self.document)
+        yield "\n"
+
+    def __str__(self) -> str:
+        return "".join(self.chunks())
+
+
+def derive_json(reference: str, *, steps: bool, settings: Sequence[str]) -> JsonDocument:
+    """What ``derive --format json`` prints (:func:`derivation_document`)."""
+    system = apply_settings(load_system(reference), settings)
+    return JsonDocument(derivation_document(system, steps))
 
 
 def augmented_text(equations: ConstrainedEquations) -> str:

@@ -14,6 +14,7 @@ lagrangian derive examples/NAME --steps   derive with every step
 from __future__ import annotations
 
 import argparse
+import codecs
 import contextlib
 import math
 import os
@@ -23,12 +24,15 @@ import time
 import traceback
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from lagrangian.cli import serve_command, sweep_command
 from lagrangian.errors import BAD_INPUT, FAILURE, ArgumentError, LagrangianError, TimeLimitError
 from lagrangian.limits import RETRY_SECONDS
 from lagrangian.limits import time_limit as library_limit
+
+if TYPE_CHECKING:
+    from lagrangian.cli.commands import JsonDocument
 
 OK = 0
 
@@ -321,7 +325,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if internal and not args.debug:
             sys.stderr.write(f"lagrangian: {BUG_HINT}\n")
         return code
-    return write_output(output if output.endswith("\n") else output + "\n")
+    return write_output(output)
 
 
 @contextlib.contextmanager
@@ -381,34 +385,59 @@ def size_limit(operations: float | None) -> Iterator[None]:
 CHUNK = 1 << 16
 
 
-def write_output(text: str) -> int:
-    """Write ``text`` to standard output; a reader that closes the pipe early (``| head``) is
-    an error, said in one line: exit 1, never a success with the data silently lost."""
-    data = text.encode(sys.stdout.encoding or "utf-8", errors="replace")
+def write_output(output: str | JsonDocument) -> int:
+    """Write ``output`` (text, or a JSON document encoded as it goes) to standard output,
+    encoded a chunk at a time (a large output is never held twice); a reader that closes the
+    pipe early (``| head``) is an error, said in one line: exit 1, never a success with the
+    data silently lost."""
+    encoding = sys.stdout.encoding or "utf-8"
+    encoder = codecs.getincrementalencoder(encoding)(errors="replace")
     written = 0
     try:
         sys.stdout.flush()
-        for start in range(0, len(data), CHUNK):
-            sys.stdout.buffer.write(data[start : start + CHUNK])
+        for piece in _pieces(output):
+            data = encoder.encode(piece)
+            sys.stdout.buffer.write(data)
             sys.stdout.buffer.flush()
-            written = min(len(data), start + CHUNK)
+            written += len(data)
+        sys.stdout.buffer.write(encoder.encode("", final=True))
     except BrokenPipeError:
         # nothing more can reach the reader; keep Python's own flush at exit quiet
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         sys.stderr.write(
-            f"lagrangian: the output pipe was closed by its reader after at most {written} of "
-            f"{len(data)} bytes; write to a file with --out to keep all of it\n"
+            f"lagrangian: the output pipe was closed by its reader after at most {written} "
+            "bytes; write to a file with --out to keep all of it\n"
         )
         return FAILURE
     return OK
 
 
-def run(args: argparse.Namespace) -> str:
-    """The text the parsed command prints (SymPy, NumPy and the rest load here)."""
+def _pieces(output: str | JsonDocument) -> Iterator[str]:
+    """``output`` in pieces of about :data:`CHUNK` characters, ending with a newline."""
+    if isinstance(output, str):
+        text = output if output.endswith("\n") else output + "\n"
+        for start in range(0, len(text), CHUNK):
+            yield text[start : start + CHUNK]
+        return
+    buffered: list[str] = []
+    size = 0
+    for chunk in output.chunks():
+        buffered.append(chunk)
+        size += len(chunk)
+        if size >= CHUNK:
+            yield "".join(buffered)
+            buffered, size = [], 0
+    yield "".join(buffered)
+
+
+def run(args: argparse.Namespace) -> str | JsonDocument:
+    """What the parsed command prints (SymPy, NumPy and the rest load here)."""
     from lagrangian.cli import commands, simulate_command
 
     if getattr(args, "input_format", None) and args.model == "-":
         args.model = f"-:{args.input_format}"  # standard input in the format given
+    if args.command == "derive" and args.format == "json":
+        return commands.derive_json(args.model, steps=args.steps, settings=args.set)
     if args.command == "derive":
         return commands.derive_command(
             args.model, fmt=args.format, steps=args.steps, matrix=args.matrix, settings=args.set
