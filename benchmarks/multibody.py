@@ -43,6 +43,10 @@ Usage
     python benchmarks/multibody.py --n 3 4 --repeat 3
     python benchmarks/multibody.py --n 3 4 --methods relative kane_relative
     python benchmarks/multibody.py --record         # also write the section in RESULTS.md
+
+    A run of some ``--methods`` reports (and compares) only those; recorded, it replaces
+    only their cells, and the section keeps the other methods' cells and notes as they were
+    recorded before (the report says which were measured now).
 """
 
 from __future__ import annotations
@@ -450,6 +454,9 @@ def measure(ns: list[int], repeat: int, cap: float, methods: tuple[str, ...] = M
 
 
 def _seconds(value: float, cap: float) -> str:
+    """A cell of seconds: "-" for a method not run, "> cap" for one that overran."""
+    if math.isnan(value):
+        return "-"
     return f"> {cap:g}" if math.isinf(value) else f"{value:.3g}"
 
 
@@ -459,10 +466,14 @@ def _ratio(kane: float, ours: float) -> str:
     return f"{kane / ours:.3g}"
 
 
-def report(measured: dict, ns: list[int], repeat: int, cap: float) -> str:
+def report(measured: dict, ns: list[int], repeat: int, cap: float, kept: str = "") -> str:
+    """The table of ``measured`` (medians per (method, n); NaN: not run) for the chain
+    lengths ``ns``, the notes and the verdicts of the pairs that both ran; ``kept`` names
+    the earlier record the cells not measured now come from (see :func:`merged`)."""
     medians = measured["medians"]
     lines = [
         f"Median of {repeat} run(s) per cell, seconds; cap {cap:g} s per run.",
+        *([kept] if kept else []),
         "",
         "| n | coordinates (Euler / Cartesian) | Euler s | Cartesian s | Kane s "
         "| Kane/Euler | Kane/Cartesian | joint angles s | Kane (joint angles) s "
@@ -483,9 +494,9 @@ def report(measured: dict, ns: list[int], repeat: int, cap: float) -> str:
             ("cartesian", cartesian, kane),
             ("relative", relative, kane_relative),
         ):
-            if math.isnan(ours) and math.isnan(theirs):
-                continue  # not run
-            passed = not math.isnan(ours) and ours < theirs
+            if math.isnan(ours) or math.isnan(theirs):
+                continue  # one of them not run: nothing to compare
+            passed = ours < theirs
             verdict = "PASS" if passed else "FAIL"
             verdicts.append(f"{verdict}  n={n}: {LABELS[method]} faster than KanesMethod")
     lines += ["", *measured["notes"], "", "```", *verdicts, "```"]
@@ -531,6 +542,83 @@ def record(
     RESULTS.write_text(updated)
 
 
+#: The table's columns of seconds, by method (older records have the first three only).
+COLUMNS = {
+    "Euler s": "euler",
+    "Cartesian s": "cartesian",
+    "Kane s": "kane",
+    "joint angles s": "relative",
+    "Kane (joint angles) s": "kane_relative",
+}
+
+
+def recorded(results: str, markers: tuple[str, str] = (BEGIN, END)) -> dict:
+    """What this benchmark's section of RESULTS.md (the text ``results``) holds: the medians
+    per (method, n) of its table (NaN where a cell is empty, inf where it overran the cap),
+    its notes and the command it was made by; empty when there is no section."""
+    begin, end = markers
+    if begin not in results or end not in results:
+        return {"medians": {}, "notes": [], "command": ""}
+    section = results.split(begin, 1)[1].split(end, 1)[0]
+    lines = section.splitlines()
+    header = next((i for i, line in enumerate(lines) if line.startswith("| n |")), None)
+    medians: dict = {}
+    notes: list[str] = []
+    if header is not None:
+        names = [cell.strip() for cell in lines[header].strip("|").split("|")]
+        body = header + 2  # past the alignment row
+        while body < len(lines) and lines[body].startswith("|"):
+            cells = [cell.strip() for cell in lines[body].strip("|").split("|")]
+            n = int(cells[0])
+            for name, cell in zip(names, cells):
+                if name in COLUMNS:
+                    medians[COLUMNS[name], n] = _parsed_seconds(cell)
+            body += 1
+        fence = next((i for i in range(body, len(lines)) if lines[i] == "```"), len(lines))
+        notes = [line for line in lines[body:fence] if line.strip()]
+    command = next((line.split("`")[1] for line in lines if line.startswith("`")), "")
+    return {"medians": medians, "notes": notes, "command": command}
+
+
+def _parsed_seconds(cell: str) -> float:
+    if cell.startswith(">"):
+        return math.inf
+    try:
+        return float(cell)
+    except ValueError:
+        return math.nan
+
+
+def merged(
+    measured: dict, ns: list[int], methods: tuple[str, ...], earlier: dict
+) -> tuple[dict, list[int], str]:
+    """The cells measured now (``methods`` at ``ns``) with every other cell of the
+    ``earlier`` record (:func:`recorded`), the chain lengths of both, and the line that says
+    where the kept cells come from ("" when none is kept)."""
+    now = {(m, n) for m in methods for n in ns}
+    kept = {key: value for key, value in earlier["medians"].items() if key not in now}
+    if not any(not math.isnan(value) for value in kept.values()):
+        return measured, ns, ""
+    every = sorted(set(ns) | {n for _, n in kept})
+    medians = {(m, n): math.nan for m in METHODS for n in every}
+    medians.update(kept)
+    medians.update({key: measured["medians"][key] for key in now})
+    ran = [LABELS[m] for m in methods]
+    notes = [  # those about a cell measured now are replaced by the new ones
+        note
+        for note in earlier["notes"]
+        if not any(
+            note.removeprefix("WARNING ").startswith(f"{label} n={n}:") for label in ran for n in ns
+        )
+    ]
+    source = f" (`{earlier['command']}`)" if earlier["command"] else ""
+    line = (
+        f"Measured now: {', '.join(methods)}; the other cells are kept from the earlier "
+        f"record{source}."
+    )
+    return {"medians": medians, "notes": [*notes, *measured["notes"]]}, every, line
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--n", type=int, nargs="+", help=f"chain lengths (default {DEFAULT_N})")
@@ -548,12 +636,18 @@ def main(argv: list[str] | None = None) -> int:
     if args.worker:
         return worker(args.worker[0], int(args.worker[1]), args.verify)
     ns = sorted(set(args.n or DEFAULT_N))
-    measured = measure(ns, args.repeat, args.cap, tuple(args.methods or METHODS))
+    methods = tuple(args.methods or METHODS)
+    measured = measure(ns, args.repeat, args.cap, methods)
     text = report(measured, ns, args.repeat, args.cap)
     print(text)
     if args.record:
         shown = " ".join(["python benchmarks/multibody.py", *(argv or sys.argv[1:])])
-        record(text, shown.replace(" --record", ""))
+        shown = shown.replace(" --record", "")
+        if set(methods) != set(METHODS):  # keep the cells of the methods not run now
+            earlier = recorded(RESULTS.read_text() if RESULTS.exists() else "")
+            measured, ns, kept = merged(measured, ns, methods, earlier)
+            text = report(measured, ns, args.repeat, args.cap, kept)
+        record(text, shown)
         print(f"\nwritten to {RESULTS}")
     return 0
 

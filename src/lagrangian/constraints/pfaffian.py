@@ -102,7 +102,26 @@ def backend(expr: Any) -> Backend:
 
 @lru_cache(maxsize=CACHED)
 def _cached_backend(expr: Any) -> Backend:
-    return to_backend(expr)
+    return _converted(expr, {})
+
+
+def _converted(expr: Any, memo: dict[Any, Backend]) -> Backend:
+    """:func:`to_backend` of ``expr`` with each distinct subexpression converted once: a
+    rolling contact's constraint has the square root of its axle's tilt in most of its terms
+    (a bicycle's front wheel: 3165 nodes, 188 of them distinct; a tenth of the time)."""
+    known = memo.get(expr)
+    if known is not None:
+        return known
+    if isinstance(expr, sp.Add):
+        result = se.Add(*[_converted(a, memo) for a in expr.args])
+    elif isinstance(expr, sp.Mul):
+        result = se.Mul(*[_converted(a, memo) for a in expr.args])
+    elif isinstance(expr, sp.Pow):
+        result = se.Pow(_converted(expr.base, memo), _converted(expr.exp, memo))
+    else:
+        result = to_backend(expr)
+    memo[expr] = result
+    return result
 
 
 def acceleration_terms(

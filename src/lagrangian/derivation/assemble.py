@@ -22,7 +22,7 @@ from lagrangian.model import (
     Torque,
     VoltageSource,
 )
-from lagrangian.model.rotation import body_angular_velocity, spatial_angular_velocity
+from lagrangian.model.rotation import angular_velocity_terms, spatial_angular_velocity
 from lagrangian.model.symbols import acceleration, t, velocity
 
 
@@ -146,9 +146,10 @@ def _rotations(system: System) -> tuple[Rotation, ...]:
     for body in system.rigid_bodies:
         if body.planar:
             continue
-        omega = body_angular_velocity(body.orientation, system.coordinates)
+        # composed in the backend when it can be (the same as body_angular_velocity's)
+        omega = angular_velocity_terms(body.orientation, system.coordinates)
         inertia = tuple(tuple(to_backend(e) for e in row) for row in body.inertia_tensor.tolist())
-        rotations.append(Rotation(inertia, tuple(vector_to_backend(omega))))
+        rotations.append(Rotation(inertia, omega))
     return tuple(rotations)
 
 

@@ -306,6 +306,7 @@ def _canonical_form(asm: Assembly, explicit: Matrix, algebra: TrigAlgebra) -> Ki
     if products > NESTED_PRODUCTS:
         raise PolynomialTooLarge(f"{products} products of Jacobian monomials")
     weighted = [(w, _turned(algebra, rows) if len(rows) == 3 else rows) for w, rows in weighted]
+    spins = [_rotation_parts(algebra, rotation, asm) for rotation in asm.rotations]
     mass_poly: list[list[Poly]] = [[{} for _ in range(n)] for _ in range(n)]
     for j in range(n):
         for k in range(j, n):
@@ -314,9 +315,9 @@ def _canonical_form(asm: Assembly, explicit: Matrix, algebra: TrigAlgebra) -> Ki
                 terms = [algebra.multiply(r[j], r[k]) for r in rows if r[j] and r[k]]
                 if terms:
                     parts.append(algebra.multiply(algebra.convert(weight), algebra.add(terms)))
-            mass_poly[j][k] = algebra.add(parts)
-    for rotation in asm.rotations:
-        _add_rotation(algebra, rotation, asm, mass_poly)
+            for spin in spins:
+                parts += spin.get((j, k), ())
+            mass_poly[j][k] = algebra.add(parts)  # once: the sum of every body's share
     mass = [[se.Integer(0)] * n for _ in range(n)]
     for j in range(n):
         for k in range(j, n):
@@ -411,31 +412,72 @@ def _turned(algebra: TrigAlgebra, rows: list[list[Poly]]) -> list[list[Poly]]:
     """The rows of a point's Jacobian in axes turned about the vertical by the angle that
     makes them shortest, (R_z(u)^T J)^T R_z(u)^T J = J^T J: a body's centre moves with the
     heading of the frames it hangs from, and in axes turned with the heading its velocity
-    has half the monomials (fewer products to form and reduce)."""
+    has half the monomials (fewer products to form and reduce).  The angles tried are those
+    the height does not depend on (a heading: turning about the vertical leaves the height
+    alone), or all when there is none; J^T J is the same polynomial whichever is taken."""
     size = sum(len(p) for row in rows for p in row)
-    angles = {
+    angles = _angles(algebra, rows[0])
+    best = rows
+    for angle in (angles - _angles(algebra, rows[2])) or angles:
+        x_row, y_row = _turn(algebra, rows[0], rows[1], angle, 1)
+        turned_size = sum(len(p) for row in (x_row, y_row, rows[2]) for p in row)
+        if turned_size < size:
+            best, size = [x_row, y_row, rows[2]], turned_size
+    return best
+
+
+def _spun_back(
+    algebra: TrigAlgebra, jac: list[list[Poly]], inertia: tuple[tuple[Backend, ...], ...]
+) -> list[list[Poly]]:
+    """The rows of J_w (omega_b = J_w q_dot) turned about an axis of symmetry of I by the
+    angle (either way) that makes them shortest, (R J_w)^T I (R J_w) = J_w^T I J_w as
+    R^T I R = I: a wheel's spin about its axle puts its sine and cosine into every monomial
+    of the other two rows, which turned back by the spin have half as many.  The angles
+    tried are those the axis' own row does not depend on (the spin leaves it alone)."""
+    best, size = jac, sum(len(p) for row in jac for p in row)
+    for i in range(3):
+        j, k = (i + 1) % 3, (i + 2) % 3
+        if inertia[j][j] != inertia[k][k] or any(
+            inertia[a][b] != 0 for a, b in ((i, j), (i, k), (j, k))
+        ):
+            continue  # I is not symmetric about axis i
+        for angle in (_angles(algebra, jac[j]) | _angles(algebra, jac[k])) - _angles(
+            algebra, jac[i]
+        ):
+            for sign in (1, -1):
+                row_j, row_k = _turn(algebra, jac[j], jac[k], angle, sign)
+                turned_size = sum(len(p) for row in (jac[i], row_j, row_k) for p in row)
+                if turned_size < size:
+                    best, size = [[], [], []], turned_size
+                    best[i], best[j], best[k] = jac[i], row_j, row_k
+    return best
+
+
+def _turn(
+    algebra: TrigAlgebra, first: list[Poly], second: list[Poly], angle: Backend, sign: int
+) -> tuple[list[Poly], list[Poly]]:
+    """Two rows turned in their plane by ``sign`` * ``angle``: (c a + s b, -s a + c b)."""
+    c, s = algebra.convert(se.cos(angle)), algebra.convert(sign * se.sin(angle))
+    minus_s = algebra.scale(s, se.Integer(-1))
+    one = [
+        algebra.add([algebra.multiply(c, a), algebra.multiply(s, b)]) for a, b in zip(first, second)
+    ]
+    other = [
+        algebra.add([algebra.multiply(minus_s, a), algebra.multiply(c, b)])
+        for a, b in zip(first, second)
+    ]
+    return [algebra.finish(p) for p in one], [algebra.finish(p) for p in other]
+
+
+def _angles(algebra: TrigAlgebra, row: list[Poly]) -> set[Backend]:
+    """The moving angles whose sines or cosines appear in a row of polynomials."""
+    return {
         algebra.gens[i].args[0]
-        for p in rows[0]
+        for p in row
         for key in p
         for i, _ in key
         if algebra.moving[i] and (algebra.sine[i] or algebra.cosine[i])
     }
-    best = rows
-    for angle in angles:
-        c, s = algebra.convert(se.cos(angle)), algebra.convert(se.sin(angle))
-        minus_s = algebra.scale(s, se.Integer(-1))
-        x_rows = [
-            algebra.add([algebra.multiply(c, a), algebra.multiply(s, b)]) for a, b in zip(*rows[:2])
-        ]
-        y_rows = [
-            algebra.add([algebra.multiply(minus_s, a), algebra.multiply(c, b)])
-            for a, b in zip(*rows[:2])
-        ]
-        turned = [[algebra.finish(p) for p in x_rows], [algebra.finish(p) for p in y_rows], rows[2]]
-        turned_size = sum(len(p) for row in turned for p in row)
-        if turned_size < size:
-            best, size = turned, turned_size
-    return best
 
 
 def _jacobian_row(algebra: TrigAlgebra, x: Backend, q: tuple[Backend, ...]) -> list[Poly]:
@@ -443,19 +485,23 @@ def _jacobian_row(algebra: TrigAlgebra, x: Backend, q: tuple[Backend, ...]) -> l
     return [algebra.finish(algebra.derivative(converted, s)) for s in q]
 
 
-def _add_rotation(
-    algebra: TrigAlgebra, rotation: Rotation, asm: Assembly, mass: list[list[Poly]]
-) -> None:
-    """J_w^T I J_w added to the upper triangle of ``mass`` (omega_b = J_w q_dot)."""
+def _rotation_parts(
+    algebra: TrigAlgebra, rotation: Rotation, asm: Assembly
+) -> dict[tuple[int, int], list[Poly]]:
+    """The parts of J_w^T I J_w (omega_b = J_w q_dot) for the upper triangle of M, by entry:
+    I_ab (J_aj J_bk + J_bj J_ak) for a < b, I_aa J_aj J_ak."""
     n, inertia = len(asm.q), rotation.inertia
     jac = [
         [algebra.finish(algebra.convert(se.expand(w.diff(v)))) for v in asm.q_dot]
         for w in rotation.angular_velocity
     ]
+    jac = _spun_back(algebra, jac, inertia)
+    parts: dict[tuple[int, int], list[Poly]] = defaultdict(list)
     for a in range(3):
         for b in range(a, 3):
             if inertia[a][b] == 0:
                 continue
+            weight = algebra.convert(inertia[a][b])
             for j in range(n):
                 for k in range(j, n):
                     terms = [algebra.multiply(jac[a][j], jac[b][k])]
@@ -463,8 +509,8 @@ def _add_rotation(
                         terms.append(algebra.multiply(jac[b][j], jac[a][k]))
                     term = algebra.add(terms)
                     if term:
-                        extra = algebra.multiply(algebra.convert(inertia[a][b]), term)
-                        mass[j][k] = algebra.add([mass[j][k], extra])
+                        parts[j, k].append(algebra.multiply(weight, term))
+    return parts
 
 
 def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) -> list[Poly]:
@@ -472,11 +518,14 @@ def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) ->
     + sum_(k<l) (dM_jk/dq_l + dM_jl/dq_k - dM_kl/dq_j) q_dot_k q_dot_l."""
     n = len(asm.q)
     slope: dict[tuple[int, int, int], Poly] = {}
+    # an entry of M has a few of the coordinates (a bicycle's, 3 of 8): the rest give zero
+    used = {(j, k): algebra.symbols(mass[j][k]) for j in range(n) for k in range(j, n)}
 
     def d(j: int, k: int, ell: int) -> Poly:
         key = (min(j, k), max(j, k), ell)
         if key not in slope:
-            slope[key] = algebra.derivative(mass[j][k], asm.q[ell])
+            q = asm.q[ell]
+            slope[key] = algebra.derivative(mass[j][k], q) if q in used[key[:2]] else {}
         return slope[key]
 
     rates = [next(iter(algebra.convert(v))) for v in asm.q_dot]

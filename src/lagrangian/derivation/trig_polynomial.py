@@ -37,6 +37,9 @@ from lagrangian.derivation.collect import factor_common
 Backend = Any  # a symengine expression
 Key = tuple[tuple[int, int], ...]
 Poly = dict[Key, Backend]
+#: (monomial, integer factor) pairs, a tuple: the memos keep thousands of them, and tuples of
+#: numbers are left alone by the garbage collector, where lists are walked at every pass
+Terms = tuple[tuple[Key, int], ...]
 
 ONE: Key = ()
 #: Terms of a coefficient beyond which :meth:`TrigAlgebra.grouped` does not factor it.
@@ -63,11 +66,13 @@ class TrigAlgebra:
         self.sine: list[bool] = []
         self.moving: list[bool] = []  # the generator depends on the state
         self._converted: dict[Backend, Poly] = {}
-        self._products: dict[tuple[Key, Key], list[tuple[Key, int]]] = {}
+        self._products: dict[tuple[Key, Key], Terms] = {}
         self._derivatives: dict[tuple[Key, Backend], Poly] = {}
         self._gen_derivatives: dict[tuple[int, Backend], Poly] = {}
         self._monomials: dict[Key, Backend] = {}
         self._powers: dict[tuple[int, int], Backend] = {}
+        self._factored: dict[tuple[Backend, ...], Backend] = {}
+        self._sine_reduced: dict[Key, Terms] = {}
         #: Monomials a product or sum may have before :class:`PolynomialTooLarge` (None: any).
         self.limit: int | None = None
 
@@ -116,7 +121,8 @@ class TrigAlgebra:
 
     def remembered(self) -> int:
         """The number of memo entries (conversions, products, derivatives)."""
-        return len(self._converted) + len(self._products) + len(self._derivatives)
+        memos: tuple[dict[Any, Any], ...] = (self._converted, self._products, self._derivatives)
+        return sum(len(memo) for memo in (*memos, self._factored, self._sine_reduced))
 
     def keep_nested(self, expr: Backend) -> None:
         """Mark ``expr`` as too large to expand: converting it (or an expression that holds
@@ -212,7 +218,7 @@ class TrigAlgebra:
         ((key, _),) = self._product(a, b)
         return key
 
-    def _product(self, a: Key, b: Key) -> list[tuple[Key, int]]:
+    def _product(self, a: Key, b: Key) -> Terms:
         memo = self._products.get((a, b))
         if memo is not None:
             return memo
@@ -220,16 +226,16 @@ class TrigAlgebra:
         for i, e in b:
             exponents[i] = exponents.get(i, 0) + e
         cosine = self.cosine
-        if any(e > 1 and cosine[i] for i, e in exponents.items()):
-            result = self._reduced(exponents)
+        for i, e in exponents.items():  # a loop, not any(...): this runs for every new pair
+            if e > 1 and cosine[i]:
+                result = self._reduced(exponents)
+                break
         else:
-            result = [(tuple(sorted(exponents.items())), 1)]
+            result = ((tuple(sorted(exponents.items())), 1),)
         self._products[(a, b)] = result
         return result
 
-    def _reduced(
-        self, exponents: dict[int, int], squares: list[bool] | None = None
-    ) -> list[tuple[Key, int]]:
+    def _reduced(self, exponents: dict[int, int], squares: list[bool] | None = None) -> Terms:
         """The monomial of ``exponents`` with every f(x)**k, k >= 2 (f the cosine, or the
         generators flagged in ``squares``) written as f**(k mod 2) (1 - g**2)**(k // 2)."""
         squares = self.cosine if squares is None else squares
@@ -253,7 +259,7 @@ class TrigAlgebra:
                         new[other] = new.get(other, 0) + 2 * j
                     expanded.append((new, n * comb(half, j) * (-1) ** j))
             terms = expanded
-        return [(tuple(sorted((i, e) for i, e in t.items() if e)), n) for t, n in terms]
+        return tuple((tuple(sorted(t.items())), n) for t, n in terms)  # exponents all > 0
 
     # -- calculus -------------------------------------------------------------------------
 
@@ -265,6 +271,13 @@ class TrigAlgebra:
             if d:
                 parts.append(self.scale(d, c))
         return self.add(parts)
+
+    def symbols(self, p: Poly) -> set[Backend]:
+        """The state symbols ``p`` depends on (through its generators): a derivative by any
+        other is zero."""
+        gens, moving = self.gens, self.moving
+        indices = {i for key in p for i, _ in key if moving[i]}
+        return set().union(*(gens[i].free_symbols for i in indices)) & self.state
 
     def _key_derivative(self, key: Key, symbol: Backend) -> Poly:
         memo = self._derivatives.get((key, symbol))
@@ -320,7 +333,7 @@ class TrigAlgebra:
             if not any(e > 1 and sine[i] for i, e in k):
                 parts[k].append(c)
                 continue
-            for key, n in self._reduced(dict(k), sine):
+            for key, n in self._sine_reduction(k):
                 parts[key].append(c if n == 1 else n * c)
         result = {}
         for k, v in parts.items():
@@ -329,6 +342,14 @@ class TrigAlgebra:
             if value != 0:
                 result[k] = value
         return result
+
+    def _sine_reduction(self, key: Key) -> Terms:
+        """The monomial ``key`` with every sin^2 x written as 1 - cos^2 x (remembered: the
+        same monomials recur in every entry)."""
+        known = self._sine_reduced.get(key)
+        if known is None:
+            known = self._sine_reduced[key] = self._reduced(dict(key), self.sine)
+        return known
 
     def monomial_expression(self, key: Key) -> Backend:
         memo = self._monomials.get(key)
@@ -373,12 +394,22 @@ class TrigAlgebra:
         result = []
         for k, parts in groups.items():
             if sum(len(c.args) if c.is_Add else 1 for _, c in parts) <= FACTORED_TERMS:
-                terms = [f * t for f, c in parts for t in (c.args if c.is_Add else (c,))]
-                coefficient = factor_common(terms)
+                terms = tuple(f * t for f, c in parts for t in (c.args if c.is_Add else (c,)))
+                coefficient = self._factor(terms)
             else:
                 coefficient = se.Add(*[f * c for f, c in parts])
             result.append(self.monomial_expression(k) * coefficient)
         return se.Add(*result)
+
+    def _factor(self, terms: tuple[Backend, ...]) -> Backend:
+        """:func:`factor_common` of ``terms``, remembered: the same coefficient recurs in the
+        entries of M, in C q_dot and in the forcing (a bicycle's 510 coefficients are 129),
+        its terms in any order (the factored sum does not depend on it)."""
+        key = tuple(sorted(terms, key=hash))
+        known = self._factored.get(key)
+        if known is None:
+            known = self._factored[key] = factor_common(list(terms))
+        return known
 
     def terms(self, p: Poly) -> int:
         """The number of terms of the expanded form of a finished polynomial."""

@@ -55,7 +55,7 @@ from lagrangian.model.elements import Force, RigidBody, Torque, as_expression
 from lagrangian.model.inertia import Shape
 from lagrangian.model.nonsmooth import piecewise_smooth
 from lagrangian.model.probe import is_zero
-from lagrangian.model.rotation import rotation_axis, spatial_angular_velocity
+from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
 from lagrangian.model.symbols import t, velocity
 from lagrangian.model.validation import CONFIGURATION, NameScope
 
@@ -257,7 +257,7 @@ def _constraints(
     position = [se.sympify(e) for e in body.position]
     offset = geometry.offset
     height = se.expand(position[2] + offset[2])
-    omega = [se.sympify(e) for e in spatial_angular_velocity(body.orientation, q)]
+    omega = angular_velocity_terms(body.orientation, q, body=False)  # world axes
     at_rest = {se.sympify(v): 0 for v in rates}
     turns = [[se.diff(w, se.sympify(v)) for w in omega] for v in rates]
     turns.append([w.xreplace(at_rest) for w in omega])  # omega_t, of a rheonomic orientation
@@ -324,15 +324,34 @@ class _Sympy:
         for group in more:
             symbols.update(group)
         self.by_name = {s.name: s for s in symbols if isinstance(s, sp.Symbol)}
+        self._memo: dict[Any, sp.Expr] = {}
 
     def __call__(self, expr: Any) -> sp.Expr:
-        result = to_sympy(expr)
+        result = self._converted(expr)
         swap = {
             s: self.by_name[s.name]
             for s in result.free_symbols
             if s.name in self.by_name and self.by_name[s.name] is not s
         }
         return piecewise_smooth(result.xreplace(swap) if swap else result)
+
+    def _converted(self, expr: Any) -> sp.Expr:
+        """:func:`to_sympy` of ``expr`` by SymPy's own constructors, each distinct part once
+        for all the constraints of the disc (the square root of a steered wheel's tilt is in
+        most of their terms)."""
+        known = self._memo.get(expr)
+        if known is not None:
+            return known
+        if expr.is_Add:
+            result = sp.Add(*[self._converted(a) for a in expr.args])
+        elif expr.is_Mul:
+            result = sp.Mul(*[self._converted(a) for a in expr.args])
+        elif expr.is_Pow:
+            result = sp.Pow(*[self._converted(a) for a in expr.args])
+        else:
+            result = to_sympy(expr)
+        self._memo[expr] = result
+        return result
 
 
 def add_rolling_constraints(values: dict[str, Any]) -> list[Problem]:

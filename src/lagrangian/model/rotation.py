@@ -26,9 +26,11 @@ from __future__ import annotations
 import difflib
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
+import symengine as se
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem
@@ -46,6 +48,9 @@ AXIS_NAMES = ("x", "y", "z")
 FORMS = ("matrix", "euler", "axis_angle", "quaternion", "rotations")
 #: Rotations with moving angles up to which a composed angular velocity is expanded.
 EXPANDED_TURNS = 6
+#: Orientations whose angular velocities are remembered (model building, the derivation and
+#: the loads ask for the same bodies' again).
+REMEMBERED = 256
 
 
 def as_expression(value: Any, field: str = "value") -> sp.Expr:
@@ -393,7 +398,8 @@ def _composed(
     matrix-vector products only: nothing is differentiated but the angles.  The result is
     expanded unless more than :data:`EXPANDED_TURNS` of the rotations turn with the
     coordinates (a long chain of joints, whose expanded products of sines and cosines would
-    run to thousands of terms): then it stays nested, as the products give it."""
+    run to thousands of terms): then it stays nested, as the products give it.  (An
+    expanded one is usually composed in SymEngine instead: :func:`_composed_backend`.)"""
     moving = sum(1 for _, a in factors if not _constant(a, q))
     tidy = sp.expand if moving <= EXPANDED_TURNS else (lambda e: e)
     if body:
@@ -409,18 +415,139 @@ def _composed(
     return sp.ImmutableMatrix(s.applyfunc(tidy))
 
 
+def _composition(
+    orientation: Orientation, q: tuple[sp.Symbol, ...]
+) -> tuple[Orientation | None, tuple[tuple[sp.ImmutableMatrix, Any], ...]] | None:
+    """(parent, factors) whose :func:`_composed` is the angular velocity of ``orientation``:
+    all its rotations about constant axes from the world, or its own from its parent; None
+    for an orientation not so composed."""
+    factors = orientation.factors()
+    if factors and all(_constant(e, q) for axis, _ in factors for e in axis):
+        return None, factors
+    if orientation.form == "rotations":
+        own = orientation.own_factors()
+        if all(_constant(e, q) for axis, _ in own for e in axis):
+            return orientation.parent, own
+    return None
+
+
+def _composed_backend(
+    parent: Orientation | None,
+    factors: Sequence[tuple[sp.ImmutableMatrix, Any]],
+    q: tuple[sp.Symbol, ...],
+    body: bool,
+    limit: int,
+) -> tuple[Any, Any, Any] | None:
+    """The expanded :func:`_composed` in SymEngine: the same polynomial in the sines and
+    cosines as SymPy's expand gives, at a fraction of its cost (a bicycle's fork turns six
+    times).  None where that sameness is not plain: an angle with a function or a constant
+    such as pi in it (whose sines the two evaluate each their own way), or not expanded
+    already (SymPy's expand would reach into the sines), an axis not of rationals, or a
+    parent whose own angular velocity is not so composed."""
+    if not all(_plain_angle(a) for _, a in factors) or not all(
+        e.is_Rational for n, _ in factors for e in n
+    ):
+        return None
+    inherited = None if parent is None else _fast(parent, q, body, limit)
+    if parent is not None and inherited is None:
+        return None
+    w: list[Any] = [se.Integer(0)] * 3
+    turns = [([se.sympify(e) for e in n], se.sympify(a), _backend_rate(a, q)) for n, a in factors]
+    if body:
+        w = list(inherited or w)
+        for n, a, rate in turns:
+            w = [x + n_i * rate for x, n_i in zip(_times(_backend_about(n, a), w, True), n)]
+    else:
+        for n, a, rate in reversed(turns):
+            w = [n_i * rate + x for x, n_i in zip(_times(_backend_about(n, a), w), n)]
+        if parent is not None and inherited is not None:
+            turned = _times([[se.sympify(e) for e in row] for row in parent.matrix.tolist()], w)
+            w = [x + e for x, e in zip(turned, inherited)]
+    x, y, z = (se.expand(e) for e in w)
+    return x, y, z
+
+
+def _plain_angle(angle: Any) -> bool:
+    angle = to_sympy(angle)
+    if angle.is_Symbol or angle.is_Rational:
+        return True
+    return not angle.has(sp.Function, sp.NumberSymbol) and angle == sp.expand(angle)
+
+
+def _backend_rate(angle: Any, q: Sequence[sp.Symbol]) -> Any:
+    """d angle/dt by the chain rule (:func:`_rate`, an angle of q and t) in SymEngine."""
+    a = se.sympify(angle)
+    free = a.free_symbols
+    rate = a.diff(se.sympify(t))
+    for x in q:
+        symbol = se.sympify(x)
+        if symbol in free:
+            rate += a.diff(symbol) * se.sympify(velocity(x))
+    return rate
+
+
+def _backend_about(n: list[Any], angle: Any) -> list[list[Any]]:
+    """:func:`_about` in SymEngine: cos a 1 + sin a hat(n) + (1 - cos a) n n^T."""
+    c, s = se.cos(angle), se.sin(angle)
+    skew = [[0, -n[2], n[1]], [n[2], 0, -n[0]], [-n[1], n[0], 0]]
+    return [
+        [(c if i == j else 0) + s * skew[i][j] + (1 - c) * n[i] * n[j] for j in range(3)]
+        for i in range(3)
+    ]
+
+
+def _times(matrix: list[list[Any]], vector: list[Any], transposed: bool = False) -> list[Any]:
+    """matrix vector (matrix^T vector when ``transposed``), the zero products left out."""
+    rows = [list(column) for column in zip(*matrix)] if transposed else matrix
+    return [se.Add(*[m * v for m, v in zip(row, vector) if m != 0 and v != 0]) for row in rows]
+
+
+def _back_to_sympy(
+    vector: tuple[Any, Any, Any], orientation: Orientation, q: tuple[sp.Symbol, ...]
+) -> sp.ImmutableMatrix:
+    """A SymEngine vector in SymPy, with the symbol objects of the orientation and the
+    coordinates (SymEngine keeps no assumptions)."""
+    symbols = {t, *q, *(velocity(x) for x in q), *orientation.matrix.free_symbols}
+    by_name = {s.name: s for s in symbols if isinstance(s, sp.Symbol)}
+    entries = []
+    for e in vector:
+        value = to_sympy(e)
+        swap = {
+            s: by_name[s.name]
+            for s in value.free_symbols
+            if s.name in by_name and by_name[s.name] is not s
+        }
+        entries.append(value.xreplace(swap) if swap else value)
+    return sp.ImmutableMatrix(entries)
+
+
 def _angular_velocity(
     orientation: Any, coordinates: Iterable[sp.Symbol], body: bool
 ) -> sp.ImmutableMatrix:
     orientation = as_orientation(orientation)
     q = tuple(coordinates)
-    factors = orientation.factors()
-    if factors and all(_constant(e, q) for axis, _ in factors for e in axis):
-        return _composed(None, factors, q, body)
-    if orientation.form == "rotations":
-        own = orientation.own_factors()
-        if all(_constant(e, q) for axis, _ in own for e in axis):
-            return _composed(orientation.parent, own, q, body)
+    try:  # remembered with the expansion limit it was made under
+        return _remembered_angular_velocity(orientation, q, body, EXPANDED_TURNS)
+    except TypeError:  # an unhashable expression in it
+        return _computed_angular_velocity(orientation, q, body, EXPANDED_TURNS)
+
+
+@lru_cache(maxsize=REMEMBERED)
+def _remembered_angular_velocity(
+    orientation: Orientation, q: tuple[sp.Symbol, ...], body: bool, limit: int
+) -> sp.ImmutableMatrix:
+    return _computed_angular_velocity(orientation, q, body, limit)
+
+
+def _computed_angular_velocity(
+    orientation: Orientation, q: tuple[sp.Symbol, ...], body: bool, limit: int
+) -> sp.ImmutableMatrix:
+    fast = _fast(orientation, q, body, limit)
+    if fast is not None:
+        return _back_to_sympy(fast, orientation, q)
+    composition = _composition(orientation, q)
+    if composition is not None:
+        return _composed(*composition, q, body)
     if orientation.form == "axis_angle":
         return _moving_axis(orientation, q, body)
     if orientation.form == "quaternion":
@@ -429,6 +556,58 @@ def _angular_velocity(
         vector = linear - cross if body else linear + cross
         return sp.ImmutableMatrix((2 * vector / norm).applyfunc(sp.expand))
     return _general(orientation, q, body)
+
+
+def angular_velocity_terms(
+    orientation: Any, coordinates: Iterable[sp.Symbol], body: bool = True
+) -> tuple[Any, Any, Any]:
+    """:func:`body_angular_velocity` (or, with ``body`` False, the spatial one) as SymEngine
+    expressions, for the derivation and the rolling contacts, which work in SymEngine: an
+    orientation composed of rotations about constant axes is composed there and never passes
+    through SymPy; any other is converted once.
+
+    >>> a = sp.Symbol("a")
+    >>> angular_velocity_terms(rotation_sequence([("z", a)]), [a])
+    (0, 0, a_dot)
+    """
+    orientation = as_orientation(orientation)
+    q = tuple(coordinates)
+    fast = _fast(orientation, q, body, EXPANDED_TURNS)
+    if fast is not None:
+        return fast
+    x, y, z = (se.sympify(e) for e in _angular_velocity(orientation, q, body))
+    return x, y, z
+
+
+def _fast(
+    orientation: Orientation, q: tuple[sp.Symbol, ...], body: bool, limit: int
+) -> tuple[Any, Any, Any] | None:
+    """The angular velocity composed and expanded in SymEngine (:func:`_composed_backend`),
+    remembered per orientation; None for one that is not (not composed of rotations about
+    constant axes, more than ``limit`` turning rotations to expand, or not plainly the same
+    as SymPy's)."""
+    try:
+        return _remembered_fast(orientation, q, body, limit)
+    except TypeError:  # an unhashable expression in it
+        return _fast_composed(orientation, q, body, limit)
+
+
+def _fast_composed(
+    orientation: Orientation, q: tuple[sp.Symbol, ...], body: bool, limit: int
+) -> tuple[Any, Any, Any] | None:
+    composition = _composition(orientation, q)
+    if composition is None:
+        return None
+    parent, factors = composition
+    if sum(1 for _, a in factors if not _constant(a, q)) > limit:
+        return None
+    try:
+        return _composed_backend(parent, factors, q, body, limit)
+    except se.SympifyError:  # something SymEngine does not know: SymPy composes it
+        return None
+
+
+_remembered_fast = lru_cache(maxsize=REMEMBERED)(_fast_composed)
 
 
 def body_angular_velocity(orientation: Any, coordinates: Iterable[sp.Symbol]) -> sp.ImmutableMatrix:
