@@ -60,7 +60,6 @@ if TYPE_CHECKING:
     )
     from lagrangian.io import load, loads
     from lagrangian.limits import time_limit
-    from lagrangian.size_limits import size_limit
     from lagrangian.model import (
         Capacitor,
         Damper,
@@ -86,6 +85,7 @@ if TYPE_CHECKING:
     )
     from lagrangian.numerics.export import export
     from lagrangian.simulation import Batch, Event, Trajectory, simulate, simulate_batch
+    from lagrangian.size_limits import size_limit
     from lagrangian.sweeps import SweepReport, sweep
     from lagrangian.web import serve
 
