@@ -131,3 +131,13 @@ def test_a_command_past_the_default_time_limit_speaks_of_the_option(capsys, monk
     assert main(["derive", "examples/n_link_pendulum:150"]) == 1
     error = capsys.readouterr().err
     assert "--timeout" in error and "time_limit=" not in error, error
+
+
+def test_a_constraint_acceleration_term_past_the_limit_is_named():
+    system = lg.examples.get("rolling_disc")()
+    lg.derive(system)  # within the default limit
+    with size_limit(4), pytest.raises(SizeLimitError) as stopped:
+        lg.constrained_equations(system)
+    assert "the acceleration term gamma of constraints[0] has 5 operations" in str(stopped.value)
+    gamma = lg.constrained_equations(system).gamma  # nothing kept of the refused attempt
+    assert operations(gamma[0]) == 5

@@ -41,6 +41,7 @@ from lagrangian.derivation.collect import collect_state
 from lagrangian.derivation.trig import combine_trig, size
 from lagrangian.model import VelocityConstraint, t, velocity
 from lagrangian.model.constraints import Constraint
+from lagrangian.size_limits import check_size
 
 TIDY_OPS = 1000  # partial derivatives of a constraint's rate beyond this are not expanded
 CACHED = 512  # constraint expressions whose form and SymEngine image are kept
@@ -152,14 +153,17 @@ def acceleration_terms(
     state = {*variables, *q_dot}
     view = SympyView({t, *coordinates}.union(*(f.velocity_expression.free_symbols for f in forms)))
     result = []
-    for form in forms:
+    for j, form in enumerate(forms):
         terms, held = _rate_terms(backend(form.velocity_expression), variables, rates)
         if all(size(slope) * max(1, size(rate)) <= TIDY_OPS for slope, rate in terms):
             rate = se.expand(se.Add(*[combine_trig(slope) * rate for slope, rate in terms]))
             gamma = collect_state(-rate, state)
         else:
             gamma = -se.Add(*[slope * rate for slope, rate in terms])
-        result.append(view(gamma.xreplace(held) if held else gamma))
+        gamma = gamma.xreplace(held) if held else gamma
+        # before it is converted: converting and printing cost far more than building it
+        check_size(gamma, f"the acceleration term gamma of constraints[{j}]")
+        result.append(view(gamma))
     return result
 
 
