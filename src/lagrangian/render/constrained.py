@@ -26,7 +26,7 @@ import sympy as sp
 
 from lagrangian.constraints import ConstrainedEquations
 from lagrangian.model.constraints import Unilateral
-from lagrangian.render.latex import block, symbol_names
+from lagrangian.render.latex import KeptLatexPrinter, block, symbol_names
 from lagrangian.render.mathml import Dotted, mathml_table
 
 #: The heading line (plain \\text, which KaTeX and MathJax both typeset; no \\intertext).
@@ -43,10 +43,7 @@ def _relation(constraint: object) -> str:
 def constrained_latex_lines(equations: ConstrainedEquations, matrix: bool = False) -> list[str]:
     """The aligned lines: a heading, each constraint, each equation with its multipliers,
     and with ``matrix`` the augmented system."""
-    names = symbol_names(equations.coordinates)
-
-    def tex(expr: sp.Basic) -> str:
-        return sp.latex(expr, symbol_names=names)
+    tex = KeptLatexPrinter({"symbol_names": symbol_names(equations.coordinates)}).doprint
 
     lines = [HEADING]
     lines += [f"{tex(c.expression)} &{_relation(c)} 0" for c in equations.constraints]

@@ -20,22 +20,34 @@ def expression_string(expr: sp.Basic) -> str:
     return sp.sstr(expr, order="none")
 
 
-# A document's expressions share one printer: it writes each sum once (:class:`SumPrinter`).
+class _Writer:
+    """A document's expressions share one printer, which writes each subexpression once
+    (:class:`SumPrinter`), and one string per distinct expression: an equation is also the
+    last step of its coordinate, and M[i, j] is M[j, i]."""
+
+    def __init__(self) -> None:
+        self.printer = SumPrinter({"order": "none"})
+        self.written: dict[sp.Basic, str] = {}
+
+    def __call__(self, expr: sp.Basic) -> str:
+        text = self.written.get(expr)
+        if text is None:
+            text = self.written[expr] = self.printer.doprint(expr)
+        return text
 
 
-def _vector(printer: SumPrinter, matrix: sp.MatrixBase) -> list[str]:
-    return [printer.doprint(e) for e in matrix]
+def _vector(text: _Writer, matrix: sp.MatrixBase) -> list[str]:
+    return [text(e) for e in matrix]
 
 
-def _matrix(printer: SumPrinter, matrix: sp.MatrixBase) -> list[list[str]]:
-    return [[printer.doprint(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
+def _matrix(text: _Writer, matrix: sp.MatrixBase) -> list[list[str]]:
+    return [[text(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
 
 
 def eom_document(eom: EquationsOfMotion, *, steps: bool = False) -> dict[str, Any]:
     """The derive JSON object: coordinates, parameters, lagrangian, equations, mass_matrix,
     forcing, coriolis, gravity, generalized_forces, dissipation_forces, and more."""
-    printer = SumPrinter({"order": "none"})
-    text = printer.doprint
+    text = _Writer()
     document: dict[str, Any] = {
         "name": eom.name,
         "coordinates": [q.name for q in eom.coordinates],
@@ -47,15 +59,15 @@ def eom_document(eom: EquationsOfMotion, *, steps: bool = False) -> dict[str, An
         "velocity_potential": text(eom.velocity_potential),
         "dissipation_function": text(eom.dissipation_function),
         "lagrangian": text(eom.lagrangian),
-        "equations": _vector(printer, eom.equations),
-        "mass_matrix": _matrix(printer, eom.mass_matrix),
-        "forcing": _vector(printer, eom.forcing),
-        "coriolis": _vector(printer, eom.coriolis),
-        "time_terms": _vector(printer, eom.time_terms),
-        "gravity": _vector(printer, eom.gravity),
-        "generalized_forces": _vector(printer, eom.generalized_forces),
-        "dissipation_forces": _vector(printer, eom.dissipation_forces),
-        "velocity_potential_forces": _vector(printer, eom.velocity_potential_forces),
+        "equations": _vector(text, eom.equations),
+        "mass_matrix": _matrix(text, eom.mass_matrix),
+        "forcing": _vector(text, eom.forcing),
+        "coriolis": _vector(text, eom.coriolis),
+        "time_terms": _vector(text, eom.time_terms),
+        "gravity": _vector(text, eom.gravity),
+        "generalized_forces": _vector(text, eom.generalized_forces),
+        "dissipation_forces": _vector(text, eom.dissipation_forces),
+        "velocity_potential_forces": _vector(text, eom.velocity_potential_forces),
         "coordinate_orders": eom.orders_by_name(),
     }
     if steps:
@@ -79,13 +91,12 @@ def constrained_document(equations: ConstrainedEquations) -> dict[str, Any]:
     names), ``constraint_jacobian`` A, ``gamma`` (A q_ddot = gamma), the residuals with the
     constraint forces, d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q - A^T lambda (each = 0), and the
     augmented Lagrangian L + sum lambda_j h_j."""
-    printer = SumPrinter({"order": "none"})
-    text = printer.doprint
+    text = _Writer()
     return {
         "constraints": [text(c.expression) for c in equations.constraints],
         "multipliers": [lam.name for lam in equations.multipliers],
-        "constraint_jacobian": _matrix(printer, equations.constraint_jacobian),
-        "gamma": _vector(printer, equations.gamma),
-        "constrained_equations": _vector(printer, equations.equations),
+        "constraint_jacobian": _matrix(text, equations.constraint_jacobian),
+        "gamma": _vector(text, equations.gamma),
+        "constrained_equations": _vector(text, equations.equations),
         "augmented_lagrangian": text(equations.augmented_lagrangian),
     }

@@ -13,16 +13,136 @@ g l m \\sin{\\left(\\theta \\right)} + l^{2} m \\ddot{\\theta} &= 0
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable, Sequence
+from typing import Any
 
 import sympy as sp
+from sympy import Mul, Number, Pow, S
+from sympy.printing.latex import LatexPrinter
+from sympy.printing.precedence import PRECEDENCE, precedence_traditional
+from sympy.simplify import fraction
 
 from lagrangian.derivation import CoordinateSteps, EquationsOfMotion
 from lagrangian.model import System
 from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, velocity
 from lagrangian.render.rows import Row, energy_rows, step_rows
+from lagrangian.render.text import KeptText, extracts_minus_sign
 
 _TEXT_ESCAPES = {c: "\\" + c for c in "_&%#${}"}
+
+# LatexPrinter's test for two numbers side by side (they get the number separator)
+_NUMBER_BEFORE = re.compile(r"[0-9][} ]*$")
+_NUMBER_AFTER = re.compile(r"(\d|\\frac{\d+}{\d+})")
+
+
+class KeptLatexPrinter(KeptText, LatexPrinter):
+    """``sympy.latex`` that writes each subexpression once (:class:`KeptText`): SymPy's text,
+    character for character, in time proportional to its length for a long chain (SymPy sorts
+    the factors of every product again, and searches every factor for ``Mod``).
+
+    >>> m1, m2, x, y = sp.symbols("m1 m2 x y")
+    >>> KeptLatexPrinter().doprint((m1 + m2) * x - (m1 + m2) * y)
+    'x \\\\left(m_{1} + m_{2}\\\\right) - y \\\\left(m_{1} + m_{2}\\\\right)'
+    """
+
+    def __init__(self, settings: dict[str, Any] | None = None) -> None:
+        super().__init__(settings)
+        self._holding: dict[tuple[sp.Basic, Any], bool] = {}
+
+    def _as_ordered_terms(self, expr: sp.Basic, order: str | None = None) -> list[sp.Basic]:
+        if (order or self.order) is None:
+            return self._order.terms(expr)
+        return list(super()._as_ordered_terms(expr, order))
+
+    def _needs_mul_brackets(self, expr: sp.Basic, first: bool = False, last: bool = False) -> bool:
+        """LatexPrinter._needs_mul_brackets, its searches for Mod (and for sums, products and
+        integrals) made once per subexpression."""
+        if expr.is_Mul:
+            if not first and extracts_minus_sign(expr):
+                return True
+        elif precedence_traditional(expr) < PRECEDENCE["Mul"] or expr.is_Relational:
+            return True
+        if expr.is_Piecewise or self._holds(expr, sp.Mod):
+            return True
+        return not last and self._holds(expr, (sp.Integral, sp.Product, sp.Sum))
+
+    def _needs_add_brackets(self, expr: sp.Basic) -> bool:
+        """LatexPrinter._needs_add_brackets: a relation, a sum, or one holding a Mod."""
+        return bool(expr.is_Relational or self._holds(expr, sp.Mod) or expr.is_Add)
+
+    def _holds(self, expr: sp.Basic, kinds: type | tuple[type, ...]) -> bool:
+        """``expr.has(*kinds)`` for classes ``kinds``, kept for every subexpression."""
+        key = (expr, kinds)
+        found = self._holding.get(key)
+        if found is None:
+            found = isinstance(expr, kinds) or any(
+                self._holds(a, kinds) for a in expr.args if isinstance(a, sp.Basic)
+            )
+            self._holding[key] = found
+        return found
+
+    def _print_Add(self, expr: sp.Add, order: str | None = None) -> str:
+        """LatexPrinter._print_Add."""
+        parts = []
+        for i, term in enumerate(self._as_ordered_terms(expr, order=order)):
+            sign = ""
+            if i and extracts_minus_sign(term):
+                sign, term = " - ", -term
+            elif i:
+                sign = " + "
+            text = self._print(term)
+            if self._needs_add_brackets(term):
+                text = rf"\left({text}\right)"
+            parts.append(sign + text)
+        return "".join(parts)
+
+    def _print_Mul(self, expr: sp.Expr) -> str:
+        """LatexPrinter._print_Mul of a product with no denominator, its factors ordered by
+        :class:`TermOrder`; SymPy's own for the rest."""
+        if self.order in ("old", "none") or not isinstance(expr, Mul):
+            return str(super()._print_Mul(expr))
+        if expr.args[0] is S.One or any(isinstance(a, Number) for a in expr.args[1:]):
+            return str(super()._print_Mul(expr))  # unevaluated: every factor as it stands
+        body, sign = expr, ""
+        if extracts_minus_sign(expr):
+            body, sign = -expr, "- "
+        if body.is_Add or fraction(body, exact=True)[1] is not S.One:
+            return str(super()._print_Mul(expr))
+        if Pow(1, -1, evaluate=False) in body.args:
+            return str(super()._print_Mul(expr))
+        if not body.is_Mul:
+            return sign + self._print(body)
+        factors = self._order.factors(body)
+        if any(_is_unit(f) for f in factors):  # SymPy writes units last
+            return str(super()._print_Mul(expr))
+        return sign + self._product(factors)
+
+    def _product(self, factors: list[sp.Basic]) -> str:
+        """LatexPrinter's convert_args: the factors, bracketed where a product needs it."""
+        separator = self._settings["mul_symbol_latex"]
+        between_numbers = self._settings["mul_symbol_latex_numbers"]
+        tex = last = ""
+        for i, factor in enumerate(factors):
+            text = self._print(factor)
+            if self._needs_mul_brackets(factor, first=i == 0, last=i == len(factors) - 1):
+                text = rf"\left({text}\right)"
+            if _NUMBER_BEFORE.search(last) and _NUMBER_AFTER.match(text):
+                tex += between_numbers
+            elif tex:
+                tex += separator
+            tex += text
+            last = text
+        return tex
+
+
+def _is_unit(factor: sp.Basic) -> bool:
+    """A unit or physical constant, which LatexPrinter writes after the other factors."""
+    return (
+        hasattr(factor, "_scale_factor")
+        or hasattr(factor, "is_physical_constant")
+        or (isinstance(factor, Pow) and hasattr(factor.base, "is_physical_constant"))
+    )
 
 
 def symbol_names(coordinates: Iterable[sp.Symbol]) -> dict[sp.Symbol, str]:
@@ -62,8 +182,14 @@ def expression_latex(expr: sp.Basic, coordinates: Iterable[sp.Symbol]) -> str:
 
 def block(lines: Sequence[str], environment: str = "align*") -> str:
     """Lines joined by ``\\\\`` inside ``\\begin{environment} ... \\end{environment}``."""
-    body = " \\\\\n".join(lines)
-    return f"\\begin{{{environment}}}\n{body}\n\\end{{{environment}}}"
+    begin, end = f"\\begin{{{environment}}}\n", f"\n\\end{{{environment}}}"
+    if not lines:
+        return begin + end
+    # one join, so that the text of a long chain is not copied once more for the frame
+    framed = list(lines)
+    framed[0] = begin + framed[0]
+    framed[-1] += end
+    return " \\\\\n".join(framed)
 
 
 def equations_latex(
@@ -80,25 +206,23 @@ def equations_latex(
     >>> r"\\ddot{\\theta}\\end{matrix}\\right] &= " in matrix_form
     True
     """
-    names = symbol_names(eom.coordinates)
+    tex = KeptLatexPrinter({"symbol_names": symbol_names(eom.coordinates)}).doprint
     if form == "residuals":
-        lines = [f"{sp.latex(e, symbol_names=names)} &= 0" for e in eom.equations]
+        lines = [f"{tex(e)} &= 0" for e in eom.equations]
     elif form == "matrix":
-        mass = sp.latex(eom.mass_matrix, symbol_names=names)
-        q_ddot = sp.latex(sp.Matrix(eom.accelerations), symbol_names=names)
-        forcing = sp.latex(eom.forcing, symbol_names=names)
+        mass = tex(eom.mass_matrix)
+        q_ddot = tex(sp.Matrix(eom.accelerations))
+        forcing = tex(eom.forcing)
         lines = [f"{mass} {q_ddot} &= {forcing}"]
     else:
         raise ValueError(f"Unknown form {form!r}: use form='residuals' or form='matrix'.")
     return block(lines, environment)
 
 
-def energy_lines(eom: EquationsOfMotion) -> list[str]:
+def energy_lines(eom: EquationsOfMotion, printer: KeptLatexPrinter | None = None) -> list[str]:
     """``T = ...``, ``V = ...``, (``U = ...``), ``L = T - V (- U) = ...``, (``F = ...``)."""
-    names = symbol_names(eom.coordinates)
-
-    def tex(expr: sp.Basic) -> str:
-        return sp.latex(expr, symbol_names=names)
+    printer = printer or KeptLatexPrinter({"symbol_names": symbol_names(eom.coordinates)})
+    tex = printer.doprint
 
     def line(label: str) -> str:  # "L = T - V" -> "L &= T - V = ..."
         head, _, definition = label.partition(" = ")
@@ -107,15 +231,18 @@ def energy_lines(eom: EquationsOfMotion) -> list[str]:
     return [line(label) + tex(expr) for label, expr in energy_rows(eom)]
 
 
-def coordinate_steps_lines(steps: CoordinateSteps, names: dict[sp.Symbol, str]) -> list[str]:
-    """The derivation lines of one coordinate, in the order one works them by hand.
+def coordinate_steps_lines(
+    steps: CoordinateSteps,
+    names: dict[sp.Symbol, str],
+    printer: KeptLatexPrinter | None = None,
+) -> list[str]:
+    """The derivation lines of one coordinate, in the order one works them by hand (with
+    ``printer``, one that writes these ``names``, shared by the coordinates).
 
     dL/dq_dot, d/dt(dL/dq_dot), dL/dq always; dF/dq_dot and Q_j when non-zero; then the
     equation d/dt(dL/dq_dot) - dL/dq + dF/dq_dot - Q_j = 0.
     """
-
-    def tex(expr: sp.Basic) -> str:
-        return sp.latex(expr, symbol_names=names)
+    tex = (printer or KeptLatexPrinter({"symbol_names": names})).doprint
 
     q, v = tex(steps.coordinate), tex(steps.velocity)
     dl_dv = rf"\frac{{\partial L}}{{\partial {v}}}"
@@ -141,9 +268,10 @@ def steps_latex(eom: EquationsOfMotion, environment: str = "align*") -> str:
     \\frac{\\partial L}{\\partial \\dot{\\theta}} &= l^{2} m \\dot{\\theta} \\\\
     """
     names = symbol_names(eom.coordinates)
-    lines = energy_lines(eom)
+    printer = KeptLatexPrinter({"symbol_names": names})
+    lines = energy_lines(eom, printer)
     for steps in eom.steps:
-        lines.extend(coordinate_steps_lines(steps, names))
+        lines.extend(coordinate_steps_lines(steps, names, printer))
     return block(lines, environment)
 
 

@@ -9,14 +9,18 @@ True
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable
 from string import ascii_lowercase
+from typing import Any
 
 import sympy as sp
+from sympy.printing.mathml import MathMLPresentationPrinter
 
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.model.conversion import to_sympy
 from lagrangian.render.rows import Row, step_rows
+from lagrangian.render.text import TermOrder
 
 DOT, DDOT = "&#729;", "&#168;"  # ˙ and ¨ as accents over the coordinate
 NAMED_ENTITIES = {
@@ -28,6 +32,20 @@ NAMED_ENTITIES = {
 }
 
 
+class OrderedPresentationPrinter(MathMLPresentationPrinter):
+    """``sympy.mathml(expr, printer="presentation")``, the terms of each sum ordered once
+    (:class:`~lagrangian.render.text.TermOrder`) however often the printer meets it."""
+
+    def __init__(self, settings: dict[str, Any] | None = None) -> None:
+        super().__init__(settings)
+        self._order = TermOrder()
+
+    def _as_ordered_terms(self, expr: sp.Basic, order: str | None = None) -> list[sp.Basic]:
+        if (order or self.order) is None:
+            return self._order.terms(expr)
+        return list(super()._as_ordered_terms(expr, order))
+
+
 def _placeholder(index: int) -> str:
     """A name SymPy's printer keeps whole (letters only: no sub- or superscripts)."""
     letters = ""
@@ -35,7 +53,11 @@ def _placeholder(index: int) -> str:
     while index:
         index, rest = divmod(index - 1, 26)
         letters = ascii_lowercase[rest] + letters
-    return "lgdotted" + letters
+    return PLACEHOLDER_PREFIX + letters
+
+
+PLACEHOLDER_PREFIX = "lgdotted"
+_PLACEHOLDER = re.compile(f"<mi>{PLACEHOLDER_PREFIX}[a-z]+</mi>")
 
 
 class Dotted:
@@ -44,6 +66,7 @@ class Dotted:
     def __init__(self, eom: EquationsOfMotion) -> None:
         self.swap: dict[sp.Symbol, sp.Symbol] = {}
         self.markup: dict[str, str] = {}
+        self.printer = OrderedPresentationPrinter()
         pairs = [(v, q, DOT) for q, v in zip(eom.coordinates, eom.velocities)]
         pairs += [(a, q, DDOT) for q, a in zip(eom.coordinates, eom.accelerations)]
         for index, (symbol, coordinate, accent) in enumerate(pairs):
@@ -55,9 +78,9 @@ class Dotted:
             )
 
     def __call__(self, expr: sp.Basic) -> str:
-        text = sp.mathml(to_sympy(expr).xreplace(self.swap), printer="presentation")
-        for placeholder, markup in self.markup.items():
-            text = text.replace(placeholder, markup)
+        text = self.printer.doprint(to_sympy(expr).xreplace(self.swap))
+        # every placeholder in one pass (not one pass over the text per coordinate)
+        text = _PLACEHOLDER.sub(lambda m: self.markup.get(m.group(), m.group()), text)
         for entity, code in NAMED_ENTITIES.items():  # numeric, so the output is plain XML
             text = text.replace(entity, code)
         return text
