@@ -20,6 +20,7 @@ A constrained system is solved on its constraint manifold
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 
 import sympy as sp
 
@@ -55,17 +56,40 @@ def static_forces(eom: EquationsOfMotion, subs: Mapping[sp.Symbol, sp.Expr]) -> 
     return sp.ImmutableMatrix([f.xreplace(at_rest).xreplace(dict(subs)) for f in eom.forcing])
 
 
+#: Coordinates up to which the stiffness at each equilibrium is simplified entry by entry
+#: (a chain of twenty links has 400 entries at each of its many equilibria).
+SIMPLIFIED_COORDINATES = 6
+
+
+@dataclass(frozen=True)
+class _RestJacobians:
+    """K(q) = -d forcing/dq at rest and d forcing/dq_dot, with the parameter substitutions:
+    found once, then taken at each equilibrium."""
+
+    stiffness: sp.Matrix
+    velocity_jacobian: sp.Matrix
+
+
+def _rest_jacobians(eom: EquationsOfMotion, subs: Mapping[sp.Symbol, sp.Expr]) -> _RestJacobians:
+    static = static_forces(eom, subs)
+    forcing = sp.Matrix(eom.forcing).xreplace(dict(subs))
+    return _RestJacobians(
+        stiffness_matrix(static, eom.coordinates), jacobian(forcing, eom.velocities)
+    )
+
+
 def _stability(
     eom: EquationsOfMotion,
     state: Mapping[sp.Symbol, sp.Expr],
     free: tuple[sp.Symbol, ...],
     numbers: Mapping[sp.Symbol, sp.Expr],
-    subs: Mapping[sp.Symbol, sp.Expr],
+    jacobians: _RestJacobians,
     exact: bool,
 ) -> tuple[bool | None, str, sp.ImmutableMatrix, sp.Basic | None]:
-    static = static_forces(eom, subs)
     point = {**state, **{v: 0 for v in eom.velocities}}
-    stiffness = simplify_small_matrix(stiffness_matrix(static, eom.coordinates).xreplace(point))
+    stiffness = sp.ImmutableMatrix(jacobians.stiffness.xreplace(point))
+    if len(eom.coordinates) <= SIMPLIFIED_COORDINATES:
+        stiffness = simplify_small_matrix(stiffness)
     kept = [j for j, q in enumerate(eom.coordinates) if q not in free]
     reduced = stiffness.extract(kept, kept)
     condition = positivity_condition(reduced, eom, exact)
@@ -75,8 +99,7 @@ def _stability(
         stable = None if verdict is None else bool(verdict)
         missing = ", ".join(sorted(s.name for s in numeric.free_symbols))
         return stable, f"stable when {condition} (no values for {missing})", stiffness, condition
-    forcing = sp.Matrix(eom.forcing).xreplace(dict(subs))
-    velocity_jacobian = jacobian(forcing, eom.velocities).xreplace(point)
+    velocity_jacobian = jacobians.velocity_jacobian.xreplace(point)
     gyroscopic = evaluate(velocity_jacobian.extract(kept, kept), numbers)
     if gyroscopic.free_symbols:
         gyroscopic = None
@@ -87,8 +110,12 @@ def _stability(
 def _free_stability(eom: EquationsOfMotion, numbers, subs) -> StabilityTest:
     """Stability from K = -d forcing/dq at rest, for a system without constraints."""
 
+    found: list[_RestJacobians] = []  # the first equilibrium's test finds them
+
     def test(state, free, multipliers, exact):
-        return (*_stability(eom, state, free, numbers, subs, exact), ())
+        if not found:
+            found.append(_rest_jacobians(eom, subs))
+        return (*_stability(eom, state, free, numbers, found[0], exact), ())
 
     return test
 

@@ -27,7 +27,7 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from functools import partial
-from typing import Any
+from typing import Any, Generic, TypeVar
 
 import numpy as np
 import sympy as sp
@@ -52,6 +52,8 @@ from lagrangian.derivation.solved import mass_matrix_is_regular
 from lagrangian.model.conversion import to_sympy
 from lagrangian.model.nonsmooth import derivative
 from lagrangian.model.probe import RANK_TOLERANCE, evaluate
+
+T = TypeVar("T")
 
 #: The largest number of unknown coefficients a search may have (a basis beyond it is cut
 #: to a lower degree, then the search is skipped and the report says so).
@@ -114,13 +116,15 @@ def first_integrals(
     deadline = time.monotonic() + seconds
     manifold = constraint_manifold(eom)  # None, or without rows when all are unilateral
     motion = ConstrainedMotion(eom, parameters) if manifold and manifold.size else None
-    independent = _Independence(eom, known, motion)
+    # built at the first result: the gradients of the known quantities (h of a long chain)
+    # cost more than a search that finds nothing
+    independent = _Lazy(lambda: _Independence(eom, known, motion))
     found: list[ConservedQuantity] = []
     searched: list[str] = []
     for line, results in _stages(eom, parameters, degree, deadline, degree >= 3, motion):
         searched.append(line)
         for expression, reason, origin in sorted(results, key=partial(_size, eom)):
-            if independent.adds(expression):
+            if independent.get().adds(expression):
                 name = f"I_{len(found) + 1}"
                 found.append(ConservedQuantity(name, expression, reason, origin=origin))
     everything = [*known, *(c.expression for c in found)]
@@ -209,11 +213,11 @@ def _conditional(
     for relation in candidate_relations(eom, parameters, deadline):
         when = condition_text(relation)
         tied = {relation.rhs: relation.lhs}
-        independent = _Independence(eom, [substitute(k, tied) for k in known])
+        independent = _Lazy(partial(_Independence, eom, [substitute(k, tied) for k in known]))
         for line, results in _stages(eom, {**given, **tied}, degree, deadline, lie=False):
             yield None, f"{line}, when {when}"
             for expression, _, origin in sorted(results, key=partial(_size, eom)):
-                if not independent.adds(expression):
+                if not independent.get().adds(expression):
                     continue
                 if constant_on_motions(expression, eom, mass, forcing):
                     # no condition after all (the search for every value missed it)
@@ -278,6 +282,19 @@ def _polynomial(
         reason = "dI/dt = 0 on the equations of motion (cubic in the velocities)"
         origin = "cubic first integral"
     return [(i, reason, origin) for i in polynomial_integrals(eom, parameters, degree, order)]
+
+
+class _Lazy(Generic[T]):
+    """A value made by ``make`` when first asked for."""
+
+    def __init__(self, make: Callable[[], T]) -> None:
+        self.make = make
+        self.value: T | None = None
+
+    def get(self) -> T:
+        if self.value is None:
+            self.value = self.make()
+        return self.value
 
 
 class _Independence:

@@ -13,6 +13,13 @@ equations, with applied forces Q and a dissipation function F:
 
     q_dot = dH/dp,    p_dot = -dH/dq + Q - dF/dq_dot.
 
+W^-1 written out grows about eightfold with each coupled coordinate (the n! terms of each
+entry, nested by elimination): its size is predicted from the entries of W before it is built
+(:func:`elimination_sizes`), and past the size limit (:mod:`lagrangian.size_limits`) the
+Hamiltonian is refused with that reason (SizeLimitError).  Of a long H, Hamilton's equations
+are written as q_dot = q_dot(q, p) and p_dot = dL/dq at q_dot(q, p) (+ Q - dF/dq_dot), equal
+to the derivatives of H (dH/dq = -dL/dq, Goldstein §8.1) and a fraction of their size.
+
 >>> import lagrangian as lg
 >>> hamiltonian(lg.examples.simple_pendulum()).hamiltonian
 -g*l*m*cos(theta) + p_theta**2/(2*l**2*m)
@@ -30,8 +37,21 @@ from lagrangian.analysis.arguments import Subject, equations_of, frozen
 from lagrangian.analysis.momenta import momentum_symbols
 from lagrangian.analysis.simplification import QUICK, simplify_small
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import AnalysisError
-from lagrangian.model.probe import DIGITS, SEED, depends_on, generic_rank, random_values
+from lagrangian.errors import AnalysisError, SizeLimitError
+from lagrangian.model.probe import (
+    DIGITS,
+    SEED,
+    depends_on,
+    generic_rank,
+    is_small,
+    random_values,
+)
+from lagrangian.size_limits import active_operations, check_size, operations
+
+#: Operations of H up to which Hamilton's equations are its derivatives, simplified; a longer
+#: H (a chain of four links or more) has dH/dq several times longer than the equal
+#: -dL/dq at q_dot(q, p) (Goldstein §8.1), which is used instead.
+DIFFERENTIATED = 2000
 
 
 @dataclass(frozen=True)
@@ -96,10 +116,68 @@ def _legendre_quadratic(eom: EquationsOfMotion, w: sp.MatrixBase, p: tuple[sp.Sy
         velocities = [sp.expand((adjugate.row(j) * shifted)[0, 0]) / det for j in range(n)]
         kinetic = sp.expand((shifted.T * adjugate * shifted)[0, 0]) / (2 * det)
     else:
+        _refuse_long_inverse(w, shifted)
         solved = w.LUsolve(shifted)
         velocities = list(solved)
         kinetic = (shifted.T * solved)[0, 0] / 2
     return kinetic - l0, dict(zip(eom.velocities, velocities))
+
+
+def elimination_sizes(w: sp.MatrixBase, rhs: sp.MatrixBase) -> list[int]:
+    """The operations of each entry of W^-1 rhs as Gaussian elimination writes it (what
+    ``Matrix.LUsolve`` builds), found from the operations of the entries alone: each step
+    a_ij - a_ik a_kj / a_kk adds the sizes of four entries, so a dense n x n matrix whose
+    entries depend on the coordinates gives entries about 8^n times longer than its own (the
+    n! terms of the expanded inverse, nested)."""
+    n = w.rows
+    a: list[list[int | None]] = [
+        [None if w[i, j] == 0 else operations(w[i, j]) for j in range(n)] for i in range(n)
+    ]
+    b: list[int | None] = [None if e == 0 else operations(e) for e in rhs]
+
+    def added(*sizes: int | None) -> int | None:
+        kept = [s for s in sizes if s is not None]
+        return sum(kept) + len(kept) - 1 if kept else None
+
+    def multiplied(*sizes: int | None) -> int | None:
+        known = [s for s in sizes if s is not None]
+        return sum(known) + len(known) if len(known) == len(sizes) else None
+
+    for k in range(n):
+        pivot = a[k][k] or 0
+        for i in range(k + 1, n):
+            factor = multiplied(a[i][k], pivot)  # a_ik / a_kk
+            if factor is None:
+                continue
+            for j in range(k + 1, n):
+                a[i][j] = added(a[i][j], multiplied(factor, a[k][j]))
+            b[i] = added(b[i], multiplied(factor, b[k]))
+    x: list[int | None] = [None] * n
+    for i in reversed(range(n)):
+        products = [multiplied(a[i][j], x[j]) for j in range(i + 1, n)]
+        x[i] = multiplied(added(b[i], *products), a[i][i] or 0)
+    return [size or 0 for size in x]
+
+
+def _refuse_long_inverse(w: sp.MatrixBase, shifted: sp.MatrixBase) -> None:
+    """SizeLimitError, before anything is built, when q_dot = W^-1 (p - b) written out would
+    pass the size limit (:func:`lagrangian.size_limits.active_operations`)."""
+    longest = max(elimination_sizes(w, shifted))
+    limit = active_operations()
+    if longest <= limit:
+        return
+    n = w.rows
+    raise SizeLimitError(
+        f"the Hamiltonian written out needs W^-1 for the {n} x {n} mass matrix "
+        "W = d2L/dq_dot2, whose entries depend on the coordinates: its velocities q_dot(q, p) "
+        f"would have about {longest:,} operations, more than the size limit of {limit:,.0f} "
+        "(a dense inverse grows about eightfold with each coordinate). H is still "
+        "1/2 (p - b)^T W(q)^-1 (p - b) - L(q, 0, t) with b = dL/dq_dot at rest and W the mass "
+        "matrix that derive writes out; Hamilton's equations are the equations of motion "
+        "with p = W q_dot + b. To have H written out: simplify the model (fewer coupled "
+        "coordinates), or raise the size limit (lagrangian --size-limit, "
+        "analyze(..., size_limit=), $LAGRANGIAN_SIZE_LIMIT)"
+    )
 
 
 def _sample_point(symbols: set[sp.Symbol]) -> dict[sp.Symbol, sp.Float]:
@@ -155,6 +233,9 @@ def hamiltonian(subject: Subject) -> Hamiltonian:
     else:
         h, velocities = _legendre_quadratic(eom, w, p)
         reason = "L quadratic in the velocities: q_dot = W^-1 (p - b), H = (p-b)W^-1(p-b)/2 - L0"
+    for v, value in velocities.items():
+        check_size(value, f"analyze: the velocity {v} as a function of (q, p)")
+    check_size(h, "analyze: the Hamiltonian H(q, p)")
     return Hamiltonian(
         hamiltonian=h,
         coordinates=tuple(eom.coordinates),
@@ -179,8 +260,14 @@ def hamilton_equations(subject: Subject, legendre: Hamiltonian | None = None) ->
         (q_force + friction).xreplace(velocities)
         for q_force, friction in zip(eom.generalized_forces, eom.dissipation_forces)
     ]
-    rates = [simplify_small(h.diff(pj), QUICK) for pj in legendre.momenta]
-    p_rates = [simplify_small(-h.diff(q) + f, QUICK) for q, f in zip(eom.coordinates, forces)]
+    if is_small(h, DIFFERENTIATED):
+        rates = [simplify_small(h.diff(pj), QUICK) for pj in legendre.momenta]
+        p_rates = [simplify_small(-h.diff(q) + f, QUICK) for q, f in zip(eom.coordinates, forces)]
+    else:  # dH/dp = q_dot(q, p) and dH/dq = -dL/dq there: a fraction of the size of dH/dq
+        rates = [velocities[v] for v in eom.velocities]
+        p_rates = [s.dL_dcoordinate.xreplace(velocities) + f for s, f in zip(eom.steps, forces)]
+    for p_j, rate in zip(legendre.momenta, p_rates):
+        check_size(rate, f"analyze: Hamilton's equation for d{p_j}/dt")
     return HamiltonEquations(
         coordinates=legendre.coordinates,
         momenta=legendre.momenta,

@@ -30,6 +30,7 @@ import sympy as sp
 
 from lagrangian.analysis.arguments import Subject, Values, equations_of, substitute, substitutions
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.errors import AnalysisError
 from lagrangian.model.conversion import to_sympy
 from lagrangian.model.nonsmooth import derivative
 from lagrangian.model.probe import is_zero
@@ -37,6 +38,10 @@ from lagrangian.model.probe import is_zero
 DIGITS = 30
 RELATIVE_ZERO = mpmath.mpf("1e-20")  # singular values below this (relative) span the nullspace
 ROUNDING = 1e-12  # tolerance of sympy.nsimplify when rounding the basis to rationals
+#: The most unknown constants (n^2 + n for n coordinates) the search solves for by default:
+#: five coordinates.  Its 30-digit factorization takes time growing as their cube (seconds at
+#: five coordinates, a minute at eight), so larger systems are refused with the reason.
+MAX_UNKNOWNS = 30
 
 
 @dataclass(frozen=True)
@@ -148,7 +153,22 @@ def _oriented(a: sp.Matrix, b: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
     return a, b
 
 
-def point_symmetries(subject: Subject, parameters: Values | None = None) -> tuple[Symmetry, ...]:
+def _refuse_large_search(n: int, most: int) -> None:
+    unknowns = n * n + n
+    if unknowns <= most:
+        return
+    raise AnalysisError(
+        f"the search for affine point symmetries xi = A q + b of {n} coordinates solves for "
+        f"{unknowns} unknown constants (n^2 + n), more than the {most} searched by default: "
+        "its 30-digit factorization takes time growing as their cube (about a minute at 72). "
+        "Cyclic coordinates and the energy are still analyzed; to search anyway, call "
+        f"lagrangian.analysis.point_symmetries(system, max_unknowns={unknowns})"
+    )
+
+
+def point_symmetries(
+    subject: Subject, parameters: Values | None = None, max_unknowns: int = MAX_UNKNOWNS
+) -> tuple[Symmetry, ...]:
     """Affine point symmetries xi = A q + b of L and their conserved Q = sum_j p_j xi_j.
 
     delta L = sum_j (dL/dq_j xi_j + dL/dq_dot_j (A q_dot)_j) = 0 for every q, q_dot, t.
@@ -160,6 +180,9 @@ def point_symmetries(subject: Subject, parameters: Values | None = None) -> tupl
         A System or its EquationsOfMotion.
     parameters:
         Substitutions for parameters (by name or symbol) made before the search.
+    max_unknowns:
+        The most unknown constants (n^2 + n) to solve for; a larger search is refused
+        (AnalysisError) before it starts.
 
     >>> import lagrangian as lg
     >>> point_symmetries(lg.examples.planet())[0].description
@@ -173,6 +196,7 @@ def point_symmetries(subject: Subject, parameters: Values | None = None) -> tupl
     q, n = eom.coordinates, len(eom.coordinates)
     if n == 0:
         return ()
+    _refuse_large_search(n, max_unknowns)
     columns = _variation_columns(lagrangian, eom)
     symbols = sorted(set().union(*(c.free_symbols for c in columns)), key=lambda s: s.name)
     unknowns = n * n + n

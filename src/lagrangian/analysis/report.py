@@ -24,6 +24,7 @@ from typing import Any, TypeVar
 
 import sympy as sp
 
+from lagrangian import limits
 from lagrangian.analysis.arguments import (
     Subject,
     Values,
@@ -70,6 +71,7 @@ from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError, LagrangianError, TimeLimitError
 from lagrangian.limits import bounded
 from lagrangian.model.probe import is_zero
+from lagrangian.size_limits import size_limit as sized_to
 
 T = TypeVar("T")
 
@@ -160,17 +162,45 @@ def conserved_quantities(
     return tuple(found)
 
 
+#: The share of the analysis's time left that one part may take: a part still running then
+#: is stopped and listed among the failures, and the report goes on with the next part, so
+#: that no part whose expressions grow can take the whole time and leave no report.
+PART_SHARE = 0.25
+
+
+def part_limit_message(part: str, seconds: float, left: float) -> str:
+    """What the report says of a part stopped at the end of its share of the time."""
+    return (
+        f"{part} stopped after {seconds:.3g} s, its share ({PART_SHARE:.0%}) of the "
+        f"{left:.3g} s the analysis had left: its expressions are too large for the time (the "
+        "other parts are reported); give the analysis more time (lagrangian --timeout "
+        "SECONDS, analyze(..., time_limit=SECONDS), or $LAGRANGIAN_TIME_LIMIT), or simplify "
+        "the model"
+    )
+
+
 class _Attempts:
-    """Runs the parts, keeping each failure's reason."""
+    """Runs the parts, keeping each failure's reason; each part within its share of the time
+    left (:data:`PART_SHARE`)."""
 
     def __init__(self) -> None:
         self.failures: list[Failure] = []
 
     def run(self, part: str, compute: Callable[[], T]) -> T | None:
+        left = limits.remaining_seconds()
+        message = None
         try:
-            return compute()
-        except TimeLimitError:  # the command's time is spent: no later part may start
-            raise
+            if left is None:  # no time limit: none for the part either
+                return compute()
+            limits.check_time()  # the command's time is spent: no part may start
+            seconds = max(PART_SHARE * left, 1e-3)
+            message = part_limit_message(part, seconds, left)
+            with limits.time_limit(seconds, message=message):
+                return compute()
+        except TimeLimitError as error:
+            if message is None or str(error) != message:
+                raise  # the command's own limit: no later part may start
+            self.failures.append(Failure(part, message))
         except LagrangianError as error:
             self.failures.append(Failure(part, str(error)))
         except Exception as error:  # a bug or a SymPy limitation: report it, keep going
@@ -215,6 +245,7 @@ def analyze(
     search_seconds: float = SEARCH_SECONDS,
     *,
     time_limit: float | None = None,
+    size_limit: float | None = None,
 ) -> AnalysisReport:
     """Momenta, cyclic coordinates, conserved quantities, energy function, Hamiltonian and
     Hamilton's equations, equilibria, normal modes, and (with ``about``) the linearization;
@@ -229,8 +260,28 @@ def analyze(
     further first integrals are sought (0: no search), ``search_seconds`` its time
     (:mod:`lagrangian.analysis.first_integrals`).  ``time_limit`` bounds the whole analysis
     in seconds (TimeLimitError; default ``$LAGRANGIAN_TIME_LIMIT`` or
-    :data:`lagrangian.limits.DEFAULT_SECONDS`).
+    :data:`lagrangian.limits.DEFAULT_SECONDS`); each part may take its share of the time
+    left (:data:`PART_SHARE`), past which it is listed among the ``failures``.  ``size_limit``
+    bounds the operations of each expression derived and analyzed (default
+    ``$LAGRANGIAN_SIZE_LIMIT`` or :data:`lagrangian.size_limits.DEFAULT_OPERATIONS`): a part
+    whose expression would pass it is listed among the ``failures``, naming the expression.
     """
+    with sized_to(size_limit):
+        return _analyze(
+            subject, about, parameters, inputs, project, independent, search_degree, search_seconds
+        )
+
+
+def _analyze(
+    subject: Subject,
+    about: Values | None,
+    parameters: Values | None,
+    inputs: Sequence[Any],
+    project: bool,
+    independent: Sequence[Any] | None,
+    search_degree: int,
+    search_seconds: float,
+) -> AnalysisReport:
     if isinstance(search_degree, bool) or not isinstance(search_degree, int) or search_degree < 0:
         raise AnalysisError(f"search_degree must be a whole number >= 0, not {search_degree!r}")
     eom = equations_of(subject)

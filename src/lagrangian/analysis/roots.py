@@ -22,6 +22,8 @@ import sympy as sp
 
 from lagrangian.analysis.arguments import assuming_positive, evaluate
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.errors import TimeLimitError
+from lagrangian.limits import time_limit
 from lagrangian.model.conversion import to_sympy
 from lagrangian.model.nonsmooth import NONSMOOTH
 
@@ -165,13 +167,23 @@ def numeric_roots(
     found: list[dict] = []
     points = list(starts) if starts is not None else _starts(unknowns, angles)
     deadline = time.monotonic() + seconds
+    # one Newton iteration of a long system (a bicycle's) can take longer than the whole
+    # search: the search's time bounds each call too
+    spent = f"the numeric search for roots ran past its {seconds:g} s"
     count = 0
     for start in points:
-        if time.monotonic() > deadline:
+        left = deadline - time.monotonic()
+        if left <= 0:
             break
         count += 1
         try:
-            root = sp.nsolve(system, list(unknowns), list(start), prec=20)
+            with time_limit(left, message=spent):
+                root = sp.nsolve(system, list(unknowns), list(start), prec=20)
+        except TimeLimitError as error:
+            if str(error) != spent:
+                raise  # a limit outside the search
+            count -= 1  # not finished
+            break
         except (ValueError, ZeroDivisionError, TypeError):
             continue
         values = {}

@@ -23,6 +23,10 @@ from lagrangian.model.probe import SMALL, is_small
 
 #: A stricter limit for results that are many and rarely simplify much (rates, A and B).
 QUICK = 30
+#: Entries up to which a matrix is simplified entry by entry (10 x 10); a larger one (the
+#: stiffness of a chain of twenty links, 400 entries) is returned as it is, so that the time
+#: spent simplifying stays bounded as the system grows.
+SIMPLIFIED_ENTRIES = 100
 
 
 def simplify_small(expr: Any, limit: int = SMALL) -> sp.Expr:
@@ -32,6 +36,9 @@ def simplify_small(expr: Any, limit: int = SMALL) -> sp.Expr:
 
 
 def simplify_small_matrix(matrix: sp.MatrixBase, limit: int = SMALL) -> sp.ImmutableMatrix:
-    """Every entry through :func:`simplify_small`, as an immutable matrix."""
+    """Every entry through :func:`simplify_small`, as an immutable matrix (as it is when it
+    has more than :data:`SIMPLIFIED_ENTRIES` entries)."""
+    if matrix.rows * matrix.cols > SIMPLIFIED_ENTRIES:
+        return sp.ImmutableMatrix(matrix)
     entries = [simplify_small(e, limit) for e in matrix]
     return sp.ImmutableMatrix(matrix.rows, matrix.cols, entries)

@@ -41,6 +41,12 @@ def _scale(matrix: sp.MatrixBase) -> float:
     return max((abs(complex(e)) for e in matrix), default=1.0) or 1.0
 
 
+def _skew(matrix: sp.MatrixBase, scale: float | None = None) -> bool:
+    """Whether ``matrix`` has a skew part above the tolerance (relative to its largest entry)."""
+    tiny = TOLERANCE * (_scale(matrix) if scale is None else scale)
+    return any(abs(complex(e)) > tiny for e in matrix - matrix.T)
+
+
 def stability_of(
     stiffness: sp.MatrixBase,
     gyroscopic: sp.MatrixBase | None = None,
@@ -52,7 +58,7 @@ def stability_of(
     if stiffness.rows == 0:
         return None, "every nearby configuration is at rest: undetermined at second order"
     scale = _scale(stiffness)
-    if any(abs(complex(e)) > TOLERANCE * scale for e in stiffness - stiffness.T):
+    if _skew(stiffness, scale):
         return None, (
             "K is not symmetric (positional forces not from a potential): the Hessian test "
             "does not apply; see the linearization's eigenvalues"
@@ -69,9 +75,7 @@ def stability_of(
         return None, (
             "K is positive semi-definite but singular: undetermined at second order" + along
         )
-    spinning = gyroscopic is not None and any(
-        abs(complex(e)) > TOLERANCE * _scale(gyroscopic) for e in gyroscopic - gyroscopic.T
-    )
+    spinning = gyroscopic is not None and _skew(gyroscopic)
     kind = "a maximum" if negative == len(values) else "a saddle"
     if spinning and negative % 2 == 0:
         return None, (

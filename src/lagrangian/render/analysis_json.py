@@ -45,7 +45,14 @@ from lagrangian.analysis import (
 )
 from lagrangian.analysis.steady_motions import SteadyMotions
 from lagrangian.model.conversion import to_sympy
-from lagrangian.render.json import expression_string
+from lagrangian.render.text import SumPrinter
+
+
+def expression_string(expr: sp.Basic) -> str:
+    """A SymPy-parseable string of ``expr`` (``sympy.sstr`` with ``order="none"``), each
+    recurring subexpression written once (:class:`~lagrangian.render.text.SumPrinter`): the
+    velocities of a Hamiltonian of several links nest the same quotients many times."""
+    return SumPrinter({"order": "none"}).doprint(expr)
 
 
 def _strings(values: Iterable[Any]) -> list[str]:

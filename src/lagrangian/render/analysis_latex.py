@@ -23,8 +23,12 @@ from lagrangian.analysis import (
     Symmetry,
 )
 from lagrangian.model.conversion import to_sympy
+from lagrangian.model.probe import is_small
 from lagrangian.render.latex import block, symbol_names
 
+#: Operations beyond which an expression is not typeset (sympy.latex takes seconds per
+#: ten thousand operations, and a page of them says nothing): it is named, with its size.
+TYPESET_OPERATIONS = 20_000
 #: Characters that LaTeX text mode does not take as they are (reasons quote formulas).
 _ESCAPES = {"_": r"\_", "&": r"\&", "%": r"\%", "#": r"\#", "$": r"\$", "{": r"\{", "}": r"\}"}
 
@@ -39,7 +43,13 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
     names = symbol_names(report.coordinates)
 
     def tex(expr: sp.Basic) -> str:
-        return sp.latex(to_sympy(expr), symbol_names=names)
+        expr = to_sympy(expr)
+        if not is_small(expr, TYPESET_OPERATIONS):  # the Hamiltonian of five links or more
+            return _text(
+                f"(more than {TYPESET_OPERATIONS:,} operations: too long to typeset; the "
+                "text and JSON reports write it out)"
+            )
+        return sp.latex(expr, symbol_names=names)
 
     lines = [rf"&{_text(report.name or 'system')}:\ {report.dof}\ {_text('degrees of freedom')}"]
     if report.freedom and report.configuration_dimension != report.independent_velocities:
@@ -91,7 +101,7 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
             gone = ", ".join(s.name for s in report.linearization.dependent)
             lines.append(rf"&{_text('eliminated on the constraint manifold: ' + gone)}")
     for failure in report.failures:
-        lines.append(rf"&{_text(failure.part + ': ' + failure.reason)}")
+        lines.append(rf"&{_text('not computed: ' + failure.part + ': ' + failure.reason)}")
     return lines
 
 

@@ -28,6 +28,7 @@ from lagrangian.analysis import (
     Linearization,
 )
 from lagrangian.analysis.momenta import condition_text
+from lagrangian.render.text import SumPrinter
 
 VERDICTS = {True: "stable", False: "unstable", None: "stability undetermined"}
 
@@ -110,13 +111,18 @@ def _hamiltonian_lines(report: AnalysisReport) -> list[str]:
     legendre = report.hamiltonian
     if legendre is None:
         return [f"none: {report.failure('hamiltonian')}"]
-    lines = [f"H = {legendre.hamiltonian}", legendre.reason]
+    # the velocities q_dot(q, p) of several links nest the same quotients many times: one
+    # printer writes each once
+    text = SumPrinter().doprint
+    lines = [f"H = {text(legendre.hamiltonian)}", legendre.reason]
     canonical = report.hamilton_equations
     if canonical is not None:
         for q, rate in zip(canonical.coordinates, canonical.coordinate_rates):
-            lines.append(f"{q}_dot = {rate}")
+            lines.append(f"{q}_dot = {text(rate)}")
         for p, rate in zip(canonical.momenta, canonical.momentum_rates):
-            lines.append(f"{p}_dot = {rate}")
+            lines.append(f"{p}_dot = {text(rate)}")
+    elif report.failure("hamilton_equations"):
+        lines.append(f"Hamilton's equations: none: {report.failure('hamilton_equations')}")
     return lines
 
 
@@ -169,9 +175,13 @@ def analysis_text(report: AnalysisReport) -> str:
         )
     if report.linearization is not None:
         lines += _section("Linearization", _linearization_lines(report.linearization))
-    skipped = {"hamiltonian"} if report.hamiltonian is None else set()
+    # the Hamiltonian's section gives its reason (and that of Hamilton's equations)
+    told = {"hamiltonian"} if report.hamiltonian is None else {"hamilton_equations"}
     lines += _section(
         "Not computed",
-        (f"{f.part}: {f.reason}" for f in report.failures if f.part not in skipped),
+        (
+            f"{f.part}: {'the reason is under Hamiltonian' if f.part in told else f.reason}"
+            for f in report.failures
+        ),
     )
     return "\n".join(lines)
