@@ -8,10 +8,12 @@ rebuilds them as SymPy with the user's own symbol objects.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
+from functools import cmp_to_key
 from typing import Any
 
 import symengine as se
 import sympy as sp
+from sympy.core.basic import ordering_of_classes
 
 from lagrangian.model.conversion import to_sympy
 from lagrangian.model.identity_cache import IdentityCache
@@ -37,24 +39,28 @@ class SympyView:
 
     Sines and cosines of a difference of two symbols, which pendulum-like systems have by
     the hundred, are built directly in SymPy's canonical form (the first symbol in SymPy's
-    order positive) instead of through SymPy's general evaluation; everything else goes
-    through SymPy's own constructors.
+    order positive) instead of through SymPy's general evaluation; sums and products of
+    terms that are canonical already skip most of it (:func:`sympy_sum`,
+    :func:`sympy_product`); everything else goes through SymPy's own constructors.
     """
 
     def __init__(self, symbols: Iterable[sp.Symbol]) -> None:
         self.by_name = {s.name: s for s in symbols}
         self._memo: dict[Backend, sp.Expr] = {}
+        self._order = CanonicalOrder()
+        # id of a converted angle -> (the angle, its canonical difference or None, flipped)
+        self._angles: dict[int, tuple[sp.Expr, sp.Expr | None, bool]] = {}
 
     def __call__(self, expr: Backend) -> sp.Expr:
-        memo = self._memo
-        if expr in memo:
-            return memo[expr]
+        known = self._memo.get(expr)
+        if known is not None:
+            return known
         if isinstance(expr, se.Symbol):
             result = self.by_name.get(expr.name) or sp.Symbol(expr.name)
         elif expr.is_Add:
-            result = sp.Add(*[self(a) for a in expr.args])
+            result = sympy_sum(self._arguments(expr), self._order)
         elif expr.is_Mul:
-            result = sp.Mul(*[self(a) for a in expr.args])
+            result = sympy_product(self._arguments(expr), self._order)
         elif expr.is_Pow:
             base, exponent = expr.args
             result = sp.Pow(self(base), self(exponent))
@@ -64,8 +70,22 @@ class SympyView:
             result = to_sympy(expr)
         else:
             result = self._fallback(expr)
-        memo[expr] = result
+        self._memo[expr] = result
         return result
+
+    def _all(self, entries: list[Backend]) -> list[sp.Expr]:
+        """Every entry converted; then the sort keys remembered meanwhile are let go (a
+        200-link chain's equations have hundreds of thousands; the few that other entries
+        share are quickly made again)."""
+        try:
+            return [self(v) for v in entries]
+        finally:
+            self._order = CanonicalOrder()
+
+    def _arguments(self, expr: Backend) -> list[sp.Expr]:
+        """The arguments of ``expr`` converted (most are met before: looked up directly)."""
+        get = self._memo.get
+        return [known if (known := get(a)) is not None else self(a) for a in expr.args]
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs, sign and Heaviside
@@ -77,28 +97,37 @@ class SympyView:
         }
         return result.xreplace(swap) if swap else result
 
-    @staticmethod
-    def _trig(function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.Expr:
-        difference = _symbol_difference(argument)
-        if difference is None:
+    def _trig(self, function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.Expr:
+        known = self._angles.get(id(argument))  # the sine and the cosine of an angle share it
+        if known is None:
+            difference = _symbol_difference(argument)
+            if difference is None:
+                known = (argument, None, False)
+            else:
+                first, second, flipped = difference
+                canonical = sympy_sum([first, -second], self._order) if flipped else argument
+                known = (argument, canonical, flipped)
+            self._angles[id(argument)] = known
+        _, canonical, flipped = known
+        if canonical is None:
             return function(argument)
-        first, second, flipped = difference
-        canonical = sp.Add(first, -second)
         value = function(canonical, evaluate=False)
-        return -value if flipped and function is sp.sin else value
+        return sympy_product([sp.S.NegativeOne, value]) if flipped and function is sp.sin else value
 
     def vector(self, values: Iterable[Backend]) -> sp.ImmutableMatrix:
         entries = list(values)
-        return _remember(sp.ImmutableMatrix([self(v) for v in entries]), entries)
+        return _remember(sp.ImmutableMatrix(self._all(entries)), entries)
 
     def matrix(self, rows: Sequence[Sequence[Backend]]) -> sp.ImmutableMatrix:
-        converted = sp.ImmutableMatrix([[self(v) for v in row] for row in rows])
-        return _remember(converted, [v for row in rows for v in row])
+        entries = [v for row in rows for v in row]
+        converted = sp.ImmutableMatrix(len(rows), len(rows[0]) if rows else 0, self._all(entries))
+        return _remember(converted, entries)
 
     def symmetric_matrix(self, rows: Sequence[Sequence[Backend]]) -> sp.ImmutableMatrix:
         """Convert the upper triangle only and mirror it."""
         n = len(rows)
-        upper = {(j, k): self(rows[j][k]) for j in range(n) for k in range(j, n)}
+        pairs = [(j, k) for j in range(n) for k in range(j, n)]
+        upper = dict(zip(pairs, self._all([rows[j][k] for j, k in pairs])))
         converted = sp.ImmutableMatrix(n, n, lambda j, k: upper[(min(j, k), max(j, k))])
         entries = [rows[min(j, k)][max(j, k)] for j in range(n) for k in range(n)]
         return _remember(converted, entries)
@@ -138,3 +167,178 @@ def _symbol_difference(argument: sp.Expr) -> tuple[sp.Symbol, sp.Symbol, bool] |
     x, y = positive[0], negative[0]
     first, second = sorted((x, y), key=sp.default_sort_key)
     return first, second, x is not first
+
+
+#: SymPy's canonical order of the arguments of a sum or a product (what ``Add`` and ``Mul``
+#: sort them by).
+_CANONICAL_ORDER = cmp_to_key(sp.Basic.compare)
+
+
+def sympy_sum(terms: list[sp.Expr], order: CanonicalOrder | None = None) -> sp.Expr:
+    """``sp.Add(*terms)``, the same expression (equal arguments in the same order), built
+    without SymPy's general evaluation when the terms are canonical SymPy terms with nothing
+    to combine: rational numbers, and symbols, powers, products and function values whose
+    parts without their numeric coefficients all differ.  Then ``Add.flatten`` would only
+    sum the numbers, sort the rest (by :meth:`sympy.Basic.compare`) and put the number first,
+    which is all this does; anything else goes through ``sp.Add``.
+
+    >>> x, y = sp.symbols("x y")
+    >>> sympy_sum([sp.Integer(2), 3 * y, x**2]) == sp.Add(2, 3 * y, x**2)
+    True
+    """
+    coefficient: sp.Expr = sp.S.Zero
+    parts: list[sp.Expr] = []
+    seen: set[Any] = set()
+    for term in _flat(terms, sp.Add):
+        if term.is_Rational:
+            coefficient += term
+            continue
+        kind = type(term)
+        if kind is sp.Mul:
+            args = term.args
+            key: Any = (args[1:] if len(args) > 2 else args[1]) if args[0].is_Number else args
+        elif _is_plain(term) or (kind is sp.Pow and not term.args[0].is_Number):
+            key = term
+        else:
+            return sp.Add(*terms)
+        if key in seen or term.is_commutative is not True:
+            return sp.Add(*terms)
+        seen.add(key)
+        parts.append(term)
+    _sort(parts, order)
+    if coefficient is not sp.S.Zero:
+        parts.insert(0, coefficient)
+    return sp.Add._from_args(parts, True)  # what sp.Add does with the flattened terms
+
+
+def sympy_product(factors: list[sp.Expr], order: CanonicalOrder | None = None) -> sp.Expr:
+    """``sp.Mul(*factors)``, the same expression, built without SymPy's general evaluation
+    when the factors are canonical SymPy factors with nothing to combine: rational numbers,
+    and symbols, sums, function values and powers of them with rational exponents, of bases
+    that all differ.  Then ``Mul.flatten`` would only multiply the numbers, sort the rest
+    (by :meth:`sympy.Basic.compare`) and put the number first, which is all this does; a
+    number times one sum (which SymPy distributes) and anything else go through ``sp.Mul``.
+
+    >>> x, y = sp.symbols("x y")
+    >>> sympy_product([sp.Integer(-2), sp.sin(y), x**2]) == sp.Mul(-2, sp.sin(y), x**2)
+    True
+    """
+    if (
+        len(factors) == 2
+        and any(f.is_Rational for f in factors)
+        and any(type(f) in (sp.Add, sp.Mul) for f in factors)
+    ):
+        return sp.Mul(*factors)  # SymPy's two-argument rules (a number times a sum)
+    coefficient: sp.Expr = sp.S.One
+    parts: list[sp.Expr] = []
+    bases: set[sp.Expr] = set()
+    for factor in _flat(factors, sp.Mul):
+        if factor.is_Rational:
+            coefficient *= factor
+            continue
+        kind = type(factor)
+        if kind is sp.Pow:
+            base, exponent = factor.args
+            if base.is_Number or not exponent.is_Rational:
+                return sp.Mul(*factors)
+        elif kind is sp.Add or _is_plain(factor):
+            base = factor
+        else:
+            return sp.Mul(*factors)
+        if base in bases or factor.is_commutative is not True:
+            return sp.Mul(*factors)
+        bases.add(base)
+        parts.append(factor)
+    if coefficient is sp.S.Zero or (
+        coefficient is not sp.S.One and len(parts) == 1 and parts[0].is_Add
+    ):
+        return sp.Mul(*factors)
+    _sort(parts, order)
+    if coefficient is not sp.S.One:
+        parts.insert(0, coefficient)
+    return sp.Mul._from_args(parts, True)  # what sp.Mul does with the flattened factors
+
+
+def _sort(parts: list[sp.Expr], order: CanonicalOrder | None) -> None:
+    """Sort ``parts`` in SymPy's canonical order, by the keys of ``order`` where it has them
+    (keys of unlike content, which no canonical expression has, cannot be compared)."""
+    if order is not None and len(parts) > 1:
+        try:
+            parts.sort(key=order)
+            return
+        except (Unorderable, TypeError):
+            pass
+    parts.sort(key=_CANONICAL_ORDER)
+
+
+class Unorderable(Exception):
+    """An expression :class:`CanonicalOrder` has no key for."""
+
+
+#: Where a class's name stands in SymPy's order of classes; the rest come after, by name.
+_CLASS_RANK = {name: i for i, name in enumerate(ordering_of_classes)}
+_UNRANKED = len(ordering_of_classes) + 1
+#: How SymPy's classes give the content that ``Basic.compare`` compares after the class.
+_ARGS_CONTENT = (sp.Basic._hashable_content, sp.Expr._hashable_content)
+_NAMED = (sp.Symbol, sp.Dummy)
+
+
+class CanonicalOrder:
+    """Sort keys that order expressions as :meth:`sympy.Basic.compare` does, remembered per
+    expression: a key is compared in C, where ``compare`` runs in Python on every
+    comparison (the arguments of the sums of a 200-link chain's equations are sorted by
+    the hundred thousand).
+
+    ``compare`` orders by class (its place in SymPy's ``ordering_of_classes``, else its
+    name), then by the length of the hashable content, then by its items one by one (other
+    expressions recursively, anything else by ``<``); the key is that tuple.  Symbols,
+    rational numbers and the expressions whose content is their arguments have keys; any
+    other expression raises :class:`Unorderable`.
+
+    >>> x, y = sp.symbols("x y")
+    >>> order = CanonicalOrder()
+    >>> sorted([y, sp.sin(x), x**2, x], key=order)
+    [x, y, x**2, sin(x)]
+    """
+
+    def __init__(self) -> None:
+        # by id, which hashes faster than an expression; the expression is kept with its key,
+        # so its id is not reused while the key is remembered
+        self._keys: dict[int, tuple[sp.Basic, tuple[Any, ...]]] = {}
+
+    def __call__(self, expr: sp.Basic) -> tuple[Any, ...]:
+        known = self._keys.get(id(expr))
+        if known is not None:
+            return known[1]
+        kind = type(expr)
+        name = kind.__name__
+        if kind._hashable_content in _ARGS_CONTENT:
+            content: tuple[Any, ...] = tuple(map(self, expr.args))
+        elif kind in _NAMED or expr.is_Rational:
+            content = expr._hashable_content()
+        else:
+            raise Unorderable(name)
+        key = (_CLASS_RANK.get(name, _UNRANKED), name, len(content), *content)
+        self._keys[id(expr)] = (expr, key)
+        return key
+
+
+def _flat(items: list[sp.Expr], kind: type) -> list[sp.Expr]:
+    """``items`` with the arguments of each ``kind`` (Add or Mul) in place of it."""
+    if not any(type(item) is kind for item in items):
+        return items
+    flat: list[sp.Expr] = []
+    for item in items:
+        args: tuple[sp.Expr, ...] = item.args
+        flat.extend(args if type(item) is kind else (item,))
+    return flat
+
+
+def _is_plain(expr: sp.Expr) -> bool:
+    """A symbol, or the value of a function that SymPy's products take as a base to the
+    power 1 (every function but exp): neither has SymPy constructor postprocessors (only
+    matrix, vector, tensor and quantum expressions do)."""
+    kind = type(expr)
+    return kind in _NAMED or (
+        isinstance(expr, sp.Function) and kind.as_base_exp is sp.Expr.as_base_exp
+    )

@@ -70,30 +70,41 @@ def _factor_common(products: list[Any]) -> Any:
 
 
 def collect_state(
-    expr: Any, state: Iterable[Any], sums: Mapping[Any, tuple[Any, Any]] | None = None
+    expr: Any,
+    state: Iterable[Any],
+    sums: Mapping[Any, tuple[Any, Any]] | None = None,
+    factors: dict[Any, Any] | None = None,
 ) -> Any:
     """Group the terms of expanded ``expr`` by their factors that depend on ``state``.
 
     ``sums`` maps symbols that stand for sums of parameters in ``expr`` to (the sum, the sum
     with its common factors pulled out): the result has the sums back, as though ``expr`` had
     been expanded with them (a coefficient that is one product takes the factored sum, several
-    that hold such symbols are expanded together and factored as one)."""
+    that hold such symbols are expanded together and factored as one).
+
+    ``factors``, when given, remembers across calls with the same ``state`` and ``sums`` (a
+    mapping that may grow, never change) how each factor is sorted: the same factors recur
+    in every equation of a system."""
     state = set(state)
     terms = expr.args if expr.is_Add else (expr,)
     groups: dict[Any, list[list[Any]]] = defaultdict(list)
-    moving: dict[Any, bool] = {}  # factor -> depends on the state (factors recur across terms)
-    swapped: dict[Any, Any] = {}  # a moving factor with a symbol of ``sums`` -> with the sum
+    # factor -> None for a factor free of the state (a coefficient), else the factor as it
+    # goes into the key (with the sums of ``sums`` put back); factors recur across terms
+    sorted_factors: dict[Any, Any] = {} if factors is None else factors
     for term in terms:
         key: list[Any] = []
         coefficient: list[Any] = []
         for factor in term.args if term.is_Mul else (term,):
-            if factor not in moving:
+            if factor in sorted_factors:
+                moving = sorted_factors[factor]
+            else:
                 symbols = factor.free_symbols
-                moving[factor] = not state.isdisjoint(symbols)
-                if sums and moving[factor] and not symbols.isdisjoint(sums):
-                    swapped[factor] = factor.xreplace({s: sums[s][0] for s in sums})
-            if moving[factor]:
-                key.append(swapped.get(factor, factor))
+                moving = None if state.isdisjoint(symbols) else factor
+                if sums and moving is not None and not symbols.isdisjoint(sums):
+                    moving = factor.xreplace({s: sums[s][0] for s in sums})
+                sorted_factors[factor] = moving
+            if moving is not None:
+                key.append(moving)
             else:
                 coefficient.append(factor)
         groups[se.Mul(*key)].append(coefficient)

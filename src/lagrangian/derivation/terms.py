@@ -31,7 +31,14 @@ from lagrangian.derivation.assemble import Assembly, assemble
 from lagrangian.derivation.backend import Backend, SympyView
 from lagrangian.derivation.collect import collect_state, factor_common
 from lagrangian.derivation.kinetic import KineticForm, kinetic_form
-from lagrangian.derivation.trig import combine_and_collect, combine_trig
+from lagrangian.derivation.trig import (
+    NESTED_CHECK_OPS,
+    NESTED_TERMS,
+    combine_and_collect,
+    combine_trig,
+    size,
+)
+from lagrangian.derivation.trig_polynomial import expanded_terms
 from lagrangian.model import System
 from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.model.probe import depends_on
@@ -71,6 +78,7 @@ class EulerLagrangeTerms:
         self._sum_of_symbol: dict[Backend, Backend] = {}
         self._sums: dict[Backend, tuple[Backend, Backend]] = {}  # symbol -> (sum, factored)
         self._compressed: dict[Backend, Backend] = {}
+        self._factors: dict[Backend, Backend] = {}  # collect_state's sorting of factors
         u = asm.velocity_potential
         at_rest = {a: 0 for a in asm.q_ddot}
         self.velocity_potential_forces = [
@@ -105,7 +113,7 @@ class EulerLagrangeTerms:
         parameters that multiply a term are kept whole (:meth:`compress`)."""
         if not expr.is_Add and not any(arg.is_Add for arg in expr.args):
             if self._sums and not self._sums.keys().isdisjoint(expr.free_symbols):
-                return collect_state(expr, self.state, self._sums)  # its sum back, factored
+                return collect_state(expr, self.state, self._sums, self._factors)  # sum back
             return expr
         if self.kinetic.grouped:  # 3-D bodies: reduced trigonometric polynomials, no long sums
             return combine_and_collect(expr, self.state)
@@ -122,7 +130,7 @@ class EulerLagrangeTerms:
         already (derivatives of a compressed one), with the sums put back."""
         if not self._sums:
             return combine_and_collect(compact, self.state)
-        return collect_state(combine_trig(compact), self.state, self._sums)
+        return collect_state(combined_trig(compact), self.state, self._sums, self._factors)
 
     def compress(self, expr: Backend) -> Backend:
         """``expr`` with every sum of parameters that multiplies one of its terms (of it, or
@@ -179,10 +187,14 @@ class EulerLagrangeTerms:
 
     def gradient(self, expr: Backend, symbols: list[Backend]) -> list[Backend]:
         """[d expr/ds for s in symbols], a sum differentiated term by term, each term by the
-        symbols it has only (a term of an n-link chain's L has four of the 2n)."""
+        symbols it has only (a term of an n-link chain's L has four of the 2n).
+
+        A number times a sum (the -V of L = T - V, whose n^2/2 terms of a chain hold every
+        angle) is differentiated term by term as well, not whole by each of its symbols:
+        the derivatives are the same sums, written out (every caller expands them)."""
         index = {s: i for i, s in enumerate(symbols)}
         parts: list[list[Backend]] = [[] for _ in symbols]
-        for term in expr.args if expr.is_Add else (expr,):
+        for term in _distributed_terms(expr):
             for s in term.free_symbols:
                 i = index.get(s)
                 if i is not None:
@@ -239,6 +251,71 @@ class EulerLagrangeTerms:
             else:
                 orders[q] = 1 if depends_on(self.forcing[j], inert_velocities) else 0
         return orders
+
+
+def _distributed_terms(expr: Backend) -> list[Backend]:
+    """The terms of ``expr``, a number times a sum written as the number times each term."""
+    terms = []
+    for term in expr.args if expr.is_Add else (expr,):
+        args: tuple[Backend, ...] = term.args if term.is_Mul else ()
+        if len(args) == 2 and args[0].is_Number and args[1].is_Add:
+            terms += [args[0] * inner for inner in args[1].args]
+        else:
+            terms.append(term)
+    return terms
+
+
+def combined_trig(expr: Backend) -> Backend:
+    """:func:`~lagrangian.derivation.trig.combine_trig` of ``expr``, which is its expansion
+    when no term of that has more than one sine or cosine (to the power 1) nor a multiple
+    angle: the equations of a chain, whose every term has one sin(theta_j - theta_k) or
+    cos(theta_j - theta_k).  combine_trig has no product of sines and cosines to combine,
+    no square to reduce and no double angle to weigh in such a sum, and would only find
+    that out (at a cost that grows with the terms, and more so beyond
+    :data:`~lagrangian.derivation.trig.LARGE_POLYNOMIAL` of them).  As in combine_trig, an
+    expression that would expand to :data:`~lagrangian.derivation.trig.NESTED_TERMS` terms
+    or more is kept nested."""
+    expanded = se.expand(expr)
+    terms = expanded.args if expanded.is_Add else (expanded,)
+    if not all(map(_at_most_one_plain_trig, terms)):
+        return combine_trig(expr)
+    if size(expr) > NESTED_CHECK_OPS and expanded_terms(expr, NESTED_TERMS) >= NESTED_TERMS:
+        return expr
+    return expanded
+
+
+def _at_most_one_plain_trig(term: Backend) -> bool:
+    """A product of numbers, symbols, integer powers of symbols and at most one sine or
+    cosine of a sum of symbols each with coefficient +-1."""
+    trig = 0
+    for factor in term.args if term.is_Mul else (term,):
+        if factor.is_Number or factor.is_Symbol:
+            continue
+        if factor.is_Pow:
+            base, exponent = factor.args
+            if not (base.is_Symbol and exponent.is_Integer):
+                return False
+        elif isinstance(factor, (se.sin, se.cos)) and _plain_angle(factor.args[0]):
+            trig += 1
+            if trig > 1:
+                return False
+        else:
+            return False
+    return True
+
+
+_UNITS = (se.Integer(1), se.Integer(-1))
+
+
+def _plain_angle(angle: Backend) -> bool:
+    """A symbol, or a sum of symbols each with coefficient +-1."""
+    for term in angle.args if angle.is_Add else (angle,):
+        if term.is_Symbol:
+            continue
+        args: tuple[Backend, ...] = term.args if term.is_Mul else ()
+        if not (len(args) == 2 and args[1].is_Symbol and args[0] in _UNITS):
+            return False
+    return True
 
 
 #: How each piece of :func:`matrix_piece` is made from the backend terms.
