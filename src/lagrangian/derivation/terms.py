@@ -116,7 +116,8 @@ class EulerLagrangeTerms:
                 return collect_state(expr, self.state, self._sums, self._factors)  # sum back
             return expr
         if self.kinetic.grouped:  # 3-D bodies: reduced trigonometric polynomials, no long sums
-            return combine_and_collect(expr, self.state)
+            # (a compressed step, dL/dq_dot of a Lagrangian with long sums, has its sums back)
+            return combine_and_collect(self.expand_sums(expr), self.state)
         return self.tidy_compressed(self.compress(expr))
 
     def _tidy_expanded(self, expr: Backend) -> Backend:
