@@ -41,6 +41,7 @@ from lagrangian.derivation.collect import collect_state
 from lagrangian.derivation.trig import combine_trig, size
 from lagrangian.model import VelocityConstraint, t, velocity
 from lagrangian.model.constraints import Constraint
+from lagrangian.model.expressions import free_symbols
 from lagrangian.size_limits import check_size
 
 TIDY_OPS = 1000  # partial derivatives of a constraint's rate beyond this are not expanded
@@ -57,7 +58,7 @@ class PfaffianForm:
 
     def depends_on_time(self) -> bool:
         """True when omega involves t (b != 0 or some a_k depends on t)."""
-        return self.time_coefficient != 0 or any(t in a.free_symbols for a in self.coefficients)
+        return self.time_coefficient != 0 or any(t in free_symbols(a) for a in self.coefficients)
 
 
 def pfaffian_form(constraint: Constraint, coordinates: Sequence[sp.Symbol]) -> PfaffianForm:
@@ -81,7 +82,7 @@ def _form(velocity_level: bool, expr: sp.Expr, coordinates: tuple[sp.Symbol, ...
     c = backend(expr)
     speeds = [velocity(q) for q in coordinates]
     fast = [to_backend(v) for v in speeds]
-    view = SympyView({*expr.free_symbols, *coordinates, *speeds, t})
+    view = SympyView({*free_symbols(expr), *coordinates, *speeds, t})  # a walk, shared parts once
     if velocity_level:  # a = dc/dq_dot and b = c at q_dot = 0, each expanded
         coefficients = tuple(view(se.expand(c.diff(v))) for v in fast)
         at_rest = se.expand(c.xreplace({v: 0 for v in fast}))
@@ -151,7 +152,7 @@ def acceleration_terms(
     variables = [*(to_backend(s) for s in coordinates), to_backend(t)]
     rates = [*q_dot, se.Integer(1)]
     state = {*variables, *q_dot}
-    view = SympyView({t, *coordinates}.union(*(f.velocity_expression.free_symbols for f in forms)))
+    view = SympyView({t, *coordinates}.union(*(free_symbols(f.velocity_expression) for f in forms)))
     result = []
     for j, form in enumerate(forms):
         terms, held = _rate_terms(backend(form.velocity_expression), variables, rates)

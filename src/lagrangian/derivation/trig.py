@@ -27,7 +27,12 @@ import sympy as sp
 
 from lagrangian.derivation.backend import SympyView, to_backend
 from lagrangian.derivation.collect import collect_state
-from lagrangian.derivation.trig_polynomial import PolynomialTooLarge, algebra_for, expanded_terms
+from lagrangian.derivation.trig_polynomial import (
+    PolynomialTooLarge,
+    algebra_for,
+    expanded_terms,
+    pairs,
+)
 from lagrangian.model.conversion import to_sympy
 
 MAX_TRIG_DEGREE = 8  # beyond this a term is left as it is (2**(d-1) Fourier terms)
@@ -261,7 +266,7 @@ def _reduced_polynomial(expanded: Any, budget: int) -> Any:
     polynomial = algebra.finish(algebra.convert(expanded))
     cost, degree = 0, 0
     for key, coefficient in polynomial.items():
-        d = sum(e for i, e in key if algebra.sine[i] or algebra.cosine[i])
+        d = sum(e for i, e in pairs(key) if algebra.sine[i] or algebra.cosine[i])
         degree = max(degree, d)
         if d > 1:
             cost += 2 ** (d - 1) * (len(coefficient.args) if coefficient.is_Add else 1)

@@ -5,10 +5,10 @@ other) are polynomials in the sines and cosines of their angles, in the coordina
 the velocities.  Expanded, such an expression has thousands of terms, but only a hundred or
 so distinct products of sines, cosines and state variables: everything else is the
 coefficient (masses, lengths, inertias), a plain polynomial that SymEngine sums and expands
-in C++.  A polynomial here is a dict from a monomial, a sorted tuple of (generator index,
-exponent), to its coefficient; the generators are the state symbols, the sines and cosines
-(of state angles and of constant ones, such as a head-tube angle) and any other function
-of the state, taken as a whole.
+in C++.  A polynomial here is a dict from a monomial, a flat tuple of generator indices
+and exponents (i1, e1, i2, e2, ..., the indices ascending), to its coefficient; the
+generators are the state symbols, the sines and cosines (of state angles and of constant
+ones, such as a head-tube angle) and any other function of the state, taken as a whole.
 
 Every product is reduced modulo sin^2 x + cos^2 x = 1 as it is formed (cos^2 x written as
 1 - sin^2 x), the canonical form of :func:`lagrangian.derivation.trig.pythagorean_forms`,
@@ -26,7 +26,8 @@ from __future__ import annotations
 
 import threading
 from collections import defaultdict
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
+from itertools import chain
 from math import comb
 from typing import Any
 
@@ -35,17 +36,46 @@ import symengine as se
 from lagrangian.derivation.collect import factor_common
 
 Backend = Any  # a symengine expression
-Key = tuple[tuple[int, int], ...]
+#: A monomial: (index, exponent, index, exponent, ...), the indices ascending.  Flat, not a
+#: tuple of pairs: the memos keep tens of thousands of monomials, and the garbage collector
+#: stops tracking a tuple of numbers at its first pass over it, where a tuple of tuples stays
+#: tracked for a pass per level and so reaches the oldest generation, whose growth sets off
+#: full collections (of everything SymPy made at import).
+Key = tuple[int, ...]
 Poly = dict[Key, Backend]
-#: (monomial, integer factor) pairs, a tuple: the memos keep thousands of them, and tuples of
-#: numbers are left alone by the garbage collector, where lists are walked at every pass
-Terms = tuple[tuple[Key, int], ...]
+#: Monomials with their integer factors, flat for the same reason: (key, n, key, n, ...).
+Terms = tuple[Any, ...]
+#: The product of two monomials: a :data:`Key` when it needs no reduction (its factor 1: the
+#: common case, kept as a bare monomial), else the :data:`Terms` of its reduction (their first
+#: item a tuple, where a monomial's is a number).
+Product = Key | Terms
 
 ONE: Key = ()
 #: Terms of a coefficient beyond which :meth:`TrigAlgebra.grouped` does not factor it.
 FACTORED_TERMS = 40
 _NESTED: Poly = {(): se.Integer(0)}  # the marker of :meth:`TrigAlgebra.keep_nested`
 _ZERO = se.Integer(0)
+
+
+def pairs(key: Key) -> Iterator[tuple[int, int]]:
+    """The (generator index, exponent) pairs of a monomial.
+
+    >>> list(pairs((0, 2, 3, 1)))
+    [(0, 2), (3, 1)]
+    """
+    it = iter(key)
+    return zip(it, it)
+
+
+def _monomials(terms: Terms) -> Iterator[tuple[Key, int]]:
+    """The (monomial, integer factor) pairs of :data:`Terms`."""
+    it = iter(terms)
+    return zip(it, it)
+
+
+def _key(exponents: Iterable[tuple[int, int]]) -> Key:
+    """The monomial of (index, exponent) pairs, sorted by index."""
+    return tuple(chain.from_iterable(sorted(exponents)))
 
 
 class PolynomialTooLarge(ArithmeticError):
@@ -66,13 +96,14 @@ class TrigAlgebra:
         self.sine: list[bool] = []
         self.moving: list[bool] = []  # the generator depends on the state
         self._converted: dict[Backend, Poly] = {}
-        self._products: dict[tuple[Key, Key], Terms] = {}
-        self._derivatives: dict[tuple[Key, Backend], Poly] = {}
+        self._products: dict[Key, Product] = {}  # keyed by (*a, -1, *b): flat
+        self._derivatives: dict[Key, Poly] = {}  # keyed by (*key, symbol)
         self._gen_derivatives: dict[tuple[int, Backend], Poly] = {}
         self._monomials: dict[Key, Backend] = {}
         self._powers: dict[tuple[int, int], Backend] = {}
         self._factored: dict[tuple[Backend, ...], Backend] = {}
-        self._sine_reduced: dict[Key, Terms] = {}
+        self._sine_reduced: dict[Key, Product] = {}
+        self._splits: dict[Key, tuple[Key, Key]] = {}
         #: Monomials a product or sum may have before :class:`PolynomialTooLarge` (None: any).
         self.limit: int | None = None
 
@@ -103,7 +134,7 @@ class TrigAlgebra:
 
     def _monomial(self, gen: Backend, exponent: int = 1) -> Poly:
         index = self._generator(gen)
-        return {k: se.Integer(n) for k, n in self._reduced({index: exponent})}
+        return {k: se.Integer(n) for k, n in _monomials(self._reduced({index: exponent}))}
 
     # -- conversion -----------------------------------------------------------------------
 
@@ -122,7 +153,8 @@ class TrigAlgebra:
     def remembered(self) -> int:
         """The number of memo entries (conversions, products, derivatives)."""
         memos: tuple[dict[Any, Any], ...] = (self._converted, self._products, self._derivatives)
-        return sum(len(memo) for memo in (*memos, self._factored, self._sine_reduced))
+        more = (self._factored, self._sine_reduced, self._splits)
+        return sum(len(memo) for memo in (*memos, *more))
 
     def keep_nested(self, expr: Backend) -> None:
         """Mark ``expr`` as too large to expand: converting it (or an expression that holds
@@ -180,11 +212,17 @@ class TrigAlgebra:
             c = a[ONE]
             return {k: c * v for k, v in b.items()}
         parts: dict[Key, list[Backend]] = defaultdict(list)
-        product = self._product
+        known = self._products  # looked up here: most pairs are known
         for ka, ca in a.items():
             for kb, cb in b.items():
                 both = ca * cb
-                for k, n in product(ka, kb):
+                r = known.get((*ka, -1, *kb))
+                if r is None:
+                    r = self._product(ka, kb)
+                if not r or r[0].__class__ is int:  # a monomial
+                    parts[r].append(both)
+                    continue
+                for k, n in _monomials(r):
                     parts[k].append(both if n == 1 else n * both)
         return self.gather(parts)
 
@@ -192,10 +230,16 @@ class TrigAlgebra:
         self, target: dict[Key, list[Backend]], p: Poly, factor: Key, scale: Any = 1
     ) -> None:
         """Add ``scale`` * monomial ``factor`` * ``p`` to the coefficient lists ``target``."""
-        product = self._product
+        known = self._products
         for k, c in p.items():
             value = c if scale == 1 else scale * c
-            for key, n in product(k, factor):
+            r = known.get((*k, -1, *factor))
+            if r is None:
+                r = self._product(k, factor)
+            if not r or r[0].__class__ is int:  # a monomial
+                target[r].append(value)
+                continue
+            for key, n in _monomials(r):
                 target[key].append(value if n == 1 else n * value)
 
     def gather(self, target: dict[Key, list[Backend]]) -> Poly:
@@ -215,15 +259,17 @@ class TrigAlgebra:
 
     def multiply_keys(self, a: Key, b: Key) -> Key:
         """The product of two monomials that need no reduction (no cosine squared)."""
-        ((key, _),) = self._product(a, b)
+        key = self._product(a, b)
+        assert not key or key[0].__class__ is int, "a product that needs reduction"
         return key
 
-    def _product(self, a: Key, b: Key) -> Terms:
-        memo = self._products.get((a, b))
+    def _product(self, a: Key, b: Key) -> Product:
+        memo_key = (*a, -1, *b)  # -1: no index or exponent (also so in multiply, accumulate)
+        memo = self._products.get(memo_key)
         if memo is not None:
             return memo
-        exponents = dict(a)
-        for i, e in b:
+        exponents = dict(pairs(a))
+        for i, e in pairs(b):
             exponents[i] = exponents.get(i, 0) + e
         cosine = self.cosine
         for i, e in exponents.items():  # a loop, not any(...): this runs for every new pair
@@ -231,8 +277,8 @@ class TrigAlgebra:
                 result = self._reduced(exponents)
                 break
         else:
-            result = ((tuple(sorted(exponents.items())), 1),)
-        self._products[(a, b)] = result
+            result = _key(exponents.items())
+        self._products[memo_key] = result
         return result
 
     def _reduced(self, exponents: dict[int, int], squares: list[bool] | None = None) -> Terms:
@@ -259,7 +305,7 @@ class TrigAlgebra:
                         new[other] = new.get(other, 0) + 2 * j
                     expanded.append((new, n * comb(half, j) * (-1) ** j))
             terms = expanded
-        return tuple((tuple(sorted(t.items())), n) for t, n in terms)  # exponents all > 0
+        return tuple(chain.from_iterable((_key(t.items()), n) for t, n in terms))  # all e > 0
 
     # -- calculus -------------------------------------------------------------------------
 
@@ -276,24 +322,25 @@ class TrigAlgebra:
         """The state symbols ``p`` depends on (through its generators): a derivative by any
         other is zero."""
         gens, moving = self.gens, self.moving
-        indices = {i for key in p for i, _ in key if moving[i]}
+        indices = {i for key in p for i in key[::2] if moving[i]}
         return set().union(*(gens[i].free_symbols for i in indices)) & self.state
 
     def _key_derivative(self, key: Key, symbol: Backend) -> Poly:
-        memo = self._derivatives.get((key, symbol))
+        memo_key = (*key, symbol)
+        memo = self._derivatives.get(memo_key)
         if memo is not None:
             return memo
         parts = []
-        for i, e in key:
+        for i, e in pairs(key):
             if not self.moving[i]:
                 continue
             d = self._gen_derivative(i, symbol)
             if not d:
                 continue
-            rest = tuple((j, f - 1 if j == i else f) for j, f in key if j != i or f > 1)
+            rest = _key((j, f - 1 if j == i else f) for j, f in pairs(key) if j != i or f > 1)
             parts.append(self.multiply({rest: se.Integer(e)}, d))
         result = self.add(parts)
-        self._derivatives[(key, symbol)] = result
+        self._derivatives[memo_key] = result
         return result
 
     def _gen_derivative(self, i: int, symbol: Backend) -> Poly:
@@ -305,7 +352,7 @@ class TrigAlgebra:
             result: Poly = {ONE: se.Integer(1)} if gen == symbol else {}
         elif self.sine[i] or self.cosine[i]:
             rate = self.convert(se.expand(gen.args[0].diff(symbol)))
-            turned: Poly = {((self.partner[i], 1),): se.Integer(1 if self.sine[i] else -1)}
+            turned: Poly = {(self.partner[i], 1): se.Integer(1 if self.sine[i] else -1)}
             result = self.multiply(turned, rate) if rate else {}
         else:
             result = self.convert(se.expand(gen.diff(symbol)))
@@ -328,12 +375,15 @@ class TrigAlgebra:
         """A finished polynomial with every sin^2 x written as 1 - cos^2 x instead (the other
         canonical form)."""
         parts: dict[Key, list[Backend]] = defaultdict(list)
-        sine = self.sine
+        memo = self._sine_reduced
         for k, c in p.items():
-            if not any(e > 1 and sine[i] for i, e in k):
-                parts[k].append(c)
+            r = memo.get(k)
+            if r is None:
+                r = memo[k] = self._sine_reduction(k)
+            if not r or r[0].__class__ is int:  # the monomial itself: no sine squared
+                parts[r].append(c)
                 continue
-            for key, n in self._sine_reduction(k):
+            for key, n in _monomials(r):
                 parts[key].append(c if n == 1 else n * c)
         result = {}
         for k, v in parts.items():
@@ -343,20 +393,21 @@ class TrigAlgebra:
                 result[k] = value
         return result
 
-    def _sine_reduction(self, key: Key) -> Terms:
-        """The monomial ``key`` with every sin^2 x written as 1 - cos^2 x (remembered: the
-        same monomials recur in every entry)."""
-        known = self._sine_reduced.get(key)
-        if known is None:
-            known = self._sine_reduced[key] = self._reduced(dict(key), self.sine)
-        return known
+    def _sine_reduction(self, key: Key) -> Product:
+        """The monomial ``key`` with every sin^2 x written as 1 - cos^2 x: ``key`` itself when
+        it has no sine squared (remembered by :meth:`sine_form`: the same monomials recur in
+        every entry)."""
+        sine = self.sine
+        if any(e > 1 and sine[i] for i, e in pairs(key)):
+            return self._reduced(dict(pairs(key)), sine)
+        return key
 
     def monomial_expression(self, key: Key) -> Backend:
         memo = self._monomials.get(key)
         if memo is None:
             powers = self._powers
             factors = []
-            for pair in key:
+            for pair in pairs(key):
                 power = powers.get(pair)
                 if power is None:
                     power = powers[pair] = self.gens[pair[0]] ** pair[1]
@@ -373,8 +424,14 @@ class TrigAlgebra:
 
     def split(self, key: Key) -> tuple[Key, Key]:
         """(the state part, the constant part) of a monomial."""
-        moving = tuple((i, e) for i, e in key if self.moving[i])
-        return moving, tuple((i, e) for i, e in key if not self.moving[i])
+        known = self._splits.get(key)
+        if known is None:
+            moving: list[int] = []
+            constant: list[int] = []
+            for i, e in pairs(key):
+                (moving if self.moving[i] else constant).extend((i, e))
+            known = self._splits[key] = (tuple(moving), tuple(constant))
+        return known
 
     def shortest(self, p: Poly) -> Poly:
         """The finished polynomial ``p`` or its :meth:`sine_form`, whichever is shorter."""
@@ -417,7 +474,7 @@ class TrigAlgebra:
 
     def size(self, p: Poly) -> int:
         """A size for choosing between forms: terms of the coefficients plus factors."""
-        return sum((len(c.args) if c.is_Add else 1) + sum(e for _, e in k) for k, c in p.items())
+        return sum((len(c.args) if c.is_Add else 1) + sum(k[1::2]) for k, c in p.items())
 
 
 def expanded_terms(expr: Backend, cap: int) -> int:

@@ -28,6 +28,7 @@ import sympy as sp
 
 from lagrangian.errors import Problem
 from lagrangian.model.elements import as_expression
+from lagrangian.model.expressions import free_symbols
 
 if TYPE_CHECKING:
     from lagrangian.model.validation import NameScope
@@ -118,7 +119,7 @@ def _check_one(item: Any, index: int, scope: NameScope, problems: list[Problem])
     scope.check(expression, field, "state", problems)  # names, shape, derivatives
     if len(problems) > before:
         return
-    used = expression.free_symbols
+    used = free_symbols(expression)
     velocities = sorted((s for s in used if s in scope.velocities), key=str)
     if isinstance(item, VelocityConstraint):
         if not velocities:
@@ -130,7 +131,7 @@ def _check_one(item: Any, index: int, scope: NameScope, problems: list[Problem])
                     "declare it as one",
                 )
             )
-        elif not _linear(expression, sorted(scope.velocities, key=str)):
+        elif not _linear(expression, velocities):
             problems.append(
                 Problem(
                     field,
@@ -161,13 +162,12 @@ def _check_one(item: Any, index: int, scope: NameScope, problems: list[Problem])
         )
 
 
-def _linear(expression: sp.Expr, velocities: list[sp.Symbol]) -> bool:
-    """True when the Hessian of ``expression`` in the velocities vanishes: at sight when it is
-    a sum of terms each at most one velocity times a factor free of velocities (the usual
-    Pfaffian a(q, t).q_dot + b(q, t)), else when every second derivative expands to zero
-    (in SymEngine, or SymPy for what SymEngine cannot hold)."""
-    used = expression.free_symbols
-    present = [v for v in velocities if v in used]
+def _linear(expression: sp.Expr, present: list[sp.Symbol]) -> bool:
+    """True when the Hessian of ``expression`` in the velocities it uses (``present``, in
+    order) vanishes: at sight when it is a sum of terms each at most one velocity times a
+    factor free of velocities (the usual Pfaffian a(q, t).q_dot + b(q, t)), else when every
+    second derivative expands to zero (in SymEngine, or SymPy for what SymEngine cannot
+    hold)."""
     if _pfaffian_at_sight(expression, set(present)):
         return True
     try:
@@ -187,10 +187,24 @@ def _linear(expression: sp.Expr, velocities: list[sp.Symbol]) -> bool:
 def _pfaffian_at_sight(expression: sp.Expr, velocities: set[sp.Symbol]) -> bool:
     """True when every term of ``expression`` is a product of at most one velocity (to the
     first power) and factors free of velocities."""
+    memo: dict[sp.Basic, bool] = {}  # the terms share their factors' parts
+
+    def moving(part: sp.Basic) -> bool:
+        known = memo.get(part)
+        if known is None:
+            if part in velocities:
+                known = True
+            elif isinstance(part, (sp.Add, sp.Mul, sp.Pow, sp.Function)):
+                known = any(moving(arg) for arg in part.args)
+            else:
+                known = bool(part.free_symbols & velocities)
+            memo[part] = known
+        return known
+
     for term in sp.Add.make_args(expression):
         factors = sp.Mul.make_args(term)
         if sum(f in velocities for f in factors) > 1:
             return False
-        if any(f not in velocities and f.free_symbols & velocities for f in factors):
+        if any(f not in velocities and moving(f) for f in factors):
             return False
     return True

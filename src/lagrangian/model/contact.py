@@ -52,6 +52,7 @@ from lagrangian.errors import ModelError, Problem
 from lagrangian.model.constraints import Holonomic, VelocityConstraint
 from lagrangian.model.conversion import to_sympy
 from lagrangian.model.elements import Force, RigidBody, Torque, as_expression
+from lagrangian.model.expressions import distinct_parts
 from lagrangian.model.inertia import Shape
 from lagrangian.model.nonsmooth import piecewise_smooth
 from lagrangian.model.probe import is_zero
@@ -313,6 +314,11 @@ def _terms(expr: Any) -> int:
     return len(expr.args) if expr.is_Add else 1
 
 
+#: Parts whose free symbols are their symbols' and that :func:`piecewise_smooth` leaves.
+_PLAIN = (sp.Add, sp.Mul, sp.Pow, sp.Atom, sp.Function)
+_PLAIN_NOT = (sp.DiracDelta, sp.re, sp.im)
+
+
 class _Sympy:
     """SymEngine results back as SymPy, with the System's own symbol objects (which may carry
     assumptions SymEngine does not keep)."""
@@ -328,12 +334,18 @@ class _Sympy:
 
     def __call__(self, expr: Any) -> sp.Expr:
         result = self._converted(expr)
+        parts = distinct_parts(result)  # one walk, each shared part once
+        if not all(isinstance(p, _PLAIN) and not isinstance(p, _PLAIN_NOT) for p in parts):
+            symbols, smooth = result.free_symbols, False
+        else:
+            symbols, smooth = [p for p in parts if isinstance(p, sp.Symbol)], True
         swap = {
             s: self.by_name[s.name]
-            for s in result.free_symbols
+            for s in symbols
             if s.name in self.by_name and self.by_name[s.name] is not s
         }
-        return piecewise_smooth(result.xreplace(swap) if swap else result)
+        result = result.xreplace(swap) if swap else result
+        return result if smooth else piecewise_smooth(result)
 
     def _converted(self, expr: Any) -> sp.Expr:
         """:func:`to_sympy` of ``expr`` by SymPy's own constructors, each distinct part once

@@ -181,7 +181,7 @@ _OPERATOR_REFUSALS = {
     "//": ("the operator '//' is not allowed", "use / for division"),
 }
 _DECIMAL = re.compile(r"(\d*)\.?(\d*)(?:[eE]([+-]?\d+))?")
-_UNDEFINED = (sp.zoo, sp.nan, sp.oo, -sp.oo)
+_UNDEFINED = frozenset((sp.zoo, sp.nan, sp.oo, -sp.oo))
 _REAL_DOMAINS = "asin and acos take -1..1; log, sqrt and fractional powers take x >= 0"
 _TOO_BIG = (f"a number of more than {MAX_DIGITS} digits", "use smaller numbers")
 
@@ -533,12 +533,53 @@ def _logarithm(argument: sp.Expr, base: sp.Expr | None = None) -> sp.Expr:
     return sp.log(argument, base)
 
 
-def _check_denominators(value: sp.Basic) -> None:
+def distinct_parts(value: sp.Basic) -> list[sp.Basic]:
+    """The distinct subexpressions of ``value`` (itself first), in the order of their first
+    appearance in ``sp.preorder_traversal(value)``: a walk that enters a shared part once
+    (a long position reuses its sums of lengths at every level).
+
+    >>> x = sp.Symbol("x")
+    >>> distinct_parts(sp.sin(x + 1) * (x + 1))
+    [(x + 1)*sin(x + 1), x + 1, 1, x, sin(x + 1)]
+    """
+    seen: set[sp.Basic] = set()
+    parts: list[sp.Basic] = []
+    stack = [value]
+    while stack:
+        node = stack.pop()
+        if node in seen:
+            continue
+        seen.add(node)
+        parts.append(node)
+        stack.extend(reversed(node.args))
+    return parts
+
+
+#: Expressions whose free symbols are those of their parts (no symbol bound in them).
+_PLAIN = (sp.Add, sp.Mul, sp.Pow, sp.Atom, sp.Function)
+
+
+def free_symbols(value: sp.Basic) -> set[sp.Basic]:
+    """``value.free_symbols``, from a walk that enters each shared part once (SymPy's walks
+    the tree: a rolling constraint's axle tilt recurs in most of its terms).
+
+    >>> x, y = sp.symbols("x y")
+    >>> sorted(free_symbols(sp.sin(x + y) * (x + y)), key=str)
+    [x, y]
+    """
+    parts = distinct_parts(value)
+    if all(isinstance(part, _PLAIN) for part in parts):
+        return {part for part in parts if part.is_Symbol}
+    return set(value.free_symbols)
+
+
+def _check_denominators(value: sp.Basic, parts: Iterable[sp.Basic] | None = None) -> None:
     """Refuse a division by an expression that is identically zero, such as
-    1/(sin(x)**2 + cos(x)**2 - 1), which SymPy keeps and a simulation would hang on."""
+    1/(sin(x)**2 + cos(x)**2 - 1), which SymPy keeps and a simulation would hang on
+    (``parts``: the :func:`distinct_parts` of ``value``, when known)."""
     from lagrangian.model.probe import is_zero  # the probe imports this module's users
 
-    for part in sp.preorder_traversal(value):
+    for part in distinct_parts(value) if parts is None else parts:
         if (
             isinstance(part, sp.Pow)
             and part.exp.is_negative
@@ -667,20 +708,22 @@ def _bits_memo(value: sp.Basic, memo: dict[sp.Basic, int]) -> int:
 
 def _check_result(value: sp.Basic) -> None:
     """Products and powers merge numbers and exponents (``x**999*x**9``): check the result."""
-    _check_denominators(value)
+    parts = distinct_parts(value)  # each check in preorder, a shared part once
+    _check_denominators(value, parts)
     if expanded_terms(value) > MAX_TERMS:
         raise _Refusal(
             f"multiplied out, this expression has more than {MAX_TERMS:,} terms",
             "write it with fewer or shorter sums under powers and products",
         )
-    written = max((_bits(number) for number in value.atoms(sp.Rational)), default=0)
+    numbers = [part for part in parts if isinstance(part, sp.Rational)]
+    written = max((_bits(number) for number in numbers), default=0)
     if (bits := expanded_bits(value)) > written + MAX_EXPANDED_BITS:
         raise _Refusal(
             f"multiplied out, this expression has numbers of about {bits * 3 // 10:,} digits",
             "write it with fewer sums under powers and products (a long product of sums "
             "multiplies out to huge coefficients)",
         )
-    for part in sp.preorder_traversal(value):
+    for part in parts:
         if part in _UNDEFINED:
             raise _Refusal(f"the expression is undefined ({part})", "check the formula")
         if isinstance(part, sp.Rational):
