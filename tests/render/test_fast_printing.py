@@ -1,6 +1,7 @@
 """SumPrinter writes what SymPy's StrPrinter writes, KeptLatexPrinter what its LatexPrinter
-writes and OrderedPresentationPrinter what its presentation MathML printer writes, character
-for character.
+writes and OrderedPresentationPrinter and KeptPresentationPrinter what its presentation MathML
+printer writes, character for character; Dotted writes what that printer writes of the
+expression with its velocities and accelerations renamed (``xreplace``).
 
 The reference is StrPrinter itself, with SumPrinter's one rule on top (a sum of more than
 SORTED_TERMS terms, and a product holding one, in SymPy's order): every example's
@@ -12,6 +13,8 @@ change the text of another.
 
 from __future__ import annotations
 
+import re
+from types import SimpleNamespace
 from typing import Any
 
 import pytest
@@ -24,7 +27,12 @@ from sympy.printing.str import StrPrinter
 import lagrangian as lg
 from lagrangian import examples
 from lagrangian.render.latex import KeptLatexPrinter, symbol_names
-from lagrangian.render.mathml import OrderedPresentationPrinter
+from lagrangian.render.mathml import (
+    NAMED_ENTITIES,
+    Dotted,
+    KeptPresentationPrinter,
+    OrderedPresentationPrinter,
+)
 from lagrangian.render.text import SORTED_TERMS, SumPrinter
 
 
@@ -89,10 +97,13 @@ def _assert_same(exprs: list[sp.Basic], names: dict[sp.Symbol, str] | None = Non
             assert SumPrinter(options).doprint(expr) == expected, expr
             assert shared.doprint(expr) == expected, expr
     shared_mathml = OrderedPresentationPrinter()
+    shared_kept = KeptPresentationPrinter()
     for expr in exprs:
         expected = _presentation(expr)
         assert _presentation(expr, OrderedPresentationPrinter()) == expected, expr
         assert _presentation(expr, shared_mathml) == expected, expr
+        assert _presentation(expr, KeptPresentationPrinter()) == expected, expr
+        assert _presentation(expr, shared_kept) == expected, expr
     settings = {"symbol_names": names or {}}
     shared_latex = KeptLatexPrinter(settings)
     for expr in exprs:
@@ -252,3 +263,60 @@ expressions = st.recursive(atoms, _combine, max_leaves=12)
 @given(st.lists(expressions, min_size=1, max_size=4))
 def test_generated_expressions_print_as_sympy_does(exprs: list[sp.Expr]) -> None:
     _assert_same(exprs)
+
+
+def _dotted_reference(dotted: Dotted, expr: Any) -> str:
+    """What Dotted writes, from ``xreplace`` and SymPy's own printer."""
+    text = str(sp.mathml(sp.sympify(expr).xreplace(dotted.swap), printer="presentation"))
+    text = re.sub(r"<mi>lgdotted[a-z]+</mi>", lambda m: dotted.markup.get(m[0], m[0]), text)
+    for entity, code in NAMED_ENTITIES.items():
+        text = text.replace(entity, code)
+    return text
+
+
+def _written(write: Any, *args: Any) -> str:
+    """What ``write(*args)`` returns, or the name of the error it raises."""
+    try:
+        return str(write(*args))
+    except Exception as error:  # the same failure is the same output
+        return type(error).__name__
+
+
+def _assert_dotted(coordinates: Any, exprs: list[Any]) -> None:
+    shared = Dotted(coordinates)
+    for expr in exprs:
+        expected = _written(_dotted_reference, shared, expr)
+        assert _written(Dotted(coordinates), expr) == expected, expr
+        assert _written(shared, expr) == expected, expr
+
+
+@pytest.mark.parametrize("name", sorted(examples.CATALOG))
+def test_every_example_is_dotted_as_sympy_prints_it(name: str) -> None:
+    eom = lg.derive(examples.get(name)())
+    _assert_dotted(eom, [*_expressions(eom), eom.mass_matrix, eom.forcing])
+
+
+def test_a_chain_is_dotted_as_sympy_prints_it() -> None:
+    eom = lg.derive(examples.get("n_link_pendulum")(12))
+    first = eom.steps[0]
+    exprs = [*eom.equations, eom.lagrangian, first.ddt_dL_dvelocity, eom.mass_matrix]
+    _assert_dotted(eom, [*exprs, eom.forcing, sp.Matrix(eom.accelerations)])
+
+
+DOTTED = SimpleNamespace(
+    coordinates=sp.symbols("theta1 theta2"),
+    velocities=sp.symbols("theta1_dot theta2_dot"),
+    accelerations=sp.symbols("theta1_ddot theta2_ddot"),
+)
+# the velocities and accelerations in place of x, y and z
+RENAMED = dict(zip(SYMBOLS[:3], (*DOTTED.velocities, DOTTED.accelerations[0])))
+
+
+def test_corner_cases_are_dotted_as_sympy_prints_them() -> None:
+    _assert_dotted(DOTTED, [sp.sympify(e).xreplace(RENAMED) for e in CORNER_CASES])
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(expressions, min_size=1, max_size=4))
+def test_generated_expressions_are_dotted_as_sympy_prints_them(exprs: list[sp.Expr]) -> None:
+    _assert_dotted(DOTTED, [e.xreplace(RENAMED) for e in exprs])
