@@ -25,6 +25,7 @@ from lagrangian.analysis.arguments import Subject, equations_of
 from lagrangian.analysis.manifold import constraint_manifold, vanishes_on_manifold
 from lagrangian.analysis.simplification import simplify_small
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model.conversion import to_sympy
 from lagrangian.model.probe import depends_on, is_zero
 
 
@@ -59,6 +60,48 @@ def homogeneous_parts(expr: sp.Expr, velocities: Sequence[sp.Symbol]) -> dict[in
         term = coefficient * sp.Mul(*[v**k for v, k in zip(velocities, monomial)])
         parts[degree] = parts.get(degree, sp.Integer(0)) + term
     return {d: p for d, p in parts.items() if p != 0}
+
+
+def velocity_degrees(expr: sp.Expr, velocities: Sequence[sp.Symbol]) -> frozenset[int] | None:
+    """The degrees in the velocities that the terms of ``expr`` can have once expanded, read
+    from ``expr`` as written (sums, products and whole powers; nothing is expanded); None
+    when a velocity appears otherwise (in a function, a fractional or negative power).  A
+    degree found may cancel out; one not found cannot appear.
+
+    >>> x, v, w = sp.symbols("x v w")
+    >>> sorted(velocity_degrees((x + 1) * (v * w + x * v**2) + 3, [v, w]))
+    [0, 2]
+    >>> velocity_degrees(sp.cos(v) * w, [v, w]) is None
+    True
+    """
+    wanted = set(velocities)
+
+    def degrees(node: sp.Basic) -> frozenset[int] | None:
+        if wanted.isdisjoint(node.free_symbols):
+            return frozenset({0})
+        if node in wanted:
+            return frozenset({1})
+        if node.is_Add or node.is_Mul:
+            found: frozenset[int] | None = frozenset() if node.is_Add else frozenset({0})
+            for argument in node.args:
+                inner = degrees(argument)
+                if inner is None or found is None:
+                    return None
+                found = (
+                    found | inner if node.is_Add else frozenset(a + b for a in found for b in inner)
+                )
+            return found
+        if node.is_Pow and node.exp.is_Integer and node.exp > 0:
+            base = degrees(node.base)
+            if base is None:
+                return None
+            found = frozenset({0})
+            for _ in range(int(node.exp)):
+                found = frozenset(a + b for a in found for b in base)
+            return found
+        return None
+
+    return degrees(to_sympy(expr))
 
 
 @dataclass(frozen=True)
@@ -116,7 +159,7 @@ def _total_energy_reason(eom: EquationsOfMotion, equal: bool) -> str:
             f"T is a quadratic form in the velocities and U at most linear in them, so "
             f"h = T + V{scalar}"
         )
-    t_parts = homogeneous_parts(eom.kinetic_energy, velocities)
+    t_parts = _kinetic_parts(eom.kinetic_energy, velocities)
     if t_parts is None:
         return "T is not a polynomial of degree 2 in the velocities, so h is not T + V"
     higher = [d for d in sorted(t_parts) if d > 2]
@@ -135,6 +178,15 @@ def _total_energy_reason(eom: EquationsOfMotion, equal: bool) -> str:
     if u_parts is None or any(d >= 2 for d in u_parts):
         return "the velocity-dependent potential U is not linear in the velocities"
     return "h differs from T + V"
+
+
+def _kinetic_parts(kinetic: sp.Expr, velocities: Sequence[sp.Symbol]) -> dict[int, sp.Expr] | None:
+    """:func:`homogeneous_parts` of T, or, when T as written can only have terms quadratic in
+    the velocities, {2: T} (the bulk of a large T, neither expanded nor made a polynomial:
+    the reasons name only the parts of other degrees, and T has none)."""
+    if velocity_degrees(kinetic, velocities) == {2}:
+        return {2: kinetic}
+    return homogeneous_parts(kinetic, velocities)
 
 
 def _constraint_power(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str], list[str]]:

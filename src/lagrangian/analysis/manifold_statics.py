@@ -55,7 +55,7 @@ from lagrangian.constraints.projection import project
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 from lagrangian.model.conversion import to_sympy
-from lagrangian.model.probe import SEED, depends_on, is_zero
+from lagrangian.model.probe import SEED, PointFunction, depends_on, is_zero
 
 #: Unknowns beyond the multipliers up to which sympy.solve is tried (as for free systems).
 COORDINATE_UNKNOWNS = 3
@@ -179,6 +179,7 @@ def _starts_on_manifold(
     angles = periodic_coordinates(coordinates, static)
     levels = [evaluate(h, numbers) for h in manifold.position_equations]
     n = len(eom.coordinates)
+    forces = _ForcesAtRest(static[:n, :], list(eom.coordinates), multipliers, numbers)
     starts = []
     for attempt in range(STARTS):
         scale = (0.5, 2.0, 8.0)[attempt % 3]
@@ -190,17 +191,63 @@ def _starts_on_manifold(
         if not landed.satisfied:
             continue
         q0 = {q: sp.Float(v, 20) for q, v in landed.values.items() if q in eom.coordinates}
-        forces = evaluate(static[:n, :].xreplace(q0), numbers)
-        known = forces.xreplace({s: 0 for s in multipliers})
-        slopes = forces.jacobian(multipliers) if multipliers else sp.zeros(n, 0)
+        linear = forces(q0)
+        if linear is None:
+            continue
+        slopes, rhs = linear
         try:
-            lam = mpmath.qr_solve(mpmath.matrix(slopes.tolist()), mpmath.matrix((-known).tolist()))[
-                0
-            ]
+            lam = mpmath.qr_solve(mpmath.matrix(slopes), mpmath.matrix(rhs))[0]
         except (ZeroDivisionError, ValueError, TypeError):
             continue
         starts.append([float(q0[q]) for q in coordinates] + [float(x) for x in lam])
     return starts
+
+
+class _ForcesAtRest:
+    """The static forces F(q) + S(q) lambda (linear in the multipliers) at a configuration,
+    as (S, -F) in numbers: compiled once (:class:`PointFunction`) when the parameters have
+    numeric values, else substituted into the expressions at each configuration."""
+
+    def __init__(
+        self,
+        forces: sp.MatrixBase,
+        coordinates: list[sp.Symbol],
+        multipliers: list[sp.Symbol],
+        numbers: Mapping[sp.Symbol, sp.Expr],
+    ) -> None:
+        self.forces, self.multipliers, self.numbers = forces, multipliers, numbers
+        self.parameters: dict[sp.Symbol, float] | None = {}
+        self.function: PointFunction | None = None
+        known = {*coordinates, *multipliers}
+        for symbol in sorted(forces.free_symbols - known, key=str):
+            value = evaluate(symbol, numbers)
+            if not (isinstance(value, sp.Expr) and value.is_number and value.is_real):
+                self.parameters = None  # no number to compile with: substitute instead
+                return
+            self.parameters[symbol] = float(value)
+        self.symbols = [*coordinates, *multipliers, *self.parameters]
+        self.function = PointFunction(forces, self.symbols)
+
+    def __call__(self, q0: Mapping[sp.Symbol, sp.Expr]) -> tuple[list, list] | None:
+        """(S, -F) at ``q0`` as nested lists, or None where they are not finite numbers."""
+        n, m = self.forces.rows, len(self.multipliers)
+        if self.function is None or self.parameters is None:
+            forces = evaluate(self.forces.xreplace(dict(q0)), self.numbers)
+            known = forces.xreplace({s: 0 for s in self.multipliers})
+            slopes = forces.jacobian(self.multipliers) if self.multipliers else sp.zeros(n, 0)
+            return slopes.tolist(), (-known).tolist()
+        point: dict[sp.Symbol, float] = {q: float(v) for q, v in q0.items()}
+        point.update(self.parameters)
+        values = []
+        for j in range(-1, m):  # lambda = 0, then each unit multiplier: F, then F + S e_j
+            point.update({s: float(i == j) for i, s in enumerate(self.multipliers)})
+            value = self.function(point)
+            if value is None:
+                return None
+            values.append(value[:, 0])
+        known = values[0]
+        slopes = [[values[j + 1][i] - known[i] for j in range(m)] for i in range(n)]
+        return slopes, [[-float(x)] for x in known]
 
 
 def complete_solutions(

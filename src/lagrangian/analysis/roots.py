@@ -49,7 +49,34 @@ def _only_in_trig(expr: sp.Basic, q: sp.Symbol) -> bool:
 
 def periodic_coordinates(coordinates: Sequence[sp.Symbol], exprs) -> list[sp.Symbol]:
     """The coordinates that every expression contains only through sin/cos of k q."""
-    return [q for q in coordinates if all(_only_in_trig(to_sympy(e), q) for e in exprs)]
+    outside: set[sp.Basic] = set()
+    seen: set[sp.Basic] = set()
+    for expr in exprs:
+        outside |= _outside_trig(to_sympy(expr), set(coordinates) - outside, seen)
+    return [q for q in coordinates if q not in outside]
+
+
+def _outside_trig(expr: sp.Basic, coordinates: set[sp.Basic], seen: set[sp.Basic]) -> set:
+    """The ``coordinates`` that ``expr`` contains other than through sin/cos of k q
+    (:func:`_only_in_trig` for all of them in one walk, each shared subexpression once)."""
+    outside: set[sp.Basic] = set()
+    stack = [expr]
+    while stack:
+        node = stack.pop()
+        if node in seen:
+            continue
+        seen.add(node)
+        if node.is_Symbol:
+            if node in coordinates:
+                outside.add(node)
+        elif isinstance(node, (sp.sin, sp.cos)) or not (
+            node.is_Add or node.is_Mul or node.is_Pow or isinstance(node, sp.Function)
+        ):
+            free = node.free_symbols  # a trig argument, or bound variables (Subs, Derivative)
+            outside.update(q for q in coordinates if q in free and not _only_in_trig(node, q))
+        else:
+            stack.extend(node.args)
+    return outside
 
 
 def _occurrences(expr: sp.Basic, q: sp.Symbol, inside: bool, found: set[bool]) -> None:
