@@ -30,7 +30,6 @@ from lagrangian.derivation.trig_polynomial import (
     TrigAlgebra,
     algebra_for,
 )
-from lagrangian.model.probe import depends_on
 
 Matrix = list[list[Backend]]
 
@@ -67,7 +66,8 @@ def _point_terms(asm: Assembly) -> tuple[Matrix, Backend, set[tuple[int, int]]]:
     low_degree = se.Integer(0)
     columns_seen: dict[tuple[Backend, ...], int] = {}
     combined: dict[Backend, Backend] = {}  # the same column pairs recur for every point below
-    pairs: dict[tuple[int, int], Backend] = {}  # (column, column) numbers -> combined product
+    pairs: dict[tuple[int, int], Backend | None] = {}  # column numbers -> product (None: 0)
+    polar: dict[int, tuple[Backend, Backend] | None] = {}  # column number -> (r, a) or None
     for point in asm.points:
         columns = [(point.mass, point.position)]
         if point.angle is not None and point.inertia != 0:
@@ -84,16 +84,17 @@ def _point_terms(asm: Assembly) -> tuple[Matrix, Backend, set[tuple[int, int]]]:
                     else columns_seen.setdefault(column, len(columns_seen))
                 )
             moving_columns = [j for j in range(n) if ids[j] >= 0]
+            for j in moving_columns:
+                if ids[j] not in polar:
+                    polar[ids[j]] = _polar_column([row[j] for row in jac])
             for a, j in enumerate(moving_columns):
+                id_j = ids[j]
                 for k in moving_columns[a:]:
-                    key = (ids[j], ids[k])
-                    if key not in pairs:
-                        term = se.Add(*[row[j] * row[k] for row in jac])
-                        if term not in combined:
-                            combined[term] = combine_trig(term) if term != 0 else term
-                        pairs[key] = combined[term]
-                    product = pairs[key]
-                    if product != 0:
+                    key = (id_j, ids[k])
+                    product = pairs.get(key, _UNKNOWN)
+                    if product is _UNKNOWN:
+                        product = pairs[key] = _column_product(jac, j, k, polar, key, combined)
+                    if product is not None:
                         weights[j, k].setdefault(product, []).append(weight)
             if any(d != 0 for d in drift):
                 moving = [se.Add(*[row[k] * asm.q_dot[k] for k in range(n)]) for row in jac]
@@ -109,6 +110,60 @@ def _point_terms(asm: Assembly) -> tuple[Matrix, Backend, set[tuple[int, int]]]:
         low_degree += _rotation_terms(rotation, asm, mass, combined)
         single.clear()
     return mass, low_degree, single
+
+
+#: A column product not computed yet (None stands for a product that is zero).
+_UNKNOWN = object()
+
+
+def _column_product(
+    jac: list[list[Backend]],
+    j: int,
+    k: int,
+    polar: dict[int, tuple[Backend, Backend] | None],
+    key: tuple[int, int],
+    combined: dict[Backend, Backend],
+) -> Backend | None:
+    """The product of columns j and k of ``jac``, trigonometry combined; None when it is 0.
+
+    Two planar columns (r cos a, r sin a) and (s cos b, s sin b) give r s cos(a - b) at once,
+    which is what :func:`combine_trig` makes of r s (cos a cos b + sin a sin b): a chain has
+    n^2/2 of them."""
+    first, second = polar[key[0]], polar[key[1]]
+    if first is not None and second is not None:
+        (r, angle_a), (s, angle_b) = first, second
+        return r * s * se.cos(angle_a - angle_b)
+    term = se.Add(*[row[j] * row[k] for row in jac])
+    if term not in combined:
+        combined[term] = combine_trig(term) if term != 0 else term
+    product = combined[term]
+    return None if product == 0 else product
+
+
+def _polar_column(column: list[Backend]) -> tuple[Backend, Backend] | None:
+    """(r, a) when ``column`` is (r cos a, r sin a) with a a symbol and r a product of
+    symbols, numbers and their powers (no sine, no cosine, no sum); else None."""
+    if len(column) != 2:
+        return None
+    x, y = (_times_function(entry) for entry in column)
+    if x is None or y is None or x[2] is not se.cos or y[2] is not se.sin or x[:2] != y[:2]:
+        return None
+    return x[0], x[1]
+
+
+def _times_function(entry: Backend) -> tuple[Backend, Backend, type] | None:
+    """(r, a, f) when ``entry`` is r f(a), f sin or cos, a a symbol, r a plain product."""
+    factors = entry.args if entry.is_Mul else (entry,)
+    trig = [i for i, f in enumerate(factors) if isinstance(f, (se.sin, se.cos))]
+    if len(trig) != 1 or not factors[trig[0]].args[0].is_Symbol:
+        return None
+    rest = [f for i, f in enumerate(factors) if i != trig[0]]
+    plain = all(
+        f.is_Symbol or f.is_Number or (f.is_Pow and f.args[0].is_Symbol and f.args[1].is_Number)
+        for f in rest
+    )
+    function = factors[trig[0]]
+    return (se.Mul(*rest), function.args[0], type(function)) if plain else None
 
 
 def _gradient(expr: Backend, symbols: tuple[Backend, ...]) -> list[Backend]:
@@ -199,7 +254,8 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     """Mass matrix, Coriolis vector, time terms and T of an assembled system."""
     n = len(asm.q)
     explicit = _hessian(asm.explicit_kinetic, asm.q_dot)
-    quadratic = not any(depends_on(e, asm.q_dot) for row in explicit for e in row)
+    velocities = set(asm.q_dot)
+    quadratic = all(velocities.isdisjoint(e.free_symbols) for row in explicit for e in row)
     if not quadratic:
         return _general_form(asm)
     # 3-D bodies: grouped trigonometric polynomials; planar points and bodies (a chain of
@@ -475,7 +531,7 @@ def _angles(algebra: TrigAlgebra, row: list[Poly]) -> set[Backend]:
         algebra.gens[i].args[0]
         for p in row
         for key in p
-        for i, _ in key
+        for i in key[::2]
         if algebra.moving[i] and (algebra.sine[i] or algebra.cosine[i])
     }
 
