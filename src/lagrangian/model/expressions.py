@@ -559,15 +559,16 @@ def distinct_parts(value: sp.Basic) -> list[sp.Basic]:
 _PLAIN = (sp.Add, sp.Mul, sp.Pow, sp.Atom, sp.Function)
 
 
-def free_symbols(value: sp.Basic) -> set[sp.Basic]:
+def free_symbols(value: sp.Basic, parts: list[sp.Basic] | None = None) -> set[sp.Basic]:
     """``value.free_symbols``, from a walk that enters each shared part once (SymPy's walks
-    the tree: a rolling constraint's axle tilt recurs in most of its terms).
+    the tree: a rolling constraint's axle tilt recurs in most of its terms); ``parts``: the
+    :func:`distinct_parts` of ``value``, when known.
 
     >>> x, y = sp.symbols("x y")
     >>> sorted(free_symbols(sp.sin(x + y) * (x + y)), key=str)
     [x, y]
     """
-    parts = distinct_parts(value)
+    parts = distinct_parts(value) if parts is None else parts
     if all(isinstance(part, _PLAIN) for part in parts):
         return {part for part in parts if part.is_Symbol}
     return set(value.free_symbols)

@@ -22,7 +22,7 @@ from lagrangian.model.circuit import (
 )
 from lagrangian.model.constraints import check_constraints
 from lagrangian.model.elements import ORIGIN
-from lagrangian.model.expressions import closest_name
+from lagrangian.model.expressions import closest_name, distinct_parts, free_symbols
 from lagrangian.model.inertia import Shape, check_inertia
 from lagrangian.model.probe import PROBES, SEED, random_values
 from lagrangian.model.rotation import Orientation, check_rotation
@@ -110,29 +110,13 @@ class NameScope:
         )
 
 
-#: Expressions whose free symbols are those of their parts (no symbol bound in them).
-_PLAIN = (sp.Add, sp.Mul, sp.Pow, sp.Atom, sp.Function)
-
-
 def _parts(value: sp.Basic) -> tuple[set[sp.Basic], set[sp.Basic]]:
     """``value.atoms(sp.Atom, sp.Derivative)`` and ``value.free_symbols``, from one walk that
     visits each distinct subexpression once (a rolling contact's constraint has the square
     root of its axle's tilt in most terms: 3165 nodes, 188 of them distinct)."""
-    parts: set[sp.Basic] = set()
-    seen: set[sp.Basic] = set()
-    plain = True
-    stack = [value]
-    while stack:
-        node = stack.pop()
-        if node in seen:
-            continue
-        seen.add(node)
-        if isinstance(node, (sp.Atom, sp.Derivative)):
-            parts.add(node)
-        plain = plain and isinstance(node, _PLAIN)
-        stack.extend(node.args)
-    free = {p for p in parts if p.is_Symbol} if plain else value.free_symbols
-    return parts, free
+    distinct = distinct_parts(value)
+    parts = {node for node in distinct if isinstance(node, (sp.Atom, sp.Derivative))}
+    return parts, free_symbols(value, distinct)
 
 
 #: The largest magnitude a double holds: a number beyond it is infinite in every computation.
