@@ -46,13 +46,12 @@ import argparse
 import json
 import math
 import statistics
-import subprocess
 import sys
 import time
 from pathlib import Path
 
 import multibody
-from multibody import RESULTS, STARTUP_SECONDS, plain
+from multibody import RESULTS, plain
 
 HERE = Path(__file__).resolve()
 BEGIN, END = "<!-- bicycle.py: begin -->", "<!-- bicycle.py: end -->"
@@ -367,18 +366,7 @@ def worker(method: str, verify: bool) -> int:
 
 def run(method: str, cap: float, verify: bool) -> dict:
     """One measurement in a fresh process; {"seconds": inf} when it overran the cap."""
-    command = [sys.executable, str(HERE), "--worker", method]
-    command += ["--verify"] if verify else []
-    try:
-        done = subprocess.run(
-            command, capture_output=True, text=True, timeout=cap + STARTUP_SECONDS, check=False
-        )
-    except subprocess.TimeoutExpired:
-        return {"seconds": math.inf}
-    lines = [line for line in done.stdout.splitlines() if line.startswith("{")]
-    if done.returncode != 0 or not lines:
-        return {"seconds": math.nan, "error": done.stderr.strip()[-300:]}
-    return json.loads(lines[-1])
+    return multibody.run_worker(HERE, [method], cap, verify)
 
 
 # --------------------------------------------------------------------------- the report

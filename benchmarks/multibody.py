@@ -115,18 +115,25 @@ def chain_geometry(n: int):
 
 def euler_chain(n: int):
     """The chain in lagrangian, its 3n Euler angles as coordinates."""
+    _, centres, _ = chain_geometry(n)
+    return rod_chain(n, centres, relative=False)
+
+
+def rod_chain(n: int, centres, relative: bool):
+    """The n rods as RigidBodies at ``centres``, each turned by its own angles a_i, b_i, c_i
+    (Rz Rx Ry), relative to the rod before when ``relative``, else to the world."""
     import sympy as sp
 
     import lagrangian as lg
 
     rods, g = chain_symbols(n)
-    _, centres, _ = chain_geometry(n)
     bodies = [
         lg.RigidBody(
             f"rod{i + 1}",
             m,
             sp.diag(I, I, J),
             tuple(centre),
+            parent=f"rod{i}" if relative and i else None,
             rotations=[("z", a), ("x", b), ("y", c)],
         )
         for i, ((a, b, c, m, _, I, J), centre) in enumerate(zip(rods, centres))
@@ -179,29 +186,8 @@ def relative_chain(n: int):
     """The chain in lagrangian with joint angles: rod i turned relative to rod i - 1 (rod 1
     to the world) by its own a_i, b_i, c_i, R_i = R_(i-1) Rz(a_i) Rx(b_i) Ry(c_i), each rod a
     RigidBody with ``parent`` and ``rotations`` (positions written in world axes)."""
-    import sympy as sp
-
-    import lagrangian as lg
-
-    rods, g = chain_symbols(n)
     _, centres, _ = relative_geometry(n)
-    bodies = [
-        lg.RigidBody(
-            f"rod{i + 1}",
-            m,
-            sp.diag(I, I, J),
-            tuple(centre),
-            parent=f"rod{i}" if i else None,
-            rotations=[("z", a), ("x", b), ("y", c)],
-        )
-        for i, ((a, b, c, m, _, I, J), centre) in enumerate(zip(rods, centres))
-    ]
-    return lg.System(
-        coordinates=[s for rod in rods for s in rod[:3]],
-        parameters=[g, *(s for rod in rods for s in rod[3:])],
-        gravity=(0, 0, -g),
-        rigid_bodies=bodies,
-    )
+    return rod_chain(n, centres, relative=True)
 
 
 def relative_geometry(n: int):
@@ -412,7 +398,13 @@ def worker(method: str, n: int, verify: bool) -> int:
 
 def run(method: str, n: int, cap: float, verify: bool) -> dict:
     """One measurement in a fresh process; {"seconds": inf} when it overran the cap."""
-    command = [sys.executable, str(HERE), "--worker", method, str(n)]
+    return run_worker(HERE, [method, str(n)], cap, verify)
+
+
+def run_worker(script: Path, arguments: list[str], cap: float, verify: bool) -> dict:
+    """``script --worker ARGUMENTS`` in a fresh process: the JSON line it prints last;
+    {"seconds": inf} when it overran the cap, nan with the error when it failed."""
+    command = [sys.executable, str(script), "--worker", *arguments]
     command += ["--verify"] if verify else []
     try:
         done = subprocess.run(
