@@ -28,6 +28,7 @@ import sympy as sp
 from lagrangian.derivation.backend import SympyView, to_backend
 from lagrangian.derivation.collect import collect_state
 from lagrangian.derivation.trig_polynomial import (
+    FACTORED_TERMS,
     PolynomialTooLarge,
     algebra_for,
     expanded_terms,
@@ -182,7 +183,13 @@ def combine_and_collect(expr: Any, state: Any) -> Any:
     multibody systems) is reduced modulo sin^2 + cos^2 = 1 as a polynomial grouped by
     monomial (:mod:`lagrangian.derivation.trig_polynomial`), never expanded as a whole: the
     shorter of its two canonical forms, which is what :func:`combine_trig` chooses between
-    for such expressions, too (the Fourier form is not tried beyond its budget)."""
+    for such expressions, too (the Fourier form is not tried beyond its budget).
+
+    A sum with nothing to combine (:func:`_single_trig_expansion`) is collected at once."""
+    state = state if isinstance(state, (set, frozenset)) else set(state)
+    expanded = _single_trig_expansion(expr, state)
+    if expanded is not None:
+        return collect_state(expanded, state)
     algebra = algebra_for(state)
     algebra.limit = NESTED_MONOMIALS
     try:
@@ -194,6 +201,97 @@ def combine_and_collect(expr: Any, state: Any) -> Any:
     if algebra.terms(polynomial) <= LARGE_POLYNOMIAL:
         return collect_state(combine_trig(expr), state)
     return collect_state(algebra.grouped(algebra.shortest(polynomial)), state)
+
+
+def _single_trig_expansion(expr: Any, state: set[Any] | frozenset[Any]) -> Any | None:
+    """The expansion of ``expr`` when it is a sum with nothing to combine
+    (:func:`_single_trig_monomials`), else None.  Only a shallow ``expr`` is expanded: terms
+    each with at most one sum among their factors, itself of terms with no sum among theirs
+    (-(C q_dot) and the like), so the expansion grows no longer than the tree; the general
+    route keeps an expression nested when its expansion would reach ``NESTED_TERMS`` terms,
+    and so does this one."""
+    terms = expr.args if expr.is_Add else (expr,)
+    spread, nested = 0, False
+    for term in terms:
+        sums = [f for f in term.args if f.is_Add] if term.is_Mul else []
+        if not sums:
+            spread += 1
+            continue
+        if len(sums) > 1 or any(g.is_Mul and any(h.is_Add for h in g.args) for g in sums[0].args):
+            return None
+        spread += len(sums[0].args)
+        nested = True
+    if spread >= NESTED_TERMS:
+        return None
+    expanded = se.expand(expr) if nested else expr
+    return expanded if _single_trig_monomials(expanded, state) else None
+
+
+def _single_trig_monomials(expr: Any, state: set[Any] | frozenset[Any]) -> bool:
+    """True when ``expr`` is a sum of products of numbers, parameters, positive integer
+    powers of state symbols and at most one sine or cosine (to the power 1) of a plain angle
+    (symbols with coefficients +-1), with at most :data:`NESTED_MONOMIALS` monomials and, past
+    :data:`LARGE_POLYNOMIAL` terms, at most ``FACTORED_TERMS`` terms under each state
+    monomial: the equations of a chain of particles.
+
+    For such a sum :func:`combine_and_collect` is :func:`collect_state` of ``expr`` itself,
+    and finding that out by converting it to a trigonometric polynomial costs the most of its
+    tidying.  Why: ``expr`` is expanded already (SymEngine's sum of such products combines
+    like terms as it forms), no term has a product or a square of sines and cosines, and no
+    angle is a multiple, so :func:`combine_trig` has no Fourier, Pythagorean or half-angle
+    form to weigh and returns ``expr``; the polynomial has a monomial per distinct product of
+    state symbols and sines and cosines, and none of its partial sums cancels (the terms of a
+    canonical sum differ), so it outgrows no limit that the whole does not; past
+    ``LARGE_POLYNOMIAL`` terms its two Pythagorean forms are itself, and
+    :meth:`~lagrangian.derivation.trig_polynomial.TrigAlgebra.grouped` factors each state
+    monomial's coefficient as collect_state does when it has at most ``FACTORED_TERMS``
+    terms."""
+    terms = expr.args if expr.is_Add else (expr,)
+    monomials: set[Any] = set()
+    per_state_monomial: dict[Any, int] = defaultdict(int)
+    for term in terms:
+        moving: list[Any] = []
+        trig = None
+        for factor in term.args if term.is_Mul else (term,):
+            if factor.is_Number:
+                continue
+            if factor.is_Symbol:
+                if factor in state:
+                    moving.append(factor)
+                continue
+            if factor.is_Pow:
+                base, exponent = factor.args
+                if not base.is_Symbol:
+                    return False
+                if base in state:
+                    if not (exponent.is_Integer and exponent > 0):
+                        return False
+                    moving.append(factor)
+                continue
+            if trig is not None or not isinstance(factor, (se.sin, se.cos)):
+                return False
+            if not _plain_angle(factor.args[0]):
+                return False
+            trig = factor
+        key = se.Mul(*moving)
+        monomials.add((key, trig))
+        if trig is not None and not state.isdisjoint(trig.args[0].free_symbols):
+            key = key * trig
+        per_state_monomial[key] += 1
+    if len(monomials) > NESTED_MONOMIALS:
+        return False
+    return len(terms) <= LARGE_POLYNOMIAL or max(per_state_monomial.values()) <= FACTORED_TERMS
+
+
+def _plain_angle(angle: Any) -> bool:
+    """A symbol, or a sum of symbols each with coefficient +-1."""
+    for term in angle.args if angle.is_Add else (angle,):
+        if term.is_Symbol:
+            continue
+        args = term.args if term.is_Mul else ()
+        if not (len(args) == 2 and args[1].is_Symbol and abs(args[0]) == 1):
+            return False
+    return True
 
 
 def combine_trig_sympy(expr: Any, budget: int | None = None) -> sp.Expr:
