@@ -431,8 +431,9 @@ def _pieces(output: str | JsonDocument) -> Iterator[str]:
 
 
 def run(args: argparse.Namespace) -> str | JsonDocument:
-    """What the parsed command prints (SymPy, NumPy and the rest load here)."""
-    from lagrangian.cli import commands, simulate_command
+    """What the parsed command prints (SymPy, NumPy and the rest load here: the simulation's
+    integrators and SciPy only for ``simulate``)."""
+    from lagrangian.cli import commands
 
     if getattr(args, "input_format", None) and args.model == "-":
         args.model = f"-:{args.input_format}"  # standard input in the format given
@@ -453,6 +454,8 @@ def run(args: argparse.Namespace) -> str | JsonDocument:
             search_degree=args.search_degree,
         )
     if args.command == "simulate":
+        from lagrangian.cli import simulate_command
+
         options = {
             "t_end": args.t_end,
             "method": args.method,
