@@ -288,7 +288,7 @@ def _plain_angle(angle: Any) -> bool:
     for term in angle.args if angle.is_Add else (angle,):
         if term.is_Symbol:
             continue
-        args = term.args if term.is_Mul else ()
+        args: tuple[Any, ...] = term.args if term.is_Mul else ()
         if not (len(args) == 2 and args[1].is_Symbol and abs(args[0]) == 1):
             return False
     return True
