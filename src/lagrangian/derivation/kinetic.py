@@ -16,6 +16,7 @@ is kept apart as the time terms.
 from __future__ import annotations
 
 from collections import defaultdict
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import symengine as se
@@ -32,6 +33,8 @@ from lagrangian.derivation.trig_polynomial import (
 )
 
 Matrix = list[list[Backend]]
+
+_ZERO = se.Integer(0)  # compared with as it is (0 would be converted at each comparison)
 
 
 @dataclass(frozen=True)
@@ -51,7 +54,8 @@ class KineticForm:
 
 def _hessian(expr: Backend, symbols: tuple[Backend, ...]) -> Matrix:
     first = [expr.diff(s) for s in symbols]
-    return [[first[i].diff(s) for s in symbols] for i in range(len(symbols))]
+    # the derivatives of 0 are 0 (T given only through points and bodies)
+    return [[f.diff(s) for s in symbols] if f != _ZERO else [f] * len(symbols) for f in first]
 
 
 def _point_terms(asm: Assembly) -> tuple[Matrix, Backend, set[tuple[int, int]]]:
@@ -62,78 +66,151 @@ def _point_terms(asm: Assembly) -> tuple[Matrix, Backend, set[tuple[int, int]]]:
     entry is l_j l_k (m_k + ... + m_n) cos(theta_j - theta_k), never grown term by term; a
     column that recurs (link j's in every point beyond it) is met by number, not compared."""
     n = len(asm.q)
-    weights: dict[tuple[int, int], dict[Backend, list[Backend]]] = defaultdict(dict)
     low_degree = se.Integer(0)
-    columns_seen: dict[tuple[Backend, ...], int] = {}
-    combined: dict[Backend, Backend] = {}  # the same column pairs recur for every point below
-    pairs: dict[tuple[int, int], Backend | None] = {}  # column numbers -> product (None: 0)
-    polar: dict[int, tuple[Backend, Backend] | None] = {}  # column number -> (r, a) or None
+    table = _ColumnTable(n)
+    index = {q: i for i, q in enumerate(asm.q)}
+    slopes: dict[Backend, list[tuple[int, Backend]]] = {}
     for point in asm.points:
         columns = [(point.mass, point.position)]
         if point.angle is not None and point.inertia != 0:
             columns.append((point.inertia, (point.angle,)))
         for weight, coordinates in columns:
-            jac = [_gradient(x, asm.q) for x in coordinates]
+            jac = [_gradient(x, index, slopes) for x in coordinates]
+            table.add(weight, jac)
             drift = [x.diff(asm.t) for x in coordinates]
-            ids = []
-            for j in range(n):
-                column = tuple(row[j] for row in jac)
-                ids.append(
-                    -1
-                    if all(c == 0 for c in column)
-                    else columns_seen.setdefault(column, len(columns_seen))
-                )
-            moving_columns = [j for j in range(n) if ids[j] >= 0]
-            for j in moving_columns:
-                if ids[j] not in polar:
-                    polar[ids[j]] = _polar_column([row[j] for row in jac])
-            for a, j in enumerate(moving_columns):
-                id_j = ids[j]
-                for k in moving_columns[a:]:
-                    key = (id_j, ids[k])
-                    product = pairs.get(key, _UNKNOWN)
-                    if product is _UNKNOWN:
-                        product = pairs[key] = _column_product(jac, j, k, polar, key, combined)
-                    if product is not None:
-                        weights[j, k].setdefault(product, []).append(weight)
             if any(d != 0 for d in drift):
                 moving = [se.Add(*[row[k] * asm.q_dot[k] for k in range(n)]) for row in jac]
                 low_degree += weight * se.Add(*[v * d for v, d in zip(moving, drift)])
                 low_degree += weight * se.Add(*[d**2 for d in drift]) / 2
     mass = [[se.Integer(0)] * n for _ in range(n)]
     single = set()
-    for (j, k), groups in weights.items():
-        mass[j][k] = se.Add(*[se.Add(*w) * c for c, w in groups.items()])
-        if len(groups) == 1 and not next(iter(groups)).is_Add:
-            single.add((j, k))
+    combined: dict[Backend, Backend] = {}  # the same column pairs recur for every point below
+    for j in range(n):
+        for k in range(j, n):
+            groups = table.pair_groups(j, k, combined)
+            if not groups:
+                continue
+            # the products in the order the holders first meet them, each times the sum of
+            # its holders' weights in their order: the entry as summed holder by holder
+            ordered = sorted(groups.items(), key=lambda group: group[1] & -group[1])
+            mass[j][k] = se.Add(*[table.weight_sum(holders) * c for c, holders in ordered])
+            if len(groups) == 1 and not ordered[0][0].is_Add:
+                single.add((j, k))
     for rotation in asm.rotations:
         low_degree += _rotation_terms(rotation, asm, mass, combined)
         single.clear()
     return mass, low_degree, single
 
 
-#: A column product not computed yet (None stands for a product that is zero).
-_UNKNOWN = object()
+class _ColumnTable:
+    """The columns of the weighted Jacobians (a point's position with its mass, a planar
+    body's angle with its inertia: the holders, numbered in the order of the points), each
+    distinct column once, and for each coordinate which holders have which column there.
+
+    A set of holders is an int with bit h for holder h, so the holders of a column pair are
+    one ``&`` of two such sets: a chain's link j column is held by every point beyond link j,
+    and M_jk sums the weights of the n - max(j, k) points that hold both columns, n^3/6
+    weights in all if met point by point.  Each distinct set of holders sums its weights once
+    (:meth:`weight_sum`), in the holders' order, as the points are met."""
+
+    def __init__(self, n: int) -> None:
+        self.weights: list[Backend] = []  # by holder
+        self.ids: list[list[int]] = []  # by holder: the column id at each coordinate (-1: 0)
+        self.columns: dict[tuple[Backend, ...], int] = {}  # column -> id
+        self.by_id: list[tuple[Backend, ...]] = []  # id -> column
+        self.polar: list[tuple[Backend, Backend] | None] = []  # by id: (r, a) or None
+        self.holders: list[dict[int, int]] = [{} for _ in range(n)]  # coordinate -> id -> set
+        self.moving: list[int] = [0] * n  # coordinate -> holders with a column that is not 0
+        self.products: dict[tuple[int, int], Backend | None] = {}  # (id, id) -> product
+        self.sums: dict[int, Backend] = {}  # set of holders -> sum of their weights
+
+    def add(self, weight: Backend, jac: list[list[Backend]]) -> None:
+        """Add a holder of weight ``weight`` whose Jacobian has rows ``jac``."""
+        bit = 1 << len(self.weights)
+        self.weights.append(weight)
+        ids = []
+        for j in range(len(self.holders)):
+            column = tuple(row[j] for row in jac)
+            if all(c == _ZERO for c in column):
+                ids.append(-1)
+                continue
+            id_j = self.columns.setdefault(column, len(self.columns))
+            if id_j == len(self.by_id):  # a new column
+                self.by_id.append(column)
+                self.polar.append(_polar_column(list(column)))
+            ids.append(id_j)
+            self.holders[j][id_j] = self.holders[j].get(id_j, 0) | bit
+            self.moving[j] |= bit
+        self.ids.append(ids)
+
+    def pair_groups(self, j: int, k: int, combined: dict[Backend, Backend]) -> dict[Backend, int]:
+        """The products of columns j and k of the holders that move with both (0 left out),
+        each with the set of holders that have it."""
+        both = self.moving[j] & self.moving[k]
+        groups: dict[Backend, int] = {}
+        if not both:
+            return groups
+        at_j, at_k = self.holders[j], self.holders[k]
+        if len(at_j) * len(at_k) <= both.bit_count():  # few distinct columns: pair them
+            for id_j, with_j in at_j.items():
+                for id_k, with_k in at_k.items():
+                    shared = with_j & with_k
+                    if shared:
+                        self._group(groups, id_j, id_k, shared, combined)
+        else:  # a column of its own in most holders (relative angles): holder by holder
+            for holder in _members(both):
+                ids = self.ids[holder]
+                self._group(groups, ids[j], ids[k], 1 << holder, combined)
+        return groups
+
+    def _group(
+        self,
+        groups: dict[Backend, int],
+        id_j: int,
+        id_k: int,
+        holders: int,
+        combined: dict[Backend, Backend],
+    ) -> None:
+        key = (id_j, id_k)
+        if key not in self.products:
+            self.products[key] = _column_product(
+                self.by_id[id_j], self.by_id[id_k], self.polar[id_j], self.polar[id_k], combined
+            )
+        product = self.products[key]
+        if product is not None:
+            groups[product] = groups.get(product, 0) | holders
+
+    def weight_sum(self, holders: int) -> Backend:
+        """The sum of the weights of a set of holders, in their order."""
+        if holders not in self.sums:
+            self.sums[holders] = se.Add(*[self.weights[h] for h in _members(holders)])
+        return self.sums[holders]
+
+
+def _members(holders: int) -> Iterator[int]:
+    """The holders in a set (an int, bit h for holder h), in increasing order."""
+    while holders:
+        lowest = holders & -holders
+        yield lowest.bit_length() - 1
+        holders ^= lowest
 
 
 def _column_product(
-    jac: list[list[Backend]],
-    j: int,
-    k: int,
-    polar: dict[int, tuple[Backend, Backend] | None],
-    key: tuple[int, int],
+    first: tuple[Backend, ...],
+    second: tuple[Backend, ...],
+    first_polar: tuple[Backend, Backend] | None,
+    second_polar: tuple[Backend, Backend] | None,
     combined: dict[Backend, Backend],
 ) -> Backend | None:
-    """The product of columns j and k of ``jac``, trigonometry combined; None when it is 0.
+    """The product of two Jacobian columns, trigonometry combined; None when it is 0.
 
     Two planar columns (r cos a, r sin a) and (s cos b, s sin b) give r s cos(a - b) at once,
     which is what :func:`combine_trig` makes of r s (cos a cos b + sin a sin b): a chain has
     n^2/2 of them."""
-    first, second = polar[key[0]], polar[key[1]]
-    if first is not None and second is not None:
-        (r, angle_a), (s, angle_b) = first, second
+    if first_polar is not None and second_polar is not None:
+        (r, angle_a), (s, angle_b) = first_polar, second_polar
         return r * s * se.cos(angle_a - angle_b)
-    term = se.Add(*[row[j] * row[k] for row in jac])
+    term = se.Add(*[x * y for x, y in zip(first, second)])
     if term not in combined:
         combined[term] = combine_trig(term) if term != 0 else term
     product = combined[term]
@@ -166,17 +243,19 @@ def _times_function(entry: Backend) -> tuple[Backend, Backend, type] | None:
     return (se.Mul(*rest), function.args[0], type(function)) if plain else None
 
 
-def _gradient(expr: Backend, symbols: tuple[Backend, ...]) -> list[Backend]:
-    """[d expr/ds for s in symbols], a sum differentiated term by term by the symbols each
-    term has (a chain's position has one term per link)."""
+def _gradient(
+    expr: Backend, index: dict[Backend, int], slopes: dict[Backend, list[tuple[int, Backend]]]
+) -> list[Backend]:
+    """[d expr/ds for s in the symbols numbered by ``index``], a sum differentiated term by
+    term by the symbols each term has (a chain's position has one term per link); ``slopes``
+    keeps each term's derivatives (point p's position has the terms of those before it)."""
     terms = expr.args if expr.is_Add else (expr,)
-    index = {s: i for i, s in enumerate(symbols)}
-    parts: list[list[Backend]] = [[] for _ in symbols]
+    parts: list[list[Backend]] = [[] for _ in index]
     for term in terms:
-        for s in term.free_symbols:
-            i = index.get(s)
-            if i is not None:
-                parts[i].append(term.diff(s))
+        if term not in slopes:
+            slopes[term] = [(index[s], term.diff(s)) for s in term.free_symbols if s in index]
+        for i, slope in slopes[term]:
+            parts[i].append(slope)
     return [se.Add(*p) for p in parts]
 
 
@@ -214,9 +293,13 @@ def _rotation_terms(
 
 
 def _linear_part(expr: Backend, asm: Assembly) -> Backend:
-    """Terms of degree 0 and 1 in the velocities of an expression at most quadratic in them."""
+    """Terms of degree 0 and 1 in the velocities of an expression at most quadratic in them
+    (a velocity it does not have gives the term 0, which adds nothing to the sum)."""
     at_rest = {v: 0 for v in asm.q_dot}
-    return expr.subs(at_rest) + se.Add(*[v * expr.diff(v).subs(at_rest) for v in asm.q_dot])
+    present = expr.free_symbols
+    return expr.subs(at_rest) + se.Add(
+        *[v * expr.diff(v).subs(at_rest) for v in asm.q_dot if v in present]
+    )
 
 
 def _coriolis(mass: Matrix, asm: Assembly) -> list[Backend]:
@@ -226,28 +309,59 @@ def _coriolis(mass: Matrix, asm: Assembly) -> list[Backend]:
     index = {q: ell for ell, q in enumerate(asm.q)}
     rows: list[list[Backend]] = [[] for _ in range(n)]
     v = asm.q_dot
-    known: dict[Backend, set[Backend]] = {}
+    known = _FreeSymbols()
+    half = se.Rational(1, 2)
     for j in range(n):
         for k in range(j, n):
             entry = mass[j][k]
             factors = entry.args if entry.is_Mul else (entry,)
-            for q in set().union(*[_symbols(f, known) for f in factors]):
-                ell = index.get(q)
-                if ell is None:
-                    continue
-                slope = entry.diff(q)
+            symbols = [known[f] for f in factors]
+            rests: dict[int, Backend] = {}
+            # the coordinates in the order of the set of all the entry's symbols
+            for q in filter(index.__contains__, set().union(*symbols)):
+                ell = index[q]
+                slope = _slope(entry, factors, symbols, q, rests)
                 rows[j].append(slope * v[k] * v[ell])
                 if j != k:
                     rows[k].append(slope * v[j] * v[ell])
-                rows[ell].append(-slope * v[j] * v[k] * (1 if j != k else se.Rational(1, 2)))
+                term = -slope * v[j] * v[k]  # times 1 (j != k) would give it back as it is
+                rows[ell].append(term if j != k else term * half)
     return [se.Add(*row) for row in rows]  # expanded and tidied by the caller
 
 
-def _symbols(factor: Backend, known: dict[Backend, set[Backend]]) -> set[Backend]:
-    """The free symbols of ``factor``, remembered in ``known`` (sums of masses recur)."""
-    if factor not in known:
-        known[factor] = factor.free_symbols
-    return known[factor]
+def _slope(
+    entry: Backend,
+    factors: tuple[Backend, ...],
+    symbols: list[set[Backend]],
+    q: Backend,
+    rests: dict[int, Backend],
+) -> Backend:
+    """d entry/dq, ``entry`` the product of ``factors`` (whose free symbols are ``symbols``).
+
+    A product with one factor f in q (a chain's l_j l_k (m_k + ... + m_n) cos(theta_j -
+    theta_k)) is (the rest) f': SymEngine differentiates a product factor by factor, and of
+    a factor free of q it gets 0 and skips it, so for f it puts f''s coefficient and factors
+    into the rest's, as a product rest * f' does (f' not a number), the same expression;
+    this way the rest (a sum of n masses) is not differentiated term by term to 0.  The
+    rests are kept in ``rests`` by factor (an entry is differentiated by each of its
+    coordinates, often held by one factor)."""
+    holding = [i for i, s in enumerate(symbols) if q in s]
+    if entry.is_Mul and len(holding) == 1:
+        i = holding[0]
+        if i not in rests:
+            rests[i] = se.Mul(*factors[:i], *factors[i + 1 :])
+        change = factors[i].diff(q)
+        if rests[i].is_Mul and not factors[i].is_Pow and not change.is_Number:
+            return rests[i] * change
+    return entry.diff(q)
+
+
+class _FreeSymbols(dict[Backend, set[Backend]]):
+    """The free symbols of each factor looked up, each found once (sums of masses recur)."""
+
+    def __missing__(self, factor: Backend) -> set[Backend]:
+        self[factor] = symbols = factor.free_symbols
+        return symbols
 
 
 def kinetic_form(asm: Assembly) -> KineticForm:
@@ -255,7 +369,9 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     n = len(asm.q)
     explicit = _hessian(asm.explicit_kinetic, asm.q_dot)
     velocities = set(asm.q_dot)
-    quadratic = all(velocities.isdisjoint(e.free_symbols) for row in explicit for e in row)
+    quadratic = all(
+        e == _ZERO or velocities.isdisjoint(e.free_symbols) for row in explicit for e in row
+    )
     if not quadratic:
         return _general_form(asm)
     # 3-D bodies: grouped trigonometric polynomials; planar points and bodies (a chain of
@@ -267,21 +383,70 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     mass = [[se.Integer(0)] * n for _ in range(n)]
     for j in range(n):
         for k in range(j, n):
-            if explicit[j][k] == 0 and (j, k) in single:  # combined already
+            if explicit[j][k] == _ZERO and (j, k) in single:  # combined already
                 mass[j][k] = point_mass[j][k]
             else:
                 mass[j][k] = combine_trig(explicit[j][k] + point_mass[j][k])
             mass[k][j] = mass[j][k]
     low = _linear_part(asm.explicit_kinetic, asm) + point_low
-    quadratic_t = se.Add(
-        *[mass[j][k] * asm.q_dot[j] * asm.q_dot[k] / 2 for j in range(n) for k in range(n)]
+    quadratic_t = _quadratic_form(mass, asm.q_dot)
+    # an entry without t has no derivative by t (every entry of a chain on a fixed pivot);
+    # its term, 0, would add nothing to the sum
+    timed = (
+        {(j, k) for j in range(n) for k in range(j, n) if mass[j][k].has(asm.t)}
+        if _made_with_time(asm)
+        else set()
     )
     time_terms = []
     for j in range(n):
-        explicit_time = se.Add(*[mass[j][k].diff(asm.t) * asm.q_dot[k] for k in range(n)])
-        low_terms = asm.time_derivative(low.diff(asm.q_dot[j])) - low.diff(asm.q[j])
+        explicit_time = (
+            se.Add(
+                *[
+                    mass[j][k].diff(asm.t) * asm.q_dot[k]
+                    for k in range(n)
+                    if (min(j, k), max(j, k)) in timed
+                ]
+            )
+            if timed
+            else se.Integer(0)
+        )
+        # no terms of degree 0 and 1 in the velocities (T = 1/2 q_dot^T M q_dot): none of theirs
+        low_terms = (
+            asm.time_derivative(low.diff(asm.q_dot[j])) - low.diff(asm.q[j])
+            if low != 0
+            else se.Integer(0)
+        )
         time_terms.append(se.expand(explicit_time + low_terms))
     return KineticForm(mass, _coriolis(mass, asm), time_terms, quadratic_t + low, True)
+
+
+def _made_with_time(asm: Assembly) -> bool:
+    """Whether t is in what M is made of: T's explicit part, the points' masses, positions,
+    angles and inertias, the bodies' inertias and angular velocities (M is made of them, their
+    derivatives by the coordinates and velocities and the products of those, and combining
+    their trigonometry brings in no symbol).  One look at each, not at each entry of M."""
+    parts = [asm.explicit_kinetic]
+    for point in asm.points:
+        parts += [point.mass, point.inertia, *point.position]
+        parts += [] if point.angle is None else [point.angle]
+    for rotation in asm.rotations:
+        parts += [*rotation.angular_velocity, *(e for row in rotation.inertia for e in row)]
+    return any(part.has(asm.t) for part in parts)
+
+
+def _quadratic_form(mass: Matrix, q_dot: tuple[Backend, ...]) -> Backend:
+    """1/2 q_dot^T M q_dot for a symmetric M, the same sum as the double sum over j and k:
+    there the terms jk and kj (M_kj is M_jk) are one term, kept where jk (j < k) put it, whose
+    coefficient is the sum of the two halves (exactly the whole, in floating point too), so
+    here it is taken once whole, in that place."""
+    n = len(q_dot)
+    return se.Add(
+        *[
+            mass[j][k] * q_dot[j] * q_dot[k] / 2 if j == k else mass[j][k] * q_dot[j] * q_dot[k]
+            for j in range(n)
+            for k in range(j, n)
+        ]
+    )
 
 
 def _general_form(asm: Assembly) -> KineticForm:
@@ -379,9 +544,7 @@ def _canonical_form(asm: Assembly, explicit: Matrix, algebra: TrigAlgebra) -> Ki
         for k in range(j, n):
             mass_poly[j][k] = mass_poly[k][j] = algebra.finish(mass_poly[j][k])
             mass[j][k] = mass[k][j] = algebra.grouped(algebra.shortest(mass_poly[j][k]))
-    quadratic_t = se.Add(
-        *[mass[j][k] * asm.q_dot[j] * asm.q_dot[k] / 2 for j in range(n) for k in range(n)]
-    )
+    quadratic_t = _quadratic_form(mass, asm.q_dot)
     coriolis = [algebra.expression(c) for c in _christoffel(algebra, mass_poly, asm)]
     return KineticForm(mass, coriolis, [se.Integer(0)] * n, quadratic_t, True, grouped=True)
 
@@ -433,9 +596,7 @@ def _nested_form(asm: Assembly, explicit: Matrix) -> KineticForm:
     for j in range(n):
         for k in range(j + 1, n):
             mass[k][j] = mass[j][k]
-    quadratic_t = se.Add(
-        *[mass[j][k] * asm.q_dot[j] * asm.q_dot[k] / 2 for j in range(n) for k in range(n)]
-    )
+    quadratic_t = _quadratic_form(mass, asm.q_dot)
     return KineticForm(mass, coriolis, [se.Integer(0)] * n, quadratic_t, True, grouped=True)
 
 
