@@ -79,12 +79,7 @@ class EulerLagrangeTerms:
         self._sums: dict[Backend, tuple[Backend, Backend]] = {}  # symbol -> (sum, factored)
         self._compressed: dict[Backend, Backend] = {}
         self._factors: dict[Backend, Backend] = {}  # collect_state's sorting of factors
-        u = asm.velocity_potential
-        at_rest = {a: 0 for a in asm.q_ddot}
-        self.velocity_potential_forces = [
-            se.expand((asm.time_derivative(u.diff(v)) - u.diff(q)).subs(at_rest))
-            for q, v in zip(asm.q, asm.q_dot)
-        ]
+        self.velocity_potential_forces = self._velocity_potential_forces()
         self.mass = self._mass_matrix()
         self.gravity = [asm.potential.diff(q) for q in asm.q]
         self.dissipation_forces = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
@@ -106,6 +101,20 @@ class EulerLagrangeTerms:
             for j in range(len(asm.q))
         ]
         self.orders = self._orders()
+
+    def _velocity_potential_forces(self) -> list[Backend]:
+        """d/dt dU/dq_dot - dU/dq of each coordinate, without its q_ddot part; each 0 when U
+        is a number (every derivative of it is 0, which the general path finds out by
+        differentiating a zero 3n times per coordinate)."""
+        asm = self.assembly
+        u = asm.velocity_potential
+        if u.is_Number:
+            return [se.Integer(0) for _ in asm.q]
+        at_rest = {a: 0 for a in asm.q_ddot}
+        return [
+            se.expand((asm.time_derivative(u.diff(v)) - u.diff(q)).subs(at_rest))
+            for q, v in zip(asm.q, asm.q_dot)
+        ]
 
     def tidy(self, expr: Backend) -> Backend:
         """Trigonometric products combined, terms grouped by state monomial (a single term,
@@ -156,12 +165,14 @@ class EulerLagrangeTerms:
 
     def _compress_product(self, product: Backend) -> Backend:
         args = product.args
-        if not any(f.is_Add for f in args):
-            return product
-        parts = [self._compress_factor(f) if f.is_Add else f for f in args]
-        if all(new is old for new, old in zip(parts, args)):
-            return product
-        return se.Mul(*parts)
+        parts: list[Backend] | None = None  # made when a factor changes (one pass over them)
+        for i, factor in enumerate(args):
+            if factor.is_Add:
+                new = self._compress_factor(factor)
+                if new is not factor:
+                    parts = parts or list(args)
+                    parts[i] = new
+        return product if parts is None else se.Mul(*parts)
 
     def _compress_factor(self, factor: Backend) -> Backend:
         symbol = self._symbol_for(factor)
@@ -172,7 +183,9 @@ class EulerLagrangeTerms:
         symbol = self._symbol_of_sum.get(factor)
         if symbol is not None:
             return symbol if symbol is not _MOVING else None
-        if len(factor.args) < LONG_SUM or not self.state.isdisjoint(factor.free_symbols):
+        terms = factor.args
+        # the cheap test first: the same answer as the free symbols' when it says moving
+        if len(terms) < LONG_SUM or self._moving(terms) or not self._parameters(factor):
             self._symbol_of_sum[factor] = _MOVING
             return None
         symbol = se.Dummy("sum")
@@ -181,6 +194,22 @@ class EulerLagrangeTerms:
         self._sum_of_symbol[symbol] = whole
         self._sums[symbol] = (whole, factor_common(list(whole.args)) if whole.is_Add else whole)
         return symbol
+
+    def _moving(self, terms: tuple[Backend, ...]) -> bool:
+        """True when one of the first two terms of a sum (the first may be its number) has
+        a state symbol (or its power) as a factor; False says nothing.  A sum of C q_dot,
+        whose free symbols (the masses of every sum inside included) cost far more to
+        gather than two terms' factors to look at."""
+        for term in terms[:2]:
+            for factor in term.args if term.is_Mul else (term,):
+                base = factor.args[0] if factor.is_Pow else factor
+                if base.is_Symbol and base in self.state:
+                    return True
+        return False
+
+    def _parameters(self, factor: Backend) -> bool:
+        """True when ``factor`` has no state symbol at all."""
+        return self.state.isdisjoint(factor.free_symbols)
 
     def expand_sums(self, expr: Backend) -> Backend:
         """``expr`` with the symbols of :meth:`compress` replaced by their sums."""
@@ -275,7 +304,15 @@ def combined_trig(expr: Backend) -> Backend:
     that out (at a cost that grows with the terms, and more so beyond
     :data:`~lagrangian.derivation.trig.LARGE_POLYNOMIAL` of them).  As in combine_trig, an
     expression that would expand to :data:`~lagrangian.derivation.trig.NESTED_TERMS` terms
-    or more is kept nested."""
+    or more is kept nested.
+
+    Both questions are answered by one walk over ``expr`` when it can (:func:`_plain_bound`);
+    the expansion is checked term by term only when the walk cannot tell."""
+    bound = _plain_bound(expr, NESTED_TERMS)
+    if bound is not None:
+        if bound >= NESTED_TERMS and size(expr) > NESTED_CHECK_OPS:
+            return expr
+        return se.expand(expr)
     expanded = se.expand(expr)
     terms = expanded.args if expanded.is_Add else (expanded,)
     if not all(map(_at_most_one_plain_trig, terms)):
@@ -283,6 +320,86 @@ def combined_trig(expr: Backend) -> Backend:
     if size(expr) > NESTED_CHECK_OPS and expanded_terms(expr, NESTED_TERMS) >= NESTED_TERMS:
         return expr
     return expanded
+
+
+_TRIG = (se.sin, se.cos)
+
+
+class _NotPlain(Exception):
+    """Raised by :func:`_plain_bound`'s walk at a factor it cannot vouch for."""
+
+
+def _plain_bound(expr: Backend, cap: int) -> int | None:
+    """``expanded_terms(expr, cap)`` when every term of ``se.expand(expr)`` is one that
+    :func:`_at_most_one_plain_trig` accepts, proven on the tree of ``expr``; None when the
+    walk cannot prove it (the expansion is then checked).
+
+    The proof: the leaves of ``expr`` (outside its sines and cosines, which expansion keeps
+    as they are) are numbers, symbols, symbols to integer powers and sines and cosines of
+    plain angles, and no product of ``expr`` multiplies more than one sine or cosine (a sum
+    counts as its term with the most, a product as the total of its factors).  Every term
+    of the expansion is a product of one term of each factor, down the tree: numbers,
+    symbols and their integer powers (merged into the same kinds) and at most one sine or
+    cosine, which is what the check accepts.  The bound is counted as expanded_terms counts
+    it (a sum adds its terms' counts, a product multiplies its factors', a leaf counts 1,
+    each capped at ``cap``), so the two are equal."""
+    sums: dict[Backend, tuple[int, int]] = {}  # a sum shared by several terms is walked once
+    angles: dict[Backend, bool] = {}  # whether a sine or cosine is of a plain angle
+
+    def total(e: Backend) -> tuple[int, int]:  # (terms counted, most sines/cosines in a term)
+        known = sums.get(e)
+        if known is None:
+            parts = [product(a) if a.is_Mul else walk(a) for a in e.args]
+            known = sums[e] = (min(cap, sum(p[0] for p in parts)), max(p[1] for p in parts))
+        return known
+
+    def product(e: Backend) -> tuple[int, int]:
+        count, trig = 1, 0
+        for factor in e.args:  # the leaves inline: a chain's terms are products of them
+            if factor.is_Symbol or factor.is_Number:
+                continue
+            if factor.is_Add:
+                terms, inner = total(factor)
+                count, trig = min(cap, count * terms), trig + inner
+            elif isinstance(factor, _TRIG):
+                trig += plain_trig(factor)
+            elif not _symbol_power(factor):
+                raise _NotPlain
+        if trig > 1:
+            raise _NotPlain
+        return count, trig
+
+    def plain_trig(e: Backend) -> int:  # 1 for a sine or cosine of a plain angle
+        plain = angles.get(e)
+        if plain is None:
+            plain = angles[e] = _plain_angle(e.args[0])
+        if not plain:
+            raise _NotPlain
+        return 1
+
+    def walk(e: Backend) -> tuple[int, int]:
+        if e.is_Add:
+            return total(e)
+        if e.is_Mul:
+            return product(e)
+        if e.is_Symbol or e.is_Number or _symbol_power(e):
+            return 1, 0
+        if isinstance(e, _TRIG):
+            return 1, plain_trig(e)
+        raise _NotPlain
+
+    try:
+        return walk(expr)[0]
+    except _NotPlain:
+        return None
+
+
+def _symbol_power(factor: Backend) -> bool:
+    """A symbol to an integer power."""
+    if not factor.is_Pow:
+        return False
+    base, exponent = factor.args
+    return bool(base.is_Symbol and exponent.is_Integer)
 
 
 def _at_most_one_plain_trig(term: Backend) -> bool:
