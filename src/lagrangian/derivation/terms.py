@@ -36,6 +36,7 @@ from lagrangian.derivation.trig import (
     NESTED_TERMS,
     combine_and_collect,
     combine_trig,
+    plain_angle,
     size,
 )
 from lagrangian.derivation.trig_polynomial import expanded_terms
@@ -372,7 +373,7 @@ def _plain_bound(expr: Backend, cap: int) -> int | None:
     def plain_trig(e: Backend) -> int:  # 1 for a sine or cosine of a plain angle
         plain = angles.get(e)
         if plain is None:
-            plain = angles[e] = _plain_angle(e.args[0])
+            plain = angles[e] = plain_angle(e.args[0])
         if not plain:
             raise _NotPlain
         return 1
@@ -413,25 +414,11 @@ def _at_most_one_plain_trig(term: Backend) -> bool:
             base, exponent = factor.args
             if not (base.is_Symbol and exponent.is_Integer):
                 return False
-        elif isinstance(factor, (se.sin, se.cos)) and _plain_angle(factor.args[0]):
+        elif isinstance(factor, (se.sin, se.cos)) and plain_angle(factor.args[0]):
             trig += 1
             if trig > 1:
                 return False
         else:
-            return False
-    return True
-
-
-_UNITS = (se.Integer(1), se.Integer(-1))
-
-
-def _plain_angle(angle: Backend) -> bool:
-    """A symbol, or a sum of symbols each with coefficient +-1."""
-    for term in angle.args if angle.is_Add else (angle,):
-        if term.is_Symbol:
-            continue
-        args: tuple[Backend, ...] = term.args if term.is_Mul else ()
-        if not (len(args) == 2 and args[1].is_Symbol and args[0] in _UNITS):
             return False
     return True
 

@@ -270,7 +270,7 @@ def _single_trig_monomials(expr: Any, state: set[Any] | frozenset[Any]) -> bool:
                 continue
             if trig is not None or not isinstance(factor, (se.sin, se.cos)):
                 return False
-            if not _plain_angle(factor.args[0]):
+            if not plain_angle(factor.args[0]):
                 return False
             trig = factor
         key = se.Mul(*moving)
@@ -283,13 +283,16 @@ def _single_trig_monomials(expr: Any, state: set[Any] | frozenset[Any]) -> bool:
     return len(terms) <= LARGE_POLYNOMIAL or max(per_state_monomial.values()) <= FACTORED_TERMS
 
 
-def _plain_angle(angle: Any) -> bool:
-    """A symbol, or a sum of symbols each with coefficient +-1."""
+_UNITS = (se.Integer(1), se.Integer(-1))
+
+
+def plain_angle(angle: Any) -> bool:
+    """A symbol, or a sum of symbols each with coefficient +-1 (no multiple angle)."""
     for term in angle.args if angle.is_Add else (angle,):
         if term.is_Symbol:
             continue
         args: tuple[Any, ...] = term.args if term.is_Mul else ()
-        if not (len(args) == 2 and args[1].is_Symbol and abs(args[0]) == 1):
+        if not (len(args) == 2 and args[1].is_Symbol and args[0] in _UNITS):
             return False
     return True
 
