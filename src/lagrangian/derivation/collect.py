@@ -9,13 +9,13 @@ l1 l2 (m2/2 + m3) (sin a1 sin a2 + cos a1 cos a2 cos b1 + ...).
 
 from __future__ import annotations
 
-from collections import defaultdict
 from collections.abc import Iterable, Mapping
 from typing import Any
 
 import symengine as se
 
-ONE = se.Integer(1)
+ONE = se.Integer(1)  # the one object SymEngine gives for every integer 1
+ZERO = se.Integer(0)
 #: How many monomials must share a coefficient for :func:`collect_state` to sum them under it.
 SHARED = 3
 
@@ -27,7 +27,7 @@ def _powers(factors: list[Any]) -> tuple[Any, dict[Any, Any]]:
     powers: dict[Any, Any] = {}
     for factor in factors:
         if factor.is_Number:
-            number *= factor
+            number = factor if number is ONE else number * factor  # 1 x is x
             continue
         base, exponent = factor.args if factor.is_Pow else (factor, ONE)
         powers[base] = powers[base] + exponent if base in powers else exponent
@@ -48,25 +48,57 @@ def _factor_common(products: list[Any]) -> Any:
     split = [_powers(factors) for factors in products]
     common = dict(split[0][1])
     for _, powers in split[1:]:
-        for base in list(common):
-            if base not in powers or not (common[base].is_Number and powers[base].is_Number):
+        for base, least in list(common.items()):
+            exponent = powers.get(base)
+            if exponent is None or not (least.is_Number and exponent.is_Number):
                 del common[base]
-            else:
-                common[base] = min(common[base], powers[base])
+            elif not (least is ONE and exponent is ONE):  # min(1, 1) is the 1 there already
+                common[base] = min(least, exponent)
     magnitudes = {abs(number) for number, _ in split}
     scale = magnitudes.pop() if len(magnitudes) == 1 else ONE
-    if all(number < 0 for number, _ in split):
+    if all(_negative(number) for number, _ in split):
         scale = -scale
     if not common and scale == 1:
         return se.Add(*[se.Mul(*factors) for factors in products])
     outside = scale * se.Mul(*[b**e for b, e in common.items()])
-    inside = se.Add(
-        *[
-            number / scale * se.Mul(*[b ** (e - common.get(b, 0)) for b, e in powers.items()])
-            for number, powers in split
-        ]
-    )
-    return outside * inside
+    quotients: dict[Any, Any] = {}  # number / scale, once per number (most are -1 or 1)
+    parts = []
+    for number, powers in split:
+        quotient = quotients.get(number)
+        if quotient is None:
+            quotient = quotients[number] = number / scale
+        parts.append(_times(quotient, _divided(powers, common)))
+    return outside * se.Add(*parts)
+
+
+def _negative(number: Any) -> bool:
+    """``number < 0``, read off an integer or a fraction (the comparison costs 20 times more)."""
+    if number.is_Rational:  # an integer or a fraction
+        return bool(number.is_negative)
+    return bool(number < ZERO)
+
+
+def _times(number: Any, product: Any) -> Any:
+    """``number * product``; the integer 1 (always the object ONE) changes nothing."""
+    return product if number is ONE else number * product
+
+
+def _divided(powers: dict[Any, Any], common: dict[Any, Any]) -> Any:
+    """The product of base ** (exponent - common exponent) over ``powers``.
+
+    A base outside ``common`` is raised to its own exponent (e - 0 is e) and, when that
+    is the 1 :func:`_powers` gives a factor that is no power, left as it is (b ** 1 is b);
+    a base whose exponent and common exponent are both that 1 is left out (b ** 0 is 1,
+    which a product leaves out): the same product, without two operations per factor."""
+    factors = []
+    for base, exponent in powers.items():
+        least = common.get(base)
+        if least is None:
+            factors.append(base if exponent is ONE else base**exponent)
+        elif not (exponent is ONE and least is ONE):
+            factors.append(base ** (exponent - least))
+    # a product of one factor is that factor
+    return factors[0] if len(factors) == 1 else se.Mul(*factors)
 
 
 def collect_state(
@@ -85,49 +117,126 @@ def collect_state(
     ``factors``, when given, remembers across calls with the same ``state`` and ``sums`` (a
     mapping that may grow, never change) how each factor is sorted: the same factors recur
     in every equation of a system."""
-    state = set(state)
     terms = expr.args if expr.is_Add else (expr,)
-    groups: dict[Any, list[list[Any]]] = defaultdict(list)
-    # factor -> None for a factor free of the state (a coefficient), else the factor as it
-    # goes into the key (with the sums of ``sums`` put back); factors recur across terms
-    sorted_factors: dict[Any, Any] = {} if factors is None else factors
-    for term in terms:
-        key: list[Any] = []
-        coefficient: list[Any] = []
-        for factor in term.args if term.is_Mul else (term,):
-            if factor in sorted_factors:
-                moving = sorted_factors[factor]
-            else:
-                symbols = factor.free_symbols
-                moving = None if state.isdisjoint(symbols) else factor
-                if sums and moving is not None and not symbols.isdisjoint(sums):
-                    moving = factor.xreplace({s: sums[s][0] for s in sums})
-                sorted_factors[factor] = moving
-            if moving is not None:
-                key.append(moving)
-            else:
-                coefficient.append(factor)
-        groups[se.Mul(*key)].append(coefficient)
+    groups = _groups(terms, set(state), sums or {}, {} if factors is None else factors)
     if sums:
-        pairs = [(key, _with_sums(products, sums)) for key, products in groups.items()]
+        pairs = [
+            (key, _with_sums(products, sums, holds, factored))
+            for key, (products, holds, factored) in groups.items()
+        ]
         if len(pairs) < SHARED:
             return se.Add(*[key * coefficient for key, coefficient in pairs])
         return _sum_by_coefficient(pairs, None)
-    if len(groups) < SHARED and all(len(v) == 1 for v in groups.values()):
+    if len(groups) < SHARED and all(len(v[0]) == 1 for v in groups.values()):
         return expr
-    pairs = [(key, _factor_common(products)) for key, products in groups.items()]
+    pairs = [(key, _factor_common(group[0])) for key, group in groups.items()]
     if len(pairs) < SHARED:
         return se.Add(*[key * coefficient for key, coefficient in pairs])
-    return _sum_by_coefficient(pairs, expr if all(len(v) == 1 for v in groups.values()) else None)
+    single = all(len(group[0]) == 1 for group in groups.values())
+    return _sum_by_coefficient(pairs, expr if single else None)
 
 
-def _with_sums(products: list[list[Any]], sums: Mapping[Any, tuple[Any, Any]]) -> Any:
-    """:func:`_factor_common` of ``products`` whose symbols in ``sums`` stand for sums."""
-    holding = [p for p in products if any(_base(f) in sums for f in p)]
+def _sort(factor: Any, state: set[Any], sums: Mapping[Any, tuple[Any, Any]]) -> tuple[Any, Any]:
+    """(``factor`` as it goes into a key, with the sums of ``sums`` put back, or None for a
+    factor free of the state; for a factor free of the state that is a symbol of ``sums``
+    or its power, that factor with the factored sum put back, else None)."""
+    symbols = factor.free_symbols
+    if state.isdisjoint(symbols):
+        # _put_back changes exactly the factors whose base is in ``sums``
+        return None, _put_back(factor, sums, 1) if _base(factor) in sums else None
+    if sums and not symbols.isdisjoint(sums):
+        return factor.xreplace({s: sums[s][0] for s in sums}), None
+    return factor, None
+
+
+#: A group of terms: the coefficient factors of each term, whether one of them holds a symbol
+#: of the sums, and the first term's coefficient factors with the factored sums put back.
+Group = tuple[list[list[Any]], bool, list[Any]]
+
+
+def _groups(
+    terms: Iterable[Any],
+    state: set[Any],
+    sums: Mapping[Any, tuple[Any, Any]],
+    sorts: dict[Any, Any],
+) -> dict[Any, Group]:
+    """{state monomial: its :data:`Group`}, monomials in the order they first come.
+
+    ``sorts`` remembers :func:`_sort` of each factor.  Terms are grouped by the tuple of their
+    key factors first: a tuple is cheaper to hash than a product is to build, and one product
+    is then built per monomial, not per term.  Equal tuples give equal products; should two
+    different tuples give the same product, the terms are grouped again by the product, so
+    the groups are always those (and in the order) of grouping by the product."""
+    by_factors = _grouped(terms, state, sums, sorts, False)
+    keys = [se.Mul(*key) for key in by_factors]
+    if len(set(keys)) < len(keys):
+        return _grouped(terms, state, sums, sorts, True)
+    return dict(zip(keys, by_factors.values()))
+
+
+def _grouped(
+    terms: Iterable[Any],
+    state: set[Any],
+    sums: Mapping[Any, tuple[Any, Any]],
+    sorts: dict[Any, Any],
+    by_product: bool,
+) -> dict[Any, Group]:
+    """The groups of :func:`_groups`, keyed by the tuple of key factors (or their product
+    when ``by_product``).
+
+    A symbol whose hash is none of the state's or the sums' is neither (equal objects have
+    equal hashes): a parameter, a coefficient with no sum to put back, as :func:`_sort`
+    would find; told apart by integers, without the comparisons of SymEngine objects that
+    finding it in ``sorts`` costs (most factors are such)."""
+    watched = {hash(s) for s in state} | {hash(s) for s in sums}
+    groups: dict[Any, Group] = {}
+    for term in terms:
+        key: list[Any] = []
+        coefficient: list[Any] = []
+        factored: list[Any] = []  # _put_back(f, sums, 1) of each coefficient factor f
+        holds = False
+        for factor in term.args if term.is_Mul else (term,):
+            if type(factor) is se.Symbol and hash(factor) not in watched:
+                coefficient.append(factor)
+                factored.append(factor)
+                continue
+            sort = sorts.get(factor)
+            if sort is None:
+                sort = sorts[factor] = _sort(factor, state, sums)
+            moving, back = sort
+            if moving is not None:
+                key.append(moving)
+                continue
+            coefficient.append(factor)
+            if back is None:
+                factored.append(factor)
+            else:
+                factored.append(back)
+                holds = True
+        name = se.Mul(*key) if by_product else tuple(key)
+        group = groups.get(name)
+        if group is None:
+            groups[name] = ([coefficient], holds, factored)
+        else:
+            group[0].append(coefficient)
+            if holds and not group[1]:
+                groups[name] = (group[0], True, group[2])
+    return groups
+
+
+def _with_sums(
+    products: list[list[Any]],
+    sums: Mapping[Any, tuple[Any, Any]],
+    holding: bool,
+    factored: list[Any],
+) -> Any:
+    """:func:`_factor_common` of ``products`` whose symbols in ``sums`` stand for sums;
+    ``holding``: whether a factor of the products is such a symbol or its power;
+    ``factored``: the factors of the first product with the factored sums put back."""
     if not holding:
         return _factor_common(products)
     if len(products) == 1:  # c S -> c (S factored), the form the expanded c S collects to
-        return se.Mul(*[_put_back(f, sums, 1) for f in products[0]])
+        return se.Mul(*factored)
     expanded = se.expand(se.Add(*[se.Mul(*[_put_back(f, sums, 0) for f in p]) for p in products]))
     if expanded.is_Number:
         return expanded
@@ -149,6 +258,12 @@ def _put_back(factor: Any, sums: Mapping[Any, tuple[Any, Any]], form: int) -> An
     return factor
 
 
+def _leads_negative(product: Any) -> bool:
+    """Whether a product starts with a negative number."""
+    first = product.args[0]
+    return bool(first.is_Number) and _negative(first)
+
+
 def _sum_by_coefficient(pairs: list[tuple[Any, Any]], unchanged: Any) -> Any:
     """sum key * coefficient with the keys of a coefficient (or of its negative) shared by
     :data:`SHARED` or more summed first: c k1 - c k2 + c k3 -> c (k1 - k2 + k3), c without
@@ -158,13 +273,15 @@ def _sum_by_coefficient(pairs: list[tuple[Any, Any]], unchanged: Any) -> Any:
     for key, coefficient in pairs:
         if coefficient.is_Number:
             shared.setdefault(coefficient, []).append(key)
-        elif coefficient.is_Mul and coefficient.args[0].is_Number and coefficient.args[0] < 0:
+        elif coefficient.is_Mul and _leads_negative(coefficient):
             # c k1 - c k2 + c k3 whichever sign comes first: the same form for the same sum
             shared.setdefault(-coefficient, []).append(-key)
-        elif -coefficient in shared:
-            shared[-coefficient].append(-key)
         else:
-            shared.setdefault(coefficient, []).append(key)
+            keys = shared.get(-coefficient)  # never None for a coefficient in ``shared``
+            if keys is not None:
+                keys.append(-key)
+            else:
+                shared.setdefault(coefficient, []).append(key)
     if unchanged is not None and all(len(keys) < SHARED for keys in shared.values()):
         return unchanged
     terms = []
