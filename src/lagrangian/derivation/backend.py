@@ -7,7 +7,10 @@ rebuilds them as SymPy with the user's own symbol objects.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+import gc
+import threading
+from collections.abc import Callable, Iterable, Iterator, Sequence
+from contextlib import contextmanager
 from functools import cmp_to_key
 from typing import Any
 
@@ -78,7 +81,8 @@ class SympyView:
         200-link chain's equations have hundreds of thousands; the few that other entries
         share are quickly made again)."""
         try:
-            return [self(v) for v in entries]
+            with _cycle_collection_paused():
+                return [self(v) for v in entries]
         finally:
             self._order = CanonicalOrder()
 
@@ -111,7 +115,7 @@ class SympyView:
         _, canonical, flipped = known
         if canonical is None:
             return function(argument)
-        value = function(canonical, evaluate=False)
+        value = unevaluated_trig(function, canonical)
         return sympy_product([sp.S.NegativeOne, value]) if flipped and function is sp.sin else value
 
     def vector(self, values: Iterable[Backend]) -> sp.ImmutableMatrix:
@@ -133,6 +137,39 @@ class SympyView:
         return _remember(converted, entries)
 
 
+class _CollectorPause:
+    """Python's cycle collector paused while any conversion runs (in any thread), and put
+    back as it was when the last one ends.  A conversion makes expressions by the hundred
+    thousand, and each of the collector's passes walks them all, a fifth of the time of
+    converting a 200-link chain's equations, to find nothing: expressions, their sort keys
+    and the memos refer only to their parts, never back.  Any cycle made meanwhile elsewhere
+    is collected once the collector runs again.  Counted under a lock, so two threads that
+    convert at once never leave the collector off."""
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._running = 0
+        self._resume = False
+
+    @contextmanager
+    def __call__(self) -> Iterator[None]:
+        with self._lock:
+            if self._running == 0:
+                self._resume = gc.isenabled()
+                gc.disable()
+            self._running += 1
+        try:
+            yield
+        finally:
+            with self._lock:
+                self._running -= 1
+                if self._running == 0 and self._resume:
+                    gc.enable()
+
+
+_cycle_collection_paused = _CollectorPause()
+
+
 #: The backend entries each matrix a SympyView converted came from, row by row: numeric code
 #: compiles those directly instead of converting the SymPy matrix back (a tenth of the
 #: compile time of a 10-link pendulum's equations).
@@ -148,6 +185,32 @@ def backend_entries(matrix: Any) -> tuple[Backend, ...] | None:
     """The SymEngine entries (row by row) that ``matrix`` was converted from by a
     :class:`SympyView`, or None for a matrix built any other way."""
     return _SOURCES.peek(matrix) if isinstance(matrix, sp.ImmutableMatrix) else None
+
+
+#: The ``nargs`` that SymPy's ``Application.__new__`` gives every value of a sine or a cosine
+#: (``FiniteSet(*cls._nargs)``); a FiniteSet is immutable, so one is shared by all the values.
+_NARGS: dict[Callable[..., sp.Expr], sp.FiniteSet] = {
+    f: sp.FiniteSet(*f._nargs) for f in (sp.sin, sp.cos)
+}
+
+
+def unevaluated_trig(function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.Expr:
+    """``function(argument, evaluate=False)`` for ``sp.sin`` or ``sp.cos`` and a SymPy
+    ``argument``, built as SymPy builds it: ``Function.__new__`` checks the number of
+    arguments and ``Application.__new__`` sympifies them (a SymPy expression is itself),
+    makes the value with ``Basic.__new__`` and sets its ``nargs`` to the function's, which
+    is all that is done here.  What is left out is SymPy's cache of the two constructors,
+    which only makes a later equal call return the same object, and making a new FiniteSet
+    for each value (a third of the time of converting a 200-link chain's M).
+
+    >>> x, y = sp.symbols("x y")
+    >>> value = unevaluated_trig(sp.cos, x - y)
+    >>> value == sp.cos(x - y, evaluate=False), value.nargs, sp.srepr(value)
+    (True, {1}, "cos(Add(Symbol('x'), Mul(Integer(-1), Symbol('y'))))")
+    """
+    value = sp.Basic.__new__(function, argument)
+    value.nargs = _NARGS[function]
+    return value
 
 
 def _symbol_difference(argument: sp.Expr) -> tuple[sp.Symbol, sp.Symbol, bool] | None:
@@ -186,14 +249,25 @@ def sympy_sum(terms: list[sp.Expr], order: CanonicalOrder | None = None) -> sp.E
     >>> sympy_sum([sp.Integer(2), 3 * y, x**2]) == sp.Add(2, 3 * y, x**2)
     True
     """
+    return _sum(terms, terms, order)
+
+
+def _sum(flat: list[sp.Expr], terms: list[sp.Expr], order: CanonicalOrder | None) -> sp.Expr:
+    """:func:`sympy_sum` of ``terms``, whose sums are flattened in ``flat`` (``terms`` until
+    one is met)."""
     coefficient: sp.Expr = sp.S.Zero
     parts: list[sp.Expr] = []
     seen: set[Any] = set()
-    for term in _flat(terms, sp.Add):
+    for term in flat:
         if term.is_Rational:
-            coefficient += term
+            # 0 + a rational number is that number (SymPy makes the same canonical one)
+            coefficient = term if coefficient is sp.S.Zero else coefficient + term
             continue
         kind = type(term)
+        if kind is sp.Add:
+            if flat is not terms:  # a sum among a sum's arguments: SymPy never makes one
+                return sp.Add(*terms)
+            return _sum(_flat(terms, sp.Add), terms, order)
         if kind is sp.Mul:
             args = term.args
             key: Any = (args[1:] if len(args) > 2 else args[1]) if args[0].is_Number else args
@@ -229,14 +303,25 @@ def sympy_product(factors: list[sp.Expr], order: CanonicalOrder | None = None) -
         and any(type(f) in (sp.Add, sp.Mul) for f in factors)
     ):
         return sp.Mul(*factors)  # SymPy's two-argument rules (a number times a sum)
+    return _product(factors, factors, order)
+
+
+def _product(flat: list[sp.Expr], factors: list[sp.Expr], order: CanonicalOrder | None) -> sp.Expr:
+    """:func:`sympy_product` of ``factors``, whose products are flattened in ``flat``
+    (``factors`` until one is met)."""
     coefficient: sp.Expr = sp.S.One
     parts: list[sp.Expr] = []
     bases: set[sp.Expr] = set()
-    for factor in _flat(factors, sp.Mul):
+    for factor in flat:
         if factor.is_Rational:
-            coefficient *= factor
+            # 1 * a rational number is that number (SymPy makes the same canonical one)
+            coefficient = factor if coefficient is sp.S.One else coefficient * factor
             continue
         kind = type(factor)
+        if kind is sp.Mul:
+            if flat is not factors:  # a product among a product's arguments: SymPy never makes one
+                return sp.Mul(*factors)
+            return _product(_flat(factors, sp.Mul), factors, order)
         if kind is sp.Pow:
             base, exponent = factor.args
             if base.is_Number or not exponent.is_Rational:
