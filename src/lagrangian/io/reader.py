@@ -21,7 +21,7 @@ import sympy as sp
 from lagrangian.errors import ExpressionError, Problem
 from lagrangian.io.document import Document, child
 from lagrangian.io.model_schema import entry_keys
-from lagrangian.model.expressions import closest_name, parse_expression
+from lagrangian.model.expressions import ParseCache, closest_name, parse_expression
 
 _EXAMPLE_VECTOR = 'a list such as ["l*sin(theta)", "-l*cos(theta)"]'
 
@@ -60,6 +60,7 @@ class Reader:
         self.names: dict[str, sp.Basic] = dict(names or {})
         self.problems: list[Problem] = []
         self.expression_problems = 0
+        self.parsed = ParseCache()  # the expressions of one document share their parts
 
     def problem(self, path: str, message: str, fix: str = "", *, key: bool = False) -> None:
         """Record a problem at ``path`` (at its key when ``key``)."""
@@ -148,7 +149,13 @@ class Reader:
             value = text
         try:
             return parse_expression(
-                value, self.names, field=path, source=self.document.source, line=line, column=column
+                value,
+                self.names,
+                field=path,
+                source=self.document.source,
+                line=line,
+                column=column,
+                cache=self.parsed,
             )
         except ExpressionError as exc:
             self.problems.extend(exc.problems)

@@ -31,7 +31,7 @@ import heapq
 import re
 import warnings
 from collections.abc import Callable, Iterable, Mapping
-from typing import NoReturn
+from typing import NamedTuple, NoReturn, TypeGuard
 
 import sympy as sp
 
@@ -298,14 +298,107 @@ def _number(value: object) -> sp.Rational:
     return -magnitude if value < 0 else magnitude
 
 
+#: How much a :class:`ParseCache` keeps: the characters of the texts of its parts, each part
+#: counted as this many characters more (at most 40,000 parts, some megabytes).
+_SHARED_CHARACTERS = 4_000_000
+_SHARED_PART_COST = 100
+
+
+class _Built(NamedTuple):
+    """A part built from a text: its value, the bits it spent of the budget and of the roots'
+    budget, how many levels below it the build went, and the terms of a chain (or None)."""
+
+    value: sp.Expr
+    bits: int
+    root_bits: int
+    height: int
+    terms: list[sp.Expr] | None
+
+
+class ParseCache:
+    """What the expressions of one model share while they are parsed: the parts built from
+    each text (a chain's positions repeat ``l*sin(th1)`` in every position, and each position
+    extends the one before), the sizes of SymPy trees, and the parts already checked.
+
+    Pass one to :func:`parse_expression` for every expression of a model; it answers for one
+    set of ``names`` at a time (other names start it afresh).  A shared part is taken only
+    where building it again could refuse nothing (depth and number budgets), so results and
+    refusals are those of parsing each text on its own.
+
+    >>> x = sp.Symbol("x")
+    >>> cache = ParseCache()
+    >>> [parse_expression(t, {"x": x}, field="f", cache=cache) for t in ("2*x", "2*x + 1")]
+    [2*x, 2*x + 1]
+    """
+
+    def __init__(self) -> None:
+        self._start({})
+
+    def use(self, names: Mapping[str, sp.Basic]) -> None:
+        """Answer for ``names`` (forgetting everything found with other names)."""
+        if self.names != names:
+            self._start(names)
+
+    def _start(self, names: Mapping[str, sp.Basic]) -> None:
+        self.names: dict[str, sp.Basic] = dict(names)
+        self.built: dict[str, _Built] = {}
+        self.room = _SHARED_CHARACTERS  # for the texts of the parts kept
+        self.sizes: dict[sp.Basic, int] = {}
+        self.checked: set[sp.Basic] = set()
+        self.degrees: dict[sp.Basic, dict[sp.Basic, int]] = {}
+        self.products: dict[sp.Basic, int] = {}
+        self.bits: dict[sp.Basic, int] = {}
+        self.written: dict[sp.Basic, int] = {}
+
+    def keep(self, text: str, built: _Built) -> None:
+        """Keep the part built from ``text`` while there is room (deeply nested texts repeat
+        most of their characters in the text of each level; each part costs some more)."""
+        cost = len(text) + _SHARED_PART_COST
+        if cost <= self.room:
+            self.room -= cost
+            self.built[text] = built
+
+
 class _Builder:
     """Turns an allow-listed ``ast`` tree into SymPy, refusing everything else."""
 
-    def __init__(self, text: str, names: Mapping[str, sp.Basic]) -> None:
+    def __init__(
+        self, text: str, names: Mapping[str, sp.Basic], shared: ParseCache | None = None
+    ) -> None:
         self.lines = text.split("\n")
+        self.ascii = [line.isascii() for line in self.lines]
         self.names = {**CONSTANTS, **names}
         self.budget, self.root_budget = _BUDGET_BITS, _ROOT_BITS
-        self.sizes: dict[sp.Basic, int] = {}
+        self.shared = shared
+        self.sizes: dict[sp.Basic, int] = {} if shared is None else shared.sizes
+        self.deepest = 0  # the deepest level the part being built has reached
+        self.chain: tuple[ast.AST, list[sp.Expr]] | None = None  # the last chain's terms
+
+    def key(self, node: ast.AST) -> str | None:
+        """The text of a part worth sharing (an operation or a call on one line of ASCII
+        text; the same text is the same tree), or None."""
+        if self.shared is None or not isinstance(node, (ast.BinOp, ast.UnaryOp, ast.Call)):
+            return None
+        line = node.lineno
+        if line != node.end_lineno or not self.ascii[line - 1]:
+            return None
+        return self.lines[line - 1][node.col_offset : node.end_col_offset]
+
+    def reuse(self, built: _Built | None, depth: int) -> TypeGuard[_Built]:
+        """Whether a part built before (from the same text) may stand here: it went no deeper
+        than the limit would allow here, and its numbers fit in what is left of the budgets
+        (then building it again could refuse nothing); if so, its numbers are spent."""
+        if (
+            built is None
+            or depth + built.height > MAX_DEPTH
+            or built.bits > self.budget
+            or built.root_bits > self.root_budget
+        ):
+            return False
+        self.budget -= built.bits
+        self.root_budget -= built.root_bits
+        self.deepest = max(self.deepest, depth + built.height)
+        return True
 
     def at(self, node: ast.AST, end: bool = False) -> tuple[int, int]:
         """(line, 0-based character column) of a node; ast columns count UTF-8 bytes."""
@@ -338,6 +431,13 @@ class _Builder:
     def build(self, node: ast.AST, depth: int) -> sp.Expr:
         if depth > MAX_DEPTH:
             self.refuse(node, f"nested more than {MAX_DEPTH} levels deep", "simplify it")
+        key = self.key(node)
+        if key is not None and self.shared is not None:
+            built = self.shared.built.get(key)
+            if self.reuse(built, depth):
+                return built.value
+        budget, root_budget, deepest = self.budget, self.root_budget, self.deepest
+        self.deepest = depth
         try:
             value = self._dispatch(node, depth)
             if self.size(value) > MAX_NODES:
@@ -360,6 +460,12 @@ class _Builder:
         except Exception as error:  # SymPy's own refusals, such as Heaviside(asin(2))
             message = f"SymPy cannot form this part ({type(error).__name__}: {str(error)[:99]})"
             raise _Refusal(message, "check the formula", self.at(node)) from None
+        if key is not None and self.shared is not None:
+            chain = self.chain
+            terms = chain[1] if chain is not None and chain[0] is node else None
+            spent = (budget - self.budget, root_budget - self.root_budget)
+            self.shared.keep(key, _Built(value, *spent, self.deepest - depth, terms))
+        self.deepest = max(deepest, self.deepest)
         return value
 
     def _dispatch(self, node: ast.AST, depth: int) -> sp.Expr:
@@ -395,10 +501,23 @@ class _Builder:
         so a long sum is not mistaken for deep nesting."""
         links: list[tuple[ast.operator, ast.expr]] = []
         current: ast.expr = node
+        terms: list[sp.Expr] | None = None
         while isinstance(current, ast.BinOp) and isinstance(current.op, ops):
             links.append((current.op, current.right))
             current = current.left
-        terms = [self.build(current, depth + 1)]
+            if (
+                len(links) == 1
+                and isinstance(current, ast.BinOp)
+                and isinstance(current.op, ops)
+                and (key := self.key(current)) is not None
+            ):
+                # a chain that extends one built before (a + b + c after a + b): its terms
+                built = self.shared.built.get(key) if self.shared is not None else None
+                if built is not None and built.terms is not None and self.reuse(built, depth):
+                    terms = list(built.terms)
+                    break
+        if terms is None:
+            terms = [self.build(current, depth + 1)]
         for op, operand in reversed(links):
             value = self.build(operand, depth + 1)
             if isinstance(op, ast.Div) and value == sp.S.Zero:
@@ -406,6 +525,7 @@ class _Builder:
             if isinstance(op, ast.Sub):
                 value = sp.Mul(sp.S.NegativeOne, value)
             terms.append(sp.Pow(value, -1) if isinstance(op, ast.Div) else value)
+        self.chain = (node, terms)
         return sp.Add(*terms) if ops[0] is ast.Add else sp.Mul(*terms)
 
     def _power(self, base: sp.Expr, exponent: sp.Expr) -> sp.Expr:
@@ -630,53 +750,67 @@ def expanded_terms(value: sp.Basic, limit: int = MAX_TERMS) -> int:
     >>> expanded_terms((x + y + 1) ** 2), expanded_terms(sp.sin((x + y) ** 9))
     (6, 1)
     """
+    return _expanded_terms(value, limit, {}, {})
+
+
+def _expanded_terms(
+    value: sp.Basic, limit: int, degrees: dict[sp.Basic, dict[sp.Basic, int]], products: dict
+) -> int:
+    """:func:`expanded_terms`, with the degrees and products of parts known from ``degrees``
+    and ``products`` (filled in as they are found; ``products`` for this ``limit`` only)."""
     monomials = 1
-    for degree in _degrees(value).values():
+    for degree in _degrees(value, degrees).values():
         monomials = min(limit + 1, monomials * (degree + 1))
-    return min(monomials, _products(value, limit))
+    return min(monomials, _products(value, limit, products))
 
 
-def _degrees(value: sp.Basic) -> dict[sp.Basic, int]:
+def _degrees(value: sp.Basic, memo: dict[sp.Basic, dict[sp.Basic, int]]) -> dict[sp.Basic, int]:
     """The degree of ``value`` in each of its generators (symbols, and functions or powers
-    that are not polynomial), read from its tree without expanding it."""
+    that are not polynomial), read from its tree without expanding it (``memo``: the degrees
+    of parts found before; the dicts are shared, never changed)."""
+    found = memo.get(value)
+    if found is not None:
+        return found
+    found = {}
     if isinstance(value, (sp.Add, sp.Mul)):
-        parts = [_degrees(a) for a in value.args]
-        found: dict[sp.Basic, int] = {}
+        parts = [_degrees(a, memo) for a in value.args]
         for part in parts:
             for generator, degree in part.items():
                 if isinstance(value, sp.Add):
                     found[generator] = max(found.get(generator, 0), degree)
                 else:
                     found[generator] = found.get(generator, 0) + degree
-        return found
-    if isinstance(value, sp.Pow) and value.exp.is_Integer and value.exp > 0:
-        return {g: d * int(value.exp) for g, d in _degrees(value.base).items()}
-    if value.is_number:
-        return {}
-    return {value: 1}
+    elif isinstance(value, sp.Pow) and value.exp.is_Integer and value.exp > 0:
+        found = {g: d * int(value.exp) for g, d in _degrees(value.base, memo).items()}
+    elif not value.is_number:
+        found = {value: 1}
+    memo[value] = found
+    return found
 
 
-def _products(value: sp.Basic, limit: int) -> int:
-    """The terms of ``value`` multiplied out, like terms not merged (at most ``limit + 1``)."""
+def _products(value: sp.Basic, limit: int, memo: dict[sp.Basic, int]) -> int:
+    """The terms of ``value`` multiplied out, like terms not merged (at most ``limit + 1``;
+    ``memo``: the counts of parts found before, for this ``limit``)."""
+    count = memo.get(value)
+    if count is not None:
+        return count
+    count = 1  # a symbol, a number, a function: its arguments are not multiplied out
     if isinstance(value, sp.Add):
-        return min(limit + 1, sum(_products(a, limit) for a in value.args))
-    if isinstance(value, sp.Mul):
-        total = 1
+        count = min(limit + 1, sum(_products(a, limit, memo) for a in value.args))
+    elif isinstance(value, sp.Mul):
         for factor in value.args:
-            total = min(limit + 1, total * _products(factor, limit))
-        return total
-    if isinstance(value, sp.Pow) and value.exp.is_Integer and value.exp > 1:
-        terms = _products(value.base, limit)
-        if terms == 1:
-            return 1
+            count = min(limit + 1, count * _products(factor, limit, memo))
+    elif isinstance(value, sp.Pow) and value.exp.is_Integer and value.exp > 1:
+        terms = _products(value.base, limit, memo)
         n = int(value.exp)
-        count = 1  # C(n + terms - 1, terms - 1): the monomials of degree n in ``terms``
+        # C(n + terms - 1, terms - 1): the monomials of degree n in ``terms``
         for i in range(1, min(n, terms - 1) + 1):
             count = count * (n + terms - 1 - min(n, terms - 1) + i) // i
             if count > limit:
-                return limit + 1
-        return count
-    return 1  # a symbol, a number, a function: its arguments are not multiplied out
+                count = limit + 1
+                break
+    memo[value] = count
+    return count
 
 
 def expanded_bits(value: sp.Basic) -> int:
@@ -707,18 +841,51 @@ def _bits_memo(value: sp.Basic, memo: dict[sp.Basic, int]) -> int:
     return bits
 
 
-def _check_result(value: sp.Basic) -> None:
-    """Products and powers merge numbers and exponents (``x**999*x**9``): check the result."""
-    parts = distinct_parts(value)  # each check in preorder, a shared part once
+def _written_bits(value: sp.Basic, memo: dict[sp.Basic, int]) -> int:
+    """The bits of the largest number in ``value`` (0 when there is none)."""
+    bits = memo.get(value)
+    if bits is None:
+        if isinstance(value, sp.Rational):
+            bits = _bits(value)
+        else:
+            bits = max([_written_bits(a, memo) for a in value.args], default=0)
+        memo[value] = bits
+    return bits
+
+
+def _unchecked_parts(value: sp.Basic, checked: set[sp.Basic]) -> list[sp.Basic]:
+    """The :func:`distinct_parts` of ``value`` that are not in ``checked``, in their order
+    (the parts of a checked part are checked too, so the walk does not enter it)."""
+    seen: set[sp.Basic] = set()
+    parts: list[sp.Basic] = []
+    stack = [value]
+    while stack:
+        node = stack.pop()
+        if node in seen or node in checked:
+            continue
+        seen.add(node)
+        parts.append(node)
+        stack.extend(reversed(node.args))
+    return parts
+
+
+def _check_result(value: sp.Basic, cache: ParseCache | None = None) -> None:
+    """Products and powers merge numbers and exponents (``x**999*x**9``): check the result.
+
+    With a ``cache``, the parts that passed every check of a part in an expression before
+    are not checked again (no refusal can come from them) and what the whole is counted from
+    (degrees, products, sizes of numbers) is remembered for each part."""
+    shared = cache if cache is not None else ParseCache()
+    # each check in preorder, a shared part once
+    parts = distinct_parts(value) if cache is None else _unchecked_parts(value, cache.checked)
     _check_denominators(value, parts)
-    if expanded_terms(value) > MAX_TERMS:
+    if _expanded_terms(value, MAX_TERMS, shared.degrees, shared.products) > MAX_TERMS:
         raise _Refusal(
             f"multiplied out, this expression has more than {MAX_TERMS:,} terms",
             "write it with fewer or shorter sums under powers and products",
         )
-    numbers = [part for part in parts if isinstance(part, sp.Rational)]
-    written = max((_bits(number) for number in numbers), default=0)
-    if (bits := expanded_bits(value)) > written + MAX_EXPANDED_BITS:
+    written = _written_bits(value, shared.written)
+    if (bits := _bits_memo(value, shared.bits)) > written + MAX_EXPANDED_BITS:
         raise _Refusal(
             f"multiplied out, this expression has numbers of about {bits * 3 // 10:,} digits",
             "write it with fewer sums under powers and products (a long product of sums "
@@ -731,6 +898,8 @@ def _check_result(value: sp.Basic) -> None:
             _check_size(part)
         if isinstance(part, sp.Pow) and part.exp.is_Number and abs(part.exp) > MAX_EXPONENT:
             raise _Refusal(f"a power {part.exp} beyond ±{MAX_EXPONENT}", "use smaller exponents")
+    if cache is not None:
+        cache.checked.update(parts)
 
 
 def parse_expression(
@@ -741,6 +910,7 @@ def parse_expression(
     source: str | None = None,
     line: int | None = None,
     column: int | None = None,
+    cache: ParseCache | None = None,
 ) -> sp.Expr:
     """The SymPy expression a model file's text means, or an ExpressionError saying why not.
 
@@ -750,6 +920,8 @@ def parse_expression(
     unless given).  ``field`` is the dotted path of the field, ``source`` the file name, and
     ``line``/``column`` where the text starts in the file (1-based); without them positions
     are counted from the start of the text.  A bare int or float becomes an exact number.
+    ``cache``: a :class:`ParseCache` shared by the expressions of one model (the results are
+    the same with it, and come faster where the texts repeat parts).
 
     >>> import sympy as sp
     >>> theta = sp.Symbol("theta")
@@ -765,8 +937,10 @@ def parse_expression(
         text = text.replace("\r\n", "\n").replace("\r", "\n")
         body = text.lstrip(" \t\f\n")  # Python refuses leading indentation
         prefix = text[: len(text) - len(body)]
-        value = _Builder(body, names).build(_read(body).body, 1)
-        _check_result(value)
+        if cache is not None:
+            cache.use(names)
+        value = _Builder(body, names, cache).build(_read(body).body, 1)
+        _check_result(value, cache)
         return value
     except _Refusal as refusal:
         at_line, at_column = (

@@ -14,6 +14,7 @@ from dataclasses import fields, is_dataclass, replace
 from typing import TYPE_CHECKING, Any, get_args
 
 import sympy as sp
+from sympy.core.function import AppliedUndef
 
 from lagrangian.errors import ModelError, Problem, raise_if_problems
 from lagrangian.model.circuit import CircuitElement
@@ -61,6 +62,7 @@ class _Canonicalizer:
     def __init__(self, symbols: list[sp.Symbol]) -> None:
         self.by_name = {s.name: s for s in symbols}
         self.by_name["t"] = t
+        self.canonical: set[sp.Basic] = set()  # parts with nothing to replace
 
     def __call__(self, value: Any) -> Any:
         value = as_expression(value)
@@ -68,7 +70,7 @@ class _Canonicalizer:
             return tuple(self(v) for v in value)
         if isinstance(value, (Orientation, Shape)):  # rebuilt from its canonical expressions
             return value.map(self)
-        if not isinstance(value, sp.Basic):
+        if not isinstance(value, sp.Basic) or self._is_canonical(value):
             return value
         value = from_time_functions(value)
         swap = {
@@ -77,6 +79,38 @@ class _Canonicalizer:
             if isinstance(s, sp.Symbol) and s.name in self.by_name and self.by_name[s.name] != s
         }
         return value.xreplace(swap) if swap else value
+
+    def _is_canonical(self, value: sp.Basic) -> bool:
+        """Whether ``value`` has nothing to replace: no time function or derivative, and
+        every symbol the canonical one of its name (a walk that enters each shared part once,
+        and not the parts found so before: the positions of a chain share most of them)."""
+        seen: set[sp.Basic] = set()
+        stack = [value]
+        while stack:
+            part = stack.pop()
+            if part in self.canonical or part in seen:
+                continue
+            if isinstance(part, sp.Symbol):
+                if self.by_name.get(part.name, part) != part:
+                    return False
+            elif not _is_plain(part):
+                return False
+            seen.add(part)
+            stack.extend(part.args)
+        self.canonical.update(seen)
+        return True
+
+
+#: Expressions whose free symbols are those of their parts (no symbol bound in them).
+_PLAIN = (sp.Add, sp.Mul, sp.Pow, sp.Atom, sp.Function)
+
+
+def _is_plain(part: sp.Basic) -> bool:
+    """Whether ``part`` (not a Symbol) neither is a time function nor binds or holds symbols
+    of its own (derivatives, integrals, atoms with free symbols)."""
+    if not isinstance(part, _PLAIN) or isinstance(part, AppliedUndef):
+        return False
+    return not (isinstance(part, sp.Atom) and part.free_symbols)
 
 
 def _coordinates(raw: Any, problems: list[Problem]) -> tuple[sp.Symbol, ...]:
