@@ -191,12 +191,31 @@ def test_a_fifty_link_chain_is_derived_well_within_its_timeout(cli):
     assert outcome.code == 0, outcome
 
 
+def particle_chain(n: int) -> str:
+    """A model file of ``n`` equal point masses, bob i at the sum of the rods above it."""
+    coordinates = ", ".join(f"th{i}" for i in range(1, n + 1))
+    lines = [f"coordinates: [{coordinates}]", "parameters: {g: 9.81, l: 1, m: 1}", "particles:"]
+    x: list[str] = []
+    y: list[str] = []
+    for i in range(1, n + 1):
+        x.append(f"l*sin(th{i})")
+        y.append(f"-l*cos(th{i})")
+        lines.append(f"  - {{name: p{i}, mass: m, position: [{' + '.join(x)}, {' + '.join(y)}]}}")
+    return "\n".join([*lines, "gravity: [0, -g]"]) + "\n"
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("model", ["n_link_pendulum:200"])
-def test_a_large_legitimate_system_ends_within_its_timeout(cli, model):
-    outcome = cli(["derive", model, "--timeout", "20"])
-    assert outcome.code in (0, 1), outcome
-    assert outcome.code == 0 or "stopped after --timeout" in outcome.err, outcome
+@pytest.mark.parametrize("model", ["n_link_pendulum:200", "particle_chain.yaml"])
+def test_a_chain_of_200_masses_is_derived_within_the_memory_bound(cli, tmp_path, model):
+    # Legitimate, so it must succeed (and within 1 GiB).  Its time against the bound of
+    # 30 s is measured by benchmarks/large_inputs.py: the timeout here only stops a hang.
+    if model.endswith(".yaml"):
+        (tmp_path / model).write_text(particle_chain(200))
+    outcome = cli(["derive", model], timeout=240, fresh=True)
+    assert outcome.code == 0, outcome
+    assert outcome.peak_bytes < GiB, outcome.peak_bytes
+    last = "theta200_ddot" if model.startswith("n_link") else "th200_ddot"
+    assert outcome.out.count(" = 0\n") == 200 and last in outcome.out
 
 
 # -- simulation options and values ---------------------------------------------------------
