@@ -22,6 +22,7 @@ import sympy as sp
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from sympy.physics import units
+from sympy.printing.precedence import PRECEDENCE
 from sympy.printing.str import StrPrinter
 
 import lagrangian as lg
@@ -112,6 +113,12 @@ def _assert_same(exprs: list[sp.Basic], names: dict[sp.Symbol, str] | None = Non
         assert shared_latex.doprint(expr) == expected, expr
 
 
+class LowPrecedence(sp.Function):
+    """A function written with a sum's precedence (precedence_Mul looks for one)."""
+
+    precedence = PRECEDENCE["Add"]
+
+
 x, y, z, t = sp.symbols("x y z t")
 a, b = sp.symbols("a b", positive=True)
 A, B = sp.symbols("A B", commutative=False)
@@ -194,6 +201,16 @@ CORNER_CASES: list[sp.Basic] = [
     sp.Add(*sp.symbols(f"m1:{SORTED_TERMS + 5}")) / 2 + sp.Add(*sp.symbols("k1:4")) * x,
     sum(sp.Rational(k, 7) * x**k for k in range(-3, 8)),
     sum((-1) ** k * sp.Symbol(f"x{k}") ** (k % 3 + 1) for k in range(SORTED_TERMS + 3)),
+    # products of plain factors after at most a -1 (SumPrinter._plain_product), and products
+    # next to them that are not: the same factors in other products and precedences
+    x * y * (x + z) * sp.cos(x - y) - x * z * (x + z) * sp.sin(x - y),
+    -x * y * (x + z) * sp.cos(x - y) + x * y**2 * (x + z),
+    -x * (x + z) + x * y * (x + z) ** 2 / z - 2 * x * (x + z),
+    -x * sp.Add(*sp.symbols(f"m1:{SORTED_TERMS + 5}")) * y + x * sp.sin(x) * y,
+    -x * y * A * B + x * y * B,
+    -x * y * LowPrecedence(x) + x * y * LowPrecedence(y) + LowPrecedence(x) * z,
+    -x * sp.Mod(x, 3) * LowPrecedence(y) + x * sp.Mod(x, 3),
+    -x * sp.Pow(2, 3, evaluate=False) * y + x * y,
 ]
 
 

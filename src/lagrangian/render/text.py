@@ -11,6 +11,7 @@ g*l*m*sin(theta) + l**2*m*theta_ddot = 0
 from __future__ import annotations
 
 import re
+from operator import itemgetter
 from typing import Any
 
 import sympy as sp
@@ -231,6 +232,27 @@ class SumPrinter(KeptText, StrPrinter):
         self._precedences: dict[sp.Basic, int] = {}
         # the text of a factor written in a product (parenthesized by the product's precedence)
         self._plain_factors: dict[tuple[str | None, int], dict[sp.Basic, str]] = {}
+        # the same for plain products (_plain_product), with the factor's sort key first
+        self._plain_products: dict[tuple[str | None, int], dict[sp.Basic, tuple[Any, str]]] = {}
+
+    def _print(self, expr: Any, **kwargs: Any) -> str:
+        if type(expr) is not Mul or kwargs:
+            return super()._print(expr, **kwargs)
+        # a product (most of what a chain's equations hold), as KeptText._print and then
+        # Printer._print would write it: a product is never a Float, Mul has no _sympystr,
+        # and _print_Mul is the first printing method its classes name
+        written = self._written.setdefault(self._settings["order"], {})
+        text = written.get(expr)
+        if text is None:
+            top = self._print_level == 0
+            self._print_level += 1  # StrPrinter writes a Float by this depth
+            try:
+                text = self._print_Mul(expr)
+            finally:
+                self._print_level -= 1
+            if not top and len(text) <= KEPT_PRODUCT:
+                written[expr] = text
+        return text
 
     def parenthesize(self, item: Any, level: int, strict: bool = False) -> str:
         prec = self._precedence(item)
@@ -278,6 +300,9 @@ class SumPrinter(KeptText, StrPrinter):
         return " ".join(parts)
 
     def _print_Mul(self, expr: sp.Mul) -> str:
+        text = self._plain_product(expr)
+        if text is not None:
+            return text
         if self.order is None and any(a.is_Add and len(a.args) > SORTED_TERMS for a in expr.args):
             self._settings["order"] = "none"  # for this product only
             try:
@@ -345,6 +370,56 @@ class SumPrinter(KeptText, StrPrinter):
             return f"{sign}{top}/{bottom[0]}"
         return f"{sign}{top}/({'*'.join(bottom)})"
 
+    def _plain_product(self, expr: sp.Mul) -> str | None:
+        """What _print_Mul writes for a product of plain factors (:meth:`_plain_factor`) after
+        at most a leading -1, such as c*l_j*l_k*(m_k + ...)*cos(theta_j - theta_k) of a chain;
+        None for any other product.
+
+        The same text by the same steps, with less made on the way. Such a product passes
+        _print_Mul's tests (no long sum, no number after the first factor, no power of
+        integers) to _print_product. Its precedence is MUL, or ADD after a -1 (precedence_Mul:
+        no factor is a function of lower precedence, and -x*y*... could extract a minus
+        sign; see extracts_minus_sign). For -1*x*y*..., as_coeff_Mul and _keep_coeff(1, .)
+        give the product of the other factors (args[1:]: an evaluated product holds at most
+        one number, first), which is commutative when the whole is and whose factors
+        TermOrder.factors sorts by key as they stand; no factor stops _print_product's
+        first loop. Each factor's sort key and text (parenthesized by the product's
+        precedence) come from one lookup.
+        """
+        args = expr.args
+        if args[0] is S.NegativeOne and len(args) > 2:
+            sign, args, prec = "-", args[1:], ADD
+        else:
+            sign, prec = "", MUL
+        ordered = self.order not in ("old", "none")
+        if ordered and not expr.is_commutative:
+            return None
+        known = self._plain_products.setdefault((self.order, prec), {})
+        entries = []
+        for item in args:
+            entry = known.get(item)
+            if entry is None:
+                if not self._plain_factor(item):
+                    return None
+                key = self._order.key(item) if ordered else None
+                entry = known[item] = (key, self.parenthesize(item, prec))
+            entries.append(entry)
+        if ordered:
+            entries.sort(key=_sort_key)  # stable, as sorted(args, key=TermOrder.key)
+        return sign + "*".join([text for _, text in entries])
+
+    def _plain_factor(self, item: sp.Basic) -> bool:
+        """Not a number, nor in a denominator, nor a power of integers (written unevaluated),
+        nor a sum written in SymPy's order, nor a function of lower precedence than a
+        product: a factor that _print_product writes as it stands."""
+        return not (
+            item.is_Number
+            or _in_denominator(item)
+            or (item.is_Pow and all(a.is_Integer for a in item.args))
+            or (self.order is None and item.is_Add and len(item.args) > SORTED_TERMS)
+            or (isinstance(item, sp.Function) and getattr(item, "precedence", MUL) < MUL)
+        )
+
 
 def extracts_minus_sign(expr: sp.Basic) -> bool:
     """``expr.could_extract_minus_sign()``, without negating a product that does not start
@@ -384,6 +459,8 @@ SORTED_TERMS = 50
 KEPT_PRODUCT = 200
 
 ADD, MUL = PRECEDENCE["Add"], PRECEDENCE["Mul"]
+
+_sort_key = itemgetter(0)
 
 
 def label(symbol: sp.Symbol, mark: str = "") -> str:
