@@ -19,18 +19,107 @@ import importlib.util
 import math
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 HERE = Path(__file__).resolve()
 sys.path.insert(0, str(HERE.parents[1] / "src"))  # the checkout, installed or not
 
 import lagrangian as lg  # noqa: E402
-from lagrangian.render.flip_map_plot import flip_map_figure, save_flip_map  # noqa: E402
-from lagrangian.simulation.flip_map import flip_times  # noqa: E402
+from lagrangian.derivation import EquationsOfMotion  # noqa: E402
+from lagrangian.model import System  # noqa: E402
 
 LENGTH, GRAVITY = 1.0, 9.81
+
+
+def flipped(t: float, q: np.ndarray, q_dot: np.ndarray) -> np.ndarray:
+    """pi - max(|theta|, |phi|): negative once either arm has flipped over."""
+    return np.pi - np.maximum(np.abs(q[..., 0]), np.abs(q[..., 1]))
+
+
+def flip_times(
+    double_pendulum: System | EquationsOfMotion,
+    theta: ArrayLike,
+    phi: ArrayLike,
+    t_end: float,
+    *,
+    length: float = 1.0,
+    gravity: float = 9.81,
+    rtol: float = 1e-9,
+    atol: float = 1e-9,
+    backend: str = "numpy",
+    progress: bool | Callable[[float], None] = False,
+    workers: int = 1,
+) -> np.ndarray:
+    """Flip times of starts at rest on the grid ``theta`` x ``phi``, shape (len(phi),
+    len(theta)) (rows: phi, as an image), NaN where no arm flips before ``t_end``.
+
+    ``double_pendulum``: ``lagrangian.examples.double_pendulum()`` or its equations (angles
+    theta, phi; parameters m1, m2, l1, l2, g).  DOP853 with rtol and atol; both masses 1 (the
+    times do not depend on them when equal).
+    """
+    grid_theta, grid_phi = np.meshgrid(np.asarray(theta, float), np.asarray(phi, float))
+    at_rest = {"theta_dot": 0.0, "phi_dot": 0.0}
+    batch = lg.simulate_batch(
+        double_pendulum,
+        {"theta": grid_theta.ravel(), "phi": grid_phi.ravel(), **at_rest},
+        t_end,
+        parameters={"l1": length, "l2": length, "g": gravity, "m1": 1.0, "m2": 1.0},
+        method="DOP853",
+        rtol=rtol,
+        atol=atol,
+        stop_when=flipped,
+        backend=backend,
+        progress=progress,
+        workers=workers,
+    )
+    return batch.stop_time.reshape(grid_theta.shape)
+
+
+def flip_map_figure(
+    times: np.ndarray,
+    theta_range: tuple[float, float],
+    phi_range: tuple[float, float],
+    t_end: float,
+    unit: float = 1.0,
+) -> Figure:
+    """The map ``times`` (rows: phi, columns: theta; NaN: no flip) as a figure; times are
+    shown divided by ``unit`` (sqrt(l/g) for dimensionless times)."""
+    from matplotlib.colors import LogNorm
+    from matplotlib.figure import Figure
+
+    scaled = np.asarray(times, dtype=float) / unit
+    finite = scaled[np.isfinite(scaled)]
+    low = float(np.min(finite)) if finite.size else 1e-3
+    figure = Figure(figsize=(6.4, 5.4), layout="constrained")
+    ax = figure.add_subplot()
+    image = ax.imshow(
+        np.ma.masked_invalid(scaled),
+        origin="lower",
+        extent=(*theta_range, *phi_range),
+        cmap="viridis",
+        norm=LogNorm(vmin=max(low, 1e-3), vmax=t_end / unit),
+        interpolation="nearest",
+    )
+    ax.set_facecolor("white")
+    ax.set_xlabel("theta (rad)")
+    ax.set_ylabel("phi (rad)")
+    ax.set_title(f"Double pendulum: time until an arm flips (white: none by {t_end / unit:g})")
+    label = "flip time" if unit == 1.0 else "flip time / sqrt(l/g)"
+    figure.colorbar(image, ax=ax, label=label)
+    return figure
+
+
+def save_flip_map(path: str | Path, figure: Figure, dpi: int = 100) -> None:
+    """Write the figure as a PNG."""
+    figure.savefig(path, dpi=dpi)
 
 
 def main(argv: list[str] | None = None) -> int:

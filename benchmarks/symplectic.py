@@ -8,10 +8,11 @@ What is measured
             output:
               - ``lg.simulate(eom, ..., method="variational", dt=0.01)`` for ``--steps`` steps
                 (default 10^5) on the compiled path, against the NumPy march that was the
-                only path before (``lagrangian.simulation.variational.COMPILED = False``,
+                only path before (``lagrangian.simulation.variational.midpoint.COMPILED = False``,
                 timed on a tenth of the steps: its rate does not depend on the length); both
                 compiled and warm, best of 3.  Steps per second and their ratio.
-              - the marches alone (``lagrangian.simulation.variational.discrete_march``, what
+              - the marches alone (``lagrangian.simulation.variational.midpoint.discrete_march``,
+              what
                 simulate calls) of variational, gauss4 and gauss6, compiled and in NumPy.
               - end to end in a fresh process, numba's cache holding the loops: import
                 lagrangian, derive, the first simulate of 10^4 steps (compiling the terms by
@@ -68,8 +69,8 @@ from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics  
 from lagrangian.numerics.fast import fast_equations  # noqa: E402
 from lagrangian.numerics.fast.run import integrate  # noqa: E402
 from lagrangian.numerics.fast.settings import Settings  # noqa: E402
-from lagrangian.simulation import variational  # noqa: E402
-from lagrangian.simulation.collocation import tableau_for  # noqa: E402
+from lagrangian.simulation.variational import midpoint as variational  # noqa: E402
+from lagrangian.simulation.variational.collocation import tableau_for  # noqa: E402
 from machine import cpu_model, package_version  # noqa: E402
 from variational import Pendulum, make_pendulum  # noqa: E402
 

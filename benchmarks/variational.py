@@ -28,7 +28,7 @@ What is measured
 
 How
     The variational integrator runs through ``lg.simulate`` in the drift part and through its
-    stepping loop ``lagrangian.simulation.variational_march.march`` in the work part (so that the
+    stepping loop ``lagrangian.simulation.variational.march.march`` in the work part (so that the
     evaluations are counted; the same code ``simulate`` calls); RK45 and DOP853 run through
     solve_ivp with every accepted step returned. Each case is compiled and warmed up once
     before it is timed. Wall times are single runs on a possibly shared machine.
@@ -62,7 +62,7 @@ sys.path.insert(0, str(HERE.parent))
 import lagrangian as lg  # noqa: E402
 from lagrangian.numerics.compile import compile_equations  # noqa: E402
 from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics  # noqa: E402
-from lagrangian.simulation.variational_march import march  # noqa: E402
+from lagrangian.simulation.variational.march import march  # noqa: E402
 from machine import cpu_model, package_version  # noqa: E402
 
 RESULTS = HERE.parent / "RESULTS.md"

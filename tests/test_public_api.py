@@ -132,7 +132,8 @@ def test_import_loads_nothing_heavy_and_derive_loads_no_scipy() -> None:
 
 
 def test_a_function_is_not_shadowed_by_its_module() -> None:
-    # simulation/action.py defines action(): importing the module first must not hide it.
+    # simulation/variational/action.py defines action(): importing the module first must not hide
+    # it.
     kinds = run_fresh(
         """
         import json

@@ -7,15 +7,15 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.analysis.conditional_integrals import candidate_relations
-from lagrangian.analysis.first_integrals import first_integrals
-from lagrangian.analysis.lie_symmetries import lie_point_symmetries
-from lagrangian.analysis.manifold_integrals import manifold_integrals
-from lagrangian.analysis.quadratic_integrals import cubic_integrals, quadratic_integrals
-from lagrangian.model.symbols import time_derivative
+from lagrangian.analysis.integrals.conditional import candidate_relations
+from lagrangian.analysis.integrals.lie_symmetries import lie_point_symmetries
+from lagrangian.analysis.integrals.quadratic import cubic_integrals, quadratic_integrals
+from lagrangian.analysis.integrals.search import first_integrals
+from lagrangian.analysis.manifold.integrals import manifold_integrals
 from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.analysis_text import analysis_text
+from lagrangian.symbolic.symbols import time_derivative
 
 x, y = lg.coordinates("x y")
 x_dot, y_dot = lg.velocity(x), lg.velocity(y)

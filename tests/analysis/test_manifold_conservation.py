@@ -27,7 +27,7 @@ import sympy as sp
 
 import lagrangian as lg
 from lagrangian.analysis import analyze, cyclic_coordinates, energy_conservation
-from lagrangian.analysis.manifold_symmetries import jacobi_integral
+from lagrangian.analysis.manifold.symmetries import jacobi_integral
 
 sys.path.insert(0, str(Path(__file__).parents[1] / "constraints"))
 import constraint_systems as cs

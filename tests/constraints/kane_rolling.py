@@ -10,7 +10,7 @@ import numpy as np
 import sympy as sp
 import sympy.physics.mechanics as me
 
-from lagrangian.model.symbols import t
+from lagrangian.symbolic.symbols import t
 
 
 def plain_symbols(q: Sequence[Any], u: Sequence[Any]) -> dict[Any, sp.Symbol]:

@@ -13,7 +13,7 @@ import sympy as sp
 import lagrangian as lg
 from lagrangian.constraints.pfaffian import TIDY_OPS, pfaffian_form
 from lagrangian.model import rotation_sequence
-from lagrangian.model.symbols import acceleration, t, time_derivative, velocity
+from lagrangian.symbolic.symbols import acceleration, t, time_derivative, velocity
 
 a, b, c, x, y, z = sp.symbols("a b c x y z")
 r, m = sp.symbols("r m")

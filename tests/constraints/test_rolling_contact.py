@@ -22,7 +22,7 @@ from lagrangian.errors import ModelError
 from lagrangian.io.dump import dumps
 from lagrangian.model import Frame, RigidBody, RollingDisc, System, shape
 from lagrangian.model.contact import ContactHeight, NoSlip, contact_point
-from lagrangian.model.symbols import t
+from lagrangian.symbolic.symbols import t
 
 TIME = me.dynamicsymbols._t
 x, y, z, psi, theta, phi = sp.symbols("x y z psi theta phi")

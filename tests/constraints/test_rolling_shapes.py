@@ -18,7 +18,7 @@ from lagrangian.constraints import constrained_equations
 from lagrangian.errors import ModelError
 from lagrangian.model import Frame, RigidBody, RollingDisc, System, shape
 from lagrangian.model.contact import ContactHeight, NoSlip, rolling_sphere
-from lagrangian.model.symbols import t
+from lagrangian.symbolic.symbols import t
 
 TIME = me.dynamicsymbols._t
 x, y, z, psi, theta, phi = sp.symbols("x y z psi theta phi")

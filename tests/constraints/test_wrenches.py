@@ -15,7 +15,7 @@ import lagrangian as lg
 from lagrangian.constraints import reaction_wrenches
 from lagrangian.errors import ConstraintError
 from lagrangian.model.rotation import euler_rotation, evaluate_matrix
-from lagrangian.model.symbols import t, time_derivative
+from lagrangian.symbolic.symbols import t, time_derivative
 
 m, g, l = sp.symbols("m g l")
 PARAMETERS = {"m": 1.3, "g": 9.81, "l": 0.8}

@@ -24,7 +24,7 @@ from lagrangian.model.rotation import (
     spatial_angular_velocity,
     vee,
 )
-from lagrangian.model.symbols import time_derivative, velocity
+from lagrangian.symbolic.symbols import time_derivative, velocity
 
 YAW, LEAN, PITCH, STEER = sp.symbols("yaw lean pitch steer")
 LAM = sp.Symbol("lam", positive=True)

@@ -16,7 +16,7 @@ from test_rigid_body_3d import Reference, assert_same_motion, kanes
 
 import lagrangian as lg
 from lagrangian.model import rotation_sequence
-from lagrangian.model.symbols import velocity
+from lagrangian.symbolic.symbols import velocity
 
 G = sp.Symbol("g")
 

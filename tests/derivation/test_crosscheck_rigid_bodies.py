@@ -19,7 +19,7 @@ import lagrangian as lg
 from lagrangian.constraints import constrained_equations
 from lagrangian.derivation import check_newton_euler
 from lagrangian.model.rotation import evaluate_matrix
-from lagrangian.model.symbols import t
+from lagrangian.symbolic.symbols import t
 
 
 def _fixed_point() -> tuple[me.ReferenceFrame, me.Point]:

@@ -23,7 +23,7 @@ from lagrangian.derivation.trig import combine_trig_sympy
 from lagrangian.errors import DerivationError
 from lagrangian.model.inertia import cylinder
 from lagrangian.model.rotation import body_angular_velocity, euler_rotation, evaluate_matrix
-from lagrangian.model.symbols import time_derivative
+from lagrangian.symbolic.symbols import time_derivative
 
 x1, y1, theta = lg.coordinates("x1 y1 theta")
 m1, m2, h, g = sp.symbols("m1 m2 h g")

@@ -22,7 +22,7 @@ from lagrangian.model.rotation import (
     euler_rotation,
     quaternion_rotation,
 )
-from lagrangian.model.symbols import t, velocity
+from lagrangian.symbolic.symbols import t, velocity
 
 TIME = me.dynamicsymbols._t
 

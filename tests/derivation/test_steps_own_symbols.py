@@ -8,7 +8,7 @@ import pytest
 
 import lagrangian as lg
 from lagrangian import examples
-from lagrangian.model.symbols import t
+from lagrangian.symbolic.symbols import t
 
 NAMES = [name for name in examples.names() if name != "n_link_pendulum"]
 

@@ -19,7 +19,7 @@ from lagrangian.derivation.trig import combine_and_collect, combine_trig
 from lagrangian.derivation.trig_polynomial import TrigAlgebra, expanded_terms
 from lagrangian.model import rotation
 from lagrangian.model.rotation import body_angular_velocity, rotation_sequence
-from lagrangian.model.symbols import velocity
+from lagrangian.symbolic.symbols import velocity
 
 a, b, c, m, k = se.symbols("a b c m k")
 

@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 from lagrangian.errors import LagrangianError
 from lagrangian.io.load import loads
 from lagrangian.io.model_schema import schema
-from lagrangian.model.expressions import FUNCTIONS
+from lagrangian.symbolic.expressions import FUNCTIONS
 
 SCHEMA = schema()
 COORDINATES = ["x", "y", "theta"]

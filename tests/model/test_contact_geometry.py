@@ -19,7 +19,7 @@ from lagrangian.examples import BENCHMARKS
 from lagrangian.model import Frame, RigidBody, RollingDisc, System, shape
 from lagrangian.model.contact import ContactHeight, NoSlip, contact_point
 from lagrangian.model.rotation import euler_rotation
-from lagrangian.model.symbols import velocity
+from lagrangian.symbolic.symbols import velocity
 
 x, y, z, psi, theta, phi, m, r = sp.symbols("x y z psi theta phi m r")
 

@@ -1,10 +1,10 @@
-"""distinct_parts and free_symbols (lagrangian.model.expressions) against SymPy's own walks."""
+"""distinct_parts and free_symbols (lagrangian.symbolic.expressions) against SymPy's own walks."""
 
 from __future__ import annotations
 
 import sympy as sp
 
-from lagrangian.model.expressions import distinct_parts, free_symbols
+from lagrangian.symbolic.expressions import distinct_parts, free_symbols
 
 x, y, z, u = sp.symbols("x y z u")
 f = sp.Function("f")

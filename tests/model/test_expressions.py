@@ -15,7 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from lagrangian.errors import ExpressionError, Problem
-from lagrangian.model.expressions import FUNCTIONS, parse_expression, parse_expressions
+from lagrangian.symbolic.expressions import FUNCTIONS, parse_expression, parse_expressions
 
 x, y, theta, m, k, g, l, t = sp.symbols("x y theta m k g l t")
 x_dot, y_dot, theta_dot = sp.symbols("x_dot y_dot theta_dot")

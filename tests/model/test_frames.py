@@ -22,7 +22,7 @@ from lagrangian.model.rotation import (
     quaternion_rotation,
     spatial_angular_velocity,
 )
-from lagrangian.model.symbols import velocity
+from lagrangian.symbolic.symbols import velocity
 
 TIME = me.dynamicsymbols._t
 a, b, c, d = sp.symbols("a b c d")

@@ -34,8 +34,8 @@ from lagrangian.model.inertia import (
     spatial_inertia,
 )
 from lagrangian.model.rotation import euler_rotation, hat
-from lagrangian.model.symbols import t, velocity
 from lagrangian.model.twist import body_twist, spatial_twist
+from lagrangian.symbolic.symbols import t, velocity
 
 m, r, h, A, B, C = sp.symbols("m r h A B C", positive=True)
 x, y, z = sp.symbols("x y z", real=True)

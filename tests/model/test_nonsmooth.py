@@ -2,7 +2,7 @@
 
 import sympy as sp
 
-from lagrangian.model.nonsmooth import derivative, piecewise_smooth
+from lagrangian.symbolic.nonsmooth import derivative, piecewise_smooth
 
 x, y, t = sp.symbols("x y t")
 

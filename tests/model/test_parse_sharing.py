@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 
 from lagrangian.errors import ExpressionError
-from lagrangian.model.expressions import MAX_DEPTH, ParseCache, parse_expression
+from lagrangian.symbolic.expressions import MAX_DEPTH, ParseCache, parse_expression
 
 x, y, z, w, ll = sp.symbols("x y z w l")
 NAMES = {
@@ -92,7 +92,7 @@ def test_other_names_start_afresh() -> None:
 
 
 def test_parts_past_the_room_are_built_again(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr("lagrangian.model.expressions._SHARED_CHARACTERS", 400)
+    monkeypatch.setattr("lagrangian.symbolic.expressions._SHARED_CHARACTERS", 400)
     same_as_alone([chain(n) for n in range(1, 9)] * 2)
 
 

@@ -3,7 +3,7 @@
 import numpy as np
 import sympy as sp
 
-from lagrangian.model.probe import (
+from lagrangian.symbolic.probe import (
     PointFunction,
     all_zero,
     depends_on,

@@ -26,8 +26,8 @@ from lagrangian.model.rotation import (
     spatial_angular_velocity,
     vee,
 )
-from lagrangian.model.symbols import t, time_derivative, velocity
 from lagrangian.model.twist import adjoint, adjoint_inverse, body_twist, spatial_twist
+from lagrangian.symbolic.symbols import t, time_derivative, velocity
 
 TIME = pv.dynamicsymbols._t
 a, b, c = sp.symbols("a b c")

@@ -1,5 +1,5 @@
 """A System is a value: its mappings are read-only, it survives pickling, and the caches keyed
-by identity behave as documented (model/frozen.py, model/identity_cache.py)."""
+by identity behave as documented (symbolic/frozen.py, symbolic/caches.py)."""
 
 from __future__ import annotations
 
@@ -11,8 +11,8 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.model.frozen import FrozenMapping, frozen
-from lagrangian.model.identity_cache import RecentCache
+from lagrangian.symbolic.caches import RecentCache
+from lagrangian.symbolic.frozen import FrozenMapping, frozen
 
 
 def pendulum() -> lg.System:

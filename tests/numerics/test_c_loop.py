@@ -21,10 +21,10 @@ from lagrangian.io.load import loads
 from lagrangian.numerics.compile import compile_equations
 from lagrangian.numerics.fast import c_build, c_loop
 from lagrangian.numerics.fast.settings import Settings
-from lagrangian.simulation.compiled_run import NativeIntegrator
+from lagrangian.simulation.integrators.compiled import NativeIntegrator
+from lagrangian.simulation.integrators.loop import SolverIntegrator
 from lagrangian.simulation.run import plan
 from lagrangian.simulation.setup import prepare
-from lagrangian.simulation.stepping import SolverIntegrator
 
 pytestmark = pytest.mark.skipif(not c_loop.available(), reason="no C compiler")
 

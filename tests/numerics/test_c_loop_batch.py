@@ -1,4 +1,4 @@
-"""Batches in the C loop (simulation/batch_native.py): every member as simulate of that member
+"""Batches in the C loop (simulation/batch/native.py): every member as simulate of that member
 alone and as the NumPy batch, stop conditions at their closed-form times (a function or a
 sweep's text condition), and the NumPy batch where the loop does not apply."""
 
@@ -14,7 +14,7 @@ from lagrangian.io.load import loads
 from lagrangian.numerics.compile import compile_equations
 from lagrangian.numerics.fast import c_loop
 from lagrangian.numerics.fast.settings import Settings
-from lagrangian.simulation import batch_native
+from lagrangian.simulation.batch import native as batch_native
 from lagrangian.sweeps.stop_condition import stop_expression
 
 pytestmark = pytest.mark.skipif(not c_loop.available(), reason="no C compiler")
@@ -100,7 +100,7 @@ def test_a_sweeps_text_condition_runs_in_the_loop(monkeypatch, numpy_batch) -> N
         ran.append(result is not None)
         return result
 
-    monkeypatch.setattr("lagrangian.simulation.batch.native_members", watched)
+    monkeypatch.setattr("lagrangian.simulation.batch.run.native_members", watched)
     initial = {"y": HEIGHTS, "y_dot": 0.0}
     native = lg.simulate_batch(system, initial, 3.0, stop_when=stop, method="DOP853", **TOL)
     assert ran == [True]

@@ -16,10 +16,10 @@ from scipy.special import ellipk
 import lagrangian as lg
 from lagrangian.io.load import loads
 from lagrangian.numerics.fast import c_loop
-from lagrangian.simulation.compiled_run import NativeIntegrator
+from lagrangian.simulation.integrators.compiled import NativeIntegrator
+from lagrangian.simulation.integrators.loop import SolverIntegrator
 from lagrangian.simulation.run import plan
 from lagrangian.simulation.setup import prepare
-from lagrangian.simulation.stepping import SolverIntegrator
 
 pytestmark = pytest.mark.skipif(not c_loop.available(), reason="no C compiler")
 

@@ -1,4 +1,5 @@
-"""Events in the C loop (numerics/fast/c_loop.c, simulation/event_trace.py): zeros at the times
+"""Events in the C loop (numerics/fast/c_loop.c, simulation/integrators/event_trace.py): zeros at
+the times
 of closed forms, the same event records, rows and messages as SciPy's path, directions and
 terminal counts, and SciPy's path for event functions that are not expressions of the state
 or when there is no C compiler."""
@@ -15,10 +16,10 @@ from scipy.special import ellipk
 import lagrangian as lg
 from lagrangian.io.load import loads
 from lagrangian.numerics.fast import c_loop
-from lagrangian.simulation.compiled_run import NativeIntegrator
+from lagrangian.simulation.integrators.compiled import NativeIntegrator
+from lagrangian.simulation.integrators.loop import SolverIntegrator
 from lagrangian.simulation.run import plan
 from lagrangian.simulation.setup import prepare
-from lagrangian.simulation.stepping import SolverIntegrator
 
 pytestmark = pytest.mark.skipif(not c_loop.available(), reason="no C compiler")
 

@@ -13,8 +13,8 @@ import sympy as sp
 
 import lagrangian as lg
 from lagrangian.derivation import forget_derivations
-from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.compile import compile_equations
+from lagrangian.symbolic.caches import IdentityCache
 
 RNG = np.random.default_rng(6)
 

@@ -19,8 +19,8 @@ from scipy.special import ellipk
 import lagrangian as lg
 from lagrangian.errors import SimulationError, SimulationInputError
 from lagrangian.numerics.fast import c_loop
-from lagrangian.simulation import batch as batch_module
-from lagrangian.simulation.batch_result import Batch
+from lagrangian.simulation.batch import run as batch_module
+from lagrangian.simulation.batch.result import Batch
 
 G = 9.81
 THETA = np.array([0.3, 0.7, 1.2, 2.0])

@@ -14,7 +14,7 @@ import sympy as sp
 import lagrangian as lg
 from lagrangian.errors import SimulationInputError
 from lagrangian.simulation import Trajectory, simulate
-from lagrangian.simulation.collocation import gauss, lobatto
+from lagrangian.simulation.variational.collocation import gauss, lobatto
 
 ORDERS = {"gauss4": 4, "gauss6": 6}
 TIGHT = {"method": "DOP853", "rtol": 1e-13, "atol": 1e-13}

@@ -12,14 +12,15 @@ import sympy as sp
 
 import lagrangian as lg
 from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics
-from lagrangian.simulation import simulate, variational
-from lagrangian.simulation.collocation import gauss, lobatto
-from lagrangian.simulation.collocation_march import collocation_march
-from lagrangian.simulation.variational_march import march
+from lagrangian.simulation import simulate
+from lagrangian.simulation.variational import midpoint as variational
+from lagrangian.simulation.variational.collocation import gauss, lobatto
+from lagrangian.simulation.variational.collocation_march import collocation_march
+from lagrangian.simulation.variational.march import march
 
 pytest.importorskip("numba")
 
-from lagrangian.simulation import variational_fast
+from lagrangian.simulation.variational import compiled as variational_fast
 
 
 def forced_double_pendulum() -> lg.System:

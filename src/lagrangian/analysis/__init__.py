@@ -5,7 +5,8 @@ Conjugate momenta and cyclic coordinates, the energy function and when it is con
 equals T + V, the Hamiltonian and Hamilton's equations, equilibria and their stability,
 linearization about any state, normal modes, and equivalent descriptions (L + dF/dt, point
 transformations).  A constrained system is analyzed on its constraint manifold
-(:mod:`lagrangian.analysis.manifold`): equilibria of the multiplier form, linearization with
+(:mod:`lagrangian.analysis.manifold.constraint_manifold`): equilibria of the multiplier form,
+linearization with
 the dependent coordinates and speeds eliminated, the Hamiltonian in reduced coordinates, the
 Jacobi integral and steady motions of constraints that move by a symmetry.  Every function
 takes a System or its EquationsOfMotion and returns an immutable value; :func:`analyze`
@@ -30,9 +31,10 @@ from lagrangian.analysis.hamiltonian import (
     hamilton_equations,
     hamiltonian,
 )
+from lagrangian.analysis.integrals.noether import Symmetry, point_symmetries
 from lagrangian.analysis.linearize import Linearization, linearize
-from lagrangian.analysis.manifold import ConstraintManifold, constraint_manifold
-from lagrangian.analysis.manifold_symmetries import JacobiIntegral, jacobi_integral
+from lagrangian.analysis.manifold.constraint_manifold import ConstraintManifold, constraint_manifold
+from lagrangian.analysis.manifold.symmetries import JacobiIntegral, jacobi_integral
 from lagrangian.analysis.modes import NormalModes, normal_modes
 from lagrangian.analysis.momenta import (
     ConjugateMomenta,
@@ -40,7 +42,6 @@ from lagrangian.analysis.momenta import (
     conjugate_momenta,
     cyclic_coordinates,
 )
-from lagrangian.analysis.noether import Symmetry, point_symmetries
 from lagrangian.analysis.reduced_hamiltonian import reduced_hamiltonian
 from lagrangian.analysis.report import (
     AnalysisReport,

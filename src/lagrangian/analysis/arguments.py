@@ -25,10 +25,10 @@ from lagrangian import derivation
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError, Problem, raise_if_problems, require
 from lagrangian.model import System
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.frozen import frozen as frozen  # results' mappings are read-only
-from lagrangian.model.probe import is_zero
 from lagrangian.model.validation import not_finite_real
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.frozen import frozen as frozen  # results' mappings are read-only
+from lagrangian.symbolic.probe import is_zero
 
 Subject = System | EquationsOfMotion
 #: Parameter substitutions as a user gives them: name or Symbol -> number or expression.

@@ -22,11 +22,14 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagrangian.analysis.arguments import Subject, equations_of
-from lagrangian.analysis.manifold import constraint_manifold, vanishes_on_manifold
+from lagrangian.analysis.manifold.constraint_manifold import (
+    constraint_manifold,
+    vanishes_on_manifold,
+)
 from lagrangian.analysis.simplification import simplify_small
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.probe import depends_on, is_zero
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.probe import depends_on, is_zero
 
 
 def energy_function(subject: Subject) -> sp.Expr:
@@ -212,7 +215,8 @@ def _constraint_power(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str], list[
 def energy_conservation(subject: Subject) -> EnergyConservation:
     """Is h conserved (no explicit t, no dissipation, no working applied force, no moving
     constraint), and is it T + V?  Each answer with its reason, and dh/dt as an expression
-    (with the multipliers lambda_j of :mod:`lagrangian.analysis.manifold` on a constrained
+    (with the multipliers lambda_j of :mod:`lagrangian.analysis.manifold.constraint_manifold` on a
+    constrained
     system; applied terms that vanish wherever the constraints hold are dropped).
 
     >>> import lagrangian as lg

@@ -10,7 +10,7 @@ with sympy.solve when possible (every branch, each with the condition for it to 
 otherwise numerically with sympy.nsolve from several starting points at the parameter
 values.  Stability from K = -d forcing/dq at rest (:mod:`lagrangian.analysis.stability`).
 A constrained system is solved on its constraint manifold
-(:mod:`lagrangian.analysis.manifold_statics`).
+(:mod:`lagrangian.analysis.manifold.statics`).
 
 >>> import lagrangian as lg
 >>> [dict(e.state) for e in equilibria(lg.examples.simple_pendulum())]
@@ -32,8 +32,8 @@ from lagrangian.analysis.arguments import (
     numeric_values,
     substitutions,
 )
-from lagrangian.analysis.manifold import constraint_manifold
-from lagrangian.analysis.manifold_statics import manifold_equilibria
+from lagrangian.analysis.manifold.constraint_manifold import constraint_manifold
+from lagrangian.analysis.manifold.statics import manifold_equilibria
 from lagrangian.analysis.rest import (
     Equilibria,
     StabilityTest,
@@ -46,8 +46,8 @@ from lagrangian.analysis.roots import normalize_angles, periodic_coordinates
 from lagrangian.analysis.simplification import simplify_small_matrix
 from lagrangian.analysis.stability import stability_of, stiffness_matrix
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.model.nonsmooth import jacobian
-from lagrangian.model.probe import depends_on, is_zero
+from lagrangian.symbolic.nonsmooth import jacobian
+from lagrangian.symbolic.probe import depends_on, is_zero
 
 
 def static_forces(eom: EquationsOfMotion, subs: Mapping[sp.Symbol, sp.Expr]) -> sp.ImmutableMatrix:

@@ -25,9 +25,9 @@ from lagrangian.analysis.arguments import Subject, equations_of
 from lagrangian.derivation import EquationsOfMotion, derive
 from lagrangian.errors import AnalysisError, Problem, raise_if_problems
 from lagrangian.model import System, velocity
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.probe import all_zero, depends_on, is_zero
-from lagrangian.model.symbols import name_of, t, time_derivative
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.probe import all_zero, depends_on, is_zero
+from lagrangian.symbolic.symbols import name_of, t, time_derivative
 
 
 @dataclass(frozen=True)

@@ -38,7 +38,8 @@ from lagrangian.analysis.momenta import momentum_symbols
 from lagrangian.analysis.simplification import QUICK, simplify_small
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError, SizeLimitError
-from lagrangian.model.probe import (
+from lagrangian.size_limits import active_operations, check_size, operations
+from lagrangian.symbolic.probe import (
     DIGITS,
     SEED,
     depends_on,
@@ -46,7 +47,6 @@ from lagrangian.model.probe import (
     is_small,
     random_values,
 )
-from lagrangian.size_limits import active_operations, check_size, operations
 
 #: Operations of H up to which Hamilton's equations are its derivatives, simplified; a longer
 #: H (a chain of four links or more) has dH/dq several times longer than the equal

@@ -37,14 +37,17 @@ from lagrangian.analysis.arguments import (
     positive_parameters,
     substitutions,
 )
-from lagrangian.analysis.manifold import constraint_manifold, require_on_manifold
-from lagrangian.analysis.manifold_linearize import manifold_solution_note, reduced_state_space
+from lagrangian.analysis.manifold.constraint_manifold import (
+    constraint_manifold,
+    require_on_manifold,
+)
+from lagrangian.analysis.manifold.linearize import manifold_solution_note, reduced_state_space
 from lagrangian.analysis.simplification import QUICK, simplify_small, simplify_small_matrix
 from lagrangian.analysis.spectrum import eigenvalues, frequencies, growth_rates
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
-from lagrangian.model.probe import depends_on, is_zero
-from lagrangian.model.symbols import name_of
+from lagrangian.symbolic.probe import depends_on, is_zero
+from lagrangian.symbolic.symbols import name_of
 
 SYMBOLIC_SIZE = 6  # largest A whose eigenvalues are computed symbolically on request
 
@@ -202,7 +205,7 @@ def linearize(
     On a constrained system the state must satisfy the constraints (ConstraintError names
     each one it misses; :func:`lagrangian.constraints.project_state` moves it onto them) and
     the dependent coordinates and velocities are eliminated at the linear level
-    (:mod:`lagrangian.analysis.manifold_linearize`); ``independent`` names the coordinates
+    (:mod:`lagrangian.analysis.manifold.linearize`); ``independent`` names the coordinates
     and ``NAME_dot`` velocities to keep (default: chosen by pivoting).
 
     >>> import lagrangian as lg

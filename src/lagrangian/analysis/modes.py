@@ -34,8 +34,8 @@ from lagrangian.analysis.arguments import (
 )
 from lagrangian.analysis.equilibria import equilibria, static_forces
 from lagrangian.analysis.linearize import linearize
-from lagrangian.analysis.manifold import ConstraintManifold, constraint_manifold
-from lagrangian.analysis.manifold_modes import linearized_modes, manifold_oscillation
+from lagrangian.analysis.manifold.constraint_manifold import ConstraintManifold, constraint_manifold
+from lagrangian.analysis.manifold.modes import linearized_modes, manifold_oscillation
 from lagrangian.analysis.pencil import solve_pencil
 from lagrangian.analysis.rest import Equilibrium, first_stable
 from lagrangian.analysis.simplification import simplify_small, simplify_small_matrix
@@ -43,7 +43,7 @@ from lagrangian.analysis.spectrum import symmetric_eigenvalues
 from lagrangian.analysis.stability import stability_of, stiffness_matrix
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
-from lagrangian.model.probe import is_zero
+from lagrangian.symbolic.probe import is_zero
 
 
 @dataclass(frozen=True)
@@ -180,7 +180,7 @@ def _manifold_modes(
     about: Values | Equilibrium | None,
     parameters: Values | None,
 ) -> NormalModes:
-    """Normal modes on the constraint manifold (:mod:`lagrangian.analysis.manifold_modes`):
+    """Normal modes on the constraint manifold (:mod:`lagrangian.analysis.manifold.modes`):
     K v = omega^2 M v in the independent coordinates, shapes in all of them."""
     numbers = numeric_values(eom, parameters)
     found = manifold_oscillation(eom, manifold, about, parameters)

@@ -21,12 +21,12 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagrangian.analysis.arguments import Subject, Values, equations_of, numeric_values
-from lagrangian.analysis.manifold import constraint_manifold
+from lagrangian.analysis.manifold.constraint_manifold import constraint_manifold
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 from lagrangian.model.constraints import label
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.probe import is_zero
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.probe import is_zero
 
 
 def momentum_symbol(coordinate: sp.Symbol) -> sp.Symbol:

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from lagrangian.model.probe import RANK_TOLERANCE
+from lagrangian.symbolic.probe import RANK_TOLERANCE
 
 #: A column counts as good as the best when its residual norm is at least this share of it.
 PREFERENCE = 0.5

@@ -30,14 +30,14 @@ import sympy as sp
 from lagrangian.analysis.arguments import Subject, equations_of, evaluate, frozen, numeric_values
 from lagrangian.analysis.hamiltonian import HamiltonEquations, Hamiltonian, hamilton_equations
 from lagrangian.analysis.hamiltonian import hamiltonian as legendre_transform
-from lagrangian.analysis.manifold import ConstraintManifold, constraint_manifold
+from lagrangian.analysis.manifold.constraint_manifold import ConstraintManifold, constraint_manifold
 from lagrangian.analysis.simplification import simplify_small
 from lagrangian.constraints import eliminate
 from lagrangian.constraints.eliminate import elimination_rule
 from lagrangian.derivation import derive
 from lagrangian.errors import AnalysisError, LagrangianError
 from lagrangian.model import System
-from lagrangian.model.conversion import to_sympy
+from lagrangian.symbolic.conversion import to_sympy
 
 #: Choices of independent coordinates tried before giving up.
 CHOICES = 12

@@ -33,24 +33,29 @@ from lagrangian.analysis.arguments import (
     operating_state,
     substitutions,
 )
-from lagrangian.analysis.constrained_integrals import constrained_first_integrals
 from lagrangian.analysis.energy import EnergyConservation, energy_conservation
 from lagrangian.analysis.equilibria import equilibria
-from lagrangian.analysis.first_integrals import (
-    SEARCH_SECONDS,
-    ConservedQuantity,
-    FirstIntegralSearch,
-    first_integrals,
-)
 from lagrangian.analysis.hamiltonian import (
     HamiltonEquations,
     Hamiltonian,
     hamilton_equations,
     hamiltonian,
 )
+from lagrangian.analysis.integrals.constrained import constrained_first_integrals
+from lagrangian.analysis.integrals.noether import Symmetry, point_symmetries
+from lagrangian.analysis.integrals.search import (
+    SEARCH_SECONDS,
+    ConservedQuantity,
+    FirstIntegralSearch,
+    first_integrals,
+)
 from lagrangian.analysis.linearize import Linearization, linearize
-from lagrangian.analysis.manifold import constraint_manifold, numeric_point, require_on_manifold
-from lagrangian.analysis.manifold_symmetries import (
+from lagrangian.analysis.manifold.constraint_manifold import (
+    constraint_manifold,
+    numeric_point,
+    require_on_manifold,
+)
+from lagrangian.analysis.manifold.symmetries import (
     JacobiIntegral,
     jacobi_integral,
     kept_symmetries,
@@ -62,7 +67,6 @@ from lagrangian.analysis.momenta import (
     conjugate_momenta,
     cyclic_coordinates,
 )
-from lagrangian.analysis.noether import Symmetry, point_symmetries
 from lagrangian.analysis.reduced_hamiltonian import reduced_legendre, stable_state
 from lagrangian.analysis.rest import Equilibria, first_stable
 from lagrangian.analysis.steady_motions import SteadyMotions, steady_motions
@@ -70,8 +74,8 @@ from lagrangian.constraints import project_state
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError, LagrangianError, TimeLimitError
 from lagrangian.limits import bounded
-from lagrangian.model.probe import is_zero
 from lagrangian.size_limits import size_limit as sized_to
+from lagrangian.symbolic.probe import is_zero
 
 T = TypeVar("T")
 
@@ -258,7 +262,7 @@ def analyze(
     it onto them first; ``independent`` names the coordinates and velocities the
     linearization keeps.  ``search_degree`` bounds the degree of the functions in which
     further first integrals are sought (0: no search), ``search_seconds`` its time
-    (:mod:`lagrangian.analysis.first_integrals`).  ``time_limit`` bounds the whole analysis
+    (:mod:`lagrangian.analysis.integrals.search`).  ``time_limit`` bounds the whole analysis
     in seconds (TimeLimitError; default ``$LAGRANGIAN_TIME_LIMIT`` or
     :data:`lagrangian.limits.DEFAULT_SECONDS`); each part may take its share of the time
     left (:data:`PART_SHARE`), past which it is listed among the ``failures``.  ``size_limit``
@@ -371,7 +375,7 @@ def constrained_report(
     """Every part of :func:`analyze` on the constraint manifold (docs/architecture.md); the
     further first integrals on the reduced system when the holonomic constraints are solved
     in closed form, else on the constrained equations
-    (:mod:`lagrangian.analysis.constrained_integrals`)."""
+    (:mod:`lagrangian.analysis.integrals.constrained`)."""
     attempts = _Attempts()
     run = attempts.run
     manifold = constraint_manifold(eom)  # inconsistent constraints: the error goes to the user

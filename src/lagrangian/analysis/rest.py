@@ -1,7 +1,7 @@
 """States of rest and how they are found: the Equilibrium values, the solution of the static
 equations (symbolic, else numeric), and the test of each solution (is the branch real, is it
 stable) shared by free systems (:mod:`lagrangian.analysis.equilibria`) and constrained ones
-(:mod:`lagrangian.analysis.manifold_statics`).
+(:mod:`lagrangian.analysis.manifold.statics`).
 
 >>> import sympy as sp
 >>> x = sp.Symbol("x")

@@ -24,8 +24,8 @@ from lagrangian.analysis.arguments import assuming_positive, evaluate
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import TimeLimitError
 from lagrangian.limits import time_limit
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.nonsmooth import NONSMOOTH
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.nonsmooth import NONSMOOTH
 
 STARTS = 24
 TOLERANCE = 1e-8

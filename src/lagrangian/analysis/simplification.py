@@ -3,7 +3,7 @@ on what it reports.
 
 ``sympy.simplify`` pays off on a short expression (a stiffness entry, a frequency, a term of
 the energy) and can take minutes on a long one, so a result is simplified only when it has at
-most ``limit`` operations (:func:`lagrangian.model.probe.is_small`); larger ones are returned
+most ``limit`` operations (:func:`lagrangian.symbolic.probe.is_small`); larger ones are returned
 as they are.
 
 >>> import sympy as sp
@@ -18,8 +18,8 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.probe import SMALL, is_small
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.probe import SMALL, is_small
 
 #: A stricter limit for results that are many and rarely simplify much (rates, A and B).
 QUICK = 30

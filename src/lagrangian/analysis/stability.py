@@ -20,7 +20,7 @@ from collections.abc import Sequence
 import sympy as sp
 
 from lagrangian.analysis.spectrum import symmetric_eigenvalues
-from lagrangian.model.nonsmooth import jacobian
+from lagrangian.symbolic.nonsmooth import jacobian
 
 TOLERANCE = 1e-10
 

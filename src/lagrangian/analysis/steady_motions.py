@@ -1,7 +1,7 @@
 """Steady motions of a system whose constraints move by a symmetry: relative equilibria.
 
 When the constraints move by a symmetry xi of L at the rate c (b = -c A xi, the Jacobi
-integral of :mod:`lagrangian.analysis.manifold_symmetries`), the system can move along with
+integral of :mod:`lagrangian.analysis.manifold.symmetries`), the system can move along with
 them, q_dot = c xi(q): a bead turning with its hoop, at rest relative to it.  With the relative
 velocity w = q_dot - c xi, the Jacobi integral of a natural system splits as
 
@@ -34,10 +34,10 @@ from lagrangian.analysis.arguments import (
     numeric_values,
     substitutions,
 )
-from lagrangian.analysis.manifold import ConstraintManifold, constraint_manifold
-from lagrangian.analysis.manifold_linearize import numbers_at, reduced_state_space, tangent_map
-from lagrangian.analysis.manifold_statics import complete_solutions, symbolic_limit
-from lagrangian.analysis.manifold_symmetries import JacobiIntegral, jacobi_integral
+from lagrangian.analysis.manifold.constraint_manifold import ConstraintManifold, constraint_manifold
+from lagrangian.analysis.manifold.linearize import numbers_at, reduced_state_space, tangent_map
+from lagrangian.analysis.manifold.statics import complete_solutions, symbolic_limit
+from lagrangian.analysis.manifold.symmetries import JacobiIntegral, jacobi_integral
 from lagrangian.analysis.partition import dependent_columns
 from lagrangian.analysis.rest import (
     Equilibrium,
@@ -49,7 +49,7 @@ from lagrangian.analysis.rest import (
 from lagrangian.analysis.simplification import simplify_small, simplify_small_matrix
 from lagrangian.analysis.stability import stability_of
 from lagrangian.errors import AnalysisError
-from lagrangian.model.probe import depends_on
+from lagrangian.symbolic.probe import depends_on
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ from typing import Any
 from lagrangian import examples, render
 from lagrangian.analysis import AnalysisReport, analyze
 from lagrangian.analysis.arguments import numeric_values, operating_state
-from lagrangian.analysis.manifold import require_on_manifold
+from lagrangian.analysis.manifold.constraint_manifold import require_on_manifold
 from lagrangian.constraints import ConstrainedEquations, constrained_equations, eliminate
 from lagrangian.derivation import derive
 from lagrangian.errors import (
@@ -27,7 +27,6 @@ from lagrangian.errors import (
 from lagrangian.io import load, loads
 from lagrangian.io.yaml_tree import MAX_CHARACTERS
 from lagrangian.model import Holonomic, System
-from lagrangian.model.expressions import closest_name
 from lagrangian.numerics.export import export
 from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
@@ -35,6 +34,7 @@ from lagrangian.render.analysis_text import analysis_text
 from lagrangian.render.constrained import constrained_latex, constrained_mathml
 from lagrangian.render.json import constrained_document, eom_document
 from lagrangian.render.mathml import matrix_form_mathml
+from lagrangian.symbolic.expressions import closest_name
 
 EXAMPLE_PREFIX = "examples/"
 

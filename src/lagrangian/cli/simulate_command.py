@@ -19,13 +19,13 @@ from lagrangian.cli.commands import (
     in_command_line_words,
     load_system,
 )
-from lagrangian.cli.progress import progress_bar
 from lagrangian.errors import Problem, SimulationError, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.render.animation import animate as write_animation
 from lagrangian.render.plots import save_plots
 from lagrangian.simulation import Trajectory, simulate
 from lagrangian.simulation.files import written_atomically
+from lagrangian.simulation.progress_bar import progress_bar
 
 
 def run_simulate(

@@ -39,8 +39,8 @@ from lagrangian.constraints.integrability import Integrability, frobenius, integ
 from lagrangian.constraints.pfaffian import pfaffian_form
 from lagrangian.constraints.projection import numeric_state
 from lagrangian.model import System, t
-from lagrangian.model.probe import PointFunction, numeric_rank
 from lagrangian.model.system import require_system
+from lagrangian.symbolic.probe import PointFunction, numeric_rank
 
 
 @dataclass(frozen=True)

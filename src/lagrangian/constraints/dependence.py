@@ -38,7 +38,7 @@ from lagrangian.derivation.backend import to_backend
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import Holonomic, System, Unilateral, t, velocity
 from lagrangian.model.constraints import label, statement
-from lagrangian.model.probe import SEED, PointFunction, numeric_rank, random_values
+from lagrangian.symbolic.probe import SEED, PointFunction, numeric_rank, random_values
 
 
 @dataclass(frozen=True)
@@ -139,7 +139,7 @@ def _jacobian_at(
     """A and b at ``point`` (None where not finite and real), each c_j = a_j . q_dot + b_j
     evaluated in SymEngine as a_j = dc_j/dq_dot and b_j = c_j at rest.  What SymEngine cannot
     evaluate (the derivative of |u| SymPy leaves unevaluated) goes through
-    :class:`~lagrangian.model.probe.PointFunction`."""
+    :class:`~lagrangian.symbolic.probe.PointFunction`."""
     speeds = [to_backend(velocity(q)) for q in coordinates]
     at_rest = {v: se.Integer(0) for v in speeds}
     entries = []

@@ -36,11 +36,11 @@ from lagrangian.constraints.dependence import dependence
 from lagrangian.errors import ConstraintError
 from lagrangian.model import Holonomic, System, Unilateral, VelocityConstraint, VoltageSource, t
 from lagrangian.model.constraints import Constraint, label, statement
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.probe import is_zero
 from lagrangian.model.rotation import Orientation
-from lagrangian.model.symbols import as_coordinate, from_time_functions, velocity
 from lagrangian.model.system import require_system
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.probe import is_zero
+from lagrangian.symbolic.symbols import as_coordinate, from_time_functions, velocity
 
 
 def eliminate(

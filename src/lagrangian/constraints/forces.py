@@ -32,7 +32,7 @@ import sympy as sp
 
 from lagrangian.constraints.multipliers import ConstrainedEquations
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems, require
-from lagrangian.model.conversion import to_sympy
+from lagrangian.symbolic.conversion import to_sympy
 
 
 def particle_constraint_forces(

@@ -20,7 +20,7 @@ from collections.abc import Iterable, Mapping, Sequence
 
 import sympy as sp
 
-from lagrangian.model.conversion import to_sympy
+from lagrangian.symbolic.conversion import to_sympy
 
 Form = dict[tuple[int, ...], sp.Expr]
 

@@ -40,8 +40,8 @@ from lagrangian.constraints.forms import (
 )
 from lagrangian.constraints.pfaffian import backend
 from lagrangian.derivation.backend import to_backend
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.probe import SEED, PointFunction, is_small, is_zero, random_values
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.probe import SEED, PointFunction, is_small, is_zero, random_values
 
 #: Forms with a coefficient of more operations are decided at random points, not by symbolic
 #: wedge products (whose expansion grows as the product of the coefficients' sizes: a

@@ -53,9 +53,9 @@ from lagrangian.derivation.trig import combine_trig_sympy
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.constraints import Constraint, VelocityConstraint, statement
-from lagrangian.model.frozen import FrozenMapping, frozen
-from lagrangian.model.identity_cache import IdentityCache
-from lagrangian.model.probe import generic_rank
+from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.frozen import FrozenMapping, frozen
+from lagrangian.symbolic.probe import generic_rank
 
 SMALL = 4  # n up to which a dense M is solved symbolically
 

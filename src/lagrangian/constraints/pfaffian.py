@@ -30,7 +30,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
 import symengine as se
@@ -41,8 +40,9 @@ from lagrangian.derivation.collect import collect_state
 from lagrangian.derivation.trig import combine_trig, size
 from lagrangian.model import VelocityConstraint, t, velocity
 from lagrangian.model.constraints import Constraint
-from lagrangian.model.expressions import free_symbols
 from lagrangian.size_limits import check_size
+from lagrangian.symbolic.caches import remembered
+from lagrangian.symbolic.expressions import free_symbols
 
 TIDY_OPS = 1000  # partial derivatives of a constraint's rate beyond this are not expanded
 CACHED = 512  # constraint expressions whose form and SymEngine image are kept
@@ -71,7 +71,7 @@ def pfaffian_form(constraint: Constraint, coordinates: Sequence[sp.Symbol]) -> P
         return _form(*key)
 
 
-@lru_cache(maxsize=CACHED)
+@remembered(maxsize=CACHED)
 def _cached_form(
     velocity_level: bool, expr: sp.Expr, coordinates: tuple[sp.Symbol, ...]
 ) -> PfaffianForm:
@@ -102,7 +102,7 @@ def backend(expr: Any) -> Backend:
         return to_backend(expr)
 
 
-@lru_cache(maxsize=CACHED)
+@remembered(maxsize=CACHED)
 def _cached_backend(expr: Any) -> Backend:
     return _converted(expr, {})
 

@@ -36,9 +36,9 @@ from lagrangian.derivation.backend import to_backend
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import Holonomic, System, Unilateral, VelocityConstraint, t, velocity
 from lagrangian.model.constraints import label, statement
-from lagrangian.model.probe import SEED, PointFunction, random_values
-from lagrangian.model.symbols import name_of
 from lagrangian.model.system import require_system
+from lagrangian.symbolic.probe import SEED, PointFunction, random_values
+from lagrangian.symbolic.symbols import name_of
 
 #: Largest |h| of a configuration that satisfies the constraints.
 SATISFIED = 1e-8

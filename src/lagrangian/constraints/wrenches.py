@@ -42,8 +42,8 @@ from lagrangian.derivation.body_frames import BodyFrame, body_frames
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.rotation import evaluate_matrix
-from lagrangian.model.symbols import name_of, t
 from lagrangian.model.system import require_system
+from lagrangian.symbolic.symbols import name_of, t
 
 
 @dataclass(frozen=True)

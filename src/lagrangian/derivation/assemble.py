@@ -23,7 +23,7 @@ from lagrangian.model import (
     VoltageSource,
 )
 from lagrangian.model.rotation import angular_velocity_terms, spatial_angular_velocity
-from lagrangian.model.symbols import acceleration, t, velocity
+from lagrangian.symbolic.symbols import acceleration, t, velocity
 
 
 @dataclass(frozen=True)

@@ -18,9 +18,9 @@ import symengine as se
 import sympy as sp
 from sympy.core.basic import ordering_of_classes
 
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.identity_cache import IdentityCache
-from lagrangian.model.nonsmooth import piecewise_smooth
+from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.nonsmooth import piecewise_smooth
 
 Backend = Any  # a symengine expression
 

@@ -38,8 +38,8 @@ from lagrangian.model import System
 from lagrangian.model.elements import Particle, RigidBody
 from lagrangian.model.inertia import generalized_inertia
 from lagrangian.model.rotation import hat
-from lagrangian.model.symbols import t, time_derivative, velocity
 from lagrangian.model.twist import adjoint, adjoint_inverse, body_twist, spatial_twist
+from lagrangian.symbolic.symbols import t, time_derivative, velocity
 
 #: The planar quarter turn J = R(pi/2): J v = z_hat x v, the planar cross product.
 QUARTER_TURN = sp.ImmutableMatrix([[0, -1], [1, 0]])

@@ -24,12 +24,12 @@ from lagrangian.errors import require
 from lagrangian.limits import configured_seconds
 from lagrangian.limits import time_limit as limited_to
 from lagrangian.model import System
-from lagrangian.model.frozen import FrozenMapping, frozen
-from lagrangian.model.identity_cache import RecentCache
-from lagrangian.model.symbols import t
 from lagrangian.model.system import require_system
 from lagrangian.size_limits import check_size, configured_operations
 from lagrangian.size_limits import size_limit as sized_to
+from lagrangian.symbolic.caches import RecentCache
+from lagrangian.symbolic.frozen import FrozenMapping, frozen
+from lagrangian.symbolic.symbols import t
 
 #: How many Systems (the most recently derived) keep their EquationsOfMotion remembered.
 RECENT_SYSTEMS = 32

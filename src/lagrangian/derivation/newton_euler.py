@@ -52,10 +52,10 @@ from lagrangian.derivation.lagrange import derive
 from lagrangian.derivation.trig import combine_trig_matrix, combine_trig_sympy
 from lagrangian.errors import DerivationError, Problem, raise_if_problems
 from lagrangian.model import System
-from lagrangian.model.conversion import to_sympy
 from lagrangian.model.elements import Damper, Spring
-from lagrangian.model.symbols import t, time_derivative, velocity
 from lagrangian.model.system import require_system
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.symbols import t, time_derivative, velocity
 
 #: Size (operations) up to which a difference that trigonometric collection leaves is put
 #: over one denominator, whose numerator is collected, before falling back to numbers.

@@ -15,7 +15,7 @@ from typing import Any
 import sympy as sp
 
 from lagrangian.derivation.lagrange import equations_of
-from lagrangian.model.symbols import time_derivative
+from lagrangian.symbolic.symbols import time_derivative
 
 
 def nielsen_equations(subject: Any) -> sp.ImmutableMatrix:

@@ -14,10 +14,10 @@ from typing import TYPE_CHECKING
 
 import sympy as sp
 
-from lagrangian.model.frozen import FrozenMapping
-from lagrangian.model.identity_cache import IdentityCache
-from lagrangian.model.probe import generic_rank
-from lagrangian.model.symbols import acceleration, velocity
+from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.frozen import FrozenMapping
+from lagrangian.symbolic.probe import generic_rank
+from lagrangian.symbolic.symbols import acceleration, velocity
 
 if TYPE_CHECKING:
     from lagrangian.derivation.eom import EquationsOfMotion
@@ -28,7 +28,7 @@ _SOLVED: IdentityCache[EquationsOfMotion, FrozenMapping[sp.Symbol, sp.Expr]] = I
 
 def mass_matrix_is_regular(eom: EquationsOfMotion) -> bool:
     """True when every coordinate has inertia and M has full rank at a generic point
-    (:func:`lagrangian.model.probe.generic_rank`)."""
+    (:func:`lagrangian.symbolic.probe.generic_rank`)."""
     return _REGULAR.get(eom, _full_rank)
 
 

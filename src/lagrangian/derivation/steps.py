@@ -19,8 +19,8 @@ import sympy as sp
 from lagrangian.derivation.backend import Backend
 from lagrangian.derivation.terms import euler_lagrange_terms
 from lagrangian.model import System
-from lagrangian.model.identity_cache import IdentityCache
-from lagrangian.model.symbols import velocity
+from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.symbols import velocity
 
 
 @dataclass(frozen=True)

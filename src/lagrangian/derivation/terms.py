@@ -41,9 +41,9 @@ from lagrangian.derivation.trig import (
 )
 from lagrangian.derivation.trig_polynomial import expanded_terms
 from lagrangian.model import System
-from lagrangian.model.identity_cache import IdentityCache
-from lagrangian.model.probe import depends_on
-from lagrangian.model.symbols import t
+from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.probe import depends_on
+from lagrangian.symbolic.symbols import t
 
 #: The fewest terms of a sum of parameters that :meth:`EulerLagrangeTerms.compress` keeps
 #: whole: shorter ones are expanded with the rest, so a small system's equations read as the

@@ -34,7 +34,7 @@ from lagrangian.derivation.trig_polynomial import (
     expanded_terms,
     pairs,
 )
-from lagrangian.model.conversion import to_sympy
+from lagrangian.symbolic.conversion import to_sympy
 
 MAX_TRIG_DEGREE = 8  # beyond this a term is left as it is (2**(d-1) Fourier terms)
 #: Product-to-sum terms (sum of 2**(d-1) over the terms of degree d >= 2) beyond which

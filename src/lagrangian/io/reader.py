@@ -21,7 +21,8 @@ import sympy as sp
 from lagrangian.errors import ExpressionError, Problem
 from lagrangian.io.document import Document, child
 from lagrangian.io.model_schema import entry_keys
-from lagrangian.model.expressions import ParseCache, closest_name, parse_expression
+from lagrangian.symbolic.expressions import ParseCache, closest_name, parse_expression
+from lagrangian.symbolic.probe import is_zero
 
 _EXAMPLE_VECTOR = 'a list such as ["l*sin(theta)", "-l*cos(theta)"]'
 
@@ -156,6 +157,7 @@ class Reader:
                 line=line,
                 column=column,
                 cache=self.parsed,
+                zero_test=is_zero,
             )
         except ExpressionError as exc:
             self.problems.extend(exc.problems)

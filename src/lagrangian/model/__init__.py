@@ -29,8 +29,8 @@ from lagrangian.model.rotation import (
     rotation_sequence,
     spatial_angular_velocity,
 )
-from lagrangian.model.symbols import acceleration, coordinates, from_time_functions, t, velocity
 from lagrangian.model.system import System
+from lagrangian.symbolic.symbols import acceleration, coordinates, from_time_functions, t, velocity
 
 __all__ = [
     "Capacitor",

@@ -28,7 +28,7 @@ import sympy as sp
 
 from lagrangian.errors import Problem
 from lagrangian.model.elements import as_expression
-from lagrangian.model.expressions import free_symbols
+from lagrangian.symbolic.expressions import free_symbols
 
 if TYPE_CHECKING:
     from lagrangian.model.validation import NameScope

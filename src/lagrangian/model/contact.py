@@ -50,15 +50,15 @@ import sympy as sp
 
 from lagrangian.errors import ModelError, Problem
 from lagrangian.model.constraints import Holonomic, VelocityConstraint
-from lagrangian.model.conversion import to_sympy
 from lagrangian.model.elements import Force, RigidBody, Torque, as_expression
-from lagrangian.model.expressions import distinct_parts
 from lagrangian.model.inertia import Shape
-from lagrangian.model.nonsmooth import piecewise_smooth
-from lagrangian.model.probe import is_zero
 from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
-from lagrangian.model.symbols import t, velocity
 from lagrangian.model.validation import CONFIGURATION, NameScope
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.expressions import distinct_parts
+from lagrangian.symbolic.nonsmooth import piecewise_smooth
+from lagrangian.symbolic.probe import is_zero
+from lagrangian.symbolic.symbols import t, velocity
 
 #: Shapes whose axis of symmetry is a wheel's axle.
 WHEEL_SHAPES = ("disc", "ring", "cylinder")

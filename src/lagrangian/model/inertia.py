@@ -28,13 +28,13 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem, raise_if_problems
-from lagrangian.model.conversion import to_matrix, to_sympy
 from lagrangian.model.rotation import (
     as_expression,
     as_orientation,
     evaluate_matrix,
 )
 from lagrangian.model.twist import adjoint_inverse
+from lagrangian.symbolic.conversion import to_matrix, to_sympy
 
 AXES = ("x", "y", "z")
 

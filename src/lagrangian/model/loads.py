@@ -27,10 +27,10 @@ from typing import Any
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem
-from lagrangian.model.conversion import to_sympy
 from lagrangian.model.elements import Force, RigidBody, Torque
 from lagrangian.model.rotation import spatial_angular_velocity
-from lagrangian.model.symbols import velocity
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.symbols import velocity
 
 
 def _vector3(value: Sequence[Any], field: str) -> sp.Matrix:

@@ -20,7 +20,6 @@ from lagrangian.errors import ModelError, Problem, raise_if_problems
 from lagrangian.model.circuit import CircuitElement
 from lagrangian.model.constraints import Constraint
 from lagrangian.model.contact import RollingDisc, add_rolling_constraints, move_contact_forces
-from lagrangian.model.conversion import to_sympy
 from lagrangian.model.elements import (
     Damper,
     Force,
@@ -31,11 +30,12 @@ from lagrangian.model.elements import (
     as_expression,
 )
 from lagrangian.model.frames import Frame, resolve_orientations
-from lagrangian.model.frozen import FrozenMapping
 from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import Orientation
-from lagrangian.model.symbols import as_coordinate, from_time_functions, t
 from lagrangian.model.validation import validate
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.frozen import FrozenMapping
+from lagrangian.symbolic.symbols import as_coordinate, from_time_functions, t
 
 if TYPE_CHECKING:
     from lagrangian.model.system import System

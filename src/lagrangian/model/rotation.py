@@ -26,7 +26,6 @@ from __future__ import annotations
 import difflib
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -34,8 +33,9 @@ import symengine as se
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.symbols import t, time_derivative, velocity
+from lagrangian.symbolic.caches import remembered
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.symbols import t, time_derivative, velocity
 
 #: The 12 Euler-angle sequences: 6 Tait–Bryan (three different axes), 6 proper Euler.
 EULER_SEQUENCES = (
@@ -532,7 +532,7 @@ def _angular_velocity(
         return _computed_angular_velocity(orientation, q, body, EXPANDED_TURNS)
 
 
-@lru_cache(maxsize=REMEMBERED)
+@remembered(maxsize=REMEMBERED)
 def _remembered_angular_velocity(
     orientation: Orientation, q: tuple[sp.Symbol, ...], body: bool, limit: int
 ) -> sp.ImmutableMatrix:
@@ -607,7 +607,7 @@ def _fast_composed(
         return None
 
 
-_remembered_fast = lru_cache(maxsize=REMEMBERED)(_fast_composed)
+_remembered_fast = remembered(maxsize=REMEMBERED)(_fast_composed)
 
 
 def body_angular_velocity(orientation: Any, coordinates: Iterable[sp.Symbol]) -> sp.ImmutableMatrix:

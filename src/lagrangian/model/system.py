@@ -1,6 +1,6 @@
 """The System: everything a user says about a mechanical or electromechanical system.
 
-A System is an immutable value (its mappings are read-only :class:`~lagrangian.model.frozen.
+A System is an immutable value (its mappings are read-only :class:`~lagrangian.symbolic.frozen.
 FrozenMapping` s).  Its contributions add up (docs/architecture.md, "The model file"):
 explicit energies T, V (or L directly), a velocity-dependent potential U, a Rayleigh
 dissipation function F, generalized forces Q, particles and rigid bodies (planar or 3-D) under
@@ -34,11 +34,11 @@ from lagrangian.model.circuit import CircuitElement
 from lagrangian.model.constraints import Constraint
 from lagrangian.model.contact import RollingDisc
 from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque, as_tuple
-from lagrangian.model.expressions import closest_name
 from lagrangian.model.frames import Frame
-from lagrangian.model.frozen import FrozenMapping
 from lagrangian.model.normalize import ELEMENT_FIELDS, normalize_system
-from lagrangian.model.symbols import acceleration, t, velocity
+from lagrangian.symbolic.expressions import closest_name
+from lagrangian.symbolic.frozen import FrozenMapping
+from lagrangian.symbolic.symbols import acceleration, t, velocity
 
 
 @dataclass(frozen=True)

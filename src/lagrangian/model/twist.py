@@ -18,14 +18,14 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.model.conversion import to_sympy
 from lagrangian.model.rotation import (
     as_orientation,
     body_angular_velocity,
     hat,
     spatial_angular_velocity,
 )
-from lagrangian.model.symbols import time_derivative
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.symbols import time_derivative
 
 
 def adjoint(rotation: Any, position: Sequence[Any]) -> sp.ImmutableMatrix:

@@ -22,11 +22,11 @@ from lagrangian.model.circuit import (
 )
 from lagrangian.model.constraints import check_constraints
 from lagrangian.model.elements import ORIGIN
-from lagrangian.model.expressions import closest_name, distinct_parts, free_symbols
 from lagrangian.model.inertia import Shape, check_inertia
-from lagrangian.model.probe import PROBES, SEED, random_values
 from lagrangian.model.rotation import Orientation, check_rotation
-from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, t, velocity
+from lagrangian.symbolic.expressions import closest_name, distinct_parts, free_symbols
+from lagrangian.symbolic.probe import PROBES, SEED, random_values
+from lagrangian.symbolic.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, t, velocity
 
 #: The most generalized coordinates a System may have: the equations hold n-by-n matrices,
 #: and a chain of a few hundred links already takes minutes to derive.

@@ -33,9 +33,9 @@ from scipy.linalg.lapack import dgesv
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.derivation.terms import euler_lagrange_terms, matrix_piece
 from lagrangian.errors import SimulationError, SimulationInputError
-from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
 from lagrangian.numerics.state_equations import StateEquations, state_equations
+from lagrangian.symbolic.caches import IdentityCache
 
 #: Time: one float, or one per state of a batch.
 Time: TypeAlias = "float | np.ndarray"

@@ -34,8 +34,8 @@ from lagrangian.constraints import ConstrainedEquations
 from lagrangian.constraints.pfaffian import pfaffian_form
 from lagrangian.errors import SimulationError, SimulationInputError
 from lagrangian.model.constraints import VelocityConstraint
-from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
+from lagrangian.symbolic.caches import IdentityCache
 
 #: Newton steps of :meth:`CompiledConstrained.project` (one or two suffice after a step).
 PROJECTION_ITERATIONS = 20

@@ -41,9 +41,9 @@ import sympy as sp
 
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationInputError
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.evaluate import NumericFunction
+from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.conversion import to_sympy
 
 #: Newton iterations allowed per solve of the discrete equations.
 MAX_ITERATIONS = 25

@@ -37,7 +37,7 @@ import numpy as np
 import symengine as se
 import sympy as sp
 
-from lagrangian.model.nonsmooth import piecewise_smooth
+from lagrangian.symbolic.nonsmooth import piecewise_smooth
 
 #: Whether to compile with SymEngine's LLVM backend (False: always sympy.lambdify; tests
 #: compare the two).

@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 
 from lagrangian.model import System
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.symbols import t
 from lagrangian.numerics.evaluate import NumericFunction
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.symbols import t
 
 
 @dataclass(frozen=True)

@@ -44,8 +44,8 @@ from lagrangian.analysis import (
     NormalModes,
 )
 from lagrangian.analysis.steady_motions import SteadyMotions
-from lagrangian.model.conversion import to_sympy
 from lagrangian.render.text import SumPrinter
+from lagrangian.symbolic.conversion import to_sympy
 
 
 def expression_string(expr: sp.Basic) -> str:

@@ -22,9 +22,9 @@ from lagrangian.analysis import (
     NormalModes,
     Symmetry,
 )
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.probe import is_small
 from lagrangian.render.latex import block, symbol_names
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.probe import is_small
 
 #: Operations beyond which an expression is not typeset (sympy.latex takes seconds per
 #: ten thousand operations, and a page of them says nothing): it is named, with its size.

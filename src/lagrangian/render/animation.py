@@ -29,12 +29,12 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.model import System
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.symbols import t
 from lagrangian.numerics.evaluate import NumericFunction
 from lagrangian.numerics.points import PointPositions, compile_points
 from lagrangian.render.gauges import gauge_scene
 from lagrangian.simulation.trajectory import Trajectory
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.symbols import t
 
 if TYPE_CHECKING:
     from matplotlib.animation import FuncAnimation

@@ -23,7 +23,6 @@ from lagrangian.analysis import AnalysisReport
 from lagrangian.derivation import CoordinateSteps, EquationsOfMotion
 from lagrangian.derivation.steps import Steps
 from lagrangian.model import System
-from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX
 from lagrangian.render.analysis_latex import RESULT_TYPES, analysis_latex, result_latex
 from lagrangian.render.latex import (
     coordinate_steps_latex,
@@ -34,6 +33,7 @@ from lagrangian.render.latex import (
 )
 from lagrangian.render.plots import overview_png
 from lagrangian.simulation.trajectory import Drift, Trajectory
+from lagrangian.symbolic.symbols import DDOT_SUFFIX, DOT_SUFFIX
 
 # MathJax 3 and KaTeX refuse align* inside $$...$$ ("erroneous nesting"); aligned works.
 _NESTED = "aligned"

@@ -25,9 +25,9 @@ from sympy.simplify import fraction
 
 from lagrangian.derivation import CoordinateSteps, EquationsOfMotion
 from lagrangian.model import System
-from lagrangian.model.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, velocity
 from lagrangian.render.rows import Row, energy_rows, step_rows
 from lagrangian.render.text import KeptText, extracts_minus_sign
+from lagrangian.symbolic.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, velocity
 
 _TEXT_ESCAPES = {c: "\\" + c for c in "_&%#${}"}
 

@@ -23,9 +23,9 @@ from sympy.printing.precedence import PRECEDENCE, precedence_traditional
 from sympy.printing.printer import Printer
 
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.model.conversion import to_sympy
 from lagrangian.render.rows import Row, step_rows
 from lagrangian.render.text import KEPT_PRODUCT, TermOrder, extracts_minus_sign
+from lagrangian.symbolic.conversion import to_sympy
 
 DOT, DDOT = "&#729;", "&#168;"  # ˙ and ¨ as accents over the coordinate
 NAMED_ENTITIES = {

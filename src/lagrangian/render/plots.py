@@ -27,9 +27,9 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.model import System
-from lagrangian.model.symbols import DOT_SUFFIX
 from lagrangian.render.text import DOT, label
 from lagrangian.simulation.trajectory import Trajectory
+from lagrangian.symbolic.symbols import DOT_SUFFIX
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

@@ -17,26 +17,26 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from lagrangian.simulation.action import action, action_variation, stationary_path
-    from lagrangian.simulation.batch import simulate_batch
-    from lagrangian.simulation.batch_result import Batch
-    from lagrangian.simulation.events import EventFunction
+    from lagrangian.simulation.batch.result import Batch
+    from lagrangian.simulation.batch.run import simulate_batch
+    from lagrangian.simulation.integrators.events import EventFunction
     from lagrangian.simulation.outcome import SimulationInterrupted
     from lagrangian.simulation.run import simulate
     from lagrangian.simulation.trajectory import Event, Trajectory
+    from lagrangian.simulation.variational.action import action, action_variation, stationary_path
 
 #: Public name -> the module defining it, imported when the name is first used.
 _HOMES = {
-    "Batch": "lagrangian.simulation.batch_result",
+    "Batch": "lagrangian.simulation.batch.result",
     "Event": "lagrangian.simulation.trajectory",
-    "EventFunction": "lagrangian.simulation.events",
+    "EventFunction": "lagrangian.simulation.integrators.events",
     "SimulationInterrupted": "lagrangian.simulation.outcome",
     "Trajectory": "lagrangian.simulation.trajectory",
-    "action": "lagrangian.simulation.action",
-    "action_variation": "lagrangian.simulation.action",
+    "action": "lagrangian.simulation.variational.action",
+    "action_variation": "lagrangian.simulation.variational.action",
     "simulate": "lagrangian.simulation.run",
-    "simulate_batch": "lagrangian.simulation.batch",
-    "stationary_path": "lagrangian.simulation.action",
+    "simulate_batch": "lagrangian.simulation.batch.run",
+    "stationary_path": "lagrangian.simulation.variational.action",
 }
 
 

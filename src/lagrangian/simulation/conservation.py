@@ -32,8 +32,8 @@ import sympy as sp
 
 from lagrangian.analysis.energy import energy_conservation, homogeneous_parts
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.model.identity_cache import IdentityCache
-from lagrangian.model.probe import is_zero
+from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.probe import is_zero
 
 #: The reasons an energy is not conserved, each naming a term of dh/dt.
 REASONS = ("forcing", "dissipation", "explicit time dependence", "constraints that do work")

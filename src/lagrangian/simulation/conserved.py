@@ -27,11 +27,12 @@ from lagrangian.analysis.momenta import CyclicCoordinate, cyclic_coordinates
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import ExpressionError, Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
-from lagrangian.model.conversion import to_sympy
-from lagrangian.model.expressions import parse_expression
-from lagrangian.model.identity_cache import IdentityCache
-from lagrangian.model.symbols import from_time_functions
 from lagrangian.numerics.evaluate import NumericFunction
+from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.expressions import parse_expression
+from lagrangian.symbolic.probe import is_zero
+from lagrangian.symbolic.symbols import from_time_functions
 
 _CYCLIC: IdentityCache[EquationsOfMotion, tuple[CyclicCoordinate, ...]] = IdentityCache()
 _COMPILED: IdentityCache[EquationsOfMotion, dict[Any, NumericFunction]] = IdentityCache()
@@ -160,7 +161,7 @@ def _allowed_names(eom: EquationsOfMotion) -> dict[str, sp.Basic]:
 
 def _expression(value: Any, names: Mapping[str, sp.Basic], field: str) -> sp.Expr:
     if isinstance(value, (str, int, float)) and not isinstance(value, bool):
-        return parse_expression(value, names, field=field)
+        return parse_expression(value, names, field=field, zero_test=is_zero)
     if not isinstance(value, sp.Expr):
         raise SimulationInputError(
             f"{field} is a {type(value).__name__}; give an expression (text or SymPy)."

@@ -1,5 +1,5 @@
 """The dynamics objects of the free and the constrained motion (the shape of
-:class:`lagrangian.simulation.integration.Dynamics`), and the one check of an initial state
+:class:`lagrangian.simulation.integrators.protocol.Dynamics`), and the one check of an initial state
 against the constraints.
 
 * :class:`FreeDynamics`: M(q, t) q_ddot = forcing(q, q_dot, t), x = [q; q_dot] (first-order

@@ -21,11 +21,11 @@ from typing import Any
 import numpy as np
 
 from lagrangian.errors import Problem
-from lagrangian.model.expressions import closest_name
-from lagrangian.model.symbols import name_of
 from lagrangian.numerics.compile import CompiledEquations
-from lagrangian.simulation.budget import DEFAULT_MAX_STEPS
+from lagrangian.simulation.integrators.budget import DEFAULT_MAX_STEPS
 from lagrangian.simulation.methods import DEFAULT_METHOD, TABLE
+from lagrangian.symbolic.expressions import closest_name
+from lagrangian.symbolic.symbols import name_of
 
 #: The tolerances of the adaptive methods when neither the call nor the System gives them.
 TOLERANCES: dict[str, float] = {"rtol": 1e-8, "atol": 1e-10}

@@ -3,10 +3,12 @@ every driver (which options apply, which backend runs a method, which may be pro
 
 * adaptive: SciPy's ``solve_ivp`` methods, the step chosen from ``rtol``, ``atol`` and
   bounded by ``max_step``;
-* fixed: the classical RK4 (:mod:`lagrangian.simulation.rk4`), step ``dt``;
+* fixed: the classical RK4 (:mod:`lagrangian.simulation.integrators.rk4`), step ``dt``;
 * variational: the variational integrators, step ``dt``: the midpoint rule
-  (``variational``, :mod:`lagrangian.simulation.variational`) and the symplectic collocation
-  methods of order 4 and 6 (``gauss4``, ``gauss6``, :mod:`lagrangian.simulation.collocation`).
+  (``variational``, :mod:`lagrangian.simulation.variational.midpoint`) and the symplectic
+  collocation
+  methods of order 4 and 6 (``gauss4``, ``gauss6``,
+  :mod:`lagrangian.simulation.variational.collocation`).
 
 >>> method_named("DOP853").stepping, method_named("RK4").takes_tolerances
 ('adaptive', False)
@@ -59,7 +61,7 @@ class Method:
     @property
     def variational(self) -> bool:
         """Whether it is a variational integrator (the discrete equations of motion of
-        :mod:`lagrangian.simulation.variational`, not a vector field)."""
+        :mod:`lagrangian.simulation.variational.midpoint`, not a vector field)."""
         return self.stepping == "variational"
 
     @property
@@ -87,7 +89,13 @@ TABLE = MappingProxyType(
             Method("Radau", "adaptive", f"{_SCIPY}:Radau", explicit=False, compiled=False),
             Method("BDF", "adaptive", f"{_SCIPY}:BDF", explicit=False, compiled=False),
             Method("LSODA", "adaptive", f"{_SCIPY}:LSODA", explicit=False, compiled=False),
-            Method("RK4", "fixed", "lagrangian.simulation.rk4:RK4", explicit=True, compiled=True),
+            Method(
+                "RK4",
+                "fixed",
+                "lagrangian.simulation.integrators.rk4:RK4",
+                explicit=True,
+                compiled=True,
+            ),
             Method("variational", "variational", "", explicit=False, compiled=False),
             Method("gauss4", "variational", "", explicit=False, compiled=False),
             Method("gauss6", "variational", "", explicit=False, compiled=False),

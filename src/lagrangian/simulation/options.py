@@ -60,7 +60,7 @@ class StepKeywords(TypedDict, total=False):
     max_steps, max_wall_time:
         The run's budget: at most ``max_steps`` accepted steps (default one million) and
         ``max_wall_time`` seconds (default no limit); see
-        :mod:`lagrangian.simulation.budget`.
+        :mod:`lagrangian.simulation.integrators.budget`.
     """
 
     method: str

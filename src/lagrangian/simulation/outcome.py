@@ -1,7 +1,8 @@
 """The one place where an integration becomes a Trajectory, and where a failure or an
 interruption is decided.
 
-Every integrator returns an :class:`~lagrangian.simulation.integration.Integration`; here its
+Every integrator returns an :class:`~lagrangian.simulation.integrators.protocol.Integration`; here
+its
 rows get their velocities, energies (E = T + V, and h where it differs), multipliers and
 constraint residuals, the conserved quantities asked for, the events by name, which columns
 the system conserves (:mod:`lagrangian.simulation.conservation`) and a message; a run that
@@ -28,7 +29,7 @@ from lagrangian.simulation.conserved import (
     conserved_columns,
     momentum_obstructions,
 )
-from lagrangian.simulation.integration import Integration, Motion
+from lagrangian.simulation.integrators.protocol import Integration, Motion
 from lagrangian.simulation.setup import RunSetup
 from lagrangian.simulation.trajectory import Event, Rows, Trajectory, trajectory_of_rows
 

@@ -4,7 +4,7 @@
 
 (first-order coordinates keep only q in the state, see :mod:`lagrangian.numerics.state_equations`),
 integrated by any ``scipy.integrate.solve_ivp`` method, the fixed-step RK4, the numba loops or
-the variational integrator (:mod:`lagrangian.simulation.variational`).
+the variational integrator (:mod:`lagrangian.simulation.variational.midpoint`).
 
 One driver for every path (docs/architecture.md): :func:`~lagrangian.simulation.setup.prepare`
 checks the call into a run setup, :func:`plan` picks the dynamics of the formulation (free,
@@ -31,18 +31,18 @@ from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
 from lagrangian.numerics.constrained import compile_constrained
 from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics
-from lagrangian.simulation.compiled_run import native_integrator
 from lagrangian.simulation.dynamics import FreeDynamics, MultiplierDynamics
-from lagrangian.simulation.events import EventFunction, EventWatch
-from lagrangian.simulation.integration import Integrator, Motion
+from lagrangian.simulation.integrators.compiled import native_integrator
+from lagrangian.simulation.integrators.events import EventFunction, EventWatch
+from lagrangian.simulation.integrators.loop import SolverIntegrator
+from lagrangian.simulation.integrators.protocol import Integrator, Motion
 from lagrangian.simulation.options import StepKeywords, check_keywords
 from lagrangian.simulation.outcome import conclude
 from lagrangian.simulation.setup import RunSetup, prepare
-from lagrangian.simulation.stepping import SolverIntegrator
 from lagrangian.simulation.switching import SwitchedDynamics, SwitchedIntegrator, has_switching
 from lagrangian.simulation.trajectory import Trajectory
 from lagrangian.simulation.unilateral import ActiveSetIntegrator, UnilateralDynamics
-from lagrangian.simulation.variational import DiscreteDynamics, VariationalIntegrator
+from lagrangian.simulation.variational.midpoint import DiscreteDynamics, VariationalIntegrator
 
 if TYPE_CHECKING:
     from typing_extensions import Unpack
@@ -82,11 +82,11 @@ def simulate(
         ``RK45`` (default), ``RK23``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA`` (solve_ivp)
         or ``RK4`` (fixed step ``dt``, or the spacing of ``samples``), or ``variational``
         (fixed step ``dt``: the symplectic midpoint-rule integrator of
-        :mod:`lagrangian.simulation.variational`, with applied forces, dissipation and
+        :mod:`lagrangian.simulation.variational.midpoint`, with applied forces, dissipation and
         holonomic constraints held exactly at every step; on a conservative system the energy
         error stays bounded instead of drifting), or ``gauss4``, ``gauss6`` (fixed step ``dt``:
         the symplectic Gauss–Legendre collocation of order 4 and 6, Lobatto IIIA–IIIB with
-        holonomic constraints, :mod:`lagrangian.simulation.collocation`; these three run
+        holonomic constraints, :mod:`lagrangian.simulation.variational.collocation`; these three run
         compiled when numba is installed).  The names are those of
         :data:`lagrangian.simulation.methods.TABLE`.
     rtol, atol, max_step:
@@ -127,7 +127,7 @@ def simulate(
         ``"numpy"`` (default): SciPy's solvers, where RK45 and DOP853 (free systems, and the
         multiplier form without ``project_steps``; events that are expressions of the state)
         run step for step in a C loop compiled once per machine when a C compiler is present
-        (:mod:`lagrangian.simulation.compiled_run`); or ``"numba"``: the
+        (:mod:`lagrangian.simulation.integrators.compiled`); or ``"numba"``: the
         right-hand side and the whole RK45, DOP853 or RK4 loop compiled (needs
         ``pip install lagrangian[fast]``; no events or constraints; the steps are SciPy's).
 

@@ -28,9 +28,9 @@ from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.fast import c_loop
 from lagrangian.numerics.fast.tableaus import ADAPTIVE
 from lagrangian.simulation.conserved import conserved_expressions
-from lagrangian.simulation.events import EventFunction
 from lagrangian.simulation.gimbal import GimbalGuard, gimbal_guard
 from lagrangian.simulation.inputs import Fallbacks, Inputs, checked_inputs
+from lagrangian.simulation.integrators.events import EventFunction
 from lagrangian.simulation.methods import DEFAULT_METHOD
 from lagrangian.simulation.options import Options
 

@@ -37,16 +37,16 @@ import sympy as sp
 
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationError
-from lagrangian.model.frozen import FrozenMapping
-from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.evaluate import NumericFunction
 from lagrangian.simulation.dynamics import WithoutConstraints
-from lagrangian.simulation.events import EventFunction, EventWatch
 from lagrangian.simulation.inputs import Inputs
-from lagrangian.simulation.integration import Integration, Progress
-from lagrangian.simulation.pieces import continued_from, joined
-from lagrangian.simulation.stepping import SolverIntegrator
+from lagrangian.simulation.integrators.events import EventFunction, EventWatch
+from lagrangian.simulation.integrators.loop import SolverIntegrator
+from lagrangian.simulation.integrators.piecewise import continued_from, joined
+from lagrangian.simulation.integrators.protocol import Integration, Progress
+from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.frozen import FrozenMapping
 
 #: |du/dt| below this (relative to the field's size) counts as zero when deciding a switch.
 DECISION_TOLERANCE = 1e-12
@@ -304,7 +304,7 @@ def _first_mode(
 
 def _replaced(matrix: sp.MatrixBase, modes: dict[sp.Expr, sp.Symbol]) -> sp.ImmutableMatrix:
     """The entries with sign(u_k) -> s_k and Heaviside(u_k) -> (1 + s_k)/2 (the classes of
-    :mod:`lagrangian.model.nonsmooth` and SymPy's alike)."""
+    :mod:`lagrangian.symbolic.nonsmooth` and SymPy's alike)."""
 
     def swap(f: sp.Basic) -> sp.Expr:
         s = modes.get(f.args[0])

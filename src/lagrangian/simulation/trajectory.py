@@ -35,8 +35,8 @@ from typing import Any, NamedTuple, TextIO
 import numpy as np
 
 from lagrangian.errors import SimulationInputError
-from lagrangian.model.expressions import closest_name
 from lagrangian.simulation.files import written_atomically
+from lagrangian.symbolic.expressions import closest_name
 
 DOT = "_dot"
 

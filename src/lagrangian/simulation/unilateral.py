@@ -39,14 +39,14 @@ from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
 from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, label, statement
-from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
 from lagrangian.simulation.dynamics import INITIAL_TOLERANCE, MultiplierDynamics
-from lagrangian.simulation.events import EventFunction, EventWatch
 from lagrangian.simulation.inputs import Inputs
-from lagrangian.simulation.integration import Integration, Progress
-from lagrangian.simulation.pieces import continued_from, joined
-from lagrangian.simulation.stepping import SolverIntegrator
+from lagrangian.simulation.integrators.events import EventFunction, EventWatch
+from lagrangian.simulation.integrators.loop import SolverIntegrator
+from lagrangian.simulation.integrators.piecewise import continued_from, joined
+from lagrangian.simulation.integrators.protocol import Integration, Progress
+from lagrangian.symbolic.caches import IdentityCache
 
 #: How far below zero an inactive constraint's g may go before it counts as a re-contact.
 RECONTACT_TOLERANCE = 1e-8

@@ -31,7 +31,7 @@ import numpy as np
 
 from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
-from lagrangian.simulation.batch import StopCondition, simulate_batch
+from lagrangian.simulation.batch.run import StopCondition, simulate_batch
 from lagrangian.simulation.trajectory import Trajectory
 from lagrangian.sweeps.members import batch_members, simulate_member, stop_time
 from lagrangian.sweeps.stop_condition import StopExpression

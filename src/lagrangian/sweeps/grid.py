@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike
 
 from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
-from lagrangian.model.symbols import name_of
+from lagrangian.symbolic.symbols import name_of
 
 #: The dimension shared by the names drawn at random.
 SAMPLE = "sample"

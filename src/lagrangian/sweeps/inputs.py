@@ -20,7 +20,7 @@ import numpy as np
 
 from lagrangian.errors import SimulationInputError, raise_if_problems
 from lagrangian.model import System
-from lagrangian.simulation.batch import StopCondition, prepared_batch
+from lagrangian.simulation.batch.run import StopCondition, prepared_batch
 from lagrangian.simulation.run import plan
 from lagrangian.simulation.setup import prepare
 from lagrangian.sweeps.members import stop_event

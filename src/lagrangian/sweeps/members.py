@@ -33,8 +33,8 @@ from lagrangian.derivation import derive
 from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
 from lagrangian.numerics.compile import compile_equations
-from lagrangian.simulation.batch import StopCondition
-from lagrangian.simulation.batch_result import Batch
+from lagrangian.simulation.batch.result import Batch
+from lagrangian.simulation.batch.run import StopCondition
 from lagrangian.simulation.conservation import not_conserved
 from lagrangian.simulation.conserved import (
     compile_conserved,
@@ -42,7 +42,7 @@ from lagrangian.simulation.conserved import (
     conserved_expressions,
     momentum_obstructions,
 )
-from lagrangian.simulation.events import EventFunction
+from lagrangian.simulation.integrators.events import EventFunction
 from lagrangian.simulation.outcome import rows_with_energies
 from lagrangian.simulation.run import simulate
 from lagrangian.simulation.trajectory import DOT, Event, Rows, Trajectory, trajectory_of_rows

@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike
 from lagrangian.errors import Problem, SimulationError, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.model.system import require_system
-from lagrangian.simulation.batch import StopCondition
+from lagrangian.simulation.batch.run import StopCondition
 from lagrangian.simulation.options import StepKeywords
 from lagrangian.sweeps.blocks import (
     DEFAULT_CHUNK_SIZE,

@@ -1,7 +1,7 @@
 """A stop condition given as text: ``"pi - Abs(theta)"`` -> g(t, q, q_dot), a member stops
 where g turns negative (simulate_batch's ``stop_when``).
 
-The text is read by the model-file parser (:func:`lagrangian.model.conversion.parse_text`,
+The text is read by the model-file parser (:func:`lagrangian.symbolic.conversion.parse_text`,
 never ``eval``); it may name t, the coordinates, their ``NAME_dot`` and the parameters that
 are not varied (replaced by their values).  The value is a small picklable record: each
 process makes its functions from the expression on first use, so it travels to Dask workers
@@ -22,7 +22,6 @@ array([ 0.5, -1. ])
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from typing import Any
@@ -32,7 +31,8 @@ import sympy as sp
 
 from lagrangian.errors import Problem, SimulationInputError
 from lagrangian.model import System
-from lagrangian.model.conversion import parse_text
+from lagrangian.symbolic.caches import remembered
+from lagrangian.symbolic.conversion import parse_text
 
 #: The field a stop condition is named by in errors.
 FIELD = "stop_when"
@@ -83,7 +83,7 @@ def stop_expression(system: System, text: str, varied: Collection[str] = ()) -> 
     return StopExpression(text, expression.xreplace(numbers), coordinates)
 
 
-@functools.lru_cache(maxsize=32)
+@remembered(maxsize=32)
 def _lambdified(expression: sp.Expr, coordinates: tuple[str, ...]) -> Callable[..., Any]:
     """The NumPy function of ``expression`` of (t, q..., q_dot...), made once per process."""
     arguments = [sp.Symbol(name) for name in ("t", *coordinates)]
@@ -91,7 +91,7 @@ def _lambdified(expression: sp.Expr, coordinates: tuple[str, ...]) -> Callable[.
     return sp.lambdify(arguments, expression, "numpy")
 
 
-@functools.lru_cache(maxsize=32)
+@remembered(maxsize=32)
 def _scalar(
     expression: sp.Expr, coordinates: tuple[str, ...]
 ) -> Callable[[float, Any, Any], float]:

@@ -33,7 +33,6 @@ from lagrangian.cli.commands import (
 from lagrangian.errors import LagrangianError, Problem, SimulationError, SimulationInputError
 from lagrangian.io import loads
 from lagrangian.model import System
-from lagrangian.model.conversion import to_sympy
 from lagrangian.numerics.export import export
 from lagrangian.numerics.points import compile_points
 from lagrangian.render.analysis_json import analysis_document
@@ -41,6 +40,7 @@ from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.animation import rods
 from lagrangian.simulation import Trajectory, simulate
 from lagrangian.size_limits import size_limit
+from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.web.limits import TimeLimitExceeded
 
 #: Output times of a simulation asked without ``samples`` (the model's own count wins).

@@ -15,7 +15,7 @@ with ctypes in a fraction of a millisecond.
   the temporary folder (``lagrangian-<uid>``, private to the user), or, failing that, to a new
   temporary folder of this process (compiled in every process).
 - Without a C compiler, or when compiling fails, :func:`loop_library` is None and the callers
-  use SciPy's solvers instead (:mod:`lagrangian.simulation.compiled_run`).
+  use SciPy's solvers instead (:mod:`lagrangian.simulation.integrators.compiled`).
 
 Compiling takes about a second; loading, under a millisecond (and the check of the digest).
 

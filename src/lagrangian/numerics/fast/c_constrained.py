@@ -38,7 +38,6 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.constraints import ConstrainedEquations
-from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.fast.c_loop import c_function
 from lagrangian.numerics.fast.compiled_rates import FastEquations
 from lagrangian.numerics.fast.constrained import (
@@ -47,6 +46,7 @@ from lagrangian.numerics.fast.constrained import (
     residual_expressions,
 )
 from lagrangian.numerics.fast.native import NativeFunction
+from lagrangian.symbolic.caches import IdentityCache
 
 
 @dataclass(frozen=True)

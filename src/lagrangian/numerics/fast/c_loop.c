@@ -17,7 +17,7 @@
  *     and step control (accept when err < 1: h <- h min(10, 0.9 err^(-1/(k+1))), at most h
  *     after a rejection; reject: h <- h max(0.2, 0.9 err^(-1/(k+1))));
  *   - output at the requested times from each step's dense output, or every step;
- *   - the budget of lagrangian/simulation/budget.py after every accepted step: accepted steps,
+ *   - the budget of lagrangian/simulation/integrators/budget.py after every accepted step: accepted steps,
  *     wall time, stiffness (h |lambda| near the edge of the stability region for most of the
  *     last steps, Hairer & Wanner, Solving ODEs II, IV.2) and a collapsed step size.
  *
@@ -27,7 +27,7 @@
  * every-step output needs more room, or LG_EVENTS_FULL when the event records do.  Status
  * codes 0-5 are those of lagrangian/numerics/fast/outcome.py (LG_STOPPED: a terminal event).
  *
- * Events (lagrangian/simulation/events.py, as solve_ivp): the event functions are one more C
+ * Events (lagrangian/simulation/integrators/events.py, as solve_ivp): the event functions are one more C
  * function g(t, x); after every accepted step a sign change of g_i in its direction is a
  * zero, located on the step's dense output by SciPy's brentq (xtol = rtol = 4 eps), the zeros
  * of one step recorded in the order of time, and the run ends at the zero that completes an

@@ -12,9 +12,10 @@ the free state equations (:func:`native_equations`) or the multiplier form of a 
 system (:mod:`lagrangian.numerics.fast.c_constrained`).  Events (:class:`LoopEvents`) are one
 more compiled function g(t, x, p): after every accepted step a sign change of g_i in its
 direction is located on the step's dense output by SciPy's brentq, written in C, as
-:mod:`lagrangian.simulation.events` locates it on SciPy's path.
+:mod:`lagrangian.simulation.integrators.events` locates it on SciPy's path.
 
-Per step, as :mod:`lagrangian.simulation.budget` does after every step of SciPy's solvers, it
+Per step, as :mod:`lagrangian.simulation.integrators.budget` does after every step of SciPy's
+solvers, it
 counts the step against :class:`Limits`: accepted steps, wall time, stiffness (h |lambda| near
 the edge of the stability region for most of the last steps) and a collapsed step size.
 
@@ -51,8 +52,6 @@ import sympy as sp
 
 from lagrangian.derivation.backend import backend_entries
 from lagrangian.derivation.eom import EquationsOfMotion
-from lagrangian.model.identity_cache import IdentityCache
-from lagrangian.model.nonsmooth import piecewise_smooth
 from lagrangian.numerics.fast.c_build import loop_library
 from lagrangian.numerics.fast.compiled_rates import FastEquations
 from lagrangian.numerics.fast.native import NativeFunction, llvm_function
@@ -60,6 +59,8 @@ from lagrangian.numerics.fast.outcome import SINGULAR, describe
 from lagrangian.numerics.fast.settings import Settings
 from lagrangian.numerics.fast.tableaus import ADAPTIVE, adaptive_tableau
 from lagrangian.numerics.state_equations import state_equations
+from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.nonsmooth import piecewise_smooth
 
 #: The wall-time budget ran out (``max_wall_time``).
 WALL_TIME = 6
@@ -188,7 +189,7 @@ def state_matrix(fast: FastEquations, t: float, x: np.ndarray, p: np.ndarray) ->
 @dataclass(frozen=True)
 class Limits:
     """The budget of one run, checked after every accepted step (the rules of
-    :class:`lagrangian.simulation.budget.Budget`).
+    :class:`lagrangian.simulation.integrators.budget.Budget`).
 
     max_steps, max_wall_time:
         Accepted steps and seconds the run may take (None: no limit).
@@ -215,7 +216,8 @@ class Limits:
 
 @dataclass(frozen=True)
 class LoopEvents:
-    """Event functions for the loop (:mod:`lagrangian.simulation.events`): ``function`` gives
+    """Event functions for the loop (:mod:`lagrangian.simulation.integrators.events`): ``function``
+    gives
     g_i(t, x, p) (:func:`loop_function`), ``directions`` (> 0: rising zeros only, < 0:
     falling, 0: both) and ``limits`` (how many zeros end the run; inf: never) one per event."""
 

@@ -2,10 +2,10 @@
 of steps in one call.
 
 The stage equations and their Newton iteration are those of
-:mod:`lagrangian.simulation.collocation_step` (unknowns the stage velocities V_i and the
+:mod:`lagrangian.simulation.variational.collocation_step` (unknowns the stage velocities V_i and the
 scaled multipliers h Lambda_1..h Lambda_{s-1}; the momenta at every stage and the
 constraints at stages 2..s divided by h), the march that of
-:mod:`lagrangian.simulation.collocation_march`; the tableau arrives as arrays
+:mod:`lagrangian.simulation.variational.collocation_march`; the tableau arrives as arrays
 ``(a, a_hat, b, c)``.  This module is imported only when numba is installed.
 """
 
@@ -97,7 +97,8 @@ def stage_residual(tableau, p0, dt, lam, stages, forces, rhs):
 @njit(cache=False, nogil=True, error_model="numpy")
 def stage_jacobian(tableau, dt, lam, stages, matrix):
     """The Jacobian of the stage equations in (V, dt Lambda) (see
-    :mod:`lagrangian.simulation.collocation_step`); adds the constraint Hessians to K."""
+    :mod:`lagrangian.simulation.variational.collocation_step`); adds the constraint Hessians to
+    K."""
     a, a_hat = tableau[0], tableau[1]
     L_qv, F_v, L_vv, K, A, H = stages[3], stages[4], stages[5], stages[6], stages[8], stages[9]
     s, n = L_vv.shape[0], L_vv.shape[1]

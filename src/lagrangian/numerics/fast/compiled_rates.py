@@ -38,9 +38,9 @@ import sympy as sp
 
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import SimulationError
-from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.fast.native import NativeFunction, native_function
 from lagrangian.numerics.state_equations import state_equations
+from lagrangian.symbolic.caches import IdentityCache
 
 INSTALL_HINT = "pip install lagrangian[fast]"
 

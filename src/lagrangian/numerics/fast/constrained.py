@@ -32,8 +32,8 @@ import sympy as sp
 from lagrangian.constraints import ConstrainedEquations
 from lagrangian.constraints.pfaffian import pfaffian_form
 from lagrangian.model.constraints import VelocityConstraint
-from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.fast.compiled_rates import FastEquations, linear_equations, require_numba
+from lagrangian.symbolic.caches import IdentityCache
 
 #: The names of Baumgarte's alpha and beta, appended to the parameters.
 BAUMGARTE = ("baumgarte_alpha", "baumgarte_beta")

@@ -29,10 +29,10 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.model.identity_cache import IdentityCache
 from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics
 from lagrangian.numerics.fast.compiled_rates import require_numba
 from lagrangian.numerics.fast.native import NativeFunction, native_function
+from lagrangian.symbolic.caches import IdentityCache
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,5 @@
-"""The classical fixed-step RK4 compiled by numba, as :mod:`lagrangian.simulation.rk4` does it.
+"""The classical fixed-step RK4 compiled by numba, as :mod:`lagrangian.simulation.integrators.rk4`
+does it.
 
     k1 = f(t, x),            k2 = f(t + h/2, x + h/2 k1),
     k3 = f(t + h/2, x + h/2 k2),  k4 = f(t + h, x + h k3),

@@ -1,6 +1,6 @@
 """The midpoint-rule variational integrator compiled: a chunk of steps in one call.
 
-The equations are those of :mod:`lagrangian.simulation.variational_step` (the forced,
+The equations are those of :mod:`lagrangian.simulation.variational.step` (the forced,
 constrained discrete Euler-Lagrange equations of the midpoint discrete Lagrangian in
 position-momentum form), solved by the same Newton iterations with the same tolerances and
 starting guesses, so the compiled march gives the NumPy march's trajectory to rounding.  A

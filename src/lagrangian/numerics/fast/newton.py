@@ -13,7 +13,7 @@ parameters written once, and :func:`evaluate_midpoint`, :func:`evaluate_legendre
     dL/dq_dot(q1, v1, t1) = momentum + weight A1^T mu,     A1 v1 + dh/dt(q1, t1) = 0,
 
 for (v1, mu) by Newton's method (one solve when the Legendre map is affine in v), as
-:func:`lagrangian.simulation.variational_step.velocity_step` does in NumPy, with the same
+:func:`lagrangian.simulation.variational.step.velocity_step` does in NumPy, with the same
 tolerances (:mod:`lagrangian.numerics.discrete_lagrangian`).  Every function returns a status
 (:data:`OK` or the failure) instead of raising.  This module is imported only when numba is
 installed.

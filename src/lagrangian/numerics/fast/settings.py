@@ -2,7 +2,7 @@
 the time span and the output times.
 
 One value for both backends of a batch (the NumPy loop of
-:mod:`lagrangian.simulation.batch_numpy` and the numba loops of
+:mod:`lagrangian.simulation.batch.vectorized` and the numba loops of
 :mod:`lagrangian.numerics.fast.run`), importable without numba.
 
 >>> import numpy as np

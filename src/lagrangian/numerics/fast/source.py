@@ -32,7 +32,7 @@ import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 from lagrangian.errors import SimulationError
-from lagrangian.model.conversion import to_sympy
+from lagrangian.symbolic.conversion import to_sympy
 
 INDENT = "    "
 
