@@ -35,13 +35,14 @@ from lagrangian.simulation.dynamics import FreeDynamics, MultiplierDynamics
 from lagrangian.simulation.integrators.compiled import native_integrator
 from lagrangian.simulation.integrators.events import EventFunction, EventWatch
 from lagrangian.simulation.integrators.loop import SolverIntegrator
+from lagrangian.simulation.integrators.piecewise import PiecewiseIntegrator
 from lagrangian.simulation.integrators.protocol import Integrator, Motion
 from lagrangian.simulation.options import StepKeywords, check_keywords
 from lagrangian.simulation.outcome import conclude
 from lagrangian.simulation.setup import RunSetup, prepare
-from lagrangian.simulation.switching import SwitchedDynamics, SwitchedIntegrator, has_switching
+from lagrangian.simulation.switching import SwitchedDynamics, has_switching
 from lagrangian.simulation.trajectory import Trajectory
-from lagrangian.simulation.unilateral import ActiveSetIntegrator, UnilateralDynamics
+from lagrangian.simulation.unilateral import UnilateralDynamics
 from lagrangian.simulation.variational.midpoint import DiscreteDynamics, VariationalIntegrator
 
 if TYPE_CHECKING:
@@ -176,7 +177,7 @@ def plan(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
         return discrete, VariationalIntegrator(options.method)
     if options.unilateral:
         dynamics = UnilateralDynamics(setup.system, eom, p, options.gains, names)
-        return dynamics, ActiveSetIntegrator()
+        return dynamics, PiecewiseIntegrator(SolverIntegrator())
     if constraints:
         equations = constrained_equations(eom, constraints)
         multipliers = MultiplierDynamics(
@@ -193,7 +194,7 @@ def plan(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
                 "backend: the numba loops do not locate where sign or Heaviside switch the "
                 "right-hand side — use backend='numpy' (the default)"
             )
-        return SwitchedDynamics(eom, p), SwitchedIntegrator()
+        return SwitchedDynamics(eom, p), PiecewiseIntegrator(SolverIntegrator())
     compiled_loop = eom if options.backend == "numba" else None
     # the default backend: RK45 and DOP853 in the C loop compiled once per machine where it
     # can run (a C compiler, equations and events LLVM compiles), else SciPy's solvers

@@ -23,14 +23,16 @@ friction: D. Karnopp, *J. Dyn. Syst. Meas. Control* 107, 1985):
   and the motion leaves on that side.
 
 The surfaces are found in the equations of motion (:func:`switching_functions`); one slides
-at a time (a second sliding surface is refused by name).  Between the switches any solve_ivp
-method steps; the rows of the modes are joined into one Trajectory.
+at a time (a second sliding surface is refused by name).  A mode is a value
+(:class:`SwitchMode`); the piecewise loop (:mod:`lagrangian.simulation.integrators.piecewise`)
+integrates mode by mode with any solve_ivp method and joins the rows into one Trajectory.
 """
 
 from __future__ import annotations
 
 import dataclasses
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 import sympy as sp
@@ -40,11 +42,8 @@ from lagrangian.errors import SimulationError
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.evaluate import NumericFunction
 from lagrangian.simulation.dynamics import WithoutConstraints
-from lagrangian.simulation.inputs import Inputs
-from lagrangian.simulation.integrators.events import EventFunction, EventWatch
-from lagrangian.simulation.integrators.loop import SolverIntegrator
-from lagrangian.simulation.integrators.piecewise import continued_from, joined
-from lagrangian.simulation.integrators.protocol import Integration, Progress
+from lagrangian.simulation.integrators.piecewise import Guard, Jump, Record
+from lagrangian.simulation.integrators.protocol import Dynamics, Integration
 from lagrangian.symbolic.caches import IdentityCache
 from lagrangian.symbolic.frozen import FrozenMapping
 
@@ -77,14 +76,37 @@ def has_switching(eom: EquationsOfMotion) -> bool:
     return bool(switching_functions(eom))
 
 
-@dataclasses.dataclass
+class SwitchMode(NamedTuple):
+    """A mode of a switched right-hand side: s_k = +-1 for every surface (``signs``), and the
+    surface the motion slides on, or None."""
+
+    signs: tuple[float, ...]
+    sliding: int | None = None
+
+    def leaving(self, k: int, side: float) -> SwitchMode:
+        """The mode on the side ``side`` (+1, -1) of surface k (ending a slide on it)."""
+        signs = list(self.signs)
+        signs[k] = side
+        return SwitchMode(tuple(signs), None if self.sliding == k else self.sliding)
+
+    def sliding_on(self, k: int) -> SwitchMode:
+        """The mode sliding on surface k."""
+        return SwitchMode(self.signs, k)
+
+
+@dataclasses.dataclass(frozen=True)
 class SwitchedDynamics(WithoutConstraints):
     """The equations with each sign(u_k) replaced by a parameter s_k (the mode), and the
-    switching functions u_k with their rates du_k/dt along a field."""
+    switching functions u_k with their rates du_k/dt along a field: the
+    :class:`~lagrangian.simulation.integrators.piecewise.Hybrid` of a switched right-hand side
+    (module docstring), its modes :class:`SwitchMode` values."""
 
     eom: EquationsOfMotion
     p: np.ndarray
     multiplier_names: tuple[str, ...] = ()
+    compiled: CompiledEquations = dataclasses.field(init=False, repr=False)
+    surfaces: tuple[sp.Expr, ...] = dataclasses.field(init=False, repr=False)
+    functions: tuple[NumericFunction, NumericFunction] = dataclasses.field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         eom = self.eom
@@ -93,24 +115,20 @@ class SwitchedDynamics(WithoutConstraints):
                 "sign or Heaviside of the state in equations with first-order coordinates: "
                 "switching is located for coordinates with inertia only"
             )
-        self.surfaces = switching_functions(eom)
-        modes = sp.symbols(f"_mode0:{len(self.surfaces)}")
-        rule = dict(zip(self.surfaces, modes, strict=True))
-        moded = dataclasses.replace(
-            eom,
-            mass_matrix=_replaced(eom.mass_matrix, rule),
-            forcing=_replaced(eom.forcing, rule),
-            parameters=FrozenMapping({**eom.parameters, **dict.fromkeys(modes)}),
-        )
-        self.compiled: CompiledEquations = compile_equations(moded)
+        surfaces = switching_functions(eom)
         q, qd, t = list(eom.coordinates), list(eom.velocities), eom.time
         groups = (q, qd, t, list(eom.parameters))
-        self._u = NumericFunction(groups, list(self.surfaces), (len(self.surfaces),))
-        gradient = [u.diff(v) for u in self.surfaces for v in (*q, *qd, t)]
-        self._gradient = NumericFunction(groups, gradient, (len(self.surfaces), 2 * len(q) + 1))
-        self.n = len(q)
-        self.mode = np.ones(len(self.surfaces))
-        self.sliding: int | None = None
+        values = NumericFunction(groups, list(surfaces), (len(surfaces),))
+        gradient = [u.diff(v) for u in surfaces for v in (*q, *qd, t)]
+        rates = NumericFunction(groups, gradient, (len(surfaces), 2 * len(q) + 1))
+        # a frozen value filled once, here: the compiled forms of the same equations
+        object.__setattr__(self, "surfaces", surfaces)
+        object.__setattr__(self, "compiled", _moded_equations(eom))
+        object.__setattr__(self, "functions", (values, rates))
+
+    @property
+    def n(self) -> int:
+        return len(self.eom.coordinates)
 
     # -- the Motion protocol ------------------------------------------------------------
     def unpack(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -119,69 +137,103 @@ class SwitchedDynamics(WithoutConstraints):
     # -- the modes ----------------------------------------------------------------------
     def values(self, t: float, x: np.ndarray) -> np.ndarray:
         """u_k at (t, x)."""
-        return np.asarray(self._u(x[: self.n], x[self.n :], t, self.p), dtype=float)
+        return np.asarray(self.functions[0](x[: self.n], x[self.n :], t, self.p), dtype=float)
 
-    def field_in(self, mode: np.ndarray, t: float, x: np.ndarray) -> np.ndarray:
-        return self.compiled.rhs(t, x, np.concatenate([self.p, mode]))
+    def field_in(self, signs: Sequence[float], t: float, x: np.ndarray) -> np.ndarray:
+        return self.compiled.rhs(t, x, np.concatenate([self.p, signs]))
 
-    def sides(self, k: int, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def sides(
+        self, mode: SwitchMode, k: int, t: float, x: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The fields f+ and f- (s_k = +1, -1, the others as in the mode) and the gradient of
         u_k in (q, q_dot, t): everything a switch or a slide on surface k needs, two field
         evaluations."""
-        grad = np.asarray(self._gradient(x[: self.n], x[self.n :], t, self.p))[k]
-        plus, minus = self.mode.copy(), self.mode.copy()
-        plus[k], minus[k] = 1.0, -1.0
+        grad = np.asarray(self.functions[1](x[: self.n], x[self.n :], t, self.p))[k]
+        plus, minus = mode.leaving(k, 1.0).signs, mode.leaving(k, -1.0).signs
         return self.field_in(plus, t, x), self.field_in(minus, t, x), grad
 
-    def rates(self, k: int, t: float, x: np.ndarray) -> tuple[float, float, float]:
+    def rates(
+        self, mode: SwitchMode, k: int, t: float, x: np.ndarray
+    ) -> tuple[float, float, float]:
         """du_k/dt along f+ and f-, and the size of the terms (for the tolerance of a
         decision)."""
-        up, down, scale, _, _ = self._rates_and_fields(k, t, x)
+        up, down, scale, _, _ = self._rates_and_fields(mode, k, t, x)
         return up, down, scale
 
-    def sliding_share(self, k: int, t: float, x: np.ndarray) -> tuple[float, np.ndarray]:
+    def sliding_share(
+        self, mode: SwitchMode, k: int, t: float, x: np.ndarray
+    ) -> tuple[float, np.ndarray]:
         """lam and the Filippov field on the surface u_k = 0."""
-        up, down, _, f_plus, f_minus = self._rates_and_fields(k, t, x)
+        up, down, _, f_plus, f_minus = self._rates_and_fields(mode, k, t, x)
         lam = -(up + down) / (up - down) if up != down else 0.0
         return lam, (1 + lam) / 2 * f_plus + (1 - lam) / 2 * f_minus
 
     def _rates_and_fields(
-        self, k: int, t: float, x: np.ndarray
+        self, mode: SwitchMode, k: int, t: float, x: np.ndarray
     ) -> tuple[float, float, float, np.ndarray, np.ndarray]:
-        f_plus, f_minus, grad = self.sides(k, t, x)
+        f_plus, f_minus, grad = self.sides(mode, k, t, x)
         up = float(grad[:-1] @ f_plus + grad[-1])
         down = float(grad[:-1] @ f_minus + grad[-1])
         largest = max(np.abs(f_plus).max(), np.abs(f_minus).max())
         scale = float(np.abs(grad[:-1]).sum() * largest) + abs(grad[-1]) + 1e-300
         return up, down, scale, f_plus, f_minus
 
-    def decide(self, k: int, t: float, x: np.ndarray, moving: float) -> str:
-        """At u_k = 0: set the mode of surface k and say "slide", "plus" or "minus";
-        ``moving`` is the side the motion arrives from (its old s_k)."""
-        up, down, scale = self.rates(k, t, x)
+    def decide(
+        self, mode: SwitchMode, k: int, t: float, x: np.ndarray, moving: float
+    ) -> tuple[SwitchMode, str]:
+        """At u_k = 0: the mode after surface k, and "slide", "plus" or "minus"; ``moving``
+        is the side the motion arrives from (its old s_k)."""
+        up, down, scale = self.rates(mode, k, t, x)
         tolerance = DECISION_TOLERANCE * scale
         if up <= tolerance and down >= -tolerance and (up < -tolerance or down > tolerance):
-            if self.sliding is not None and self.sliding != k:
+            if mode.sliding is not None and mode.sliding != k:
                 raise SimulationError(
                     f"the motion slides on two switching surfaces at once, {self.surfaces[k]} "
-                    f"= 0 and {self.surfaces[self.sliding]} = 0, at t = {t:.6g}: not supported"
+                    f"= 0 and {self.surfaces[mode.sliding]} = 0, at t = {t:.6g}: not supported"
                 )
-            self.sliding = k
-            return "slide"
+            return mode.sliding_on(k), "slide"
         if up > tolerance and down > tolerance:
             side = 1.0
         elif up < -tolerance and down < -tolerance:
             side = -1.0
         else:  # both fields leave the surface (or the surface is touched): keep going
             side = -moving
-        return self.leave(k, side)
+        return mode.leaving(k, side), "plus" if side > 0 else "minus"
 
-    def leave(self, k: int, side: float) -> str:
-        """Continue on the side ``side`` (+1, -1) of surface k (ending a slide on it)."""
-        self.mode[k] = side
-        if self.sliding == k:
-            self.sliding = None
-        return "plus" if side > 0 else "minus"
+    # -- the Hybrid protocol of the piecewise loop ----------------------------------------
+    def initial_mode(self, t: float, x: np.ndarray) -> tuple[SwitchMode, list[Record]]:
+        """The sign of each u_k, decided as at a switch where u_k = 0 (those decisions are
+        the first events: a block at rest starts stuck)."""
+        u = self.values(t, x)
+        mode = SwitchMode(tuple(np.where(u < 0, -1.0, 1.0).tolist()))
+        decided: list[Record] = []
+        for k in np.flatnonzero(u == 0):
+            mode, outcome = self.decide(mode, int(k), t, x, moving=-1.0)
+            decided.append((f"switch {self.surfaces[k]}: {outcome}", t, np.array(x)))
+        return mode, decided
+
+    def settle(self, mode: SwitchMode, t: float, x: np.ndarray) -> tuple[SwitchMode, list[Record]]:
+        return mode, []
+
+    def piece(self, mode: SwitchMode) -> Dynamics:
+        return _Piece(self, mode)
+
+    def guards(self, mode: SwitchMode, piece: Dynamics) -> list[_Surface]:
+        return [_Surface(self, mode, k) for k in range(len(self.surfaces))]
+
+    def transition(self, mode: SwitchMode, guard: Guard, t: float, x: np.ndarray) -> Jump:
+        """A slide ends on the side lam reached; a crossing is decided by the two fields."""
+        k = guard.k  # type: ignore[attr-defined]
+        if mode.sliding == k:
+            lam, _ = self.sliding_share(mode, k, t, x)
+            after = mode.leaving(k, 1.0 if lam > 0 else -1.0)
+            outcome = "plus" if lam > 0 else "minus"
+        else:
+            after, outcome = self.decide(mode, k, t, x, mode.signs[k])
+        return Jump(after, x, f"{guard.__name__}: {outcome}")
+
+    def completed(self, mode: SwitchMode, piece: Dynamics, run: Integration) -> Integration:
+        return run
 
 
 @dataclasses.dataclass(frozen=True)
@@ -190,21 +242,20 @@ class _Piece(WithoutConstraints):
     field while it slides)."""
 
     switched: SwitchedDynamics
-    mode: np.ndarray
-    sliding: int | None
+    mode: SwitchMode
     multiplier_names: tuple[str, ...] = ()
 
     def field(self, t: float, x: np.ndarray) -> np.ndarray:
-        if self.sliding is None:
-            return self.switched.field_in(self.mode, t, x)
-        return self.switched.sliding_share(self.sliding, t, x)[1]
+        if self.mode.sliding is None:
+            return self.switched.field_in(self.mode.signs, t, x)
+        return self.switched.sliding_share(self.mode, self.mode.sliding, t, x)[1]
 
     def unpack(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return self.switched.unpack(t, x)
 
 
 class _Surface:
-    """The event of a surface: u_k crossing zero in a mode, or |lam| reaching 1 in a slide.
+    """The guard of a surface: u_k crossing zero in a mode, or |lam| reaching 1 in a slide.
 
     Its value is positive inside the piece (u_k s_k, 1 - |lam|) and the event fires only where
     it turns negative, so the zero a piece starts from is not found again."""
@@ -212,94 +263,38 @@ class _Surface:
     terminal = True
     direction = -1.0
 
-    def __init__(self, switched: SwitchedDynamics, k: int, sliding: bool) -> None:
-        self.switched, self.k, self.sliding = switched, k, sliding
+    def __init__(self, switched: SwitchedDynamics, mode: SwitchMode, k: int) -> None:
+        self.switched, self.mode, self.k = switched, mode, k
         self.__name__ = f"switch {switched.surfaces[k]}"
 
     def __call__(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
         x = np.concatenate([q, q_dot])
-        if self.sliding:
-            lam, _ = self.switched.sliding_share(self.k, t, x)
+        if self.mode.sliding == self.k:
+            lam, _ = self.switched.sliding_share(self.mode, self.k, t, x)
             return 1.0 - abs(lam)
-        return float(self.switched.values(t, x)[self.k]) * self.switched.mode[self.k]
+        return float(self.switched.values(t, x)[self.k]) * self.mode.signs[self.k]
 
 
-@dataclasses.dataclass(frozen=True)
-class SwitchedIntegrator:
-    """Integrates mode by mode with a SciPy solver, deciding at every switch (module
-    docstring); the caller's events are watched throughout."""
-
-    inner: SolverIntegrator = SolverIntegrator()
-
-    def run(
-        self,
-        dynamics: SwitchedDynamics,
-        inputs: Inputs,
-        watch: EventWatch | None,
-        progress: Progress | None,
-    ) -> Integration:
-        own: Sequence[EventFunction] = watch.functions if watch is not None else ()
-        counts = np.zeros(len(own), dtype=int)
-        t0, t1 = inputs.t_span
-        switches = _first_mode(dynamics, t0, inputs.x0)
-        pieces: list[Integration] = []
-        current = inputs
-        while True:
-            piece = _Piece(dynamics, dynamics.mode.copy(), dynamics.sliding)
-            surfaces = [
-                _Surface(dynamics, k, sliding=k == dynamics.sliding)
-                for k in range(len(dynamics.surfaces))
-            ]
-            piece_watch = EventWatch([*own, *surfaces], piece.unpack)
-            piece_watch.counts[: len(own)] = counts
-            run = self.inner.run(piece, current, piece_watch, progress)
-            counts = piece_watch.counts[: len(own)].copy()
-            surface = next((s for s in surfaces if s.__name__ == run.stopped_by), None)
-            mine = {s.__name__ for s in surfaces}
-            events = tuple(e for e in run.events if e[0] not in mine)
-            pieces.append(_on_output_times(run, current, (*switches, *events)))
-            if run.status != "success" or surface is None:
-                break
-            _, t_switch, x_switch = run.events[-1]
-            if surface.sliding:  # leaves the surface on the side lam reached
-                lam, _ = dynamics.sliding_share(surface.k, t_switch, x_switch)
-                outcome = dynamics.leave(surface.k, 1.0 if lam > 0 else -1.0)
-            else:
-                arriving = dynamics.mode[surface.k]
-                outcome = dynamics.decide(surface.k, t_switch, x_switch, arriving)
-            switches = [(f"{surface.__name__}: {outcome}", t_switch, x_switch)]
-            pieces[-1] = dataclasses.replace(pieces[-1], stopped_by=None)
-            if t_switch >= t1:
-                break
-            current = continued_from(current, t_switch, x_switch)
-        return joined(pieces)
+def _moded_equations(eom: EquationsOfMotion) -> CompiledEquations:
+    """The equations with sign(u_k) -> s_k, compiled once per equations; the s_k follow the
+    parameters in the parameter vector."""
+    return _MODED.get(eom, _compile_moded)
 
 
-def _on_output_times(
-    run: Integration, inputs: Inputs, events: tuple[tuple[str, float, np.ndarray], ...]
-) -> Integration:
-    """A piece with ``events`` and, when output times are given, only their rows (not the
-    row of the switch that ends it)."""
-    run = dataclasses.replace(run, events=events)
-    if inputs.t_out is None:
-        return run
-    keep = np.isin(run.t, inputs.t_out)
-    return dataclasses.replace(run, t=run.t[keep], x=run.x[keep])
+_MODED: IdentityCache[EquationsOfMotion, CompiledEquations] = IdentityCache()
 
 
-def _first_mode(
-    dynamics: SwitchedDynamics, t: float, x: np.ndarray
-) -> list[tuple[str, float, np.ndarray]]:
-    """The mode at the start: the sign of each u_k, decided as at a switch where u_k = 0
-    (those decisions are the first events: a block at rest starts stuck)."""
-    u = dynamics.values(t, x)
-    dynamics.mode = np.where(u < 0, -1.0, 1.0)
-    dynamics.sliding = None
-    decided = []
-    for k in np.flatnonzero(u == 0):
-        outcome = dynamics.decide(int(k), t, x, moving=-1.0)
-        decided.append((f"switch {dynamics.surfaces[k]}: {outcome}", t, np.array(x)))
-    return decided
+def _compile_moded(eom: EquationsOfMotion) -> CompiledEquations:
+    surfaces = switching_functions(eom)
+    modes = sp.symbols(f"_mode0:{len(surfaces)}")
+    rule = dict(zip(surfaces, modes, strict=True))
+    moded = dataclasses.replace(
+        eom,
+        mass_matrix=_replaced(eom.mass_matrix, rule),
+        forcing=_replaced(eom.forcing, rule),
+        parameters=FrozenMapping({**eom.parameters, **dict.fromkeys(modes)}),
+    )
+    return compile_equations(moded)
 
 
 def _replaced(matrix: sp.MatrixBase, modes: dict[sp.Expr, sp.Symbol]) -> sp.ImmutableMatrix:

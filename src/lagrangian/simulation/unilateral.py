@@ -21,16 +21,17 @@ constraint pushes while lambda_j >= 0.  (A particle resting on top of a sphere, 
   grows like (t - t_release)^3) the run stops with status "failed" and a message saying that
   impacts are not modelled.
 
-Each piece is integrated by the solver integrator with the multiplier form of its active set
-(:class:`lagrangian.simulation.dynamics.MultiplierDynamics`); the pieces are joined into one
-Integration: the states, the multipliers of every constraint (NaN while a unilateral one is
-inactive) and the residuals of the active constraints.
+The active set is the mode of a hybrid motion, a frozen set of constraint indices: the
+piecewise loop (:mod:`lagrangian.simulation.integrators.piecewise`) integrates each piece with
+the multiplier form of its active set (:class:`lagrangian.simulation.dynamics.MultiplierDynamics`)
+and joins the pieces into one Integration: the states, the multipliers of every constraint
+(NaN while a unilateral one is inactive) and the residuals of the active constraints.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 
 import numpy as np
 
@@ -42,10 +43,8 @@ from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, labe
 from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
 from lagrangian.simulation.dynamics import INITIAL_TOLERANCE, MultiplierDynamics
 from lagrangian.simulation.inputs import Inputs
-from lagrangian.simulation.integrators.events import EventFunction, EventWatch
-from lagrangian.simulation.integrators.loop import SolverIntegrator
-from lagrangian.simulation.integrators.piecewise import continued_from, joined
-from lagrangian.simulation.integrators.protocol import Integration, Progress
+from lagrangian.simulation.integrators.piecewise import Guard, Jump, Record
+from lagrangian.simulation.integrators.protocol import Dynamics, Integration
 from lagrangian.symbolic.caches import IdentityCache
 
 #: How far below zero an inactive constraint's g may go before it counts as a re-contact.
@@ -88,7 +87,7 @@ class UnilateralDynamics:
         """The indices of the unilateral constraints."""
         return tuple(i for i, c in enumerate(self.system.constraints) if isinstance(c, Unilateral))
 
-    def piece(self, active: set[int]) -> MultiplierDynamics:
+    def piece(self, active: set[int] | frozenset[int]) -> MultiplierDynamics:
         """The multiplier form of the ``active`` constraints (the unilateral ones as the
         holonomic constraints they act like), compiled once per set and equations."""
         order = tuple(sorted(active))
@@ -130,122 +129,72 @@ class UnilateralDynamics:
                 active.add(i)
         return active
 
-    def watchers(self, active: set[int], piece: MultiplierDynamics) -> list[_Watched]:
+    def guards(self, mode: frozenset[int], piece: Dynamics) -> list[_Watched]:
         """The terminal events of a piece: each active unilateral multiplier turning to the
         pulling side (a release), each inactive one's g going below zero (a re-contact)."""
-        order = sorted(active)
+        assert isinstance(piece, MultiplierDynamics)
+        order = sorted(mode)
         watched = [
             _release(f"release {self.tag(i)}", i, k, piece)
             for k, i in enumerate(order)
             if i in self.one_sided
         ]
         for i in self.one_sided:
-            if i not in active:
+            if i not in mode:
                 watched.append(_contact(f"contact {self.tag(i)}", i, self.piece({i}), self.p))
         return watched
 
     def tag(self, i: int) -> str:
         return self.system.constraints[i].name or str(i)
 
+    # -- the Hybrid protocol of the piecewise loop ----------------------------------------
+    def initial_mode(self, t: float, x: np.ndarray) -> tuple[frozenset[int], list[Record]]:
+        n = len(self.eom.coordinates)
+        return frozenset(self.active_at(t, x[:n], x[n:])), []
 
-@dataclasses.dataclass(frozen=True)
-class ActiveSetIntegrator:
-    """Integrates piece by piece, each with the active constraints' multiplier form, until
-    the end, a failure, a re-contact or the caller's terminal event (module docstring)."""
+    def settle(
+        self, mode: frozenset[int], t: float, x: np.ndarray
+    ) -> tuple[frozenset[int], list[Record]]:
+        """Release, one after another, the active unilateral constraints whose multiplier
+        pulls at (t, x) (the most negative first)."""
+        released: list[Record] = []
+        while (pulling := self.pulling(mode, t, x)) is not None:
+            mode = mode - {pulling}
+            released.append((f"release {self.tag(pulling)}", t, np.array(x, dtype=float)))
+        return mode, released
 
-    inner: SolverIntegrator = SolverIntegrator()
+    def pulling(self, mode: frozenset[int], t: float, x: np.ndarray) -> int | None:
+        """The active unilateral constraint whose multiplier pulls at (t, x) (the most
+        negative one), or None."""
+        n = len(self.eom.coordinates)
+        lam = self.piece(set(mode)).multipliers(t, x[:n], x[n:])
+        pulling = [(lam[k], i) for k, i in enumerate(sorted(mode)) if i in self.one_sided]
+        pulling = [pair for pair in pulling if pair[0] < 0]
+        return min(pulling)[1] if pulling else None
 
-    def run(
-        self,
-        dynamics: UnilateralDynamics,
-        inputs: Inputs,
-        watch: EventWatch | None,
-        progress: Progress | None,
-    ) -> Integration:
-        own: Sequence[EventFunction] = watch.functions if watch is not None else ()
-        counts = np.zeros(len(own), dtype=int)
-        n, t1 = len(dynamics.eom.coordinates), inputs.t_span[1]
-        active = dynamics.active_at(inputs.t_span[0], inputs.x0[:n], inputs.x0[n:])
-        pieces: list[Integration] = []
-        released: list[tuple[str, float, np.ndarray]] = []
-        current = inputs
-        while True:
-            piece = dynamics.piece(active)
-            pulling = _pulling(dynamics, piece, active, current)
-            if pulling is not None:  # released at once, before integrating this piece
-                active.discard(pulling)
-                released.append((f"release {dynamics.tag(pulling)}", *_start(current)))
-                continue
-            watched = dynamics.watchers(active, piece)
-            piece_watch = EventWatch([*own, *watched], piece.unpack)
-            piece_watch.counts[: len(own)] = counts
-            run = self.inner.run(piece, current, piece_watch, progress)
-            counts = piece_watch.counts[: len(own)].copy()
-            pieces.append(_with_multipliers(run, piece, sorted(active), dynamics, released))
-            released = []
-            event = next((w for w in watched if w.__name__ == run.stopped_by), None)
-            if run.status != "success" or event is None:
-                break
-            _, t_event, x_event = run.events[-1]
-            if not event.release:
-                pieces[-1] = _recontact(pieces[-1], dynamics, event.index, t_event, x_event)
-                break
-            active.discard(event.index)
-            if t_event >= t1:
-                break
-            current = continued_from(current, t_event, x_event)
-        return joined(pieces)
+    def transition(self, mode: frozenset[int], guard: Guard, t: float, x: np.ndarray) -> Jump:
+        """A release drops the constraint; a re-contact ends the run (impacts are not
+        modelled)."""
+        assert isinstance(guard, _Watched)
+        if guard.release:
+            return Jump(mode - {guard.index}, x, guard.__name__)
+        constraint = self.system.constraints[guard.index]
+        failure = (
+            f"the unilateral constraint {label(guard.index, constraint)}, "
+            f"{statement(constraint)}, is violated again at t = {t:.6g}: impacts are not "
+            "modelled, so the integration stops there"
+        )
+        return Jump(mode, x, guard.__name__, failure)
 
-
-def _pulling(
-    dynamics: UnilateralDynamics, piece: MultiplierDynamics, active: set[int], inputs: Inputs
-) -> int | None:
-    """The active unilateral constraint whose multiplier pulls at the start of a piece (the
-    most negative one), or None."""
-    t, x = _start(inputs)
-    n = len(dynamics.eom.coordinates)
-    lam = piece.multipliers(t, x[:n], x[n:])
-    pulling = [(lam[k], i) for k, i in enumerate(sorted(active)) if i in dynamics.one_sided]
-    pulling = [pair for pair in pulling if pair[0] < 0]
-    return min(pulling)[1] if pulling else None
-
-
-def _start(inputs: Inputs) -> tuple[float, np.ndarray]:
-    return inputs.t_span[0], inputs.x0
-
-
-def _with_multipliers(
-    run: Integration,
-    piece: MultiplierDynamics,
-    order: list[int],
-    dynamics: UnilateralDynamics,
-    released: list[tuple[str, float, np.ndarray]],
-) -> Integration:
-    """A piece with the multipliers of every constraint (NaN for the inactive ones) and the
-    residual of the active ones, after the releases at its start."""
-    n = len(dynamics.eom.coordinates)
-    multipliers, residual = piece.constraint_rows(run.t, run.x[:, :n], run.x[:, n:])
-    full = np.full((len(run.t), len(dynamics.multiplier_names)), np.nan)
-    full[:, order] = multipliers
-    return dataclasses.replace(
-        run,
-        multipliers=full,
-        constraint_residual=residual,
-        events=(*released, *run.events),
-    )
-
-
-def _recontact(
-    run: Integration, dynamics: UnilateralDynamics, index: int, t: float, x: np.ndarray
-) -> Integration:
-    """A piece ended by an inactive constraint's g going below zero: a failure."""
-    constraint = dynamics.system.constraints[index]
-    failure = (
-        f"the unilateral constraint {label(index, constraint)}, {statement(constraint)}, is "
-        f"violated again at t = {t:.6g}: impacts are not modelled, so the integration stops "
-        "there"
-    )
-    return dataclasses.replace(run, failure=failure, stopped_by=None, t_reached=t, x_reached=x)
+    def completed(self, mode: frozenset[int], piece: Dynamics, run: Integration) -> Integration:
+        """A piece with the multipliers of every constraint (NaN for the inactive ones) and
+        the residual of the active ones."""
+        assert isinstance(piece, MultiplierDynamics)
+        n = len(self.eom.coordinates)
+        multipliers, residual = piece.constraint_rows(run.t, run.x[:, :n], run.x[:, n:])
+        full = np.full((len(run.t), len(self.multiplier_names)), np.nan)
+        full[:, sorted(mode)] = multipliers
+        return dataclasses.replace(run, multipliers=full, constraint_residual=residual)
 
 
 def _bilateral(constraint: Constraint) -> Constraint:

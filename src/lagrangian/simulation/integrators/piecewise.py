@@ -1,6 +1,24 @@
-"""A run in pieces: integrators that change the equations at an event (active sets of
-unilateral constraints, modes of a switched right-hand side) integrate piece by piece and
-join the pieces into one :class:`~lagrangian.simulation.integrators.protocol.Integration`.
+"""The piecewise loop: one run whose equations change at events (hybrid motion).
+
+Some motions are smooth only piece by piece: a right-hand side with sign or Heaviside of the
+state switches or slides at its switching surfaces (:mod:`lagrangian.simulation.switching`),
+a unilateral constraint is active or released (:mod:`lagrangian.simulation.unilateral`).  Each
+is a *hybrid system*: a set of **modes**, a smooth Dynamics per mode, **guards** (terminal
+event functions, positive inside the mode) and a **transition** at a guard's zero that gives
+the next mode and the state it starts from (the same state, or one reset by an impulse).  The
+loop is written once, here, for all of them (Goebel, Sanfelice & Teel, *Hybrid Dynamical
+Systems*, 2012, ch. 2; Filippov's sliding and Moreau's active sets are such systems):
+
+    mode, start events = settle(initial_mode(t0, x0))
+    repeat: integrate piece(mode) from (t, x) until a guard's zero, the end, a failure or a
+            terminal event of the caller; at a guard: jump = transition(mode, guard, t, x);
+            mode, x = settle(jump.mode, t, jump.state)
+
+The mode is a value (a frozen tuple or set): a hybrid Dynamics never changes.  The caller's
+events are watched across every piece (their terminal counts carried over); the pieces are
+joined into one :class:`~lagrangian.simulation.integrators.protocol.Integration` whose rows
+are the output times asked for (not the rows of the transitions), whose events are the
+caller's events and one event per transition, in the order of time.
 
 >>> import numpy as np
 >>> first = Integration(t=np.array([0.0, 1.0]), x=np.array([[0.0], [1.0]]), t_reached=1.0,
@@ -14,11 +32,167 @@ array([0., 1., 2.])
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Hashable, Sequence
+from typing import Any, NamedTuple, Protocol, TypeVar
 
 import numpy as np
 
 from lagrangian.simulation.inputs import Inputs
-from lagrangian.simulation.integrators.protocol import Integration
+from lagrangian.simulation.integrators.events import EventFunction, EventWatch
+from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Integrator, Progress
+
+Mode = TypeVar("Mode", bound=Hashable)
+#: An event as the Integration records it: (name, time, state).
+Record = tuple[str, float, np.ndarray]
+
+
+class Guard(EventFunction, Protocol):
+    """A terminal event function of a mode, positive inside it; its ``__name__`` is unique
+    among the guards of the mode and is the name of the transition it starts."""
+
+    __name__: str
+
+
+class Jump(NamedTuple):
+    """What a transition decided: the next ``mode`` and the ``state`` it starts from, the
+    ``label`` of the event recorded at the transition, or a ``failure`` that ends the run
+    there (the mode and state are then those before it)."""
+
+    mode: Any
+    state: np.ndarray
+    label: str
+    failure: str | None = None
+
+
+class Hybrid(Protocol[Mode]):
+    """A motion whose equations change at events (module docstring)."""
+
+    def initial_mode(self, t: float, x: np.ndarray) -> tuple[Mode, list[Record]]:
+        """The mode at the start, and the events of deciding it."""
+        ...
+
+    def settle(self, mode: Mode, t: float, x: np.ndarray) -> tuple[Mode, list[Record]]:
+        """The mode a piece starting at (t, x) in ``mode`` really starts in (a constraint
+        whose force would pull is released at once), and the events of that decision."""
+        ...
+
+    def piece(self, mode: Mode) -> Dynamics:
+        """The smooth Dynamics of a mode."""
+        ...
+
+    def guards(self, mode: Mode, piece: Dynamics) -> Sequence[Guard]:
+        """The terminal event functions that end a piece in ``mode``."""
+        ...
+
+    def transition(self, mode: Mode, guard: Guard, t: float, x: np.ndarray) -> Jump:
+        """What happens at the zero of ``guard``, reached at (t, x) in ``mode``."""
+        ...
+
+    def completed(self, mode: Mode, piece: Dynamics, run: Integration) -> Integration:
+        """A piece's Integration with what the hybrid adds to its rows (the multipliers of
+        every constraint, NaN for the released ones)."""
+        ...
+
+
+@dataclasses.dataclass(frozen=True)
+class PiecewiseIntegrator:
+    """The :class:`~lagrangian.simulation.integrators.protocol.Integrator` of every hybrid
+    motion: its pieces stepped by ``inner`` (module docstring)."""
+
+    inner: Integrator[Dynamics]
+
+    def run(
+        self,
+        dynamics: Hybrid[Any],
+        inputs: Inputs,
+        watch: EventWatch | None,
+        progress: Progress | None,
+    ) -> Integration:
+        return integrate_piecewise(dynamics, inputs, watch, progress, self.inner)
+
+
+def integrate_piecewise(
+    hybrid: Hybrid[Any],
+    inputs: Inputs,
+    watch: EventWatch | None,
+    progress: Progress | None,
+    inner: Integrator[Dynamics],
+) -> Integration:
+    """Integrate ``hybrid`` piece by piece with ``inner`` (module docstring) from the checked
+    ``inputs``, watching the caller's events throughout."""
+    own: Sequence[EventFunction] = watch.functions if watch is not None else ()
+    counts = np.zeros(len(own), dtype=int)
+    t0, t1 = inputs.t_span
+    mode, entered = _settled(hybrid, *hybrid.initial_mode(t0, inputs.x0), t0, inputs.x0)
+    pieces: list[Integration] = []
+    current = inputs
+    while True:
+        piece = hybrid.piece(mode)
+        guards = list(hybrid.guards(mode, piece))
+        piece_watch = EventWatch([*own, *guards], piece.unpack)
+        piece_watch.counts[: len(own)] = counts
+        run = inner.run(piece, current, piece_watch, progress)
+        counts = piece_watch.counts[: len(own)].copy()
+        guard = next((g for g in guards if g.__name__ == run.stopped_by), None)
+        mine = {g.__name__ for g in guards}
+        stop = run.events[-1] if guard is not None else None
+        theirs = (*entered, *(e for e in run.events if e[0] not in mine))
+        run = hybrid.completed(mode, piece, dataclasses.replace(run, events=theirs))
+        if run.status != "success" or stop is None:
+            pieces.append(_on_output_times(run, current))
+            break
+        _, t_jump, x_jump = stop
+        jump = hybrid.transition(mode, guard, t_jump, x_jump)  # type: ignore[arg-type]
+        if jump.failure is not None:  # the run ends at the guard, with its event
+            pieces.append(_on_output_times(_failed_at(run, stop, jump), current))
+            break
+        pieces.append(_on_output_times(dataclasses.replace(run, stopped_by=None), current))
+        mode, entered = _settled(
+            hybrid, jump.mode, [(jump.label, t_jump, np.array(jump.state, dtype=float))],
+            t_jump, jump.state,
+        )  # fmt: skip
+        if t_jump >= t1:  # the last transition ends the span: its events end the run
+            pieces[-1] = dataclasses.replace(pieces[-1], events=(*pieces[-1].events, *entered))
+            break
+        current = continued_from(current, t_jump, jump.state)
+    return joined(pieces)
+
+
+def _settled(
+    hybrid: Hybrid[Any], mode: Any, events: list[Record], t: float, x: np.ndarray
+) -> tuple[Any, list[Record]]:
+    """The mode a piece really starts in, and the events of the transition and the decision."""
+    settled, decided = hybrid.settle(mode, t, x)
+    return settled, [*events, *decided]
+
+
+def _failed_at(run: Integration, stop: Record, jump: Jump) -> Integration:
+    """A piece whose guard ends the run as a failure at the guard's zero (its event kept)."""
+    _, t, x = stop
+    event: Record = (jump.label, t, np.array(x, dtype=float))
+    return dataclasses.replace(
+        run,
+        failure=jump.failure,
+        stopped_by=None,
+        t_reached=t,
+        x_reached=x,
+        events=(*run.events, event),
+    )
+
+
+def _on_output_times(run: Integration, inputs: Inputs) -> Integration:
+    """A piece with, when output times are given, only their rows (not the row of the
+    transition that ends it): the joined run has exactly the rows asked for."""
+    if inputs.t_out is None:
+        return run
+    keep = np.isin(run.t, inputs.t_out)
+    return dataclasses.replace(
+        run,
+        t=run.t[keep],
+        x=run.x[keep],
+        multipliers=_rows(run.multipliers, keep),
+        constraint_residual=_rows(run.constraint_residual, keep),
+    )
 
 
 def continued_from(inputs: Inputs, t: float, x: np.ndarray) -> Inputs:
