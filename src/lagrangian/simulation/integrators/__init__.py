@@ -1,5 +1,7 @@
-"""Integrators of the state equations dx/dt = f(t, x): the protocol every formulation and
-integrator shares (``protocol``), the one Python loop that steps a SciPy ``OdeSolver`` (``loop``),
-the fixed-step RK4, events, the step and wall-time budget, the compiled C loop's adapter, and
-the piecewise loop that continues a run across a change of its equations (``piecewise``).
+"""Integrators: the protocol every formulation, stepper and integrator shares (``protocol``),
+the one Python loop that drives every stepper — SciPy's solvers, RK4, the variational and
+collocation steps — with output, events, budget and Ctrl-C in one place (``loop``), the
+fixed-step RK4, events, the step and wall-time budget, the compiled C loop's adapter
+(``compiled``), and the piecewise loop of a motion whose equations change at events
+(``piecewise``: switching surfaces, active sets of unilateral constraints).
 """

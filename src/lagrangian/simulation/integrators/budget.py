@@ -28,9 +28,12 @@ from __future__ import annotations
 import time
 from collections import deque
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from scipy.integrate import OdeSolver
+
+if TYPE_CHECKING:  # the protocol module imports the inputs, which import this module
+    from lagrangian.simulation.integrators.protocol import Stepper
 
 #: Accepted steps a run may take unless ``max_steps`` says otherwise (about a minute and a
 #: half of SciPy's Python stepping).
@@ -103,7 +106,7 @@ class Budget:
     _recent: deque[bool] = field(default_factory=lambda: deque(maxlen=WINDOW))
     _times: deque[float] = field(default_factory=lambda: deque(maxlen=COLLAPSE_STEPS))
 
-    def spend(self, solver: OdeSolver, t_old: float, y_old: np.ndarray, t_end: float) -> str | None:
+    def spend(self, solver: Stepper, t_old: float, y_old: np.ndarray, t_end: float) -> str | None:
         """Count the step just taken; the reason to stop, or None."""
         self.steps += 1
         self._watch_stiffness(solver, t_old, y_old)
@@ -131,7 +134,7 @@ class Budget:
             f"an implicit method (Radau, BDF, LSODA) would take fewer steps."
         )
 
-    def _watch_stiffness(self, solver: OdeSolver, t_old: float, y_old: np.ndarray) -> None:
+    def _watch_stiffness(self, solver: Stepper, t_old: float, y_old: np.ndarray) -> None:
         edge = STABILITY_EDGE.get(self.method)
         if edge is None or self.stiff_since is not None:
             return
@@ -143,7 +146,7 @@ class Budget:
             self.stiff_since = float(solver.t)
 
 
-def step_eigenvalue(solver: OdeSolver, t_old: float, y_old: np.ndarray) -> float | None:
+def step_eigenvalue(solver: Any, t_old: float, y_old: np.ndarray) -> float | None:
     """h ||f(y1) - f(y_j)|| / ||y1 - y_j|| for the last step of an explicit Runge–Kutta
     solver of SciPy, y_j the stage with c_j = 1 (None for a solver without one)."""
     c = getattr(solver, "C", None)

@@ -1,9 +1,13 @@
-"""integrate: drive a SciPy OdeSolver step by step, keeping everything up to a failure.
+"""integrate: the one Python loop, driving a stepper step by step, keeping everything up to a
+failure.
 
-The loop is solve_ivp's (step; locate events on the step's dense output; sample the output
-times the step covered), written out so that a failure — a step size underflow, a singular
-mass matrix raised from the right-hand side, a state that is no longer finite — or Ctrl-C
-ends the run with what was computed so far instead of losing it.
+Every method stepped in Python runs through it — SciPy's solvers, RK4, the variational and
+collocation steps — since each is a :class:`~lagrangian.simulation.integrators.protocol.Stepper`
+(the shape of SciPy's ``OdeSolver``).  The loop is solve_ivp's (step; locate events on the
+step's dense output; sample the output times the step covered), written out so that a
+failure — a step size underflow, a singular mass matrix raised from the right-hand side, a
+state that is no longer finite — or Ctrl-C ends the run with what was computed so far instead
+of losing it.
 
 >>> import numpy as np
 >>> from scipy.integrate import RK45
@@ -20,7 +24,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.integrate import DenseOutput, OdeSolver
+from scipy.integrate import OdeSolver
 
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationError
@@ -28,7 +32,12 @@ from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.compiled import integrate_compiled
 from lagrangian.simulation.integrators.events import EventWatch
-from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Progress
+from lagrangian.simulation.integrators.protocol import (
+    Dynamics,
+    Integration,
+    Progress,
+    Stepper,
+)
 from lagrangian.simulation.methods import method_named
 
 #: Errors from the right-hand side or a solver's linear algebra that end a run as a failure.
@@ -126,7 +135,7 @@ class _Output:
 
 
 def integrate(
-    start: Callable[[], OdeSolver],
+    start: Callable[[], Stepper],
     t0: float,
     x0: np.ndarray,
     times: np.ndarray | None = None,
@@ -167,7 +176,8 @@ def integrate(
             over_budget = budget.spend(solver, t_old, y_old, solver.t_bound)
             if project is not None:
                 solver.y = project(solver.t, solver.y)
-                solver.f = solver.fun(solver.t, solver.y)  # the next step starts from here
+                # explicit Runge–Kutta solvers only (Method.explicit): SciPy's, with f and fun
+                solver.f = solver.fun(solver.t, solver.y)  # type: ignore[attr-defined]
             t_reached, x_reached = solver.t, solver.y.copy()
             dense: Callable[[], Callable[[Any], np.ndarray]] = _lazy(solver)
             if project is not None:
@@ -206,7 +216,8 @@ def integrate(
 
 
 def _projected(
-    dense: Callable[[], DenseOutput], project: Callable[[float, np.ndarray], np.ndarray]
+    dense: Callable[[], Callable[[Any], np.ndarray]],
+    project: Callable[[float, np.ndarray], np.ndarray],
 ) -> Callable[[], Callable[[Any], np.ndarray]]:
     """The step's dense output with every interpolated state projected."""
 
@@ -220,11 +231,11 @@ def _projected(
     return lambda: evaluate
 
 
-def _lazy(solver: OdeSolver) -> Callable[[], DenseOutput]:
+def _lazy(solver: Stepper) -> Callable[[], Callable[[Any], np.ndarray]]:
     """The step's dense output, built on first use only (it costs work for some methods)."""
-    built: list[DenseOutput] = []
+    built: list[Callable[[Any], np.ndarray]] = []
 
-    def dense() -> DenseOutput:
+    def dense() -> Callable[[Any], np.ndarray]:
         if not built:
             built.append(solver.dense_output())
         return built[0]

@@ -8,8 +8,12 @@ A simulation is three pieces, as in diffrax (a solver stepping a term) or jax-md
   constraints, the discrete Lagrangian of the variational integrator): the vector field
   dx/dt = f(t, x) on the state x = [q; q_dot] (or the discrete equations), how to read q and
   q_dot from x, and the constraint multipliers and residuals at the output rows;
-* an **integrator** behind :class:`Integrator` (SciPy's solvers and RK4, the numba loops, the
-  variational integrator, the active-set driver) that steps it from the checked inputs;
+* an **integrator** behind :class:`Integrator` that runs it from the checked inputs: the one
+  Python loop (:mod:`lagrangian.simulation.integrators.loop`) stepping a :class:`Stepper`
+  (SciPy's solvers, RK4, the variational and collocation steps), the compiled loops (the C
+  loop of the Runge–Kutta methods, the numba marches of the variational ones), or the
+  piecewise loop (:mod:`lagrangian.simulation.integrators.piecewise`) of a motion whose
+  equations change at events;
 * the **outcome**: one :class:`Integration` value that :mod:`lagrangian.simulation.outcome`
   turns into the Trajectory, deciding there, once, what a failure or an interruption means.
 
@@ -24,7 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Protocol, TypeVar
+from typing import Any, Protocol, TypeVar
 
 import numpy as np
 
@@ -108,6 +112,31 @@ class Dynamics(Motion, Protocol):
 
     def projection(self) -> Callable[[float, np.ndarray], np.ndarray] | None:
         """x -> the nearest state on the constraints, applied after every step, or None."""
+        ...
+
+
+class Stepper(Protocol):
+    """One integration method, one step per call: the shape of SciPy's ``OdeSolver`` (and of
+    diffrax's ``AbstractSolver``: init, step, dense output), which the one Python loop drives.
+
+    ``t`` and ``y`` are the time and state after the last step, ``t_bound`` the end of the
+    span, ``status`` ``"running"`` until the end is reached (``"finished"``) or a step fails
+    (``"failed"``, its message returned by ``step``); ``dense_output`` is the state between
+    the last two steps' times (a function of a time or an array of times, exact at both).
+    A step may also raise SimulationError, ArithmeticError or LinAlgError: a failure.
+    """
+
+    t: float
+    y: np.ndarray
+    t_bound: float
+    status: str
+
+    def step(self) -> str | None:
+        """Take one step; the message of a failed step, else None."""
+        ...
+
+    def dense_output(self) -> Callable[[Any], np.ndarray]:
+        """The state over the last step."""
         ...
 
 

@@ -1,4 +1,6 @@
-"""The collocation integrators' steps over a time grid, in NumPy.
+"""The collocation integrators' steps over a time grid, in NumPy: the
+:class:`~lagrangian.simulation.variational.stepper.CollocationStepper` driven by the one Python
+loop.
 
 Each step solves the stage equations of :mod:`lagrangian.simulation.variational.collocation_step`
 from
@@ -29,12 +31,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from lagrangian.errors import SimulationError
 from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics
+from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.variational.collocation import Tableau
-from lagrangian.simulation.variational.collocation_step import stage_step
-from lagrangian.simulation.variational.march import Run
-from lagrangian.simulation.variational.step import velocity_step
+from lagrangian.simulation.variational.march import Run, output_nodes, stepped
+from lagrangian.simulation.variational.stepper import CollocationStepper
 
 
 def collocation_march(
@@ -45,57 +46,11 @@ def collocation_march(
     grid: np.ndarray,
     outputs: np.ndarray,
     progress: Callable[[float], None] | None = None,
+    budget: Budget | None = None,
 ) -> Run:
     """Step from x0 = [q; q_dot] over the nodes ``grid`` by ``tableau``, keeping the
-    ``outputs``; a failed step, or Ctrl-C, ends the march with the nodes computed before."""
-    n, m, p, s = len(mechanics.coordinates), mechanics.constraint_count, parameters, tableau.stages
-    row_of = np.full(len(grid), -1)
-    row_of[outputs] = np.arange(len(outputs))
-    q_out, v_out = np.full((len(outputs), n), np.nan), np.full((len(outputs), n), np.nan)
-    residual_out = np.full(len(outputs), np.nan)
-    q, v = x0[:n].astype(float), x0[n:].astype(float)
-    momentum = mechanics.legendre(q, v, grid[0], p)[0]
-    h, jacobian, rate = mechanics.constraints(q, grid[0], p)
-    V, lam, previous = np.tile(v, (s, 1)), np.zeros((s - 1 if m else 0, m)), None
-    failure, last, evaluations, interrupted = None, 0, 1, False
-    for k in range(len(grid)):
-        if row_of[k] >= 0:
-            q_out[row_of[k]], v_out[row_of[k]] = q, v
-            residual_out[row_of[k]] = np.max(np.abs((*h, *(jacobian @ v + rate))), initial=0.0)
-        try:
-            if progress is not None and k:
-                progress(float(grid[k]))
-            if k == len(grid) - 1:
-                break
-            dt = float(grid[k + 1] - grid[k])
-            if previous is not None:
-                V = tableau.extrapolation(dt / previous) @ V
-            stage = stage_step(mechanics, tableau, q, momentum, float(grid[k]), dt, p, V, lam)
-            momentum, evaluations = stage.momentum, evaluations + stage.evaluations
-            if m or row_of[k + 1] >= 0:
-                h, jacobian, rate = stage.h, stage.jacobian, stage.rate
-                weight = dt * float(tableau.b[-1])
-                end = velocity_step(
-                    mechanics, stage.q, momentum, float(grid[k + 1]), weight, p, jacobian, rate,
-                    stage.V[-1],
-                )  # fmt: skip
-                v, momentum, evaluations = end.v, end.momentum, evaluations + end.evaluations
-        except SimulationError as error:
-            failure = str(error)
-            break
-        except KeyboardInterrupt:
-            interrupted = True
-            break
-        q, V, lam, previous, last = stage.q, stage.V, stage.multipliers, dt, k + 1
-    rows = int(np.searchsorted(outputs, last, side="right"))
-    return Run(
-        outputs[:rows],
-        q_out[:rows],
-        v_out[:rows],
-        np.full((rows, m), np.nan),
-        residual_out[:rows],
-        float(grid[last]),
-        evaluations,
-        failure,
-        interrupted,
-    )
+    ``outputs``; a failed step, Ctrl-C or the ``budget`` ends the march with the nodes
+    computed before."""
+    nodes = output_nodes(grid, outputs)
+    stepper = CollocationStepper(mechanics, tableau, x0, parameters, grid, nodes)
+    return stepped(stepper, outputs, progress, budget)

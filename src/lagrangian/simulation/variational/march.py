@@ -1,7 +1,10 @@
 """march: the variational integrator's steps over a time grid, and the multipliers at its nodes.
 
-Each step solves the equations of :mod:`lagrangian.simulation.variational.step` for
-(q_{k+1}, lambda_k), then for (q_dot_{k+1}, mu_k) and p_{k+1}.  lambda_k and mu_{k-1} are the
+The steppers of :mod:`lagrangian.simulation.variational.stepper`, driven by the one Python
+loop, in NumPy (the compiled marches of :mod:`lagrangian.simulation.variational.compiled` give
+the same :class:`Run`).  Each step of the midpoint rule solves the equations of
+:mod:`lagrangian.simulation.variational.step` for (q_{k+1}, lambda_k), then for
+(q_dot_{k+1}, mu_k) and p_{k+1}.  lambda_k and mu_{k-1} are the
 two halves of the constraint impulse at q_k; each is only a first-order approximation of the
 multiplier lambda(t_k) (their errors are equal and opposite: the scheme is symmetric), so the
 multiplier reported at node k is their combination that cancels those errors,
@@ -25,9 +28,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from lagrangian.errors import SimulationError
 from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics
-from lagrangian.simulation.variational.step import position_step, velocity_step
+from lagrangian.simulation.integrators.budget import Budget
+from lagrangian.simulation.integrators.loop import integrate
+from lagrangian.simulation.variational.stepper import MidpointStepper, NodeStepper
 
 
 class Run(NamedTuple):
@@ -57,85 +61,59 @@ def march(
     grid: np.ndarray,
     outputs: np.ndarray,
     progress: Callable[[float], None] | None = None,
+    budget: Budget | None = None,
 ) -> Run:
-    """Step from the state x0 = [q; q_dot] over the nodes ``grid``, keeping the ``outputs``.
+    """Step the midpoint rule from the state x0 = [q; q_dot] over the nodes ``grid``, keeping
+    the ``outputs`` (:class:`~lagrangian.simulation.variational.stepper.MidpointStepper`).
 
     With constraints every step solves for the velocity (it fixes p_{k+1}); without, only the
-    steps ending at an output do (the inverse Legendre map).  A failed step, or Ctrl-C,
-    ends the march with the nodes computed before it.
+    steps ending at an output do (the inverse Legendre map).  A failed step, Ctrl-C or the
+    ``budget`` (default: none beyond the grid) ends the march with the nodes computed before.
     """
-    n, m, p = len(mechanics.coordinates), mechanics.constraint_count, parameters
-    row_of = np.full(len(grid), -1)
-    row_of[outputs] = np.arange(len(outputs))
-    q_out, v_out = np.full((len(outputs), n), np.nan), np.full((len(outputs), n), np.nan)
-    residual_out = np.full(len(outputs), np.nan)
-    lam_steps, mu_steps = np.full((len(grid) - 1, m), np.nan), np.full((len(grid) - 1, m), np.nan)
-    q, v = x0[:n].copy(), x0[n:].copy()
-    momentum = mechanics.legendre(q, v, grid[0], p)[0]
-    h, jacobian, rate = mechanics.constraints(q, grid[0], p)
-    lam = np.zeros(m)
-    history: tuple[np.ndarray, ...] = ()
-    failure, last, evaluations, interrupted = None, 0, 1, False
-    for k in range(len(grid)):
-        row = row_of[k]
-        if row >= 0:
-            q_out[row], v_out[row] = q, v
-            residual_out[row] = np.max(np.abs((*h, *(jacobian @ v + rate))), initial=0.0)
-        t0 = float(grid[k])
-        try:  # node k is kept: a failure or Ctrl-C from here on ends the march at it
-            if progress is not None and k:
-                progress(t0)
-            if k == len(grid) - 1:
-                break
-            dt = float(grid[k + 1]) - t0
-            position = position_step(
-                mechanics, q, momentum, t0, dt, p, jacobian, _guess(grid, k, q, history), lam
-            )
-            momentum, evaluations = position.momentum, evaluations + position.evaluations
-            if m or row_of[k + 1] >= 0:
-                jacobian, rate, h = position.jacobian, position.rate, position.h
-                slope = (position.q - q) / dt
-                velocity = velocity_step(
-                    mechanics, position.q, momentum, t0 + dt, dt / 2, p, jacobian, rate, slope
-                )
-                v, mu_steps[k], momentum = velocity.v, velocity.multipliers, velocity.momentum
-                evaluations += velocity.evaluations
-        except SimulationError as error:
-            failure = str(error)
-            break
-        except KeyboardInterrupt:
-            interrupted = True
-            break
-        history = (q, *history[:1])
-        q, lam = position.q, position.multipliers
-        lam_steps[k], last = lam, k + 1
-    rows = int(np.searchsorted(outputs, last, side="right"))
-    multipliers = node_multipliers(grid, lam_steps, mu_steps, last, outputs[:rows])
-    return Run(
-        outputs[:rows],
-        q_out[:rows],
-        v_out[:rows],
-        multipliers,
-        residual_out[:rows],
-        float(grid[last]),
-        evaluations,
-        failure,
-        interrupted,
+    stepper = MidpointStepper(mechanics, x0, parameters, grid, output_nodes(grid, outputs))
+    return stepped(stepper, outputs, progress, budget)
+
+
+def output_nodes(grid: np.ndarray, outputs: np.ndarray) -> np.ndarray:
+    """Whether each node of ``grid`` is one of the ``outputs`` (indices)."""
+    wanted = np.zeros(len(grid), dtype=bool)
+    wanted[outputs] = True
+    return wanted
+
+
+def stepped(
+    stepper: NodeStepper,
+    outputs: np.ndarray,
+    progress: Callable[[float], None] | None,
+    budget: Budget | None,
+) -> Run:
+    """Drive ``stepper`` by the one Python loop
+    (:func:`lagrangian.simulation.integrators.loop.integrate`) to the end of its grid and
+    gather the :class:`Run` of its ``outputs``: the multipliers at the midpoint rule's nodes
+    (NaN for a collocation method, whose stage multipliers combined at a node are only
+    second-order accurate) and the constraint residuals."""
+    grid = stepper.grid
+    budget = budget or Budget("", max_steps=len(grid), start=float(grid[0]))
+    run = integrate(
+        lambda: stepper, float(grid[0]), stepper.y, grid[outputs], None, progress, None, budget
     )
-
-
-def _guess(grid: np.ndarray, k: int, q: np.ndarray, history: tuple[np.ndarray, ...]) -> np.ndarray:
-    """q_{k+1} extrapolated by the polynomial through q_k and the ``history`` q_{k-1},
-    q_{k-2} (as many as there are): an error O(dt^3) that Newton's method removes in two
-    corrections."""
-    if not history:
-        return q.copy()
-    s1 = (q - history[0]) / (grid[k] - grid[k - 1])
-    if len(history) < 2:
-        return q + (grid[k + 1] - grid[k]) * s1
-    s0 = (history[0] - history[1]) / (grid[k - 1] - grid[k - 2])
-    curvature = (s1 - s0) / (grid[k] - grid[k - 2])
-    return q + (grid[k + 1] - grid[k]) * (s1 + (grid[k + 1] - grid[k - 1]) * curvature)
+    n, rows = len(stepper.q), len(run.t)
+    reached = outputs[:rows]
+    if isinstance(stepper, MidpointStepper):
+        multipliers = node_multipliers(grid, stepper.lam, stepper.mu, stepper.k, reached)
+    else:
+        multipliers = np.full((rows, stepper.mechanics.constraint_count), np.nan)
+    return Run(
+        reached,
+        run.x[:, :n],
+        run.x[:, n:],
+        multipliers,
+        stepper.residuals[reached],
+        float(grid[stepper.k]),
+        stepper.evaluations,
+        run.failure,
+        run.interrupted,
+    )
 
 
 def node_multipliers(

@@ -24,9 +24,10 @@ Where numba is installed (``pip install lagrangian[fast]``) the steps run in a l
 once per machine, calling the system's terms compiled by SymEngine's LLVM backend
 (:mod:`lagrangian.simulation.variational.compiled`: the same iterations, the same trajectory to
 rounding, about 200 times faster for a double pendulum); otherwise, or where the terms cannot
-be compiled, in NumPy (:mod:`lagrangian.simulation.variational.march`).  The same integrator
-runs the symplectic collocation methods of order 4 and 6, ``method="gauss4"`` and
-``"gauss6"`` (:mod:`lagrangian.simulation.variational.collocation`), on the same discrete mechanics.
+be compiled, in NumPy, stepped by the one Python loop with the step and wall-time budget
+(:mod:`lagrangian.simulation.variational.stepper`).  The same integrator runs the symplectic
+collocation methods of order 4 and 6, ``method="gauss4"`` and ``"gauss6"``
+(:mod:`lagrangian.simulation.variational.collocation`), on the same discrete mechanics.
 
 The multipliers reported at t_k combine the two halves lambda_k, mu_{k-1} of the constraint
 impulse at q_k into a second-order value of lambda(t_k)
@@ -60,6 +61,7 @@ from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics
 from lagrangian.numerics.fast import numba_available
 from lagrangian.simulation.dynamics import ConstrainedMotion, MultiplierDynamics
 from lagrangian.simulation.inputs import Inputs
+from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.events import EventWatch
 from lagrangian.simulation.integrators.protocol import Integration, Progress
 from lagrangian.simulation.methods import VARIATIONAL
@@ -108,9 +110,17 @@ class VariationalIntegrator:
         grid, outputs = step_grid(inputs)
         constrained = bool(dynamics.multiplier_names)
         tableau = None if self.method == VARIATIONAL else tableau_for(self.method, constrained)
+        # the grid's steps are counted before the run (dt and max_steps are checked
+        # together); the budget here holds the wall time
+        budget = Budget(
+            self.method,
+            max(inputs.max_steps, len(grid)),
+            inputs.max_wall_time,
+            start=float(grid[0]),
+        )
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             run = discrete_march(
-                dynamics.form, tableau, inputs.x0, inputs.p, grid, outputs, progress
+                dynamics.form, tableau, inputs.x0, inputs.p, grid, outputs, progress, budget
             )
         x = np.hstack((run.q, run.q_dot))
         steps = max(int(np.searchsorted(grid, run.reached)), 1)
@@ -157,9 +167,11 @@ def discrete_march(
     grid: np.ndarray,
     outputs: np.ndarray,
     progress: Progress | None,
+    budget: Budget | None = None,
 ) -> Run:
     """The march of the midpoint rule (``tableau`` None) or of a collocation method: compiled
-    where numba is installed and the terms compile, else in NumPy (module docstring)."""
+    where numba is installed and the terms compile, else stepped in NumPy by the one Python
+    loop, within ``budget`` (module docstring)."""
     if COMPILED and numba_available():
         from lagrangian.simulation.variational import compiled as variational_fast  # numba
 
@@ -174,5 +186,5 @@ def discrete_march(
         except SimulationError:  # a term with no compiled form: nothing was integrated yet
             pass
     if tableau is None:
-        return march(mechanics, x0, parameters, grid, outputs, progress)
-    return collocation_march(mechanics, tableau, x0, parameters, grid, outputs, progress)
+        return march(mechanics, x0, parameters, grid, outputs, progress, budget)
+    return collocation_march(mechanics, tableau, x0, parameters, grid, outputs, progress, budget)
