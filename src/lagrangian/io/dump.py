@@ -55,6 +55,14 @@ def _with_name(entry: dict[str, Any], name: str) -> dict[str, Any]:
     return {"name": name, **entry} if name else entry
 
 
+def _constraint_entry(constraint: Any) -> dict[str, Any]:
+    """``{kind: expression}`` with its name and, for an impact's, its restitution."""
+    entry = _with_name({constraint.kind: _expr(constraint.expression)}, constraint.name)
+    if getattr(constraint, "restitution", None) is not None:
+        entry["restitution"] = _expr(constraint.restitution)
+    return entry
+
+
 def _scalar_or_vector(value: Any) -> Any:
     return [_expr(v) for v in value] if isinstance(value, tuple) else _expr(value)
 
@@ -219,7 +227,7 @@ def model_document(system: System) -> dict[str, Any]:
         document["circuit"] = circuit
     given = [c for c in system.constraints if not isinstance(c, GENERATED)]  # not rolling's
     if given:
-        document["constraints"] = [_with_name({c.kind: _expr(c.expression)}, c.name) for c in given]
+        document["constraints"] = [_constraint_entry(c) for c in given]
     if system.initial:
         document["initial"] = {s.name: float(v) for s, v in system.initial.items()}
     if system.simulation:

@@ -268,6 +268,27 @@ def read_constraints(reader: Reader, data: dict[str, Any]) -> list[tuple[str, An
             continue
         expression = reader.expression(entry[kind], child(path, kind))
         name = reader.text(entry["name"], child(path, "name")) if "name" in entry else ""
-        if expression is not None and name is not None:
-            constraints.append((child(path, kind), CONSTRAINT_TYPES[kind](expression, name)))
+        extra = _restitution(reader, entry, path, kind)
+        if expression is not None and name is not None and extra is not None:
+            made = CONSTRAINT_TYPES[kind](expression, name, **extra)
+            constraints.append((child(path, kind), made))
     return constraints
+
+
+def _restitution(
+    reader: Reader, entry: dict[str, Any], path: str, kind: str
+) -> dict[str, Any] | None:
+    """The ``restitution`` of a unilateral constraint (its impacts' coefficient e), as keyword
+    arguments; None after a problem."""
+    if "restitution" not in entry:
+        return {}
+    where = child(path, "restitution")
+    if kind != "unilateral":
+        reader.problem(
+            where,
+            f"a {kind} constraint has no impacts, so no coefficient of restitution",
+            "give restitution on a unilateral constraint only",
+        )
+        return None
+    value = reader.expression(entry["restitution"], where)
+    return None if value is None else {"restitution": value}

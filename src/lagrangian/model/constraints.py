@@ -33,6 +33,9 @@ from lagrangian.symbolic.expressions import free_symbols
 if TYPE_CHECKING:
     from lagrangian.model.validation import NameScope
 
+#: The kind of expression a coefficient of restitution is (lagrangian.model.validation's).
+CONSTANT = "constant"
+
 
 def _as_expression(value: Any) -> Any:
     if isinstance(value, sp.Equality):
@@ -67,14 +70,24 @@ class VelocityConstraint:
 
 @dataclass(frozen=True)
 class Unilateral:
-    """A unilateral constraint g(q, t) >= 0; while active (g = 0) it acts like a holonomic one."""
+    """A unilateral constraint g(q, t) >= 0; while active (g = 0) it acts like a holonomic one.
+
+    ``restitution``: the coefficient of restitution e (a number in [0, 1], or an expression of
+    the parameters) of the impacts on it: where g reaches 0 with dg/dt < 0 the velocities jump
+    by the impulsive Lagrange equations M (q_dot+ - q_dot-) = J^T Lambda with Newton's law
+    dg/dt+ = -e dg/dt- (1: elastic, 0: plastic).  None: no impact is allowed, and a run
+    reaching one stops there with a message.
+    """
 
     expression: sp.Expr
     name: str = ""
+    restitution: sp.Expr | None = None
     kind: ClassVar[str] = "unilateral"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "expression", _as_expression(self.expression))
+        if self.restitution is not None:
+            object.__setattr__(self, "restitution", _as_expression(self.restitution))
 
 
 Constraint = Holonomic | VelocityConstraint | Unilateral
@@ -111,7 +124,29 @@ def check_constraints(values: dict[str, Any], scope: NameScope, problems: list[P
         _check_one(item, i, scope, problems)
 
 
+def _check_restitution(item: Any, index: int, scope: NameScope, problems: list[Problem]) -> None:
+    """A coefficient of restitution is a constant: a number in [0, 1] or an expression of the
+    parameters (its value is checked at the values a simulation uses)."""
+    restitution = getattr(item, "restitution", None)
+    if restitution is None:
+        return
+    field = f"constraints[{index}].restitution"
+    before = len(problems)
+    scope.check(restitution, field, CONSTANT, problems)
+    if len(problems) > before:
+        return
+    if restitution.is_number and not (0 <= float(restitution) <= 1):
+        problems.append(
+            Problem(
+                field,
+                f"the coefficient of restitution {restitution} is not in [0, 1]",
+                "give e between 0 (plastic: the bodies stay in contact) and 1 (elastic)",
+            )
+        )
+
+
 def _check_one(item: Any, index: int, scope: NameScope, problems: list[Problem]) -> None:
+    _check_restitution(item, index, scope, problems)
     field = f"constraints[{index}].expression"
     who = f"constraint {item.name!r}" if item.name else "the constraint"
     expression = item.expression

@@ -34,6 +34,7 @@ MAX_COORDINATES = 1000
 
 CONFIGURATION = "configuration"  # may depend on q, t and parameters
 STATE = "state"  # may also depend on the velocities
+CONSTANT = "constant"  # parameters and numbers only
 
 
 class NameScope:
@@ -75,7 +76,9 @@ class NameScope:
             problems.append(
                 Problem(field, found, "energies, forces and positions are real numbers")
             )
-        allowed = self.configuration if kind == CONFIGURATION else self.state
+        allowed = {CONFIGURATION: self.configuration, CONSTANT: self.parameters}.get(
+            kind, self.state
+        )
         for symbol in sorted(free - allowed, key=str):
             problems.append(self._diagnose(symbol, field, kind))
         for derivative in (p for p in parts if isinstance(p, sp.Derivative)):
@@ -90,6 +93,12 @@ class NameScope:
 
     def _diagnose(self, symbol: Any, field: str, kind: str) -> Problem:
         name = str(symbol)
+        if kind == CONSTANT and symbol in self.state:
+            return Problem(
+                field,
+                f"{name} varies with the motion, but this is a constant",
+                "use numbers and parameters only",
+            )
         if symbol in self.velocities:
             return Problem(
                 field,

@@ -26,6 +26,7 @@ of the residuals back to zero (c_dot + 2 alpha c + beta^2 h = 0).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 import sympy as sp
@@ -39,6 +40,19 @@ from lagrangian.symbolic.caches import IdentityCache
 
 #: Newton steps of :meth:`CompiledConstrained.project` (one or two suffice after a step).
 PROJECTION_ITERATIONS = 20
+
+
+class FormParts(NamedTuple):
+    """The multiplier form at one state: M, the forcing, the Jacobian A (one row a_j per
+    constraint), gamma of A q_ddot = gamma, the rates c = A q_dot + b and the position
+    residuals h (0 for velocity rows)."""
+
+    mass: np.ndarray
+    forcing: np.ndarray
+    jacobian: np.ndarray
+    gamma: np.ndarray
+    rates: np.ndarray
+    h: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -59,21 +73,21 @@ class CompiledConstrained:
     holonomic: tuple[bool, ...]
     _all: NumericFunction = field(repr=False)
 
-    def _parts(
-        self, q: np.ndarray, qd: np.ndarray, t: float, p: np.ndarray
-    ) -> tuple[np.ndarray, ...]:
+    def parts(self, q: np.ndarray, qd: np.ndarray, t: float, p: np.ndarray) -> FormParts:
+        """Every piece of the multiplier form at one state (an impact needs M, A and the
+        rates A q_dot + b together)."""
         n, m = len(self.coordinates), len(self.multipliers)
         values = np.array(self._all.raw(q, qd, t, p), dtype=float)
         sizes = (n * n, n, m * n, m, m, m)
         cuts = np.cumsum(sizes)[:-1]
         mass, forcing, a, gamma, c, h = np.split(values, cuts)
-        return mass.reshape(n, n), forcing, a.reshape(m, n), gamma, c, h
+        return FormParts(mass.reshape(n, n), forcing, a.reshape(m, n), gamma, c, h)
 
     def residuals(
         self, q: np.ndarray, qd: np.ndarray, t: float, p: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
         """(h, c): position residuals (0 for velocity rows) and velocity residuals A q_dot + b."""
-        *_, c, h = self._parts(np.asarray(q, float), np.asarray(qd, float), t, p)
+        *_, c, h = self.parts(np.asarray(q, float), np.asarray(qd, float), t, p)
         return h, c
 
     def project(
@@ -90,7 +104,7 @@ class CompiledConstrained:
         q, qd = np.array(q, dtype=float), np.array(qd, dtype=float)
         holonomic = np.array(self.holonomic, dtype=bool)
         for _ in range(PROJECTION_ITERATIONS):
-            *_, a, _, c, h = self._parts(q, qd, t, p)
+            *_, a, _, c, h = self.parts(q, qd, t, p)
             if not np.any(holonomic) or np.max(np.abs(h[holonomic])) <= tolerance:
                 break
             rows = a[holonomic]
@@ -117,7 +131,7 @@ class CompiledConstrained:
         Raises SimulationError when the augmented matrix is singular there.
         """
         n, m = len(self.coordinates), len(self.multipliers)
-        mass, forcing, a, gamma, c, h = self._parts(
+        mass, forcing, a, gamma, c, h = self.parts(
             np.asarray(q, float), np.asarray(qd, float), t, p
         )
         matrix = np.zeros((n + m, n + m))

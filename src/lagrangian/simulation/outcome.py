@@ -29,9 +29,16 @@ from lagrangian.simulation.conserved import (
     conserved_columns,
     momentum_obstructions,
 )
+from lagrangian.simulation.impacts import ImpactRecord
 from lagrangian.simulation.integrators.protocol import Integration, Motion
 from lagrangian.simulation.setup import RunSetup
-from lagrangian.simulation.trajectory import Event, Rows, Trajectory, trajectory_of_rows
+from lagrangian.simulation.trajectory import (
+    Event,
+    Impact,
+    Rows,
+    Trajectory,
+    trajectory_of_rows,
+)
 
 #: What every message about a run that did not reach its end adds, in the Python API.
 KEEP_HINT = "Pass raise_on_failure=False to keep the trajectory computed up to the failure."
@@ -123,6 +130,8 @@ def _columns(setup: RunSetup, motion: Motion, run: Integration) -> Trajectory:
         Event(name, time, state_by_name(compiled, time, state, p))
         for name, time, state in run.events
     )
+    impacts = tuple(impact_of(compiled, p, record) for record in run.impacts)
+    reasons = not_conserved(eom, inputs.parameters, compiled.energy_function_differs, momenta)
     return trajectory_of_rows(
         compiled.coordinates,
         rows_with_energies(compiled, p, t, q, q_dot),
@@ -135,10 +144,47 @@ def _columns(setup: RunSetup, motion: Motion, run: Integration) -> Trajectory:
         multiplier_names=motion.multiplier_names if multipliers is not None else (),
         constraint_residual=residual,
         conserved=columns,
-        not_conserved=not_conserved(
-            eom, inputs.parameters, compiled.energy_function_differs, momenta
-        ),
+        not_conserved=with_impacts(reasons, impacts, compiled.energy_function_differs),
+        impacts=impacts,
     )
+
+
+def impact_of(compiled: CompiledEquations, p: np.ndarray, record: ImpactRecord) -> Impact:
+    """The Impact a user reads from what the integration recorded: velocities by name and the
+    energy E = T + V lost (the positions do not jump, so the kinetic energy's loss)."""
+    q = record.before[: len(compiled.coordinates)]
+    before = compiled.velocities(record.t, record.before, p)
+    after = compiled.velocities(record.t, record.after, p)
+    lost = float(compiled.energy(q, before, record.t, p) - compiled.energy(q, after, record.t, p))
+    names = [f"{name}_dot" for name in compiled.coordinates]
+    return Impact(
+        record.t,
+        record.constraints,
+        dict(zip(record.constraints, record.impulses)),
+        dict(zip(names, before.tolist())),
+        dict(zip(names, after.tolist())),
+        lost,
+        record.rest,
+    )
+
+
+#: An impact that loses more than this share of the energy scale makes E not conserved.
+LOSS_TOLERANCE = 1e-9
+
+
+def with_impacts(
+    reasons: dict[str, str], impacts: tuple[Impact, ...], has_energy_function: bool
+) -> dict[str, str]:
+    """The reasons a column is not conserved, with ``impacts`` that lost energy (a coefficient
+    of restitution below 1) added to the energy's (and to h's, when it is a column)."""
+    lost = [i.energy_lost for i in impacts]
+    scale = max((abs(v) for i in impacts for v in i.before.values()), default=0.0) ** 2
+    if not lost or max(lost) <= LOSS_TOLERANCE * max(scale, 1e-300):
+        return reasons
+    found = dict(reasons)
+    for column in ("energy", "energy_function")[: 1 + has_energy_function]:
+        found[column] = ", ".join(filter(None, (reasons.get(column), "impacts (e < 1)")))
+    return found
 
 
 def rows_with_energies(

@@ -49,6 +49,21 @@ class Event(NamedTuple):
     state: Mapping[str, float]
 
 
+class Impact(NamedTuple):
+    """An impact on unilateral constraints: its time, the ``constraints`` that took an impulse
+    and their ``impulses`` Lambda (by name), the velocities ``before`` and ``after`` it (by
+    ``NAME_dot``), the kinetic energy it took (``energy_lost``, 0 for an elastic impact), and
+    the constraints whose bounces accumulated there (``rest``: they stay in contact)."""
+
+    t: float
+    constraints: tuple[str, ...]
+    impulses: Mapping[str, float]
+    before: Mapping[str, float]
+    after: Mapping[str, float]
+    energy_lost: float
+    rest: tuple[str, ...] = ()
+
+
 @dataclass(frozen=True, eq=False)
 class Trajectory:
     """Sampled motion of a system.
@@ -88,6 +103,9 @@ class Trajectory:
         does not conserve, each with why (``"dissipation"``, ``"forcing"``, ``"explicit time
         dependence"``, ``"constraints that do work"``...); None when unknown (a Trajectory
         read from a CSV file), and then every one is taken as conserved.
+    impacts:
+        The impacts on unilateral constraints with a coefficient of restitution, in the order
+        of time (each also an event ``impact NAME``).
     """
 
     t: np.ndarray
@@ -106,6 +124,7 @@ class Trajectory:
     constraint_residual: np.ndarray | None = None
     conserved: Mapping[str, np.ndarray] = field(default_factory=dict)
     not_conserved: Mapping[str, str] | None = None
+    impacts: tuple[Impact, ...] = ()
 
     def __post_init__(self) -> None:
         n = len(self.coordinates)

@@ -16,10 +16,17 @@ constraint pushes while lambda_j >= 0.  (A particle resting on top of a sphere, 
   active set, an Event ``"release <name or index>"`` is recorded with the time and state, and
   the integration goes on from that state.  A multiplier already negative at the start of a
   piece releases its constraint there.
-* Re-contact is not modelled: when an inactive constraint's g becomes negative (below
-  -RECONTACT_TOLERANCE, which absorbs the integration error right after a release, where g
-  grows like (t - t_release)^3) the run stops with status "failed" and a message saying that
-  impacts are not modelled.
+* Impact: when an inactive constraint's g becomes negative (below -RECONTACT_TOLERANCE,
+  which absorbs the integration error right after a release, where g grows like
+  (t - t_release)^3), the velocities jump by the impulsive Lagrange equations with Newton's
+  law of restitution (:mod:`lagrangian.simulation.impacts`), every unilateral constraint
+  touching there resolved together; an Event ``"impact <names>"`` and an
+  :class:`~lagrangian.simulation.trajectory.Impact` are recorded.  The contacts that took an
+  impulse and do not bounce stay active (plastic, e = 0); a bounce that would rise less than
+  the contact tolerance ends the accumulation of ever smaller bounces (a ball with e < 1
+  bounces infinitely often in finite time): the contact persists from there, an Event
+  ``"rest <name>"``.  A constraint with no coefficient of restitution cannot take an impact:
+  the run stops there with status "failed" and a message saying so.
 
 The active set is the mode of a hybrid motion, a frozen set of constraint indices: the
 piecewise loop (:mod:`lagrangian.simulation.integrators.piecewise`) integrates each piece with
@@ -34,6 +41,7 @@ import dataclasses
 from collections.abc import Callable
 
 import numpy as np
+import sympy as sp
 
 from lagrangian.constraints import constrained_equations
 from lagrangian.derivation import EquationsOfMotion
@@ -42,6 +50,7 @@ from lagrangian.model import System
 from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, label, statement
 from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
 from lagrangian.simulation.dynamics import INITIAL_TOLERANCE, MultiplierDynamics
+from lagrangian.simulation.impacts import ImpactRecord, resolve
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.piecewise import Guard, Jump, Record
 from lagrangian.simulation.integrators.protocol import Dynamics, Integration
@@ -173,18 +182,90 @@ class UnilateralDynamics:
         return min(pulling)[1] if pulling else None
 
     def transition(self, mode: frozenset[int], guard: Guard, t: float, x: np.ndarray) -> Jump:
-        """A release drops the constraint; a re-contact ends the run (impacts are not
-        modelled)."""
+        """A release drops the constraint; a contact is an impact where the constraint has a
+        coefficient of restitution, and ends the run where it has none."""
         assert isinstance(guard, _Watched)
         if guard.release:
             return Jump(mode - {guard.index}, x, guard.__name__)
-        constraint = self.system.constraints[guard.index]
-        failure = (
-            f"the unilateral constraint {label(guard.index, constraint)}, "
-            f"{statement(constraint)}, is violated again at t = {t:.6g}: impacts are not "
-            "modelled, so the integration stops there"
-        )
-        return Jump(mode, x, guard.__name__, failure)
+        if self.restitution(guard.index) is None:
+            return Jump(mode, x, guard.__name__, _unmodelled(self.system, guard.index, t))
+        return self.impact(mode, guard.index, t, x)
+
+    def restitution(self, i: int) -> float | None:
+        """The coefficient of restitution of constraint i at the run's parameters, or None."""
+        e = getattr(self.system.constraints[i], "restitution", None)
+        if e is None:
+            return None
+        values = {s: sp.Float(v) for s, v in zip(self.eom.parameters, self.p)}
+        value = float(e.xreplace(values))
+        if not 0.0 <= value <= 1.0:
+            raise SimulationInputError(
+                f"the coefficient of restitution of {label(i, self.system.constraints[i])}, "
+                f"{e} = {value:g}, is not in [0, 1]: give parameters that make it one"
+            )
+        return value
+
+    def impact(self, mode: frozenset[int], index: int, t: float, x: np.ndarray) -> Jump:
+        """The velocity jump of an impact on constraint ``index`` at (t, x), resolved with
+        every unilateral constraint touching there (:func:`lagrangian.simulation.impacts.
+        resolve`), and the mode after: the contacts that took an impulse and do not bounce
+        stay active, the others are released."""
+        n, m = len(self.eom.coordinates), len(self.system.constraints)
+        q, v = x[:n], x[n:]
+        every = self.piece(set(range(m)))
+        parts = every.form.parts(q, v, t, self.p)
+        touching = self.touching(mode, index, parts.h, parts.rates)
+        missing = [i for i in touching if i not in mode and self.restitution(i) is None]
+        if missing:
+            return Jump(mode, x, f"contact {self.tag(missing[0])}",
+                        _unmodelled(self.system, missing[0], t))  # fmt: skip
+        bilateral = [i for i in range(m) if i not in self.one_sided]
+        e = {i: 0.0 if i in mode else float(self.restitution(i) or 0.0) for i in touching}
+        after, impulses = resolve(parts.mass, parts.jacobian, parts.rates, bilateral,
+                                  touching, [e[i] for i in touching], v)  # fmt: skip
+        rest = [i for i in touching if e[i] > 0 and impulses[i] > 0
+                and self.bounce_height(mode, i, t, q, after) <= RECONTACT_TOLERANCE]  # fmt: skip
+        if rest:  # a bounce lower than the contact tolerance: the contact persists (Zeno)
+            e.update(dict.fromkeys(rest, 0.0))
+            after, impulses = resolve(parts.mass, parts.jacobian, parts.rates, bilateral,
+                                      touching, [e[i] for i in touching], v)  # fmt: skip
+        rates = parts.jacobian @ after + parts.rates - parts.jacobian @ v
+        scale = float(np.max(np.abs(parts.rates), initial=0.0)) + 1e-300
+        staying = {i for i in touching if abs(rates[i]) <= 1e-9 * scale
+                   and (impulses[i] > 0 or i in mode)}  # fmt: skip
+        after_mode = frozenset(set(bilateral) | staying)
+        state = np.concatenate((q, after))
+        if staying - mode:  # onto the contacts that persist (the impact was met at g = -tol)
+            state = np.concatenate(self.piece(after_mode).form.project(q, after, t, self.p))
+        hit = tuple(i for i in touching if impulses[i] > 0)
+        names = tuple(self.tag(i) for i in hit)
+        record = ImpactRecord(t, names, tuple(float(impulses[i]) for i in hit), np.array(x),
+                              state, tuple(self.tag(i) for i in rest))  # fmt: skip
+        also = tuple(f"rest {self.tag(i)}" for i in rest)
+        return Jump(after_mode, state, f"impact {', '.join(names)}", impact=record, also=also)
+
+    def touching(
+        self, mode: frozenset[int], index: int, h: np.ndarray, rates: np.ndarray
+    ) -> list[int]:
+        """The unilateral constraints an impact on ``index`` involves: it, those in contact,
+        and every other one at g ~ 0 that is closing."""
+        band = 2 * RECONTACT_TOLERANCE
+        near = {i for i in self.one_sided if abs(h[i]) <= band and rates[i] < 0}
+        return sorted({index} | (set(self.one_sided) & mode) | near)
+
+    def bounce_height(
+        self, mode: frozenset[int], i: int, t: float, q: np.ndarray, v: np.ndarray
+    ) -> float:
+        """How high constraint i rises after leaving with g_dot = a_i v + b_i > 0 under the
+        motion of ``mode`` (i released): g_dot^2 / (2 |g_ddot|), infinite when g_ddot >= 0
+        (it does not come back).  g_ddot = a_i q_ddot - gamma_i (A q_ddot = gamma is the
+        constraints' second derivative held at zero)."""
+        free = self.piece(set(mode) - {i})
+        q_ddot = free.field(t, np.concatenate((q, v)))[len(q) :]
+        parts = self.piece(set(range(len(self.system.constraints)))).form.parts(q, v, t, self.p)
+        g_dot = float(parts.rates[i])
+        g_ddot = float(parts.jacobian[i] @ q_ddot - parts.gamma[i])
+        return np.inf if g_ddot >= 0 else g_dot**2 / (2 * -g_ddot)
 
     def completed(self, mode: frozenset[int], piece: Dynamics, run: Integration) -> Integration:
         """A piece with the multipliers of every constraint (NaN for the inactive ones) and
@@ -195,6 +276,16 @@ class UnilateralDynamics:
         full = np.full((len(run.t), len(self.multiplier_names)), np.nan)
         full[:, sorted(mode)] = multipliers
         return dataclasses.replace(run, multipliers=full, constraint_residual=residual)
+
+
+def _unmodelled(system: System, index: int, t: float) -> str:
+    """Why a run stops at a contact whose constraint has no coefficient of restitution."""
+    constraint = system.constraints[index]
+    return (
+        f"the unilateral constraint {label(index, constraint)}, {statement(constraint)}, is "
+        f"reached at t = {t:.6g}: an impact, and it has no coefficient of restitution, so the "
+        "integration stops there (give it one, e.g. restitution: 1 for an elastic impact)"
+    )
 
 
 def _bilateral(constraint: Constraint) -> Constraint:
@@ -216,7 +307,8 @@ def _touching(index: int, constraint: Constraint, g: float, g_dot: float) -> boo
     if g_dot < -INITIAL_TOLERANCE:
         raise SimulationInputError(
             f"The initial state moves into the unilateral constraint {where} (dg/dt = "
-            f"{g_dot:.3g} < 0 at g = 0): impacts are not modelled."
+            f"{g_dot:.3g} < 0 at g = 0): an impact at the start; start just outside it "
+            "(g > 0), where the impact is resolved by its coefficient of restitution."
         )
     return True
 

@@ -37,6 +37,7 @@ from typing import Any, NamedTuple, Protocol, TypeVar
 
 import numpy as np
 
+from lagrangian.simulation.impacts import ImpactRecord
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.events import EventFunction, EventWatch
 from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Integrator, Progress
@@ -55,13 +56,16 @@ class Guard(EventFunction, Protocol):
 
 class Jump(NamedTuple):
     """What a transition decided: the next ``mode`` and the ``state`` it starts from, the
-    ``label`` of the event recorded at the transition, or a ``failure`` that ends the run
-    there (the mode and state are then those before it)."""
+    ``label`` of the event recorded at the transition (and the ``also`` events at the same
+    time), the ``impact`` when the velocities jump, or a ``failure`` that ends the run there
+    (the mode and state are then those before it)."""
 
     mode: Any
     state: np.ndarray
     label: str
     failure: str | None = None
+    impact: ImpactRecord | None = None
+    also: tuple[str, ...] = ()
 
 
 class Hybrid(Protocol[Mode]):
@@ -146,11 +150,12 @@ def integrate_piecewise(
         if jump.failure is not None:  # the run ends at the guard, with its event
             pieces.append(_on_output_times(_failed_at(run, stop, jump), current))
             break
-        pieces.append(_on_output_times(dataclasses.replace(run, stopped_by=None), current))
-        mode, entered = _settled(
-            hybrid, jump.mode, [(jump.label, t_jump, np.array(jump.state, dtype=float))],
-            t_jump, jump.state,
-        )  # fmt: skip
+        impacts = (*run.impacts, jump.impact) if jump.impact is not None else run.impacts
+        ended = dataclasses.replace(run, stopped_by=None, impacts=impacts)
+        pieces.append(_on_output_times(ended, current))
+        state = np.array(jump.state, dtype=float)
+        records: list[Record] = [(name, t_jump, state) for name in (jump.label, *jump.also)]
+        mode, entered = _settled(hybrid, jump.mode, records, t_jump, jump.state)
         if t_jump >= t1:  # the last transition ends the span: its events end the run
             pieces[-1] = dataclasses.replace(pieces[-1], events=(*pieces[-1].events, *entered))
             break
@@ -227,6 +232,7 @@ def joined(pieces: list[Integration]) -> Integration:
         t=np.concatenate([p.t for p in keep]),
         x=np.concatenate([p.x for p in keep]),
         events=tuple(event for p in pieces for event in p.events),
+        impacts=tuple(impact for p in pieces for impact in p.impacts),
         multipliers=_joined_rows([p.multipliers for p in keep]),
         constraint_residual=_joined_rows([p.constraint_residual for p in keep]),
     )

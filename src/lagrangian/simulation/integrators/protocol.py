@@ -32,6 +32,7 @@ from typing import Any, Protocol, TypeVar
 
 import numpy as np
 
+from lagrangian.simulation.impacts import ImpactRecord
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.events import EventWatch
 
@@ -49,7 +50,7 @@ class Integration:
     ``x_reached`` are the last accepted step.  ``multipliers`` and ``constraint_residual``
     (rows of t) are given by integrators that compute them on the way (else the dynamics
     evaluates them at the rows); ``note`` is what the integrator says about a run that
-    reached the end.
+    reached the end; ``impacts`` the velocity jumps at impacts, in the order of time.
     """
 
     t: np.ndarray
@@ -63,6 +64,7 @@ class Integration:
     multipliers: np.ndarray | None = None
     constraint_residual: np.ndarray | None = None
     note: str = ""
+    impacts: tuple[ImpactRecord, ...] = ()
 
     @property
     def status(self) -> str:
