@@ -55,6 +55,17 @@ def _with_name(entry: dict[str, Any], name: str) -> dict[str, Any]:
     return {"name": name, **entry} if name else entry
 
 
+def _transition(item: Any) -> dict[str, Any]:
+    """A transition as its model-file entry."""
+    entry: dict[str, Any] = {"name": item.name, "guard": _expr(item.guard)}
+    if item.direction != "both":
+        entry["direction"] = item.direction
+    if item.when is not None:
+        entry["when"] = str(item.when)
+    entry["reset"] = {key.name: _expr(value) for key, value in item.reset}
+    return entry
+
+
 def _constraint_entry(constraint: Any) -> dict[str, Any]:
     """``{kind: expression}`` with its name and, for an impact's, its restitution."""
     entry = _with_name({constraint.kind: _expr(constraint.expression)}, constraint.name)
@@ -228,6 +239,8 @@ def model_document(system: System) -> dict[str, Any]:
     given = [c for c in system.constraints if not isinstance(c, GENERATED)]  # not rolling's
     if given:
         document["constraints"] = [_constraint_entry(c) for c in given]
+    if system.transitions:
+        document["transitions"] = [_transition(item) for item in system.transitions]
     if system.initial:
         document["initial"] = {s.name: float(v) for s, v in system.initial.items()}
     if system.simulation:

@@ -40,6 +40,7 @@ from lagrangian.io.sections import (
     read_elements,
     read_energies,
     read_generalized_forces,
+    read_transitions,
 )
 from lagrangian.io.toml_tree import read_toml
 from lagrangian.io.yaml_tree import MAX_CHARACTERS, read_json, read_yaml
@@ -166,6 +167,7 @@ def _read_model(
     fields["circuit"] = [element for _, element in circuit]
     constraints = read_constraints(reader, data)
     fields["constraints"] = [constraint for _, constraint in constraints]
+    fields["transitions"] = read_transitions(reader, data)
     _raise_problems(reader)
     paths = {f"circuit[{i}]": path for i, (path, _) in enumerate(circuit)}
     for i, (path, _) in enumerate(constraints):  # the expression sits under its kind

@@ -21,7 +21,12 @@ import sympy as sp
 from lagrangian.errors import ExpressionError, Problem
 from lagrangian.io.document import Document, child
 from lagrangian.io.model_schema import entry_keys
-from lagrangian.symbolic.expressions import ParseCache, closest_name, parse_expression
+from lagrangian.symbolic.expressions import (
+    ParseCache,
+    closest_name,
+    parse_condition,
+    parse_expression,
+)
 from lagrangian.symbolic.probe import is_zero
 
 _EXAMPLE_VECTOR = 'a list such as ["l*sin(theta)", "-l*cos(theta)"]'
@@ -201,6 +206,21 @@ class Reader:
             key=key,
         )
         return None
+
+    def condition(self, value: Any, path: str) -> sp.Basic | None:
+        """A comparison of two expressions (``theta < 0``), parsed with the declared names."""
+        if not isinstance(value, str):
+            self.problem(path, f"expected a comparison, got {describe(value)}",
+                         'write one comparison such as "theta < 0"')  # fmt: skip
+            return None
+        line, column = self.document.value_at(path)
+        try:
+            return parse_condition(value, self.names, field=path, source=self.document.source,
+                                   line=line, column=column, zero_test=is_zero)  # fmt: skip
+        except ExpressionError as exc:
+            self.problems.extend(exc.problems)
+            self.expression_problems += len(exc.problems)
+            return None
 
     def text(self, value: Any, path: str) -> str | None:
         """Free text (a name or description)."""

@@ -48,6 +48,7 @@ from lagrangian.model import (
     VoltageSource,
 )
 from lagrangian.model.elements import ORIGIN
+from lagrangian.model.transitions import Transition
 
 ENERGIES = ("kinetic", "potential", "lagrangian", "velocity_potential", "dissipation")
 
@@ -292,3 +293,20 @@ def _restitution(
         return None
     value = reader.expression(entry["restitution"], where)
     return None if value is None else {"restitution": value}
+
+
+def read_transitions(reader: Reader, data: dict[str, Any]) -> list[Transition]:
+    """Transitions, each ``{name, guard, reset: {NAME: expression}, direction, when}``."""
+    found = []
+    for path, entry in reader.entries(data.get("transitions", []), "transitions", "transition"):
+        name = reader.text(entry.get("name", ""), child(path, "name"))
+        guard = reader.expression(entry.get("guard", ""), child(path, "guard"))
+        values = reader.mapping(entry.get("reset", {}), child(path, "reset")) or {}
+        reset = {key: reader.expression(value, child(child(path, "reset"), key))
+                 for key, value in values.items()}  # fmt: skip
+        direction = reader.text(entry.get("direction", "both"), child(path, "direction"))
+        when = reader.condition(entry["when"], child(path, "when")) if "when" in entry else None
+        complete = None not in (name, guard, direction, *reset.values())
+        if complete and ("when" not in entry or when is not None):
+            found.append(Transition(str(name), guard, reset, str(direction), when))
+    return found

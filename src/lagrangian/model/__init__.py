@@ -30,6 +30,7 @@ from lagrangian.model.rotation import (
     spatial_angular_velocity,
 )
 from lagrangian.model.system import System
+from lagrangian.model.transitions import Transition
 from lagrangian.symbolic.symbols import acceleration, coordinates, from_time_functions, t, velocity
 
 __all__ = [
@@ -49,6 +50,7 @@ __all__ = [
     "Spring",
     "System",
     "Torque",
+    "Transition",
     "Unilateral",
     "VelocityConstraint",
     "VoltageSource",

@@ -32,6 +32,7 @@ from lagrangian.model.elements import (
 from lagrangian.model.frames import Frame, resolve_orientations
 from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import Orientation
+from lagrangian.model.transitions import Transition
 from lagrangian.model.validation import validate
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.frozen import FrozenMapping
@@ -53,6 +54,7 @@ ELEMENT_FIELDS = (
     "constraints",
     "frames",
     "rolling",
+    "transitions",
 )
 
 
@@ -275,6 +277,7 @@ ELEMENT_KINDS: dict[str, tuple[tuple[type, ...], str, str]] = {
     ),
     "frames": ((Frame,), "frame", "lagrangian.model.Frame(...)"),
     "rolling": ((RollingDisc,), "rolling disc", "lagrangian.model.RollingDisc(...)"),
+    "transitions": ((Transition,), "transition", "lagrangian.Transition(...)"),
 }
 
 

@@ -36,6 +36,7 @@ from lagrangian.model.contact import RollingDisc
 from lagrangian.model.elements import Damper, Force, Particle, RigidBody, Spring, Torque, as_tuple
 from lagrangian.model.frames import Frame
 from lagrangian.model.normalize import ELEMENT_FIELDS, normalize_system
+from lagrangian.model.transitions import Transition
 from lagrangian.symbolic.expressions import closest_name
 from lagrangian.symbolic.frozen import FrozenMapping
 from lagrangian.symbolic.symbols import acceleration, t, velocity
@@ -78,6 +79,9 @@ class System:
     rolling:
         Discs rolling without slipping on the plane z = 0
         (:class:`~lagrangian.model.contact.RollingDisc`): each adds its contact constraints.
+    transitions:
+        Jumps of the state where a guard crosses zero (a walker's heel strike,
+        :class:`~lagrangian.model.transitions.Transition`), applied by the simulation.
     initial:
         Initial values of coordinates and velocities (``theta``, ``theta_dot``), for simulation.
     simulation:
@@ -107,6 +111,7 @@ class System:
     constraints: Sequence[Constraint] = ()
     frames: Sequence[Frame] = ()
     rolling: Sequence[RollingDisc] = ()
+    transitions: Sequence[Transition] = ()
     initial: Mapping[Any, float] = field(default_factory=dict)
     simulation: Mapping[str, Any] = field(default_factory=dict)
     name: str = ""

@@ -24,6 +24,7 @@ from lagrangian.model.constraints import check_constraints
 from lagrangian.model.elements import ORIGIN
 from lagrangian.model.inertia import Shape, check_inertia
 from lagrangian.model.rotation import Orientation, check_rotation
+from lagrangian.model.transitions import check_transitions
 from lagrangian.symbolic.expressions import closest_name, distinct_parts, free_symbols
 from lagrangian.symbolic.probe import PROBES, SEED, random_values
 from lagrangian.symbolic.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, t, velocity
@@ -501,6 +502,7 @@ def validate(values: dict[str, Any]) -> Iterable[Problem]:
     _check_elements(values, scope, points, problems)
     _check_circuit(values, scope, problems)
     check_constraints(values, scope, problems)
+    check_transitions(values["transitions"], scope, problems)
     for key, value in values["initial"].items():
         if key not in scope.coordinates and key not in scope.velocities:
             problems.append(

@@ -23,7 +23,7 @@ True
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 from lagrangian.constraints import constrained_equations, multiplier_symbols
 from lagrangian.derivation import EquationsOfMotion
@@ -35,13 +35,14 @@ from lagrangian.simulation.dynamics import FreeDynamics, MultiplierDynamics
 from lagrangian.simulation.integrators.compiled import native_integrator
 from lagrangian.simulation.integrators.events import EventFunction, EventWatch
 from lagrangian.simulation.integrators.loop import SolverIntegrator
-from lagrangian.simulation.integrators.piecewise import PiecewiseIntegrator
+from lagrangian.simulation.integrators.piecewise import Hybrid, PiecewiseIntegrator
 from lagrangian.simulation.integrators.protocol import Integrator, Motion
 from lagrangian.simulation.options import StepKeywords, check_keywords
 from lagrangian.simulation.outcome import conclude
 from lagrangian.simulation.setup import RunSetup, prepare
 from lagrangian.simulation.switching import SwitchedDynamics, has_switching
 from lagrangian.simulation.trajectory import Trajectory
+from lagrangian.simulation.transitions import with_transitions
 from lagrangian.simulation.unilateral import UnilateralDynamics
 from lagrangian.simulation.variational.midpoint import DiscreteDynamics, VariationalIntegrator
 
@@ -166,6 +167,24 @@ def simulate(
 
 
 def plan(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
+    """The dynamics of the system's formulation and the integrator of the method; the
+    System's transitions (:mod:`lagrangian.simulation.transitions`) make it a hybrid motion
+    of the piecewise loop."""
+    motion, integrator = formulation(setup)
+    if not setup.system.transitions:
+        return motion, integrator
+    if setup.options.spec.variational:
+        raise SimulationInputError(
+            f"transitions: method={setup.options.method!r} steps a fixed grid and locates no "
+            "guard; use an adaptive method such as 'DOP853'"
+        )
+    # a hybrid formulation (unilateral constraints, switching) keeps its own guards
+    inner = cast(Hybrid[Any], motion) if isinstance(integrator, PiecewiseIntegrator) else None
+    hybrid = with_transitions(setup.eom, setup.inputs.p, motion, inner)
+    return hybrid, PiecewiseIntegrator(SolverIntegrator())
+
+
+def formulation(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
     """The dynamics of the system's formulation and the integrator of the method."""
     options, eom, p = setup.options, setup.eom, setup.inputs.p
     constraints = setup.system.constraints

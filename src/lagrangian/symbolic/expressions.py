@@ -959,6 +959,56 @@ def parse_expression(
         raise ExpressionError(problems=[problem]) from None
 
 
+#: The comparisons a condition may make, by the Python operator that writes them.
+_COMPARISONS: dict[type, Callable[[sp.Expr, sp.Expr], sp.Basic]] = {
+    ast.Lt: sp.StrictLessThan,
+    ast.LtE: sp.LessThan,
+    ast.Gt: sp.StrictGreaterThan,
+    ast.GtE: sp.GreaterThan,
+}
+
+
+def parse_condition(
+    text: str,
+    names: Mapping[str, sp.Basic],
+    *,
+    field: str,
+    source: str | None = None,
+    line: int | None = None,
+    column: int | None = None,
+    zero_test: ZeroTest | None = None,
+) -> sp.Basic:
+    """A comparison of two expressions of the language (``theta < 0``, ``x >= l/2``) as a SymPy
+    relational: the text is split at its one comparison operator by Python's parser (which
+    runs nothing) and each side read by :func:`parse_expression`, positions kept.
+
+    >>> theta = sp.Symbol("theta")
+    >>> parse_condition("theta < 0", {"theta": theta}, field="when")
+    theta < 0
+    """
+    try:
+        tree = _read(text.strip()) if isinstance(text, str) else None
+        compare = tree.body if tree is not None else None
+        if not (
+            isinstance(compare, ast.Compare)
+            and len(compare.ops) == 1
+            and type(compare.ops[0]) in _COMPARISONS
+        ):
+            raise _Refusal("not one comparison", "write one comparison, e.g. theta < 0")
+    except _Refusal as refusal:
+        problem = Problem(field, refusal.message, refusal.fix, line, column, source)
+        raise ExpressionError(problems=[problem]) from None
+    body = text.strip()
+    offset = len(text) - len(text.lstrip())
+    sides = []
+    for node in (compare.left, compare.comparators[0]):
+        segment = ast.get_source_segment(body, node) or ""
+        at = None if column is None else column + offset + node.col_offset
+        sides.append(parse_expression(segment, names, field=field, source=source, line=line,
+                                      column=at, zero_test=zero_test))  # fmt: skip
+    return _COMPARISONS[type(compare.ops[0])](*sides)
+
+
 def parse_expressions(
     items: Iterable[tuple[str, str | int | float]],
     names: Mapping[str, sp.Basic],

@@ -48,6 +48,8 @@ class EventWatch:
         self.limits = np.array([_limit(getattr(g, "terminal", False)) for g in functions])
         self.counts = np.zeros(len(self.functions), dtype=int)
         self.values = np.zeros(len(self.functions))
+        #: Functions not watched during the first step (a run that starts on their zero).
+        self.disarmed: set[int] = set()
 
     def value(self, i: int, t: float, x: np.ndarray) -> float:
         q, q_dot = self.unpack(t, x)
@@ -55,6 +57,8 @@ class EventWatch:
 
     def start(self, t: float, x: np.ndarray) -> None:
         self.values = np.array([self.value(i, t, x) for i in range(len(self.functions))])
+        # NaN compares false both ways: no crossing is seen before the first step's end
+        self.values[list(self.disarmed)] = np.nan
 
     def check(
         self, t_old: float, t: float, x: np.ndarray, dense: Callable[[float], np.ndarray]

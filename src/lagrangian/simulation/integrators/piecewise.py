@@ -56,9 +56,11 @@ class Guard(EventFunction, Protocol):
 
 class Jump(NamedTuple):
     """What a transition decided: the next ``mode`` and the ``state`` it starts from, the
-    ``label`` of the event recorded at the transition (and the ``also`` events at the same
-    time), the ``impact`` when the velocities jump, or a ``failure`` that ends the run there
-    (the mode and state are then those before it)."""
+    ``label`` of the event recorded at the transition ("" for none: a crossing passed by)
+    and the ``also`` events at the same time, the ``impact`` when the velocities jump, or a
+    ``failure`` that ends the run there (the mode and state are then those before it).
+    ``disarm``: the guard is not watched during the first step of the next piece, which
+    starts on its zero (a guard without the offset of a contact's tolerance)."""
 
     mode: Any
     state: np.ndarray
@@ -66,6 +68,7 @@ class Jump(NamedTuple):
     failure: str | None = None
     impact: ImpactRecord | None = None
     also: tuple[str, ...] = ()
+    disarm: bool = False
 
 
 class Hybrid(Protocol[Mode]):
@@ -130,11 +133,15 @@ def integrate_piecewise(
     mode, entered = _settled(hybrid, *hybrid.initial_mode(t0, inputs.x0), t0, inputs.x0)
     pieces: list[Integration] = []
     current = inputs
+    disarmed: str | None = None
     while True:
         piece = hybrid.piece(mode)
         guards = list(hybrid.guards(mode, piece))
         piece_watch = EventWatch([*own, *guards], piece.unpack)
         piece_watch.counts[: len(own)] = counts
+        piece_watch.disarmed = {
+            len(own) + k for k, g in enumerate(guards) if g.__name__ == disarmed
+        }
         run = inner.run(piece, current, piece_watch, progress)
         counts = piece_watch.counts[: len(own)].copy()
         guard = next((g for g in guards if g.__name__ == run.stopped_by), None)
@@ -154,7 +161,9 @@ def integrate_piecewise(
         ended = dataclasses.replace(run, stopped_by=None, impacts=impacts)
         pieces.append(_on_output_times(ended, current))
         state = np.array(jump.state, dtype=float)
-        records: list[Record] = [(name, t_jump, state) for name in (jump.label, *jump.also)]
+        names = [name for name in (jump.label, *jump.also) if name]
+        records: list[Record] = [(name, t_jump, state) for name in names]
+        disarmed = stop[0] if jump.disarm else None
         mode, entered = _settled(hybrid, jump.mode, records, t_jump, jump.state)
         if t_jump >= t1:  # the last transition ends the span: its events end the run
             pieces[-1] = dataclasses.replace(pieces[-1], events=(*pieces[-1].events, *entered))

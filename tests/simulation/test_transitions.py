@@ -1,0 +1,90 @@
+"""Hybrid transitions against an independent event-driven integration: the simplest walker
+(Garcia, Chatterjee, Ruina & Coleman 1998) stepped by SciPy's solve_ivp with its heel-strike
+event and reset written out here, and the model-file contract of ``transitions``."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import lagrangian as lg
+from lagrangian.errors import ModelError
+
+GAMMA = 0.009
+TIGHT = {"method": "DOP853", "rtol": 1e-11, "atol": 1e-12}
+
+
+def walker_rates(t: float, x: np.ndarray) -> np.ndarray:
+    """Garcia et al.'s eq. 3 in the limit of light feet."""
+    theta, phi, theta_dot, phi_dot = x
+    theta_ddot = np.sin(theta - GAMMA)
+    phi_ddot = theta_ddot + np.sin(phi) * (theta_dot**2 - np.cos(theta - GAMMA))
+    return np.array([theta_dot, phi_dot, theta_ddot, phi_ddot])
+
+
+def heel_strike(x: np.ndarray) -> np.ndarray:
+    """Their eq. 4: the legs swap, angular momentum about the new contact is kept."""
+    theta, _, theta_dot, _ = x
+    c = np.cos(2 * theta)
+    return np.array([-theta, -2 * theta, c * theta_dot, c * (1 - c) * theta_dot])
+
+
+def reference_steps(x0: np.ndarray, steps: int) -> list[tuple[float, np.ndarray]]:
+    """Heel-strike times and the states after them, by solve_ivp with the guard phi - 2 theta
+    rising, crossings with theta >= 0 (the swing foot scuffing mid-step) passed by."""
+
+    def guard(t: float, x: np.ndarray) -> float:
+        return x[1] - 2 * x[0]
+
+    guard.direction = 1.0  # type: ignore[attr-defined]
+    t, x, found = 0.0, x0, []
+    while len(found) < steps:
+        run = solve_ivp(walker_rates, (t, t + 10), x, events=guard, rtol=1e-12, atol=1e-13,
+                        method="DOP853", dense_output=True)  # fmt: skip
+        strike = next(i for i, s in enumerate(run.t_events[0]) if run.y_events[0][i][0] < 0)
+        t = float(run.t_events[0][strike])
+        x = heel_strike(run.y_events[0][strike])
+        found.append((t, x))
+    return found
+
+
+def test_the_simplest_walker_steps_as_an_event_driven_integration_says() -> None:
+    walker = lg.examples.simplest_walker()
+    run = lg.simulate(walker, t_span=12.0, samples=121, **TIGHT)
+    assert run.success, run.message
+    given = {s.name: value for s, value in walker.initial.items()}
+    x0 = np.array([given[n] for n in ("theta", "phi", "theta_dot", "phi_dot")])
+    expected = reference_steps(x0, 3)
+    strikes = [e for e in run.events if e.name == "heel_strike"]
+    assert len(strikes) == len(run.impacts) == 3
+    for event, (t, x) in zip(strikes, expected):
+        assert event.t == pytest.approx(t, abs=1e-8)
+        state = [event.state[n] for n in ("theta", "phi", "theta_dot", "phi_dot")]
+        assert np.allclose(state, x, atol=1e-8)
+    # the gait is the period-one cycle it starts on: each step ends where it began
+    for impact in run.impacts:
+        assert impact.after["theta_dot"] == pytest.approx(x0[2], abs=1e-4)
+
+
+def test_a_transition_in_a_model_file_round_trips_and_bad_ones_are_refused() -> None:
+    from lagrangian.io.dump import dumps
+
+    walker = lg.examples.simplest_walker()
+    again = lg.loads(dumps(walker))
+    assert again.transitions == walker.transitions
+    with pytest.raises(ModelError, match=r"transitions\[0\].when .*cannot read the expression"):
+        lg.loads(
+            "coordinates: [q]\nkinetic: q_dot**2/2\n"
+            "transitions: [{name: a, guard: q, when: 'q +', reset: {q: -q}}]"
+        )
+    with pytest.raises(ModelError, match=r"transitions\[0\].reset.psi .*: psi is not a coordinate"):
+        lg.loads(
+            "coordinates: [q]\nkinetic: q_dot**2/2\n"
+            "transitions: [{name: a, guard: q, reset: {psi: 1}}]"
+        )
+    with pytest.raises(ModelError, match=r"transitions\[0\].direction .*: unknown direction 'up'"):
+        lg.loads(
+            "coordinates: [q]\nkinetic: q_dot**2/2\n"
+            "transitions: [{name: a, guard: q, direction: up, reset: {q: -q}}]"
+        )
