@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
 from lagrangian.cli import serve_command, sweep_command
+from lagrangian.cli.wording import COMMAND_LINE
 from lagrangian.errors import BAD_INPUT, FAILURE, ArgumentError, LagrangianError, TimeLimitError
 from lagrangian.limits import RETRY_SECONDS
 from lagrangian.limits import time_limit as library_limit
@@ -315,8 +316,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         with time_limit(args.timeout), size_limit(args.size_limit):
             output = run(args)
-    except Exception as error:
-        code = exit_code(error, given_paths(args))
+    except Exception as raised:
+        code = exit_code(raised, given_paths(args))
+        error = in_command_line_words(raised)
         if args.debug:
             traceback.print_exception(error)
         internal = not isinstance(error, (LagrangianError, OSError))
@@ -379,6 +381,12 @@ def size_limit(operations: float | None) -> Iterator[None]:
 
     with sized_to(operations, where="--size-limit"):
         yield
+
+
+def in_command_line_words(error: Exception) -> Exception:
+    """``error`` with the options its fixes name said as the command's flags (``--max-steps``,
+    not ``max_steps=...``: :data:`lagrangian.cli.wording.COMMAND_LINE`)."""
+    return error.worded(COMMAND_LINE) if isinstance(error, LagrangianError) else error
 
 
 #: Bytes written to standard output at a time (a closed pipe is noticed within one chunk).
