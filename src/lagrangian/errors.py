@@ -20,8 +20,8 @@ True
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
-from typing import ClassVar
+from dataclasses import dataclass, replace
+from typing import ClassVar, TypeVar
 
 #: Exit code of a command that failed: the input was fine, the computation was not.
 FAILURE = 1
@@ -30,15 +30,95 @@ BAD_INPUT = 2
 
 
 @dataclass(frozen=True)
+class Setting:
+    """An option a fix suggests, as click's ``BadParameter`` keeps its parameter: the
+    ``keyword`` as Python spells it, the ``value`` suggested (None: one the user chooses) and,
+    for a keyword that maps names to values, the ``entry`` (``initial={'x': ...}``).  Each
+    interface words it its own way (:class:`Wording`): ``max_steps=...`` in Python,
+    ``--max-steps`` on the command line, ``options.max_steps`` in the web API.
+
+    >>> str(Setting("method", "DOP853")), str(Setting("initial", entry="x"))
+    ("method='DOP853'", "initial={'x': ...}")
+    """
+
+    keyword: str
+    value: str | float | bool | None = None
+    entry: str | None = None
+
+    def __str__(self) -> str:
+        return Wording().setting(self)
+
+
+@dataclass(frozen=True)
+class Fix:
+    """How to fix a problem when the fix sets options: ``text`` with a ``{}`` for each of
+    the ``settings`` (``{0.name}``: the option alone, without a value), filled in the words
+    of the interface the user is in.
+
+    >>> fix = Fix("use a larger {0.name}, or pass {1}", (Setting("dt"), Setting("max_steps")))
+    >>> str(fix)
+    'use a larger dt, or pass max_steps=...'
+    """
+
+    text: str
+    settings: tuple[Setting, ...] = ()
+
+    def worded(self, wording: Wording) -> str:
+        """The fix with each setting as ``wording`` names it."""
+        return self.text.format(
+            *(_Worded(wording.option(s.keyword), wording.setting(s)) for s in self.settings)
+        )
+
+    def __str__(self) -> str:
+        return self.worded(Wording())
+
+
+@dataclass(frozen=True)
+class _Worded:
+    """A setting in an interface's words: ``{}`` in a fix's text gives the ``setting``,
+    ``{0.name}`` the option's ``name`` alone."""
+
+    name: str
+    setting: str
+
+    def __format__(self, spec: str) -> str:
+        return format(self.setting, spec)
+
+
+@dataclass(frozen=True)
+class Wording:
+    """How an interface names its options; this one is Python's (keywords and values as
+    a call writes them).  The command line and the web API have their own
+    (:mod:`lagrangian.cli.wording`, :mod:`lagrangian.web.wording`)."""
+
+    def option(self, keyword: str) -> str:
+        """The option ``keyword`` as this interface names it."""
+        return keyword
+
+    def setting(self, setting: Setting) -> str:
+        """``setting`` with its value as this interface writes it."""
+        value = "..." if setting.value is None else repr(setting.value)
+        if setting.entry is not None:
+            value = f"{{{setting.entry!r}: {value}}}"
+        return f"{self.option(setting.keyword)}={value}"
+
+
+@dataclass(frozen=True)
 class Problem:
-    """One thing wrong with the input: where it is, what is wrong, and how to fix it."""
+    """One thing wrong with the input: where it is, what is wrong, and how to fix it (text,
+    or a :class:`Fix` that names the options to set, worded by each interface)."""
 
     field: str
     message: str
-    fix: str = ""
+    fix: str | Fix = ""
     line: int | None = None
     column: int | None = None
     source: str | None = None
+
+    def worded(self, wording: Wording) -> Problem:
+        """This problem with an option's field and the fix in the words of ``wording``."""
+        fix = self.fix.worded(wording) if isinstance(self.fix, Fix) else self.fix
+        return replace(self, field=wording.option(self.field), fix=fix)
 
     def __str__(self) -> str:
         where = self.field
@@ -54,6 +134,9 @@ class Problem:
         return text
 
 
+E = TypeVar("E", bound="LagrangianError")
+
+
 class LagrangianError(Exception):
     """Root of every error raised by lagrangian; ``exit_code`` is what it means to a shell."""
 
@@ -61,11 +144,21 @@ class LagrangianError(Exception):
 
     def __init__(self, message: str = "", problems: Iterable[Problem] = ()) -> None:
         self.problems: tuple[Problem, ...] = tuple(problems)
+        self.summary = message
         if not message:
             message = "\n".join(str(p) for p in self.problems)
         elif self.problems:
             message = message + "\n" + "\n".join(f"  - {p}" for p in self.problems)
         super().__init__(message)
+
+    def worded(self: E, wording: Wording) -> E:
+        """This error with its problems' options and fixes in the words of ``wording`` (the
+        command line's flags, the web API's option names); itself when it has none."""
+        if not self.problems:
+            return self
+        error = type(self)(self.summary, [p.worded(wording) for p in self.problems])
+        error.__cause__, error.__traceback__ = self.__cause__, self.__traceback__
+        return error
 
 
 class ModelError(LagrangianError, ValueError):

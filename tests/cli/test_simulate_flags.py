@@ -21,6 +21,11 @@ def run(capsys, *argv):
     return code, captured.out, captured.err
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason="simulation/dynamics.py::start_on_constraints raises its fix as prose "
+    "(project_initial=True), not as a structured Fix the command line can word",
+)
 def test_project_initial_is_a_flag_and_the_message_names_it(tmp_path, capsys):
     model = tmp_path / "pendulum.yaml"
     model.write_text(CARTESIAN_PENDULUM)

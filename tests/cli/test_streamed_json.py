@@ -7,8 +7,9 @@ import json
 
 import pytest
 
-from lagrangian.cli.commands import apply_settings, derivation_document, load_system
+from lagrangian.cli.commands import load_system
 from lagrangian.cli.main import CHUNK, main
+from lagrangian.documents import derivation_document
 
 
 @pytest.mark.parametrize(
@@ -23,7 +24,7 @@ def test_the_streamed_document_is_json_dumps_of_it(model, steps, capsysbinary):
     argv = ["derive", model, "--format", "json"] + (["--steps"] if steps else [])
     assert main(argv) == 0
     written = capsysbinary.readouterr().out
-    document = derivation_document(apply_settings(load_system(model), []), steps)
+    document = derivation_document(load_system(model), steps)
     assert written == (json.dumps(document, indent=2, ensure_ascii=False) + "\n").encode()
     if model.startswith("n_link"):
         assert len(written) > CHUNK  # written in more than one chunk

@@ -6,7 +6,8 @@ import time
 
 import pytest
 
-from lagrangian.cli.main import main
+from lagrangian.cli.main import LONG_RUNNING, main, time_limit
+from lagrangian.errors import TimeLimitError
 
 # A timer can interrupt a garbage-collector callback (Hypothesis's plugin keeps one), where
 # Python swallows the exception and reports it as unraisable; the limit then fires again
@@ -56,3 +57,19 @@ def test_an_error_the_interruption_turned_into_is_still_the_timeout(capsys, monk
     assert main(["--timeout", "0.2", "derive", "simple_pendulum"]) == 1
     error = capsys.readouterr().err
     assert "stopped after --timeout 0.2 s" in error and "internal error" not in error
+
+
+@pytest.mark.parametrize("command", LONG_RUNNING)
+def test_a_long_running_command_has_no_command_time_limit(command, monkeypatch):
+    monkeypatch.setenv("LAGRANGIAN_TIME_LIMIT", "0.1")
+    with time_limit(None, command):
+        time.sleep(0.3)  # past the environment's limit: serve and sweep run on
+    stopped = pytest.raises(TimeLimitError, match=r"the command stopped .* --timeout SECONDS")
+    with stopped, time_limit(None, "derive"):
+        time.sleep(0.3)
+
+
+def test_an_explicit_timeout_still_bounds_a_long_running_command():
+    stopped = pytest.raises(TimeLimitError, match=r"stopped after --timeout 0\.1 s")
+    with stopped, time_limit(0.1, "sweep"):
+        time.sleep(0.5)

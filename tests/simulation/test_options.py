@@ -46,7 +46,7 @@ def refused(match: str, *args: object, **kwargs: object) -> SimulationInputError
     [
         (
             {"method": "RK4", "dt": 0.01, "rtol": 1e-9},
-            r"rtol: rtol steers .* not RK4 — remove rtol=",
+            r"rtol: rtol steers .* not RK4 — remove rtol, or",
         ),
         ({"method": "variational", "dt": 0.01, "atol": 1e-9}, r"atol: .* not variational"),
         ({"method": "RK4", "dt": 0.01, "max_step": 0.1}, r"max_step: .* not RK4"),

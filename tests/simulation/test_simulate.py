@@ -266,7 +266,7 @@ def test_parameter_without_value_is_named() -> None:
         coordinates=[q], parameters=[k], kinetic=q_dot**2 / 2, potential=k * q**2 / 2
     )
     with pytest.raises(
-        lg.SimulationError, match=r"parameter k has no value: pass parameters=\{'k': \.\.\.\}"
+        lg.SimulationError, match=r"parameter k has no value — pass parameters=\{'k': \.\.\.\}"
     ):
         simulate(system, {"q": 1.0, "q_dot": 0.0}, 1.0)
     trajectory = simulate(system, {"q": 1.0, "q_dot": 0.0}, np.pi, parameters={"k": 1.0})

@@ -4,6 +4,7 @@ command answering the page and the API until Ctrl-C stops it."""
 from __future__ import annotations
 
 import json
+import os
 import signal
 import subprocess
 import sys
@@ -77,3 +78,39 @@ def test_the_command_serves_until_interrupted() -> None:
         _, stderr = server.communicate(timeout=60)
     assert server.returncode == 0, stderr
     assert f"the playground is at http://127.0.0.1:{port}/" in stderr
+
+
+#: The time limit of the server's test: short, so the test waits past it quickly.
+LIMIT_SECONDS = 2
+
+
+def test_the_server_outlives_the_command_time_limit() -> None:
+    """``serve`` is a long-running command: no time limit for the command as a whole (each
+    request keeps its own bound), so a short $LAGRANGIAN_TIME_LIMIT never stops it."""
+    port = free_port()
+    started = time.monotonic()
+    server = subprocess.Popen(
+        [sys.executable, "-m", "lagrangian", "serve", "--no-browser", "--port", str(port)],
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "LAGRANGIAN_TIME_LIMIT": str(LIMIT_SECONDS)},
+    )
+    base = f"http://127.0.0.1:{port}"
+    try:
+        for _ in range(300):
+            try:
+                _get(base + "/api/health")
+                break
+            except OSError:
+                time.sleep(0.2)
+        time.sleep(max(0.0, started + 2 * LIMIT_SECONDS + 1 - time.monotonic()))
+        assert server.poll() is None, "the server stopped"
+        status, page = _get(base + "/")
+        assert status == 200 and b'data-testid="editor"' in page
+        status, answer = _get(base + "/api/derive", {"model": SIMPLE})
+        assert status == 200 and json.loads(answer)["equations"] == ["x + x_ddot"]
+    finally:
+        server.send_signal(signal.SIGINT)
+        _, stderr = server.communicate(timeout=60)
+    assert time.monotonic() - started > 2 * LIMIT_SECONDS
+    assert server.returncode == 0 and "time limit" not in stderr, stderr

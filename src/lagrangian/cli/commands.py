@@ -4,26 +4,22 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
-import re
 import sys
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
 from lagrangian import examples, render
-from lagrangian.analysis import AnalysisReport, analyze
-from lagrangian.analysis.arguments import numeric_values, operating_state
-from lagrangian.analysis.manifold.constraint_manifold import require_on_manifold
+from lagrangian.cli.wording import COMMAND_LINE
 from lagrangian.constraints import ConstrainedEquations, constrained_equations, eliminate
 from lagrangian.derivation import derive
-from lagrangian.errors import (
-    ConstraintError,
-    ModelError,
-    Problem,
-    SimulationInputError,
-    raise_if_problems,
+from lagrangian.documents import (
+    analysis_of,
+    apply_settings,
+    derivation_document,
+    derivation_latex,
 )
+from lagrangian.errors import ConstraintError, ModelError
 from lagrangian.io import load, loads
 from lagrangian.io.yaml_tree import MAX_CHARACTERS
 from lagrangian.model import Holonomic, System
@@ -31,10 +27,8 @@ from lagrangian.numerics.export import export
 from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.analysis_text import analysis_text
-from lagrangian.render.constrained import constrained_latex, constrained_mathml
-from lagrangian.render.json import constrained_document, eom_document
+from lagrangian.render.constrained import constrained_mathml
 from lagrangian.render.mathml import matrix_form_mathml
-from lagrangian.symbolic.expressions import closest_name
 
 EXAMPLE_PREFIX = "examples/"
 
@@ -84,110 +78,12 @@ SCALABLE = ("n_link_pendulum",)
 MAX_SIZE = 200
 
 
-def apply_settings(system: System, settings: Sequence[str]) -> System:
-    """``--set NAME=VALUE`` overrides of parameters and initial values."""
-    if not settings:
-        return system
-    parameters = {p.name: p for p in system.parameters}
-    initial_names = {q.name: q for q in (*system.coordinates, *system.velocities)}
-    new_parameters, new_initial = dict(system.parameters), dict(system.initial)
-    problems = []
-    for item in settings:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        try:
-            value = float(text)
-        except ValueError:
-            value = None
-        if not sep or value is None:
-            problems.append(Problem(f"--set {item}", "expected NAME=NUMBER", "e.g. --set m=2.5"))
-        elif not math.isfinite(value):
-            message = f"{text.strip()} is not a finite number"
-            problems.append(Problem(f"--set {item}", message, f"e.g. --set {name}=0.5"))
-        elif name in parameters:
-            new_parameters[parameters[name]] = value
-        elif name in initial_names:
-            new_initial[initial_names[name]] = value
-        else:
-            problems.append(
-                Problem(
-                    f"--set {item}",
-                    f"{name!r} is not a parameter, coordinate or velocity of the system",
-                    "choose one of: " + ", ".join(sorted([*parameters, *initial_names])),
-                )
-            )
-    if problems:
-        raise ModelError("Bad --set option:", problems)
-    return system.replace(parameters=new_parameters, initial=new_initial)
-
-
-def apply_initial(system: System, items: Sequence[str]) -> System:
-    """``--initial NAME=VALUE`` values of coordinates and velocities (``theta=0.5``,
-    ``theta_dot=0``), every bad one reported at once with the name it may have meant."""
-    if not items:
-        return system
-    known = {q.name: q for q in (*system.coordinates, *system.velocities)}
-    parameters = {p.name for p in system.parameters}
-    initial, problems = dict(system.initial), []
-    for item in items:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        try:
-            value = float(text) if sep else None
-        except ValueError:
-            value = None
-        if name not in known:
-            problems.append(Problem(f"--initial {item}", *_not_initial(name, known, parameters)))
-        elif value is None or value != value or abs(value) == float("inf"):
-            problems.append(
-                Problem(f"--initial {item}", "expected NAME=NUMBER", "e.g. --initial theta=0.5")
-            )
-        else:
-            initial[known[name]] = value
-    raise_if_problems(problems, "Bad --initial option", ModelError)
-    return system.replace(initial=initial)
-
-
-def _not_initial(name: str, known: dict[str, Any], parameters: set[str]) -> tuple[str, str]:
-    """The message and the fix for ``--initial NAME=...`` of a name without an initial value."""
-    if name in parameters:
-        return f"{name!r} is a parameter", f"set it with --set {name}=VALUE"
-    close = closest_name(name, known)
-    hint = f"did you mean {close!r}? " if close else ""
-    message = f"{name!r} is not a coordinate or velocity of the system"
-    return message, hint + "choose one of: " + ", ".join(known)
-
-
-def derivation_document(system: System, steps: bool) -> dict[str, Any]:
-    """What ``derive --format json`` prints: the equations (with ``steps``), the ``units``
-    of names when the model gives them, and the multiplier form of a constrained system."""
-    eom = derive(system)
-    document = eom_document(eom, steps=steps)
-    if system.units:  # names described with their units, where the model gives them
-        document["units"] = dict(system.units)
-    if system.constraints:
-        document.update(constrained_document(constrained_equations(eom, system.constraints)))
-    return document
-
-
-def derivation_latex(system: System, steps: bool, matrix: bool) -> str:
-    """What ``derive --format latex`` prints (with ``--steps``, ``--matrix``)."""
-    eom = derive(system)
-    parts = [render.steps_latex(eom) if steps else render.equations_latex(eom)]
-    if matrix:
-        parts.append(render.equations_latex(eom, form="matrix"))
-    if system.constraints:
-        equations = constrained_equations(eom, system.constraints)
-        parts.append(constrained_latex(equations, matrix))
-    return "\n".join(parts)
-
-
 def derive_command(
     reference: str, *, fmt: str, steps: bool, matrix: bool, settings: Sequence[str]
 ) -> str:
     if fmt == "json":
         return str(derive_json(reference, steps=steps, settings=settings))
-    system = apply_settings(load_system(reference), settings)
+    system = apply_settings(load_system(reference), settings, COMMAND_LINE)
     if fmt == "latex":
         return derivation_latex(system, steps, matrix)
     eom = derive(system)
@@ -227,7 +123,7 @@ class JsonDocument:
 
 def derive_json(reference: str, *, steps: bool, settings: Sequence[str]) -> JsonDocument:
     """What ``derive --format json`` prints (:func:`derivation_document`)."""
-    system = apply_settings(load_system(reference), settings)
+    system = apply_settings(load_system(reference), settings, COMMAND_LINE)
     return JsonDocument(derivation_document(system, steps))
 
 
@@ -265,7 +161,7 @@ def export_command(
     """Generated code for ``language``: printed (``out`` is ``-``) or written into a folder.
     With ``independent`` (comma-separated coordinates) the holonomic constraints are
     eliminated first and the minimal-coordinate form is exported."""
-    system = apply_settings(load_system(reference), settings)
+    system = apply_settings(load_system(reference), settings, COMMAND_LINE)
     if independent is not None:
         names = [name.strip() for name in independent.split(",") if name.strip()]
         by_name = {q.name: q for q in system.coordinates}
@@ -294,32 +190,6 @@ def export_command(
     return "\n".join(str(folder / name) for name in files)
 
 
-def parse_state(text: str | None) -> dict[str, float]:
-    """``NAME=VALUE[,NAME=VALUE...]`` as a mapping (``--about``)."""
-    if not text:
-        return {}
-    state, problems = {}, []
-    for item in text.split(","):
-        name, sep, value = item.partition("=")
-        try:
-            state[name.strip()] = float(value)
-        except ValueError:
-            problems.append(
-                Problem(
-                    f"--about {item}", "expected NAME=NUMBER", "e.g. --about theta=0.5,phi_dot=2"
-                )
-            )
-        if not sep:
-            problems.append(
-                Problem(
-                    f"--about {item}", "expected NAME=NUMBER", "e.g. --about theta=0.5,phi_dot=2"
-                )
-            )
-    if problems:
-        raise ModelError("Bad --about option:", problems)
-    return state
-
-
 def analyze_command(
     reference: str,
     *,
@@ -334,86 +204,13 @@ def analyze_command(
     when ``--about`` is given; further first integrals sought up to ``search_degree``).  On
     a constrained model an ``--about`` state off the constraints is refused, each missed
     constraint with its residual, unless ``--project`` moves it onto them."""
-    system = apply_settings(load_system(reference), settings)
-    fix = "add --project to move the --about state onto the constraints"
-    report = analysis_of(system, about, inputs, project, search_degree, fix)
+    system = apply_settings(load_system(reference), settings, COMMAND_LINE)
+    report = analysis_of(system, about, inputs, project, search_degree, COMMAND_LINE)
     if fmt == "text":
         return analysis_text(report)
     if fmt == "latex":
         return analysis_latex(report)
     return json.dumps(analysis_document(report), indent=2, ensure_ascii=False)
-
-
-def analysis_of(
-    system: System,
-    about: str | None,
-    inputs: Sequence[str],
-    project: bool,
-    search_degree: int,
-    off_constraints_fix: str,
-) -> AnalysisReport:
-    """The analysis ``analyze`` prints, ``about`` as the command line writes a state
-    (``theta=0.5,phi_dot=2``); on a constrained model a state off the constraints is refused
-    with ``off_constraints_fix`` unless ``project``."""
-    state = parse_state(about)
-    if about and system.constraints and not project:
-        eom = derive(system)
-        point = operating_state(eom, state)
-        require_on_manifold(eom, point, numeric_values(eom), off_constraints_fix)
-    return analyze(
-        system,
-        about=state if about else None,
-        inputs=list(inputs),
-        project=project,
-        search_degree=search_degree,
-    )
-
-
-#: The keywords of simulate that are flags of the simulate command.
-_FLAGS = {
-    "t_span": "--t-end",
-    "method": "--method",
-    "rtol": "--rtol",
-    "atol": "--atol",
-    "samples": "--samples",
-    "dt": "--dt",
-    "max_steps": "--max-steps",
-    "max_wall_time": "--max-wall-time",
-    "project_initial": "--project-initial",
-}
-
-
-#: Python phrases of simulate's messages that the command says otherwise.
-_PHRASES = (
-    (" or t_span=(t0, T)", ""),
-    ("give the System simulation={'t_end': T}", "give the model simulate: {t_end: T}"),
-    (" with lagrangian.constraints.project_state, or pass", ": pass"),
-    ("project_initial=True", "--project-initial"),
-)
-
-
-def in_command_line_words(error: SimulationInputError) -> SimulationInputError:
-    """``error`` with its fixes said as the command's flags (``--rtol``, not ``rtol=``)."""
-
-    def flags(text: str) -> str:
-        for python, shell in _PHRASES:
-            text = text.replace(python, shell)
-        text = re.sub(
-            r"pass initial=\{'(\w+)': \.\.\.\}",
-            r"give it with --initial \1=VALUE or in the model's initial: section",
-            text,
-        )
-        for keyword, flag in _FLAGS.items():
-            text = re.sub(rf"\b{keyword}='?([\w.+-]+)'?", rf"{flag} \1", text)
-            text = re.sub(rf"\b{keyword}=(\.\.\.)?", flag, text)
-        return text
-
-    problems = [
-        dataclasses.replace(p, field=_FLAGS.get(p.field, p.field), fix=flags(p.fix))
-        for p in error.problems
-    ]
-    summary = str(error).splitlines()[0] if problems else flags(str(error))
-    return SimulationInputError(summary, problems)
 
 
 def examples_command(name: str | None) -> str:

@@ -18,17 +18,15 @@ import codecs
 import contextlib
 import math
 import os
-import signal
 import sys
-import time
 import traceback
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
 from lagrangian.cli import serve_command, sweep_command
-from lagrangian.errors import BAD_INPUT, FAILURE, ArgumentError, LagrangianError, TimeLimitError
-from lagrangian.limits import RETRY_SECONDS
+from lagrangian.cli.wording import COMMAND_LINE
+from lagrangian.errors import BAD_INPUT, FAILURE, ArgumentError, LagrangianError
 from lagrangian.limits import time_limit as library_limit
 
 if TYPE_CHECKING:
@@ -313,10 +311,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
     args = build_parser().parse_args(argv)
     try:
-        with time_limit(args.timeout), size_limit(args.size_limit):
+        with time_limit(args.timeout, args.command), size_limit(args.size_limit):
             output = run(args)
-    except Exception as error:
-        code = exit_code(error, given_paths(args))
+    except Exception as raised:
+        code = exit_code(raised, given_paths(args))
+        error = in_command_line_words(raised)
         if args.debug:
             traceback.print_exception(error)
         internal = not isinstance(error, (LagrangianError, OSError))
@@ -328,47 +327,34 @@ def main(argv: Sequence[str] | None = None) -> int:
     return write_output(output)
 
 
+#: The commands that run until they are stopped: the command as a whole has no time limit
+#: unless --timeout gives one (each playground request and each sweep member keeps its own
+#: bound), so the playground does not stop itself after the default ten minutes.
+LONG_RUNNING = ("serve", "sweep")
+
+
 @contextlib.contextmanager
-def time_limit(seconds: float | None) -> Iterator[None]:
-    """Raise TimeLimitError in the command when ``seconds`` of wall time have passed (a
-    symbolic computation that grows without end, a run asked for too long).  None: the
-    library's own limit ($LAGRANGIAN_TIME_LIMIT, else ten minutes), its message speaking of
-    ``--timeout``; nothing where the system has no interval timer (Windows)."""
+def time_limit(seconds: float | None, command: str = "") -> Iterator[None]:
+    """The command's time limit (:func:`lagrangian.limits.time_limit`, the one timer):
+    TimeLimitError when ``seconds`` of wall time have passed (a symbolic computation that
+    grows without end, a run asked for too long).  None: the library's own limit
+    ($LAGRANGIAN_TIME_LIMIT, else ten minutes), its message speaking of ``--timeout``; none
+    at all for a :data:`LONG_RUNNING` command."""
     if seconds is None:
+        if command in LONG_RUNNING:
+            yield
+            return
         with library_limit(what="the command", fix=TIMEOUT_FIX):
             yield
         return
-    if not hasattr(signal, "setitimer"):
-        yield
-        return
     if not seconds > 0:
         raise ArgumentError(f"--timeout {seconds:g}: give a positive number of seconds")
-
     message = (
         f"stopped after --timeout {seconds:g} s: the work on this model is larger than the "
         "time given (a long expression, a long run); give more time, or simplify the model"
     )
-    deadline = time.monotonic() + seconds
-
-    def expire(*_: Any) -> NoReturn:
-        signal.setitimer(signal.ITIMER_REAL, RETRY_SECONDS)  # in case this one is swallowed
-        raise TimeLimitError(message)
-
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
+    with library_limit(seconds, message=message):
         yield
-    except TimeLimitError:
-        raise
-    except Exception as error:
-        # the interruption can land in C code that turns it into another error (a
-        # SystemError from SymPy's cache): past the deadline, that error is the timeout's
-        if time.monotonic() >= deadline:
-            raise TimeLimitError(message) from error
-        raise
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
 
 
 @contextlib.contextmanager
@@ -379,6 +365,12 @@ def size_limit(operations: float | None) -> Iterator[None]:
 
     with sized_to(operations, where="--size-limit"):
         yield
+
+
+def in_command_line_words(error: Exception) -> Exception:
+    """``error`` with the options its fixes name said as the command's flags (``--max-steps``,
+    not ``max_steps=...``: :data:`lagrangian.cli.wording.COMMAND_LINE`)."""
+    return error.worded(COMMAND_LINE) if isinstance(error, LagrangianError) else error
 
 
 #: Bytes written to standard output at a time (a closed pipe is noticed within one chunk).

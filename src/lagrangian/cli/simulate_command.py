@@ -13,12 +13,9 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
-from lagrangian.cli.commands import (
-    apply_initial,
-    apply_settings,
-    in_command_line_words,
-    load_system,
-)
+from lagrangian.cli.commands import load_system
+from lagrangian.cli.wording import COMMAND_LINE
+from lagrangian.documents import apply_initial, apply_settings
 from lagrangian.errors import Problem, SimulationError, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.render.animation import animate as write_animation
@@ -49,18 +46,14 @@ def run_simulate(
     code :data:`INTERRUPTED`.  ``initial`` items (``theta=0.5``) set initial values."""
     check_outputs(out, plot, animate)
     try:
-        system = apply_initial(apply_settings(load_system(reference), settings), initial)
+        system = apply_settings(load_system(reference), settings, COMMAND_LINE)
+        system = apply_initial(system, initial, COMMAND_LINE)
         check_phase(system, phase, plot)
         given = {key: value for key, value in options.items() if value is not None}
         t_end = given.pop("t_end", None)
         end = t_end if t_end is not None else system.simulation.get("t_end", 0.0)
         bar = progress_bar(0.0, float(end), force=progress)
-        try:
-            trajectory = simulate(
-                system, t_span=t_end, progress=bar, raise_on_failure=False, **given
-            )
-        except SimulationInputError as error:
-            raise in_command_line_words(error) from None
+        trajectory = simulate(system, t_span=t_end, progress=bar, raise_on_failure=False, **given)
         pictures = Pictures(plot, animate, phase, progress, keep_failed)
         return write_simulation(system, trajectory, out, pictures)
     except KeyboardInterrupt:  # before or after the integration: no file half written

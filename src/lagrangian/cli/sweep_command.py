@@ -16,6 +16,7 @@ import re
 import sys
 from collections.abc import Sequence
 
+from lagrangian.cli.wording import COMMAND_LINE
 from lagrangian.errors import LagrangianError, Problem, SimulationInputError, raise_if_problems
 
 SUMMARY = "simulate a grid of parameters and initial values on Dask, into a Zarr store"
@@ -111,11 +112,12 @@ def add_sweep_options(command: argparse.ArgumentParser) -> None:
 
 def run_sweep(args: argparse.Namespace) -> str:
     """Run the parsed ``sweep`` command; its one-line summary."""
-    from lagrangian.cli.commands import apply_settings, load_system
+    from lagrangian.cli.commands import load_system
     from lagrangian.cli.simulate_command import interrupted
+    from lagrangian.documents import apply_settings
     from lagrangian.sweeps import build_grid, sweep
 
-    system = apply_settings(load_system(args.model), args.set)
+    system = apply_settings(load_system(args.model), args.set, COMMAND_LINE)
     problems: list[Problem] = []
     vary, vary_labels = parse_vary(args.vary, problems)
     random, random_labels = parse_random(args.random, problems)
@@ -163,12 +165,9 @@ def run_sweep(args: argparse.Namespace) -> str:
 
 def in_flag_words(error: LagrangianError) -> LagrangianError:
     """``error`` with its fields and fixes said as the command's flags: simulate's keywords
-    as the simulate command says them (:func:`lagrangian.cli.commands.in_command_line_words`),
-    then the sweep's own (:data:`FLAGS`, :data:`PHRASES`)."""
-    from lagrangian.cli.commands import in_command_line_words
-
-    if isinstance(error, SimulationInputError):
-        error = in_command_line_words(error)
+    as the simulate command says them (:data:`lagrangian.cli.wording.COMMAND_LINE`), then the
+    sweep's own (:data:`FLAGS`, :data:`PHRASES`)."""
+    error = error.worded(COMMAND_LINE)
 
     def flags(text: str) -> str:
         for python, shell in PHRASES:
@@ -187,7 +186,7 @@ def in_flag_words(error: LagrangianError) -> LagrangianError:
             return error
     problems = [
         dataclasses.replace(
-            p, field=FLAGS.get(p.field, p.field), message=flags(p.message), fix=flags(p.fix)
+            p, field=FLAGS.get(p.field, p.field), message=flags(p.message), fix=flags(str(p.fix))
         )
         for p in error.problems
     ]

@@ -15,7 +15,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from lagrangian.errors import ModelError, Problem
+from lagrangian.errors import Fix, ModelError, Problem
 
 #: (line, column), both counted from 1; None where unknown.
 Position = tuple[int | None, int | None]
@@ -64,7 +64,9 @@ class Document:
         """Where the key of the entry at ``path`` is written (its value if no key is known)."""
         return self.keys.get(path) or self.value_at(path)
 
-    def problem(self, path: str, message: str, fix: str = "", *, key: bool = False) -> Problem:
+    def problem(
+        self, path: str, message: str, fix: str | Fix = "", *, key: bool = False
+    ) -> Problem:
         """A Problem at ``path`` of this file (at its key when ``key``)."""
         line, column = self.key_at(path) if key else self.value_at(path)
         field = path or "(top level)"

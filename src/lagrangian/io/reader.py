@@ -18,7 +18,7 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.errors import ExpressionError, Problem
+from lagrangian.errors import ExpressionError, Fix, Problem
 from lagrangian.io.document import Document, child
 from lagrangian.io.model_schema import entry_keys
 from lagrangian.symbolic.expressions import (
@@ -68,7 +68,7 @@ class Reader:
         self.expression_problems = 0
         self.parsed = ParseCache()  # the expressions of one document share their parts
 
-    def problem(self, path: str, message: str, fix: str = "", *, key: bool = False) -> None:
+    def problem(self, path: str, message: str, fix: str | Fix = "", *, key: bool = False) -> None:
         """Record a problem at ``path`` (at its key when ``key``)."""
         self.problems.append(self.document.problem(path, message, fix, key=key))
 

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from lagrangian.errors import Problem
+from lagrangian.errors import Fix, Problem, Setting
 from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.simulation.integrators.budget import DEFAULT_MAX_STEPS
 from lagrangian.simulation.methods import DEFAULT_METHOD, TABLE
@@ -123,9 +123,8 @@ def _budget(given: Mapping[str, Any], problems: list[Problem]) -> tuple[int, flo
     elif (
         isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) or max_steps < 1
     ):
-        problems.append(
-            Problem("max_steps", f"{max_steps!r} is not a positive integer", "pass e.g. 10**7")
-        )
+        fix = Fix("pass e.g. {}", (Setting("max_steps", 10**7),))
+        problems.append(Problem("max_steps", f"{max_steps!r} is not a positive integer", fix))
         max_steps = DEFAULT_MAX_STEPS
     wall = given.get("max_wall_time")
     if wall is not None:
@@ -146,7 +145,8 @@ def _honoured(rtol: float, problems: list[Problem]) -> None:
             f"rtol={rtol:g} is below {SMALLEST_RTOL:.2g}, the smallest relative tolerance the "
             "solvers honour (100 times the machine epsilon)"
         )
-        problems.append(Problem("rtol", message, f"pass rtol >= {SMALLEST_RTOL:.2g}"))
+        fix = Fix(f"pass {{}} or more (at least {SMALLEST_RTOL:.2g})", (Setting("rtol", 1e-13),))
+        problems.append(Problem("rtol", message, fix))
 
 
 def _fits_in_memory(t_out: np.ndarray | None, size: int, problems: list[Problem]) -> None:
@@ -187,7 +187,10 @@ def _affordable(
                     name,
                     f"{name}={step:g} needs {needed:.3g} steps over the time span, more than "
                     f"max_steps={max_steps:,}",
-                    f"use a larger {name}, a shorter time span, or pass max_steps=",
+                    Fix(
+                        "use a larger {0.name}, a shorter time span, or pass {1}",
+                        (Setting(name), Setting("max_steps")),
+                    ),
                 )
             )
 
@@ -206,8 +209,8 @@ def parameter_values(
         values[name] = math.nan if number is None else number  # nan: reported already
     for name, default in values.items():
         if default is None:
-            message = f"parameter {name} has no value: pass parameters={{{name!r}: ...}}"
-            problems.append(Problem("parameters", message))
+            fix = Fix("pass {}", (Setting("parameters", entry=name),))
+            problems.append(Problem("parameters", f"parameter {name} has no value", fix))
     return {name: math.nan if value is None else value for name, value in values.items()}
 
 
@@ -236,7 +239,10 @@ def initial_state(
             Problem(
                 "initial",
                 f"no initial value for the {kind} {name}",
-                f"pass initial={{{name!r}: ...}}",
+                Fix(
+                    "pass {}, or give the model an initial value of it",
+                    (Setting("initial", entry=name),),
+                ),
             )
         )
     return np.array([values.get(name) or 0.0 for name in compiled.state_names], dtype=float)
@@ -250,7 +256,10 @@ def time_span(given: Any, t_end: Any, problems: list[Problem]) -> tuple[float, f
             Problem(
                 "t_span",
                 "no end time",
-                "pass t_span=T or t_span=(t0, T), or give the System simulation={'t_end': T}",
+                Fix(
+                    "pass the end time, {}, or give the model one (simulate: {{t_end: T}})",
+                    (Setting("t_span"),),
+                ),
             )
         )
         return (0.0, 1.0)
@@ -310,7 +319,11 @@ def _step(method: str, dt: Any, t_out: np.ndarray | None, problems: list[Problem
     if t_out is not None and len(t_out) >= 2 and np.allclose(np.diff(t_out), t_out[1] - t_out[0]):
         return float(t_out[1] - t_out[0])
     problems.append(
-        Problem("dt", f"the fixed-step method {method} needs a step", "pass dt=... or samples=N")
+        Problem(
+            "dt",
+            f"the fixed-step method {method} needs a step",
+            Fix("pass {} or {}", (Setting("dt"), Setting("samples"))),
+        )
     )
     return None
 

@@ -4,7 +4,8 @@ checked at construction against the method and the system.
 An option that does not apply is refused by name, never ignored: ``rtol`` with the fixed-step
 RK4, ``dt`` with an adaptive method, ``baumgarte`` on a system without constraints, ``events``
 with the variational integrator...  Every problem is collected and raised once, as a
-:class:`~lagrangian.errors.SimulationInputError` whose fixes are written as keywords.
+:class:`~lagrangian.errors.SimulationInputError` whose fixes name the keywords to set
+(:class:`~lagrangian.errors.Fix`), which each front end words its own way.
 
 The keywords that choose the method, its step and the output times are declared once, in
 :class:`StepKeywords`, for :func:`lagrangian.simulate` and :func:`lagrangian.simulate_batch`.
@@ -14,7 +15,7 @@ Traceback (most recent call last):
 ...
 lagrangian.errors.SimulationInputError: Cannot simulate (1 problem):
   - rtol: rtol steers the adaptive methods (RK45, RK23, DOP853, Radau, BDF, LSODA), not RK4 — \
-remove rtol=, or choose an adaptive method such as method='DOP853'
+remove rtol, or choose an adaptive method such as method='DOP853'
 >>> Options(method="DOP853").gains
 (0.0, 0.0)
 """
@@ -29,7 +30,14 @@ from typing import Any, TypedDict
 
 from numpy.typing import ArrayLike
 
-from lagrangian.errors import Problem, SimulationError, SimulationInputError, raise_if_problems
+from lagrangian.errors import (
+    Fix,
+    Problem,
+    Setting,
+    SimulationError,
+    SimulationInputError,
+    raise_if_problems,
+)
 from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, label, statement
 from lagrangian.simulation.methods import (
     DEFAULT_METHOD,
@@ -157,7 +165,10 @@ def _step_keywords(options: Options) -> list[Problem]:
     adaptive = ", ".join(names_where("takes_tolerances"))
     for name in sorted(options.given & {"rtol", "atol", "max_step"}):
         if not method.takes_tolerances:
-            fix = f"remove {name}=, or choose an adaptive method such as method='DOP853'"
+            fix = Fix(
+                "remove {0.name}, or choose an adaptive method such as {1}",
+                (Setting(name), Setting("method", "DOP853")),
+            )
             message = f"{name} steers the adaptive methods ({adaptive}), not {method.name}"
             problems.append(Problem(name, message, fix))
     if "dt" in options.given and not method.takes_step:
@@ -165,7 +176,10 @@ def _step_keywords(options: Options) -> list[Problem]:
             Problem(
                 "dt",
                 f"dt is the step of the fixed-step RK4, not of {method.name}",
-                "use max_step to bound an adaptive method's steps, or method='RK4'",
+                Fix(
+                    "use {0.name} to bound an adaptive method's steps, or {1}",
+                    (Setting("max_step"), Setting("method", "RK4")),
+                ),
             )
         )
     return problems
@@ -198,7 +212,7 @@ def _projections(options: Options) -> list[Problem]:
     for name in ("project_initial", "project_steps"):
         if getattr(options, name) and not options.constraints:
             message = f"{name} moves states onto the constraints, and this system has none"
-            problems.append(Problem(name, message, f"remove {name}=True"))
+            problems.append(Problem(name, message, Fix("remove {}", (Setting(name, True),))))
     if not (options.project_steps and options.constraints):
         return problems
     explicit = names_where("explicit")
@@ -238,7 +252,8 @@ def _backend(options: Options) -> list[Problem]:
         problems.append(Problem("events", "the numba backend does not locate events", fix))
     for name in sorted(options.given & {"max_steps", "max_wall_time"}):
         message = f"the numba loops run to the end without a {name} budget"
-        problems.append(Problem(name, message, f"remove {name}=, or {_NUMPY_FIX}"))
+        removal = Fix(f"remove {{0.name}}, or {_NUMPY_FIX}", (Setting(name),))
+        problems.append(Problem(name, message, removal))
     if options.constraints:
         message = "the numba backend does not integrate constrained systems"
         problems.append(Problem("constraints", message, _NUMPY_FIX))

@@ -87,7 +87,7 @@ def raise_in_sweep_words(error: SimulationInputError) -> NoReturn:
             p,
             field="stop_when" if p.field == "events" else p.field,
             message=words(p.message),
-            fix=words(p.fix),
+            fix=words(str(p.fix)),
         )
         for p in error.problems
     ]

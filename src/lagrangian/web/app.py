@@ -37,6 +37,7 @@ from lagrangian.errors import LagrangianError, Problem
 from lagrangian.web.limits import Limits
 from lagrangian.web.options import OPTIONS, read_request
 from lagrangian.web.pool import PoolBusy, WorkerLost, WorkerPool
+from lagrangian.web.wording import problem_document
 
 STATIC = Path(__file__).resolve().parent / "static"
 #: The page may load its own scripts, styles and fonts only (KaTeX sets inline styles).
@@ -52,10 +53,7 @@ HEADERS = {
 
 def problems_response(status: int, problems: list[Problem], summary: str = "") -> JSONResponse:
     """An error answer: ``{"error": summary, "problems": [...]}``."""
-    listed = [
-        {"field": p.field, "line": p.line, "column": p.column, "message": p.message, "fix": p.fix}
-        for p in problems
-    ]
+    listed = [problem_document(p) for p in problems]
     return JSONResponse({"error": summary or problems[0].message, "problems": listed}, status)
 
 

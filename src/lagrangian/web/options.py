@@ -93,6 +93,7 @@ OPTIONS: dict[str, dict[str, Reader]] = {
     },
     "simulate": {
         "set": _assignments,
+        "initial": _assignments,
         "t_end": _number,
         "samples": _count,
         "method": _text,

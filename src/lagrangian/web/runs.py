@@ -1,10 +1,11 @@
 """The work behind each API call, done in a worker process: the model text read with
-:func:`lagrangian.io.loads` (never evaluated), then the command's own pieces from
-:mod:`lagrangian.cli.commands`, so each answer is the JSON the command line prints, with the
+:func:`lagrangian.io.loads` (never evaluated), then the pieces every front end prints
+(:mod:`lagrangian.documents`), so each answer is the JSON the command line prints, with the
 LaTeX the page typesets beside it (``latex``).
 
 An error with the input is an answer too: HTTP 422 and ``{"problems": [{"field", "line",
-"column", "message", "fix"}]}``.
+"column", "message", "fix"}]}``, each fix naming the options of the request
+(``options.max_steps``, :mod:`lagrangian.web.wording`).
 
 >>> status, body = run("derive", "coordinates: [x]\\nkinetic: x_dot**2/2\\n", "yaml", {})
 >>> status, json.loads(body)["equations"]
@@ -23,14 +24,14 @@ from typing import Any
 
 import numpy as np
 
-from lagrangian.cli.commands import (
+from lagrangian.documents import (
     analysis_of,
+    apply_initial,
     apply_settings,
     derivation_document,
     derivation_latex,
-    in_command_line_words,
 )
-from lagrangian.errors import LagrangianError, Problem, SimulationError, SimulationInputError
+from lagrangian.errors import LagrangianError, Problem, SimulationError
 from lagrangian.io import loads
 from lagrangian.model import System
 from lagrangian.numerics.export import export
@@ -42,6 +43,7 @@ from lagrangian.simulation import Trajectory, simulate
 from lagrangian.size_limits import size_limit
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.web.limits import TimeLimitExceeded
+from lagrangian.web.wording import WEB, problem_document
 
 #: Output times of a simulation asked without ``samples`` (the model's own count wins).
 DEFAULT_SAMPLES = 1000
@@ -50,8 +52,10 @@ SOURCE = "model"
 
 
 def system_of(model: str, fmt: str, options: dict[str, Any]) -> System:
-    """The System of the model text with the ``set`` overrides (``--set NAME=VALUE``)."""
-    return apply_settings(loads(model, format=fmt, source=SOURCE), options.get("set", []))
+    """The System of the model text with the ``set`` overrides (``--set NAME=VALUE``) and
+    the ``initial`` values (``--initial NAME=VALUE``)."""
+    system = apply_settings(loads(model, format=fmt, source=SOURCE), options.get("set", []), WEB)
+    return apply_initial(system, options.get("initial", []), WEB)
 
 
 def derive_document(model: str, fmt: str, options: dict[str, Any]) -> dict[str, Any]:
@@ -72,7 +76,7 @@ def analyze_document(model: str, fmt: str, options: dict[str, Any]) -> dict[str,
         options.get("input", []),
         options.get("project", False),
         options.get("search_degree", 2),
-        "add options.project = true to move the about state onto the constraints",
+        WEB,
     )
     return {**analysis_document(report), "latex": analysis_latex(report)}
 
@@ -93,16 +97,13 @@ def simulate_document(
     "scene": {...}}``: the CSV's columns, the run's status and drift, and the positions of
     the particles and bodies for an animation (``scene`` is null for a circuit)."""
     system = system_of(model, fmt, options)
-    given = {key: value for key, value in options.items() if key != "set"}
+    given = {key: value for key, value in options.items() if key not in ("set", "initial")}
     t_end = given.pop("t_end", None)
     if "samples" not in given and "samples" not in system.simulation:
         given["samples"] = DEFAULT_SAMPLES
     if wall_seconds is not None:
         given["max_wall_time"] = wall_seconds
-    try:
-        trajectory = simulate(system, t_span=t_end, raise_on_failure=False, **given)
-    except SimulationInputError as error:
-        raise in_command_line_words(error) from None
+    trajectory = simulate(system, t_span=t_end, raise_on_failure=False, **given)
     if not trajectory.success:
         rows = len(trajectory.t)
         where = f" ({rows} rows, up to t = {trajectory.t[-1]:.6g})" if rows else ""
@@ -171,17 +172,6 @@ def finite_list(values: np.ndarray) -> list[Any]:
     shown = array.astype(object)
     shown[~np.isfinite(array)] = None
     return list(shown.tolist())
-
-
-def problem_document(problem: Problem) -> dict[str, Any]:
-    """A problem as the API gives it: field, line, column, message, fix."""
-    return {
-        "field": problem.field,
-        "line": problem.line,
-        "column": problem.column,
-        "message": problem.message,
-        "fix": problem.fix,
-    }
 
 
 def error_document(message: str, problems: tuple[Problem, ...] = (), fix: str = "") -> bytes:
