@@ -21,17 +21,12 @@ def run(capsys, *argv):
     return code, captured.out, captured.err
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="simulation/dynamics.py::start_on_constraints raises its fix as prose "
-    "(project_initial=True), not as a structured Fix the command line can word",
-)
 def test_project_initial_is_a_flag_and_the_message_names_it(tmp_path, capsys):
     model = tmp_path / "pendulum.yaml"
     model.write_text(CARTESIAN_PENDULUM)
     out = str(tmp_path / "run.csv")
     code, _, error = run(capsys, "simulate", str(model), "--t-end", "1", "--out", out)
-    assert code == 2 and "pass --project-initial." in error and "project_state" not in error
+    assert code == 2 and "pass --project-initial" in error and "project_state" not in error
     code, _, error = run(
         capsys, "simulate", str(model), "--t-end", "1", "--out", out, "--project-initial"
     )

@@ -140,7 +140,7 @@ def test_an_initial_state_off_the_constraints_is_refused_or_projected() -> None:
     off = {"x": 1.0, "y": -1.0, "x_dot": 0.0, "y_dot": 0.0}
     with pytest.raises(SimulationError, match="residual") as error:
         lg.simulate(cartesian_pendulum(), off, 0.1)
-    assert "project_state" in str(error.value)
+    assert "pass project_initial=True" in str(error.value)
     run = lg.simulate(cartesian_pendulum(), off, 0.1, samples=3, project_initial=True)
     radius = np.hypot(run["x"], run["y"])
     np.testing.assert_allclose(radius, L, atol=1e-6)

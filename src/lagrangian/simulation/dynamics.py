@@ -35,7 +35,7 @@ from typing import Generic, Protocol, TypeVar
 import numpy as np
 
 from lagrangian.constraints import project_state
-from lagrangian.errors import SimulationError, SimulationInputError
+from lagrangian.errors import Fix, Problem, Setting, SimulationError, SimulationInputError
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.numerics.constrained import CompiledConstrained
@@ -179,11 +179,13 @@ def start_on_constraints(
     if residual <= INITIAL_TOLERANCE:  # False for NaN: a state where h is not defined
         return inputs
     if not project_initial:
-        raise SimulationInputError(
-            f"The initial state violates the constraints: the largest residual is "
-            f"{residual:.3g} (> {INITIAL_TOLERANCE:g}). Move it onto them with "
-            "lagrangian.constraints.project_state, or pass project_initial=True."
+        problem = Problem(
+            "initial",
+            f"the initial state violates the constraints: the largest residual is "
+            f"{residual:.3g} (> {INITIAL_TOLERANCE:g})",
+            Fix("move it onto them: pass {}", (Setting("project_initial", True),)),
         )
+        raise SimulationInputError("Cannot simulate (1 problem):", [problem])
     state: dict[str, float] = {**inputs.parameters, "t": t0}
     state.update(zip(coordinates, x0[:n].tolist()))
     state.update((name + "_dot", float(v)) for name, v in zip(coordinates, x0[n:]))
