@@ -22,6 +22,7 @@ from lagrangian.render.animation import animate as write_animation
 from lagrangian.render.plots import save_plots
 from lagrangian.simulation import Trajectory, simulate
 from lagrangian.simulation.files import written_atomically
+from lagrangian.simulation.impact_table import impacts_summary, write_impacts_csv
 from lagrangian.simulation.progress_bar import progress_bar
 
 
@@ -166,8 +167,28 @@ def write_simulation(
             interrupted(stopped)
         raise SimulationError(" ".join([stopped, *_failed_pictures(system, trajectory, pictures)]))
     messages = [f"{len(trajectory.t)} samples written to {out}; {trajectory.drift_summary()}"]
+    messages += impacts_written(trajectory, out)
     messages += draw_pictures(system, trajectory, pictures)
     return csv_text if out == "-" else "\n".join(messages)
+
+
+def impacts_written(trajectory: Trajectory, out: str) -> list[str]:
+    """The impacts of the run in a table beside the CSV (``NAME.impacts.csv``), and what they
+    were in one line; nothing without impacts."""
+    if not trajectory.impacts:
+        return []
+    summary = impacts_summary(trajectory.impacts)
+    if out == "-":
+        return [summary]
+    table = impacts_path(out)
+    write_impacts_csv(trajectory.impacts, table)
+    return [f"{summary}; each written to {table}"]
+
+
+def impacts_path(out: str) -> str:
+    """Where the table of impacts goes: ``run.csv`` -> ``run.impacts.csv``."""
+    path = Path(out)
+    return str(path.with_name(f"{path.stem}.impacts{path.suffix or '.csv'}"))
 
 
 def _failed_pictures(system: System, trajectory: Trajectory, pictures: Pictures) -> list[str]:

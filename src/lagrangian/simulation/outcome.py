@@ -175,15 +175,18 @@ LOSS_TOLERANCE = 1e-9
 def with_impacts(
     reasons: dict[str, str], impacts: tuple[Impact, ...], has_energy_function: bool
 ) -> dict[str, str]:
-    """The reasons a column is not conserved, with ``impacts`` that lost energy (a coefficient
-    of restitution below 1) added to the energy's (and to h's, when it is a column)."""
-    lost = [i.energy_lost for i in impacts]
+    """The reasons a column is not conserved, with the ``impacts`` that changed the energy
+    added to the energy's (and to h's, when it is a column): ``impacts (e < 1)`` (a coefficient
+    of restitution below 1), ``transitions`` (a reset of the state)."""
     scale = max((abs(v) for i in impacts for v in i.before.values()), default=0.0) ** 2
-    if not lost or max(lost) <= LOSS_TOLERANCE * max(scale, 1e-300):
+    changed = [i for i in impacts if abs(i.energy_lost) > LOSS_TOLERANCE * max(scale, 1e-300)]
+    causes = [cause for cause, kind in (("impacts (e < 1)", True), ("transitions", False))
+              if any(bool(i.impulses) == kind for i in changed)]  # fmt: skip
+    if not causes:
         return reasons
     found = dict(reasons)
     for column in ("energy", "energy_function")[: 1 + has_energy_function]:
-        found[column] = ", ".join(filter(None, (reasons.get(column), "impacts (e < 1)")))
+        found[column] = ", ".join([*filter(None, [reasons.get(column)]), *causes])
     return found
 
 

@@ -40,6 +40,7 @@ from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.animation import rods
 from lagrangian.simulation import Trajectory, simulate
+from lagrangian.simulation.impact_table import impact_records, impacts_summary
 from lagrangian.size_limits import size_limit
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.web.limits import TimeLimitExceeded
@@ -125,6 +126,8 @@ def simulation_summary(trajectory: Trajectory) -> dict[str, Any]:
         "parameters": dict(trajectory.parameters),
         "drift": {key: _finite(value) for key, value in trajectory.drift().items()},
         "drift_summary": trajectory.drift_summary(),
+        "impacts": impact_records(trajectory.impacts),
+        "impacts_summary": impacts_summary(trajectory.impacts),
     }
 
 
