@@ -86,6 +86,7 @@ if TYPE_CHECKING:
     )
     from lagrangian.numerics.export import export
     from lagrangian.simulation import Batch, Event, Trajectory, simulate, simulate_batch
+    from lagrangian.simulation.limit_cycle import LimitCycle, limit_cycle
     from lagrangian.size_limits import size_limit
     from lagrangian.sweeps import SweepReport, sweep
     from lagrangian.web import serve
@@ -156,6 +157,7 @@ _HOMES = {
     **dict.fromkeys(
         ("Batch", "Event", "Trajectory", "simulate", "simulate_batch"), "lagrangian.simulation"
     ),
+    **dict.fromkeys(("LimitCycle", "limit_cycle"), "lagrangian.simulation.limit_cycle"),
     **dict.fromkeys(("SweepReport", "sweep"), "lagrangian.sweeps"),
     "serve": "lagrangian.web",
 }
@@ -228,6 +230,7 @@ __all__ = [
     "Holonomic",
     "Inductor",
     "LagrangianError",
+    "LimitCycle",
     "ModelError",
     "MutualInductance",
     "NewtonEuler",
@@ -260,6 +263,7 @@ __all__ = [
     "examples",
     "export",
     "io",
+    "limit_cycle",
     "load",
     "loads",
     "newton_euler",

@@ -88,3 +88,53 @@ def test_a_transition_in_a_model_file_round_trips_and_bad_ones_are_refused() -> 
             "coordinates: [q]\nkinetic: q_dot**2/2\n"
             "transitions: [{name: a, guard: q, direction: up, reset: {q: -q}}]"
         )
+
+
+def test_the_walkers_two_period_one_gaits_are_garcia_et_al_s() -> None:
+    # Garcia, Chatterjee, Ruina & Coleman (1998), gamma = 0.009: a stable gait at
+    # (theta, theta_dot) = (0.2003109003, -0.1998324731) and an unstable one, of shorter
+    # period, at (0.1939373695, -0.2038669273), just after heel strike
+    walker = lg.examples.simplest_walker()
+    stable = lg.limit_cycle(walker, section="heel_strike")
+    assert stable.state["theta"] == pytest.approx(0.2003109003, abs=1e-9)
+    assert stable.state["theta_dot"] == pytest.approx(-0.1998324731, abs=1e-9)
+    assert stable.stable
+    theta, rate = 0.1939, -0.2039
+    near = {"theta": theta, "phi": 2 * theta, "theta_dot": rate,
+            "phi_dot": (1 - np.cos(2 * theta)) * rate}  # fmt: skip
+    unstable = lg.limit_cycle(walker, near, section="heel_strike")
+    assert unstable.state["theta"] == pytest.approx(0.1939373695, abs=1e-9)
+    assert unstable.state["theta_dot"] == pytest.approx(-0.2038669273, abs=1e-9)
+    assert not unstable.stable and abs(unstable.multipliers[0]) > 1
+    assert unstable.period < stable.period
+
+
+def test_the_floquet_multipliers_are_those_of_an_independent_return_map() -> None:
+    cycle = lg.limit_cycle(lg.examples.simplest_walker(), section="heel_strike")
+    x = np.array([cycle.state[n] for n in ("theta", "phi", "theta_dot", "phi_dot")])
+    columns = []
+    for i in range(4):  # the return map of solve_ivp, by central differences
+        h = 1e-6 * (1 + abs(x[i]))
+        step = np.eye(4)[i] * h
+        after = [reference_steps(x + sign * step, 1)[0][1] for sign in (1, -1)]
+        columns.append((after[0] - after[1]) / (2 * h))
+    reference = np.linalg.eigvals(np.column_stack(columns))
+    assert np.allclose(sorted(np.abs(reference)), sorted(np.abs(cycle.multipliers)), atol=1e-5)
+    # the reset fixes phi and phi_dot by theta and theta_dot: two multipliers vanish
+    assert sum(abs(m) < 1e-6 for m in cycle.multipliers) == 2
+
+
+def test_a_limit_cycle_on_the_command_line(capsys) -> None:
+    from lagrangian.cli.main import main
+
+    code = main(["analyze", "examples/simplest_walker", "--limit-cycle", "heel_strike",
+                 "--format", "json", "--search-degree", "0"])  # fmt: skip
+    said = capsys.readouterr()
+    assert code == 0, said.err
+    import json
+
+    cycle = json.loads(said.out)["limit_cycle"]
+    assert cycle["stable"] and cycle["state"]["theta"] == pytest.approx(0.2003109003, abs=1e-9)
+    code = main(["analyze", "examples/simplest_walker", "--limit-cycle", "toe_off",
+                 "--search-degree", "0"])  # fmt: skip
+    assert code == 2 and "'toe_off' is not a transition of the system" in capsys.readouterr().err

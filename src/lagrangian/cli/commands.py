@@ -15,6 +15,7 @@ from lagrangian.constraints import ConstrainedEquations, constrained_equations, 
 from lagrangian.derivation import derive
 from lagrangian.documents import (
     analysis_of,
+    apply_initial,
     apply_settings,
     derivation_document,
     derivation_latex,
@@ -199,18 +200,32 @@ def analyze_command(
     fmt: str = "json",
     project: bool = False,
     search_degree: int = 2,
+    cycle: str | None = None,
+    initial: Sequence[str] = (),
 ) -> str:
     """The analysis of docs/architecture.md as JSON, text or LaTeX (with ``linearization``
-    when ``--about`` is given; further first integrals sought up to ``search_degree``).  On
-    a constrained model an ``--about`` state off the constraints is refused, each missed
+    when ``--about`` is given; further first integrals sought up to ``search_degree``; the
+    limit cycle through the transition ``cycle``, from the ``initial`` values).  On a
+    constrained model an ``--about`` state off the constraints is refused, each missed
     constraint with its residual, unless ``--project`` moves it onto them."""
     system = apply_settings(load_system(reference), settings, COMMAND_LINE)
+    system = apply_initial(system, initial, COMMAND_LINE)
     report = analysis_of(system, about, inputs, project, search_degree, COMMAND_LINE)
-    if fmt == "text":
-        return analysis_text(report)
-    if fmt == "latex":
-        return analysis_latex(report)
-    return json.dumps(analysis_document(report), indent=2, ensure_ascii=False)
+    found = None
+    if cycle:
+        from lagrangian.simulation.limit_cycle import limit_cycle  # loads the integrators
+
+        found = limit_cycle(system, section=cycle)
+    if fmt in ("text", "latex"):
+        printed = analysis_text(report) if fmt == "text" else analysis_latex(report)
+        if found is None:
+            return printed
+        cycle_text = found.text() if fmt == "text" else f"% {found.text()}".replace("\n", "\n% ")
+        return f"{printed}\n\n{cycle_text}"
+    document = analysis_document(report)
+    if found is not None:
+        document["limit_cycle"] = found.document()
+    return json.dumps(document, indent=2, ensure_ascii=False)
 
 
 def examples_command(name: str | None) -> str:

@@ -214,6 +214,19 @@ def build_parser() -> argparse.ArgumentParser:
         help="a parameter taken as an input u of the linearization",
     )
     analyze.add_argument(
+        "--limit-cycle",
+        metavar="TRANSITION",
+        help="find the period-one cycle through this transition (a walker's heel strike) "
+        "near the motion from the initial state, with its period and Floquet multipliers",
+    )
+    analyze.add_argument(
+        "--initial",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="an initial value for --limit-cycle (theta=0.2; repeatable)",
+    )
+    analyze.add_argument(
         "--search-degree",
         type=int,
         default=2,
@@ -444,6 +457,8 @@ def run(args: argparse.Namespace) -> str | JsonDocument:
             fmt=args.format or analysis_format(sys.stdout),
             project=args.project,
             search_degree=args.search_degree,
+            cycle=args.limit_cycle,
+            initial=args.initial,
         )
     if args.command == "simulate":
         from lagrangian.cli import simulate_command

@@ -60,7 +60,9 @@ class Jump(NamedTuple):
     and the ``also`` events at the same time, the ``impact`` when the velocities jump, or a
     ``failure`` that ends the run there (the mode and state are then those before it).
     ``disarm``: the guard is not watched during the first step of the next piece, which
-    starts on its zero (a guard without the offset of a contact's tolerance)."""
+    starts on its zero (a guard without the offset of a contact's tolerance).  ``stop``: the
+    run ends with this transition, as at a terminal event named ``label`` (a return map
+    stops on its section)."""
 
     mode: Any
     state: np.ndarray
@@ -69,6 +71,7 @@ class Jump(NamedTuple):
     impact: ImpactRecord | None = None
     also: tuple[str, ...] = ()
     disarm: bool = False
+    stop: bool = False
 
 
 class Hybrid(Protocol[Mode]):
@@ -165,8 +168,15 @@ def integrate_piecewise(
         records: list[Record] = [(name, t_jump, state) for name in names]
         disarmed = stop[0] if jump.disarm else None
         mode, entered = _settled(hybrid, jump.mode, records, t_jump, jump.state)
-        if t_jump >= t1:  # the last transition ends the span: its events end the run
-            pieces[-1] = dataclasses.replace(pieces[-1], events=(*pieces[-1].events, *entered))
+        if t_jump >= t1 or jump.stop:  # its events end the run
+            stopped = jump.label if jump.stop else None
+            pieces[-1] = dataclasses.replace(
+                pieces[-1],
+                events=(*pieces[-1].events, *entered),
+                stopped_by=stopped,
+                t_reached=t_jump,
+                x_reached=state,
+            )
             break
         current = continued_from(current, t_jump, jump.state)
     return joined(pieces)

@@ -1,0 +1,200 @@
+"""limit_cycle: the periodic motion of a hybrid system, as a fixed point of its return map.
+
+A walker's gait repeats from one heel strike to the next.  The *return map* P takes the state
+just after a transition (the section) to the state just after the next one; a period-one
+cycle is a fixed point x* = P(x*), found by Newton's method on P(x) - x with the Jacobian of P
+by central differences.  Its eigenvalues are the cycle's Floquet multipliers: the cycle is
+stable when every one lies inside the unit circle (a reset that fixes some coordinates in
+terms of others gives zeros) (Garcia, Chatterjee, Ruina & Coleman, *J. Biomech. Eng.* 120,
+1998, §"Stability"; Guckenheimer & Holmes, *Nonlinear Oscillations*, 1983, §1.5).
+
+>>> import lagrangian as lg
+>>> cycle = limit_cycle(lg.examples.simplest_walker(), section="heel_strike")
+>>> round(cycle.state["theta"], 5), round(cycle.period, 3), cycle.stable
+(0.20031, 3.882, True)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from lagrangian.errors import SimulationError, SimulationInputError
+from lagrangian.model import System
+from lagrangian.simulation.integrators.loop import SolverIntegrator
+from lagrangian.simulation.integrators.piecewise import Guard, Jump, integrate_piecewise
+from lagrangian.simulation.run import plan
+from lagrangian.simulation.setup import prepare
+
+#: Newton's method stops when |P(x) - x| falls below this (relative to |x| + 1).
+TOLERANCE = 1e-10
+#: The most Newton iterations.
+ITERATIONS = 20
+#: The integration of one return (DOP853, tight, so that the differences are meaningful).
+RETURN_SETTINGS = {"method": "DOP853", "rtol": 1e-12, "atol": 1e-12}
+
+
+class LimitCycle(NamedTuple):
+    """A period-one cycle: the ``state`` on the section (just after the transition, by name),
+    its ``period``, the Floquet ``multipliers`` (eigenvalues of the linearized return map,
+    largest first), whether it is ``stable`` (all inside the unit circle), and how Newton's
+    method went (``iterations``, the final ``residual`` |P(x) - x|)."""
+
+    section: str
+    state: Mapping[str, float]
+    period: float
+    multipliers: tuple[complex, ...]
+    stable: bool
+    iterations: int
+    residual: float
+
+    def document(self) -> dict[str, Any]:
+        """The cycle as JSON-ready data (a multiplier as [real, imaginary])."""
+        return {
+            "section": self.section,
+            "state": dict(self.state),
+            "period": self.period,
+            "multipliers": [[m.real, m.imag] for m in self.multipliers],
+            "moduli": [abs(m) for m in self.multipliers],
+            "stable": self.stable,
+            "iterations": self.iterations,
+            "residual": self.residual,
+        }
+
+    def text(self) -> str:
+        """The cycle for people, a few lines."""
+        state = ", ".join(f"{name} = {value:.10g}" for name, value in self.state.items())
+        multipliers = ", ".join(_complex(m) for m in self.multipliers)
+        verdict = "stable" if self.stable else "unstable"
+        largest = max(abs(m) for m in self.multipliers)
+        return (
+            f"Limit cycle through {self.section}: period {self.period:.10g}, {verdict} "
+            f"(largest |multiplier| {largest:.4g})\n  on the section: {state}\n"
+            f"  Floquet multipliers: {multipliers}"
+        )
+
+
+def limit_cycle(
+    system: System,
+    initial: Mapping[str, float] | None = None,
+    *,
+    section: str,
+    parameters: Mapping[str, float] | None = None,
+    max_return_time: float = 100.0,
+) -> LimitCycle:
+    """The period-one cycle through the transition ``section`` near the motion from
+    ``initial`` (over ``System.initial``): first the motion is followed to the section, then
+    Newton's method finds the fixed point of the return map (module docstring).
+
+    Raises SimulationInputError for a section that is no transition of the System, and
+    SimulationError when a return does not reach the section within ``max_return_time`` or
+    Newton's method does not converge."""
+    names = [item.name for item in system.transitions]
+    if section not in names:
+        raise SimulationInputError(
+            f"section: {section!r} is not a transition of the system; its transitions: "
+            f"{', '.join(names) or 'none'}"
+        )
+    returns = _ReturnMap(system, dict(initial or {}), dict(parameters or {}), section,
+                         max_return_time)  # fmt: skip
+    x, _ = returns(returns.start)  # onto the section
+    iterations, residual = _newton(returns, x)
+    if residual > TOLERANCE * (1 + float(np.max(np.abs(iterations[-1])))):
+        raise SimulationError(
+            f"no period-one cycle through {section!r} found from this start: Newton's method "
+            f"left |P(x) - x| = {residual:.3g} after {ITERATIONS} iterations; start nearer one"
+        )
+    x = iterations[-1]
+    _, period = returns(x)
+    multipliers = np.linalg.eigvals(returns.jacobian(x))
+    ordered = tuple(complex(m) for m in sorted(multipliers, key=abs, reverse=True))
+    return LimitCycle(
+        section,
+        dict(zip(returns.names, x.tolist())),
+        period,
+        ordered,
+        bool(np.all(np.abs(multipliers) < 1)),
+        len(iterations) - 1,
+        residual,
+    )
+
+
+def _newton(returns: _ReturnMap, x: np.ndarray) -> tuple[list[np.ndarray], float]:
+    """The iterates of Newton's method on P(x) - x = 0 from x, and the last |P(x) - x|:
+    x <- x - (dP/dx - 1)^-1 (P(x) - x), until the residual is below the tolerance."""
+    iterates = [x]
+    for _ in range(ITERATIONS):
+        image, _ = returns(x)
+        residual = float(np.max(np.abs(image - x)))
+        if residual <= TOLERANCE * (1 + float(np.max(np.abs(x)))):
+            break
+        step = np.linalg.lstsq(returns.jacobian(x) - np.eye(len(x)), image - x, rcond=None)[0]
+        x = x - step
+        iterates.append(x)
+    return iterates, residual
+
+
+def _complex(value: complex) -> str:
+    if abs(value.imag) <= 1e-12 * max(abs(value), 1e-300):
+        return f"{value.real:.6g}"
+    return f"{value.real:.6g} {'+' if value.imag >= 0 else '-'} {abs(value.imag):.6g}i"
+
+
+class _ReturnMap:
+    """P(x): the state just after the next firing of ``section``, from x at t = 0."""
+
+    def __init__(
+        self,
+        system: System,
+        initial: dict[str, float],
+        parameters: dict[str, float],
+        section: str,
+        horizon: float,
+    ) -> None:
+        self.setup = prepare(system, initial, horizon, dict(RETURN_SETTINGS),
+                             parameters=parameters)  # fmt: skip
+        self.section = section
+        compiled = self.setup.compiled
+        self.names = compiled.state_names
+        self.start = np.array(self.setup.inputs.x0, dtype=float)
+
+    def __call__(self, x: np.ndarray) -> tuple[np.ndarray, float]:
+        motion, _ = plan(self.setup)
+        stopping = _StopAt(motion, self.section)
+        inputs = dataclasses.replace(self.setup.inputs, x0=np.array(x, dtype=float), t_out=None)
+        run = integrate_piecewise(stopping, inputs, None, None, SolverIntegrator())
+        if run.stopped_by != self.section:
+            reason = run.failure or f"no {self.section!r} within t = {inputs.t_span[1]:g}"
+            raise SimulationError(f"the return to the section failed: {reason}")
+        return np.array(run.x_reached, dtype=float), float(run.t_reached)
+
+    def jacobian(self, x: np.ndarray) -> np.ndarray:
+        """dP/dx by central differences (steps of 1e-6 relative)."""
+        columns = []
+        for i in range(len(x)):
+            h = 1e-6 * (1 + abs(x[i]))
+            plus, minus = x.copy(), x.copy()
+            plus[i] += h
+            minus[i] -= h
+            columns.append((self(plus)[0] - self(minus)[0]) / (2 * h))
+        return np.column_stack(columns)
+
+
+@dataclasses.dataclass(frozen=True)
+class _StopAt:
+    """A hybrid motion whose run ends at the first firing of the transition ``section``."""
+
+    inner: Any
+    section: str
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.inner, name)
+
+    def transition(self, mode: Any, guard: Guard, t: float, x: np.ndarray) -> Jump:
+        jump: Jump = self.inner.transition(mode, guard, t, x)
+        if jump.label == self.section:
+            return jump._replace(stop=True)
+        return jump
