@@ -83,6 +83,7 @@ def _energy(energy: EnergyConservation) -> dict[str, Any]:
         "total_energy": expression_string(energy.total_energy),
         "equals_total_energy": bool(energy.equals_total_energy),
         "total_energy_reason": energy.total_energy_reason,
+        "condition": expression_string(energy.condition),
     }
 
 
