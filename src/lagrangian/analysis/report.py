@@ -45,7 +45,7 @@ from lagrangian.analysis.momenta import ConjugateMomenta, CyclicCoordinate
 from lagrangian.analysis.parts import PARTS, AnalysisRequest, Found, kept
 from lagrangian.analysis.rest import Equilibria
 from lagrangian.analysis.steady_motions import SteadyMotions
-from lagrangian.constraints import project_state
+from lagrangian.constraints import ConstraintClass, project_state
 from lagrangian.errors import AnalysisError
 from lagrangian.limits import bounded
 from lagrangian.size_limits import size_limit as sized_to
@@ -56,7 +56,7 @@ __all__ = ["AnalysisReport", "ConservedQuantity", "Failure", "analyze", "conserv
 @dataclass(frozen=True)
 class AnalysisReport:
     """Everything :func:`analyze` found; parts that failed are None and listed in
-    ``failures``.  ``constraints`` holds the classification of each constraint (as_dict).
+    ``failures``.  ``constraints`` holds the classification of each constraint.
 
     ``dof`` is the number of independent velocities (n minus every equality constraint, as
     Greenwood and Bloch count degrees of freedom), ``configuration_dimension`` n minus the
@@ -75,7 +75,7 @@ class AnalysisReport:
     normal_modes: NormalModes | None
     linearization: Linearization | None
     failures: tuple[Failure, ...]
-    constraints: tuple[Any, ...] = ()
+    constraints: tuple[ConstraintClass, ...] = ()
     configuration_dimension: int | None = None
     independent_velocities: int | None = None
     freedom: str = ""
@@ -193,10 +193,8 @@ def _freedom(request: AnalysisRequest) -> tuple[int, int, str]:
     return dimension, velocities, freedom_text(n, dimension, velocities) + left_out
 
 
-def _constraints(manifold: ConstraintManifold | None) -> tuple[Any, ...]:
-    return (
-        () if manifold is None else tuple(c.as_dict() for c in manifold.classification.constraints)
-    )
+def _constraints(manifold: ConstraintManifold | None) -> tuple[ConstraintClass, ...]:
+    return () if manifold is None else tuple(manifold.classification.constraints)
 
 
 def _gathered(

@@ -182,7 +182,7 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
         "independent_velocities": report.independent_velocities,
         "freedom": report.freedom,
         "coordinates": [q.name for q in report.coordinates],
-        "constraints": list(report.constraints),
+        "constraints": [c.as_dict() for c in report.constraints],
         "momenta": None if report.momenta is None else _strings_by_name(report.momenta.by_name()),
         "cyclic": [c.coordinate.name for c in report.cyclic],
         "cyclic_coordinates": [_cyclic(c) for c in report.cyclic],

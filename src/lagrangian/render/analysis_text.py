@@ -139,7 +139,7 @@ def analysis_text(report: AnalysisReport) -> str:
     lines = [f"{report.name or 'system'}: {report.freedom or f'dof = {report.dof}'}"]
     lines += _section(
         "Constraints",
-        (f"{c['kind']} {c['expression']} = 0: {c['reason']}" for c in report.constraints),
+        (f"{c.kind} {c.expression} = 0: {c.reason}" for c in report.constraints),
     )
     if report.momenta is not None:
         lines += _section("Momenta", (f"p_{q} = {p}" for q, p in report.momenta.by_name().items()))
