@@ -42,15 +42,15 @@ from lagrangian.analysis.hamiltonian import hamilton_equations as canonical_equa
 from lagrangian.analysis.hamiltonian import hamiltonian as legendre_transform
 from lagrangian.analysis.integrals.constrained import constrained_first_integrals
 from lagrangian.analysis.integrals.noether import Symmetry, point_symmetries
-from lagrangian.analysis.integrals.search import first_integrals
-from lagrangian.analysis.linearize import linearize
+from lagrangian.analysis.integrals.search import SEARCH_SECONDS, first_integrals
+from lagrangian.analysis.linearize import linearization_at_values
 from lagrangian.analysis.manifold.constraint_manifold import ConstraintManifold
 from lagrangian.analysis.manifold.symmetries import jacobi_integral, kept_symmetries
-from lagrangian.analysis.modes import normal_modes
+from lagrangian.analysis.modes import modes_at_values
 from lagrangian.analysis.momenta import conjugate_momenta, cyclic_at_values
 from lagrangian.analysis.reduced_hamiltonian import reduced_legendre, stable_state
 from lagrangian.analysis.rest import first_stable
-from lagrangian.analysis.steady_motions import steady_motions
+from lagrangian.analysis.steady_motions import steady_motions_at_values
 from lagrangian.derivation import EquationsOfMotion
 
 #: H and Hamilton's equations: of L, or in reduced coordinates on the manifold (where both
@@ -71,7 +71,7 @@ class AnalysisRequest:
     inputs: tuple[Any, ...] = ()
     independent: tuple[Any, ...] | None = None
     search_degree: int = 2
-    search_seconds: float = 0.0
+    search_seconds: float = SEARCH_SECONDS
 
     @property
     def eom(self) -> EquationsOfMotion:
@@ -102,7 +102,7 @@ class Part:
         return self.free if request.manifold is None else self.on_manifold
 
 
-def kept(request: AnalysisRequest, found: Found) -> tuple[Symmetry, ...]:
+def symmetries_kept(request: AnalysisRequest, found: Found) -> tuple[Symmetry, ...]:
     """The point symmetries whose charges the constraints keep (all, without constraints)."""
     return kept_symmetries(found.get("symmetries") or (), request.manifold)
 
@@ -128,7 +128,7 @@ def _jacobi(request: AnalysisRequest, found: Found) -> Any:
 
 
 def _steady(request: AnalysisRequest, found: Found) -> Any:
-    return steady_motions(request.eom, request.context.parameters, found["jacobi"])
+    return steady_motions_at_values(request.context, found["jacobi"])
 
 
 def _equilibria(request: AnalysisRequest, found: Found) -> Any:
@@ -167,7 +167,7 @@ def _known(found: Found, symmetries: tuple[Symmetry, ...]) -> list[sp.Expr]:
 def _search(request: AnalysisRequest, found: Found) -> Any:
     if request.search_degree <= 0:
         return None
-    known = _known(found, kept(request, found))
+    known = _known(found, symmetries_kept(request, found))
     return first_integrals(
         request.eom,
         request.context.parameters,
@@ -183,7 +183,7 @@ def _constrained_search(request: AnalysisRequest, found: Found) -> Any:
     return constrained_first_integrals(
         request.eom,
         request.context.parameters,
-        _known(found, kept(request, found)),
+        _known(found, symmetries_kept(request, found)),
         request.search_degree,
         request.search_seconds,
         _through(request, found),
@@ -192,26 +192,20 @@ def _constrained_search(request: AnalysisRequest, found: Found) -> Any:
 
 def _modes(request: AnalysisRequest, found: Found) -> Any:
     about = first_stable(found["equilibria"])
-    return normal_modes(request.eom, about, parameters=request.context.parameters)
+    return modes_at_values(request.context, about)
 
 
 def _linearization(request: AnalysisRequest, found: Found) -> Any:
     if request.state is None:
         return None
-    context = request.context
-    return linearize(context.eom, request.state, request.inputs, context.parameters)
+    return linearization_at_values(request.context, request.state, request.inputs)
 
 
 def _manifold_linearization(request: AnalysisRequest, found: Found) -> Any:
     if request.state is None:
         return None
-    context = request.context
-    return linearize(
-        context.eom,
-        request.state,
-        request.inputs,
-        context.parameters,
-        independent=request.independent,
+    return linearization_at_values(
+        request.context, request.state, request.inputs, independent=request.independent
     )
 
 

@@ -42,7 +42,7 @@ from lagrangian.analysis.manifold.constraint_manifold import (
 )
 from lagrangian.analysis.modes import NormalModes
 from lagrangian.analysis.momenta import ConjugateMomenta, CyclicCoordinate
-from lagrangian.analysis.parts import PARTS, AnalysisRequest, Found, kept
+from lagrangian.analysis.parts import PARTS, AnalysisRequest, Found, symmetries_kept
 from lagrangian.analysis.rest import Equilibria
 from lagrangian.analysis.steady_motions import SteadyMotions
 from lagrangian.constraints import ConstraintClass, project_state
@@ -205,7 +205,7 @@ def _gathered(
     dimension, velocities, freedom = _freedom(request)
     cyclic = tuple(found["cyclic"] or ())
     conserved = conserved_quantities(
-        cyclic, found["energy"], kept(request, found), found["jacobi"], search
+        cyclic, found["energy"], symmetries_kept(request, found), found["jacobi"], search
     )
     return AnalysisReport(
         name=eom.name,
