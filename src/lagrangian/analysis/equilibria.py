@@ -142,9 +142,9 @@ def equilibria_at_values(context: EvaluationContext) -> Equilibria:
 @dataclass(frozen=True)
 class _Specialized:
     """The static forces at rest where the values given decide more than the general case:
-    constant forces (independent of q) that vanish at the values (F = 0) are put to 0 with
-    the parameter values that make them vanish (``condition``); ``general`` says what holds
-    otherwise."""
+    forces that vanish for every q at the values (F = 0, F_theta r with F_theta = 0) are
+    put to 0 with the parameter values that make them vanish (``condition``); ``general``
+    says what holds otherwise."""
 
     static: sp.ImmutableMatrix
     substitutions: Mapping[sp.Symbol, sp.Expr]
@@ -152,32 +152,43 @@ class _Specialized:
     general: str = ""
 
 
+def _relations(condition: sp.Basic) -> dict[sp.Basic, sp.Basic]:
+    """``Eq(F, 0) & Eq(k, 2)`` as the substitution {F: 0, k: 2}."""
+    return {c.lhs: c.rhs for c in sp.And.make_args(condition) if isinstance(c, sp.Eq)}
+
+
 def _at_values(context: EvaluationContext, static: sp.ImmutableMatrix) -> _Specialized | str:
     """The static forces to solve (:class:`_Specialized`), or why there is no rest at the
     values given either.
 
-    A constant force c(p) != 0 allows no rest in general; where c vanishes at the values
-    (F = 0) the rest of the equations are solved there, and "for F != 0: no rest" said."""
+    A constant force c(p) != 0 allows no rest; where c vanishes at the values (F = 0) the
+    rest of the equations are solved there, and "for F ≠ 0: no rest" said.  A force that
+    depends on q and vanishes for every q at the values (F_theta r) leaves every q at rest
+    along it there; in general it does not ("for F_theta ≠ 0: ... the equilibria differ")."""
     eom, subs = context.eom, dict(context.substitutions)
     unknowns = [q for q in eom.coordinates if depends_on(static, [q])]
-    constant = [e for e in static if not is_zero(e) and not depends_on(e, unknowns)]
-    if not constant:
-        return _Specialized(static, subs)
+    forces = [e for e in static if not is_zero(e)]
+    constant = [e for e in forces if not depends_on(e, unknowns)]
+    vanishing = {e: context.vanishing_condition(e) for e in forces}
     no_rest_text = f"the static forces {constant} do not depend on the coordinates: no rest"
-    conditions = [context.vanishing_condition(e) for e in constant]
-    if any(c is None for c in conditions):
+    if any(vanishing[e] is None for e in constant):
         return no_rest_text
-    condition = sp.And(*conditions)
-    values = {
-        c.lhs: c.rhs for c in (condition.args if isinstance(condition, sp.And) else [condition])
-    }
-    subs.update(values)
-    return _Specialized(
-        static_forces(eom, subs),
-        subs,
-        condition,
-        f"for {otherwise_text(condition)}: {no_rest_text}",
-    )
+    varying = [e for e in forces if e not in constant and vanishing[e] is not None]
+    if not constant and not varying:
+        return _Specialized(static, subs)
+    general = []
+    if constant:
+        when = sp.And(*[vanishing[e] for e in constant])
+        general.append(f"for {otherwise_text(when)}: {no_rest_text}")
+    if varying:
+        when = sp.And(*[vanishing[e] for e in varying])
+        general.append(
+            f"for {otherwise_text(when)}: the static forces {varying} do not vanish for every "
+            "configuration, and the equilibria differ"
+        )
+    condition = sp.And(*[vanishing[e] for e in (*constant, *varying)])
+    subs.update(_relations(condition))
+    return _Specialized(static_forces(eom, subs), subs, condition, "; ".join(general))
 
 
 def _said_at_values(found: Equilibria, special: _Specialized) -> Equilibria:
