@@ -104,10 +104,11 @@ def evaluation_context(subject: Subject, parameters: Values | None = None) -> Ev
     """The context of an analysis of ``subject`` with the substitutions ``parameters``
     (wrong names or values are refused here, once: AnalysisError naming each)."""
     eom = equations_of(subject)
+    given = substitutions(eom, parameters)  # refuses what is not {name: value}, first
     return EvaluationContext(
         eom=eom,
         parameters=frozen(dict(parameters or {})),
-        substitutions=frozen(substitutions(eom, parameters)),
+        substitutions=frozen(given),
         values=frozen(numeric_values(eom, parameters)),
     )
 
