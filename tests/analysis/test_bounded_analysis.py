@@ -19,7 +19,8 @@ import sympy as sp
 
 import lagrangian as lg
 from lagrangian.analysis import analyze, hamilton_equations, hamiltonian, point_symmetries
-from lagrangian.analysis import report as report_module
+from lagrangian.analysis import attempts as attempts_module
+from lagrangian.analysis import parts as parts_module
 from lagrangian.analysis.hamiltonian import elimination_sizes, velocity_hessian
 from lagrangian.analysis.simplification import SIMPLIFIED_ENTRIES, simplify_small_matrix
 from lagrangian.errors import AnalysisError, SizeLimitError
@@ -117,8 +118,8 @@ def test_a_part_past_its_share_of_the_time_is_a_failure(monkeypatch) -> None:
         while True:
             time.sleep(0.01)
 
-    monkeypatch.setattr(report_module, "point_symmetries", forever)
-    monkeypatch.setattr(report_module, "PART_SHARE", 0.05)
+    monkeypatch.setattr(parts_module, "point_symmetries", forever)
+    monkeypatch.setattr(attempts_module, "PART_SHARE", 0.05)
     report = analyze(lg.examples.simple_pendulum(), search_degree=0, time_limit=60)
     reason = report.failure("symmetries") or ""
     assert "symmetries stopped after" in reason and "its share (5%)" in reason

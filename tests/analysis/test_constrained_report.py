@@ -101,3 +101,27 @@ def test_a_unilateral_constraint_is_said_to_be_left_out() -> None:
     report = analyze(system)
     assert "left out of this analysis: 'floor' (constraints[1]) unilateral" in report.freedom
     assert report.equilibria is not None and len(report.equilibria) == 2
+
+
+def test_the_constraint_entries_are_frozen_classifications_with_the_same_json_keys() -> None:
+    report = analyze(cs.pendulum(), search_degree=0)
+    (rod,) = report.constraints
+    assert (rod.kind, rod.holonomic, rod.rheonomic, rod.redundant) == (
+        "holonomic",
+        True,
+        False,
+        False,
+    )
+    with pytest.raises(AttributeError, match="cannot assign to field 'kind'"):
+        rod.kind = "velocity"  # type: ignore[misc]
+    (entry,) = analysis_document(report)["constraints"]
+    assert list(entry) == [
+        "name",
+        "kind",
+        "expression",
+        "holonomic",
+        "rheonomic",
+        "redundant",
+        "reason",
+    ]
+    assert entry["expression"] == str(rod.expression) and entry["reason"] == rod.reason

@@ -151,3 +151,17 @@ def test_effective_potential_of_the_hoop() -> None:
 def test_unknown_parameter_names_are_refused() -> None:
     with pytest.raises(lg.AnalysisError, match="no parameter named 'omega2'"):
         equilibria(hoop(5.0), parameters={"omega2": 1})
+
+
+def test_a_particle_in_the_plane_without_force_rests_everywhere_at_the_values_given() -> None:
+    # polar coordinates, F_r and F_theta given as 0: the static forces F_r and F_theta r vanish
+    # for every (r, theta), so every configuration is at rest; for F_r != 0 none is.
+    found = equilibria(lg.examples.particle_plane_polar())
+    (everywhere,) = found
+    r, f_r, f_theta = sp.symbols("r F_r F_theta")
+    assert everywhere.free == (r, theta) and everywhere.stable is None
+    assert everywhere.condition == sp.And(sp.Eq(f_r, 0), sp.Eq(f_theta, 0))
+    assert "for F_r ≠ 0: the static forces [F_r] do not depend on the coordinates" in found.general
+    assert "for F_theta ≠ 0: the static forces [F_theta*r] do not vanish" in found.general
+    pushed = equilibria(lg.examples.particle_plane_polar(), {"F_r": 1})
+    assert len(pushed) == 0 and pushed.general == ""

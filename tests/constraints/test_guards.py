@@ -27,7 +27,7 @@ def cartesian_pendulum() -> lg.System:
 def test_analyze_counts_the_constraint_and_works_on_the_manifold() -> None:
     report = lg.analyze(cartesian_pendulum())
     assert report.dof == 1
-    assert report.constraints and report.constraints[0]["name"] == "rod"
+    assert report.constraints and report.constraints[0].name == "rod"
     # equilibria and modes on the constraint, never of the free particle (which has none)
     assert report.equilibria is not None
     assert [(dict(e.state), e.stable) for e in report.equilibria] == [

@@ -21,7 +21,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.analysis.arguments import Subject, equations_of
+from lagrangian.analysis.arguments import Subject, Values, equations_of
+from lagrangian.analysis.evaluation import EvaluationContext, condition_text, evaluation_context
 from lagrangian.analysis.manifold.constraint_manifold import (
     constraint_manifold,
     vanishes_on_manifold,
@@ -125,6 +126,9 @@ class EnergyConservation:
     equals_total_energy: bool
     total_energy_reason: str
     constraint_power: sp.Expr = sp.Integer(0)
+    #: The parameter values under which h is conserved when dh/dt vanishes only at the
+    #: values given (``Eq(F, 0)``: a force F given as 0); ``sp.true`` otherwise.
+    condition: sp.Basic = sp.true
 
 
 def _power_terms(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str]]:
@@ -212,7 +216,7 @@ def _constraint_power(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str], list[
     return power, reasons, still
 
 
-def energy_conservation(subject: Subject) -> EnergyConservation:
+def energy_conservation(subject: Subject, parameters: Values | None = None) -> EnergyConservation:
     """Is h conserved (no explicit t, no dissipation, no working applied force, no moving
     constraint), and is it T + V?  Each answer with its reason, and dh/dt as an expression
     (with the multipliers lambda_j of :mod:`lagrangian.analysis.manifold.constraint_manifold` on a
@@ -223,7 +227,13 @@ def energy_conservation(subject: Subject) -> EnergyConservation:
     >>> energy_conservation(lg.examples.mass_spring_damper()).rate
     -B*x_dot**2 + f*x_dot
     """
-    eom = equations_of(subject)
+    return energy_at_values(evaluation_context(subject, parameters))
+
+
+def energy_at_values(context: EvaluationContext) -> EnergyConservation:
+    """:func:`energy_conservation` at the parameter values of ``context``: a rate dh/dt
+    that vanishes only there (a force F given as 0) keeps h, under that condition."""
+    eom = context.eom
     h = energy_function(eom)
     rate, reasons = _power_terms(eom)
     power, working, idle = _constraint_power(eom)
@@ -240,6 +250,14 @@ def energy_conservation(subject: Subject) -> EnergyConservation:
             reason += "; the " + "; ".join(idle) + " (scleronomic: b = 0, A q_dot = 0)"
     else:
         reason = "h is not conserved: " + "; ".join(reasons)
+    condition = None if conserved else context.vanishing_condition(rate)
+    if condition is not None:
+        conserved = True
+        reason = (
+            f"dh/dt = {rate} vanishes at the given parameter values "
+            f"({condition_text(condition)}), so h is conserved there (for other values "
+            f"{reason})"
+        )
     scalar = eom.velocity_potential.xreplace({v: 0 for v in eom.velocities})
     total = sp.expand(eom.kinetic_energy + eom.potential_energy + scalar)
     equal = is_zero(h - total)
@@ -252,4 +270,5 @@ def energy_conservation(subject: Subject) -> EnergyConservation:
         equals_total_energy=equal,
         total_energy_reason=_total_energy_reason(eom, equal),
         constraint_power=sp.expand(power),
+        condition=sp.true if condition is None else condition,
     )

@@ -20,17 +20,16 @@ A constrained system is solved on its constraint manifold
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy as sp
 
-from lagrangian.analysis.arguments import (
-    Subject,
-    Values,
-    equations_of,
-    evaluate,
-    numeric_values,
-    substitutions,
+from lagrangian.analysis.arguments import Subject, Values, evaluate
+from lagrangian.analysis.evaluation import (
+    EvaluationContext,
+    condition_text,
+    evaluation_context,
+    otherwise_text,
 )
 from lagrangian.analysis.manifold.constraint_manifold import constraint_manifold
 from lagrangian.analysis.manifold.statics import manifold_equilibria
@@ -128,32 +127,108 @@ def equilibria(subject: Subject, parameters: Values | None = None) -> Equilibria
     >>> [e.stable for e in equilibria(lg.examples.simple_pendulum())]
     [True, False]
     """
-    eom = equations_of(subject)
-    manifold = constraint_manifold(eom)
+    return equilibria_at_values(evaluation_context(subject, parameters))
+
+
+def equilibria_at_values(context: EvaluationContext) -> Equilibria:
+    """:func:`equilibria` with the parameter values of ``context``: on the constraint
+    manifold for a constrained system, else of the free static equations."""
+    manifold = constraint_manifold(context.eom)
     if manifold is not None:
-        return manifold_equilibria(eom, manifold, parameters)
-    subs = substitutions(eom, parameters)
-    numbers = numeric_values(eom, parameters)
-    static = static_forces(eom, subs)
+        return manifold_equilibria(context, manifold)
+    return _free_equilibria(context)
+
+
+@dataclass(frozen=True)
+class _Specialized:
+    """The static forces at rest where the values given decide more than the general case:
+    forces that vanish for every q at the values (F = 0, F_theta r with F_theta = 0) are
+    put to 0 with the parameter values that make them vanish (``condition``); ``general``
+    says what holds otherwise."""
+
+    static: sp.ImmutableMatrix
+    substitutions: Mapping[sp.Symbol, sp.Expr]
+    condition: sp.Basic = sp.true
+    general: str = ""
+
+
+def _relations(condition: sp.Basic) -> dict[sp.Basic, sp.Basic]:
+    """``Eq(F, 0) & Eq(k, 2)`` as the substitution {F: 0, k: 2}."""
+    return {c.lhs: c.rhs for c in sp.And.make_args(condition) if isinstance(c, sp.Eq)}
+
+
+def _at_values(context: EvaluationContext, static: sp.ImmutableMatrix) -> _Specialized | str:
+    """The static forces to solve (:class:`_Specialized`), or why there is no rest at the
+    values given either.
+
+    A constant force c(p) != 0 allows no rest; where c vanishes at the values (F = 0) the
+    rest of the equations are solved there, and "for F ≠ 0: no rest" said.  A force that
+    depends on q and vanishes for every q at the values (F_theta r) leaves every q at rest
+    along it there; in general it does not ("for F_theta ≠ 0: ... the equilibria differ")."""
+    eom, subs = context.eom, dict(context.substitutions)
+    unknowns = [q for q in eom.coordinates if depends_on(static, [q])]
+    forces = [e for e in static if not is_zero(e)]
+    constant = [e for e in forces if not depends_on(e, unknowns)]
+    vanishing = {e: context.vanishing_condition(e) for e in forces}
+    no_rest_text = f"the static forces {constant} do not depend on the coordinates: no rest"
+    if any(vanishing[e] is None for e in constant):
+        return no_rest_text
+    varying = [e for e in forces if e not in constant and vanishing[e] is not None]
+    if not constant and not varying:
+        return _Specialized(static, subs)
+    general = []
+    if constant:
+        when = sp.And(*[vanishing[e] for e in constant])
+        general.append(f"for {otherwise_text(when)}: {no_rest_text}")
+    if varying:
+        when = sp.And(*[vanishing[e] for e in varying])
+        general.append(
+            f"for {otherwise_text(when)}: the static forces {varying} do not vanish for every "
+            "configuration, and the equilibria differ"
+        )
+    condition = sp.And(*[vanishing[e] for e in (*constant, *varying)])
+    subs.update(_relations(condition))
+    return _Specialized(static_forces(eom, subs), subs, condition, "; ".join(general))
+
+
+def _said_at_values(found: Equilibria, special: _Specialized) -> Equilibria:
+    """``found`` at the values of ``special``: each equilibrium exists under its condition,
+    and the reason says what holds in general."""
+    if special.condition == sp.true:
+        return found
+    at = f"at the given parameter values ({condition_text(special.condition)}): "
+    return replace(
+        found,
+        equilibria=tuple(
+            replace(e, condition=sp.And(special.condition, e.condition)) for e in found
+        ),
+        reason=f"{at}{found.reason}; {special.general}",
+        general=special.general,
+    )
+
+
+def _free_equilibria(context: EvaluationContext) -> Equilibria:
+    """The equilibria of a system without constraints: forcing(q, 0, t) = 0."""
+    eom, numbers = context.eom, context.values
+    static = static_forces(eom, context.substitutions)
     if depends_on(static, [eom.time]):
         return no_rest(static, "the static forces depend on time (driven or rheonomic): no rest")
+    special = _at_values(context, static)
+    if isinstance(special, str):
+        return no_rest(static, special)
+    static, subs = special.static, special.substitutions
     at_rest = {v: 0 for v in eom.velocities}
     potential = sp.expand(-eom.lagrangian.xreplace(at_rest).xreplace(dict(subs)))
-    unknowns = [q for q in eom.coordinates if depends_on(static, [q])]
-    nonzero = [e for e in static if not is_zero(e)]
-    if not nonzero:
-        test = _free_stability(eom, numbers, subs)
+    test = _free_stability(eom, numbers, subs)
+    if all(is_zero(e) for e in static):
         everywhere = (build_equilibrium(eom, {}, numbers, True, test),)
-        return Equilibria(everywhere, static, potential, "symbolic", "the static forces vanish")
-    constant = [e for e in nonzero if not depends_on(e, unknowns)]
-    if constant:
-        return no_rest(
-            static, f"the static forces {constant} do not depend on the coordinates: no rest"
-        )
+        resting = Equilibria(everywhere, static, potential, "symbolic", "the static forces vanish")
+        return _said_at_values(resting, special)
+    unknowns = [q for q in eom.coordinates if depends_on(static, [q])]
     solutions, method, reason = solve_static(static, unknowns, numbers)
     if solutions is None:
-        return no_rest(static, reason)
+        return _said_at_values(no_rest(static, reason), special)
     solutions = normalize_angles(solutions, periodic_coordinates(unknowns, static), numbers)
-    test = _free_stability(eom, numbers, subs)
-    found = tuple(build_equilibrium(eom, s, numbers, method == "symbolic", test) for s in solutions)
-    return Equilibria(found, static, potential, method, reason)
+    exact = method == "symbolic"
+    found = tuple(build_equilibrium(eom, s, numbers, exact, test) for s in solutions)
+    return _said_at_values(Equilibria(found, static, potential, method, reason), special)

@@ -28,15 +28,13 @@ import sympy as sp
 from lagrangian.analysis.arguments import (
     Subject,
     Values,
-    equations_of,
     evaluate,
     frozen,
     is_zero_value,
-    numeric_values,
     operating_state,
     positive_parameters,
-    substitutions,
 )
+from lagrangian.analysis.evaluation import EvaluationContext, evaluation_context
 from lagrangian.analysis.manifold.constraint_manifold import (
     constraint_manifold,
     require_on_manifold,
@@ -212,9 +210,19 @@ def linearize(
     >>> linearize(lg.examples.simple_pendulum(), {"theta": 0}).frequencies
     (3.13209195267317,)
     """
-    eom = equations_of(subject)
-    subs = substitutions(eom, parameters)
-    numbers = numeric_values(eom, parameters)
+    context = evaluation_context(subject, parameters)
+    return linearization_at_values(context, about, inputs, symbolic, independent)
+
+
+def linearization_at_values(
+    context: EvaluationContext,
+    about: Values | None = None,
+    inputs: Sequence[Any] = (),
+    symbolic: bool = False,
+    independent: Sequence[Any] | None = None,
+) -> Linearization:
+    """:func:`linearize` at the parameter values of ``context``."""
+    eom, subs, numbers = context.eom, dict(context.substitutions), context.values
     state = operating_state(eom, about)
     u = _inputs(eom, inputs)
     m = sp.Matrix(eom.mass_matrix).xreplace(subs)

@@ -24,15 +24,13 @@ from lagrangian.analysis.arguments import (
     Subject,
     Values,
     assuming_positive,
-    equations_of,
     evaluate,
     frozen,
     is_zero_value,
-    numeric_values,
     operating_state,
-    substitutions,
 )
-from lagrangian.analysis.equilibria import equilibria, static_forces
+from lagrangian.analysis.equilibria import equilibria_at_values, static_forces
+from lagrangian.analysis.evaluation import EvaluationContext, evaluation_context
 from lagrangian.analysis.linearize import linearize
 from lagrangian.analysis.manifold.constraint_manifold import ConstraintManifold, constraint_manifold
 from lagrangian.analysis.manifold.modes import linearized_modes, manifold_oscillation
@@ -41,7 +39,6 @@ from lagrangian.analysis.rest import Equilibrium, first_stable
 from lagrangian.analysis.simplification import simplify_small, simplify_small_matrix
 from lagrangian.analysis.spectrum import symmetric_eigenvalues
 from lagrangian.analysis.stability import stability_of, stiffness_matrix
-from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 from lagrangian.symbolic.probe import is_zero
 
@@ -62,7 +59,8 @@ class NormalModes:
     reason: str
 
 
-def _eigenvalue_text(eom, point, parameters) -> str:
+def _eigenvalue_text(context: EvaluationContext, point) -> str:
+    eom, parameters = context.eom, context.parameters
     try:
         values = linearize(eom, point, parameters=parameters).eigenvalues
     except AnalysisError as error:
@@ -70,7 +68,8 @@ def _eigenvalue_text(eom, point, parameters) -> str:
     return "linearization eigenvalues: " + (", ".join(str(v) for v in values) or "unknown")
 
 
-def _check_rest(eom, state, subs, numbers, parameters) -> None:
+def _check_rest(context: EvaluationContext, state) -> None:
+    eom, subs, numbers = context.eom, context.substitutions, context.values
     moving = [v.name for v in eom.velocities if not is_zero_value(state[v])]
     if moving:
         raise AnalysisError(
@@ -86,7 +85,7 @@ def _check_rest(eom, state, subs, numbers, parameters) -> None:
     point = {q: state[q] for q in eom.coordinates}
     raise AnalysisError(
         f"{point} is not an equilibrium: the static forces there are "
-        f"{[simplify_small(r) for r in residual]}; {_eigenvalue_text(eom, point, parameters)}"
+        f"{[simplify_small(r) for r in residual]}; {_eigenvalue_text(context, point)}"
     )
 
 
@@ -102,21 +101,21 @@ def _check_inertia(m: sp.MatrixBase, numeric: sp.MatrixBase | None, point) -> No
         )
 
 
-def _rest_point(eom, about, subs, numbers, parameters) -> tuple[dict, bool]:
+def _rest_point(context: EvaluationContext, about) -> tuple[dict, bool]:
     """The coordinates of the equilibrium to oscillate about (a family's free ones at 0),
     and whether its stability is still to be checked."""
     if about is None or isinstance(about, Equilibrium):
-        equilibrium = about or first_stable(equilibria(eom, parameters))
+        equilibrium = about or first_stable(equilibria_at_values(context))
         point = {q: 0 if q in equilibrium.free else v for q, v in equilibrium.state.items()}
         if equilibrium.stable is not True:
             raise AnalysisError(
                 f"{point} is not known to be stable ({equilibrium.reason}); "
-                f"{_eigenvalue_text(eom, point, parameters)}"
+                f"{_eigenvalue_text(context, point)}"
             )
         return point, False
-    state = operating_state(eom, about)
-    _check_rest(eom, state, subs, numbers, parameters)
-    return {q: state[q] for q in eom.coordinates}, True
+    state = operating_state(context.eom, about)
+    _check_rest(context, state)
+    return {q: state[q] for q in context.eom.coordinates}, True
 
 
 def normal_modes(
@@ -136,13 +135,18 @@ def normal_modes(
     ...              parameters={"m2": "m1", "k2": "k1", "k3": "k1"}).squared_frequencies
     (k1/m1, 3*k1/m1)
     """
-    eom = equations_of(subject)
+    return modes_at_values(evaluation_context(subject, parameters), about)
+
+
+def modes_at_values(
+    context: EvaluationContext, about: Values | Equilibrium | None = None
+) -> NormalModes:
+    """:func:`normal_modes` at the parameter values of ``context``."""
+    eom, subs, numbers = context.eom, dict(context.substitutions), context.values
     manifold = constraint_manifold(eom)
     if manifold is not None:
-        return _manifold_modes(eom, manifold, about, parameters)
-    subs = substitutions(eom, parameters)
-    numbers = numeric_values(eom, parameters)
-    point, unchecked = _rest_point(eom, about, subs, numbers, parameters)
+        return _manifold_modes(context, manifold, about)
+    point, unchecked = _rest_point(context, about)
     at_point = {**point, **{v: 0 for v in eom.velocities}}
     k = simplify_small_matrix(
         stiffness_matrix(static_forces(eom, subs), eom.coordinates).xreplace(at_point)
@@ -155,8 +159,7 @@ def normal_modes(
         stable, why = stability_of(k_numeric)
         if not stable:
             raise AnalysisError(
-                f"{point} is not a stable equilibrium ({why}); "
-                f"{_eigenvalue_text(eom, point, parameters)}"
+                f"{point} is not a stable equilibrium ({why}); {_eigenvalue_text(context, point)}"
             )
     squares, shapes, symbolic, reason = solve_pencil(k, m, k_numeric, m_numeric, eom, numbers)
     frequencies = tuple(
@@ -175,18 +178,17 @@ def normal_modes(
 
 
 def _manifold_modes(
-    eom: EquationsOfMotion,
+    context: EvaluationContext,
     manifold: ConstraintManifold,
     about: Values | Equilibrium | None,
-    parameters: Values | None,
 ) -> NormalModes:
     """Normal modes on the constraint manifold (:mod:`lagrangian.analysis.manifold.modes`):
     K v = omega^2 M v in the independent coordinates, shapes in all of them."""
-    numbers = numeric_values(eom, parameters)
-    found = manifold_oscillation(eom, manifold, about, parameters)
+    eom, numbers = context.eom, context.values
+    found = manifold_oscillation(context, manifold, about)
     names = ", ".join(q.name for q in found.independent)
     if manifold.velocity_rows:
-        frequencies, shapes = linearized_modes(eom, manifold, found.point, parameters)
+        frequencies, shapes = linearized_modes(context, manifold, found.point)
         return NormalModes(
             about=frozen(found.point),
             mass_matrix=found.mass,

@@ -15,17 +15,16 @@ conserved (unless F = 0).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.analysis.arguments import Subject, Values, equations_of, numeric_values
+from lagrangian.analysis.arguments import Subject, Values, equations_of
+from lagrangian.analysis.evaluation import EvaluationContext, condition_text, evaluation_context
 from lagrangian.analysis.manifold.constraint_manifold import constraint_manifold
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 from lagrangian.model.constraints import label
-from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.probe import is_zero
 
 
@@ -124,32 +123,8 @@ def _obstructions(eom: EquationsOfMotion, j: int) -> list[tuple[str, str, sp.Exp
     return found
 
 
-def _vanishes(expr: sp.Expr) -> bool:
-    """Identically 0; a number (parameter values put in) within round-off of 0."""
-    if not expr.free_symbols:
-        return abs(complex(expr.evalf())) < 1e-12
-    return is_zero(expr)
-
-
-def _vanishing_condition(expr: sp.Expr, numbers: Mapping[sp.Symbol, sp.Expr]) -> sp.Basic | None:
-    """The parameter values (those at 0 first, else all it uses) at which ``expr``
-    vanishes identically in the state, or None when they do not make it vanish."""
-    used = sorted((p for p in expr.free_symbols if p in numbers), key=str)
-    zeros = [p for p in used if to_sympy(numbers[p]).is_zero]
-    for chosen in (zeros, used):
-        values = {p: sp.Integer(0) if p in zeros else numbers[p] for p in chosen}
-        if chosen and _vanishes(expr.xreplace(values)):
-            return sp.And(*[sp.Eq(p, values[p]) for p in chosen])
-    return None
-
-
-def condition_text(condition: sp.Basic) -> str:
-    """A condition on parameters as people write it: ``F = 0, k = 2``."""
-    parts = condition.args if isinstance(condition, sp.And) else (condition,)
-    return ", ".join(f"{p.lhs} = {p.rhs}" if isinstance(p, sp.Eq) else str(p) for p in parts)
-
-
-def _cyclic(eom: EquationsOfMotion, j: int, numbers: Mapping) -> CyclicCoordinate:
+def _cyclic(context: EvaluationContext, j: int) -> CyclicCoordinate:
+    eom = context.eom
     q, step = eom.coordinates[j], eom.steps[j]
     absent = f"{q.name} does not appear in L (nor in the dissipation function F)"
     blocking = _obstructions(eom, j)
@@ -159,7 +134,7 @@ def _cyclic(eom: EquationsOfMotion, j: int, numbers: Mapping) -> CyclicCoordinat
             f"so d/dt p_{q.name} = dL/d{q.name} = 0"
         )
         return CyclicCoordinate(q, step.dL_dvelocity, reason)
-    conditions = [_vanishing_condition(expr, numbers) for _, _, expr in blocking]
+    conditions = [context.vanishing_condition(expr) for _, _, expr in blocking]
     kinds = tuple(dict.fromkeys(kind for kind, _, _ in blocking))
     causes = "; ".join(what for _, what, _ in blocking)
     if all(c is not None for c in conditions):
@@ -190,8 +165,12 @@ def cyclic_coordinates(
     >>> cyclic_coordinates(lg.examples.spherical_pendulum())[0].momentum
     l**2*m*phi_dot*sin(theta)**2
     """
-    eom = equations_of(subject)
-    numbers = numeric_values(eom, parameters)
+    return cyclic_at_values(evaluation_context(subject, parameters))
+
+
+def cyclic_at_values(context: EvaluationContext) -> tuple[CyclicCoordinate, ...]:
+    """:func:`cyclic_coordinates` with the parameter values of ``context``."""
+    eom = context.eom
     dissipation = eom.dissipation_function
     found = []
     for j, (q, step) in enumerate(zip(eom.coordinates, eom.steps)):
@@ -199,5 +178,5 @@ def cyclic_coordinates(
             continue
         if q in dissipation.free_symbols and not is_zero(dissipation.diff(q)):
             continue
-        found.append(_cyclic(eom, j, numbers))
+        found.append(_cyclic(context, j))
     return tuple(found)

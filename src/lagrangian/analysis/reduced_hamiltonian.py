@@ -27,7 +27,7 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.analysis.arguments import Subject, equations_of, evaluate, frozen, numeric_values
+from lagrangian.analysis.arguments import Subject, equations_of, evaluate, frozen
 from lagrangian.analysis.hamiltonian import HamiltonEquations, Hamiltonian, hamilton_equations
 from lagrangian.analysis.hamiltonian import hamiltonian as legendre_transform
 from lagrangian.analysis.manifold.constraint_manifold import ConstraintManifold, constraint_manifold
@@ -155,14 +155,14 @@ def reduced_legendre(
     return legendre, hamilton_equations(reduced_eom, legendre)
 
 
-def stable_state(eom: Any, found: Any, parameters: Mapping | None) -> dict | None:
-    """The coordinates of the first stable equilibrium in ``found`` (free ones at 0), as a
-    reference for picking solution branches; None when there is none."""
+def stable_state(found: Any, values: Mapping[sp.Symbol, Any]) -> dict | None:
+    """The coordinates of the first stable equilibrium in ``found`` (free ones at 0) at the
+    parameter ``values``, as a reference for picking solution branches; None when there is
+    none."""
     stable = [e for e in (found or ()) if e.stable]
     if not stable:
         return None
-    numbers = numeric_values(eom, parameters)
     return {
-        q: 0 if q in stable[0].free else evaluate(to_sympy(v), numbers)
+        q: 0 if q in stable[0].free else evaluate(to_sympy(v), values)
         for q, v in stable[0].state.items()
     }

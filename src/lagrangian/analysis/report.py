@@ -1,12 +1,13 @@
 """``analyze``: every analysis of a system in one report, robust part by part.
 
-Each part (momenta, cyclic coordinates, energy, Hamiltonian, equilibria, normal modes,
-linearization) is computed on its own; a part that cannot be done for this system (a
-singular Legendre transform, no stable equilibrium, ...) is recorded in ``failures`` with
-its reason instead of stopping the report.  A constrained system is analyzed on its constraint
-manifold (:func:`constrained_report`): every part there, plus the Jacobi integral and the
-steady motions of constraints that move by a symmetry; an ``about`` state off the constraints
-is refused (ConstraintError) unless projected.
+One orchestrator runs the table of parts (:data:`lagrangian.analysis.parts.PARTS`: momenta,
+cyclic coordinates, energy, Hamiltonian, equilibria, normal modes, linearization, ...), each
+in its variant for a free system or on the constraint manifold, all with one evaluation
+context (:mod:`lagrangian.analysis.evaluation`): the parameter values every statement is
+made at.  A part that cannot be done for this system (a singular Legendre transform, no
+stable equilibrium, ...) is recorded in ``failures`` with its reason instead of stopping the
+report (:mod:`lagrangian.analysis.attempts`).  On a constrained system an ``about`` state
+off the constraints is refused (ConstraintError) unless projected.
 
 >>> import lagrangian as lg
 >>> report = analyze(lg.examples.planet())
@@ -18,80 +19,44 @@ is refused (ConstraintError) unless projected.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from functools import partial
+from typing import Any
 
 import sympy as sp
 
-from lagrangian import limits
-from lagrangian.analysis.arguments import (
-    Subject,
-    Values,
-    equations_of,
-    numeric_values,
-    operating_state,
-    substitutions,
-)
-from lagrangian.analysis.energy import EnergyConservation, energy_conservation
-from lagrangian.analysis.equilibria import equilibria
-from lagrangian.analysis.hamiltonian import (
-    HamiltonEquations,
-    Hamiltonian,
-    hamilton_equations,
-    hamiltonian,
-)
-from lagrangian.analysis.integrals.constrained import constrained_first_integrals
-from lagrangian.analysis.integrals.noether import Symmetry, point_symmetries
-from lagrangian.analysis.integrals.search import (
-    SEARCH_SECONDS,
-    ConservedQuantity,
-    FirstIntegralSearch,
-    first_integrals,
-)
-from lagrangian.analysis.linearize import Linearization, linearize
+from lagrangian.analysis.arguments import Subject, Values, equations_of, operating_state
+from lagrangian.analysis.attempts import Failure, PartRunner
+from lagrangian.analysis.conserved import conserved_quantities
+from lagrangian.analysis.energy import EnergyConservation
+from lagrangian.analysis.evaluation import EvaluationContext, evaluation_context
+from lagrangian.analysis.hamiltonian import HamiltonEquations, Hamiltonian
+from lagrangian.analysis.integrals.search import SEARCH_SECONDS, ConservedQuantity
+from lagrangian.analysis.linearize import Linearization
 from lagrangian.analysis.manifold.constraint_manifold import (
+    ConstraintManifold,
     constraint_manifold,
     numeric_point,
     require_on_manifold,
 )
-from lagrangian.analysis.manifold.symmetries import (
-    JacobiIntegral,
-    jacobi_integral,
-    kept_symmetries,
-)
-from lagrangian.analysis.modes import NormalModes, normal_modes
-from lagrangian.analysis.momenta import (
-    ConjugateMomenta,
-    CyclicCoordinate,
-    conjugate_momenta,
-    cyclic_coordinates,
-)
-from lagrangian.analysis.reduced_hamiltonian import reduced_legendre, stable_state
-from lagrangian.analysis.rest import Equilibria, first_stable
-from lagrangian.analysis.steady_motions import SteadyMotions, steady_motions
-from lagrangian.constraints import project_state
-from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import AnalysisError, LagrangianError, TimeLimitError
+from lagrangian.analysis.modes import NormalModes
+from lagrangian.analysis.momenta import ConjugateMomenta, CyclicCoordinate
+from lagrangian.analysis.parts import PARTS, AnalysisRequest, Found, symmetries_kept
+from lagrangian.analysis.rest import Equilibria
+from lagrangian.analysis.steady_motions import SteadyMotions
+from lagrangian.constraints import ConstraintClass, project_state
+from lagrangian.errors import AnalysisError
 from lagrangian.limits import bounded
 from lagrangian.size_limits import size_limit as sized_to
-from lagrangian.symbolic.probe import is_zero
 
-T = TypeVar("T")
-
-
-@dataclass(frozen=True)
-class Failure:
-    """A part of the report that could not be computed for this system, and why."""
-
-    part: str
-    reason: str
+__all__ = ["AnalysisReport", "ConservedQuantity", "Failure", "analyze", "conserved_quantities"]
 
 
 @dataclass(frozen=True)
 class AnalysisReport:
     """Everything :func:`analyze` found; parts that failed are None and listed in
-    ``failures``.  ``constraints`` holds the classification of each constraint (as_dict).
+    ``failures``.  ``constraints`` holds the classification of each constraint.
 
     ``dof`` is the number of independent velocities (n minus every equality constraint, as
     Greenwood and Bloch count degrees of freedom), ``configuration_dimension`` n minus the
@@ -110,7 +75,7 @@ class AnalysisReport:
     normal_modes: NormalModes | None
     linearization: Linearization | None
     failures: tuple[Failure, ...]
-    constraints: tuple[Any, ...] = ()
+    constraints: tuple[ConstraintClass, ...] = ()
     configuration_dimension: int | None = None
     independent_velocities: int | None = None
     freedom: str = ""
@@ -121,95 +86,6 @@ class AnalysisReport:
     def failure(self, part: str) -> str | None:
         """Why ``part`` failed, or None when it did not."""
         return next((f.reason for f in self.failures if f.part == part), None)
-
-
-def conserved_quantities(
-    cyclic: Sequence[CyclicCoordinate],
-    energy: EnergyConservation | None,
-    symmetries: Sequence[Symmetry] = (),
-    jacobi: JacobiIntegral | None = None,
-    search: FirstIntegralSearch | None = None,
-) -> tuple[ConservedQuantity, ...]:
-    """The momenta of cyclic coordinates that are conserved (with their conditions), the
-    Noether charges of the other point symmetries, h when it is conserved, the Jacobi
-    integral of constraints that move by a symmetry, and the independent first integrals of
-    the ``search``."""
-    kept = [c for c in cyclic if c.conserved]
-    found = [
-        ConservedQuantity(
-            f"p_{c.coordinate.name}", c.momentum, c.reason, c.condition, "cyclic coordinate"
-        )
-        for c in kept
-    ]
-    known = [c.momentum for c in kept]
-    for symmetry in symmetries:
-        if is_zero(symmetry.conserved):
-            continue  # a coordinate without inertia: nothing to conserve
-        if any(sp.simplify(symmetry.conserved / p).is_number for p in known if p != 0):
-            continue  # the momentum of a cyclic coordinate, found again
-        found.append(
-            ConservedQuantity(
-                f"noether_{len(found) + 1}",
-                symmetry.conserved,
-                f"Noether: L is invariant under the {symmetry.description}",
-                origin="point symmetry",
-            )
-        )
-    if energy is not None and energy.conserved:
-        found.append(ConservedQuantity("h", energy.energy_function, energy.reason, origin="energy"))
-    if jacobi is not None:
-        found.append(
-            ConservedQuantity("jacobi", jacobi.expression, jacobi.reason, origin="Jacobi integral")
-        )
-    if search is not None:
-        found += search.found
-    return tuple(found)
-
-
-#: The share of the analysis's time left that one part may take: a part still running then
-#: is stopped and listed among the failures, and the report goes on with the next part, so
-#: that no part whose expressions grow can take the whole time and leave no report.
-PART_SHARE = 0.25
-
-
-def part_limit_message(part: str, seconds: float, left: float) -> str:
-    """What the report says of a part stopped at the end of its share of the time."""
-    return (
-        f"{part} stopped after {seconds:.3g} s, its share ({PART_SHARE:.0%}) of the "
-        f"{left:.3g} s the analysis had left: its expressions are too large for the time (the "
-        "other parts are reported); give the analysis more time (lagrangian --timeout "
-        "SECONDS, analyze(..., time_limit=SECONDS), or $LAGRANGIAN_TIME_LIMIT), or simplify "
-        "the model"
-    )
-
-
-class _Attempts:
-    """Runs the parts, keeping each failure's reason; each part within its share of the time
-    left (:data:`PART_SHARE`)."""
-
-    def __init__(self) -> None:
-        self.failures: list[Failure] = []
-
-    def run(self, part: str, compute: Callable[[], T]) -> T | None:
-        left = limits.remaining_seconds()
-        message = None
-        try:
-            if left is None:  # no time limit: none for the part either
-                return compute()
-            limits.check_time()  # the command's time is spent: no part may start
-            seconds = max(PART_SHARE * left, 1e-3)
-            message = part_limit_message(part, seconds, left)
-            with limits.time_limit(seconds, message=message):
-                return compute()
-        except TimeLimitError as error:
-            if message is None or str(error) != message:
-                raise  # the command's own limit: no later part may start
-            self.failures.append(Failure(part, message))
-        except LagrangianError as error:
-            self.failures.append(Failure(part, str(error)))
-        except Exception as error:  # a bug or a SymPy limitation: report it, keep going
-            self.failures.append(Failure(part, f"internal error: {type(error).__name__}: {error}"))
-        return None
 
 
 def _count(number: int, noun: str) -> str:
@@ -270,175 +146,100 @@ def analyze(
     ``$LAGRANGIAN_SIZE_LIMIT`` or :data:`lagrangian.size_limits.DEFAULT_OPERATIONS`): a part
     whose expression would pass it is listed among the ``failures``, naming the expression.
     """
-    with sized_to(size_limit):
-        return _analyze(
-            subject, about, parameters, inputs, project, independent, search_degree, search_seconds
-        )
-
-
-def _analyze(
-    subject: Subject,
-    about: Values | None,
-    parameters: Values | None,
-    inputs: Sequence[Any],
-    project: bool,
-    independent: Sequence[Any] | None,
-    search_degree: int,
-    search_seconds: float,
-) -> AnalysisReport:
     if isinstance(search_degree, bool) or not isinstance(search_degree, int) or search_degree < 0:
         raise AnalysisError(f"search_degree must be a whole number >= 0, not {search_degree!r}")
-    eom = equations_of(subject)
-    substitutions(eom, parameters)  # wrong names and values are the caller's to fix, at once
-    if about is not None:
-        operating_state(eom, about)
-    if eom.system.constraints:
-        return constrained_report(
-            eom, about, parameters, inputs, project, independent, search_degree, search_seconds
+    with sized_to(size_limit):
+        eom = equations_of(subject)
+        # wrong names and values are the caller's to fix, at once
+        context = evaluation_context(eom, parameters)
+        state = None if about is None else operating_state(eom, about)
+        # inconsistent constraints: the error goes to the user
+        manifold = constraint_manifold(eom)
+        if manifold is not None and about is not None:
+            state = _about_on_manifold(context, about, project)
+        request = AnalysisRequest(
+            context,
+            manifold,
+            state,
+            tuple(inputs),
+            None if independent is None else tuple(independent),
+            search_degree,
+            search_seconds,
         )
-    attempts = _Attempts()
-    run = attempts.run
-    cyclic = run("cyclic", lambda: cyclic_coordinates(eom, parameters)) or ()
-    symmetries = run("symmetries", lambda: point_symmetries(eom)) or ()
-    energy = run("energy", lambda: energy_conservation(eom))
-    known = conserved_quantities(cyclic, energy, symmetries)
-    search = None
-    if search_degree > 0:
-        search = run(
-            "first_integrals",
-            lambda: first_integrals(
-                eom, parameters, [c.expression for c in known], search_degree, search_seconds
-            ),
-        )
-    legendre = run("hamiltonian", lambda: hamiltonian(eom))
-    canonical = (
-        run("hamilton_equations", lambda: hamilton_equations(eom, legendre)) if legendre else None
+        return analysis_report(request)
+
+
+def analysis_report(request: AnalysisRequest) -> AnalysisReport:
+    """Every part of :data:`~lagrangian.analysis.parts.PARTS` in its variant for
+    ``request`` (free, or on the constraint manifold), in order, each failure recorded,
+    gathered into the report."""
+    runner = PartRunner()
+    found: dict[str, Any] = {}
+    for part in PARTS:
+        variant = part.variant(request, found)
+        found[part.name] = None
+        if variant is not None:
+            found[part.name] = runner.run(part.name, partial(variant, request, found))
+    return _gathered(request, found, tuple(runner.failures))
+
+
+def _freedom(request: AnalysisRequest) -> tuple[int, int, str]:
+    """(configuration dimension, independent velocities, the count explained)."""
+    n, manifold = len(request.eom.coordinates), request.manifold
+    if manifold is None:
+        return n, n, freedom_text(n, n, n)
+    dimension, velocities = manifold.configuration_dimension, manifold.independent_velocities
+    left_out = "".join(f"; left out of this analysis: {why}" for why in manifold.left_out)
+    return dimension, velocities, freedom_text(n, dimension, velocities) + left_out
+
+
+def _constraints(manifold: ConstraintManifold | None) -> tuple[ConstraintClass, ...]:
+    return () if manifold is None else tuple(manifold.classification.constraints)
+
+
+def _gathered(
+    request: AnalysisRequest, found: Found, failures: tuple[Failure, ...]
+) -> AnalysisReport:
+    """The report of the parts ``found``."""
+    eom, legendre, search = request.eom, found["hamiltonian"], found["first_integrals"]
+    dimension, velocities, freedom = _freedom(request)
+    cyclic = tuple(found["cyclic"] or ())
+    conserved = conserved_quantities(
+        cyclic, found["energy"], symmetries_kept(request, found), found["jacobi"], search
     )
-    found = run("equilibria", lambda: equilibria(eom, parameters))
-    modes = None
-    if found is not None:
-        modes = run(
-            "normal_modes", lambda: normal_modes(eom, first_stable(found), parameters=parameters)
-        )
-    linearization = None
-    if about is not None:
-        linearization = run("linearization", lambda: linearize(eom, about, inputs, parameters))
-    n = len(eom.coordinates)
     return AnalysisReport(
         name=eom.name,
-        dof=n,
+        dof=velocities,
         coordinates=tuple(eom.coordinates),
-        momenta=run("momenta", lambda: conjugate_momenta(eom)),
-        cyclic=tuple(cyclic),
-        conserved=conserved_quantities(cyclic, energy, symmetries, search=search),
+        momenta=found["momenta"],
+        cyclic=cyclic,
+        conserved=conserved,
         searched=search.searched if search is not None else (),
-        energy=energy,
-        hamiltonian=legendre,
-        hamilton_equations=canonical,
-        equilibria=found,
-        normal_modes=modes,
-        linearization=linearization,
-        failures=tuple(attempts.failures),
-        configuration_dimension=n,
-        independent_velocities=n,
-        freedom=freedom_text(n, n, n),
+        energy=found["energy"],
+        hamiltonian=None if legendre is None else legendre[0],
+        hamilton_equations=found["hamilton_equations"],
+        equilibria=found["equilibria"],
+        normal_modes=found["normal_modes"],
+        linearization=found["linearization"],
+        failures=failures,
+        constraints=_constraints(request.manifold),
+        configuration_dimension=dimension,
+        independent_velocities=velocities,
+        freedom=freedom,
+        steady_motions=found["steady_motions"],
     )
 
 
 def _about_on_manifold(
-    eom: EquationsOfMotion, about: Values, parameters: Values | None, project: bool
+    context: EvaluationContext, about: Values, project: bool
 ) -> dict[sp.Symbol, Any]:
     """The operating state, checked against the constraints (ConstraintError naming each
     one it misses, with its residual), or moved onto them when ``project``."""
+    eom, numbers = context.eom, context.values
     state = operating_state(eom, about)
-    numbers = numeric_values(eom, parameters)
     if not project:
         fix = "pass project=True to move the state onto the constraints (project_state)"
         require_on_manifold(eom, state, numbers, fix)
         return state
     moved = project_state(eom.system, numeric_point(eom, state, numbers))
     return {s: moved[s] for s in (*eom.coordinates, *eom.velocities, eom.time)}
-
-
-def constrained_report(
-    eom: EquationsOfMotion,
-    about: Values | None,
-    parameters: Values | None,
-    inputs: Sequence[Any],
-    project: bool,
-    independent: Sequence[Any] | None,
-    search_degree: int = 2,
-    search_seconds: float = SEARCH_SECONDS,
-    *,
-    time_limit: float | None = None,
-) -> AnalysisReport:
-    """Every part of :func:`analyze` on the constraint manifold (docs/architecture.md); the
-    further first integrals on the reduced system when the holonomic constraints are solved
-    in closed form, else on the constrained equations
-    (:mod:`lagrangian.analysis.integrals.constrained`)."""
-    attempts = _Attempts()
-    run = attempts.run
-    manifold = constraint_manifold(eom)  # inconsistent constraints: the error goes to the user
-    assert manifold is not None  # a System with constraints has a manifold
-    state = None if about is None else _about_on_manifold(eom, about, parameters, project)
-    cyclic = run("cyclic", lambda: cyclic_coordinates(eom, parameters)) or ()
-    symmetries = run("symmetries", lambda: point_symmetries(eom)) or ()
-    energy = run("energy", lambda: energy_conservation(eom))
-    jacobi = None
-    if energy is not None and not energy.conserved:
-        jacobi = run("jacobi", lambda: jacobi_integral(eom, energy, symmetries))
-    steady = None
-    if jacobi is not None:
-        steady = run("steady_motions", lambda: steady_motions(eom, parameters, jacobi))
-    found = run("equilibria", lambda: equilibria(eom, parameters))
-    through = stable_state(eom, found, parameters)
-    legendre = run("hamiltonian", lambda: reduced_legendre(eom, through))
-    kept = kept_symmetries(symmetries, manifold)
-    known = conserved_quantities(cyclic, energy, kept, jacobi)
-    search = None
-    if search_degree > 0:
-        search = run(
-            "first_integrals",
-            lambda: constrained_first_integrals(
-                eom,
-                parameters,
-                [c.expression for c in known],
-                search_degree,
-                search_seconds,
-                through,
-            ),
-        )
-    modes = None
-    if found is not None:
-        modes = run(
-            "normal_modes", lambda: normal_modes(eom, first_stable(found), parameters=parameters)
-        )
-    linearization = None
-    if state is not None:
-        linearization = run(
-            "linearization",
-            lambda: linearize(eom, state, inputs, parameters, independent=independent),
-        )
-    dimension, velocities = manifold.configuration_dimension, manifold.independent_velocities
-    return AnalysisReport(
-        name=eom.name,
-        dof=velocities,
-        coordinates=tuple(eom.coordinates),
-        momenta=run("momenta", lambda: conjugate_momenta(eom)),
-        cyclic=tuple(cyclic),
-        conserved=conserved_quantities(cyclic, energy, kept, jacobi, search),
-        searched=search.searched if search is not None else (),
-        energy=energy,
-        hamiltonian=legendre[0] if legendre else None,
-        hamilton_equations=legendre[1] if legendre else None,
-        equilibria=found,
-        normal_modes=modes,
-        linearization=linearization,
-        failures=tuple(attempts.failures),
-        constraints=tuple(c.as_dict() for c in manifold.classification.constraints),
-        configuration_dimension=dimension,
-        independent_velocities=velocities,
-        freedom=freedom_text(len(eom.coordinates), dimension, velocities)
-        + "".join(f"; left out of this analysis: {why}" for why in manifold.left_out),
-        steady_motions=steady,
-    )

@@ -59,13 +59,16 @@ class Equilibrium:
 @dataclass(frozen=True)
 class Equilibria:
     """Every equilibrium found, the static equations (each = 0), the effective potential
-    when there is one, and how they were found ("symbolic", "numeric" or "none")."""
+    when there is one, and how they were found ("symbolic", "numeric" or "none");
+    ``general`` says what holds for other parameter values where that differs from the
+    values given ("for F ≠ 0: no rest"), empty otherwise."""
 
     equilibria: tuple[Equilibrium, ...]
     static_equations: sp.ImmutableMatrix
     effective_potential: sp.Expr | None
     method: str
     reason: str
+    general: str = ""
 
     def __iter__(self):
         return iter(self.equilibria)

@@ -25,15 +25,8 @@ from dataclasses import dataclass, replace
 
 import sympy as sp
 
-from lagrangian.analysis.arguments import (
-    Subject,
-    Values,
-    equations_of,
-    evaluate,
-    frozen,
-    numeric_values,
-    substitutions,
-)
+from lagrangian.analysis.arguments import Subject, Values, evaluate, frozen
+from lagrangian.analysis.evaluation import EvaluationContext, evaluation_context
 from lagrangian.analysis.manifold.constraint_manifold import ConstraintManifold, constraint_manifold
 from lagrangian.analysis.manifold.linearize import numbers_at, reduced_state_space, tangent_map
 from lagrangian.analysis.manifold.statics import complete_solutions, symbolic_limit
@@ -146,13 +139,18 @@ def steady_motions(
     """The steady motions of constraints that move by a symmetry (see the module docstring),
     each with its stability relative to them; AnalysisError when the constraints do not
     move that way."""
-    eom = equations_of(subject)
+    return steady_motions_at_values(evaluation_context(subject, parameters), jacobi)
+
+
+def steady_motions_at_values(
+    context: EvaluationContext, jacobi: JacobiIntegral | None = None
+) -> SteadyMotions:
+    """:func:`steady_motions` at the parameter values of ``context``."""
+    eom, subs, numbers = context.eom, context.substitutions, context.values
     manifold = constraint_manifold(eom)
     jacobi = jacobi or (jacobi_integral(eom) if manifold is not None else None)
     _refuse(manifold, jacobi)
     assert manifold is not None and jacobi is not None  # _refuse said so
-    subs = substitutions(eom, parameters)
-    numbers = numeric_values(eom, parameters)
     potential, rate, moving = _effective_potential(eom, jacobi, subs)
     levels = [h.xreplace({eom.time: 0}).xreplace(dict(subs)) for h in manifold.position_equations]
     mus = [manifold.multipliers[row] for row in manifold.holonomic_rows]

@@ -83,6 +83,7 @@ def _energy(energy: EnergyConservation) -> dict[str, Any]:
         "total_energy": expression_string(energy.total_energy),
         "equals_total_energy": bool(energy.equals_total_energy),
         "total_energy_reason": energy.total_energy_reason,
+        "condition": expression_string(energy.condition),
     }
 
 
@@ -181,7 +182,7 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
         "independent_velocities": report.independent_velocities,
         "freedom": report.freedom,
         "coordinates": [q.name for q in report.coordinates],
-        "constraints": list(report.constraints),
+        "constraints": [c.as_dict() for c in report.constraints],
         "momenta": None if report.momenta is None else _strings_by_name(report.momenta.by_name()),
         "cyclic": [c.coordinate.name for c in report.cyclic],
         "cyclic_coordinates": [_cyclic(c) for c in report.cyclic],

@@ -27,7 +27,7 @@ from lagrangian.analysis import (
     Equilibrium,
     Linearization,
 )
-from lagrangian.analysis.momenta import condition_text
+from lagrangian.analysis.evaluation import condition_text
 from lagrangian.render.text import SumPrinter
 
 VERDICTS = {True: "stable", False: "unstable", None: "stability undetermined"}
@@ -61,12 +61,18 @@ def _holds(c: ConservedQuantity) -> str:
     return f" (holds when {condition_text(c.condition)}; not for the parameter values given)"
 
 
+def _condition(condition: sp.Basic) -> str:
+    """A condition as people write it: ``F = 0`` for an equation between parameters (SymPy
+    prints ``Eq(F, 0)``), inequalities as SymPy prints them."""
+    return condition_text(condition) if condition.has(sp.Eq) else str(condition)
+
+
 def _equilibrium_line(e: Equilibrium) -> str:
     line = f"{_state(e.state)}: {VERDICTS[e.stable]} ({e.reason})"
     if e.multipliers:
         line += f"; multipliers {_state(e.multipliers)}"
     if e.condition != sp.true:
-        line += f"; exists when {e.condition}"
+        line += f"; exists when {_condition(e.condition)}"
     return line
 
 
@@ -99,6 +105,8 @@ def _energy_lines(report: AnalysisReport) -> list[str]:
     if energy is None:
         return []
     verdict = "conserved" if energy.conserved else "not conserved"
+    if energy.conserved and energy.condition != sp.true:
+        verdict = f"conserved when {condition_text(energy.condition)}, as here"
     lines = [f"h = {energy.energy_function}", f"dh/dt = {energy.rate}: {verdict}", energy.reason]
     if energy.equals_total_energy:
         lines.append("h = T + V")
@@ -131,7 +139,7 @@ def analysis_text(report: AnalysisReport) -> str:
     lines = [f"{report.name or 'system'}: {report.freedom or f'dof = {report.dof}'}"]
     lines += _section(
         "Constraints",
-        (f"{c['kind']} {c['expression']} = 0: {c['reason']}" for c in report.constraints),
+        (f"{c.kind} {c.expression} = 0: {c.reason}" for c in report.constraints),
     )
     if report.momenta is not None:
         lines += _section("Momenta", (f"p_{q} = {p}" for q, p in report.momenta.by_name().items()))
@@ -148,7 +156,7 @@ def analysis_text(report: AnalysisReport) -> str:
     lines += _section("Hamiltonian", _hamiltonian_lines(report))
     if report.equilibria is not None:
         found = [_equilibrium_line(e) for e in report.equilibria]
-        if report.equilibria.method == "numeric" or not found:
+        if report.equilibria.method == "numeric" or not found or report.equilibria.general:
             found.append(f"({report.equilibria.reason})")  # how far the search went
         lines += _section("Equilibria", found)
     if report.steady_motions is not None:

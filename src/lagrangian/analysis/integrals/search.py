@@ -41,13 +41,13 @@ from lagrangian.analysis.arguments import (
     substitute,
     substitutions,
 )
+from lagrangian.analysis.evaluation import condition_text
 from lagrangian.analysis.integrals.conditional import candidate_relations, relation_holds
 from lagrangian.analysis.integrals.function_basis import atoms
 from lagrangian.analysis.integrals.lie_symmetries import lie_point_symmetries
 from lagrangian.analysis.integrals.quadratic import constant_on_motions, polynomial_integrals
 from lagrangian.analysis.manifold.constraint_manifold import constraint_manifold
 from lagrangian.analysis.manifold.integrals import ConstrainedMotion, manifold_integrals
-from lagrangian.analysis.momenta import condition_text
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.derivation.solved import mass_matrix_is_regular
 from lagrangian.symbolic.conversion import to_sympy

@@ -19,15 +19,9 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.analysis.arguments import (
-    Values,
-    evaluate,
-    is_zero_value,
-    numeric_values,
-    operating_state,
-    substitutions,
-)
-from lagrangian.analysis.equilibria import equilibria
+from lagrangian.analysis.arguments import Values, evaluate, is_zero_value, operating_state
+from lagrangian.analysis.equilibria import equilibria_at_values
+from lagrangian.analysis.evaluation import EvaluationContext
 from lagrangian.analysis.manifold.constraint_manifold import ConstraintManifold, require_on_manifold
 from lagrangian.analysis.manifold.linearize import reduced_state_space
 from lagrangian.analysis.manifold.statics import manifold_stiffness
@@ -35,7 +29,6 @@ from lagrangian.analysis.rest import Equilibrium, first_stable
 from lagrangian.analysis.simplification import simplify_small
 from lagrangian.analysis.spectrum import TOLERANCE, eigenpairs
 from lagrangian.analysis.stability import stability_of
-from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import AnalysisError
 
 
@@ -82,18 +75,16 @@ def _from_state(eom, manifold, about, subs, numbers) -> tuple[dict, dict, tuple]
 
 
 def manifold_oscillation(
-    eom: EquationsOfMotion,
+    context: EvaluationContext,
     manifold: ConstraintManifold,
     about: Values | Equilibrium | None,
-    parameters: Values | None,
 ) -> ManifoldOscillation:
     """K, M and P about ``about`` (an Equilibrium, a state of rest on the manifold, or by
     default the first stable equilibrium); AnalysisError when it is not a stable
     equilibrium."""
-    subs = substitutions(eom, parameters)
-    numbers = numeric_values(eom, parameters)
+    eom, subs, numbers = context.eom, dict(context.substitutions), context.values
     if about is None or isinstance(about, Equilibrium):
-        chosen = about or first_stable(equilibria(eom, parameters))
+        chosen = about or first_stable(equilibria_at_values(context))
         point, multipliers, free = _from_equilibrium(eom, chosen)
         checked = True
     else:
@@ -125,15 +116,13 @@ def _shape(vector: list[complex]) -> sp.ImmutableMatrix:
 
 
 def linearized_modes(
-    eom: EquationsOfMotion,
+    context: EvaluationContext,
     manifold: ConstraintManifold,
     point: Mapping[sp.Symbol, sp.Expr],
-    parameters: Values | None,
 ) -> tuple[tuple[sp.Expr, ...], tuple[sp.ImmutableMatrix, ...]]:
     """Frequencies (ascending) and coordinate shapes from the eigenvalues and eigenvectors
     of the linearization on the manifold at the state of rest ``point``."""
-    subs = substitutions(eom, parameters)
-    numbers = numeric_values(eom, parameters)
+    eom, subs, numbers = context.eom, dict(context.substitutions), context.values
     state = {**point, **{v: 0 for v in eom.velocities}}
     reduced = reduced_state_space(eom, manifold, state, (), subs, numbers)
     numeric = evaluate(reduced.A, numbers)

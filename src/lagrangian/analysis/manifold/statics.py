@@ -31,12 +31,8 @@ from collections.abc import Mapping
 import mpmath
 import sympy as sp
 
-from lagrangian.analysis.arguments import (
-    Values,
-    evaluate,
-    numeric_values,
-    substitutions,
-)
+from lagrangian.analysis.arguments import evaluate
+from lagrangian.analysis.evaluation import EvaluationContext
 from lagrangian.analysis.manifold.constraint_manifold import ConstraintManifold
 from lagrangian.analysis.manifold.linearize import pieces, reduced_state_space
 from lagrangian.analysis.rest import (
@@ -278,13 +274,11 @@ def complete_solutions(
     return complete
 
 
-def manifold_equilibria(
-    eom: EquationsOfMotion, manifold: ConstraintManifold, parameters: Values | None = None
-) -> Equilibria:
-    """Every equilibrium on the manifold (see the module docstring), each with its
-    multipliers and its stability; families of equilibria keep their free coordinates."""
-    subs = substitutions(eom, parameters)
-    numbers = numeric_values(eom, parameters)
+def manifold_equilibria(context: EvaluationContext, manifold: ConstraintManifold) -> Equilibria:
+    """Every equilibrium on the manifold (see the module docstring) at the parameter values
+    of ``context``, each with its multipliers and its stability; families of equilibria keep
+    their free coordinates."""
+    eom, subs, numbers = context.eom, context.substitutions, context.values
     static, unknowns = _static_equations(eom, manifold, subs)
     moving = [manifold.labels[row] for row in manifold.moving]
     if moving:
