@@ -12,7 +12,7 @@
  *     (SymEngine's LLVM backend, lagrangian/numerics/fast/native.py) of in = [t, x, p], giving
  *     out = [matrix row by row, vector] of the state equations matrix z = vector, solved here
  *     by Gaussian elimination with partial pivoting (lagrangian/numerics/fast/linear.py) and
- *     assembled as dx/dt = [q_dot; q_ddot_S] (lagrangian/numerics/fast/rates.py);
+ *     assembled as dx/dt = [q_dot; q_ddot_S] (lagrangian/numerics/fast/compiled_rates.py);
  *   - the initial step of Hairer, Norsett & Wanner (Solving ODEs I, II.4), SciPy's error norms
  *     and step control (accept when err < 1: h <- h min(10, 0.9 err^(-1/(k+1))), at most h
  *     after a rejection; reject: h <- h max(0.2, 0.9 err^(-1/(k+1))));

@@ -81,9 +81,9 @@ def available() -> bool:
 
 def native_equations(eom: EquationsOfMotion) -> FastEquations | None:
     """The state equations of ``eom`` compiled by SymEngine's LLVM backend as one C function
-    (the :class:`~lagrangian.numerics.fast.compiled_rates.FastEquations` the numba loops take
-    too), built once per EquationsOfMotion object; None where SymEngine cannot compile them
-    (this path never falls back on numba)."""
+    (:class:`~lagrangian.numerics.fast.compiled_rates.FastEquations`), built once per
+    EquationsOfMotion object; None where SymEngine cannot compile them (this path never falls
+    back on numba)."""
     return _CACHE.get(eom, _build)
 
 

@@ -25,12 +25,13 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lagrangian.constraints import constrained_equations
+from lagrangian.constraints import ConstrainedEquations, constrained_equations
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
@@ -47,7 +48,7 @@ from lagrangian.simulation.batch.result import Batch, ConstraintRows
 from lagrangian.simulation.batch.vectorized import integrate_members
 from lagrangian.simulation.integrators.compiled import loop_settings
 from lagrangian.simulation.methods import method_named
-from lagrangian.simulation.options import StepKeywords, check_keywords
+from lagrangian.simulation.options import Options, StepKeywords, check_keywords
 from lagrangian.simulation.progress_bar import progress_bar
 from lagrangian.simulation.setup import collect, describe_system, options_for
 
@@ -124,81 +125,84 @@ def simulate_batch(
     )
     loops = loop_settings(batch.inputs, batch.t_out)
     bar = _bar(progress, *batch.inputs.t_span, "t = ")
-    members, rows, failures = run_members(eom, compiled, batch, loops, stop_when, bar)
+    members, rows, failures = run_members(MemberRun(eom, compiled, batch, loops, stop_when, bar))
     return _result(compiled, batch, backend, *members, rows, failures)
 
 
-def run_members(
-    eom: EquationsOfMotion,
-    compiled: CompiledEquations,
-    batch: BatchInputs,
-    settings: Settings,
-    stop_when: StopCondition | None,
-    progress: Callable[[float], None] | None,
-) -> Ran:
+@dataclass(frozen=True)
+class MemberRun:
+    """What every batch engine is given: the equations, their compiled form, the checked
+    members, the loop settings, the stop condition and the progress callback."""
+
+    eom: EquationsOfMotion
+    compiled: CompiledEquations
+    batch: BatchInputs
+    settings: Settings
+    stop_when: StopCondition | None = None
+    progress: Callable[[float], None] | None = None
+
+    @property
+    def options(self) -> Options:
+        assert self.batch.options is not None  # prepared_batch checked them
+        return self.batch.options
+
+    def constrained(self) -> ConstrainedEquations | None:
+        """The multiplier form's equations of a constrained system (None without)."""
+        constraints = self.options.constraints
+        return constrained_equations(self.eom, constraints) if constraints else None
+
+
+def run_members(run: MemberRun) -> Ran:
     """Every member by the first engine of the method (:mod:`lagrangian.simulation.methods`)
     that runs here: the C loop where there is a compiler and SymEngine compiles the
     equations (and the stop condition), else the vectorized NumPy engine, or for a
     constrained system ``simulate`` member by member.  Returns the members (out, status,
     t_final, x_final), the constraint rows (None without constraints) and each member's
     failure message (empty: the status says it)."""
-    options = batch.options
-    constraints = options.constraints if options is not None else ()
-    for engine in method_named(settings.method).engines:
-        ran = _ENGINES[engine](eom, compiled, batch, settings, stop_when, progress, constraints)
+    for engine in method_named(run.settings.method).engines:
+        ran = _ENGINES[engine](run)
         if ran is not None:
             return ran
-    raise AssertionError(f"no batch engine runs {settings.method}")  # checked by options
+    raise AssertionError(f"no batch engine runs {run.settings.method}")  # options check it
 
 
-def _in_c_loop(
-    eom: EquationsOfMotion,
-    compiled: CompiledEquations,
-    batch: BatchInputs,
-    settings: Settings,
-    stop_when: StopCondition | None,
-    progress: Callable[[float], None] | None,
-    constraints: tuple[Any, ...],
-) -> Ran | None:
-    if not constraints:
-        members = native_members(eom, compiled, settings, batch.X0, batch.P, stop_when, progress)
+def _in_c_loop(run: MemberRun) -> Ran | None:
+    batch, equations = run.batch, run.constrained()
+    if equations is None:
+        members = native_members(
+            run.eom, run.compiled, run.settings, batch.X0, batch.P, run.stop_when, run.progress
+        )
         return None if members is None else (members, None, ())
-    assert batch.options is not None  # constraints come from the checked options
-    equations = constrained_equations(eom, constraints)
     native = native_constrained_members(
-        eom, equations, settings, batch.X0, batch.P, batch.options.gains, stop_when, progress
+        run.eom,
+        equations,
+        run.settings,
+        batch.X0,
+        batch.P,
+        run.options.gains,
+        run.stop_when,
+        run.progress,
     )
     return None if native is None else (native[0], native[1], ())
 
 
-def _vectorized(
-    eom: EquationsOfMotion,
-    compiled: CompiledEquations,
-    batch: BatchInputs,
-    settings: Settings,
-    stop_when: StopCondition | None,
-    progress: Callable[[float], None] | None,
-    constraints: tuple[Any, ...],
-) -> Ran | None:
-    if constraints:  # the members' multiplier forms are not vectorized
+def _vectorized(run: MemberRun) -> Ran | None:
+    if run.options.constraints:  # the members' multiplier forms are not vectorized
         return None
-    members = integrate_members(compiled, settings, batch.X0, batch.P, stop_when, progress)
+    batch = run.batch
+    members = integrate_members(
+        run.compiled, run.settings, batch.X0, batch.P, run.stop_when, run.progress
+    )
     return members, None, ()
 
 
-def _simulated(
-    eom: EquationsOfMotion,
-    compiled: CompiledEquations,
-    batch: BatchInputs,
-    settings: Settings,
-    stop_when: StopCondition | None,
-    progress: Callable[[float], None] | None,
-    constraints: tuple[Any, ...],
-) -> Ran | None:
-    if not constraints or batch.options is None:
+def _simulated(run: MemberRun) -> Ran | None:
+    equations = run.constrained()
+    if equations is None:  # a free system always has the vectorized engine
         return None
-    equations = constrained_equations(eom, constraints)
-    return simulated_members(eom, equations, compiled, batch, batch.options, stop_when, progress)
+    return simulated_members(
+        run.eom, equations, run.compiled, run.batch, run.options, run.stop_when, run.progress
+    )
 
 
 _ENGINES = {"c": _in_c_loop, "vectorized": _vectorized, "python": _simulated}
