@@ -1,6 +1,14 @@
 """The integration methods of :func:`lagrangian.simulate`: one table, read by every check and
 every driver (which options apply, which engine runs a method, which may be projected).
 
+* adaptive: SciPy's ``solve_ivp`` methods, the step chosen from ``rtol``, ``atol`` and
+  bounded by ``max_step``;
+* fixed: the classical RK4 (:mod:`lagrangian.simulation.integrators.rk4`), step ``dt``;
+* variational: the variational integrators, step ``dt``: the midpoint rule
+  (``variational``, :mod:`lagrangian.simulation.variational.midpoint`) and the symplectic
+  collocation methods of order 4 and 6 (``gauss4``, ``gauss6``,
+  :mod:`lagrangian.simulation.variational.collocation`).
+
 Each method names the engines that run it, best first; the drivers take the first one that
 can run here (nothing else decides which engine runs a method):
 
@@ -14,15 +22,6 @@ can run here (nothing else decides which engine runs a method):
 
 ``backend="numba"`` is kept for one release as another name of the default: the C loop runs
 RK45, DOP853 and RK4 (:func:`backend_note` says so in the run's note).
-
-* adaptive: SciPy's ``solve_ivp`` methods, the step chosen from ``rtol``, ``atol`` and
-  bounded by ``max_step``;
-* fixed: the classical RK4 (:mod:`lagrangian.simulation.integrators.rk4`), step ``dt``;
-* variational: the variational integrators, step ``dt``: the midpoint rule
-  (``variational``, :mod:`lagrangian.simulation.variational.midpoint`) and the symplectic
-  collocation
-  methods of order 4 and 6 (``gauss4``, ``gauss6``,
-  :mod:`lagrangian.simulation.variational.collocation`).
 
 >>> method_named("DOP853").stepping, method_named("RK4").takes_tolerances
 ('adaptive', False)
@@ -154,12 +153,6 @@ def runs_in(name: str, engine: str) -> bool:
     """Whether the engine ``engine`` (module docstring) runs the method called ``name``."""
     method = TABLE.get(name)
     return method is not None and engine in method.engines
-
-
-def batch_methods() -> tuple[str, ...]:
-    """The methods of ``simulate_batch``: those its engines (the C loop, or the vectorized
-    batch without a C compiler) run."""
-    return tuple(name for name, method in TABLE.items() if "vectorized" in method.engines)
 
 
 #: The backends of simulate and simulate_batch; "numba" another name of the default for one
