@@ -8,7 +8,7 @@ A simulation is three pieces, as in diffrax (a solver stepping a term) or jax-md
   constraints, the discrete Lagrangian of the variational integrator): the vector field
   dx/dt = f(t, x) on the state x = [q; q_dot] (or the discrete equations), how to read q and
   q_dot from x, and the constraint multipliers and residuals at the output rows;
-* an **integrator** behind :class:`Integrator` (SciPy's solvers and RK4, the numba loops, the
+* an **integrator** behind :class:`Integrator` (SciPy's solvers and RK4, the C loop, the
   variational integrator, the active-set driver) that steps it from the checked inputs;
 * the **outcome**: one :class:`Integration` value that :mod:`lagrangian.simulation.outcome`
   turns into the Trajectory, deciding there, once, what a failure or an interruption means.
