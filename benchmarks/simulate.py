@@ -10,43 +10,37 @@ What is measured
                     for step in the C loop compiled once per machine by the system C compiler
                     (``numerics/fast/c_loop.c``), calling the right-hand side compiled by
                     SymEngine's LLVM backend through its C function pointer;
-        numba       ``lagrangian.simulate(..., backend="numba")``: the same right-hand side,
-                    the integration loop compiled by numba once per machine;
         SciPy solvers
                     ``lagrangian.simulate`` with no C compiler found (the default backend's
                     fallback): SciPy's DOP853 on the LLVM-compiled equations.
         "simulate" times the integration alone, everything compiled and warm (best of 5 calls in
         the process); "end to end" times loading the model + derive + compilation + simulate
-        in a fresh process, its packages (numba too) imported before the clock starts, with
+        in a fresh process, its packages imported before the clock starts, with
         empty caches (a new NUMBA_CACHE_DIR and XDG_CACHE_HOME; PyDy compiles its Cython in a
-        new temporary directory). "numba, loops cached" and "native C loop, library cached" are
-        the end-to-end times when the on-disk cache already holds the integration loops (numba's
-        cache, or the C loop's shared library), which are the same for every system: the case
-        of every run after the first on a machine. "with imports" adds the time of the imports
-        to the end-to-end time. The final states are compared.
+        new temporary directory). "native C loop, library cached" is the end-to-end time when
+        the on-disk cache already holds the C loop's shared library, which is the same for
+        every system: the case of every run after the first on a machine. "with imports" adds
+        the time of the imports to the end-to-end time. The final states are compared.
     (b) 10^4 double pendulums (masses and rods 1, starts at rest with angles drawn uniformly in
         [-1, 1]^2, seed 0) over 10 s, DOP853, rtol = atol = 1e-9, final state only:
-        ``lagrangian.simulate_batch`` with backend numba (one thread), the default backend
-        (member by member in the C loop) and the default backend without a C compiler (NumPy,
-        vectorized over the members), against a Python loop of solve_ivp over the same compiled
-        NumPy right-hand side, timed on the first 200 starts only (its throughput, trajectories
-        per second, does not depend on how many).
-    (c) Where the end-to-end time of "numba, loops cached" goes (fresh processes, median): the
-        import of numba, numba's start-up with the first cached loop loaded, the derivation,
-        the LLVM compilation of the right-hand side, and the loop alone; and the same for
-        "native C loop, library cached": loading the library, the derivation, the LLVM
-        compilation, the loop alone, and the rest of the first ``lagrangian.simulate`` call
-        (input checks, the functions of the energies, the Trajectory).
-    (d) The right-hand side solved in the loop against the solved rates compiled: for the
-        10-link pendulum, the LLVM compile time and the cost of one call from a compiled loop
-        of (i) the matrix and vector of M q_ddot = forcing plus the compiled Gaussian
-        elimination, and (ii) the explicit rates (SymEngine's symbolic LU solve, then LLVM).
-    (e) Events and constraints on the default path, the C loop against SciPy's solvers (no C
-        compiler found), warm, best of 5 ``lagrangian.simulate`` calls: the double pendulum
-        over 100 s (DOP853, rtol = atol = 1e-9) with two non-terminal events (theta = 0, and
-        phi_dot rising through 0), and a pendulum in Cartesian coordinates with the holonomic
-        constraint x^2 + y^2 = l^2 in the multiplier form over 100 s (the same tolerances);
-        the largest difference of the event times and of the final states.
+        ``lagrangian.simulate_batch`` with the default backend (member by member in the C loop)
+        and the default backend without a C compiler (NumPy, vectorized over the members),
+        against a Python loop of solve_ivp over the same compiled NumPy right-hand side, timed
+        on the first 200 starts only (its throughput, trajectories per second, does not depend
+        on how many).
+    (c) Where the end-to-end time of "native C loop, library cached" goes (fresh processes,
+        median): loading the library, the derivation, the LLVM compilation, the loop alone,
+        and the rest of the first ``lagrangian.simulate`` call (input checks, the functions of
+        the energies, the Trajectory).
+    (e) Events, constraints and RK4 on the default path, the C loop against SciPy's solvers
+        (no C compiler found), warm, best of 5 ``lagrangian.simulate`` calls: the double
+        pendulum over 100 s (DOP853, rtol = atol = 1e-9) with two non-terminal events
+        (theta = 0, and phi_dot rising through 0), a pendulum in Cartesian coordinates with the
+        holonomic constraint x^2 + y^2 = l^2 in the multiplier form over 100 s (the same
+        tolerances), and the double pendulum over 10 s by RK4 with dt = 1e-3 (the Python loop
+        over RK4's OdeSolver without a compiler); the largest difference of the event times
+        and of the final states.  (The numba loops and table (d), their right-hand side
+        harness, are gone: the C loop is the one compiled engine of the Runge–Kutta family.)
 
 How
     Every measurement is a fresh process (this file with the hidden ``--worker``); the workers
@@ -83,15 +77,12 @@ LOOP_SUBSET = 200
 TARGETS = (
     ("simulate", "native C loop, library cached", 8.0),
     ("end to end", "native C loop, library cached", 25.0),
-    ("simulate", "numba", 8.0),
-    ("end to end", "numba, loops cached", 25.0),
-    ("batch", "numba", 50.0),
     ("batch", "C loop", 50.0),
 )
 #: Worker contender -> backend of lagrangian.simulate ("scipy": no C compiler is found).
-BACKENDS = {"native": "numpy", "numba": "numba", "scipy": "numpy"}
+BACKENDS = {"native": "numpy", "scipy": "numpy"}
 #: Batch contender -> backend of lagrangian.simulate_batch ("vectorized": no C compiler).
-BATCH_BACKENDS = {"numba": "numba", "C loop": "numpy", "vectorized": "numpy"}
+BATCH_BACKENDS = {"C loop": "numpy", "vectorized": "numpy"}
 #: The largest difference of the final state from PyDy's accepted as "the same state".
 SAME_STATE = 1e-9
 
@@ -222,17 +213,18 @@ def features() -> dict:
         constraints=[lg.Holonomic(x**2 + y**2 - l**2)],
         particles=[lg.Particle("bob", m, (x, y))],
     )
+    double = lg.derive(lg.examples.double_pendulum())
+    start = {"theta": 1.0, "phi": 0.5, "theta_dot": 0.0, "phi_dot": 0.0}
+    adaptive = {"method": "DOP853", "rtol": TOL, "atol": TOL}
     cases = {
-        "events": (
-            lg.derive(lg.examples.double_pendulum()),
-            {"theta": 1.0, "phi": 0.5, "theta_dot": 0.0, "phi_dot": 0.0},
-            {"events": [crossing, rising]},
-        ),
+        "events": (double, start, 100.0, {**adaptive, "events": [crossing, rising]}),
         "constraint": (
             lg.derive(cartesian),
             {"x": np.sin(1.0), "y": -np.cos(1.0), "x_dot": 0.0, "y_dot": 0.0},
-            {},
+            100.0,
+            adaptive,
         ),
+        "rk4": (double, start, 10.0, {"method": "RK4", "dt": 1e-3}),
     }
     result: dict = {}
     for path in ("native", "scipy"):
@@ -240,14 +232,12 @@ def features() -> dict:
             c_build.find_compiler = lambda: None
             c_build.loop_library.cache_clear()
         assert c_loop.available() == (path == "native")
-        for case, (eom, initial, keywords) in cases.items():
+        for case, (eom, initial, t_end, keywords) in cases.items():
             runs = []
             for _ in range(5):
-                start = time.perf_counter()
-                run = lg.simulate(
-                    eom, initial, 100.0, method="DOP853", rtol=TOL, atol=TOL, **keywords
-                )
-                runs.append(time.perf_counter() - start)
+                clock = time.perf_counter()
+                run = lg.simulate(eom, initial, t_end, **keywords)
+                runs.append(time.perf_counter() - clock)
             result[f"{case} {path}"] = min(runs)
             result[f"{case} {path} final"] = np.concatenate([run.q[-1], run.q_dot[-1]]).tolist()
             result[f"{case} {path} events"] = [event.t for event in run.events]
@@ -294,26 +284,15 @@ def worker(kind: str, contender: str, size: int) -> dict:
     if contender == "pydy":
         import pydy.codegen.ode_function_generators  # noqa: F401
         import sympy.physics.mechanics  # noqa: F401
-    else:  # the modules behind the verbs (loaded on first use); numba starts up in the clock
+    else:  # the modules behind the verbs (loaded on first use)
         lg.derive, lg.simulate, lg.examples  # noqa: B018
-    if kind != "startup" and (contender == "numba" or kind == "batch"):
-        import numba  # noqa: F401
-
-        import lagrangian.numerics.fast.run
     if contender == "scipy":  # the default backend on a machine without a C compiler
         from lagrangian.numerics.fast import c_build
 
         c_build.find_compiler = lambda: None
     imports = time.perf_counter() - imports
     if kind == "startup":
-        return startup_parts() if contender == "numba" else native_startup_parts()
-    if kind == "rhs":
-        import warnings
-
-        from numba.core.errors import NumbaExperimentalFeatureWarning
-
-        warnings.simplefilter("ignore", NumbaExperimentalFeatureWarning)
-        return rhs_costs()
+        return native_startup_parts()
     if kind == "features":
         return features()
     if kind == "batch":
@@ -340,21 +319,16 @@ def worker(kind: str, contender: str, size: int) -> dict:
         "simulate": min(runs),
         "final": final.tolist(),
     }
-    if contender in ("numba", "native"):
-        result["loop"] = time_loop_alone(eom, LINKS, contender)
+    if contender == "native":
+        result["loop"] = time_loop_alone(eom, LINKS)
     return result
 
 
-def time_loop_alone(eom, n: int, contender: str) -> float:
-    """Best of 5 of the compiled loop alone (no input checks, no Trajectory)."""
+def time_loop_alone(eom, n: int) -> float:
+    """Best of 5 of the C loop alone (no input checks, no Trajectory)."""
+    from lagrangian.numerics.fast.c_loop import integrate
+    from lagrangian.numerics.fast.c_loop import native_equations as fast_equations
     from lagrangian.numerics.fast.settings import Settings
-
-    if contender == "numba":
-        from lagrangian.numerics.fast import fast_equations
-        from lagrangian.numerics.fast.run import integrate
-    else:
-        from lagrangian.numerics.fast.c_loop import integrate
-        from lagrangian.numerics.fast.c_loop import native_equations as fast_equations
 
     x0, p = pendulum_start(n)
     settings = Settings("DOP853", (0.0, T_END), x0[:0], TOL, TOL)
@@ -396,103 +370,6 @@ def native_startup_parts() -> dict:
     return parts
 
 
-def startup_parts() -> dict:
-    """Seconds of each part of the end-to-end run with the loops cached (numba not imported
-    before: its import is measured too)."""
-    import lagrangian as lg
-
-    clock = time.perf_counter()
-
-    def lap() -> float:
-        nonlocal clock
-        now = time.perf_counter()
-        seconds, clock = now - clock, now
-        return seconds
-
-    import numba  # noqa: F401
-
-    from lagrangian.numerics.fast import fast_equations
-    from lagrangian.numerics.fast.loops import single_loop
-    from lagrangian.numerics.fast.run import Settings, integrate
-
-    parts = {"import numba and the loop modules": lap()}
-    single_loop("adaptive")
-    parts["numba start-up and the cached loop"] = lap()
-    eom = lg.derive(lg.examples.n_link_pendulum(LINKS))
-    parts["load and derive"] = lap()
-    fast = fast_equations(eom)
-    parts["LLVM compilation of the right-hand side"] = lap()
-    x0, p = pendulum_start(LINKS)
-    integrate(fast, Settings("DOP853", (0.0, T_END), x0[:0], TOL, TOL), x0, p)
-    parts["the loop (first call)"] = lap()
-    return parts
-
-
-def rhs_costs() -> dict:
-    """(d): compile seconds and microseconds per call of the two forms of the right-hand side."""
-    import ctypes
-
-    import numpy as np
-    import symengine as se
-    from numba import njit
-
-    import lagrangian as lg
-    from lagrangian.numerics.fast.loops import CFunction
-    from lagrangian.numerics.fast.native import llvm_function
-    from lagrangian.numerics.fast.rates import bind, state_rates
-    from lagrangian.numerics.state_equations import state_equations
-
-    eom = lg.derive(lg.examples.n_link_pendulum(LINKS))
-    equations = state_equations(eom)
-    symbols = [eom.time, *eom.coordinates, *eom.velocities, *eom.parameters]
-    start = time.perf_counter()
-    matrix_form = llvm_function(symbols, [*equations.matrix, *equations.vector])
-    matrix_seconds = time.perf_counter() - start
-    start = time.perf_counter()
-    # renamed before the solve: the solution shares subexpressions, which a substitution
-    # afterwards would walk as a tree
-    renamed = {se.sympify(s): se.Symbol(f"_arg{i}_") for i, s in enumerate(symbols)}
-    entries = [se.sympify(e).xreplace(renamed) for e in (*equations.matrix, *equations.vector)]
-    matrix = se.DenseMatrix(LINKS, LINKS, entries[: LINKS * LINKS])
-    accelerations = matrix.LUsolve(se.DenseMatrix(LINKS, 1, entries[LINKS * LINKS :]))
-    velocities = [renamed[se.sympify(v)] for v in eom.velocities]
-    explicit = se.Lambdify(
-        list(renamed.values()), [*velocities, *accelerations], backend="llvm", cse=True
-    )
-    explicit_seconds = time.perf_counter() - start
-
-    @njit
-    def solved(function, data, x, p, calls):
-        system = bind(function, (data, np.arange(LINKS), np.arange(0), LINKS), p, x.size)
-        dx = np.empty(x.size)
-        for call in range(calls):
-            state_rates(system, call * 1e-12, x, dx)
-        return dx
-
-    @njit
-    def direct(function, data, x, p, calls):
-        inputs, dx = np.concatenate((np.zeros(1), x, p)), np.empty(x.size)
-        for call in range(calls):
-            inputs[0] = call * 1e-12
-            function(dx.ctypes, inputs.ctypes, data)
-        return dx
-
-    x0, p = pendulum_start(LINKS)
-    x0[LINKS:] = 0.1
-    result = {"matrix_compile": matrix_seconds, "explicit_compile": explicit_seconds}
-    forms = (("matrix", solved, matrix_form), ("explicit", direct, explicit))
-    for name, harness, compiled in forms:
-        trampoline, data = compiled.as_ctypes()
-        function = CFunction(ctypes.cast(trampoline, ctypes.c_void_p).value)
-        values = harness(function, data.value, x0, p, 1)
-        calls = 200_000
-        start = time.perf_counter()
-        harness(function, data.value, x0, p, calls)
-        result[f"{name}_call"] = (time.perf_counter() - start) / calls
-        result[f"{name}_values"] = values.tolist()
-    return result
-
-
 def run_worker(kind: str, contender: str, size: int, cache: str | None) -> dict:
     env = dict(os.environ)
     env.pop("PYTHONDONTWRITEBYTECODE", None)  # imports as on any machine: from bytecode
@@ -512,25 +389,20 @@ def run_worker(kind: str, contender: str, size: int, cache: str | None) -> dict:
 
 def measure(repeat: int, batch_size: int) -> dict:
     """Every measurement ``repeat`` times, alternating contenders."""
-    warm_cache = tempfile.mkdtemp(prefix="numba-loops-")
-    run_worker("pendulum", "numba", 0, warm_cache)  # fills the cache with the loops
-    run_worker("pendulum", "native", 0, warm_cache)  # and with the C loop's library
+    warm_cache = tempfile.mkdtemp(prefix="c-loop-")
+    run_worker("pendulum", "native", 0, warm_cache)  # fills the cache with the C loop's library
     plan = [
         ("pendulum", "pydy", 0, None),
         ("pendulum", "native C loop, library cached", 0, warm_cache),
         ("pendulum", "native C loop, empty cache", 0, None),
-        ("pendulum", "numba", 0, None),
-        ("pendulum", "numba, loops cached", 0, warm_cache),
         ("pendulum", "SciPy solvers", 0, None),
-        ("startup", "numba", 0, warm_cache),
         ("startup", "native", 0, warm_cache),
-        ("batch", "numba", batch_size, warm_cache),
         ("batch", "C loop", batch_size, warm_cache),
         ("batch", "vectorized", batch_size, None),
         ("batch", "loop", LOOP_SUBSET, None),
         ("features", "native", 0, warm_cache),
     ]
-    results: dict = {("rhs", "numba"): [run_worker("rhs", "numba", 0, warm_cache)]}
+    results: dict = {}
     for r in range(repeat):
         for kind, label, size, cache in plan:
             contender = CONTENDERS.get(label.split(",")[0], label.split(",")[0])
@@ -587,8 +459,8 @@ def report(results: dict, batch_size: int) -> str:
         "end to end": lambda label: pydy["end_to_end"] / _median(pendulum[label], "end_to_end"),
         "batch": lambda label: _throughput(results, label) / _throughput(results, "loop"),
     }
-    lines += _startup_lines(results, "numba") + _startup_lines(results, "native")
-    lines += [*_rhs_lines(results), *_feature_lines(results), "", "```"]
+    lines += _startup_lines(results, "native")
+    lines += [*_feature_lines(results), "", "```"]
     for name, label, factor in TARGETS:
         ratio = ratios[name](label)
         verdict = "PASS" if ratio >= factor else "FAIL"
@@ -597,7 +469,7 @@ def report(results: dict, batch_size: int) -> str:
     verdict = "PASS" if worst <= SAME_STATE else "FAIL"
     lines.append(f"{verdict}  same final state as PyDy to {SAME_STATE:g} ({worst:.2g})")
     native = _median(pendulum["native C loop, library cached"], "loop")
-    lines += ["```", "", NOTES.format(loop=_median(pendulum["numba"], "loop"), native=native)]
+    lines += ["```", "", NOTES.format(native=native)]
     return "\n".join(lines)
 
 
@@ -637,7 +509,8 @@ def _feature_lines(results: dict) -> list[str]:
     lines = [
         "",
         "(e) Events and a constraint, 100 s, DOP853 rtol = atol = "
-        f"{TOL:g}: the C loop against SciPy's solvers (best of 5, median of the runs).",
+        f"{TOL:g}, and RK4: the C loop against SciPy's solvers (best of 5, median of the "
+        "runs).",
         "",
         "| case | C loop s | SciPy solvers s | ratio | largest difference (events, final state) |",
         "|---|---:|---:|---:|---:|",
@@ -645,6 +518,7 @@ def _feature_lines(results: dict) -> list[str]:
     for case, title in (
         ("events", "double pendulum, two events"),
         ("constraint", "Cartesian pendulum, multiplier form"),
+        ("rk4", "double pendulum, RK4 dt = 1e-3, 10 s"),
     ):
         native, scipy = _median(runs, f"{case} native"), _median(runs, f"{case} scipy")
         first = runs[0]
@@ -670,7 +544,7 @@ def _feature_lines(results: dict) -> list[str]:
 
 def _startup_lines(results: dict, contender: str) -> list[str]:
     runs = results[("startup", contender)]
-    label = {"numba": "numba, loops cached", "native": "native C loop, library cached"}
+    label = {"native": "native C loop, library cached"}
     lines = [
         "",
         f"(c) Where the end-to-end time of {label[contender]} goes (fresh processes, median).",
@@ -682,36 +556,13 @@ def _startup_lines(results: dict, contender: str) -> list[str]:
     return lines
 
 
-def _rhs_lines(results: dict) -> list[str]:
-    import numpy as np
-
-    (run,) = results[("rhs", "numba")]
-    agree = np.max(np.abs(np.array(run["matrix_values"]) - np.array(run["explicit_values"])))
-    return [
-        "",
-        f"(d) The right-hand side of the {LINKS}-link pendulum, one call from a compiled loop "
-        f"(the two forms agree to {agree:.1g}).",
-        "",
-        "| form | LLVM compile s | us per call |",
-        "|---|---:|---:|",
-        f"| matrix and vector, Gaussian elimination in the loop | {run['matrix_compile']:.3g} "
-        f"| {run['matrix_call'] * 1e6:.3g} |",
-        f"| explicit rates (symbolic LU solve) | {run['explicit_compile']:.3g} "
-        f"| {run['explicit_call'] * 1e6:.3g} |",
-    ]
-
-
 NOTES = """Notes. "simulate" is the whole ``lagrangian.simulate`` call: input checks, the run, and
-the Trajectory (energies and conserved quantities of every output row); the compiled loop
-alone takes {native:.3g} s in C, {loop:.3g} s in numba. Both compile each model's right-hand
-side with SymEngine's LLVM backend (tables (c)) and call it from an integration loop
-compiled once per machine: the C loop by the system C compiler into a shared library kept
-in the user's cache folder (the "empty cache" row compiles it, about a second, once), the
-numba loops by numba into its on-disk cache (the "numba" row compiles them, several
-seconds, once). Loading the C library takes a millisecond; numba starts up in each new
-process (tables (c)), which the imports before the clock do not include; "with imports"
-adds every import. The right-hand side is solved in the loop (table (d)): the explicit
-rates are faster a call but take longer to compile and grow as n^3."""
+the Trajectory (energies and conserved quantities of every output row); the C loop alone takes
+{native:.3g} s. It compiles each model's right-hand side with SymEngine's LLVM backend (table
+(c)) and calls it from the integration loop compiled once per machine by the system C
+compiler into a shared library kept in the user's cache folder (the "empty cache" row
+compiles it, about a second, once). Loading the C library takes a millisecond; "with
+imports" adds every import."""
 
 
 def c_compiler() -> str:

@@ -20,8 +20,8 @@ What is measured
     work    A simple pendulum (m = l = 1, g = 9.81) released at rest at theta0 = 1 rad, for
             1000 1/4 periods (T = 4 K(k^2) / w0, ending as the bob passes the bottom; the
             ``Pendulum`` of ``benchmarks/variational.py``).  Each variational integrator at
-            dt = T/n (march alone, compiled, every step kept) against DOP853 on the compiled
-            loop of ``backend="numba"`` (SciPy's steps, every accepted step kept) at
+            dt = T/n (march alone, compiled, every step kept) against DOP853 in the C loop
+            (SciPy's steps, every accepted step kept) at
               - equal work: the tolerance (rtol = atol) searched until DOP853's evaluations of
                 the right-hand side (SciPy's nfev, rejected steps included) are within 3 % of
                 the integrator's evaluations of its discrete equations (every stage's terms
@@ -66,8 +66,8 @@ sys.path.insert(0, str(HERE.parent))
 import lagrangian as lg  # noqa: E402
 from lagrangian.numerics.compile import compile_equations  # noqa: E402
 from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics  # noqa: E402
-from lagrangian.numerics.fast import fast_equations  # noqa: E402
-from lagrangian.numerics.fast.run import integrate  # noqa: E402
+from lagrangian.numerics.fast.c_loop import integrate  # noqa: E402
+from lagrangian.numerics.fast.c_loop import native_equations as fast_equations  # noqa: E402
 from lagrangian.numerics.fast.settings import Settings  # noqa: E402
 from lagrangian.simulation.variational import midpoint as variational  # noqa: E402
 from lagrangian.simulation.variational.collocation import tableau_for  # noqa: E402

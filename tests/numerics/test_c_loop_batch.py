@@ -121,8 +121,6 @@ def test_where_the_loop_does_not_apply_the_numpy_batch_runs() -> None:
     eom = lg.derive(loads(FALLING))
     compiled = compile_equations(eom)
     X0, P = np.array([[1.0, 0.0]]), np.array([[2.0, 9.81]])
-    rk4 = Settings("RK4", (0.0, 1.0), np.linspace(0, 1, 3), dt=0.01)
-    assert batch_native.native_members(eom, compiled, rk4, X0, P) is None
 
     def branching(t, q, q_dot):
         return np.where(q[..., 0] > 0, q[..., 0], -1.0)

@@ -1,6 +1,6 @@
-"""The numba loops' on-disk cache: a cache file cut short (a full disk, a killed process) is
-rebuilt, never a failure of every later run; an unwritable cache folder falls back to
-compiling in the process."""
+"""The on-disk cache of numba's variational marches: a cache file cut short (a full disk, a
+killed process) is rebuilt, never a failure of every later run; an unwritable cache folder
+falls back to compiling in the process."""
 
 import os
 import subprocess
@@ -12,8 +12,8 @@ pytest.importorskip("numba")
 
 RUN = (
     "import lagrangian as lg; "
-    "t = lg.simulate(lg.examples.simple_pendulum(), {'theta': 0.1}, 1.0, backend='numba', "
-    "method='RK4', dt=0.01); print(t.success)"
+    "t = lg.simulate(lg.examples.simple_pendulum(), {'theta': 0.1}, 1.0, "
+    "method='variational', dt=0.01); print(t.success)"
 )
 
 
@@ -44,18 +44,3 @@ def test_an_unwritable_cache_folder_still_runs(tmp_path):
     blocker.write_text("not a folder")  # no folder can be made below a file, even by root
     result = _simulate(str(blocker / "cache"))
     assert result.returncode == 0 and result.stdout.strip() == "True", result.stderr
-
-
-def test_a_stop_function_is_compiled_once_per_process() -> None:
-    """A sweep's blocks on a worker share one stop function: numba compiles it once."""
-    import numpy as np
-
-    from lagrangian.numerics.fast.run import compile_stop
-
-    def stop(t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
-        return 0.5 - q[0]
-
-    compiled = compile_stop(stop)
-    assert compile_stop(stop) is compiled
-    assert compiled(0.0, np.array([0.25]), np.array([0.0])) == 0.25
-    assert compile_stop(lambda t, q, q_dot: q[0] - 0.5) is not compiled

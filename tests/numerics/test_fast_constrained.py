@@ -1,6 +1,6 @@
-"""The multiplier form on the compiled fast path, against SciPy's solve_ivp driving the NumPy
-multiplier form (:mod:`lagrangian.numerics.constrained`) on the same systems, and the
-constraint residuals it keeps.
+"""The multiplier form in the C loop, against SciPy's solve_ivp driving the NumPy multiplier
+form (:mod:`lagrangian.numerics.constrained`) on the same systems, and the constraint
+residuals it keeps.
 """
 
 from __future__ import annotations
@@ -11,18 +11,25 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 
 import lagrangian as lg
-from lagrangian.constraints import constrained_equations
+from lagrangian.constraints import ConstrainedEquations, constrained_equations
 from lagrangian.numerics.constrained import compile_constrained
+from lagrangian.numerics.fast import c_loop
+from lagrangian.numerics.fast.c_constrained import native_constrained
+from lagrangian.numerics.fast.compiled_rates import FastEquations
+from lagrangian.numerics.fast.constrained import BAUMGARTE
+from lagrangian.numerics.fast.settings import Settings
 
-pytest.importorskip("numba")
-
-from lagrangian.numerics.fast.constrained import (
-    BAUMGARTE,
-    fast_constrained_equations,
-)
-from lagrangian.numerics.fast.run import Settings, integrate
+if not c_loop.available():
+    pytest.skip("no C compiler for the C loop", allow_module_level=True)
 
 x, y, phi, m, g, inertia = sp.symbols("x y phi m g I")
+
+
+def fast_constrained_equations(equations: ConstrainedEquations) -> FastEquations:
+    """The multiplier form compiled for the C loop."""
+    form = native_constrained(equations)
+    assert form is not None
+    return form.equations
 
 
 def bead_on_ring() -> lg.System:
@@ -76,7 +83,7 @@ def test_the_multiplier_form_integrates_as_solve_ivp_does(
     fast = fast_constrained_equations(equations)
     assert fast.parameters[-2:] == BAUMGARTE
     settings = Settings("DOP853", (0.0, 3.0), times, 1e-11, 1e-11)
-    run = integrate(fast, settings, np.array(x0), np.array([*p, *baumgarte]))
+    run = c_loop.integrate(fast, settings, np.array(x0), np.array([*p, *baumgarte]))
     assert np.max(np.abs(run.x - reference.y.T)) < 1e-9
 
 
@@ -86,7 +93,7 @@ def test_baumgarte_pulls_a_drifted_ring_back_onto_the_constraint() -> None:
     settings = Settings("DOP853", (0.0, 4.0), np.array([4.0]), 1e-10, 1e-10)
     radius = {}
     for alpha_beta in (0.0, 5.0):
-        run = integrate(fast, settings, start, np.array([1.0, 9.81, alpha_beta, alpha_beta]))
+        run = c_loop.integrate(fast, settings, start, np.array([1.0, 9.81, alpha_beta, alpha_beta]))
         radius[alpha_beta] = float(np.hypot(*run.x[-1, :2]))
     assert abs(radius[5.0] - 1.0) < 1e-5
     assert abs(radius[0.0] - 1.0) > 1e-3  # without it the index-1 form keeps the offset

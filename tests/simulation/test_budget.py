@@ -70,14 +70,6 @@ def test_budgets_that_cannot_work_are_refused_before_the_run(keywords, field):
         lg.simulate(lg.examples.simple_pendulum(), {"theta": 1.0}, 10.0, **keywords)
 
 
-def test_the_numba_loops_refuse_a_budget():
-    pytest.importorskip("numba")
-    with pytest.raises(SimulationInputError, match="max_steps"):
-        lg.simulate(
-            lg.examples.simple_pendulum(), {"theta": 1.0}, 1.0, backend="numba", max_steps=10
-        )
-
-
 def test_a_column_that_stops_being_finite_ends_the_run_there():
     # exp(-x**2) underflows to 0 once x > 27, and log(0) makes the energy infinite
     system = loads(

@@ -49,8 +49,6 @@ def test_a_top_turned_through_the_lock_stops_there_with_the_body_named() -> None
     ],
 )
 def test_the_failed_trajectory_ends_at_the_lock(method: str, options: dict, precise: bool) -> None:
-    if options.get("backend") == "numba":
-        pytest.importorskip("numba")
     trajectory = lg.simulate(
         lg.examples.heavy_symmetric_top(),
         TURNING,

@@ -180,14 +180,6 @@ def test_bad_input_on_every_path_is_a_simulation_input_error() -> None:
         dt=0.01,
         events=[lambda t, q, v: q[0]],
     )
-    refused(
-        r"numba backend has no method 'BDF'",
-        lg.examples.mass_on_spring(),
-        SPRING,
-        1.0,
-        method="BDF",
-        backend="numba",
-    )
     refused(r"conserved\.L", lg.examples.mass_on_spring(), SPRING, 1.0, conserved={"L": "q**"})
     with pytest.raises(SimulationInputError, match=r"has 3 values, but"):
         lg.simulate_batch(lg.examples.mass_on_spring(), {"x": [0.1, 0.2], "x_dot": [0, 0, 0]}, 1.0)

@@ -12,7 +12,6 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.errors import SimulationInputError
 
 G = 9.81
 
@@ -118,12 +117,6 @@ def test_atan2_and_abs_through_the_python_api():
     expected = m * sp.Symbol("x_ddot") + k * sp.sign(x) + k / (x**2 + 1)
     value = {x: -0.7, k: 1.3, m: 0.8, sp.Symbol("x_ddot"): 0.2}
     assert float(residual.subs(value)) == pytest.approx(float(expected.subs(value)))
-
-
-def test_the_numba_loops_refuse_a_switching_right_hand_side():
-    pytest.importorskip("numba")
-    with pytest.raises(SimulationInputError, match="sign or Heaviside"):
-        lg.simulate(block(), {"x": 0.0, "x_dot": 1.0}, 1.0, backend="numba")
 
 
 def test_analysis_of_non_smooth_systems_completes():

@@ -52,11 +52,6 @@ def test_bad_flags_exit_2_naming_the_flag(flags, named, tmp_path: Path, capsys) 
     [
         (
             "cylinder_on_incline",
-            ["--vary", "alpha=0.1,0.2", "--backend", "numba"],
-            r"constraints: .*use --backend numpy",
-        ),
-        (
-            "cylinder_on_incline",
             ["--vary", "x=0.1,0.2"],
             r"violates the constraints.*--project-initial",
         ),

@@ -6,7 +6,6 @@ simulations."""
 from __future__ import annotations
 
 import math
-from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -204,7 +203,6 @@ def test_the_drift_of_what_is_not_conserved_is_a_reason(cluster, tmp_path: Path)
 def test_stop_times_of_text_conditions_on_each_batch_backend(
     backend, cluster, tmp_path: Path
 ) -> None:
-    pytest.importorskip("numba")
     # released at rest from theta0 > 0, theta turns negative at T/4 = sqrt(l/g) K(m),
     # m = sin^2(theta0/2)
     angles = np.array([0.2, 1.0, 2.5])
@@ -266,25 +264,8 @@ def test_stop_times_of_constrained_members(cluster, tmp_path: Path) -> None:
 def test_python_messages_name_keywords(cluster, tmp_path: Path) -> None:
     incline = lg.examples.cylinder_on_incline()
     out = tmp_path / "a.zarr"
-    with pytest.raises(SimulationInputError, match=r"constraints: .*backend='numpy'"):
-        sweep(incline, {"alpha": [0.1]}, 1.0, backend="numba", out=out)
     with pytest.raises(SimulationInputError, match=r"remove project_initial=True"):
         sweep(lg.examples.simple_pendulum(), {"l": [1.0]}, 1.0, project_initial=True, out=out)
     with pytest.raises(SimulationInputError, match=r"stop_when: method='variational'"):
         sweep(incline, {"alpha": [0.1]}, 1.0, method="variational", dt=0.1, stop_when="x", out=out)
-
-    def not_for_numba(t, q, q_dot):
-        return float(Fraction(1, 2)) - q[0]  # numba does not know fractions
-
-    pytest.importorskip("numba")
-    with pytest.raises(SimulationInputError, match=r"stop_when: numba cannot compile"):
-        sweep(
-            lg.examples.simple_pendulum(),
-            {"l": [1.0]},
-            1.0,
-            backend="numba",
-            stop_when=not_for_numba,
-            out=out,
-            scheduler=cluster.scheduler_address,
-        )
     assert not out.exists()

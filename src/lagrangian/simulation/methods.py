@@ -1,17 +1,32 @@
 """The integration methods of :func:`lagrangian.simulate`: one table, read by every check and
-every driver (which options apply, which backend runs a method, which may be projected).
+every driver (which options apply, which engine runs a method, which may be projected).
 
 * adaptive: SciPy's ``solve_ivp`` methods, the step chosen from ``rtol``, ``atol`` and
   bounded by ``max_step``;
 * fixed: the classical RK4 (:mod:`lagrangian.simulation.integrators.rk4`), step ``dt``;
 * variational: the variational integrators, step ``dt``: the midpoint rule
   (``variational``, :mod:`lagrangian.simulation.variational.midpoint`) and the symplectic
-  collocation
-  methods of order 4 and 6 (``gauss4``, ``gauss6``,
+  collocation methods of order 4 and 6 (``gauss4``, ``gauss6``,
   :mod:`lagrangian.simulation.variational.collocation`).
+
+Each method names the engines that run it, best first; the drivers take the first one that
+can run here (nothing else decides which engine runs a method):
+
+* ``"c"``: the C loop compiled once per machine (:mod:`lagrangian.numerics.fast.c_loop`), the
+  one compiled engine of the explicit Runge–Kutta family (RK45, DOP853, RK4);
+* ``"vectorized"``: a batch's members stepped together in NumPy
+  (:mod:`lagrangian.simulation.batch.vectorized`), a batch's engine without a C compiler;
+* ``"numba"``: the variational marches compiled by numba
+  (:mod:`lagrangian.simulation.variational.compiled`) where it is installed;
+* ``"python"``: the Python loop over a stepper (SciPy's solvers, RK4, the variational steps).
+
+``backend="numba"`` is kept for one release as another name of the default: the C loop runs
+RK45, DOP853 and RK4 (:func:`backend_note` says so in the run's note).
 
 >>> method_named("DOP853").stepping, method_named("RK4").takes_tolerances
 ('adaptive', False)
+>>> method_named("RK4").engines, runs_in("Radau", "c")
+(('c', 'vectorized', 'python'), False)
 >>> METHODS
 ('RK45', 'RK23', 'DOP853', 'Radau', 'BDF', 'LSODA', 'RK4')
 >>> names_where("variational")
@@ -39,14 +54,19 @@ class Method:
     ``module:Class`` of its SciPy ``OdeSolver`` (empty for the variational ones);
     ``explicit`` whether it is an explicit Runge–Kutta method, which carries nothing but its
     last state from step to step, so that state may be projected onto constraints;
-    ``compiled`` whether the numba backend runs it.
+    ``engines`` the engines that run it, best first (module docstring).
     """
 
     name: str
     stepping: str
     solver: str
     explicit: bool
-    compiled: bool
+    engines: tuple[str, ...] = ("python",)
+
+    @property
+    def compiled(self) -> bool:
+        """Whether the compiled C loop runs it (the explicit Runge–Kutta family)."""
+        return "c" in self.engines
 
     @property
     def takes_tolerances(self) -> bool:
@@ -77,28 +97,27 @@ class Method:
 
 
 _SCIPY = "scipy.integrate"
+_RK4 = "lagrangian.simulation.integrators.rk4"
+#: The explicit Runge–Kutta methods with a tableau in the C loop and the vectorized batch.
+_RUNGE_KUTTA = ("c", "vectorized", "python")
+#: The variational marches: compiled by numba where installed, else stepped in Python.
+_MARCH = ("numba", "python")
 
 #: Every method, by name, in the order the documentation lists them.
 TABLE = MappingProxyType(
     {
         method.name: method
         for method in (
-            Method("RK45", "adaptive", f"{_SCIPY}:RK45", explicit=True, compiled=True),
-            Method("RK23", "adaptive", f"{_SCIPY}:RK23", explicit=True, compiled=False),
-            Method("DOP853", "adaptive", f"{_SCIPY}:DOP853", explicit=True, compiled=True),
-            Method("Radau", "adaptive", f"{_SCIPY}:Radau", explicit=False, compiled=False),
-            Method("BDF", "adaptive", f"{_SCIPY}:BDF", explicit=False, compiled=False),
-            Method("LSODA", "adaptive", f"{_SCIPY}:LSODA", explicit=False, compiled=False),
-            Method(
-                "RK4",
-                "fixed",
-                "lagrangian.simulation.integrators.rk4:RK4",
-                explicit=True,
-                compiled=True,
-            ),
-            Method("variational", "variational", "", explicit=False, compiled=False),
-            Method("gauss4", "variational", "", explicit=False, compiled=False),
-            Method("gauss6", "variational", "", explicit=False, compiled=False),
+            Method("RK45", "adaptive", f"{_SCIPY}:RK45", explicit=True, engines=_RUNGE_KUTTA),
+            Method("RK23", "adaptive", f"{_SCIPY}:RK23", explicit=True),
+            Method("DOP853", "adaptive", f"{_SCIPY}:DOP853", explicit=True, engines=_RUNGE_KUTTA),
+            Method("Radau", "adaptive", f"{_SCIPY}:Radau", explicit=False),
+            Method("BDF", "adaptive", f"{_SCIPY}:BDF", explicit=False),
+            Method("LSODA", "adaptive", f"{_SCIPY}:LSODA", explicit=False),
+            Method("RK4", "fixed", f"{_RK4}:RK4", explicit=True, engines=_RUNGE_KUTTA),
+            Method("variational", "variational", "", explicit=False, engines=_MARCH),
+            Method("gauss4", "variational", "", explicit=False, engines=_MARCH),
+            Method("gauss6", "variational", "", explicit=False, engines=_MARCH),
         )
     }
 )
@@ -117,7 +136,7 @@ def method_named(name: str) -> Method:
 
 def names_where(condition: str) -> tuple[str, ...]:
     """The names of the methods with the true attribute ``condition`` (``"explicit"``,
-    ``"compiled"``, ``"takes_tolerances"``, ``"takes_step"``, ``"variational"``), as the
+    ``"takes_tolerances"``, ``"takes_step"``, ``"variational"``), as the
     messages list them."""
     return tuple(name for name, method in TABLE.items() if getattr(method, condition))
 
@@ -128,3 +147,24 @@ def suggest_method(name: object) -> str:
     close = difflib.get_close_matches(str(name).lower(), list(lowered), n=1, cutoff=0.4)
     hint = f"did you mean {lowered[close[0]]!r}? " if close else ""
     return f"{hint}methods: {tuple(TABLE)}"
+
+
+def runs_in(name: str, engine: str) -> bool:
+    """Whether the engine ``engine`` (module docstring) runs the method called ``name``."""
+    method = TABLE.get(name)
+    return method is not None and engine in method.engines
+
+
+#: The backends of simulate and simulate_batch; "numba" another name of the default for one
+#: release (the C loop replaced the numba loops of the Runge–Kutta methods).
+BACKENDS = ("numpy", "numba")
+
+
+def backend_note(backend: str) -> str:
+    """What a run with ``backend`` says about it in its note (empty for the default)."""
+    if backend == "numba":
+        return (
+            "backend='numba' is another name of the default backend for one release: RK45, "
+            "DOP853 and RK4 run in the compiled C loop; drop backend='numba'."
+        )
+    return ""

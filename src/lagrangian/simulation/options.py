@@ -34,22 +34,18 @@ from lagrangian.errors import (
     Fix,
     Problem,
     Setting,
-    SimulationError,
     SimulationInputError,
     raise_if_problems,
 )
 from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, label, statement
 from lagrangian.simulation.methods import (
+    BACKENDS,
     DEFAULT_METHOD,
     TABLE,
     Method,
     names_where,
     suggest_method,
 )
-
-#: The backends of simulate and simulate_batch.
-BACKENDS = ("numpy", "numba")
-_NUMPY_FIX = "use backend='numpy' (the default)"
 
 
 class StepKeywords(TypedDict, total=False):
@@ -234,40 +230,13 @@ def _backend(options: Options) -> list[Problem]:
     if options.backend not in BACKENDS:
         message = f"unknown backend {options.backend!r}"
         return [Problem("backend", message, "backends: 'numpy' (the default), 'numba'")]
-    if options.backend != "numba":
-        return []
-    if options.spec.variational:
-        message = (
-            f"method={options.method!r} runs on compiled loops whenever numba is installed; "
-            "backend='numba' chooses them for the solve_ivp methods"
-        )
-        return [Problem("backend", message, "remove backend='numba'")]
-    problems = []
-    if not options.spec.compiled:
-        message = f"the numba backend has no method {options.method!r}"
-        fix = f"methods: {names_where('compiled')}, or {_NUMPY_FIX}"
-        problems.append(Problem("method", message, fix))
-    if options.events:
-        fix = f"{_NUMPY_FIX}, or simulate_batch(..., stop_when=...)"
-        problems.append(Problem("events", "the numba backend does not locate events", fix))
-    for name in sorted(options.given & {"max_steps", "max_wall_time"}):
-        message = f"the numba loops run to the end without a {name} budget"
-        removal = Fix(f"remove {{0.name}}, or {_NUMPY_FIX}", (Setting(name),))
-        problems.append(Problem(name, message, removal))
-    if options.constraints:
-        message = "the numba backend does not integrate constrained systems"
-        problems.append(Problem("constraints", message, _NUMPY_FIX))
-    return problems + _numba_installed()
-
-
-def _numba_installed() -> list[Problem]:
-    from lagrangian.numerics.fast import require_numba  # loads no numba itself
-
-    try:
-        require_numba()
-    except SimulationError as error:
-        return [Problem("backend", str(error))]
-    return []
+    if options.backend != "numba" or not options.spec.variational:
+        return []  # "numba": another name of the default (simulation/methods.py)
+    message = (
+        f"method={options.method!r} runs on compiled loops whenever numba is installed; "
+        "backend='numba' is another name of the default backend"
+    )
+    return [Problem("backend", message, "remove backend='numba'")]
 
 
 def _variational(options: Options) -> list[Problem]:

@@ -23,6 +23,7 @@ import numpy as np
 
 from lagrangian.errors import SimulationError
 from lagrangian.numerics.compile import CompiledEquations
+from lagrangian.numerics.status import Outcome
 from lagrangian.simulation.conservation import not_conserved
 from lagrangian.simulation.conserved import (
     compile_conserved,
@@ -31,6 +32,7 @@ from lagrangian.simulation.conserved import (
 )
 from lagrangian.simulation.impacts import ImpactRecord
 from lagrangian.simulation.integrators.protocol import Integration, Motion
+from lagrangian.simulation.methods import backend_note
 from lagrangian.simulation.setup import RunSetup
 from lagrangian.simulation.trajectory import (
     Event,
@@ -59,9 +61,9 @@ def conclude(
     """The Trajectory of ``run`` (module docstring); raises on a failure or an interruption
     when ``raise_on_failure``."""
     trajectory = setup.guard.finish(trajectory_of(setup, motion, run))
-    if raise_on_failure and trajectory.status == "failed":
+    if raise_on_failure and trajectory.status == Outcome.FAILED:
         raise SimulationError(f"{trajectory.message} {KEEP_HINT}")
-    if raise_on_failure and trajectory.status == "interrupted":
+    if raise_on_failure and trajectory.status == Outcome.INTERRUPTED:
         raise SimulationInterrupted(trajectory)
     return trajectory
 
@@ -137,7 +139,7 @@ def _columns(setup: RunSetup, motion: Motion, run: Integration) -> Trajectory:
         rows_with_energies(compiled, p, t, q, q_dot),
         events=events,
         status=run.status,
-        message=message(compiled, run),
+        message=_with_note(message(compiled, run), backend_note(setup.options.backend)),
         method=inputs.method,
         parameters=inputs.parameters,
         multipliers=multipliers,
@@ -188,6 +190,10 @@ def with_impacts(
     for column in ("energy", "energy_function")[: 1 + has_energy_function]:
         found[column] = ", ".join([*filter(None, [reasons.get(column)]), *causes])
     return found
+
+
+def _with_note(sentence: str, note: str) -> str:
+    return f"{sentence} {note}" if note else sentence
 
 
 def rows_with_energies(

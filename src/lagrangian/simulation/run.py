@@ -3,8 +3,9 @@
     M(q, t) q_ddot = forcing(q, q_dot, t),    x = [q; q_dot],    dx/dt = [q_dot; M^-1 forcing]
 
 (first-order coordinates keep only q in the state, see :mod:`lagrangian.numerics.state_equations`),
-integrated by any ``scipy.integrate.solve_ivp`` method, the fixed-step RK4, the numba loops or
-the variational integrator (:mod:`lagrangian.simulation.variational.midpoint`).
+integrated by any ``scipy.integrate.solve_ivp`` method, the fixed-step RK4 (RK45, DOP853 and
+RK4 in the compiled C loop where it runs) or the variational integrator
+(:mod:`lagrangian.simulation.variational.midpoint`).
 
 One driver for every path (docs/architecture.md): :func:`~lagrangian.simulation.setup.prepare`
 checks the call into a run setup, :func:`plan` picks the dynamics of the formulation (free,
@@ -126,12 +127,12 @@ def simulate(
         cyclic coordinates in ``Trajectory.conserved`` and its drift report
         (:mod:`lagrangian.simulation.conserved`).
     backend:
-        ``"numpy"`` (default): SciPy's solvers, where RK45 and DOP853 (free systems, and the
-        multiplier form without ``project_steps``; events that are expressions of the state)
-        run step for step in a C loop compiled once per machine when a C compiler is present
-        (:mod:`lagrangian.simulation.integrators.compiled`); or ``"numba"``: the
-        right-hand side and the whole RK45, DOP853 or RK4 loop compiled (needs
-        ``pip install lagrangian[fast]``; no events or constraints; the steps are SciPy's).
+        ``"numpy"`` (default): SciPy's solvers, where RK45, DOP853 and RK4 (free systems, and
+        the multiplier form without ``project_steps``; events that are expressions of the
+        state) run step for step in a C loop compiled once per machine when a C compiler is
+        present (:mod:`lagrangian.simulation.integrators.compiled`).  ``"numba"`` is another
+        name of the default for one release (the C loop replaced the numba loops); the run's
+        message says so.
 
     A System with holonomic or velocity constraints is integrated in the multiplier form
     (``method="variational"``: holonomic ones only, in the discrete equations); its
@@ -208,15 +209,9 @@ def formulation(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
         )
         return multipliers, native or SolverIntegrator()
     if has_switching(eom) and all(order == 2 for order in eom.coordinate_orders.values()):
-        if options.backend == "numba":
-            raise SimulationInputError(
-                "backend: the numba loops do not locate where sign or Heaviside switch the "
-                "right-hand side — use backend='numpy' (the default)"
-            )
         return SwitchedDynamics(eom, p), PiecewiseIntegrator(SolverIntegrator())
-    compiled_loop = eom if options.backend == "numba" else None
-    # the default backend: RK45 and DOP853 in the C loop compiled once per machine where it
-    # can run (a C compiler, equations and events LLVM compiles), else SciPy's solvers
+    # the methods of the C loop compiled once per machine where it can run (a C compiler,
+    # equations and events LLVM compiles), else SciPy's solvers
     free = FreeDynamics(setup.compiled, p)
     native = native_integrator(eom, options, setup.events, setup.inputs, free.unpack)
-    return free, native or SolverIntegrator(compiled_loop)
+    return free, native or SolverIntegrator()

@@ -26,7 +26,6 @@ from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.fast import c_loop
-from lagrangian.numerics.fast.tableaus import ADAPTIVE
 from lagrangian.simulation.conserved import conserved_expressions
 from lagrangian.simulation.gimbal import GimbalGuard, gimbal_guard
 from lagrangian.simulation.inputs import Fallbacks, Inputs, checked_inputs
@@ -83,7 +82,7 @@ def prepare(
     takes_events = checked.backend == "numpy" and checked.spec.takes_events
     guard = gimbal_guard(eom, system, inputs, takes_events)
     # the C loop's right-hand side evaluates M where the run will compile it anyway
-    free_loop = checked.backend == "numpy" and checked.method in ADAPTIVE
+    free_loop = checked.spec.compiled
     require_positive_inertia(
         compiled, inputs, eom if free_loop and not checked.constraints else None
     )

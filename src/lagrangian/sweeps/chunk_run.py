@@ -34,7 +34,6 @@ from lagrangian.model import System
 from lagrangian.simulation.batch.run import StopCondition, simulate_batch
 from lagrangian.simulation.trajectory import Trajectory
 from lagrangian.sweeps.members import batch_members, simulate_member, stop_time
-from lagrangian.sweeps.stop_condition import StopExpression
 from lagrangian.sweeps.variables import SweepVariables
 
 
@@ -130,8 +129,6 @@ def _batch_chunk(
     """The block as one compiled batch; a batch that raises as a whole is run again member
     by member, so that only the member that cannot be integrated is recorded as failed."""
     stop = settings.stop_when
-    if settings.backend == "numba" and isinstance(stop, StopExpression):
-        stop = stop.scalar_function()  # numba compiles plain functions, not the record
     try:
         batch = simulate_batch(
             system,

@@ -261,7 +261,7 @@ def _checked_times(
 ) -> np.ndarray:
     """The output times, after the checks of the integrator the workers will use: on the
     first block for a batch, on its first member for members run one by one (the start on
-    the constraints included); a stop condition is compiled where numba will run it."""
+    the constraints included)."""
     initial, parameters = grid.columns(first)
     t_span, stepping, backend = settings.t_span, settings.stepping, settings.backend
     if settings.variables.per_member:
@@ -277,23 +277,7 @@ def _checked_times(
             settings.stop_when,
             settings.project_initial,
         )
-    t = checked_times(system, initial, parameters, t_span, stepping, backend)
-    if backend == "numba" and settings.stop_when is not None:
-        _require_compiles(settings.stop_when)
-    return t
-
-
-def _require_compiles(condition: StopCondition) -> None:
-    """SimulationInputError when numba cannot compile the stop condition."""
-    from lagrangian.numerics.fast.run import compile_stop
-
-    function = condition.scalar_function() if isinstance(condition, StopExpression) else condition
-    try:
-        compile_stop(function)
-    except SimulationError as error:
-        text = str(error).removeprefix("stop_when: ")
-        fix = "give its text, or a function numba compiles, or use backend='numpy'"
-        raise SimulationInputError("Cannot sweep:", [Problem("stop_when", text, fix)]) from None
+    return checked_times(system, initial, parameters, t_span, stepping, backend)
 
 
 def _check_options(

@@ -5,19 +5,14 @@ The text is read by the model-file parser (:func:`lagrangian.symbolic.conversion
 never ``eval``); it may name t, the coordinates, their ``NAME_dot`` and the parameters that
 are not varied (replaced by their values).  The value is a small picklable record: each
 process makes its functions from the expression on first use, so it travels to Dask workers
-as text.  Every backend of a sweep takes it:
-
-* called as it is, it evaluates arrays of members (``q[..., j]``: the NumPy batch) or one
-  member (the events of :func:`lagrangian.simulate`, for constrained systems);
-* :meth:`StopExpression.scalar_function` is a plain function of a float t and 1-d q, q_dot,
-  written with the ``math`` module, that numba compiles (the numba batch).
+as text.  Called as it is, it evaluates arrays of members (``q[..., j]``: the NumPy batch) or
+one member (the events of :func:`lagrangian.simulate`, for constrained systems); the C loop
+compiles its ``expression``.
 
 >>> import numpy as np, lagrangian as lg
 >>> stop = stop_expression(lg.examples.simple_pendulum(), "1 - Abs(theta)")
 >>> stop(0.0, np.array([[0.5], [2.0]]), np.zeros((2, 1)))
 array([ 0.5, -1. ])
->>> float(stop.scalar_function()(0.0, np.array([2.0]), np.zeros(1)))
--1.0
 """
 
 from __future__ import annotations
@@ -55,11 +50,6 @@ class StopExpression:
         value = function(np.asarray(t, dtype=float), *columns)
         return np.broadcast_to(np.asarray(value, dtype=float), q.shape[:-1]).copy()
 
-    def scalar_function(self) -> Callable[[float, Any, Any], float]:
-        """g as a plain Python function of one member (float t, 1-d q and q_dot) using the
-        ``math`` module only, so that numba compiles it; made once per process."""
-        return _scalar(self.expression, self.coordinates)
-
 
 def stop_expression(system: System, text: str, varied: Collection[str] = ()) -> StopExpression:
     """The stop condition ``text`` for ``system``; ``varied`` parameters may not appear.
@@ -89,19 +79,3 @@ def _lambdified(expression: sp.Expr, coordinates: tuple[str, ...]) -> Callable[.
     arguments = [sp.Symbol(name) for name in ("t", *coordinates)]
     arguments += [sp.Symbol(f"{name}_dot") for name in coordinates]
     return sp.lambdify(arguments, expression, "numpy")
-
-
-@remembered(maxsize=32)
-def _scalar(
-    expression: sp.Expr, coordinates: tuple[str, ...]
-) -> Callable[[float, Any, Any], float]:
-    """``expression`` as ``g(t, q, q_dot)`` indexing q[j] and q_dot[j], printed with ``math``
-    (Heaviside and sign as conditional expressions, which numba compiles)."""
-    q, q_dot = sp.IndexedBase("q"), sp.IndexedBase("q_dot")
-    places: dict[sp.Basic, sp.Basic] = {}
-    for j, name in enumerate(coordinates):
-        places[sp.Symbol(name)] = q[j]
-        places[sp.Symbol(f"{name}_dot")] = q_dot[j]
-    body = expression.xreplace(places)
-    # a float for every member: numba needs one return type for both branches
-    return sp.lambdify([sp.Symbol("t"), q, q_dot], sp.Float(1.0) * body, "math")

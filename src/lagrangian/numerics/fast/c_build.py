@@ -45,9 +45,8 @@ from pathlib import Path
 #: The C source of the loop.
 SOURCE = Path(__file__).with_name("c_loop.c")
 #: LG_ABI_VERSION of the source: a library answering another number is compiled again.
-ABI_VERSION = 2
-#: No contraction to fused multiply-adds and no fast math: the loop rounds as the numba loop
-#: and SciPy do.
+ABI_VERSION = 3
+#: No contraction to fused multiply-adds and no fast math: the loop rounds as SciPy does.
 FLAGS = ("-O2", "-shared", "-fPIC", "-ffp-contract=off", "-fno-fast-math")
 #: Seconds a compilation may take.
 COMPILE_TIMEOUT = 300.0

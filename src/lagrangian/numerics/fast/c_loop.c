@@ -1,21 +1,24 @@
 /*
- * SciPy's RK45 and DOP853, step for step, in C: the integration loop of lagrangian.simulate.
+ * SciPy's RK45 and DOP853, step for step, and the classical fixed-step RK4, in C: the
+ * integration loop of lagrangian.simulate and lagrangian.simulate_batch.
  *
  * Compiled once per machine by the system C compiler and kept on disk
  * (lagrangian/numerics/fast/c_build.py), loaded with ctypes and driven by
- * lagrangian/numerics/fast/c_loop.py.  It is the loop of lagrangian/numerics/fast/adaptive.py
- * (the numba backend) operation for operation, so both take the same steps and agree with
- * scipy.integrate.solve_ivp to rounding:
+ * lagrangian/numerics/fast/c_loop.py.  It is SciPy's RungeKutta solver operation for
+ * operation, so it takes the same steps and agrees with scipy.integrate.solve_ivp to rounding:
  *
  *   - the right-hand side of every system is one C function
  *         void f(double *out, const double *in, void *user_data)
  *     (SymEngine's LLVM backend, lagrangian/numerics/fast/native.py) of in = [t, x, p], giving
  *     out = [matrix row by row, vector] of the state equations matrix z = vector, solved here
  *     by Gaussian elimination with partial pivoting (lagrangian/numerics/fast/linear.py) and
- *     assembled as dx/dt = [q_dot; q_ddot_S] (lagrangian/numerics/fast/rates.py);
+ *     assembled as dx/dt = [q_dot; q_ddot_S] (lagrangian/numerics/fast/compiled_rates.py);
  *   - the initial step of Hairer, Norsett & Wanner (Solving ODEs I, II.4), SciPy's error norms
  *     and step control (accept when err < 1: h <- h min(10, 0.9 err^(-1/(k+1))), at most h
  *     after a rejection; reject: h <- h max(0.2, 0.9 err^(-1/(k+1))));
+ *   - RK4 (lagrangian/simulation/integrators/rk4.py): n_fixed steps of h = (t1 - t0) / n_fixed,
+ *     step i landing exactly on t0 + i h (the last on t1), no error control, the cubic Hermite
+ *     interpolant of x and dx/dt at both ends of a step as its dense output;
  *   - output at the requested times from each step's dense output, or every step;
  *   - the budget of lagrangian/simulation/integrators/budget.py after every accepted step: accepted steps,
  *     wall time, stiffness (h |lambda| near the edge of the stability region for most of the
@@ -25,7 +28,7 @@
  * it until it ends, or returns LG_RUNNING after max_call accepted steps or at the clock time
  * chunk_end (so the caller can report progress and see Ctrl-C), or LG_FULL when the
  * every-step output needs more room, or LG_EVENTS_FULL when the event records do.  Status
- * codes 0-5 are those of lagrangian/numerics/fast/outcome.py (LG_STOPPED: a terminal event).
+ * codes 0-8 are those of lagrangian/numerics/status.py (LG_STOPPED: a terminal event).
  *
  * Events (lagrangian/simulation/integrators/events.py, as solve_ivp): the event functions are one more C
  * function g(t, x); after every accepted step a sign change of g_i in its direction is a
@@ -43,7 +46,7 @@
 #include <time.h>
 #endif
 
-#define LG_ABI_VERSION 2
+#define LG_ABI_VERSION 3
 
 enum {
     LG_FINISHED = 0,
@@ -98,6 +101,7 @@ typedef struct {
     int64_t dop853;
     int64_t error_order;
     int64_t end_stage; /* j with C[j] = 1, for the stiffness estimate; -1: none */
+    int64_t fixed;     /* 1: RK4's fixed steps and Hermite dense output (no E, P, D) */
 } lg_tableau;
 
 typedef struct {
@@ -107,6 +111,7 @@ typedef struct {
     double t0, t1, rtol, atol, max_step;
     const double *t_out; /* the output times; n_out = 0: every step */
     int64_t n_out;
+    int64_t n_fixed; /* the fixed method's number of steps over [t0, t1] */
     /* the budget (budget.py): 0 or infinite turns a check off */
     int64_t max_steps;
     double deadline; /* lg_clock() time the wall-time budget ends */
@@ -395,6 +400,18 @@ static int adaptive_step(lg_run *r, double *t_new, double *h) {
     }
 }
 
+/* One step of the fixed-step method from (t, y) with f = f(t, y): step i = steps + 1 ends at
+   t0 + i h exactly (counted, not summed, as rk4.py), the last at t1.  The status, *t_new and
+   *h = *t_new - t, the span of the step's dense output (the stages use h itself). */
+static int fixed_step(lg_run *r, double *t_new, double *h) {
+    int64_t index = r->steps + 1;
+    double h_fixed = (r->t1 - r->t0) / (double)r->n_fixed;
+    *t_new = index >= r->n_fixed ? r->t1 : r->t0 + (double)index * h_fixed;
+    *h = *t_new - r->t;
+    put(r->K, r->f, r->system.nx);
+    return rk_step(r, r->t, h_fixed) ? LG_FINISHED : LG_SINGULAR;
+}
+
 /* ------------------------------------------------------------------ dense output */
 
 /* The interpolant of the last step (t_old, h): RK45's F = K^T P, or DOP853's F (three extra
@@ -403,6 +420,8 @@ static int dense_coefficients(lg_run *r, double t_old, double h) {
     const lg_tableau *tb = &r->tableau;
     int64_t n = r->system.nx, rows = tb->stages + 1, k_rows = tb->stages + 1 + tb->extra;
     double *K = r->K, *F = r->F;
+    if (tb->fixed) /* the Hermite interpolant reads y_old, y, K_0 and f directly */
+        return 1;
     if (!tb->dop853) {
         for (int64_t k = 0; k < tb->p_cols; k++) {
             for (int64_t i = 0; i < n; i++) {
@@ -442,6 +461,13 @@ static void dense_value(const lg_run *r, double t, double t_old, double h, doubl
     int64_t n = r->system.nx;
     double s = (t - t_old) / h;
     const double *F = r->F;
+    if (tb->fixed) { /* cubic Hermite of x and dx/dt at both ends (f_old = K_0) */
+        double h00 = (1 + 2 * s) * (1 - s) * (1 - s), h10 = s * (1 - s) * (1 - s);
+        double h01 = s * s * (3 - 2 * s), h11 = s * s * (s - 1);
+        for (int64_t i = 0; i < n; i++)
+            out[i] = h00 * r->y_old[i] + h10 * h * r->K[i] + h01 * r->y[i] + h11 * h * r->f[i];
+        return;
+    }
     if (!tb->dop853) {
         for (int64_t i = 0; i < n; i++) {
             double total = 0.0, power = 1.0;
@@ -675,7 +701,7 @@ int64_t lg_start(lg_run *r) {
         return LG_SINGULAR;
     if (r->n_events > 0)
         event_values(r, r->t, r->y, r->event_old);
-    r->h_abs = initial_step(r);
+    r->h_abs = r->tableau.fixed ? (r->t1 - r->t0) / (double)r->n_fixed : initial_step(r);
     return r->h_abs < 0 ? LG_SINGULAR : LG_RUNNING;
 }
 
@@ -690,7 +716,7 @@ int64_t lg_advance(lg_run *r, int64_t max_call, double chunk_end) {
         if (r->n_found + r->n_events > r->event_capacity)
             return LG_EVENTS_FULL;
         double t_new, h;
-        int status = adaptive_step(r, &t_new, &h);
+        int status = tb->fixed ? fixed_step(r, &t_new, &h) : adaptive_step(r, &t_new, &h);
         if (status != LG_FINISHED)
             return status;
         if (!all_finite(r->y_new, n))

@@ -1,11 +1,14 @@
-"""SciPy's RK45 and DOP853 in a C loop compiled once per machine: simulate's default path.
+"""SciPy's RK45 and DOP853, and the classical RK4, in a C loop compiled once per machine: the
+one compiled engine of the explicit Runge–Kutta family, for ``simulate`` and for batches.
 
 The loop (``c_loop.c``, compiled and kept on disk by :mod:`~lagrangian.numerics.fast.c_build`)
-is :func:`lagrangian.numerics.fast.adaptive.integrate_adaptive` written in C, operation for
-operation: SciPy's initial step, error norms, step control and dense output, so its steps are
-the numba loop's and agree with ``solve_ivp`` to rounding.  It calls the right-hand side
-through the C function pointer of SymEngine's LLVM backend (``as_ctypes()``): a new model
-costs its LLVM compilation (milliseconds), no numba, no C compilation.
+is SciPy's ``RungeKutta`` solver written in C, operation for operation: SciPy's initial step,
+error norms, step control and dense output, so its steps agree with ``solve_ivp`` to
+rounding; RK4 takes the steps of :mod:`lagrangian.simulation.integrators.rk4` (landing
+exactly on t0 + i h) with its cubic Hermite dense output.  The methods are those with a
+tableau in :mod:`~lagrangian.numerics.fast.tableaus`.  It calls the right-hand side through
+the C function pointer of SymEngine's LLVM backend (``as_ctypes()``): a new model costs its
+LLVM compilation (milliseconds), no C compilation.
 
 The right-hand side may be any linear system whose first unknowns are the accelerations:
 the free state equations (:func:`native_equations`) or the multiplier form of a constrained
@@ -15,15 +18,14 @@ direction is located on the step's dense output by SciPy's brentq, written in C,
 :mod:`lagrangian.simulation.integrators.events` locates it on SciPy's path.
 
 Per step, as :mod:`lagrangian.simulation.integrators.budget` does after every step of SciPy's
-solvers, it
-counts the step against :class:`Limits`: accepted steps, wall time, stiffness (h |lambda| near
-the edge of the stability region for most of the last steps) and a collapsed step size.
+solvers, it counts the step against :class:`Limits`: accepted steps, wall time, stiffness
+(h |lambda| near the edge of the stability region for most of the last steps) and a
+collapsed step size.
 
 The C loop returns to Python after ``max_call`` accepted steps or every
 :data:`SLICE_SECONDS`, so that a progress callback is called and Ctrl-C is seen (the run
 then ends ``interrupted`` with its rows so far); with a progress callback it returns after
-every step.  How it ended is a status of :mod:`lagrangian.numerics.fast.outcome` or one of
-this module's budgets (:data:`WALL_TIME`, :data:`STIFF`, :data:`COLLAPSED`).
+every step.  How it ended is a :class:`~lagrangian.numerics.status.Status`.
 
 Where there is no C compiler (:func:`available` is False) or SymEngine cannot compile the
 equations (:func:`native_equations` is None), callers use SciPy's solvers instead.
@@ -55,19 +57,13 @@ from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.numerics.fast.c_build import loop_library
 from lagrangian.numerics.fast.compiled_rates import FastEquations
 from lagrangian.numerics.fast.native import NativeFunction, llvm_function
-from lagrangian.numerics.fast.outcome import SINGULAR, describe
 from lagrangian.numerics.fast.settings import Settings
-from lagrangian.numerics.fast.tableaus import ADAPTIVE, adaptive_tableau
+from lagrangian.numerics.fast.tableaus import fixed_steps, tableau_of
 from lagrangian.numerics.state_equations import state_equations
+from lagrangian.numerics.status import Status
 from lagrangian.symbolic.caches import IdentityCache
 from lagrangian.symbolic.nonsmooth import piecewise_smooth
 
-#: The wall-time budget ran out (``max_wall_time``).
-WALL_TIME = 6
-#: The problem is stiff for the explicit method: too many steps still to take.
-STIFF = 7
-#: The step size collapsed (the last steps advanced t by almost nothing).
-COLLAPSED = 8
 #: The C loop's returns that are no end: go on, or make room for more rows or event records.
 RUNNING, FULL, EVENTS_FULL = -1, -2, -3
 #: Seconds between returns to Python (progress, Ctrl-C) when there is no progress callback.
@@ -75,23 +71,7 @@ SLICE_SECONDS = 0.05
 #: Rows of every-step output before the first time the arrays grow.
 FIRST_ROWS = 256
 
-_BUDGET_MESSAGES = {
-    WALL_TIME: "The wall-time budget (max_wall_time) was spent before the end of the time span.",
-    STIFF: (
-        "The problem is stiff for this explicit method: use an implicit method (Radau, BDF, LSODA)."
-    ),
-    COLLAPSED: (
-        "The step size collapsed: the equations may be singular there, or stiff; use an "
-        "implicit method (Radau, BDF, LSODA)."
-    ),
-}
-
 _CACHE: IdentityCache[EquationsOfMotion, FastEquations | None] = IdentityCache()
-
-
-def describe_status(status: int) -> str:
-    """The sentence for a status of the C loop (those of outcome.py, and the budgets')."""
-    return _BUDGET_MESSAGES.get(status) or describe(status)
 
 
 def available() -> bool:
@@ -101,9 +81,9 @@ def available() -> bool:
 
 def native_equations(eom: EquationsOfMotion) -> FastEquations | None:
     """The state equations of ``eom`` compiled by SymEngine's LLVM backend as one C function
-    (the :class:`~lagrangian.numerics.fast.compiled_rates.FastEquations` the numba loops take
-    too), built once per EquationsOfMotion object; None where SymEngine cannot compile them
-    (this path never falls back on numba)."""
+    (:class:`~lagrangian.numerics.fast.compiled_rates.FastEquations`), built once per
+    EquationsOfMotion object; None where SymEngine cannot compile them (this path never falls
+    back on numba)."""
     return _CACHE.get(eom, _build)
 
 
@@ -230,8 +210,7 @@ class LoopEvents:
 class LoopRun:
     """One run of the C loop: output times and states, and how it ended.
 
-    ``status`` is a code of :mod:`lagrangian.numerics.fast.outcome` or of this module (see
-    :func:`describe_status`); ``t_reached``, ``x_reached`` the last accepted step; ``steps``
+    ``status`` says how it ended; ``t_reached``, ``x_reached`` the last accepted step; ``steps``
     the accepted steps; ``last_step`` the size of the last one; ``stiff_since`` the time the
     run became stiff (None: never); ``advanced`` how far t moved over the last
     ``collapse_steps`` steps; ``failed_at`` the (t, x) where the right-hand side failed
@@ -242,7 +221,7 @@ class LoopRun:
 
     t: np.ndarray
     x: np.ndarray
-    status: int
+    status: Status
     t_reached: float
     x_reached: np.ndarray
     steps: int
@@ -263,18 +242,23 @@ def integrate(
     progress: Callable[[float], None] | None = None,
     events: LoopEvents | None = None,
 ) -> LoopRun:
-    """Integrate from x0 with the parameters p by ``settings.method`` (RK45 or DOP853) over
-    ``settings.span``, output at ``settings.t_out`` (empty: every step), within ``limits``;
-    ``progress(t)`` after every accepted step; the zeros of ``events`` located (a terminal
-    one ends the run, status STOPPED, its time and state the last output row).
+    """Integrate from x0 with the parameters p by ``settings.method`` (RK45, DOP853, or RK4
+    of step ``settings.dt``) over ``settings.span``, output at ``settings.t_out`` (empty:
+    every step), within ``limits``; ``progress(t)`` after every accepted step; the zeros of
+    ``events`` located (a terminal one ends the run, status STOPPED, its time and state the
+    last output row).
     ``settings.max_steps`` is not read (the step budget is ``limits.max_steps``).
     RuntimeError when the C loop is not :func:`available`.
     """
     functions = _functions()
     if functions is None:
         raise RuntimeError("the C integration loop needs a C compiler")
-    if settings.method not in ADAPTIVE:
-        raise ValueError(f"the C loop runs {ADAPTIVE}, not {settings.method!r}")
+    try:
+        tableau = tableau_of(settings.method)
+    except KeyError:
+        raise ValueError(f"the C loop has no tableau for {settings.method!r}") from None
+    if tableau.fixed and not settings.dt:
+        raise ValueError(f"{settings.method} in the C loop needs its step settings.dt")
     run = _Run(functions, fast, settings, x0, p, limits or Limits(), events)
     max_call = 1 if progress is not None else 2**62
     status, interrupted = RUNNING, False
@@ -319,6 +303,7 @@ class _Tableau(ctypes.Structure):
             for name in ("stages", "extra", "p_cols", "d_rows", "dop853", "error_order")
         ),
         ("end_stage", ctypes.c_int64),
+        ("fixed", ctypes.c_int64),
     ]
 
 
@@ -333,6 +318,7 @@ class _RunStruct(ctypes.Structure):
         *((name, _DOUBLE) for name in ("t0", "t1", "rtol", "atol", "max_step")),
         ("t_out", _POINTER),
         ("n_out", _INT),
+        ("n_fixed", _INT),
         ("max_steps", _INT),
         *((name, _DOUBLE) for name in ("deadline", "stiff_edge", "stiff_near", "stiff_share")),
         ("stiff_steps_left", _DOUBLE),
@@ -394,21 +380,21 @@ def _bind(library: ctypes.CDLL) -> _Functions | None:
 @cache
 def _tableau_arrays(method: str) -> tuple[dict[str, np.ndarray], dict[str, int]]:
     """The arrays and sizes of ``struct lg_tableau`` for ``method`` (tableaus.py)."""
-    A, B, C, E, E3, P, A_extra, C_extra, D, dop853, order = adaptive_tableau(method)
-    stages = B.size
-    ends = [j for j in range(1, stages) if C[j] == 1.0]
-    arrays = {"A": A, "B": B, "C": C, "E": E, "E3": E3, "P": P}
-    arrays.update(A_extra=A_extra, C_extra=C_extra, D=D)
+    tableau = tableau_of(method)
+    stages = tableau.B.size
+    ends = [j for j in range(1, stages) if tableau.C[j] == 1.0]
+    names = ("A", "B", "C", "E", "E3", "P", "A_extra", "C_extra", "D")
     sizes = {
         "stages": stages,
-        "extra": A_extra.shape[0] if dop853 else 0,
-        "p_cols": P.shape[1],
-        "d_rows": D.shape[0] if dop853 else 0,
-        "dop853": int(dop853),
-        "error_order": int(order),
+        "extra": tableau.A_extra.shape[0] if tableau.dop853 else 0,
+        "p_cols": tableau.P.shape[1],
+        "d_rows": tableau.D.shape[0] if tableau.dop853 else 0,
+        "dop853": int(tableau.dop853),
+        "error_order": int(tableau.error_order),
         "end_stage": ends[0] if ends else -1,
+        "fixed": int(tableau.fixed),
     }
-    contiguous = {k: np.ascontiguousarray(v, dtype=float) for k, v in arrays.items()}
+    contiguous = {k: np.ascontiguousarray(getattr(tableau, k), dtype=float) for k in names}
     return contiguous, sizes
 
 
@@ -519,6 +505,8 @@ class _Run:
         s.t0, s.t1 = float(settings.span[0]), float(settings.span[1])
         s.rtol, s.atol, s.max_step = settings.rtol, settings.atol, settings.max_step
         s.t_out, s.n_out = _address(self.t_out), self.t_out.size
+        if sizes["fixed"]:
+            s.n_fixed = fixed_steps(s.t0, s.t1, float(settings.dt or 0.0))
         s.max_steps = limits.max_steps or 0
         wall = limits.max_wall_time
         s.deadline = math.inf if wall is None else functions.clock() + wall
@@ -545,12 +533,12 @@ class _Run:
         rows = min(int(s.rows), len(self.out_x))
         times = self.out_t[:rows] if self.t_out.size == 0 else self.t_out[:rows]
         failed_at = None
-        if status == SINGULAR:  # the failed evaluation's (t, x) are still in its inputs
+        if status == Status.SINGULAR:  # the failed evaluation's (t, x) are still in its inputs
             failed_at = (float(self.inputs[0]), self.inputs[1 : 1 + nx].copy())
         return LoopRun(
             t=times.copy(),
             x=self.out_x[:rows].copy(),
-            status=int(status),
+            status=Status.INTERRUPTED if interrupted else Status(status),
             t_reached=float(s.t),
             x_reached=self.state["y"].copy(),
             steps=int(s.steps),

@@ -1,4 +1,4 @@
-"""The multiplier form of a constrained system on the compiled fast path.
+"""The multiplier form of a constrained system as the C loop solves it (its expressions).
 
 With the constraints differentiated to A q_ddot = gamma (:func:`lagrangian.constraints.
 constrained_equations`), the accelerations and multipliers solve
@@ -10,9 +10,9 @@ constrained_equations`), the accelerations and multipliers solve
 for velocity rows; alpha = beta = 0 the plain index-1 form, alpha, beta > 0 Baumgarte's
 stabilization, as :mod:`lagrangian.numerics.constrained` writes it).  The state is
 x = [q; q_dot] and the unknowns z = [q_ddot; lambda] begin with the accelerations, so this is
-a linear system the compiled loops solve as they solve the unconstrained state equations
-(:func:`lagrangian.numerics.fast.compiled_rates.linear_equations`); the multipliers are solved
-for at every step and not integrated.  alpha and beta are the last two parameters, so a new
+a linear system the C loop solves as it solves the unconstrained state equations
+(:mod:`lagrangian.numerics.fast.c_constrained` compiles it); the multipliers are solved for
+at every step and not integrated.  alpha and beta are the last two parameters, so a new
 stabilization needs no new compilation.
 
 >>> import sympy as sp, lagrangian as lg
@@ -20,9 +20,10 @@ stabilization needs no new compilation.
 >>> x, y = sp.symbols("x y")
 >>> ring = lg.System(coordinates=[x, y], constraints=[lg.Holonomic(x**2 + y**2 - 1)],
 ...     particles=[lg.Particle("bead", 1, (x, y))])
->>> fast = fast_constrained_equations(constrained_equations(ring))  # doctest: +SKIP
->>> fast.size, fast.parameters  # doctest: +SKIP
-(3, ('baumgarte_alpha', 'baumgarte_beta'))
+>>> alpha, beta = sp.symbols(BAUMGARTE)
+>>> matrix, vector = multiplier_system(constrained_equations(ring), alpha, beta)
+>>> matrix.shape, vector.shape
+((3, 3), (3, 1))
 """
 
 from __future__ import annotations
@@ -32,23 +33,9 @@ import sympy as sp
 from lagrangian.constraints import ConstrainedEquations
 from lagrangian.constraints.pfaffian import pfaffian_form
 from lagrangian.model.constraints import VelocityConstraint
-from lagrangian.numerics.fast.compiled_rates import FastEquations, linear_equations, require_numba
-from lagrangian.symbolic.caches import IdentityCache
 
 #: The names of Baumgarte's alpha and beta, appended to the parameters.
 BAUMGARTE = ("baumgarte_alpha", "baumgarte_beta")
-
-_CACHE: IdentityCache[ConstrainedEquations, FastEquations] = IdentityCache()
-
-
-def fast_constrained_equations(equations: ConstrainedEquations) -> FastEquations:
-    """The compiled multiplier form of ``equations`` (module docstring), built once per
-    ConstrainedEquations object; its parameters are the system's, then alpha and beta.
-
-    Raises SimulationError when numba is missing or an expression has no numeric form.
-    """
-    require_numba()
-    return _CACHE.get(equations, _build)
 
 
 def multiplier_system(
@@ -79,15 +66,3 @@ def residual_expressions(equations: ConstrainedEquations) -> tuple[list[sp.Expr]
         velocity = isinstance(constraint, VelocityConstraint)
         h.append(sp.S.Zero if velocity else constraint.expression)
     return h, c
-
-
-def _build(equations: ConstrainedEquations) -> FastEquations:
-    q, n = equations.coordinates, len(equations.coordinates)
-    alpha, beta = (sp.Symbol(name) for name in BAUMGARTE)
-    return linear_equations(
-        equations.time,
-        q,
-        equations.velocities[:n],
-        [*equations.parameters, alpha, beta],
-        multiplier_system(equations, alpha, beta),
-    )

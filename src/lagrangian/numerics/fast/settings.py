@@ -1,9 +1,8 @@
 """How to integrate, for every batch and compiled run: the method and its tolerances or step,
 the time span and the output times.
 
-One value for both backends of a batch (the NumPy loop of
-:mod:`lagrangian.simulation.batch.vectorized` and the numba loops of
-:mod:`lagrangian.numerics.fast.run`), importable without numba.
+One value for the C loop (:mod:`lagrangian.numerics.fast.c_loop`) and the vectorized batch
+(:mod:`lagrangian.simulation.batch.vectorized`).
 
 >>> import numpy as np
 >>> Settings("RK4", (0.0, 1.0), np.linspace(0, 1, 5), dt=0.01).rtol
@@ -30,5 +29,5 @@ class Settings:
     atol: float = 1e-10
     max_step: float = math.inf
     dt: float | None = None
-    #: Trial steps a member may take (None: no limit); the NumPy batch honours it.
+    #: Steps a member may take (None: no limit).
     max_steps: int | None = None

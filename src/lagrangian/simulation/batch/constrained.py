@@ -48,7 +48,7 @@ from lagrangian.errors import LagrangianError, Problem, SimulationInputError
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.numerics.constrained import compile_constrained
-from lagrangian.numerics.fast.outcome import FINISHED, STOPPED
+from lagrangian.numerics.status import Outcome, Status
 from lagrangian.simulation.batch.inputs import BatchInputs
 from lagrangian.simulation.batch.native import Members
 from lagrangian.simulation.batch.result import ConstraintRows
@@ -59,8 +59,6 @@ from lagrangian.simulation.options import Options
 from lagrangian.simulation.run import simulate
 from lagrangian.simulation.trajectory import Trajectory
 
-#: The status of a member that ``simulate`` could not integrate (its message says why).
-FAILED = -1
 #: The name of the terminal event a stop condition becomes in ``simulate``.
 STOP_EVENT = "stop_when"
 #: Members named in a message about the members that start off the constraints.
@@ -141,7 +139,7 @@ def simulated_members(
     form = compile_constrained(equations)
     names = form.multipliers
     out = np.full((k, T, 2 * n), np.nan)
-    status, t_final, x_final = np.full(k, FINISHED), np.full(k, float(t1)), batch.X0.copy()
+    status, t_final, x_final = np.full(k, Status.FINISHED), np.full(k, float(t1)), batch.X0.copy()
     rows = ConstraintRows(
         names,
         np.full((k, T, len(names)), np.nan),
@@ -155,7 +153,7 @@ def simulated_members(
         if stop_when is not None and _negative(stop_when, t0, inputs.x0, n):
             first = int(np.searchsorted(batch.t_out, t0, side="right"))
             out[i, :first] = inputs.x0
-            status[i], t_final[i] = STOPPED, t0  # as the C loop: stopped at the start
+            status[i], t_final[i] = Status.STOPPED, t0  # as the C loop: stopped at the start
             dynamics = MultiplierDynamics(eom.system, form, inputs.p, options.gains)
             _start_rows(dynamics, t0, inputs.x0, rows, i, first)
         else:
@@ -223,7 +221,7 @@ def _simulate(
         )
     except SimulationInputError as error:  # this member's values (member 0 was checked)
         return f"Cannot simulate this member: {error}"
-    if member.status == "interrupted":
+    if member.status == Outcome.INTERRUPTED:
         raise KeyboardInterrupt  # as the other batches: Ctrl-C ends the whole batch
     return member
 
@@ -240,7 +238,7 @@ def _member(
     """Member i's rows of ``member`` put in the batch's arrays; its status and, where it
     failed, its message."""
     if isinstance(member, str):
-        return FAILED, member
+        return Status.FAILED, member
     assert member.multipliers is not None and member.constraint_residual is not None
     x = np.hstack((member.q, member.q_dot))
     common = min(len(member.t), len(t_out))
@@ -253,10 +251,10 @@ def _member(
         t_final[i], x_final[i] = member.t[-1], x[-1]
         rows.final_multipliers[i] = member.multipliers[-1]
         rows.final_constraint_residual[i] = member.constraint_residual[-1]
-    if member.status != "success":
-        return FAILED, member.message
+    if member.status != Outcome.SUCCESS:
+        return Status.FAILED, member.message
     stopped = any(event.name == STOP_EVENT for event in member.events)
-    return (STOPPED if stopped else FINISHED), None
+    return (Status.STOPPED if stopped else Status.FINISHED), None
 
 
 def _stop_event(stop_when: Callable[..., Any]) -> EventFunction:

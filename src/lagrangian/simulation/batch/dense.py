@@ -1,7 +1,7 @@
 """Dense output of one step for many members at once, and the stop time located on it.
 
-The interpolants are SciPy's (:mod:`lagrangian.numerics.fast.dense` has the formulas), with an
-axis for the members: F has shape (rows, members, state), t_old and h shape (members,).
+The interpolants are SciPy's (as ``c_loop.c`` writes them for one member), with an axis for
+the members: F has shape (rows, members, state), t_old and h shape (members,).
 
 >>> import numpy as np
 >>> x_old, x_new = np.array([[0.0]]), np.array([[1.0]])

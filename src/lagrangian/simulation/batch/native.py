@@ -1,6 +1,6 @@
 """A batch in the C loop: member after member through the library compiled once per machine.
 
-RK45 and DOP853 batches of the default backend run every member in the C loop
+Batches of the C loop's methods (RK45, DOP853, RK4) run every member in the C loop
 (:mod:`lagrangian.numerics.fast.c_loop`) with the one right-hand side compiled by SymEngine's
 LLVM backend and the member's own parameters, so member i is ``simulate`` of member i alone
 (SciPy's steps), as in the NumPy batch (:mod:`lagrangian.simulation.batch.vectorized`), whose
@@ -15,7 +15,7 @@ A constrained system runs the same way in its multiplier form with Baumgarte's g
 single ``simulate`` runs it), the multipliers and residuals of every output row computed
 after the runs, all members at once.
 
-Where the loop cannot run (no C compiler, RK4, equations or a condition SymEngine cannot
+Where the loop cannot run (no C compiler, equations or a condition SymEngine cannot
 compile) both are None: the NumPy batch runs instead, or for a constrained system
 ``simulate`` member by member (:mod:`lagrangian.simulation.batch.constrained`).
 """
@@ -40,9 +40,8 @@ from lagrangian.numerics.fast.c_constrained import (
     constraint_rows,
     native_constrained,
 )
-from lagrangian.numerics.fast.outcome import STOPPED
 from lagrangian.numerics.fast.settings import Settings
-from lagrangian.numerics.fast.tableaus import ADAPTIVE
+from lagrangian.numerics.status import Status
 from lagrangian.simulation.batch.result import ConstraintRows
 from lagrangian.simulation.integrators.event_trace import traced_events
 
@@ -62,7 +61,7 @@ def native_members(
     """Integrate every row of X0 (parameters: the same row of P) in the C loop (module
     docstring), or None where it cannot.  ``progress`` gets, after each member, the time
     span's share of the members done (t0 + (t1 - t0) (i + 1) / k)."""
-    if settings.method not in ADAPTIVE or not c_loop.available():
+    if not c_loop.available():
         return None
     fast = c_loop.native_equations(eom)
     if fast is None:
@@ -89,7 +88,7 @@ def native_constrained_members(
     """Every member of a constrained system in the multiplier form with Baumgarte's
     ``gains`` (alpha, beta) in the C loop, with the multipliers and residuals of its output
     rows and final state; None where the loop cannot run (as :func:`native_members`)."""
-    if settings.method not in ADAPTIVE or not c_loop.available():
+    if not c_loop.available():
         return None
     form = native_constrained(equations)
     if form is None:
@@ -154,14 +153,14 @@ class _Runs:
             if not g0 >= 0 and not math.isnan(g0):
                 first = int(np.searchsorted(settings.t_out, t0, side="right"))
                 out[i, :first] = X0[i]
-                status[i], t_final[i] = STOPPED, t0  # negative at the start: stopped there
+                status[i], t_final[i] = Status.STOPPED, t0  # negative at the start: stopped there
             else:
                 run = c_loop.integrate(fast, settings, X0[i], P[i], limits, None, self.events)
                 if run.interrupted:
                     raise KeyboardInterrupt  # as the NumPy batch: Ctrl-C ends the whole batch
                 out[i, : len(run.t)] = run.x
                 status[i] = run.status
-                if run.status == STOPPED and run.events:
+                if run.status == Status.STOPPED and run.events:
                     t_final[i], x_final[i] = run.events[-1][1], run.events[-1][2]
                 else:
                     t_final[i], x_final[i] = run.t_reached, run.x_reached

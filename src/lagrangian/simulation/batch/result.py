@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from lagrangian.errors import SimulationError
+from lagrangian.numerics.status import Outcome
 from lagrangian.simulation.trajectory import DOT, Event, Rows, Trajectory, trajectory_of_rows
 
 
@@ -129,7 +130,7 @@ class Batch:
             columns = {key: _frozen(values) for key, values in getattr(self, name).items()}
             object.__setattr__(self, name, MappingProxyType(columns))
         object.__setattr__(self, "coordinates", tuple(self.coordinates))
-        object.__setattr__(self, "status", tuple(self.status))
+        object.__setattr__(self, "status", tuple(Outcome(s) for s in self.status))
         object.__setattr__(self, "message", tuple(self.message))
         object.__setattr__(self, "multiplier_names", tuple(self.multiplier_names))
 
@@ -139,7 +140,7 @@ class Batch:
     @property
     def stop_time(self) -> np.ndarray:
         """The time each member stopped at, NaN for those that did not stop."""
-        stopped = np.array([s == "stopped" for s in self.status], dtype=bool)
+        stopped = np.array([s is Outcome.STOPPED for s in self.status], dtype=bool)
         return np.where(stopped, self.final_t, np.nan)
 
     @property
@@ -166,7 +167,7 @@ class Batch:
         )
         constraints = self._constraint_rows(i, rows)
         events: tuple[Event, ...] = ()
-        if self.status[i] == "stopped":
+        if self.status[i] is Outcome.STOPPED:
             state = dict(zip(self.coordinates, self.final_q[i].tolist()))
             state.update((c + DOT, float(v)) for c, v in zip(self.coordinates, self.final_q_dot[i]))
             events = (Event("stop_when", float(self.final_t[i]), state),)
@@ -179,7 +180,7 @@ class Batch:
             self.coordinates,
             Rows(t, q, q_dot, energy),
             events=events,
-            status="failed" if self.status[i] == "failed" else "success",
+            status=Outcome.FAILED if self.status[i] is Outcome.FAILED else Outcome.SUCCESS,
             message=self.message[i],
             method=self.method,
             parameters={name: float(values[i]) for name, values in self.parameters.items()},
@@ -203,7 +204,9 @@ class Batch:
         }
 
     def __repr__(self) -> str:
-        counts = {s: self.status.count(s) for s in ("success", "stopped", "failed")}
+        counts = {
+            s: self.status.count(s) for s in (Outcome.SUCCESS, Outcome.STOPPED, Outcome.FAILED)
+        }
         summary = ", ".join(f"{n} {s}" for s, n in counts.items() if n)
         return (
             f"Batch({', '.join(self.coordinates)}; {len(self)} members, {len(self.t)} times, "

@@ -2,13 +2,15 @@
 
 Each initial value and parameter is a number or an array of k values (one per member); all k
 members are integrated in one call, each with its own adaptive steps, so member i equals
-``simulate`` of member i alone.  backend "numpy" vectorizes over the members
-(:mod:`lagrangian.simulation.batch.vectorized`); "numba" runs each member through the compiled loop
-(:mod:`lagrangian.numerics.fast`).  A stop condition ``stop_when(t, q, q_dot)`` ends a member
-where it turns negative and records that time (the flip time of a pendulum, a collision...).
-A System with holonomic or velocity constraints runs each member in the multiplier form, as
-``simulate`` runs it, and the Batch holds the multipliers and the constraint residual
-(:mod:`lagrangian.simulation.batch.constrained`).
+``simulate`` of member i alone.  A batch is its members times one engine, the first of the
+method's engines (:mod:`lagrangian.simulation.methods`) that can run here: the C loop member
+by member (:mod:`lagrangian.simulation.batch.native`), else the members stepped together in
+NumPy (:mod:`lagrangian.simulation.batch.vectorized`), or for a constrained system
+``simulate`` member by member (:mod:`lagrangian.simulation.batch.constrained`).  A stop
+condition ``stop_when(t, q, q_dot)`` ends a member where it turns negative and records that
+time (the flip time of a pendulum, a collision...).  A System with holonomic or velocity
+constraints runs each member in the multiplier form, as ``simulate`` runs it, and the Batch
+holds the multipliers and the constraint residual.
 
 >>> import numpy as np, lagrangian as lg
 >>> batch = simulate_batch(lg.examples.simple_pendulum(), {"theta": [0.1, 0.2]}, 1.0,
@@ -23,27 +25,29 @@ from __future__ import annotations
 
 import dataclasses
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lagrangian.constraints import constrained_equations
+from lagrangian.constraints import ConstrainedEquations, constrained_equations
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
-from lagrangian.numerics.fast.outcome import FINISHED, STOPPED, describe
 from lagrangian.numerics.fast.settings import Settings
+from lagrangian.numerics.status import Status
 from lagrangian.simulation.batch.constrained import (
     simulated_members,
     started_members,
 )
 from lagrangian.simulation.batch.inputs import BatchInputs, checked_batch
-from lagrangian.simulation.batch.native import native_constrained_members, native_members
+from lagrangian.simulation.batch.native import Members, native_constrained_members, native_members
 from lagrangian.simulation.batch.result import Batch, ConstraintRows
 from lagrangian.simulation.batch.vectorized import integrate_members
 from lagrangian.simulation.integrators.compiled import loop_settings
+from lagrangian.simulation.methods import method_named
 from lagrangian.simulation.options import Options, StepKeywords, check_keywords
 from lagrangian.simulation.progress_bar import progress_bar
 from lagrangian.simulation.setup import collect, describe_system, options_for
@@ -53,6 +57,8 @@ if TYPE_CHECKING:
 
 #: g(t, q, q_dot): a member stops where it turns negative.
 StopCondition = Callable[[Any, Any, Any], Any]
+#: (members, constraint rows, failure messages) of a batch engine.
+Ran = tuple[Members, ConstraintRows | None, Sequence[str | None]]
 
 
 def simulate_batch(
@@ -82,23 +88,23 @@ def simulate_batch(
         Output times shared by every member; neither: the initial and final times only.
     stop_when:
         g(t, q, q_dot); a member stops where g turns negative, its time located on the dense
-        output (``Batch.stop_time``).  backend "numpy" calls it with arrays t (m,), q and
-        q_dot (m, n) of the running members, "numba" compiles it and calls it per member
-        with a float t and 1-d q, q_dot: write it with ``q[..., j]`` to serve both.
+        output (``Batch.stop_time``).  It is called with arrays t (m,), q and q_dot (m, n);
+        in the C loop it runs compiled when it is an expression of the state (write it with
+        ``q[..., j]``).
     baumgarte, project_initial:
         With constraints, as for :func:`lagrangian.simulation.simulate`: Baumgarte's
         (alpha, beta) (default off), and moving each member's start onto the constraints
-        (else members that start off them are refused).  A constrained batch runs RK45 and
-        DOP853 member by member in the C loop, else (no C compiler, RK4, a stop condition
-        SymEngine cannot compile) ``simulate`` runs each member: slower, the same members.
-        Unilateral constraints are refused.
+        (else members that start off them are refused).  A constrained batch runs member by
+        member in the C loop, else (no C compiler, a stop condition SymEngine cannot
+        compile) ``simulate`` runs each member: slower, the same members.  Unilateral
+        constraints are refused.
     backend:
-        "numpy" (default) or "numba" (``pip install lagrangian[fast]``; no constraints).
+        "numpy" (default); "numba" is another name of it for one release (the C loop
+        replaced the numba loops) and is recorded in ``Batch.backend``.
     progress:
-        True: a bar on standard error (over time for numpy, over members for numba); or a
-        callback taking the time (numpy) or the number of members done (numba).
+        True: a bar on standard error over time; or a callback taking the time.
     workers:
-        numba only: threads running chunks of members at once.
+        Accepted for one release and without effect (it chose the numba loops' threads).
 
     Raises
     ------
@@ -118,21 +124,88 @@ def simulate_batch(
         project_initial=project_initial,
     )
     loops = loop_settings(batch.inputs, batch.t_out)
-    if batch.options is not None and batch.options.constraints:
-        bar = _bar(progress, *batch.inputs.t_span, "t = ")
-        return _constrained(eom, compiled, batch, batch.options, loops, stop_when, bar)
-    if backend == "numba":
-        out, status, t_final, x_final = _numba_members(
-            eom, batch, loops, stop_when, progress, workers
+    bar = _bar(progress, *batch.inputs.t_span, "t = ")
+    members, rows, failures = run_members(MemberRun(eom, compiled, batch, loops, stop_when, bar))
+    return _result(compiled, batch, backend, *members, rows, failures)
+
+
+@dataclass(frozen=True)
+class MemberRun:
+    """What every batch engine is given: the equations, their compiled form, the checked
+    members, the loop settings, the stop condition and the progress callback."""
+
+    eom: EquationsOfMotion
+    compiled: CompiledEquations
+    batch: BatchInputs
+    settings: Settings
+    stop_when: StopCondition | None = None
+    progress: Callable[[float], None] | None = None
+
+    @property
+    def options(self) -> Options:
+        assert self.batch.options is not None  # prepared_batch checked them
+        return self.batch.options
+
+    def constrained(self) -> ConstrainedEquations | None:
+        """The multiplier form's equations of a constrained system (None without)."""
+        constraints = self.options.constraints
+        return constrained_equations(self.eom, constraints) if constraints else None
+
+
+def run_members(run: MemberRun) -> Ran:
+    """Every member by the first engine of the method (:mod:`lagrangian.simulation.methods`)
+    that runs here: the C loop where there is a compiler and SymEngine compiles the
+    equations (and the stop condition), else the vectorized NumPy engine, or for a
+    constrained system ``simulate`` member by member.  Returns the members (out, status,
+    t_final, x_final), the constraint rows (None without constraints) and each member's
+    failure message (empty: the status says it)."""
+    for engine in method_named(run.settings.method).engines:
+        ran = _ENGINES[engine](run)
+        if ran is not None:
+            return ran
+    raise AssertionError(f"no batch engine runs {run.settings.method}")  # options check it
+
+
+def _in_c_loop(run: MemberRun) -> Ran | None:
+    batch, equations = run.batch, run.constrained()
+    if equations is None:
+        members = native_members(
+            run.eom, run.compiled, run.settings, batch.X0, batch.P, run.stop_when, run.progress
         )
-    else:
-        bar = _bar(progress, *batch.inputs.t_span, "t = ")
-        # RK45 and DOP853 member by member in the C loop where it can run, else vectorized
-        members = native_members(eom, compiled, loops, batch.X0, batch.P, stop_when, bar)
-        if members is None:
-            members = integrate_members(compiled, loops, batch.X0, batch.P, stop_when, bar)
-        out, status, t_final, x_final = members
-    return _result(compiled, batch, backend, out, status, t_final, x_final)
+        return None if members is None else (members, None, ())
+    native = native_constrained_members(
+        run.eom,
+        equations,
+        run.settings,
+        batch.X0,
+        batch.P,
+        run.options.gains,
+        run.stop_when,
+        run.progress,
+    )
+    return None if native is None else (native[0], native[1], ())
+
+
+def _vectorized(run: MemberRun) -> Ran | None:
+    if run.options.constraints:  # the members' multiplier forms are not vectorized
+        return None
+    batch = run.batch
+    members = integrate_members(
+        run.compiled, run.settings, batch.X0, batch.P, run.stop_when, run.progress
+    )
+    return members, None, ()
+
+
+def _simulated(run: MemberRun) -> Ran | None:
+    equations = run.constrained()
+    if equations is None:  # a free system always has the vectorized engine
+        return None
+    return simulated_members(
+        run.eom, equations, run.compiled, run.batch, run.options, run.stop_when, run.progress
+    )
+
+
+_ENGINES = {"c": _in_c_loop, "vectorized": _vectorized, "python": _simulated}
 
 
 def prepared_batch(
@@ -169,47 +242,6 @@ def prepared_batch(
     return eom, compiled, dataclasses.replace(batch, options=checked)
 
 
-def _constrained(
-    eom: EquationsOfMotion,
-    compiled: CompiledEquations,
-    batch: BatchInputs,
-    options: Options,
-    settings: Settings,
-    stop_when: StopCondition | None,
-    progress: Callable[[float], None] | None,
-) -> Batch:
-    """A batch of a constrained system: in the C loop, else member by member through
-    simulate (:mod:`lagrangian.simulation.batch.constrained`)."""
-    equations = constrained_equations(eom, options.constraints)
-    gains = options.gains
-    native = native_constrained_members(
-        eom, equations, settings, batch.X0, batch.P, gains, stop_when, progress
-    )
-    if native is not None:
-        (out, status, t_final, x_final), rows = native
-        return _result(compiled, batch, "numpy", out, status, t_final, x_final, rows)
-    members, rows, messages = simulated_members(
-        eom, equations, compiled, batch, options, stop_when, progress
-    )
-    return _result(compiled, batch, "numpy", *members, rows, messages)
-
-
-def _numba_members(
-    eom: EquationsOfMotion,
-    batch: BatchInputs,
-    settings: Settings,
-    stop_when: StopCondition | None,
-    progress: bool | Callable[[float], None],
-    workers: int,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    from lagrangian.numerics.fast import fast_equations
-    from lagrangian.numerics.fast.run import integrate_batch
-
-    bar = _bar(progress, 0, batch.size, "members ")
-    run = integrate_batch(fast_equations(eom), settings, batch.X0, batch.P, stop_when, bar, workers)
-    return run.x, run.status, run.t_final, run.x_final
-
-
 def _bar(
     progress: bool | Callable[[float], None], start: float, end: float, label: str
 ) -> Callable[[float], None] | None:
@@ -239,8 +271,7 @@ def _result(
     q, q_dot = _velocities(compiled, times, states, P, n)
     final_q, final_q_dot = _velocities(compiled, t_final, x_final, batch.P, n)
     energy = compiled.energy(q, q_dot, times, P) if k * T else np.zeros(0)
-    words = {FINISHED: "success", STOPPED: "stopped"}
-    names = [words.get(int(s), "failed") for s in status]
+    names = [Status(int(s)).outcome for s in status]
     given = list(failures) + [None] * (len(status) - len(failures))
     messages = [m or _message(int(s), float(t)) for m, s, t in zip(given, status, t_final)]
     columns = {}
@@ -278,9 +309,10 @@ def _velocities(
     return x[:, :n], q_dot
 
 
-def _message(status: int, t: float) -> str:
-    if status == FINISHED:
-        return describe(FINISHED)
-    if status == STOPPED:
+def _message(code: int, t: float) -> str:
+    status = Status(code)
+    if status == Status.FINISHED:
+        return status.message
+    if status == Status.STOPPED:
         return f"Stopped by stop_when at t = {t:.6g}."
-    return f"Integration failed at t = {t:.6g}: {describe(status)}"
+    return f"Integration failed at t = {t:.6g}: {status.message}"

@@ -3,7 +3,7 @@
 Each iteration makes one trial step for every running member at once (one call of the
 right-hand side per stage on a (members, state) array), each with its own step h_i and time
 t_i, and accepts or rejects each member by its own error norm with SciPy's rules
-(:mod:`lagrangian.numerics.fast.adaptive`).  Per-member control rather than one shared step:
+(SciPy's ``RungeKutta``, as the C loop).  Per-member control rather than one shared step:
 members of a chaotic ensemble need very different steps, a shared step would be the smallest
 for all, and with its own steps member i of a batch is the run of member i alone (the same
 steps as solve_ivp).  Members that finished, stopped or failed leave the arrays, so the work
@@ -16,7 +16,6 @@ negative, its time found on the dense output by the Illinois method, vectorized 
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from typing import Any
 
@@ -24,16 +23,9 @@ import numpy as np
 
 from lagrangian.errors import SimulationError
 from lagrangian.numerics.compile import CompiledEquations
-from lagrangian.numerics.fast.outcome import (
-    FINISHED,
-    NOT_FINITE,
-    SINGULAR,
-    STEP_BUDGET,
-    STEP_TOO_SMALL,
-    STOPPED,
-)
 from lagrangian.numerics.fast.settings import Settings
-from lagrangian.numerics.fast.tableaus import adaptive_tableau
+from lagrangian.numerics.fast.tableaus import Tableau, fixed_steps, tableau_of
+from lagrangian.numerics.status import Status
 from lagrangian.simulation.batch.dense import DOP853, HERMITE, RK45, Dense, locate_stops
 
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
@@ -74,7 +66,7 @@ def integrate_members(
     """Integrate every row of X0 (parameters: the same row of P).
 
     Returns (out (members, times, state) with NaN after a stop or failure, status, t_final,
-    x_final): status codes of :mod:`lagrangian.numerics.fast.outcome`, the time and state
+    x_final): status codes of :class:`~lagrangian.numerics.status.Status`, the time and state
     each member ended at (the end, its stop, or its last accepted step).  ``progress`` gets
     the smallest time reached by a running member after each iteration.
     """
@@ -105,14 +97,14 @@ class _Run:
         self.compiled, self.settings, self.stop_when = compiled, settings, stop_when
         self.n = len(compiled.coordinates)
         self.field = _Field(compiled, P)
-        self.fixed = settings.method == "RK4"
-        self.tableau = None if self.fixed else adaptive_tableau(settings.method)
+        self.tableau = tableau_of(settings.method)
+        self.fixed = self.tableau.fixed
         self.t, self.x = np.full(k, settings.span[0]), X0.astype(float).copy()
         self.f, self.h = np.zeros((k, nx)), np.zeros(k)
         self.rejected = np.zeros(k, dtype=bool)
         self.trials = np.zeros(k, dtype=np.int64)  # trial steps per member, for max_steps
         self.g = np.ones(k)
-        self.status = np.full(k, FINISHED)
+        self.status = np.full(k, Status.FINISHED)
         self.t_final, self.x_final = np.full(k, settings.span[1]), self.x.copy()
         t_out = settings.t_out
         self.out = np.full((k, len(t_out), nx), np.nan)
@@ -126,17 +118,17 @@ class _Run:
     def start(self) -> None:
         rows = self.active
         self.f[rows], bad = self.field(self.t[rows], self.x[rows], rows)
-        self.end(rows[bad], SINGULAR)
+        self.end(rows[bad], Status.SINGULAR)
         rows = self.active
         if self.stop_when is not None:
             self.g[rows] = self.condition(self.t[rows], self.x[rows], self.f[rows])
             stopped = rows[~(self.g[rows] >= 0)]
             self.t_final[stopped], self.x_final[stopped] = self.t[stopped], self.x[stopped]
-            self.end(stopped, STOPPED)
+            self.end(stopped, Status.STOPPED)
         rows = self.active
         if self.fixed:
             t0, t1 = self.settings.span
-            self.steps = max(1, math.ceil(abs(t1 - t0) / float(self.settings.dt or 1.0) - 1e-9))
+            self.steps = fixed_steps(t0, t1, float(self.settings.dt or 1.0))
             self.h[:] = (t1 - t0) / self.steps
             self.taken = 0
         else:
@@ -148,7 +140,7 @@ class _Run:
         if len(rows) == 0:
             return
         self.status[rows] = status
-        if status not in (FINISHED, STOPPED):
+        if status not in (Status.FINISHED, Status.STOPPED):
             self.t_final[rows], self.x_final[rows] = self.t[rows], self.x[rows]
         self.active = np.setdiff1d(self.active, rows, assume_unique=True)
 
@@ -162,7 +154,6 @@ class _Run:
 
     def initial_step(self, rows: np.ndarray) -> np.ndarray:
         """SciPy's select_initial_step, member by member (vectorized)."""
-        assert self.tableau is not None
         s = self.settings
         t0, y0, f0 = self.t[rows], self.x[rows], self.f[rows]
         interval = abs(s.span[1] - s.span[0])
@@ -172,13 +163,13 @@ class _Run:
         h0 = np.minimum(h0, interval)
         f1, bad = self.field(t0 + h0, y0 + h0[:, None] * f0, rows)
         d2 = _rms((f1 - f0) / scale) / h0
-        order = self.tableau[10]
+        order = self.tableau.error_order
         h1 = np.where(
             (d1 <= 1e-15) & (d2 <= 1e-15),
             np.maximum(1e-6, h0 * 1e-3),
             (0.01 / np.maximum(d1, d2)) ** (1 / (order + 1)),
         )
-        self.end(rows[bad], SINGULAR)
+        self.end(rows[bad], Status.SINGULAR)
         return np.minimum(np.minimum(100 * h0, h1), min(interval, s.max_step))
 
     def iterate(self) -> None:
@@ -186,12 +177,11 @@ class _Run:
         if self.fixed:
             self.iterate_fixed()
             return
-        assert self.tableau is not None
         s, tableau = self.settings, self.tableau
         rows = self.active
         if s.max_steps is not None:
             self.trials[rows] += 1
-            self.end(rows[self.trials[rows] > s.max_steps], STEP_BUDGET)
+            self.end(rows[self.trials[rows] > s.max_steps], Status.STEP_BUDGET)
             rows = self.active
         t, y, f = self.t[rows], self.x[rows], self.f[rows]
         min_step = 10 * np.abs(np.nextafter(t, np.inf) - t)
@@ -200,13 +190,13 @@ class _Run:
         h_abs = np.where(fresh & (h_abs > s.max_step), s.max_step, h_abs)
         h_abs = np.where(fresh & (h_abs < min_step), min_step, h_abs)
         small = h_abs < min_step
-        self.end(rows[small], STEP_TOO_SMALL)
+        self.end(rows[small], Status.STEP_TOO_SMALL)
         rows, t, y, f, h_abs = rows[~small], t[~small], y[~small], f[~small], h_abs[~small]
         t_new = np.minimum(t + h_abs, s.span[1])
         h = t_new - t
         K, y_new, bad = self.stages(rows, t, y, f, h)
         err = _error_norm(K, h, y, y_new, s.rtol, s.atol, tableau)
-        exponent = -1 / (tableau[10] + 1)
+        exponent = -1 / (tableau.error_order + 1)
         accept = (err < 1) & ~bad
         with np.errstate(divide="ignore"):
             grow = np.where(err == 0, MAX_FACTOR, np.minimum(MAX_FACTOR, SAFETY * err**exponent))
@@ -215,7 +205,7 @@ class _Run:
         shrink = np.where(shrink > MIN_FACTOR, shrink, MIN_FACTOR)  # NaN error: shrink by 0.2
         self.h[rows] = np.abs(h) * np.where(accept, grow, shrink)
         self.rejected[rows] = ~accept
-        self.end(rows[bad], SINGULAR)
+        self.end(rows[bad], Status.SINGULAR)
         a = accept
         self.advance(rows[a], t[a], y[a], f[a], t_new[a], y_new[a], K[:, a], h[a])
 
@@ -224,9 +214,8 @@ class _Run:
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """K_0..K_s of one trial step (K_s = f at the new state), the new state, and the
         members whose matrix was singular on the way."""
-        assert self.tableau is not None
-        A, B, C = self.tableau[0], self.tableau[1], self.tableau[2]
-        extra = len(self.tableau[7]) if self.tableau[9] else 0
+        A, B, C = self.tableau.A, self.tableau.B, self.tableau.C
+        extra = len(self.tableau.C_extra) if self.tableau.dop853 else 0
         K = np.empty((len(B) + 1 + extra, *y.shape))
         K[0] = f
         bad = np.zeros(len(rows), dtype=bool)
@@ -255,7 +244,7 @@ class _Run:
         t_new = np.full(len(rows), t1 if self.taken == self.steps else t0 + self.taken * h[0])
         f_new, singular = self.field(t_new, y_new, rows)
         bad |= singular
-        self.end(rows[bad], SINGULAR)
+        self.end(rows[bad], Status.SINGULAR)
         ok = ~bad
         K = np.stack([y[ok], y_new[ok], f[ok], f_new[ok]])
         self.advance(rows[ok], t[ok], y[ok], f[ok], t_new[ok], y_new[ok], K, h[ok], f_new[ok])
@@ -276,14 +265,10 @@ class _Run:
     ) -> None:
         """Accept a step of members ``rows``: output rows, stop condition, the end."""
         finite = np.all(np.isfinite(y_new), axis=1)
-        self.end(rows[~finite], NOT_FINITE)
+        self.end(rows[~finite], Status.NOT_FINITE)
         rows, t_old, y_old, f_old = rows[finite], t_old[finite], y_old[finite], f_old[finite]
         t_new, y_new, K, h = t_new[finite], y_new[finite], K[:, finite], h[finite]
-        if f_new is None:
-            assert self.tableau is not None
-            f_new = K[len(self.tableau[1])]
-        else:
-            f_new = f_new[finite]
+        f_new = K[len(self.tableau.B)] if f_new is None else f_new[finite]
         self.t[rows], self.x[rows], self.f[rows] = t_new, y_new, f_new
         stopped = np.zeros(len(rows), dtype=bool)
         if self.stop_when is not None:
@@ -319,10 +304,10 @@ class _Run:
             self.sample(rows[local], dense, t_end)
         if self.stop_when is not None:
             self.g[rows] = g_new
-        self.end(rows[stopped], STOPPED)
+        self.end(rows[stopped], Status.STOPPED)
         done = ~stopped & (t_new >= self.settings.span[1])
         self.t_final[rows[done]], self.x_final[rows[done]] = t_new[done], y_new[done]
-        self.end(rows[done], FINISHED)
+        self.end(rows[done], Status.FINISHED)
 
     def sample(self, rows: np.ndarray, dense: Dense, t_end: np.ndarray) -> None:
         """Output rows of members ``rows`` at the output times up to t_end (per member)."""
@@ -351,8 +336,8 @@ class _Run:
         """The step's interpolant for members ``rows`` (DOP853: its three extra stages)."""
         if self.fixed:
             return Dense(HERMITE, t_old, h, y_old, K)
-        assert self.tableau is not None
-        P, A_extra, C_extra, D, dop853 = self.tableau[5:10]
+        tb = self.tableau
+        P, A_extra, C_extra, D, dop853 = tb.P, tb.A_extra, tb.C_extra, tb.D, tb.dop853
         if not dop853:
             return Dense(RK45, t_old, h, y_old, np.einsum("sai,sk->kai", K[: len(P)], P))
         first = len(K) - len(C_extra)
@@ -385,10 +370,10 @@ def _error_norm(
     y_new: np.ndarray,
     rtol: float,
     atol: float,
-    tableau: tuple[Any, ...],
+    tableau: Tableau,
 ) -> np.ndarray:
     """Each member's error norm, as SciPy's RK45 and DOP853 compute it."""
-    E, E3, dop853 = tableau[3], tableau[4], tableau[9]
+    E, E3, dop853 = tableau.E, tableau.E3, tableau.dop853
     scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
     rows = K[: len(E)]
     if not dop853:

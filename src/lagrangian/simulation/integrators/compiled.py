@@ -1,26 +1,19 @@
-"""The whole integration in one compiled call: the C loop of the default backend, and
-simulate(..., backend="numba").
+"""The whole integration in one compiled call: the C loop of the explicit Runge–Kutta methods.
 
-The default backend runs RK45 and DOP853 on a free system, or on the multiplier form of a
+RK45, DOP853 and RK4 (the methods whose engines include ``"c"`` in
+:mod:`lagrangian.simulation.methods`) run on a free system, or on the multiplier form of a
 constrained one (Baumgarte's gains; not ``project_steps``), in the C loop compiled once per
-machine (:mod:`lagrangian.numerics.fast.c_loop`, :class:`NativeIntegrator`): SciPy's steps,
-the right-hand side compiled by SymEngine's LLVM backend, the budget of
-:mod:`lagrangian.simulation.integrators.budget` checked after every step with the same messages, a
-progress callback after every step and Ctrl-C keeping the rows so far.  Event functions that
-are expressions of the state (:mod:`lagrangian.simulation.integrators.event_trace`) are compiled
-beside
-the right-hand side and their zeros located in the loop, as SciPy's path locates them
-(:mod:`lagrangian.simulation.integrators.events`).  Where there is no C compiler, SymEngine cannot
-compile the equations, or an event function is not an expression it can compile,
-:func:`native_integrator` is None and SciPy's solvers run instead.
-
-The numba backend (:mod:`lagrangian.numerics.fast`) runs SciPy's RK45 and DOP853, step for
-step, and the fixed-step RK4, with the right-hand side and the loop compiled, so no Python
-runs per step; it returns what the NumPy backend returns.  What it does not do is refused up
-front by :class:`lagrangian.simulation.options.Options`, naming the feature: events (use
-:func:`lagrangian.simulation.batch.run.simulate_batch` with ``stop_when`` for a stop condition),
-constraints, the variational integrator, and the implicit or other SciPy methods.  A progress
-callback is called once, at the end.
+machine (:mod:`lagrangian.numerics.fast.c_loop`, :class:`NativeIntegrator`): SciPy's steps
+(RK4: those of :mod:`lagrangian.simulation.integrators.rk4`), the right-hand side compiled by
+SymEngine's LLVM backend, the budget of :mod:`lagrangian.simulation.integrators.budget` checked
+after every step with the same messages, a progress callback after every step and Ctrl-C
+keeping the rows so far.  Event functions that are expressions of the state
+(:mod:`lagrangian.simulation.integrators.event_trace`) are compiled beside the right-hand side
+and their zeros located in the loop, as SciPy's path locates them
+(:mod:`lagrangian.simulation.integrators.events`).  Where there is no C compiler, SymEngine
+cannot compile the equations, or an event function is not an expression it can compile,
+:func:`native_integrator` is None and the Python loop over SciPy's solvers runs instead.
+``backend="numba"`` runs here too (another name of the default for one release).
 """
 
 from __future__ import annotations
@@ -41,9 +34,8 @@ from lagrangian.numerics.fast.c_constrained import (
     native_constrained,
 )
 from lagrangian.numerics.fast.compiled_rates import FastEquations
-from lagrangian.numerics.fast.outcome import FINISHED, SINGULAR, STEP_BUDGET, STOPPED
 from lagrangian.numerics.fast.settings import Settings
-from lagrangian.numerics.fast.tableaus import ADAPTIVE
+from lagrangian.numerics.status import Status
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.budget import (
     COLLAPSE,
@@ -62,6 +54,7 @@ from lagrangian.simulation.integrators.budget import (
 from lagrangian.simulation.integrators.event_trace import traced_events
 from lagrangian.simulation.integrators.events import EventFunction, EventWatch, Unpack
 from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Progress
+from lagrangian.simulation.methods import runs_in
 from lagrangian.simulation.options import Options
 
 
@@ -73,14 +66,14 @@ def native_integrator(
     unpack: Unpack,
     constrained: ConstrainedEquations | None = None,
 ) -> NativeIntegrator | None:
-    """The C loop's integrator for a run of the default backend that it can take, or None
-    (SciPy's solvers take those): RK45 or DOP853 of the free equations of ``eom`` or, given
+    """The C loop's integrator for a run that it can take, or None (SciPy's solvers take
+    those): a method the C loop runs (RK45, DOP853, RK4) of the free equations of ``eom`` or, given
     ``constrained``, of their multiplier form with Baumgarte's gains (not ``project_steps``,
     not unilateral constraints), with events that are expressions of the state; None also
     without a C compiler, or where SymEngine's LLVM backend cannot compile the equations or
     the events.  ``inputs`` and ``unpack`` (q and q_dot at (t, x)) check the events'
     expressions against the functions at the start."""
-    if options.backend != "numpy" or options.method not in ADAPTIVE or not c_loop.available():
+    if not runs_in(options.method, "c") or not c_loop.available():
         return None
     if constrained is None and options.constraints:
         return None
@@ -126,7 +119,7 @@ def _loop_events(
 
 @dataclass(frozen=True)
 class NativeIntegrator:
-    """RK45 and DOP853 in the C loop (module docstring): ``fast`` the free state equations
+    """RK45, DOP853 and RK4 in the C loop (module docstring): ``fast`` the free state equations
     or the multiplier form ``multiplier_form.equations``
     (:mod:`lagrangian.numerics.fast.c_constrained`, its parameters followed by
     ``extra_parameters``, Baumgarte's gains; the multipliers and residuals of the output rows
@@ -164,7 +157,7 @@ class NativeIntegrator:
         run = c_loop.integrate(self.fast, settings, inputs.x0, p, limits, progress, self.events)
         names = watch.names if watch is not None else ()
         events = tuple((names[i], t, x) for i, t, x in run.events)
-        stopped = run.status == STOPPED and bool(events)
+        stopped = run.status == Status.STOPPED and bool(events)
         t, x = run.t, run.x
         if stopped and t_out.size and (not t.size or events[-1][1] > t[-1]):
             # the output ends at the terminal event, as SciPy's path ends it
@@ -191,53 +184,28 @@ def failure(run: c_loop.LoopRun, dynamics: Dynamics, inputs: Inputs) -> str | No
     """Why the C loop's ``run`` failed, in the words SciPy's path uses for it
     (:func:`lagrangian.simulation.integrators.loop.integrate` and its Budget), or None."""
     status = run.status
-    if status in (FINISHED, STOPPED):
+    if not status.failed:
         return None
-    if status == SINGULAR and run.failed_at is not None:
+    if status == Status.SINGULAR and run.failed_at is not None:
         try:  # the NumPy right-hand side's own message, with the time and the state
             with np.errstate(all="ignore"):
                 dynamics.field(*run.failed_at)
         except SimulationError as error:
             return str(error)
-    if status == STEP_BUDGET:
+    if status == Status.STEP_BUDGET:
         return step_budget_message(inputs.max_steps, run.stiff_since)
-    if status == c_loop.WALL_TIME and inputs.max_wall_time is not None:
+    if status == Status.WALL_TIME and inputs.max_wall_time is not None:
         return wall_time_message(inputs.max_wall_time, run.steps, run.stiff_since)
-    if status == c_loop.STIFF and run.stiff_since is not None:
+    if status == Status.STIFF and run.stiff_since is not None:
         return stiffness_message(inputs.method, run.stiff_since, abs(run.last_step))
-    if status == c_loop.COLLAPSED:
+    if status == Status.COLLAPSED:
         return collapse_message(run.advanced, run.t_reached)
-    return c_loop.describe_status(status)
-
-
-def integrate_compiled(
-    eom: EquationsOfMotion, inputs: Inputs, progress: Progress | None = None
-) -> Integration:
-    """Integrate with the numba backend; the result as
-    :func:`lagrangian.simulation.integrators.loop.integrate` gives it (rows up to a failure, the
-    failure).  Needs ``pip install lagrangian[fast]`` (SimulationError naming it)."""
-    from lagrangian.numerics.fast import fast_equations, require_numba
-    from lagrangian.numerics.fast.outcome import describe, failed
-    from lagrangian.numerics.fast.run import integrate
-
-    require_numba()
-    fast = fast_equations(eom)
-    t_out = inputs.t_out if inputs.t_out is not None else np.zeros(0)
-    run = integrate(fast, loop_settings(inputs, t_out), inputs.x0, inputs.p)
-    if progress is not None:
-        progress(run.t_reached)
-    return Integration(
-        t=run.t,
-        x=run.x,
-        t_reached=float(run.t_reached),
-        x_reached=np.asarray(run.x_reached, dtype=float),
-        failure=describe(run.status) if failed(run.status) else None,
-    )
+    return status.message
 
 
 def loop_settings(inputs: Inputs, t_out: np.ndarray) -> Settings:
-    """The settings of the hand-written loops (numba's and the NumPy batch's) from checked
-    inputs, with the output times ``t_out`` (empty: every step)."""
+    """The settings of the hand-written loops (the C loop's and the vectorized batch's) from
+    checked inputs, with the output times ``t_out`` (empty: every step)."""
     return Settings(
         inputs.method,
         inputs.t_span,

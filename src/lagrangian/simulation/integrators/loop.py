@@ -26,11 +26,9 @@ from typing import Any
 import numpy as np
 from scipy.integrate import OdeSolver
 
-from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationError
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.budget import Budget
-from lagrangian.simulation.integrators.compiled import integrate_compiled
 from lagrangian.simulation.integrators.events import EventWatch
 from lagrangian.simulation.integrators.protocol import (
     Dynamics,
@@ -48,12 +46,7 @@ FAILURES = (SimulationError, ArithmeticError, np.linalg.LinAlgError)
 class SolverIntegrator:
     """SciPy's ``solve_ivp`` methods and the fixed-step RK4 (the
     :class:`~lagrangian.simulation.integrators.protocol.Integrator` of every OdeSolver method),
-    stepped
-    by :func:`integrate`, or with ``compiled`` (the equations of a free system) by the numba
-    backend's loop of the same steps
-    (:func:`lagrangian.simulation.integrators.compiled.integrate_compiled`)."""
-
-    compiled: EquationsOfMotion | None = None
+    stepped by :func:`integrate`."""
 
     def run(
         self,
@@ -63,8 +56,6 @@ class SolverIntegrator:
         progress: Progress | None,
     ) -> Integration:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            if self.compiled is not None:
-                return integrate_compiled(self.compiled, inputs, progress)
             return integrate(
                 solver_starter(dynamics.field, inputs),
                 inputs.t_span[0],

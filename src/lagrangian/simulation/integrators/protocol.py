@@ -32,6 +32,7 @@ from typing import Any, Protocol, TypeVar
 
 import numpy as np
 
+from lagrangian.numerics.status import Outcome
 from lagrangian.simulation.impacts import ImpactRecord
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.events import EventWatch
@@ -67,11 +68,12 @@ class Integration:
     impacts: tuple[ImpactRecord, ...] = ()
 
     @property
-    def status(self) -> str:
-        """``"success"`` (the end or a terminal event), ``"failed"`` or ``"interrupted"``."""
+    def status(self) -> Outcome:
+        """``"success"`` (the end or a terminal event), ``"failed"`` or ``"interrupted"``:
+        an :class:`~lagrangian.numerics.status.Outcome`, the words of every loop and batch."""
         if self.interrupted:
-            return "interrupted"
-        return "failed" if self.failure is not None else "success"
+            return Outcome.INTERRUPTED
+        return Outcome.FAILED if self.failure is not None else Outcome.SUCCESS
 
 
 class Motion(Protocol):
