@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import difflib
 import importlib
+from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import TYPE_CHECKING
@@ -153,6 +154,16 @@ def runs_in(name: str, engine: str) -> bool:
     """Whether the engine ``engine`` (module docstring) runs the method called ``name``."""
     method = TABLE.get(name)
     return method is not None and engine in method.engines
+
+
+def engine_for(name: str, ready: Mapping[str, bool]) -> str:
+    """The first engine of the method called ``name`` that is ``ready`` here (engine -> whether
+    it can run: a compiler, numba installed); ``"python"`` runs every method.
+
+    >>> engine_for("gauss4", {"numba": False})
+    'python'
+    """
+    return next((e for e in TABLE[name].engines if ready.get(e, e == "python")), "python")
 
 
 #: The backends of simulate and simulate_batch; "numba" another name of the default for one

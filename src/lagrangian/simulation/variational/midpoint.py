@@ -64,7 +64,7 @@ from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.events import EventWatch
 from lagrangian.simulation.integrators.protocol import Integration, Progress
-from lagrangian.simulation.methods import VARIATIONAL
+from lagrangian.simulation.methods import VARIATIONAL, engine_for
 from lagrangian.simulation.variational.collocation import Tableau, tableau_for
 from lagrangian.simulation.variational.collocation_march import collocation_march
 from lagrangian.simulation.variational.march import Run, march
@@ -118,10 +118,12 @@ class VariationalIntegrator:
             inputs.max_wall_time,
             start=float(grid[0]),
         )
+        engine = engine_here(self.method)
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             run = discrete_march(
-                dynamics.form, tableau, inputs.x0, inputs.p, grid, outputs, progress, budget
-            )
+                dynamics.form, tableau, inputs.x0, inputs.p, grid, outputs, progress, budget,
+                engine,
+            )  # fmt: skip
         x = np.hstack((run.q, run.q_dot))
         steps = max(int(np.searchsorted(grid, run.reached)), 1)
         own_rows = constrained and tableau is None  # else the multiplier form's (constraint_rows)
@@ -141,6 +143,12 @@ class VariationalIntegrator:
                 "equations per step)."
             ),
         )
+
+
+def engine_here(method: str) -> str:
+    """The engine that runs the variational ``method`` on this machine (methods.py's table):
+    the numba marches where numba is installed (and :data:`COMPILED`), else the Python loop."""
+    return engine_for(method, {"numba": COMPILED and numba_available()})
 
 
 def step_grid(inputs: Inputs) -> tuple[np.ndarray, np.ndarray]:
@@ -168,11 +176,12 @@ def discrete_march(
     outputs: np.ndarray,
     progress: Progress | None,
     budget: Budget | None = None,
+    engine: str | None = None,
 ) -> Run:
     """The march of the midpoint rule (``tableau`` None) or of a collocation method: compiled
     where numba is installed and the terms compile, else stepped in NumPy by the one Python
     loop, within ``budget`` (module docstring)."""
-    if COMPILED and numba_available():
+    if (engine or engine_here(VARIATIONAL)) == "numba":
         from lagrangian.simulation.variational import compiled as variational_fast  # numba
 
         try:
