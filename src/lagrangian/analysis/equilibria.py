@@ -132,9 +132,10 @@ def equilibria(subject: Subject, parameters: Values | None = None) -> Equilibria
 
 def equilibria_at_values(context: EvaluationContext) -> Equilibria:
     """:func:`equilibria` with the parameter values of ``context``: on the constraint
-    manifold for a constrained system, else of the free static equations."""
+    manifold for a constrained system, else of the free static equations (also where every
+    constraint is left out: a unilateral one taken as released)."""
     manifold = constraint_manifold(context.eom)
-    if manifold is not None:
+    if manifold is not None and manifold.size:
         return manifold_equilibria(context, manifold)
     return _free_equilibria(context)
 
