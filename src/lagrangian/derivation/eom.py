@@ -17,9 +17,7 @@ EquationsOfMotion never changes once made.
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
-from contextlib import contextmanager
-from contextvars import ContextVar
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import sympy as sp
@@ -29,23 +27,6 @@ from lagrangian.derivation.steps import Steps, coordinate_steps, equation_residu
 from lagrangian.derivation.terms import coriolis_matrix, matrix_piece
 from lagrangian.errors import DerivationError
 from lagrangian.model import System
-
-#: True while :func:`made_by_derivation` lets an EquationsOfMotion be made.
-_DERIVING: ContextVar[bool] = ContextVar("deriving", default=False)
-
-
-@contextmanager
-def made_by_derivation() -> Iterator[None]:
-    """The one place an EquationsOfMotion may be made (:func:`lagrangian.derive`, and the
-    switched equations that are only compiled).  Its views (steps, energies, the pieces of the
-    matrix form) belong to the System it was derived from, cached per System, so equations
-    made any other way — ``dataclasses.replace`` with other matrices — would show views that
-    are not theirs: they are refused."""
-    token = _DERIVING.set(True)
-    try:
-        yield
-    finally:
-        _DERIVING.reset(token)
 
 
 @dataclass(frozen=True)
@@ -105,15 +86,6 @@ class EquationsOfMotion:
     coordinate_orders: Mapping[sp.Symbol, int]
     system: System
     name: str = ""
-
-    def __post_init__(self) -> None:
-        if not _DERIVING.get():
-            raise DerivationError(
-                "An EquationsOfMotion is made by lagrangian.derive: its steps, energies and the "
-                "pieces of its matrix form belong to the System it was derived from, so other "
-                "matrices (dataclasses.replace) would show views that are not theirs; change "
-                "the System and derive it instead"
-            )
 
     @property
     def kinetic_energy(self) -> sp.Expr:

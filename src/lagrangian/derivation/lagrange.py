@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from lagrangian.derivation.eom import EquationsOfMotion, made_by_derivation
+from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.derivation.terms import EulerLagrangeTerms, euler_lagrange_terms
 from lagrangian.errors import require
 from lagrangian.limits import configured_seconds
@@ -95,19 +95,18 @@ def equations_of_motion(system: System) -> EquationsOfMotion:
     """The EquationsOfMotion of ``system``, derived now (:func:`derive` remembers them)."""
     terms = euler_lagrange_terms(system)
     _check_sizes(terms)
-    with made_by_derivation():
-        return EquationsOfMotion(
-            coordinates=tuple(system.coordinates),
-            velocities=system.velocities,
-            accelerations=system.accelerations,
-            parameters=frozen(system.parameters),
-            time=t,
-            mass_matrix=terms.view.symmetric_matrix(terms.mass),
-            forcing=terms.view.vector(terms.forcing),
-            coordinate_orders=FrozenMapping(terms.orders),
-            system=system,
-            name=system.name,
-        )
+    return EquationsOfMotion(
+        coordinates=tuple(system.coordinates),
+        velocities=system.velocities,
+        accelerations=system.accelerations,
+        parameters=frozen(system.parameters),
+        time=t,
+        mass_matrix=terms.view.symmetric_matrix(terms.mass),
+        forcing=terms.view.vector(terms.forcing),
+        coordinate_orders=FrozenMapping(terms.orders),
+        system=system,
+        name=system.name,
+    )
 
 
 def _check_sizes(terms: EulerLagrangeTerms) -> None:

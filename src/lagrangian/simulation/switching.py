@@ -38,7 +38,6 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.derivation.eom import made_by_derivation
 from lagrangian.errors import SimulationError
 from lagrangian.numerics.compile import CompiledEquations, compile_equations
 from lagrangian.numerics.evaluate import NumericFunction
@@ -289,15 +288,12 @@ def _compile_moded(eom: EquationsOfMotion) -> CompiledEquations:
     surfaces = switching_functions(eom)
     modes = sp.symbols(f"_mode0:{len(surfaces)}")
     rule = dict(zip(surfaces, modes, strict=True))
-    # equations with other matrices, made only to be compiled here: no view of them is read
-    # (their energies are the System's, which the modes do not change)
-    with made_by_derivation():
-        moded = dataclasses.replace(
-            eom,
-            mass_matrix=_replaced(eom.mass_matrix, rule),
-            forcing=_replaced(eom.forcing, rule),
-            parameters=FrozenMapping({**eom.parameters, **dict.fromkeys(modes)}),
-        )
+    moded = dataclasses.replace(
+        eom,
+        mass_matrix=_replaced(eom.mass_matrix, rule),
+        forcing=_replaced(eom.forcing, rule),
+        parameters=FrozenMapping({**eom.parameters, **dict.fromkeys(modes)}),
+    )
     return compile_equations(moded)
 
 
