@@ -138,3 +138,16 @@ def test_a_limit_cycle_on_the_command_line(capsys) -> None:
     code = main(["analyze", "examples/simplest_walker", "--limit-cycle", "toe_off",
                  "--search-degree", "0"])  # fmt: skip
     assert code == 2 and "'toe_off' is not a transition of the system" in capsys.readouterr().err
+
+
+def test_paths_without_transitions_refuse_them_by_name() -> None:
+    # a batch and exported code have one right-hand side: applying it through a heel strike
+    # would let the walker fall, so both say why instead
+    from lagrangian.errors import SimulationInputError
+
+    walker = lg.examples.simplest_walker()
+    with pytest.raises(SimulationInputError, match="simulate_batch does not apply transitions"):
+        lg.simulate_batch(walker, {"theta": [0.2, 0.21]}, 1.0)
+    for language in ("numpy", "c"):
+        with pytest.raises(ModelError, match=r"its transitions \(heel_strike\) reset the state"):
+            lg.export(walker, language)

@@ -108,6 +108,8 @@ class Options:
         How many event functions are watched.
     constraints, inertia:
         The system's constraints, and whether every coordinate has inertia (second order).
+    transitions:
+        How many transitions the system has (resets of the state at a guard).
     driver:
         ``"simulate"`` or ``"simulate_batch"`` (a batch has its own loops: RK45, DOP853, RK4,
         no constraints).
@@ -122,6 +124,7 @@ class Options:
     events: int = 0
     constraints: tuple[Constraint, ...] = ()
     inertia: bool = True
+    transitions: int = 0
     driver: str = "simulate"
 
     def __post_init__(self) -> None:
@@ -277,6 +280,12 @@ def _formulation(options: Options) -> list[Problem]:
                 "change member by member)"
             )
             problems.append(Problem("constraints", message, "call simulate for each member"))
+        if options.transitions:
+            message = (
+                "simulate_batch does not apply transitions (each member's state jumps at its "
+                "own times)"
+            )
+            problems.append(Problem("transitions", message, "call simulate for each member"))
     if options.constraints and not options.inertia and not options.spec.variational:
         message = (
             "simulating constraints with first-order coordinates (no inertia) is not "

@@ -145,6 +145,7 @@ def options_for(
         method=method,
         given=given,
         constraints=tuple(system.constraints),
+        transitions=len(system.transitions),
         inertia=compiled.regular,
         **options,
     )

@@ -79,6 +79,13 @@ def export(
     writer = LANGUAGES.get(language.strip().lower())
     if writer is None:
         raise ModelError(f"Cannot export to {language!r}: choose one of {', '.join(LANGUAGES)}.")
+    if eom.system.transitions:
+        names = ", ".join(item.name for item in eom.system.transitions)
+        raise ModelError(
+            f"Cannot export {eom.name or 'this system'}: its transitions ({names}) reset the "
+            "state where a guard crosses zero, so no one right-hand side describes the "
+            "motion; simulate it with lagrangian itself."
+        )
     return writer(eom, sanitize(eom.name))
 
 
