@@ -157,15 +157,14 @@ class _ReturnMap:
         self.setup = prepare(system, initial, horizon, dict(RETURN_SETTINGS),
                              parameters=parameters)  # fmt: skip
         self.section = section
-        compiled = self.setup.compiled
-        self.names = compiled.state_names
+        self.names = self.setup.compiled.state_names
         self.start = np.array(self.setup.inputs.x0, dtype=float)
+        # the motion is a frozen value: planned once, stepped from every start
+        self.stopping = _StopAt(plan(self.setup)[0], section)
 
     def __call__(self, x: np.ndarray) -> tuple[np.ndarray, float]:
-        motion, _ = plan(self.setup)
-        stopping = _StopAt(motion, self.section)
         inputs = dataclasses.replace(self.setup.inputs, x0=np.array(x, dtype=float), t_out=None)
-        run = integrate_piecewise(stopping, inputs, None, None, SolverIntegrator())
+        run = integrate_piecewise(self.stopping, inputs, None, None, SolverIntegrator())
         if run.stopped_by != self.section:
             reason = run.failure or f"no {self.section!r} within t = {inputs.t_span[1]:g}"
             raise SimulationError(f"the return to the section failed: {reason}")

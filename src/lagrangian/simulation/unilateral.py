@@ -38,6 +38,7 @@ and joins the pieces into one Integration: the states, the multipliers of every 
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable
 
 import numpy as np
@@ -193,17 +194,24 @@ class UnilateralDynamics:
 
     def restitution(self, i: int) -> float | None:
         """The coefficient of restitution of constraint i at the run's parameters, or None."""
-        e = getattr(self.system.constraints[i], "restitution", None)
-        if e is None:
-            return None
+        return self.restitutions[i]
+
+    @functools.cached_property
+    def restitutions(self) -> tuple[float | None, ...]:
+        """Every constraint's coefficient of restitution at the run's parameters (None for
+        none), evaluated once per run; SimulationInputError for one outside [0, 1]."""
         values = {s: sp.Float(v) for s, v in zip(self.eom.parameters, self.p)}
-        value = float(e.xreplace(values))
-        if not 0.0 <= value <= 1.0:
-            raise SimulationInputError(
-                f"the coefficient of restitution of {label(i, self.system.constraints[i])}, "
-                f"{e} = {value:g}, is not in [0, 1]: give parameters that make it one"
-            )
-        return value
+        found: list[float | None] = []
+        for i, constraint in enumerate(self.system.constraints):
+            e = getattr(constraint, "restitution", None)
+            value = None if e is None else float(e.xreplace(values))
+            if value is not None and not 0.0 <= value <= 1.0:
+                raise SimulationInputError(
+                    f"the coefficient of restitution of {label(i, constraint)}, {e} = "
+                    f"{value:g}, is not in [0, 1]: give parameters that make it one"
+                )
+            found.append(value)
+        return tuple(found)
 
     def impact(self, mode: frozenset[int], index: int, t: float, x: np.ndarray) -> Jump:
         """The velocity jump of an impact on constraint ``index`` at (t, x), resolved with
