@@ -13,6 +13,7 @@ import symengine as se
 import sympy as sp
 
 from lagrangian.derivation.backend import Backend, to_backend, vector_to_backend
+from lagrangian.derivation.trig import combine_trig, size
 from lagrangian.model import (
     Capacitor,
     Inductor,
@@ -98,10 +99,24 @@ def _spring_potential(system: System, asm_points: dict[str, tuple[Backend, ...]]
         if len(delta) == 1:
             total += k * (delta[0] - rest) ** 2 / 2
         elif rest == 0:
-            total += k * se.Add(*[d**2 for d in delta]) / 2
+            total += k * squared_length(delta) / 2
         else:
-            total += k * (se.sqrt(se.Add(*[d**2 for d in delta])) - rest) ** 2 / 2
+            total += k * (se.sqrt(squared_length(delta)) - rest) ** 2 / 2
     return total
+
+
+def squared_length(delta: list[Backend]) -> Backend:
+    """|delta|^2 as a textbook writes it: expanded and reduced by sin^2 + cos^2 = 1 when
+    that is shorter, so a pendulum spring's length is sqrt(r^2), not
+    sqrt(r^2 sin^2(theta) + r^2 cos^2(theta)).
+
+    >>> r, theta = se.symbols("r theta")
+    >>> squared_length([r * se.sin(theta), -r * se.cos(theta)])
+    r**2
+    """
+    plain = se.Add(*[d**2 for d in delta])
+    reduced = combine_trig(se.expand(plain))
+    return reduced if size(reduced) < size(plain) else plain
 
 
 def _applied_forces(
@@ -182,7 +197,7 @@ def _damper_dissipation(
             total += c * rate[0] ** 2 / 2
         else:  # rate of change of the distance: (delta . delta_dot) / |delta|
             dot = se.Add(*[d * r for d, r in zip(delta, rate)])
-            total += c * dot**2 / (2 * se.Add(*[d**2 for d in delta]))
+            total += c * dot**2 / (2 * squared_length(delta))
     return total
 
 
