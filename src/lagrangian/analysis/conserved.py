@@ -17,6 +17,7 @@ independent first integrals of the search (:mod:`lagrangian.analysis.integrals.s
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 import sympy as sp
 
@@ -25,6 +26,7 @@ from lagrangian.analysis.integrals.noether import Symmetry
 from lagrangian.analysis.integrals.search import ConservedQuantity, FirstIntegralSearch
 from lagrangian.analysis.manifold.symmetries import JacobiIntegral
 from lagrangian.analysis.momenta import CyclicCoordinate
+from lagrangian.analysis.names import TEXTBOOK_NAMES, OutputNames
 from lagrangian.symbolic.probe import is_zero
 
 
@@ -34,15 +36,16 @@ def conserved_quantities(
     symmetries: Sequence[Symmetry] = (),
     jacobi: JacobiIntegral | None = None,
     search: FirstIntegralSearch | None = None,
+    names: OutputNames = TEXTBOOK_NAMES,
 ) -> tuple[ConservedQuantity, ...]:
     """The momenta of cyclic coordinates that are conserved (with their conditions), the
     Noether charges of the other point symmetries, h when it is conserved, the Jacobi
     integral of constraints that move by a symmetry, and the independent first integrals of
-    the ``search``."""
+    the ``search``; each named by ``names`` (none a name of the model)."""
     kept = [c for c in cyclic if c.conserved]
     found = [
         ConservedQuantity(
-            f"p_{c.coordinate.name}", c.momentum, c.reason, c.condition, "cyclic coordinate"
+            names.momentum(c.coordinate), c.momentum, c.reason, c.condition, "cyclic coordinate"
         )
         for c in kept
     ]
@@ -54,7 +57,7 @@ def conserved_quantities(
             continue  # the momentum of a cyclic coordinate, found again
         found.append(
             ConservedQuantity(
-                f"noether_{len(found) + 1}",
+                names.fresh(f"noether_{len(found) + 1}"),
                 symmetry.conserved,
                 f"Noether: L is invariant under the {symmetry.description}",
                 origin="point symmetry",
@@ -63,13 +66,22 @@ def conserved_quantities(
     if energy is not None and energy.conserved:
         found.append(
             ConservedQuantity(
-                "h", energy.energy_function, energy.reason, energy.condition, "energy"
+                names.energy, energy.energy_function, energy.reason, energy.condition, "energy"
             )
         )
     if jacobi is not None:
         found.append(
-            ConservedQuantity("jacobi", jacobi.expression, jacobi.reason, origin="Jacobi integral")
+            ConservedQuantity(
+                names.fresh("jacobi"), jacobi.expression, jacobi.reason, origin="Jacobi integral"
+            )
         )
     if search is not None:
-        found += search.found
+        found += [_named(q, names) for q in search.found]
     return tuple(found)
+
+
+def _named(quantity: ConservedQuantity, names: OutputNames) -> ConservedQuantity:
+    """A first integral of the search (I_k) renamed J_k when the model has an I_k."""
+    if quantity.name not in names.taken:
+        return quantity
+    return replace(quantity, name=names.fresh(quantity.name, "J" + quantity.name[1:]))

@@ -27,6 +27,7 @@ from lagrangian.analysis.manifold.constraint_manifold import (
     constraint_manifold,
     vanishes_on_manifold,
 )
+from lagrangian.analysis.names import OutputNames
 from lagrangian.analysis.simplification import simplify_small
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.symbolic.conversion import to_sympy
@@ -158,33 +159,33 @@ def _power_terms(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str]]:
 
 
 def _total_energy_reason(eom: EquationsOfMotion, equal: bool) -> str:
-    velocities = eom.velocities
+    velocities, h = eom.velocities, OutputNames.of(eom).energy
     u_parts = homogeneous_parts(eom.velocity_potential, velocities)
     scalar = " + U(q, 0, t)" if u_parts and 0 in u_parts else ""
     if equal:
         return (
             f"T is a quadratic form in the velocities and U at most linear in them, so "
-            f"h = T + V{scalar}"
+            f"{h} = T + V{scalar}"
         )
     t_parts = _kinetic_parts(eom.kinetic_energy, velocities)
     if t_parts is None:
-        return "T is not a polynomial of degree 2 in the velocities, so h is not T + V"
+        return f"T is not a polynomial of degree 2 in the velocities, so {h} is not T + V"
     higher = [d for d in sorted(t_parts) if d > 2]
     if higher:
         degrees = ", ".join(str(d) for d in higher)
         return (
             f"T has terms of degree {degrees} in the velocities (not a quadratic form), "
-            "so h is not T + V"
+            f"so {h} is not T + V"
         )
     causes = [f"degree {d} (T{d} = {simplify_small(t_parts[d])})" for d in (0, 1) if d in t_parts]
     if causes:
         return (
             "T has terms of " + " and ".join(causes) + " in the velocities (the coordinates "
-            "move with time: rheonomic), so h = T2 - T0 + V is not T + V"
+            f"move with time: rheonomic), so {h} = T2 - T0 + V is not T + V"
         )
     if u_parts is None or any(d >= 2 for d in u_parts):
         return "the velocity-dependent potential U is not linear in the velocities"
-    return "h differs from T + V"
+    return f"{h} differs from T + V"
 
 
 def _kinetic_parts(kinetic: sp.Expr, velocities: Sequence[sp.Symbol]) -> dict[int, sp.Expr] | None:
@@ -234,7 +235,7 @@ def energy_at_values(context: EvaluationContext) -> EnergyConservation:
     """:func:`energy_conservation` at the parameter values of ``context``: a rate dh/dt
     that vanishes only there (a force F given as 0) keeps h, under that condition."""
     eom = context.eom
-    h = energy_function(eom)
+    h, name = energy_function(eom), OutputNames.of(eom).energy
     rate, reasons = _power_terms(eom)
     power, working, idle = _constraint_power(eom)
     if idle and reasons and vanishes_on_manifold(rate, eom):
@@ -243,19 +244,21 @@ def energy_at_values(context: EvaluationContext) -> EnergyConservation:
     rate, reasons = sp.expand(rate + power), reasons + working
     conserved = is_zero(rate)
     if conserved:
-        reason = "dh/dt = 0: L has no explicit time, and no dissipation or applied force works"
+        reason = (
+            f"d{name}/dt = 0: L has no explicit time, and no dissipation or applied force works"
+        )
         if reasons:
             reason += " (the contributions " + "; ".join(reasons) + " cancel)"
         if idle:
             reason += "; the " + "; ".join(idle) + " (scleronomic: b = 0, A q_dot = 0)"
     else:
-        reason = "h is not conserved: " + "; ".join(reasons)
+        reason = f"{name} is not conserved: " + "; ".join(reasons)
     condition = None if conserved else context.vanishing_condition(rate)
     if condition is not None:
         conserved = True
         reason = (
-            f"dh/dt = {rate} vanishes at the given parameter values "
-            f"({condition_text(condition)}), so h is conserved there (for other values "
+            f"d{name}/dt = {rate} vanishes at the given parameter values "
+            f"({condition_text(condition)}), so {name} is conserved there (for other values "
             f"{reason})"
         )
     scalar = eom.velocity_potential.xreplace({v: 0 for v in eom.velocities})

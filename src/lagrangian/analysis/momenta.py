@@ -22,28 +22,17 @@ import sympy as sp
 from lagrangian.analysis.arguments import Subject, Values, equations_of
 from lagrangian.analysis.evaluation import EvaluationContext, condition_text, evaluation_context
 from lagrangian.analysis.manifold.constraint_manifold import constraint_manifold
+from lagrangian.analysis.names import OutputNames
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import AnalysisError
 from lagrangian.model.constraints import label
 from lagrangian.symbolic.probe import is_zero
 
 
-def momentum_symbol(coordinate: sp.Symbol) -> sp.Symbol:
-    """The symbol of the momentum conjugate to ``coordinate``: ``theta`` -> ``p_theta``."""
-    return sp.Symbol("p_" + coordinate.name)
-
-
 def momentum_symbols(eom: EquationsOfMotion) -> tuple[sp.Symbol, ...]:
-    """``p_q`` for every coordinate; refused when such a name is already taken."""
-    symbols = tuple(momentum_symbol(q) for q in eom.coordinates)
-    taken = {s.name for s in (*eom.coordinates, *eom.velocities, *eom.parameters)}
-    clashes = sorted(s.name for s in symbols if s.name in taken)
-    if clashes:
-        raise AnalysisError(
-            f"The momentum names {', '.join(clashes)} are already used by the system; "
-            "rename those parameters or coordinates."
-        )
-    return symbols
+    """``p_q`` for every coordinate (``P_q`` where the model has a ``p_q`` of its own:
+    :class:`~lagrangian.analysis.names.OutputNames`)."""
+    names = OutputNames.of(eom)
+    return tuple(sp.Symbol(names.momentum(q)) for q in eom.coordinates)
 
 
 @dataclass(frozen=True)

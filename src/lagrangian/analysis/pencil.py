@@ -16,6 +16,7 @@ from typing import Any
 import sympy as sp
 
 from lagrangian.analysis.arguments import assuming_positive, evaluate
+from lagrangian.analysis.names import OutputNames
 from lagrangian.analysis.simplification import simplify_small
 from lagrangian.analysis.spectrum import generalized_modes
 from lagrangian.derivation import EquationsOfMotion
@@ -63,10 +64,11 @@ def solve_pencil(
 ) -> tuple[tuple, tuple, bool, str]:
     """(omega^2 values, shapes, symbolic?, how): symbolic when exact, 2 x 2 and short."""
     exact = not (k.atoms(sp.Float) or m.atoms(sp.Float))
+    omega = OutputNames.of(eom).frequency  # the model may have an omega of its own
     if exact and k.rows <= 2:
         found = _symbolic_modes(sp.Matrix(k), sp.Matrix(m), eom, numbers)
         if found is not None:
-            return (*found, True, "det(K - omega^2 M) = 0 solved symbolically")
+            return (*found, True, f"det(K - {omega}^2 M) = 0 solved symbolically")
     missing = k_numeric.free_symbols | m_numeric.free_symbols
     if missing:
         names = ", ".join(sorted(s.name for s in missing))
@@ -74,4 +76,5 @@ def solve_pencil(
     pairs = generalized_modes(k_numeric, m_numeric)
     squares = tuple(sp.Float(w2, 15) for w2, _ in pairs)
     shapes = tuple(v for _, v in pairs)
-    return squares, shapes, False, "K v = omega^2 M v solved numerically at the parameter values"
+    how = f"K v = {omega}^2 M v solved numerically at the parameter values"
+    return squares, shapes, False, how

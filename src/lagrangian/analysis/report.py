@@ -42,6 +42,7 @@ from lagrangian.analysis.manifold.constraint_manifold import (
 )
 from lagrangian.analysis.modes import NormalModes
 from lagrangian.analysis.momenta import ConjugateMomenta, CyclicCoordinate
+from lagrangian.analysis.names import OutputNames
 from lagrangian.analysis.parts import PARTS, AnalysisRequest, Found, symmetries_kept
 from lagrangian.analysis.rest import Equilibria
 from lagrangian.analysis.steady_motions import SteadyMotions
@@ -82,6 +83,8 @@ class AnalysisReport:
     steady_motions: SteadyMotions | None = None
     #: What the search for first integrals beyond cyclic coordinates and h covered.
     searched: tuple[str, ...] = ()
+    #: The names the report introduces (h, H, omega, p_q, ...), none a name of the model.
+    names: OutputNames = OutputNames()
 
     def failure(self, part: str) -> str | None:
         """Why ``part`` failed, or None when it did not."""
@@ -204,8 +207,9 @@ def _gathered(
     eom, legendre, search = request.eom, found["hamiltonian"], found["first_integrals"]
     dimension, velocities, freedom = _freedom(request)
     cyclic = tuple(found["cyclic"] or ())
+    names = OutputNames.of(eom)
     conserved = conserved_quantities(
-        cyclic, found["energy"], symmetries_kept(request, found), found["jacobi"], search
+        cyclic, found["energy"], symmetries_kept(request, found), found["jacobi"], search, names
     )
     return AnalysisReport(
         name=eom.name,
@@ -227,6 +231,7 @@ def _gathered(
         independent_velocities=velocities,
         freedom=freedom,
         steady_motions=found["steady_motions"],
+        names=names,
     )
 
 

@@ -216,8 +216,21 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
         "steady_motions": None if report.steady_motions is None else _steady(report.steady_motions),
         "first_integral_search": list(report.searched),
         "failures": {f.part: f.reason for f in report.failures},
+        "symbols": _symbols(report),
     }
     if report.linearization is not None or report.failure("linearization"):
         linear = report.linearization
         document["linearization"] = None if linear is None else _linearization(linear)
     return document
+
+
+def _symbols(report: AnalysisReport) -> dict[str, Any]:
+    """The names the report introduces (textbook's unless the model has them)."""
+    names = report.names
+    return {
+        "energy_function": names.energy,
+        "hamiltonian": names.hamiltonian,
+        "frequency": names.frequency,
+        "effective_potential": names.effective_potential,
+        "momenta": {q.name: names.momentum(q) for q in report.coordinates},
+    }

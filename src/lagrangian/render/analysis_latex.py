@@ -56,7 +56,7 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
         lines.append(rf"&{_text(report.freedom)}")
     if report.momenta is not None:
         for q, p in zip(report.coordinates, report.momenta.momenta):
-            lines.append(rf"p_{{{tex(q)}}} &= {tex(p)}")
+            lines.append(rf"{tex(sp.Symbol(report.names.momentum(q)))} &= {tex(p)}")
     for c in report.cyclic:
         verdict = "conserved" if c.conserved else "not conserved: " + ", ".join(c.obstructions)
         lines.append(rf"&{tex(c.coordinate)}\ {_text('cyclic; momentum ' + verdict)}")
@@ -70,11 +70,14 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
         verdict = "(" + (when.strip() if when else "conserved") + origin + ")"
         lines.append(rf"{_text(quantity.name)} &= {tex(quantity.expression)}\quad {_text(verdict)}")
     if report.energy is not None and not report.energy.conserved:
+        h = tex(sp.Symbol(report.names.energy))
         lines.append(
-            rf"\frac{{dh}}{{dt}} &= {tex(report.energy.rate)}\quad {_text('(h not conserved)')}"
+            rf"\frac{{d{h}}}{{dt}} &= {tex(report.energy.rate)}\quad "
+            + _text(f"({report.names.energy} not conserved)")
         )
     if report.hamiltonian is not None:
-        lines.append(rf"H &= {tex(report.hamiltonian.hamiltonian)}")
+        H = tex(sp.Symbol(report.names.hamiltonian))
+        lines.append(rf"{H} &= {tex(report.hamiltonian.hamiltonian)}")
     if report.equilibria is not None:
         for e in report.equilibria.equilibria:
             state = ",\\ ".join(f"{tex(q)} = {tex(v)}" for q, v in e.state.items())
@@ -93,7 +96,7 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
             lines.append(rf"&{words}\ {state}\ {_text('(' + verdict + ')')}")
     if report.normal_modes is not None:
         values = ",\\ ".join(tex(w) for w in report.normal_modes.frequencies)
-        lines.append(rf"\omega &\in \{{{values}\}}")
+        lines.append(rf"{tex(sp.Symbol(report.names.frequency))} &\in \{{{values}\}}")
     if report.linearization is not None:
         values = ",\\ ".join(tex(v) for v in report.linearization.eigenvalues)
         lines.append(rf"&{_text('eigenvalues of A')}:\ {values}")

@@ -107,9 +107,11 @@ def _energy_lines(report: AnalysisReport) -> list[str]:
     verdict = "conserved" if energy.conserved else "not conserved"
     if energy.conserved and energy.condition != sp.true:
         verdict = f"conserved when {condition_text(energy.condition)}, as here"
-    lines = [f"h = {energy.energy_function}", f"dh/dt = {energy.rate}: {verdict}", energy.reason]
+    h = report.names.energy
+    lines = [f"{h} = {energy.energy_function}", f"d{h}/dt = {energy.rate}: {verdict}"]
+    lines.append(energy.reason)
     if energy.equals_total_energy:
-        lines.append("h = T + V")
+        lines.append(f"{h} = T + V")
     else:
         lines.append(energy.total_energy_reason)
     return lines
@@ -122,7 +124,7 @@ def _hamiltonian_lines(report: AnalysisReport) -> list[str]:
     # the velocities q_dot(q, p) of several links nest the same quotients many times: one
     # printer writes each once
     text = SumPrinter().doprint
-    lines = [f"H = {text(legendre.hamiltonian)}", legendre.reason]
+    lines = [f"{report.names.hamiltonian} = {text(legendre.hamiltonian)}", legendre.reason]
     canonical = report.hamilton_equations
     if canonical is not None:
         for q, rate in zip(canonical.coordinates, canonical.coordinate_rates):
@@ -142,7 +144,14 @@ def analysis_text(report: AnalysisReport) -> str:
         (f"{c.kind} {c.expression} = 0: {c.reason}" for c in report.constraints),
     )
     if report.momenta is not None:
-        lines += _section("Momenta", (f"p_{q} = {p}" for q, p in report.momenta.by_name().items()))
+        momenta = report.momenta
+        lines += _section(
+            "Momenta",
+            (
+                f"{report.names.momentum(q)} = {p}"
+                for q, p in zip(momenta.coordinates, momenta.momenta)
+            ),
+        )
     lines += _section("Cyclic coordinates (absent from L and F)", map(_cyclic_line, report.cyclic))
     lines += _section(
         "Conserved",
@@ -164,7 +173,8 @@ def analysis_text(report: AnalysisReport) -> str:
         lines += _section(
             "Steady motions (moving with the constraints)",
             [
-                f"V_eff = {steady.effective_potential}; {steady.reason}",
+                f"{report.names.effective_potential} = {steady.effective_potential}; "
+                f"{steady.reason}",
                 *(
                     f"{_equilibrium_line(e)}; velocities {_state(v)}"
                     for e, v in zip(steady.motions, steady.velocities)
@@ -178,7 +188,10 @@ def analysis_text(report: AnalysisReport) -> str:
             "Normal modes",
             [
                 f"about {_state(modes.about)}: {modes.reason}",
-                *(f"omega = {w}, shape {list(v)}" for w, v in zip(modes.frequencies, modes.shapes)),
+                *(
+                    f"{report.names.frequency} = {w}, shape {list(v)}"
+                    for w, v in zip(modes.frequencies, modes.shapes)
+                ),
             ],
         )
     if report.linearization is not None:
