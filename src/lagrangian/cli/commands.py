@@ -12,6 +12,7 @@ from typing import Any
 from lagrangian import examples, render
 from lagrangian.cli.wording import COMMAND_LINE
 from lagrangian.constraints import ConstrainedEquations, constrained_equations, eliminate
+from lagrangian.constraints.multipliers import UNSOLVED
 from lagrangian.derivation import derive
 from lagrangian.documents import (
     analysis_of,
@@ -148,6 +149,12 @@ def constrained_text(equations: ConstrainedEquations) -> str:
         for c in equations.constraints
     ]
     lines += [f"{e} = 0" for e in equations.equations]
+    forces = equations.constraint_forces
+    lines.append("Constraint forces (each multiplier solved for the state):")
+    if forces is None:
+        lines.append(f"  {UNSOLVED}")
+    else:
+        lines += [f"  {lam} = {value}" for lam, value in forces.items()]
     return "\n".join(lines)
 
 

@@ -58,6 +58,11 @@ from lagrangian.symbolic.frozen import FrozenMapping, frozen
 from lagrangian.symbolic.probe import generic_rank
 
 SMALL = 4  # n up to which a dense M is solved symbolically
+#: Why the constraint forces are not solved symbolically, when they are not.
+UNSOLVED = (
+    f"not solved symbolically (M singular, or dense with more than {SMALL} coordinates): "
+    "they follow from the augmented system at each state, as simulate computes them"
+)
 
 
 @dataclass(frozen=True)
@@ -99,6 +104,16 @@ class ConstrainedEquations:
         """q_ddot and lambda solved symbolically (computed on first request), or None when
         the system is left in augmented form (M singular, or dense with n > 4)."""
         return _SOLVED.get(self, _solve)
+
+    @property
+    def constraint_forces(self) -> Mapping[sp.Symbol, sp.Expr] | None:
+        """Each multiplier solved as a function of the state and time (the rolling disk's
+        friction lambda = -m g sin(alpha) / 3), or None where :attr:`explicit` is None
+        (:data:`UNSOLVED`).  A unilateral constraint's is its force while in contact."""
+        solved = self.explicit
+        if solved is None:
+            return None
+        return FrozenMapping({lam: solved[lam] for lam in self.multipliers})
 
     @property
     def augmented_lagrangian(self) -> sp.Expr:

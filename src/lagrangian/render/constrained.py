@@ -25,6 +25,7 @@ from __future__ import annotations
 import sympy as sp
 
 from lagrangian.constraints import ConstrainedEquations
+from lagrangian.constraints.multipliers import UNSOLVED
 from lagrangian.model.constraints import Unilateral
 from lagrangian.render.latex import KeptLatexPrinter, block, symbol_names
 from lagrangian.render.mathml import Dotted, mathml_table
@@ -34,6 +35,10 @@ HEADING = (
     "&\\text{with the constraints (}\\lambda_j \\, \\partial h_j / \\partial q"
     "\\text{ is the force of constraint } j\\text{)}"
 )
+
+
+#: The line above the multipliers solved for the state.
+FORCES_HEADING = "&\\text{constraint forces (each multiplier solved for the state)}"
 
 
 def _relation(constraint: object) -> str:
@@ -49,6 +54,12 @@ def constrained_latex_lines(equations: ConstrainedEquations, matrix: bool = Fals
     lines += [f"{tex(c.expression)} &{_relation(c)} 0" for c in equations.constraints]
     n = len(equations.coordinates)
     lines += [f"{tex(e)} &= 0" for e in list(equations.equations)[:n]]
+    forces = equations.constraint_forces
+    lines.append(FORCES_HEADING)
+    if forces is None:
+        lines.append(f"&\\text{{{UNSOLVED}}}")
+    else:
+        lines += [f"{tex(lam)} &= {tex(value)}" for lam, value in forces.items()]
     if matrix:
         unknowns = sp.Matrix(equations.unknowns)
         lines.append(
@@ -81,6 +92,12 @@ def constrained_mathml_rows(
         rows.append((dotted(c.expression), right))
     n = len(equations.coordinates)
     rows += [(dotted(e), "<mn>0</mn>") for e in list(equations.equations)[:n]]
+    forces = equations.constraint_forces
+    rows.append(("<mtext>constraint forces (each multiplier solved for the state)</mtext>", ""))
+    if forces is None:
+        rows.append((f"<mtext>{UNSOLVED}</mtext>", "<mtext></mtext>"))
+    else:
+        rows += [(dotted(lam), dotted(value)) for lam, value in forces.items()]
     if matrix:
         left = dotted(equations.augmented_matrix) + dotted(sp.Matrix(equations.unknowns))
         rows.append((left, dotted(equations.augmented_rhs)))

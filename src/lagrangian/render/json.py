@@ -11,6 +11,7 @@ from typing import Any
 import sympy as sp
 
 from lagrangian.constraints import ConstrainedEquations
+from lagrangian.constraints.multipliers import UNSOLVED
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.render.text import SumPrinter
 
@@ -99,4 +100,13 @@ def constrained_document(equations: ConstrainedEquations) -> dict[str, Any]:
         "gamma": _vector(text, equations.gamma),
         "constrained_equations": _vector(text, equations.equations),
         "augmented_lagrangian": text(equations.augmented_lagrangian),
+        "constraint_forces": _forces(text, equations),
     }
+
+
+def _forces(text: _Writer, equations: ConstrainedEquations) -> dict[str, Any]:
+    """The multipliers solved for the state, by name, or the reason they are not."""
+    forces = equations.constraint_forces
+    if forces is None:
+        return {"solved": None, "reason": UNSOLVED}
+    return {"solved": {lam.name: text(value) for lam, value in forces.items()}, "reason": ""}
