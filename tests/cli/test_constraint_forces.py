@@ -52,3 +52,22 @@ def test_a_rolling_coin_says_why_its_forces_are_not_solved(
     document = json.loads(derive(capsys, "rolling_coin", "--format", "json"))
     assert document["constraint_forces"]["solved"] is None
     assert "augmented system" in document["constraint_forces"]["reason"]
+
+
+def test_analyze_gives_the_same_friction_in_text_latex_and_json(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    assert main(["analyze", "cylinder_on_incline", "--format", "text"]) == 0
+    text = capsys.readouterr().out
+    assert "Constraint forces (each multiplier solved for the state):\n" in text
+    assert "  lambda_1 = -g*m*sin(alpha)/3\n" in text
+    assert main(["analyze", "cylinder_on_incline", "--format", "latex"]) == 0
+    assert r"\lambda_{1} &= - \frac{g m \sin{\left(\alpha \right)}}{3}" in capsys.readouterr().out
+    assert main(["analyze", "cylinder_on_incline", "--format", "json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert document["constraint_forces"] == {
+        "solved": {"lambda_1": "-g*m*sin(alpha)/3"},
+        "reason": "",
+    }
+    assert main(["analyze", "double_pendulum", "--format", "json"]) == 0
+    assert "constraint_forces" not in json.loads(capsys.readouterr().out)  # no constraints

@@ -20,9 +20,10 @@ found is not run.
     normal_modes         K v = omega^2 M v             in the independent coordinates
     linearization        A, B about a state            with the dependent ones eliminated
     momenta              p_j = dL/dq_dot_j             the same
+    constraint_forces    -                             lambda solved for the state
 
 >>> [part.name for part in PARTS if part.free is None]
-['jacobi', 'steady_motions']
+['jacobi', 'steady_motions', 'constraint_forces']
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ from lagrangian.analysis.integrals.constrained import constrained_first_integral
 from lagrangian.analysis.integrals.noether import Symmetry, point_symmetries
 from lagrangian.analysis.integrals.search import SEARCH_SECONDS, first_integrals
 from lagrangian.analysis.linearize import linearization_at_values
+from lagrangian.analysis.manifold.constraint_forces import constraint_forces
 from lagrangian.analysis.manifold.constraint_manifold import ConstraintManifold
 from lagrangian.analysis.manifold.symmetries import jacobi_integral, kept_symmetries
 from lagrangian.analysis.modes import modes_at_values
@@ -209,6 +211,11 @@ def _manifold_linearization(request: AnalysisRequest, found: Found) -> Any:
     )
 
 
+def _constraint_forces(request: AnalysisRequest, found: Found) -> Any:
+    assert request.manifold is not None  # the part runs on the manifold only
+    return constraint_forces(request.eom, request.manifold)
+
+
 def _momenta(request: AnalysisRequest, found: Found) -> Any:
     return conjugate_momenta(request.eom)
 
@@ -228,4 +235,5 @@ PARTS: tuple[Part, ...] = (
     Part("normal_modes", _modes, _modes, needs=("equilibria",)),
     Part("linearization", _linearization, _manifold_linearization),
     Part("momenta", _momenta, _momenta),
+    Part("constraint_forces", None, _constraint_forces),
 )

@@ -34,6 +34,7 @@ from lagrangian.analysis.evaluation import EvaluationContext, evaluation_context
 from lagrangian.analysis.hamiltonian import HamiltonEquations, Hamiltonian
 from lagrangian.analysis.integrals.search import SEARCH_SECONDS, ConservedQuantity
 from lagrangian.analysis.linearize import Linearization
+from lagrangian.analysis.manifold.constraint_forces import ConstraintForces
 from lagrangian.analysis.manifold.constraint_manifold import (
     ConstraintManifold,
     constraint_manifold,
@@ -83,6 +84,8 @@ class AnalysisReport:
     steady_motions: SteadyMotions | None = None
     #: What the search for first integrals beyond cyclic coordinates and h covered.
     searched: tuple[str, ...] = ()
+    #: Each multiplier solved for the state (constrained systems only).
+    constraint_forces: ConstraintForces | None = None
     #: The names the report introduces (h, H, omega, p_q, ...), none a name of the model.
     names: OutputNames = OutputNames()
 
@@ -232,6 +235,7 @@ def _gathered(
         freedom=freedom,
         steady_motions=found["steady_motions"],
         names=names,
+        constraint_forces=found["constraint_forces"],
     )
 
 

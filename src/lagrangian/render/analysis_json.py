@@ -43,6 +43,7 @@ from lagrangian.analysis import (
     Linearization,
     NormalModes,
 )
+from lagrangian.analysis.manifold.constraint_forces import ConstraintForces
 from lagrangian.analysis.steady_motions import SteadyMotions
 from lagrangian.render.text import SumPrinter
 from lagrangian.symbolic.conversion import to_sympy
@@ -218,6 +219,8 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
         "failures": {f.part: f.reason for f in report.failures},
         "symbols": _symbols(report),
     }
+    if report.constraint_forces is not None:
+        document["constraint_forces"] = _constraint_forces(report.constraint_forces)
     if report.linearization is not None or report.failure("linearization"):
         linear = report.linearization
         document["linearization"] = None if linear is None else _linearization(linear)
@@ -234,3 +237,12 @@ def _symbols(report: AnalysisReport) -> dict[str, Any]:
         "effective_potential": names.effective_potential,
         "momenta": {q.name: names.momentum(q) for q in report.coordinates},
     }
+
+
+def _constraint_forces(forces: ConstraintForces) -> dict[str, Any]:
+    """As ``derive``'s JSON: the multipliers solved by name, or the reason they are not."""
+    solved = forces.solved
+    by_name = (
+        None if solved is None else {lam.name: expression_string(v) for lam, v in solved.items()}
+    )
+    return {"solved": by_name, "reason": forces.reason}

@@ -22,6 +22,7 @@ from lagrangian.analysis import (
     NormalModes,
     Symmetry,
 )
+from lagrangian.render.constrained import FORCES_HEADING
 from lagrangian.render.latex import block, symbol_names
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.probe import is_small
@@ -54,6 +55,12 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
     lines = [rf"&{_text(report.name or 'system')}:\ {report.dof}\ {_text('degrees of freedom')}"]
     if report.freedom and report.configuration_dimension != report.independent_velocities:
         lines.append(rf"&{_text(report.freedom)}")
+    forces = report.constraint_forces
+    if forces is not None and forces.solved is not None:
+        lines.append(FORCES_HEADING)
+        lines += [rf"{tex(k)} &= {tex(v)}" for k, v in forces.solved.items()]
+    elif forces is not None:
+        lines.append(rf"&{_text('constraint forces ' + forces.reason)}")
     if report.momenta is not None:
         for q, p in zip(report.coordinates, report.momenta.momenta):
             lines.append(rf"{tex(sp.Symbol(report.names.momentum(q)))} &= {tex(p)}")

@@ -143,6 +143,13 @@ def analysis_text(report: AnalysisReport) -> str:
         "Constraints",
         (f"{c.kind} {c.expression} = 0: {c.reason}" for c in report.constraints),
     )
+    forces = report.constraint_forces
+    if forces is not None:
+        solved = forces.solved
+        lines += _section(
+            "Constraint forces (each multiplier solved for the state)",
+            [forces.reason] if solved is None else (f"{k} = {v}" for k, v in solved.items()),
+        )
     if report.momenta is not None:
         momenta = report.momenta
         lines += _section(
