@@ -91,8 +91,8 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
             verdict = {True: "stable", False: "unstable", None: "undetermined"}[e.stable]
             lines.append(rf"&{_text('equilibrium')}\ {state}\ {_text('(' + verdict + ')')}")
             if e.multipliers:
-                forces = ",\\ ".join(f"{tex(k)} = {tex(v)}" for k, v in e.multipliers.items())
-                lines.append(rf"&\quad {forces}")
+                held = ",\\ ".join(f"{tex(k)} = {tex(v)}" for k, v in e.multipliers.items())
+                lines.append(rf"&\quad {held}")
     if report.steady_motions is not None:
         for e in report.steady_motions.motions:
             if e.exists is False:
