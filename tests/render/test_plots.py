@@ -68,3 +68,24 @@ def test_coordinates_of_different_sizes_get_panels_of_their_own():
     assert ["theta"] in groups and ["psi"] in groups
     figure = overview(top)
     assert len(figure.axes) == len(groups) + 2  # the panels, the phase portrait, the energy
+
+
+def test_a_constrained_overview_plots_the_constraint_forces_in_their_own_panel() -> None:
+    """The rolling cylinder's friction is constant, -m g sin(alpha) / 3 (the solved
+    multiplier), and gets a panel of its own; an unconstrained overview has none."""
+    import math
+
+    import sympy as sp
+
+    from lagrangian.render.plots import overview
+    from lagrangian.simulation import simulate
+
+    system = lg.examples.cylinder_on_incline()
+    figure = overview(simulate(system, t_span=1.0, samples=50), system=system)
+    (panel,) = [ax for ax in figure.axes if ax.get_title() == "Constraint forces"]
+    (line,) = panel.get_lines()
+    values = dict(system.parameters)
+    m, g, alpha = (values[sp.Symbol(n)] for n in ("m", "g", "alpha"))
+    assert np.allclose(line.get_ydata(), -m * g * math.sin(alpha) / 3, rtol=1e-8)
+    free = overview(simulate(lg.examples.simple_pendulum(), t_span=1.0, samples=50))
+    assert all(ax.get_title() != "Constraint forces" for ax in free.axes)

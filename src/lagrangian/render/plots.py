@@ -150,22 +150,44 @@ def plot_energy_drift(
     return ax
 
 
+def plot_constraint_forces(
+    trajectory: Trajectory,
+    ax: Axes | None = None,
+    *,
+    units: Mapping[str, str] | None = None,
+) -> Axes:
+    """Each Lagrange multiplier against t: the force of its constraint (lambda_j dh_j/dq)."""
+    ax = ax if ax is not None else _new_axes()
+    assert trajectory.multipliers is not None, "a trajectory of a constrained system"
+    for j, name in enumerate(trajectory.multiplier_names):
+        ax.plot(trajectory.t, trajectory.multipliers[:, j], label=label(sp.Symbol(name)))
+    ax.set_xlabel(time_label(units))
+    ax.set_ylabel("multiplier")
+    ax.set_title("Constraint forces")
+    ax.legend(loc="best")
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
 def overview(
     trajectory: Trajectory, coordinate: str | None = None, system: System | None = None
 ) -> Figure:
     """One figure with the time series, the phase portrait of ``coordinate`` (default: the
-    first) and the energy drift, side by side; titled with the name of ``system`` and
-    labelled with its units when it is given."""
+    first) and the energy drift, side by side, and the constraint forces below the time series
+    of a constrained system; titled with the name of ``system`` and labelled with its units
+    when it is given."""
     from matplotlib.figure import Figure
 
     units = dict(system.units) if system is not None else None
     groups = scale_groups(trajectory)
-    figure = Figure(
-        figsize=(15, 4.5 if len(groups) == 1 else 2.6 * len(groups)), layout="constrained"
-    )
-    grid = figure.add_gridspec(len(groups), 3)
+    forces = trajectory.multipliers is not None and len(trajectory.multiplier_names) > 0
+    rows = len(groups) + forces
+    figure = Figure(figsize=(15, 4.5 if rows == 1 else 2.6 * rows), layout="constrained")
+    grid = figure.add_gridspec(rows, 3)
     for row, names in enumerate(groups):  # one panel per scale: 95 rad of spin hides a nutation
         plot_time_series(trajectory, names, ax=figure.add_subplot(grid[row, 0]), units=units)
+    if forces:  # in a panel of their own: forces are not on the coordinates' scale
+        plot_constraint_forces(trajectory, ax=figure.add_subplot(grid[len(groups), 0]), units=units)
     middle = figure.add_subplot(grid[:, 1])
     right = figure.add_subplot(grid[:, 2])
     chosen = coordinate or trajectory.coordinates[0]
