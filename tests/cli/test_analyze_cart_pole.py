@@ -43,8 +43,8 @@ def test_the_text_lists_the_hanging_and_the_upright_pole_at_f_zero(
     code, out, err = run(capsys, "analyze", cart_pole, "--format", "text", "--search-degree", "0")
     assert code == 0, err
     rest = out.split("Equilibria:\n", 1)[1].split("\n\n", 1)[0].splitlines()
-    assert rest[0].startswith("  x = x, theta = 0: stable (")
-    assert rest[1].startswith("  x = x, theta = pi: unstable (")
+    assert rest[0].startswith("  theta = 0, x free: stable (")
+    assert rest[1].startswith("  theta = pi, x free: unstable (")
     assert all(line.endswith("exists when F = 0") for line in rest[:2])
     assert "for F ≠ 0: the static forces [F] do not depend on the coordinates: no rest" in rest[2]
     assert "momentum conserved when F = 0" in out

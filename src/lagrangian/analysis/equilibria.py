@@ -154,8 +154,15 @@ class _Specialized:
 
 
 def _relations(condition: sp.Basic) -> dict[sp.Basic, sp.Basic]:
-    """``Eq(F, 0) & Eq(k, 2)`` as the substitution {F: 0, k: 2}."""
-    return {c.lhs: c.rhs for c in sp.And.make_args(condition) if isinstance(c, sp.Eq)}
+    """``Eq(F, 0) & Eq(k, 2)`` as the substitution {F: 0, k: 2}; chained relations resolved
+    (m2 = m3, m1 = m2 + m3 gives {m2: m3, m1: 2 m3}) so one xreplace applies them all."""
+    relations = {c.lhs: c.rhs for c in sp.And.make_args(condition) if isinstance(c, sp.Eq)}
+    for _ in relations:  # each pass resolves one more link of a chain
+        resolved = {p: value.xreplace(relations) for p, value in relations.items()}
+        if resolved == relations:
+            break
+        relations = resolved
+    return relations
 
 
 def _at_values(context: EvaluationContext, static: sp.ImmutableMatrix) -> _Specialized | str:

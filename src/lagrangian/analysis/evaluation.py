@@ -44,6 +44,9 @@ from lagrangian.symbolic.probe import is_zero
 
 #: A number within this of 0 (after the values are put in) is 0: round-off of the values.
 ROUND_OFF = 1e-12
+#: Relations between parameters are looked for in expressions of at most this many
+#: parameters and operations (a short linear solve; beyond, every parameter's value is said).
+RELATION_PARAMETERS, RELATION_OPS = 8, 200
 
 
 @dataclass(frozen=True)
@@ -81,15 +84,42 @@ class EvaluationContext:
 
     def vanishing_condition(self, expr: Any) -> sp.Basic | None:
         """The parameter values under which ``expr`` vanishes for every state, as
-        ``Eq(F, 0) & ...``: the parameters at 0 when those suffice, else every parameter it
-        uses; None when the values given do not make it vanish."""
+        ``Eq(F, 0) & ...``: the parameters at 0 when those suffice, else relations between
+        the parameters that the values satisfy (balanced masses: m1 = m2 + m3), else every
+        parameter it uses; None when the values given do not make it vanish."""
         expr = to_sympy(expr)
         used = sorted((p for p in expr.free_symbols if p in self.values), key=str)
         zeros = [p for p in used if to_sympy(self.values[p]).is_zero]
-        for chosen in (zeros, used):
-            values = {p: sp.Integer(0) if p in zeros else self.values[p] for p in chosen}
-            if chosen and vanishes(expr.xreplace(values)):
-                return sp.And(*[sp.Eq(p, values[p]) for p in chosen])
+        values = {p: sp.Integer(0) for p in zeros}
+        if zeros and vanishes(expr.xreplace(values)):
+            return sp.And(*[sp.Eq(p, 0) for p in zeros])
+        if not vanishes(evaluate(expr, self.values)):
+            return None
+        relations = self._relations(expr, used)
+        if relations is not None:
+            return relations
+        return sp.And(*[sp.Eq(p, self.values[p]) for p in used])
+
+    def _relations(self, expr: sp.Expr, used: list[sp.Symbol]) -> sp.Basic | None:
+        """Relations between parameters that make ``expr`` vanish for every state and that
+        the values satisfy, from its coefficients of the state (small expressions only):
+        g (m1 - m2 - m3) gives m1 = m2 + m3 when g is not 0."""
+        if not used or len(used) > RELATION_PARAMETERS or sp.count_ops(expr) > RELATION_OPS:
+            return None
+        eom = self.eom
+        state = (*eom.coordinates, *eom.velocities, eom.time)
+        coefficients: dict[sp.Expr, sp.Expr] = {}
+        for term in sp.Add.make_args(sp.expand(expr)):
+            coefficient, monomial = term.as_independent(*state, as_Add=False)
+            coefficients[monomial] = coefficients.get(monomial, 0) + coefficient
+        try:
+            solutions = sp.solve(list(coefficients.values()), used, dict=True)
+        except (NotImplementedError, ValueError, TypeError):
+            return None
+        for solution in solutions:
+            held = all(vanishes(evaluate(p - value, self.values)) for p, value in solution.items())
+            if held and not any(value == 0 for value in solution.values()):
+                return sp.And(*[sp.Eq(p, value) for p, value in solution.items()])
         return None
 
 
@@ -116,10 +146,19 @@ def evaluation_context(subject: Subject, parameters: Values | None = None) -> Ev
 def condition_text(condition: sp.Basic) -> str:
     """A condition on parameters as people write it: ``F = 0, k = 2``."""
     parts = condition.args if isinstance(condition, sp.And) else (condition,)
-    return ", ".join(f"{p.lhs} = {p.rhs}" if isinstance(p, sp.Eq) else str(p) for p in parts)
+    return ", ".join(
+        f"{p.lhs} = {_number(p.rhs)}" if isinstance(p, sp.Eq) else str(p) for p in parts
+    )
+
+
+def _number(value: sp.Basic) -> str:
+    """A value as given: 9.81, not 9.81000000000000."""
+    return f"{float(value):g}" if isinstance(value, sp.Float) else str(value)
 
 
 def otherwise_text(condition: sp.Basic) -> str:
     """The general case a condition leaves out, as people write it: ``F ≠ 0 or k ≠ 2``."""
     parts = condition.args if isinstance(condition, sp.And) else (condition,)
-    return " or ".join(f"{p.lhs} ≠ {p.rhs}" if isinstance(p, sp.Eq) else f"not {p}" for p in parts)
+    return " or ".join(
+        f"{p.lhs} ≠ {_number(p.rhs)}" if isinstance(p, sp.Eq) else f"not {p}" for p in parts
+    )

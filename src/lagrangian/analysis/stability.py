@@ -56,7 +56,11 @@ def stability_of(
     already removed) and optionally the numeric velocity Jacobian df/dq_dot."""
     along = f"; neutral along {', '.join(neutral)} (a family of equilibria)" if neutral else ""
     if stiffness.rows == 0:
-        return None, "every nearby configuration is at rest: undetermined at second order"
+        return None, (
+            "neutral: every nearby configuration is at rest too (a family of equilibria"
+            + (f" along {', '.join(neutral)}" if neutral else "")
+            + "), so a push moves it off at constant speed"
+        )
     scale = _scale(stiffness)
     if _skew(stiffness, scale):
         return None, (

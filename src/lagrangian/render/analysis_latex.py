@@ -87,8 +87,14 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
         lines.append(rf"{H} &= {tex(report.hamiltonian.hamiltonian)}")
     if report.equilibria is not None:
         for e in report.equilibria.equilibria:
-            state = ",\\ ".join(f"{tex(q)} = {tex(v)}" for q, v in e.state.items())
+            fixed = [f"{tex(q)} = {tex(v)}" for q, v in e.state.items() if q not in e.free]
+            free = [tex(q) for q in e.state if q in e.free]
+            if free:
+                fixed.append(",\\ ".join(free) + r"\ " + _text("free"))
+            state = ",\\ ".join(fixed)
             verdict = {True: "stable", False: "unstable", None: "undetermined"}[e.stable]
+            if e.stable is None and set(e.free) == set(e.state):
+                verdict = "neutral"
             lines.append(rf"&{_text('equilibrium')}\ {state}\ {_text('(' + verdict + ')')}")
             if e.multipliers:
                 held = ",\\ ".join(f"{tex(k)} = {tex(v)}" for k, v in e.multipliers.items())

@@ -67,8 +67,21 @@ def _condition(condition: sp.Basic) -> str:
     return condition_text(condition) if condition.has(sp.Eq) else str(condition)
 
 
+def equilibrium_state(e: Equilibrium) -> str:
+    """``theta = 0, x free``: the fixed coordinates' values, then the family's free ones
+    (``every configuration`` when none is fixed)."""
+    free = {q for q in e.free}
+    fixed = _state({q: v for q, v in e.state.items() if q not in free})
+    if not free:
+        return fixed
+    names = ", ".join(str(q) for q in e.state if q in free)
+    return f"{fixed}, {names} free" if fixed else f"every configuration ({names} free)"
+
+
 def _equilibrium_line(e: Equilibrium) -> str:
-    line = f"{_state(e.state)}: {VERDICTS[e.stable]} ({e.reason})"
+    everywhere = e.stable is None and set(e.free) == set(e.state)
+    verdict = "neutral" if everywhere else VERDICTS[e.stable]
+    line = f"{equilibrium_state(e)}: {verdict} ({e.reason})"
     if e.multipliers:
         line += f"; multipliers {_state(e.multipliers)}"
     if e.condition != sp.true:
