@@ -7,7 +7,10 @@ to do, instead of a process that never answers.
 - ``with time_limit(seconds):`` bounds a block.  In the main thread of a system with interval
   timers (Linux, macOS) a real-time timer (``signal.setitimer``) interrupts the work where it
   is; elsewhere (another thread, Windows) the work is stopped at its next
-  :func:`check_time`, which long loops call.
+  :func:`check_time`, which long loops call.  The timer's exception is raised between two
+  Python instructions, never inside compiled code, as long as no compiled library calls back
+  into Python code that an exception could not leave: SymEngine would for the SymPy functions
+  it has no class of its own for, so it never gets one (:mod:`lagrangian.symbolic.native`).
 - Limits nest: an inner limit never outlives the outer one, and an inner block given no
   number of seconds keeps the outer limit as it is.  A timer another part of the program has
   set (``lagrangian --timeout``) counts as an outer limit.

@@ -95,6 +95,10 @@ def add_sweep_options(command: argparse.ArgumentParser) -> None:
     )
     command.add_argument("--out", required=True, help="the Zarr store to write (RESULT.zarr)")
     command.add_argument("--scheduler", metavar="ADDRESS", help="a running Dask scheduler")
+    # Dask's own names for the files of a TLS scheduler (dask scheduler --help)
+    command.add_argument("--tls-ca-file", metavar="PEM", help="--scheduler's certificate authority")
+    command.add_argument("--tls-cert", metavar="PEM", help="this client's certificate for it")
+    command.add_argument("--tls-key", metavar="PEM", help="this client's private key for it")
     command.add_argument("--workers", type=int, help="local worker processes (one per core)")
     command.add_argument(
         "--chunk-size", type=int, help="members per task (512; 32 with constraints)"
@@ -116,6 +120,7 @@ def run_sweep(args: argparse.Namespace) -> str:
     from lagrangian.cli.simulate_command import interrupted
     from lagrangian.documents import apply_settings
     from lagrangian.sweeps import build_grid, sweep
+    from lagrangian.sweeps.cluster import tls_security
 
     system = apply_settings(load_system(args.model), args.set, COMMAND_LINE)
     problems: list[Problem] = []
@@ -144,6 +149,7 @@ def run_sweep(args: argparse.Namespace) -> str:
             seed=args.seed,
             scheduler=args.scheduler,
             workers=args.workers,
+            security=tls_security(args.scheduler, args.tls_ca_file, args.tls_cert, args.tls_key),
             resume=args.resume,
             stop_when=args.stop_when,
             chunk_size=args.chunk_size,

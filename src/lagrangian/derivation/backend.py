@@ -20,18 +20,20 @@ from sympy.core.basic import ordering_of_classes
 
 from lagrangian.symbolic.caches import IdentityCache
 from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.native import to_symengine
 from lagrangian.symbolic.nonsmooth import piecewise_smooth
 
 Backend = Any  # a symengine expression
 
 
 def to_backend(expr: Any) -> Backend:
-    """A SymEngine expression from a SymPy expression or a number."""
-    return se.sympify(expr)
+    """A SymEngine expression from a SymPy expression or a number, with no function that
+    SymEngine would hand back to SymPy (:func:`lagrangian.symbolic.native.to_symengine`)."""
+    return to_symengine(expr)
 
 
 def vector_to_backend(values: Iterable[Any]) -> list[Backend]:
-    return [se.sympify(v) for v in values]
+    return [to_symengine(v) for v in values]
 
 
 _TRIG: dict[type, Callable[..., sp.Expr]] = {se.sin: sp.sin, se.cos: sp.cos}
@@ -92,7 +94,7 @@ class SympyView:
         return [known if (known := get(a)) is not None else self(a) for a in expr.args]
 
     def _fallback(self, expr: Backend) -> sp.Expr:
-        # SymEngine knows only SymPy's complex Abs, sign and Heaviside
+        # SymEngine knows only SymPy's complex Abs and sign, and Heaviside by a stand-in
         result = piecewise_smooth(to_sympy(expr))
         swap = {
             s: self.by_name[s.name]

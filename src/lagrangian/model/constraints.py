@@ -29,6 +29,7 @@ import sympy as sp
 from lagrangian.errors import Problem
 from lagrangian.model.elements import as_expression
 from lagrangian.symbolic.expressions import free_symbols
+from lagrangian.symbolic.native import to_symengine
 
 if TYPE_CHECKING:
     from lagrangian.model.validation import NameScope
@@ -206,7 +207,7 @@ def _linear(expression: sp.Expr, present: list[sp.Symbol]) -> bool:
     if _pfaffian_at_sight(expression, set(present)):
         return True
     try:
-        expr, names = se.sympify(expression), [se.sympify(v) for v in present]
+        expr, names = to_symengine(expression), [to_symengine(v) for v in present]
         expand: Any = se.expand
     except se.SympifyError:
         expr, names, expand = expression, present, sp.expand

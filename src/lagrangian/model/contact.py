@@ -56,6 +56,7 @@ from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
 from lagrangian.model.validation import CONFIGURATION, NameScope
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.expressions import distinct_parts
+from lagrangian.symbolic.native import to_symengine
 from lagrangian.symbolic.nonsmooth import piecewise_smooth
 from lagrangian.symbolic.probe import is_zero
 from lagrangian.symbolic.symbols import t, velocity
@@ -193,7 +194,7 @@ class _WheelGeometry:
 def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
     """C - p = R d - r_t e_z with d = (a a_z - e_z) / s (the module docstring); a sphere
     (R = 0) has no axle and C - p = -r_t e_z."""
-    tyre = se.sympify(disc.tyre_radius)
+    tyre = to_symengine(disc.tyre_radius)
     below = (se.Integer(0), se.Integer(0), -tyre)
     if is_zero(disc.radius):
         one = se.Integer(1)
@@ -202,7 +203,7 @@ def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
     s = _length_of(a[2])
     if s.value == 0 or is_zero(to_sympy(s.value if s.closed else s.root)):
         return _WheelGeometry(below, s, flat=True)
-    radius = se.sympify(disc.radius)
+    radius = to_symengine(disc.radius)
     inverse = 1 / s.value
     offset = (
         se.expand(radius * a[0] * a[2] * inverse),
@@ -217,8 +218,10 @@ def _axle_in_world(disc: RollingDisc, body: RigidBody) -> tuple[Any, Any, Any]:
     n = sp.Matrix(_axle(disc, body))
     n = n / sp.sqrt(sp.expand(n.dot(n)))
     R = body.orientation.matrix  # type: ignore[union-attr]
-    used = [(k, se.sympify(n[k])) for k in range(3) if n[k] != 0]
-    x, y, z = (se.expand(se.Add(*[se.sympify(R[i, k]) * n_k for k, n_k in used])) for i in range(3))
+    used = [(k, to_symengine(n[k])) for k in range(3) if n[k] != 0]
+    x, y, z = (
+        se.expand(se.Add(*[to_symengine(R[i, k]) * n_k for k, n_k in used])) for i in range(3)
+    )
     return x, y, z
 
 
@@ -236,7 +239,7 @@ def contact_point(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
     geometry = _wheel_geometry(disc, body)
     back = _Sympy(body, disc)
     return tuple(
-        back(geometry.rooted(se.expand(se.sympify(p) + e)))
+        back(geometry.rooted(se.expand(to_symengine(p) + e)))
         for p, e in zip(body.position, geometry.offset)
     )
 
@@ -255,14 +258,14 @@ def _constraints(
     """:func:`rolling_constraints` from the wheel's ``geometry``."""
     rates = [velocity(x) for x in q]
     back = _Sympy(body, disc, q, rates)
-    position = [se.sympify(e) for e in body.position]
+    position = [to_symengine(e) for e in body.position]
     offset = geometry.offset
     height = se.expand(position[2] + offset[2])
     omega = angular_velocity_terms(body.orientation, q, body=False)  # world axes
-    at_rest = {se.sympify(v): 0 for v in rates}
-    turns = [[se.diff(w, se.sympify(v)) for w in omega] for v in rates]
+    at_rest = {to_symengine(v): 0 for v in rates}
+    turns = [[se.diff(w, to_symengine(v)) for w in omega] for v in rates]
     turns.append([w.xreplace(at_rest) for w in omega])  # omega_t, of a rheonomic orientation
-    variables = [se.sympify(x) for x in (*q, t)]
+    variables = [to_symengine(x) for x in (*q, t)]
     slip = []
     for k in (0, 1):  # the x and y components of omega_j x (C - p): rows of the cross product
         i, j = (k + 1) % 3, (k + 2) % 3

@@ -35,6 +35,7 @@ import sympy as sp
 from lagrangian.errors import ModelError, Problem
 from lagrangian.symbolic.caches import remembered
 from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.native import to_symengine
 from lagrangian.symbolic.symbols import t, time_derivative, velocity
 
 #: The 12 Euler-angle sequences: 6 Tait–Bryan (three different axes), 6 proper Euler.
@@ -452,7 +453,9 @@ def _composed_backend(
     if parent is not None and inherited is None:
         return None
     w: list[Any] = [se.Integer(0)] * 3
-    turns = [([se.sympify(e) for e in n], se.sympify(a), _backend_rate(a, q)) for n, a in factors]
+    turns = [
+        ([to_symengine(e) for e in n], to_symengine(a), _backend_rate(a, q)) for n, a in factors
+    ]
     if body:
         w = list(inherited or w)
         for n, a, rate in turns:
@@ -461,7 +464,7 @@ def _composed_backend(
         for n, a, rate in reversed(turns):
             w = [n_i * rate + x for x, n_i in zip(_times(_backend_about(n, a), w), n)]
         if parent is not None and inherited is not None:
-            turned = _times([[se.sympify(e) for e in row] for row in parent.matrix.tolist()], w)
+            turned = _times([[to_symengine(e) for e in row] for row in parent.matrix.tolist()], w)
             w = [x + e for x, e in zip(turned, inherited)]
     x, y, z = (se.expand(e) for e in w)
     return x, y, z
@@ -476,13 +479,13 @@ def _plain_angle(angle: Any) -> bool:
 
 def _backend_rate(angle: Any, q: Sequence[sp.Symbol]) -> Any:
     """d angle/dt by the chain rule (:func:`_rate`, an angle of q and t) in SymEngine."""
-    a = se.sympify(angle)
+    a = to_symengine(angle)
     free = a.free_symbols
-    rate = a.diff(se.sympify(t))
+    rate = a.diff(to_symengine(t))
     for x in q:
-        symbol = se.sympify(x)
+        symbol = to_symengine(x)
         if symbol in free:
-            rate += a.diff(symbol) * se.sympify(velocity(x))
+            rate += a.diff(symbol) * to_symengine(velocity(x))
     return rate
 
 
@@ -575,7 +578,7 @@ def angular_velocity_terms(
     fast = _fast(orientation, q, body, EXPANDED_TURNS)
     if fast is not None:
         return fast
-    x, y, z = (se.sympify(e) for e in _angular_velocity(orientation, q, body))
+    x, y, z = (to_symengine(e) for e in _angular_velocity(orientation, q, body))
     return x, y, z
 
 

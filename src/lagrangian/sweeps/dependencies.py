@@ -1,4 +1,5 @@
-"""The packages a sweep needs beyond lagrangian's own: Dask (distributed), xarray and Zarr.
+"""The packages a sweep needs beyond lagrangian's own: Dask (distributed), xarray, Zarr and
+cryptography (the local cluster's TLS credentials, which distributed does not require).
 
 They are imported only when a sweep runs, so ``import lagrangian`` stays fast; missing ones
 are named with the command that installs them.
@@ -12,7 +13,13 @@ from lagrangian.errors import SimulationError
 
 INSTALL_HINT = "pip install lagrangian[sweep]"
 #: Import name -> what pip calls it.
-PACKAGES = {"dask": "dask", "distributed": "distributed", "xarray": "xarray", "zarr": "zarr"}
+PACKAGES = {
+    "dask": "dask",
+    "distributed": "distributed",
+    "xarray": "xarray",
+    "zarr": "zarr",
+    "cryptography": "cryptography",
+}
 
 
 def missing_packages() -> list[str]:

@@ -107,6 +107,7 @@ def sweep(
     seed: int = 0,
     scheduler: str | None = None,
     workers: int | None = None,
+    security: Any | None = None,
     resume: bool = False,
     stop_when: str | StopCondition | None = None,
     chunk_size: int | None = None,
@@ -133,8 +134,14 @@ def sweep(
         NAME -> (low, high, N): N members drawn uniformly, along the dimension ``sample``
         (every random name the same N), seeded.
     scheduler, workers:
-        A running cluster's address ``tcp://HOST:PORT``, or else a local cluster of
-        ``workers`` processes (default one per core) on 127.0.0.1.
+        A running cluster's address ``tls://HOST:PORT`` (or ``tcp://``, which anyone who
+        reaches it can use to run code as its workers' user), or else a local cluster of
+        ``workers`` processes (default one per core) on 127.0.0.1, which speaks TLS with
+        temporary credentials of its own.
+    security:
+        The running cluster's TLS credentials, a ``distributed.security.Security``
+        (:func:`lagrangian.sweeps.cluster.tls_security` makes one from the files); None: Dask's
+        configuration (``distributed.comm.tls``).
     resume:
         Continue the sweep already in ``out`` (same model and options), skipping the blocks
         written; without it an existing ``out`` is refused.
@@ -167,7 +174,7 @@ def sweep(
     stored = sweep_variables(system)
     if chunk_size is None:
         chunk_size = MEMBER_CHUNK_SIZE if stored.per_member else DEFAULT_CHUNK_SIZE
-    problems = cluster_problems(scheduler, workers)
+    problems = cluster_problems(scheduler, workers, security)
     _check_options(path, resume, chunk_size, retries, project_initial, stored, problems)
     condition = _stop_condition(system, grid, stop_when)
     block = block_shape(grid.shape, chunk_size)
@@ -193,7 +200,7 @@ def sweep(
         line.shown = line.shown if progress is None else bool(progress)
         with contextlib.ExitStack() as stack:
             try:
-                client = stack.enter_context(dask_client(scheduler, workers))
+                client = stack.enter_context(dask_client(scheduler, workers, security))
             except SimulationError:  # no cluster: leave no empty store behind to resume
                 if created:
                     shutil.rmtree(path, ignore_errors=True)
