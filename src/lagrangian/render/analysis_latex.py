@@ -99,6 +99,10 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
             if e.multipliers:
                 held = ",\\ ".join(f"{tex(k)} = {tex(v)}" for k, v in e.multipliers.items())
                 lines.append(rf"&\quad {held}")
+        if not report.equilibria.equilibria:
+            lines.append(rf"&{_text('no equilibrium: ' + report.equilibria.reason)}")
+        elif report.equilibria.general:  # what holds for other parameter values
+            lines.append(rf"&{_text(report.equilibria.general)}")
     if report.steady_motions is not None:
         for e in report.steady_motions.motions:
             if e.exists is False:
