@@ -87,6 +87,7 @@ if TYPE_CHECKING:
     from lagrangian.numerics.export import export
     from lagrangian.simulation import Batch, Event, Trajectory, simulate, simulate_batch
     from lagrangian.simulation.limit_cycle import LimitCycle, limit_cycle
+    from lagrangian.simulation.poincare import PoincareSection, poincare_section
     from lagrangian.size_limits import size_limit
     from lagrangian.sweeps import SweepReport, sweep
     from lagrangian.web import serve
@@ -158,6 +159,7 @@ _HOMES = {
         ("Batch", "Event", "Trajectory", "simulate", "simulate_batch"), "lagrangian.simulation"
     ),
     **dict.fromkeys(("LimitCycle", "limit_cycle"), "lagrangian.simulation.limit_cycle"),
+    **dict.fromkeys(("PoincareSection", "poincare_section"), "lagrangian.simulation.poincare"),
     **dict.fromkeys(("SweepReport", "sweep"), "lagrangian.sweeps"),
     "serve": "lagrangian.web",
 }
@@ -235,6 +237,7 @@ __all__ = [
     "MutualInductance",
     "NewtonEuler",
     "Particle",
+    "PoincareSection",
     "Problem",
     "ReactionWrench",
     "Resistor",
@@ -269,6 +272,7 @@ __all__ = [
     "newton_euler",
     "nielsen_equations",
     "particle_constraint_forces",
+    "poincare_section",
     "project_state",
     "reaction_wrenches",
     "render",

@@ -215,9 +215,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     analyze.add_argument(
         "--limit-cycle",
-        metavar="TRANSITION",
-        help="find the period-one cycle through this transition (a walker's heel strike) "
-        "near the motion from the initial state, with its period and Floquet multipliers",
+        metavar="TRANSITION|EXPR",
+        help="find the period-one cycle through this transition (a walker's heel strike), or "
+        "through the section EXPR = 0 crossed rising (theta: a pendulum's swing through the "
+        "vertical), near the motion from the initial state, with its period and Floquet "
+        "multipliers",
     )
     analyze.add_argument(
         "--initial",
@@ -275,6 +277,24 @@ def build_parser() -> argparse.ArgumentParser:
     )
     simulate.add_argument(
         "--phase", metavar="NAME", help="the coordinate of the plot's phase portrait"
+    )
+    simulate.add_argument(
+        "--poincare",
+        metavar="EXPR",
+        help="record the crossings of the section EXPR = 0 (an expression of the state, e.g. x): "
+        "written to NAME.poincare.csv beside --out, plotted to NAME.poincare.png beside --plot",
+    )
+    simulate.add_argument(
+        "--poincare-direction",
+        choices=("rising", "falling", "both"),
+        default="rising",
+        help="the crossings counted: EXPR from negative to positive (default), the reverse, both",
+    )
+    simulate.add_argument(
+        "--poincare-axes",
+        metavar="A,B",
+        help="the two columns of the section plot (default: the first coordinate the section "
+        "does not involve and its velocity, y,y_dot for --poincare x)",
     )
     simulate.add_argument("--out", default="-", help="CSV file, or - for standard output")
     simulate.add_argument(
@@ -485,6 +505,9 @@ def run(args: argparse.Namespace) -> str | JsonDocument:
             phase=args.phase,
             initial=args.initial,
             keep_failed=args.keep_failed,
+            poincare=simulate_command.Poincare.of(
+                args.poincare, args.poincare_direction, args.poincare_axes
+            ),
         )
     if args.command == "export":
         return commands.export_command(

@@ -1,6 +1,8 @@
 """``lagrangian simulate``: the output files checked before any work, the integration with a
 progress bar, then the data (CSV) first and the pictures after, each file written atomically;
-a run that fails or is stopped by Ctrl-C keeps the rows it computed."""
+a run that fails or is stopped by Ctrl-C keeps the rows it computed.  Beside the CSV go the
+table of impacts (``run.impacts.csv``) and the points of a Poincaré section
+(``--poincare EXPR``: ``run.poincare.csv``, and beside the plot ``run.poincare.png``)."""
 
 from __future__ import annotations
 
@@ -20,9 +22,12 @@ from lagrangian.errors import Problem, SimulationError, SimulationInputError, ra
 from lagrangian.model import System
 from lagrangian.render.animation import animate as write_animation
 from lagrangian.render.plots import save_plots
+from lagrangian.render.section_plot import save_section_plot
 from lagrangian.simulation import Trajectory, simulate
+from lagrangian.simulation.crossings import Crossing
 from lagrangian.simulation.files import written_atomically
 from lagrangian.simulation.impact_table import impacts_summary, write_impacts_csv
+from lagrangian.simulation.poincare import PoincareSection, section_event, section_of
 from lagrangian.simulation.progress_bar import progress_bar
 
 
@@ -38,27 +43,76 @@ def run_simulate(
     phase: str | None = None,
     initial: Sequence[str] = (),
     keep_failed: bool = False,
+    poincare: Poincare | None = None,
 ) -> str:
     """Simulate; the CSV of docs/architecture.md goes to ``out`` (``-``: returned for standard
     output), then the plot, then the animation, each file written atomically.  The file
     names are checked before any work.  A run that fails or is stopped by Ctrl-C writes the
     rows computed so far (with ``keep_failed`` a failed run's plot and animation of them
     too), says where it stopped, and ends: SimulationError (exit 1), or after Ctrl-C exit
-    code :data:`INTERRUPTED`.  ``initial`` items (``theta=0.5``) set initial values."""
+    code :data:`INTERRUPTED`.  ``initial`` items (``theta=0.5``) set initial values;
+    ``poincare`` asks for the crossings of a section (:class:`Poincare`)."""
     check_outputs(out, plot, animate)
     try:
         system = apply_settings(load_system(reference), settings, COMMAND_LINE)
         system = apply_initial(system, initial, COMMAND_LINE)
         check_phase(system, phase, plot)
+        event = poincare.event(system) if poincare is not None else None
         given = {key: value for key, value in options.items() if value is not None}
         t_end = given.pop("t_end", None)
         end = t_end if t_end is not None else system.simulation.get("t_end", 0.0)
         bar = progress_bar(0.0, float(end), force=progress)
-        trajectory = simulate(system, t_span=t_end, progress=bar, raise_on_failure=False, **given)
+        events = [event] if event is not None else []
+        trajectory = simulate(system, t_span=t_end, progress=bar, raise_on_failure=False,
+                              events=events, **given)  # fmt: skip
         pictures = Pictures(plot, animate, phase, progress, keep_failed)
+        if poincare is not None and event is not None:
+            section = section_of(trajectory, event, poincare.expression, poincare.direction)
+            pictures = dataclasses.replace(pictures, section=section, section_axes=poincare.axes)
         return write_simulation(system, trajectory, out, pictures)
     except KeyboardInterrupt:  # before or after the integration: no file half written
         interrupted("Interrupted (Ctrl-C); files not finished were not written.")
+
+
+@dataclasses.dataclass(frozen=True)
+class Poincare:
+    """``--poincare EXPR``: the section ``expression`` = 0 crossed in ``direction``, plotted
+    in the plane of ``axes`` (None: the section's default)."""
+
+    expression: str
+    direction: str = "rising"
+    axes: tuple[str, str] | None = None
+
+    @classmethod
+    def of(cls, expression: str | None, direction: str, axes: str | None) -> Poincare | None:
+        """The request of the command line's flags (None without --poincare);
+        SimulationInputError for axes that are not two names or come without it."""
+        problems = []
+        if axes is not None and expression is None:
+            fix = "add --poincare EXPR"
+            problems.append(Problem("--poincare-axes", "the axes of a section plot", fix))
+        names = tuple(name.strip() for name in (axes or "").split(","))
+        if axes is not None and (len(names) != 2 or not all(names)):
+            fix = "give two columns, e.g. --poincare-axes y,y_dot"
+            problems.append(Problem("--poincare-axes", f"{axes!r} is not two names", fix))
+        raise_if_problems(problems, "Cannot simulate", SimulationInputError)
+        if expression is None:
+            return None
+        return cls(expression, direction, (names[0], names[1]) if axes is not None else None)
+
+    def event(self, system: System) -> Crossing:
+        """The section's event function; SimulationInputError for axes that are not a
+        coordinate or a velocity of ``system``, ExpressionError for an expression that is
+        not one of its state."""
+        columns = [q.name for q in system.coordinates]
+        columns += [name + "_dot" for name in columns]
+        unknown = [name for name in self.axes or () if name not in columns]
+        if unknown:
+            fix = "name coordinates or NAME_dot velocities: " + ", ".join(columns)
+            message = f"{', '.join(unknown)}: not a column of the section"
+            problems = [Problem("--poincare-axes", message, fix)]
+            raise_if_problems(problems, "Cannot simulate", SimulationInputError)
+        return section_event(system, self.expression, direction=self.direction, field="--poincare")
 
 
 def check_phase(system: System, phase: str | None, plot: str | None) -> None:
@@ -138,13 +192,17 @@ def _ffmpeg_available() -> bool:
 class Pictures:
     """What ``simulate`` draws after the CSV: the ``plot`` file (its phase portrait of
     ``phase``), the ``animate`` file (a progress bar on a terminal, or always with
-    ``progress``), and whether a failed run gets them too (``keep_failed``)."""
+    ``progress``), and whether a failed run gets them too (``keep_failed``); the points of a
+    Poincaré ``section``, written beside the CSV and plotted in the plane of
+    ``section_axes`` beside the plot."""
 
     plot: str | None = None
     animate: str | None = None
     phase: str | None = None
     progress: bool = False
     keep_failed: bool = False
+    section: PoincareSection | None = None
+    section_axes: tuple[str, str] | None = None
 
 
 def write_simulation(
@@ -168,6 +226,7 @@ def write_simulation(
         raise SimulationError(" ".join([stopped, *_failed_pictures(system, trajectory, pictures)]))
     messages = [f"{len(trajectory.t)} samples written to {out}; {trajectory.drift_summary()}"]
     messages += impacts_written(trajectory, out)
+    messages += section_written(pictures.section, out)
     messages += draw_pictures(system, trajectory, pictures)
     return csv_text if out == "-" else "\n".join(messages)
 
@@ -180,15 +239,28 @@ def impacts_written(trajectory: Trajectory, out: str) -> list[str]:
     summary = impacts_summary(trajectory.impacts)
     if out == "-":
         return [summary]
-    table = impacts_path(out)
+    table = beside(out, "impacts", ".csv")
     write_impacts_csv(trajectory.impacts, table)
     return [f"{summary}; each written to {table}"]
 
 
-def impacts_path(out: str) -> str:
-    """Where the table of impacts goes: ``run.csv`` -> ``run.impacts.csv``."""
-    path = Path(out)
-    return str(path.with_name(f"{path.stem}.impacts{path.suffix or '.csv'}"))
+def section_written(section: PoincareSection | None, out: str) -> list[str]:
+    """The points of the Poincaré section in a table beside the CSV (``NAME.poincare.csv``),
+    and how many there were; nothing without a section."""
+    if section is None:
+        return []
+    if out == "-":
+        return [f"{section.summary()} (--out FILE writes them beside the run)"]
+    table = beside(out, "poincare", ".csv")
+    section.to_csv(table)
+    return [f"{section.summary()} written to {table}"]
+
+
+def beside(path: str, kind: str, suffix: str) -> str:
+    """A file beside ``path`` holding one ``kind`` of its results: ``run.csv`` ->
+    ``run.impacts.csv`` (``suffix`` when the path has none)."""
+    named = Path(path)
+    return str(named.with_name(f"{named.stem}.{kind}{named.suffix or suffix}"))
 
 
 def _failed_pictures(system: System, trajectory: Trajectory, pictures: Pictures) -> list[str]:
@@ -212,6 +284,11 @@ def draw_pictures(system: System, trajectory: Trajectory, pictures: Pictures) ->
         with written_atomically(pictures.plot) as temporary:
             save_plots(trajectory, temporary, pictures.phase, system)
         messages.append(f"plot written to {pictures.plot}")
+    if pictures.plot and pictures.section is not None:
+        picture = beside(pictures.plot, "poincare", ".png")
+        with written_atomically(picture) as temporary:
+            save_section_plot(pictures.section, temporary, pictures.section_axes, system)
+        messages.append(f"Poincaré section plot written to {picture}")
     if pictures.animate:
         with written_atomically(pictures.animate) as temporary:
             write_animation(

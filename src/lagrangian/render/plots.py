@@ -253,12 +253,18 @@ def save_plots(
     """:func:`overview` as a picture in the format of the file's suffix (one of
     :data:`PLOT_FORMATS`: PNG, or the vector formats PDF and SVG for papers), titled and
     labelled from ``system`` when given; returns the path written."""
+    return save_figure(overview(trajectory, coordinate, system), path)
+
+
+def save_figure(figure: Figure, path: str | os.PathLike[str]) -> Path:
+    """``figure`` as a picture in the format of the file's suffix (one of
+    :data:`PLOT_FORMATS`); returns the path written."""
     target = Path(path)
     picture = target.suffix.lower().lstrip(".")
     if picture not in PLOT_FORMATS:
         known = ", ".join("." + f for f in PLOT_FORMATS)
         raise ValueError(f"{str(target)!r}: plots are written as {known}, not {target.suffix!r}")
-    overview(trajectory, coordinate, system).savefig(target, format=picture, dpi=100)
+    figure.savefig(target, format=picture, dpi=100)
     return target
 
 

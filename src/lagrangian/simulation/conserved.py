@@ -28,11 +28,8 @@ from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import ExpressionError, Problem, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.numerics.evaluate import NumericFunction
+from lagrangian.simulation.crossings import state_expression
 from lagrangian.symbolic.caches import IdentityCache
-from lagrangian.symbolic.conversion import to_sympy
-from lagrangian.symbolic.expressions import parse_expression
-from lagrangian.symbolic.probe import is_zero
-from lagrangian.symbolic.symbols import from_time_functions
 
 _CYCLIC: IdentityCache[EquationsOfMotion, tuple[CyclicCoordinate, ...]] = IdentityCache()
 _COMPILED: IdentityCache[EquationsOfMotion, dict[Any, NumericFunction]] = IdentityCache()
@@ -51,12 +48,11 @@ def conserved_expressions(
     a name the system does not have.
     """
     found = {f"p_{c.coordinate.name}": c.momentum for c in _free_cyclic(eom, system)}
-    names = _allowed_names(eom)
     problems: list[Problem] = []
     for name, value in requested.items():
         field = f"conserved.{name}"
         try:
-            found[str(name)] = _expression(value, names, field)
+            found[str(name)] = state_expression(eom, value, field)
         except ExpressionError as error:
             problems.extend(error.problems)
         except SimulationInputError as error:
@@ -150,24 +146,3 @@ def _constrained_symbols(system: System | None) -> set[sp.Symbol]:
     for constraint in system.constraints:
         used |= constraint.expression.free_symbols
     return used
-
-
-def _allowed_names(eom: EquationsOfMotion) -> dict[str, sp.Basic]:
-    names: dict[str, sp.Basic] = {s.name: s for s in (*eom.coordinates, *eom.velocities)}
-    names.update((s.name, s) for s in eom.parameters)
-    names["t"] = eom.time
-    return names
-
-
-def _expression(value: Any, names: Mapping[str, sp.Basic], field: str) -> sp.Expr:
-    if isinstance(value, (str, int, float)) and not isinstance(value, bool):
-        return parse_expression(value, names, field=field, zero_test=is_zero)
-    if not isinstance(value, sp.Expr):
-        raise SimulationInputError(
-            f"{field} is a {type(value).__name__}; give an expression (text or SymPy)."
-        )
-    expr = to_sympy(from_time_functions(value))
-    unknown = sorted(s.name for s in expr.free_symbols if names.get(s.name) != s)
-    if unknown:
-        raise SimulationInputError(f"{field} uses {', '.join(unknown)}, not a name of this system.")
-    return expr

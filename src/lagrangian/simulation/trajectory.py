@@ -228,14 +228,7 @@ class Trajectory:
         """Write the columns of :attr:`names` as CSV (17 significant digits: exact round
         trip); a file is written atomically (:mod:`lagrangian.simulation.files`)."""
         data = np.column_stack(list(self.columns().values())) if len(self.t) else None
-        if isinstance(destination, (str, os.PathLike)):
-            with (
-                written_atomically(destination) as temporary,
-                open(temporary, "w", encoding="utf-8", newline="") as stream,
-            ):
-                _write_csv(stream, self.names, data)
-        else:
-            _write_csv(destination, self.names, data)
+        write_columns(destination, self.names, data)
 
     @classmethod
     def from_csv(cls, source: str | os.PathLike[str] | TextIO) -> Trajectory:
@@ -399,6 +392,21 @@ def _drift(prefix: str, values: np.ndarray) -> dict[str, float | None]:
     absolute = float(np.max(np.abs(values - initial)))
     relative = absolute / abs(initial) if initial != 0 else None
     return {f"{prefix}_absolute": absolute, f"{prefix}_relative": relative}
+
+
+def write_columns(
+    destination: str | os.PathLike[str] | TextIO, names: tuple[str, ...], data: np.ndarray | None
+) -> None:
+    """Named columns as CSV: a header, then the rows of ``data`` (None: none) with 17
+    significant digits (an exact round trip); a file is written atomically."""
+    if isinstance(destination, (str, os.PathLike)):
+        with (
+            written_atomically(destination) as temporary,
+            open(temporary, "w", encoding="utf-8", newline="") as stream,
+        ):
+            _write_csv(stream, names, data)
+    else:
+        _write_csv(destination, names, data)
 
 
 def _write_csv(stream: TextIO, names: tuple[str, ...], data: np.ndarray | None) -> None:

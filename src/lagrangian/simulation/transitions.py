@@ -34,8 +34,9 @@ import numpy as np
 
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationInputError
-from lagrangian.model.transitions import DIRECTIONS, Transition
+from lagrangian.model.transitions import Transition
 from lagrangian.numerics.evaluate import NumericFunction
+from lagrangian.simulation.crossings import Crossing
 from lagrangian.simulation.impacts import ImpactRecord
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.piecewise import Guard, Hybrid, Jump, Record
@@ -68,20 +69,14 @@ class SingleMode:
         return run
 
 
-class _Crossing:
-    """The guard of one transition (terminal, in its direction)."""
-
-    terminal = True
+class _Guard(Crossing):
+    """The guard of the transition number ``index`` (terminal, in its direction)."""
 
     def __init__(
         self, transition: Transition, index: int, guard: NumericFunction, p: np.ndarray
     ) -> None:
-        self.__name__ = transition.name
-        self.index, self.guard, self.p = index, guard, p
-        self.direction = DIRECTIONS[transition.direction]
-
-    def __call__(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
-        return float(self.guard(q, q_dot, t, self.p))
+        super().__init__(transition.name, guard, p, transition.direction)
+        self.index = index
 
 
 @dataclasses.dataclass(frozen=True)
@@ -126,16 +121,16 @@ class WithTransitions:
     def guards(self, mode: Any, piece: Dynamics) -> list[Guard]:
         return [*self.inner.guards(mode, piece), *self.crossings()]
 
-    def crossings(self) -> list[_Crossing]:
+    def crossings(self) -> list[_Guard]:
         """The guards of the transitions, compiled once per equations."""
         compiled = compiled_transitions(self.eom)
         return [
-            _Crossing(item, i, compiled[i][0], self.p)
+            _Guard(item, i, compiled[i][0], self.p)
             for i, item in enumerate(self.eom.system.transitions)
         ]
 
     def transition(self, mode: Any, guard: Guard, t: float, x: np.ndarray) -> Jump:
-        if not isinstance(guard, _Crossing):
+        if not isinstance(guard, _Guard):
             return self.inner.transition(mode, guard, t, x)
         _, when, reset, targets = compiled_transitions(self.eom)[guard.index]
         n = len(self.eom.coordinates)

@@ -127,16 +127,17 @@ def integrate_piecewise(
     watch: EventWatch | None,
     progress: Progress | None,
     inner: Integrator[Dynamics],
+    disarmed: str | None = None,
 ) -> Integration:
     """Integrate ``hybrid`` piece by piece with ``inner`` (module docstring) from the checked
-    ``inputs``, watching the caller's events throughout."""
+    ``inputs``, watching the caller's events throughout.  ``disarmed`` names a guard not
+    watched during the first step: the run starts on its zero (a return map on its section)."""
     own: Sequence[EventFunction] = watch.functions if watch is not None else ()
     counts = np.zeros(len(own), dtype=int)
     t0, t1 = inputs.t_span
     mode, entered = _settled(hybrid, *hybrid.initial_mode(t0, inputs.x0), t0, inputs.x0)
     pieces: list[Integration] = []
     current = inputs
-    disarmed: str | None = None
     while True:
         piece = hybrid.piece(mode)
         guards = list(hybrid.guards(mode, piece))
