@@ -21,8 +21,13 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from lagrangian.analysis.arguments import Subject, Values, equations_of
-from lagrangian.analysis.evaluation import EvaluationContext, condition_text, evaluation_context
+from lagrangian.analysis.arguments import Subject, Values, equations_of, evaluate
+from lagrangian.analysis.evaluation import (
+    EvaluationContext,
+    condition_text,
+    evaluation_context,
+    vanishes,
+)
 from lagrangian.analysis.manifold.constraint_manifold import (
     constraint_manifold,
     vanishes_on_manifold,
@@ -30,6 +35,7 @@ from lagrangian.analysis.manifold.constraint_manifold import (
 from lagrangian.analysis.names import OutputNames
 from lagrangian.analysis.simplification import simplify_small
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.model.constraints import Unilateral, label
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.probe import depends_on, is_zero
 
@@ -197,6 +203,27 @@ def _kinetic_parts(kinetic: sp.Expr, velocities: Sequence[sp.Symbol]) -> dict[in
     return homogeneous_parts(kinetic, velocities)
 
 
+def _jumps(context: EvaluationContext) -> str:
+    """What impacts and transitions do to a conserved h, at the values given: h holds between
+    them; an impact with e = 1 keeps it, one with e < 1 loses energy, a transition's reset
+    may change it."""
+    system = context.eom.system
+    notes = []
+    for index, c in enumerate(system.constraints):
+        if not isinstance(c, Unilateral) or c.restitution is None:
+            continue
+        e = evaluate(c.restitution, context.values)
+        where = label(index, c)
+        if vanishes(e - 1):
+            notes.append(f"an impact on {where} (e = 1) keeps it too")
+        else:
+            notes.append(f"an impact on {where} (e = {float(e):g}) loses energy")
+    if system.transitions:
+        names = ", ".join(t.name for t in system.transitions)
+        notes.append(f"the resets of the transitions {names} may change it")
+    return f"; between impacts and transitions only: {'; '.join(notes)}" if notes else ""
+
+
 def _constraint_power(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str], list[str]]:
     """-sum_j lambda_j b_j over the moving constraints, why each works, and why the applied
     terms vanish on the manifold when they do (empty when there are no constraints)."""
@@ -213,7 +240,9 @@ def _constraint_power(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str], list[
             f"{simplify_small(b)}), so its force {lam}*a does work at the rate "
             f"{simplify_small(-lam * b)}"
         )
-    still = [f"constraints {', '.join(manifold.labels)} do no work"] if not reasons else []
+    # a manifold of no constraint (the unilateral ones left out, released) has none to name
+    kept = manifold.labels
+    still = [f"constraints {', '.join(kept)} do no work"] if kept and not reasons else []
     return power, reasons, still
 
 
@@ -253,6 +282,8 @@ def energy_at_values(context: EvaluationContext) -> EnergyConservation:
             reason += "; the " + "; ".join(idle) + " (scleronomic: b = 0, A q_dot = 0)"
     else:
         reason = f"{name} is not conserved: " + "; ".join(reasons)
+    if conserved:
+        reason += _jumps(context)
     condition = None if conserved else context.vanishing_condition(rate)
     if condition is not None:
         conserved = True

@@ -143,13 +143,13 @@ def reduced_legendre(
     found = legendre_transform(reduced_eom)
     kept = ", ".join(q.name for q in reduced.coordinates)
     eliminated = ", ".join(f"{q} = {f}" for q, f in rule.items())
+    solved = f", the constraints solved as {eliminated}" if eliminated else ""
     legendre = Hamiltonian(
         hamiltonian=simplify_small(found.hamiltonian),
         coordinates=found.coordinates,
         momenta=found.momenta,
         velocities=found.velocities,
-        reason=f"in the reduced coordinates ({kept}), the constraints solved as {eliminated}; "
-        + found.reason,
+        reason=f"in the reduced coordinates ({kept}){solved}; " + found.reason,
         eliminated=frozen(rule),
     )
     return legendre, hamilton_equations(reduced_eom, legendre)

@@ -1,0 +1,25 @@
+"""h of a system with impacts is conserved between them; what an impact does to it is decided
+at the coefficient of restitution given (Newton's law: the rebound speed is e times the
+approach speed, so the kinetic energy of the approach keeps the fraction e^2)."""
+
+from __future__ import annotations
+
+import lagrangian as lg
+
+
+def test_a_bouncing_ball_keeps_h_between_impacts_and_loses_energy_at_each_when_e_lt_1() -> None:
+    report = lg.analyze(lg.examples.bouncing_ball())
+    assert report.energy is not None and report.energy.conserved
+    assert "between impacts and transitions only" in report.energy.reason
+    assert "an impact on 'floor' (constraints[0]) (e = 0.8) loses energy" in report.energy.reason
+
+
+def test_an_elastic_ball_keeps_h_through_its_impacts_too() -> None:
+    report = lg.analyze(lg.examples.bouncing_ball(), parameters={"e": 1})
+    assert report.energy is not None
+    assert "an impact on 'floor' (constraints[0]) (e = 1) keeps it too" in report.energy.reason
+
+
+def test_a_system_without_impacts_has_no_such_note() -> None:
+    report = lg.analyze(lg.examples.simple_pendulum())
+    assert report.energy is not None and "between impacts" not in report.energy.reason
