@@ -294,3 +294,14 @@ def test_a_worker_killed_midway_is_replaced_and_the_sweep_completes(
     data = xr.open_zarr(out)
     alone = lg.simulate(system, {"theta": 0.5, "phi": 1.0}, 20.0, **options)
     np.testing.assert_allclose(data["theta"][0, -1], alone.q[:, 0], rtol=0, atol=1e-8)
+
+
+def test_a_missing_numba_names_the_backend_in_each_interface(monkeypatch) -> None:
+    from lagrangian.numerics.fast import compiled_rates
+
+    monkeypatch.setattr(compiled_rates, "numba_available", lambda: False)
+    with pytest.raises(lg.SimulationError) as caught:
+        compiled_rates.require_numba()
+    assert str(caught.value).endswith("or use backend='numpy' (the default)")
+    assert str(caught.value.worded(SWEEP)).startswith("--backend: the compiled variational")
+    assert str(caught.value.worded(SWEEP)).endswith("or use --backend numpy (the default)")
