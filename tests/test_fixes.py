@@ -70,3 +70,23 @@ def test_python_fixes_name_the_keywords() -> None:
         lg.simulate(x, {"x_dot": 0.0}, 1.0)
     with pytest.raises(SimulationInputError, match=r"no end time — pass the end time, t_span="):
         lg.simulate(x, {"x": 0.0, "x_dot": 0.0})
+
+
+def test_fixes_added_to_text_and_to_each_other_keep_their_own_settings() -> None:
+    said = "budget {spent} — " + ROOM + "; or " + Fix("{0.name} {0}", (Setting("method", "RK4"),))
+    assert str(said) == (
+        "budget {spent} — use a larger dt, or pass max_steps=...; or method method='RK4'"
+    )
+    assert said.worded(COMMAND_LINE) == (
+        "budget {spent} — use a larger --dt, or pass --max-steps; or --method --method RK4"
+    )
+
+
+def test_a_failed_runs_message_is_worded_by_each_interface() -> None:
+    pendulum = lg.examples.simple_pendulum()
+    run = lg.simulate(pendulum, {"theta": 1.0}, 100.0, max_steps=50, raise_on_failure=False)
+    fix = "the step budget of 50 steps is used up — pass {} to allow more steps."
+    assert run.message.endswith(fix.format("max_steps=500"))
+    assert run.worded_message(COMMAND_LINE).endswith(fix.format("--max-steps 500"))
+    assert run.worded_message(WEB).endswith(fix.format("options.max_steps = 500"))
+    assert run.worded_message(PYTHON) == run.message

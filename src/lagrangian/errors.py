@@ -19,6 +19,7 @@ True
 
 from __future__ import annotations
 
+import string
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from typing import ClassVar, TypeVar
@@ -71,6 +72,45 @@ class Fix:
 
     def __str__(self) -> str:
         return self.worded(Wording())
+
+    def __add__(self, other: str | Fix) -> Fix:
+        """This fix followed by plain text or another fix, as strings are added: a sentence
+        that says a fix keeps its settings for each interface to word.
+
+        >>> str("the step budget is used up — " + Fix("pass {}", (Setting("max_steps"),)))
+        'the step budget is used up — pass max_steps=...'
+        """
+        other = other if isinstance(other, Fix) else Fix(_literal(other))
+        text = _numbered(self.text, 0) + _numbered(other.text, len(self.settings))
+        return Fix(text, self.settings + other.settings)
+
+    def __radd__(self, other: str) -> Fix:
+        return Fix(_literal(other)) + self
+
+
+def _literal(text: str) -> str:
+    """``text`` as a fix's text that says it as it is (its braces are not placeholders)."""
+    return text.replace("{", "{{").replace("}", "}}")
+
+
+def _numbered(text: str, offset: int) -> str:
+    """``text`` with each placeholder numbered, from ``offset`` on (``{}`` and ``{0.name}``
+    of a fix that follows another name its own settings, not the first one's)."""
+    parts, automatic = [], 0
+    for literal, name, spec, conversion in string.Formatter().parse(text):
+        parts.append(_literal(literal))
+        if name is None:
+            continue
+        index, dot, rest = name.partition(".")
+        if index:
+            number = int(index)
+        else:
+            number, automatic = automatic, automatic + 1
+        field = f"{number + offset}{dot}{rest}"
+        field += f"!{conversion}" if conversion else ""
+        field += f":{spec}" if spec else ""
+        parts.append("{" + field + "}")
+    return "".join(parts)
 
 
 @dataclass(frozen=True)

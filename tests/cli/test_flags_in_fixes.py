@@ -42,3 +42,27 @@ def test_a_bad_set_and_about_name_their_flags(capsys, monkeypatch) -> None:
     code, err = run(capsys, monkeypatch, ["analyze", "simple_pendulum", "--about", "theta"])
     assert code == 2 and "--about theta: expected NAME=NUMBER" in err, err
     assert "e.g. --about theta=0.5,phi_dot=2" in err
+
+
+@pytest.mark.parametrize(
+    ("flags", "said"),
+    [
+        (
+            ["--t-end", "100", "--max-steps", "50"],
+            "the step budget of 50 steps is used up — pass --max-steps 500 to allow more steps.",
+        ),
+        (
+            ["--t-end", "1000", "--max-wall-time", "1e-9"],
+            "s is used up after 1 steps — pass a larger --max-wall-time.",
+        ),
+    ],
+)
+def test_a_run_over_its_budget_names_the_flag(capsys, tmp_path, flags, said) -> None:
+    out = tmp_path / "run.csv"
+    argv = ["simulate", "examples/simple_pendulum", *flags, "--out", str(out)]
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert code == 1, err
+    assert said in err and "rows, up to t =" in err, err
+    assert "max_steps" not in err and "max_wall_time" not in err, err
+    assert out.exists()  # the rows computed before the budget ran out

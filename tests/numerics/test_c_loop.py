@@ -153,7 +153,7 @@ RUNAWAY = "name: runaway\ncoordinates: [x]\nkinetic: x_dot**2/2\npotential: -x**
     [
         (RUNAWAY, {"x": 1.0, "x_dot": 0.0}, 10.0, {}, "step size is less than spacing"),
         ("robot_arm", {"r": 0.0}, 1.0, {}, "mass matrix is singular at t = 0, theta=0, r=0"),
-        ("simple_pendulum", {"theta": 1.0}, 100.0, {"max_steps": 50}, "max_steps=50 is used"),
+        ("simple_pendulum", {"theta": 1.0}, 100.0, {"max_steps": 50}, "budget of 50 steps is used"),
         ("simple_pendulum", {"theta": 1.0}, 1e3, {"max_wall_time": 1e-9}, "wall-time budget"),
         (
             "name: fall\ncoordinates: [x]\nkinetic: x_dot**2/2\npotential: -1/x\n",

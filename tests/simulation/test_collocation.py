@@ -240,7 +240,7 @@ def test_the_cartesian_double_pendulum_rods_hold_and_its_energy_is_bounded() -> 
 @pytest.mark.parametrize(
     ("keywords", "field", "match"),
     [
-        ({"events": [lambda t, q, q_dot: q[0]]}, "events", "method='gauss4' does not locate"),
+        ({"events": [lambda t, q, q_dot: q[0]]}, "events", "method 'gauss4' does not locate"),
         ({"rtol": 1e-6}, "rtol", "not gauss4"),
         ({"baumgarte": (1.0, 1.0)}, "baumgarte", "holds the constraints exactly"),
     ],
@@ -261,7 +261,7 @@ def test_a_velocity_constraint_is_refused() -> None:
         particles=[lg.Particle("blade", 1, (X, Y))],
         constraints=[lg.VelocityConstraint(X_DOT - Y_DOT, name="blade")],
     )
-    with pytest.raises(SimulationInputError, match="method='gauss6' holds holonomic"):
+    with pytest.raises(SimulationInputError, match="the method 'gauss6' holds holonomic"):
         simulate(knife, {"x": 0, "y": 0, "x_dot": 1, "y_dot": 1}, 1.0, method="gauss6", dt=0.1)
 
 

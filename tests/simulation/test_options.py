@@ -62,7 +62,7 @@ def test_an_option_that_does_not_apply_is_refused_by_name(options: dict, match: 
 
 def test_constraint_options_that_do_not_apply_to_the_method_are_refused() -> None:
     refused(
-        r"baumgarte: method='variational' holds the constraints exactly",
+        r"baumgarte: the method 'variational' holds the constraints exactly",
         cartesian_pendulum(),
         ON_THE_CIRCLE,
         0.1,

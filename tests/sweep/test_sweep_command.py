@@ -1,5 +1,6 @@
-"""``lagrangian sweep``: bad flags exit 2 naming the flag; a sweep killed midway (the whole
-client, or one worker) resumes or completes with every member present."""
+"""``lagrangian sweep``: bad flags exit 2 naming the flag, each fix in the sweep's own flags
+(the Python API keeps its keywords); a sweep killed midway (the whole client, or one worker)
+resumes or completes with every member present."""
 
 from __future__ import annotations
 
@@ -19,6 +20,8 @@ import zarr
 
 import lagrangian as lg
 from lagrangian.cli.main import main
+from lagrangian.cli.sweep_command import SWEEP
+from lagrangian.errors import Setting, SimulationInputError
 from lagrangian.sweeps import sweep
 
 
@@ -32,11 +35,7 @@ from lagrangian.sweeps import sweep
         (["--vary", "theta=0,1", "--stop-when", "theta + zz"], r"--stop-when: unknown \['zz'\]"),
         (["--vary", "theta=0,1", "--method", "nope"], r"--method: unknown method"),
         (["--vary", "theta=0,1", "--t-end", "-1"], r"--t-end: the end time"),
-        (["--vary", "theta=0,1", "--chunk-size", "0"], r"--chunk-size"),
-        (
-            ["--vary", "theta=0,1", "--chunk-size", "0", "--workers", "0"],
-            r"--workers: .*give --workers >= 1\n.*--chunk-size",
-        ),
+        (["--vary", "theta=0,1", "--chunk-size", "0"], r"--chunk-size: 0 is not a whole number"),
     ],
 )
 def test_bad_flags_exit_2_naming_the_flag(flags, named, tmp_path: Path, capsys) -> None:
@@ -47,38 +46,131 @@ def test_bad_flags_exit_2_naming_the_flag(flags, named, tmp_path: Path, capsys) 
     assert not out.exists()
 
 
+#: A Python keyword given a value (``project_initial=True``, ``method='RK4'``, ``dt=...``,
+#: ``vary={...}``): the command line never says one.
+PYTHON_KEYWORD = re.compile(r"\b[a-z_]+=(True|False|'|\.\.\.|\{)")
+
+
 @pytest.mark.parametrize(
-    ("model", "flags", "named"),
+    ("model", "flags", "line"),
     [
         (
             "cylinder_on_incline",
             ["--vary", "x=0.1,0.2"],
-            r"violates the constraints.*--project-initial",
+            "--set: the initial state violates the constraints: the largest residual is 0.1 "
+            "(> 1e-09) — move it onto them: pass --project-initial",
         ),
         (
             "cylinder_on_incline",
             ["--vary", "alpha=0.1", "--method", "variational", "--dt", "0.1", "--stop-when", "x"],
-            r"--stop-when: --method variational does not locate events.*another --method",
+            "--stop-when: the method 'variational' does not locate events yet — use another "
+            "--method with --stop-when",
+        ),
+        (
+            "cylinder_on_incline",
+            ["--vary", "alpha=0.1", "--method", "gauss4", "--dt", "0.1", "--backend", "numba"],
+            "the backend 'numba' is another name of the default backend — remove --backend numba",
         ),
         (
             "simple_pendulum",
             ["--vary", "l=1,2", "--method", "RK4"],
-            r"--dt: .*pass --dt or --samples",
+            "--dt: the fixed-step method RK4 needs a step — pass --dt or --samples",
+        ),
+        (
+            "simple_pendulum",
+            ["--vary", "l=1,2", "--method", "RK4", "--dt", "1e-9"],
+            "--dt: a step of 1e-09 needs 1e+10 steps over the time span, more than the step "
+            "budget of 1,000,000 — use a larger --dt, a shorter time span, or pass --max-steps",
+        ),
+        (
+            "simple_pendulum",
+            ["--vary", "l=1,2", "--method", "RK4", "--rtol", "1e-6", "--dt", "0.1"],
+            "— remove --rtol, or choose an adaptive method such as --method DOP853",
         ),
         (
             "simple_pendulum",
             ["--vary", "l=1,2", "--project-initial"],
-            r"--project-initial: .*remove --project-initial",
+            "--project-initial: project_initial moves states onto the constraints, and this "
+            "system has none — remove --project-initial",
+        ),
+        (
+            "simple_pendulum",
+            [],
+            "--vary: nothing to sweep over — give --vary NAME=START:STOP:COUNT or "
+            "--random NAME=LOW:HIGH:N",
         ),
     ],
 )
-def test_messages_say_flags_not_keywords(model, flags, named, tmp_path: Path, capsys) -> None:
+def test_messages_say_flags_not_keywords(model, flags, line, tmp_path: Path, capsys) -> None:
     out = tmp_path / "r.zarr"
     assert main(["sweep", f"examples/{model}", *flags, "--out", str(out)]) == 2
     err = capsys.readouterr().err
-    assert re.search(named, err, flags=re.DOTALL), err
-    assert not re.search(r"\w=(True|'|\.\.\.)", err), err  # no keyword=value of the Python API
+    assert line in err, err
+    assert not PYTHON_KEYWORD.search(err), err
     assert not out.exists()
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="sweeps/cluster.py still writes its fixes as prose (give workers >= 1); they become "
+    "Settings in that module's own change",
+)
+def test_a_bad_worker_count_names_the_flag_in_its_fix(tmp_path: Path, capsys) -> None:
+    flags = ["--vary", "theta=0,1", "--workers", "0", "--out", str(tmp_path / "r.zarr")]
+    assert main(["sweep", "examples/simple_pendulum", *flags]) == 2
+    assert "--workers: 0 is not a positive whole number — give --workers >= 1" in (
+        capsys.readouterr().err
+    )
+
+
+@pytest.mark.parametrize(
+    ("model", "vary", "keywords", "line"),
+    [
+        (
+            "cylinder_on_incline",
+            {"x": [0.1, 0.2]},
+            {},
+            "initial: the initial state violates the constraints: the largest residual is 0.1 "
+            "(> 1e-09) — move it onto them: pass project_initial=True",
+        ),
+        (
+            "cylinder_on_incline",
+            {"alpha": [0.1]},
+            {"method": "variational", "dt": 0.1, "stop_when": "x"},
+            "stop_when: the method 'variational' does not locate events yet — use another "
+            "method with stop_when",
+        ),
+        (
+            "simple_pendulum",
+            {"l": [1.0, 2.0]},
+            {"project_initial": True},
+            "project_initial: project_initial moves states onto the constraints, and this "
+            "system has none — remove project_initial=True",
+        ),
+        (
+            "simple_pendulum",
+            {},
+            {},
+            "vary: nothing to sweep over — give vary={'NAME': ...} or random={'NAME': ...}",
+        ),
+    ],
+)
+def test_the_python_api_keeps_its_keywords(model, vary, keywords, line, tmp_path: Path) -> None:
+    system = lg.examples.get(model)()
+    with pytest.raises(SimulationInputError) as caught:
+        sweep(system, vary, 1.0, out=tmp_path / "r.zarr", **keywords)
+    assert line in str(caught.value)
+    assert "--" not in str(caught.value).replace(" — ", " ")
+
+
+def test_the_sweeps_wording_is_its_own_flags() -> None:
+    # the flags are read from the sweep's parser: --max-steps is one, --max-wall-time not
+    assert SWEEP.setting(Setting("max_steps", 10)) == "--max-steps 10"
+    assert SWEEP.setting(Setting("max_wall_time")) == "max_wall_time"
+    assert SWEEP.setting(Setting("initial", entry="theta")) == "--set theta=VALUE"
+    assert SWEEP.setting(Setting("vary", entry="l")) == "--vary l=START:STOP:COUNT"
+    assert SWEEP.setting(Setting("resume", True)) == "--resume"
+    assert SWEEP.option("t_span") == "--t-end" and SWEEP.option("stop_when") == "--stop-when"
 
 
 def test_a_constrained_sweep_from_the_command_line(cluster, tmp_path: Path) -> None:
@@ -102,7 +194,10 @@ def test_an_existing_out_needs_resume(tmp_path: Path, capsys) -> None:
     out = tmp_path / "r.zarr"
     out.mkdir()
     assert main(["sweep", "examples/simple_pendulum", "--vary", "theta=0,1", "--out", str(out)])
-    assert "--out" in (err := capsys.readouterr().err) and "add --resume" in err
+    err = capsys.readouterr().err
+    assert f"--out: {out} already exists — pass --resume to continue it, or choose" in err, err
+    with pytest.raises(SimulationInputError, match=r"pass resume=True to continue it"):
+        sweep(lg.examples.simple_pendulum(), {"theta": [0.0, 1.0]}, 1.0, out=out)
 
 
 COMMAND = [
@@ -199,3 +294,14 @@ def test_a_worker_killed_midway_is_replaced_and_the_sweep_completes(
     data = xr.open_zarr(out)
     alone = lg.simulate(system, {"theta": 0.5, "phi": 1.0}, 20.0, **options)
     np.testing.assert_allclose(data["theta"][0, -1], alone.q[:, 0], rtol=0, atol=1e-8)
+
+
+def test_a_missing_numba_names_the_backend_in_each_interface(monkeypatch) -> None:
+    from lagrangian.numerics.fast import compiled_rates
+
+    monkeypatch.setattr(compiled_rates, "numba_available", lambda: False)
+    with pytest.raises(lg.SimulationError) as caught:
+        compiled_rates.require_numba()
+    assert str(caught.value).endswith("or use backend='numpy' (the default)")
+    assert str(caught.value.worded(SWEEP)).startswith("--backend: the compiled variational")
+    assert str(caught.value.worded(SWEEP)).endswith("or use --backend numpy (the default)")

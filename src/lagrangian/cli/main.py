@@ -348,7 +348,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             output = run(args)
     except Exception as raised:
         code = exit_code(raised, given_paths(args))
-        error = in_command_line_words(raised)
+        error = in_command_line_words(raised, args.command)
         if args.debug:
             traceback.print_exception(error)
         internal = not isinstance(error, (LagrangianError, OSError))
@@ -400,10 +400,13 @@ def size_limit(operations: float | None) -> Iterator[None]:
         yield
 
 
-def in_command_line_words(error: Exception) -> Exception:
-    """``error`` with the options its fixes name said as the command's flags (``--max-steps``,
-    not ``max_steps=...``: :data:`lagrangian.cli.wording.COMMAND_LINE`)."""
-    return error.worded(COMMAND_LINE) if isinstance(error, LagrangianError) else error
+def in_command_line_words(error: Exception, command: str | None = None) -> Exception:
+    """``error`` with the options its fixes name said as the ``command``'s flags
+    (``--max-steps``, not ``max_steps=...``: :data:`lagrangian.cli.wording.COMMAND_LINE`;
+    a sweep's own, :data:`lagrangian.cli.sweep_command.SWEEP`)."""
+    if not isinstance(error, LagrangianError):
+        return error
+    return error.worded(sweep_command.SWEEP if command == "sweep" else COMMAND_LINE)
 
 
 #: Bytes written to standard output at a time (a closed pipe is noticed within one chunk).

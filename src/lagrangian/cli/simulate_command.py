@@ -220,7 +220,8 @@ def write_simulation(
         csv_text, where = "", out
     if not trajectory.success:
         sys.stdout.write(csv_text)  # the rows so far, before the error is reported
-        stopped = f"{trajectory.message} {_rows_written(trajectory)} written to {where}."
+        said = trajectory.worded_message(COMMAND_LINE)  # --max-steps, not max_steps=
+        stopped = f"{said} {_rows_written(trajectory)} written to {where}."
         if trajectory.status == "interrupted":
             interrupted(stopped)
         raise SimulationError(" ".join([stopped, *_failed_pictures(system, trajectory, pictures)]))

@@ -11,53 +11,18 @@ a message naming the flag; Ctrl-C keeps the blocks written, and ``--resume`` fin
 from __future__ import annotations
 
 import argparse
-import dataclasses
-import re
 import sys
 from collections.abc import Sequence
+from types import MappingProxyType
 
-from lagrangian.cli.wording import COMMAND_LINE
-from lagrangian.errors import LagrangianError, Problem, SimulationInputError, raise_if_problems
+from lagrangian.cli.wording import FLAGS, CommandLineWording
+from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
 
 SUMMARY = "simulate a grid of parameters and initial values on Dask, into a Zarr store"
 EXAMPLE = (
     "lagrangian sweep examples/double_pendulum --vary theta=-3:3:200 --vary phi=-3:3:200 "
     "--set theta_dot=0 --set phi_dot=0 --t-end 30 --stop-when '(pi - Abs(theta))*(pi - Abs(phi))' "
     "--out flips.zarr"
-)
-
-#: The keywords of sweep that are flags of the command, for its messages.
-FLAGS = {
-    "out": "--out",
-    "stop_when": "--stop-when",
-    "chunk_size": "--chunk-size",
-    "workers": "--workers",
-    "scheduler": "--scheduler",
-    "vary": "--vary",
-    "random": "--random",
-    "t_span": "--t-end",
-    "samples": "--samples",
-    "method": "--method",
-    "rtol": "--rtol",
-    "atol": "--atol",
-    "dt": "--dt",
-    "events": "--stop-when",
-    "backend": "--backend",
-    "project_initial": "--project-initial",
-    "seed": "--seed",
-}
-#: Python phrases of the sweep's messages that the command says otherwise.
-PHRASES = (
-    ("pass resume=True", "add --resume"),
-    ("give workers", "give --workers"),
-    ("leave out workers", "leave out --workers"),
-    ("pass project_initial=True", "add --project-initial"),
-    ("remove project_initial=True", "remove --project-initial"),
-    ("backend='numpy'", "--backend numpy"),
-    ("backend='numba'", "--backend numba"),
-    ("give its text, or a function numba compiles, or", "give another --stop-when, or"),
-    ("use another method with stop_when=", "use another --method with --stop-when"),
-    ("scheduler: cannot reach", "--scheduler: cannot reach"),
 )
 
 
@@ -87,6 +52,9 @@ def add_sweep_options(command: argparse.ArgumentParser) -> None:
     command.add_argument("--dt", type=float, help="the step of RK4 (or give --samples)")
     command.add_argument("--rtol", type=float, help="relative tolerance")
     command.add_argument("--atol", type=float, help="absolute tolerance")
+    command.add_argument(
+        "--max-steps", type=int, help="accepted steps a member may take (one million)"
+    )
     command.add_argument("--backend", choices=["numpy", "numba"], default="numpy")
     command.add_argument(
         "--stop-when",
@@ -114,6 +82,18 @@ def add_sweep_options(command: argparse.ArgumentParser) -> None:
     )
 
 
+def sweep_wording() -> CommandLineWording:
+    """The sweep's options as its flags: the keywords :func:`add_sweep_options` defines (and
+    the caller's ``--set``, which gives initial values too: a sweep has no ``--initial``),
+    the values of ``--vary`` and ``--random`` in their own forms."""
+    parser = argparse.ArgumentParser(add_help=False)
+    add_sweep_options(parser)
+    keywords = frozenset(vars(parser.parse_args(["--out", "-"]))) | {"set"}
+    flags = MappingProxyType({**FLAGS, "initial": "--set"})
+    placeholders = MappingProxyType({"vary": "START:STOP:COUNT", "random": "LOW:HIGH:N"})
+    return CommandLineWording(keywords, flags, placeholders)
+
+
 def run_sweep(args: argparse.Namespace) -> str:
     """Run the parsed ``sweep`` command; its one-line summary."""
     from lagrangian.cli.commands import load_system
@@ -122,7 +102,7 @@ def run_sweep(args: argparse.Namespace) -> str:
     from lagrangian.sweeps import build_grid, sweep
     from lagrangian.sweeps.cluster import tls_security
 
-    system = apply_settings(load_system(args.model), args.set, COMMAND_LINE)
+    system = apply_settings(load_system(args.model), args.set, SWEEP)
     problems: list[Problem] = []
     vary, vary_labels = parse_vary(args.vary, problems)
     random, random_labels = parse_random(args.random, problems)
@@ -135,6 +115,7 @@ def run_sweep(args: argparse.Namespace) -> str:
             ("rtol", args.rtol),
             ("atol", args.atol),
             ("dt", args.dt),
+            ("max_steps", args.max_steps),
         )
         if value is not None
     }
@@ -164,44 +145,7 @@ def run_sweep(args: argparse.Namespace) -> str:
             f"Interrupted (Ctrl-C); the blocks finished are in {args.out}: run the same "
             "command with --resume to compute the rest."
         )
-    except LagrangianError as error:
-        raise in_flag_words(error) from None
     return report.summary()
-
-
-def in_flag_words(error: LagrangianError) -> LagrangianError:
-    """``error`` with its fields and fixes said as the command's flags: simulate's keywords
-    as the simulate command says them (:data:`lagrangian.cli.wording.COMMAND_LINE`), then the
-    sweep's own (:data:`FLAGS`, :data:`PHRASES`)."""
-    error = error.worded(COMMAND_LINE)
-
-    def flags(text: str) -> str:
-        for python, shell in PHRASES:
-            text = text.replace(python, shell)
-        for keyword, flag in FLAGS.items():  # method='RK4' -> --method RK4, dt=... -> --dt
-            text = re.sub(rf"\b{keyword}='?([\w.+-]+)'?", rf"{flag} \1", text)
-            text = re.sub(rf"\b{keyword}=(\.\.\.)?", flag, text)
-        return text
-
-    if not error.problems:
-        if flags(str(error)) == str(error):
-            return error
-        try:
-            return type(error)(flags(str(error)))
-        except TypeError:  # an error class with another signature: keep it as it is
-            return error
-    problems = [
-        dataclasses.replace(
-            p, field=FLAGS.get(p.field, p.field), message=flags(p.message), fix=flags(str(p.fix))
-        )
-        for p in error.problems
-    ]
-    own = "\n".join(str(p) for p in error.problems)
-    summary = "" if str(error) == own else str(error).splitlines()[0]
-    try:
-        return type(error)(summary, problems)
-    except TypeError:  # an error class with another signature: keep it as it is
-        return error
 
 
 def parse_vary(
@@ -276,3 +220,7 @@ def _axis_values(text: str) -> list[float] | None:
     except ValueError:
         return None
     return values if values and all(math.isfinite(v) for v in values) else None
+
+
+#: The sweep's flags in its fixes (``lagrangian.cli.main`` words its errors with it).
+SWEEP = sweep_wording()

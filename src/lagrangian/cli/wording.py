@@ -7,12 +7,15 @@
 ('--max-steps', '--method RK4')
 >>> COMMAND_LINE.setting(Setting("initial", entry="x")), COMMAND_LINE.option("t_span")
 ('--initial x=VALUE', '--t-end')
+
+A command whose flags differ (``lagrangian sweep``) has its own wording, made the same way
+(:data:`lagrangian.cli.sweep_command.SWEEP`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import MappingProxyType
 
 from lagrangian.errors import Setting, Wording
@@ -24,14 +27,19 @@ FLAGS: Mapping[str, str] = MappingProxyType({"t_span": "--t-end", "parameters": 
 @dataclass(frozen=True)
 class CommandLineWording(Wording):
     """Options as the command's flags: a keyword's own flag (``--max-steps``) unless
-    :data:`FLAGS` names another; only the ``keywords`` the command has are flags (another
-    field, a constraint's name, stays as it is)."""
+    ``flags`` names another; only the ``keywords`` the command has are flags (another
+    field, a constraint's name, stays as it is).  An entry's value the user chooses is
+    ``VALUE`` unless ``placeholders`` names its form (``--vary NAME=START:STOP:COUNT``)."""
 
     keywords: frozenset[str]
+    flags: Mapping[str, str] = field(default_factory=lambda: FLAGS, hash=False)
+    placeholders: Mapping[str, str] = field(
+        default_factory=lambda: MappingProxyType({}), hash=False
+    )
 
     def option(self, keyword: str) -> str:
-        if keyword in FLAGS:
-            return FLAGS[keyword]
+        if keyword in self.flags:
+            return self.flags[keyword]
         if keyword in self.keywords:
             return "--" + keyword.replace("_", "-")
         return keyword
@@ -39,7 +47,8 @@ class CommandLineWording(Wording):
     def setting(self, setting: Setting) -> str:
         flag, value = self.option(setting.keyword), setting.value
         if setting.entry is not None:
-            return f"{flag} {setting.entry}={'VALUE' if value is None else value}"
+            chosen = self.placeholders.get(setting.keyword, "VALUE")
+            return f"{flag} {setting.entry}={chosen if value is None else value}"
         if value is None or value is True:
             return flag
         return f"{flag} {value}"

@@ -102,7 +102,9 @@ class GimbalGuard:
         q = trajectory.q[row]
         angle = float(lock.values(q, float(trajectory.t[row]), self.p)[1])
         message = lock.message(angle, float(trajectory.t[row]))
-        return dataclasses.replace(_head(trajectory, row + 1), status="failed", message=message)
+        return dataclasses.replace(
+            _head(trajectory, row + 1), status="failed", message=message, message_template=None
+        )
 
     def _stopped(self, trajectory: Trajectory) -> tuple[Lock, int] | None:
         """The lock whose terminal event ended the run (its state is the last row)."""

@@ -185,8 +185,8 @@ def _affordable(
             problems.append(
                 Problem(
                     name,
-                    f"{name}={step:g} needs {needed:.3g} steps over the time span, more than "
-                    f"max_steps={max_steps:,}",
+                    f"a step of {step:g} needs {needed:.3g} steps over the time span, more "
+                    f"than the step budget of {max_steps:,}",
                     Fix(
                         "use a larger {0.name}, a shorter time span, or pass {1}",
                         (Setting(name), Setting("max_steps")),

@@ -111,8 +111,9 @@ class Options:
     transitions:
         How many transitions the system has (resets of the state at a guard).
     driver:
-        ``"simulate"`` or ``"simulate_batch"`` (a batch has its own loops: RK45, DOP853, RK4,
-        no constraints).
+        ``"simulate"``, ``"simulate_batch"`` (a batch has its own loops: RK45, DOP853, RK4,
+        no constraints) or ``"sweep"`` (members run one by one as simulate runs them, the
+        events a stop condition: :attr:`events_keyword`).
     """
 
     method: str = DEFAULT_METHOD
@@ -151,6 +152,12 @@ class Options:
     def gains(self) -> tuple[float, float]:
         """Baumgarte's (alpha, beta); (0, 0) when not asked (off)."""
         return (0.0, 0.0) if self.baumgarte is None else (self.baumgarte[0], self.baumgarte[1])
+
+    @property
+    def events_keyword(self) -> str:
+        """The keyword of the events in the caller's words: ``stop_when`` for a batch or a
+        sweep, whose one event is the stop condition."""
+        return "events" if self.driver == "simulate" else "stop_when"
 
     @property
     def unilateral(self) -> bool:
@@ -201,7 +208,7 @@ def _baumgarte(options: Options) -> list[Problem]:
         message = "baumgarte stabilizes constraints, and this system has none"
         return [Problem("baumgarte", message, "remove baumgarte=")]
     if options.spec.variational:
-        message = f"method={options.method!r} holds the constraints exactly at every step"
+        message = f"the method {options.method!r} holds the constraints exactly at every step"
         return [Problem("baumgarte", message, "remove baumgarte=, or choose another method")]
     return []
 
@@ -236,10 +243,10 @@ def _backend(options: Options) -> list[Problem]:
     if options.backend != "numba" or not options.spec.variational:
         return []  # "numba": another name of the default (simulation/methods.py)
     message = (
-        f"method={options.method!r} runs on compiled loops whenever numba is installed; "
-        "backend='numba' is another name of the default backend"
+        f"the method {options.method!r} runs on compiled loops whenever numba is installed; "
+        "the backend 'numba' is another name of the default backend"
     )
-    return [Problem("backend", message, "remove backend='numba'")]
+    return [Problem("backend", message, Fix("remove {}", (Setting("backend", "numba"),)))]
 
 
 def _variational(options: Options) -> list[Problem]:
@@ -247,10 +254,12 @@ def _variational(options: Options) -> list[Problem]:
     with holonomic constraints, and locate no events."""
     if not options.spec.variational:
         return []
-    problems, named = [], f"method={options.method!r}"
+    problems, named = [], f"the method {options.method!r}"
     if options.events:
         message = f"{named} does not locate events yet"
-        problems.append(Problem("events", message, "use another method with events="))
+        stop = options.events_keyword
+        other = Fix("use another {0.name} with {1.name}", (Setting("method"), Setting(stop)))
+        problems.append(Problem(stop, message, other))
     if not options.inertia:
         message = (
             f"{named} needs every coordinate to have inertia (a regular Legendre map p = dL/dq_dot)"

@@ -21,7 +21,7 @@ import dataclasses
 
 import numpy as np
 
-from lagrangian.errors import SimulationError
+from lagrangian.errors import Fix, SimulationError
 from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.numerics.status import Outcome
 from lagrangian.simulation.conservation import not_conserved
@@ -134,12 +134,14 @@ def _columns(setup: RunSetup, motion: Motion, run: Integration) -> Trajectory:
     )
     impacts = tuple(impact_of(compiled, p, record) for record in run.impacts)
     reasons = not_conserved(eom, inputs.parameters, compiled.energy_function_differs, momenta)
+    said = _with_note(message(compiled, run), backend_note(setup.options.backend))
     return trajectory_of_rows(
         compiled.coordinates,
         rows_with_energies(compiled, p, t, q, q_dot),
         events=events,
         status=run.status,
-        message=_with_note(message(compiled, run), backend_note(setup.options.backend)),
+        message=str(said),
+        message_template=said if isinstance(said, Fix) else None,
         method=inputs.method,
         parameters=inputs.parameters,
         multipliers=multipliers,
@@ -192,8 +194,8 @@ def with_impacts(
     return found
 
 
-def _with_note(sentence: str, note: str) -> str:
-    return f"{sentence} {note}" if note else sentence
+def _with_note(sentence: str | Fix, note: str) -> str | Fix:
+    return sentence + f" {note}" if note else sentence
 
 
 def rows_with_energies(
@@ -226,15 +228,16 @@ COLLAPSED_STEP = (
 )
 
 
-def message(compiled: CompiledEquations, run: Integration) -> str:
+def message(compiled: CompiledEquations, run: Integration) -> str | Fix:
     """How the run ended, in one sentence: where it failed or was interrupted (time and
-    state), the terminal event that stopped it, or the integrator's note on reaching the end."""
+    state), the terminal event that stopped it, or the integrator's note on reaching the end.
+    A failure whose fix names options stays a Fix, for each front end to word."""
     where = ", ".join(f"{n}={v:.6g}" for n, v in zip(compiled.state_names, run.x_reached))
     if run.failure is not None:
         failure = run.failure
-        if "step size is less than spacing" in failure:  # SciPy's words, and the C loop's
+        if "step size is less than spacing" in str(failure):  # SciPy's words, the C loop's
             failure += COLLAPSED_STEP
-        return f"Integration failed at t = {run.t_reached:.6g} ({where}): {failure}"
+        return f"Integration failed at t = {run.t_reached:.6g} ({where}): " + failure
     if run.interrupted:
         return f"Interrupted (Ctrl-C) at t = {run.t_reached:.6g} ({where})."
     if run.stopped_by is not None:

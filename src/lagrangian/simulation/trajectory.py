@@ -34,7 +34,7 @@ from typing import Any, NamedTuple, TextIO
 
 import numpy as np
 
-from lagrangian.errors import SimulationInputError
+from lagrangian.errors import Fix, SimulationInputError, Wording
 from lagrangian.simulation.files import written_atomically
 from lagrangian.symbolic.expressions import closest_name
 
@@ -106,6 +106,10 @@ class Trajectory:
     impacts:
         The impacts on unilateral constraints with a coefficient of restitution, in the order
         of time (each also an event ``impact NAME``).
+    message_template:
+        ``message`` with the options it names (a failed run's ``max_steps``) kept for each
+        interface to word (:meth:`worded_message`), or None; given, ``message`` is it in
+        Python's words.
     """
 
     t: np.ndarray
@@ -125,6 +129,7 @@ class Trajectory:
     conserved: Mapping[str, np.ndarray] = field(default_factory=dict)
     not_conserved: Mapping[str, str] | None = None
     impacts: tuple[Impact, ...] = ()
+    message_template: Fix | None = None
 
     def __post_init__(self) -> None:
         n = len(self.coordinates)
@@ -149,6 +154,15 @@ class Trajectory:
         if self.not_conserved is not None:
             reasons = {str(k): str(v) for k, v in self.not_conserved.items()}
             object.__setattr__(self, "not_conserved", MappingProxyType(reasons))
+        if self.message_template is not None:
+            object.__setattr__(self, "message", str(self.message_template))
+
+    def worded_message(self, wording: Wording) -> str:
+        """:attr:`message` with the options it names as ``wording`` names them
+        (``--max-steps`` on the command line, ``max_steps=`` in Python)."""
+        if self.message_template is None:
+            return self.message
+        return self.message_template.worded(wording)
 
     @property
     def success(self) -> bool:

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lagrangian.errors import Problem, SimulationInputError, raise_if_problems
+from lagrangian.errors import Fix, Problem, Setting, SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.symbolic.symbols import name_of
 
@@ -111,9 +111,8 @@ def build_grid(
             axes.append(axis)
     drawn = _random_axes(random or {}, seed, labels, kinds, seen, problems)
     if not axes and not drawn and not problems:
-        problems.append(
-            Problem("vary", "nothing to sweep over", "give vary={'NAME': values} or random=...")
-        )
+        ranges = (Setting("vary", entry="NAME"), Setting("random", entry="NAME"))
+        problems.append(Problem("vary", "nothing to sweep over", Fix("give {} or {}", ranges)))
     raise_if_problems(problems, "Cannot sweep", SimulationInputError)
     return Grid(tuple(axes), tuple(drawn))
 

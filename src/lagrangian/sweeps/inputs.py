@@ -12,9 +12,8 @@ array([0., 2.])
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Mapping
-from typing import Any, NoReturn
+from typing import Any
 
 import numpy as np
 
@@ -64,32 +63,12 @@ def checked_member_times(
             events=(stop_event(stop_when),) if stop_when is not None else (),
             backend=backend,
             project_initial=project_initial,
+            driver="sweep",  # its fixes name the stop condition stop_when, not events
         )
         motion, _ = plan(setup)
         motion.start(setup.inputs, project_initial)
     except SimulationInputError as error:
-        raise_in_sweep_words(error)
+        raise_if_problems(list(error.problems), "Cannot sweep", SimulationInputError)
+        raise
     t_out = setup.inputs.t_out
     return np.asarray(setup.inputs.t_span if t_out is None else t_out, dtype=float)
-
-
-def raise_in_sweep_words(error: SimulationInputError) -> NoReturn:
-    """Raise the problems simulate found said with the sweep's keywords: its stop condition
-    is ``stop_when`` (simulate's ``events``)."""
-    if not error.problems:
-        raise error
-
-    def words(text: str) -> str:
-        return text.replace("events=", "stop_when=")
-
-    problems = [
-        dataclasses.replace(
-            p,
-            field="stop_when" if p.field == "events" else p.field,
-            message=words(p.message),
-            fix=words(str(p.fix)),
-        )
-        for p in error.problems
-    ]
-    raise_if_problems(problems, "Cannot sweep", SimulationInputError)
-    raise error  # not reached: there are problems

@@ -128,7 +128,9 @@ def _stopped_at_start(member: Trajectory) -> Trajectory:
     names = (*member.coordinates, *(name + DOT for name in member.coordinates))
     event = Event(STOP_EVENT, t0, {name: float(member[name][0]) for name in names})
     message = f"Stopped by stop_when at t = {t0:.6g}."
-    return dataclasses.replace(member, **cut, events=(event,), status="success", message=message)
+    return dataclasses.replace(
+        member, **cut, events=(event,), status="success", message=message, message_template=None
+    )
 
 
 def _without_rows(system: System, message: str) -> Trajectory:

@@ -37,7 +37,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from lagrangian.errors import Problem, SimulationError, SimulationInputError, raise_if_problems
+from lagrangian.errors import (
+    Fix,
+    Problem,
+    Setting,
+    SimulationError,
+    SimulationInputError,
+    raise_if_problems,
+)
 from lagrangian.model import System
 from lagrangian.model.system import require_system
 from lagrangian.simulation.batch.run import StopCondition
@@ -299,10 +306,11 @@ def _check_options(
     """Raise every problem of the sweep's own options, with ``problems`` found before."""
     if project_initial and not stored.per_member:
         message = "project_initial moves states onto the constraints, and this system has none"
-        problems.append(Problem("project_initial", message, "remove project_initial=True"))
+        remove = Fix("remove {}", (Setting("project_initial", True),))
+        problems.append(Problem("project_initial", message, remove))
     if path.exists() and not resume:
-        fix = "pass resume=True to continue it, or choose another path"
-        problems.append(Problem("out", f"{path} already exists", fix))
+        again = Fix("pass {} to continue it, or choose another path", (Setting("resume", True),))
+        problems.append(Problem("out", f"{path} already exists", again))
     if not path.parent.is_dir():
         fix = "create the folder first, or choose a path in an existing one"
         problems.append(Problem("out", f"the folder {path.parent} does not exist", fix))

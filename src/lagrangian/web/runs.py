@@ -108,7 +108,7 @@ def simulate_document(
     if not trajectory.success:
         rows = len(trajectory.t)
         where = f" ({rows} rows, up to t = {trajectory.t[-1]:.6g})" if rows else ""
-        raise SimulationError(f"{trajectory.message}{where}")
+        raise SimulationError(f"{trajectory.worded_message(WEB)}{where}")
     return {
         "columns": {name: finite_list(values) for name, values in trajectory.columns().items()},
         "summary": simulation_summary(trajectory),
@@ -120,7 +120,7 @@ def simulation_summary(trajectory: Trajectory) -> dict[str, Any]:
     """What ``lagrangian simulate`` says after the run: samples, method, drift."""
     return {
         "status": trajectory.status,
-        "message": trajectory.message,
+        "message": trajectory.worded_message(WEB),
         "method": trajectory.method,
         "samples": len(trajectory.t),
         "parameters": dict(trajectory.parameters),

@@ -27,7 +27,7 @@ from __future__ import annotations
 import importlib.util
 from dataclasses import dataclass
 
-from lagrangian.errors import SimulationError
+from lagrangian.errors import Fix, Problem, Setting, SimulationError
 from lagrangian.numerics.fast.native import NativeFunction
 
 INSTALL_HINT = "pip install lagrangian[fast]"
@@ -41,10 +41,9 @@ def numba_available() -> bool:
 def require_numba(feature: str = "the compiled variational marches") -> None:
     """Raise SimulationError, with the install command, when numba is not installed."""
     if not numba_available():
-        raise SimulationError(
-            f"{feature} needs numba, which is not installed: {INSTALL_HINT} "
-            "(or use backend='numpy', the default)."
-        )
+        fix = f"{INSTALL_HINT}, or use " + Fix("{} (the default)", (Setting("backend", "numpy"),))
+        problem = Problem("backend", f"{feature} need numba, which is not installed", fix)
+        raise SimulationError("", [problem])
 
 
 @dataclass(frozen=True)

@@ -31,7 +31,7 @@ from collections.abc import Sequence
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from lagrangian.errors import SimulationError
+from lagrangian.errors import Fix, Problem, Setting, SimulationError
 from lagrangian.symbolic.conversion import to_sympy
 
 INDENT = "    "
@@ -77,10 +77,12 @@ def values_source(symbols: Sequence[sp.Symbol], expressions: Sequence[sp.Expr]) 
     lines += [f"{INDENT}{s} = {printer.doprint(e)}" for s, e in replacements]
     lines += [f"{INDENT}y[{i}] = {printer.doprint(e)}" for i, e in enumerate(reduced)]
     if printer.unprintable:
-        raise SimulationError(
-            f"The equations use {', '.join(sorted(printer.unprintable))}, which the numba "
-            "backend cannot compile: use backend='numpy'."
+        message = (
+            f"the equations use {', '.join(sorted(printer.unprintable))}, which the numba "
+            "backend cannot compile"
         )
+        fix = Fix("use {}", (Setting("backend", "numpy"),))
+        raise SimulationError("", [Problem("backend", message, fix)])
     return "\n".join(lines) + "\n"
 
 

@@ -44,7 +44,7 @@ import numpy as np
 
 from lagrangian.constraints import ConstrainedEquations
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import LagrangianError, Problem, SimulationInputError
+from lagrangian.errors import Fix, LagrangianError, Problem, Setting, SimulationInputError
 from lagrangian.model import System
 from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.numerics.constrained import compile_constrained
@@ -106,10 +106,7 @@ def started_members(
             f"{members} start off the constraints: the largest residual is {largest:.3g} "
             f"(> {INITIAL_TOLERANCE:g})"
         )
-        fix = (
-            "move them onto the constraints (lagrangian.constraints.project_state), or pass "
-            "project_initial=True"
-        )
+        fix = Fix("move them onto the constraints: pass {}", (Setting("project_initial", True),))
         problems.append(Problem("initial", message, fix))
     for i, reason in failed[:NAMED]:
         problems.append(Problem("initial", f"member {i} cannot be moved onto them: {reason}"))

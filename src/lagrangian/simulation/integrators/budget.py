@@ -32,6 +32,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from lagrangian.errors import Fix, Setting
+
 if TYPE_CHECKING:  # the protocol module imports the inputs, which import this module
     from lagrangian.simulation.integrators.protocol import Stepper
 
@@ -47,49 +49,51 @@ WINDOW, SHARE, NEAR = 50, 0.8, 0.85
 #: A run whose last COLLAPSE_STEPS steps advanced t by less than COLLAPSE of the time span
 #: has a collapsed step size (LSODA creeping at 1e-12 per step, for ever).
 COLLAPSE_STEPS, COLLAPSE = 10_000, 1e-9
-IMPLICIT_ADVICE = "use an implicit method: method='Radau' (or 'BDF', 'LSODA')"
+#: What a stiff run should change, each interface naming the method its way.
+IMPLICIT_ADVICE = Fix("use an implicit method: {} (or BDF, LSODA)", (Setting("method", "Radau"),))
 
 
-# The reasons a run stops, in the words every integrator uses (SciPy's steps, the C loop).
+# The reasons a run stops, in the words every integrator uses (SciPy's steps, the C loop),
+# their options left for each front end to word (``max_steps=`` in Python, ``--max-steps``
+# on the command line).
 
 
-def collapse_message(advanced: float, t: float) -> str:
+def collapse_message(advanced: float, t: float) -> Fix:
     """The last ``COLLAPSE_STEPS`` steps advanced t by only ``advanced``, near ``t``."""
     return (
         f"the step size collapsed: the last {COLLAPSE_STEPS:,} steps advanced t by "
         f"{advanced:.3g} near t = {t:.6g} — the equations may be singular "
         "there (a collision, a blow-up, a mass matrix losing rank) or stiff; "
-        f"check the model near that state, or {IMPLICIT_ADVICE}"
+        "check the model near that state, or " + IMPLICIT_ADVICE + "."
     )
 
 
-def stiffness_message(method: str, stiff_since: float, step: float) -> str:
+def stiffness_message(method: str, stiff_since: float, step: float) -> Fix:
     """Stiff since ``stiff_since``, steps of ``step`` too small to finish."""
     return (
         f"the problem is stiff for {method} (since t = {stiff_since:.6g}, "
         f"steps of {step:.3g} held by stability, not accuracy): it would need more "
-        f"than {STIFF_STEPS_LEFT:,} further steps — {IMPLICIT_ADVICE}"
+        f"than {STIFF_STEPS_LEFT:,} further steps — " + IMPLICIT_ADVICE + "."
     )
 
 
-def step_budget_message(max_steps: int, stiff_since: float | None) -> str:
-    """``max_steps`` taken before the end."""
-    return (
-        f"the step budget max_steps={max_steps:,} is used up"
-        f"{_stiff_hint(stiff_since)} — pass max_steps= to allow more steps"
-    )
+def step_budget_message(max_steps: int, stiff_since: float | None) -> Fix:
+    """``max_steps`` taken before the end; the fix suggests ten times as many."""
+    more = Fix("pass {} to allow more steps.", (Setting("max_steps", 10 * max_steps),))
+    return f"the step budget of {max_steps:,} steps is used up" + _stiff_hint(stiff_since) + more
 
 
-def wall_time_message(max_wall_time: float, steps: int, stiff_since: float | None) -> str:
+def wall_time_message(max_wall_time: float, steps: int, stiff_since: float | None) -> Fix:
     """``max_wall_time`` seconds spent after ``steps`` steps."""
-    return (
-        f"the wall-time budget max_wall_time={max_wall_time:g} s is used up after "
-        f"{steps:,} steps{_stiff_hint(stiff_since)} — pass a larger max_wall_time="
-    )
+    more = Fix("pass a larger {}.", (Setting("max_wall_time"),))
+    spent = f"the wall-time budget of {max_wall_time:g} s is used up after {steps:,} steps"
+    return spent + _stiff_hint(stiff_since) + more
 
 
-def _stiff_hint(stiff_since: float | None) -> str:
-    return "" if stiff_since is None else f" (the problem is stiff: {IMPLICIT_ADVICE})"
+def _stiff_hint(stiff_since: float | None) -> Fix:
+    if stiff_since is None:
+        return Fix(" — ")
+    return " (the problem is stiff: " + IMPLICIT_ADVICE + ") — "
 
 
 @dataclass
@@ -106,8 +110,9 @@ class Budget:
     _recent: deque[bool] = field(default_factory=lambda: deque(maxlen=WINDOW))
     _times: deque[float] = field(default_factory=lambda: deque(maxlen=COLLAPSE_STEPS))
 
-    def spend(self, solver: Stepper, t_old: float, y_old: np.ndarray, t_end: float) -> str | None:
-        """Count the step just taken; the reason to stop, or None."""
+    def spend(self, solver: Stepper, t_old: float, y_old: np.ndarray, t_end: float) -> Fix | None:
+        """Count the step just taken; the reason to stop (with the options that would let
+        the run go on), or None."""
         self.steps += 1
         self._watch_stiffness(solver, t_old, y_old)
         self._times.append(float(solver.t))

@@ -26,7 +26,7 @@ import numpy as np
 
 from lagrangian.constraints import ConstrainedEquations
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import SimulationError
+from lagrangian.errors import Fix, SimulationError
 from lagrangian.numerics.fast import c_loop
 from lagrangian.numerics.fast.c_constrained import (
     NativeConstrained,
@@ -180,7 +180,7 @@ class NativeIntegrator:
         )
 
 
-def failure(run: c_loop.LoopRun, dynamics: Dynamics, inputs: Inputs) -> str | None:
+def failure(run: c_loop.LoopRun, dynamics: Dynamics, inputs: Inputs) -> str | Fix | None:
     """Why the C loop's ``run`` failed, in the words SciPy's path uses for it
     (:func:`lagrangian.simulation.integrators.loop.integrate` and its Budget), or None."""
     status = run.status

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import OdeSolver
 
-from lagrangian.errors import SimulationError
+from lagrangian.errors import Fix, SimulationError
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.events import EventWatch
@@ -149,7 +149,8 @@ def integrate(
     budget = budget if budget is not None else Budget("", start=t0)
     output = _Output(times, t0, x0)
     events: list[tuple[str, float, np.ndarray]] = []
-    t_reached, x_reached, failure, stopped_by = t0, x0, None, None
+    t_reached, x_reached, stopped_by = t0, x0, None
+    failure: str | Fix | None = None
     interrupted = False
     try:
         solver = start()

@@ -32,6 +32,7 @@ from typing import Any, Protocol, TypeVar
 
 import numpy as np
 
+from lagrangian.errors import Fix
 from lagrangian.numerics.status import Outcome
 from lagrangian.simulation.impacts import ImpactRecord
 from lagrangian.simulation.inputs import Inputs
@@ -47,7 +48,8 @@ class Integration:
 
     ``events`` are (name, time, state) in the order of time; ``stopped_by`` names the
     terminal event that ended the run (its row is the last); ``failure`` is None unless the
-    run failed, then the reason; ``interrupted`` is True after Ctrl-C.  ``t_reached`` and
+    run failed, then the reason (a :class:`~lagrangian.errors.Fix` when it names options to
+    change, such as ``max_steps``); ``interrupted`` is True after Ctrl-C.  ``t_reached`` and
     ``x_reached`` are the last accepted step.  ``multipliers`` and ``constraint_residual``
     (rows of t) are given by integrators that compute them on the way (else the dynamics
     evaluates them at the rows); ``note`` is what the integrator says about a run that
@@ -59,7 +61,7 @@ class Integration:
     t_reached: float
     x_reached: np.ndarray
     events: tuple[tuple[str, float, np.ndarray], ...] = ()
-    failure: str | None = None
+    failure: str | Fix | None = None
     interrupted: bool = False
     stopped_by: str | None = None
     multipliers: np.ndarray | None = None

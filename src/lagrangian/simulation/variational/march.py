@@ -28,6 +28,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from lagrangian.errors import Fix
 from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics
 from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.loop import integrate
@@ -50,7 +51,7 @@ class Run(NamedTuple):
     constraint_residual: np.ndarray
     reached: float
     evaluations: int
-    failure: str | None
+    failure: str | Fix | None
     interrupted: bool = False
 
 
