@@ -110,11 +110,6 @@ def test_messages_say_flags_not_keywords(model, flags, line, tmp_path: Path, cap
     assert not out.exists()
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="sweeps/cluster.py still writes its fixes as prose (give workers >= 1); they become "
-    "Settings in that module's own change",
-)
 def test_a_bad_worker_count_names_the_flag_in_its_fix(tmp_path: Path, capsys) -> None:
     flags = ["--vary", "theta=0,1", "--workers", "0", "--out", str(tmp_path / "r.zarr")]
     assert main(["sweep", "examples/simple_pendulum", *flags]) == 2

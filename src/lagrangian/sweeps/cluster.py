@@ -21,7 +21,14 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
-from lagrangian.errors import Problem, SimulationError, SimulationInputError, raise_if_problems
+from lagrangian.errors import (
+    Fix,
+    Problem,
+    Setting,
+    SimulationError,
+    SimulationInputError,
+    raise_if_problems,
+)
 
 #: Seconds to wait for a running scheduler to answer.
 CONNECT_TIMEOUT = 10
@@ -53,10 +60,17 @@ def cluster_problems(
         isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
     ):
         problems.append(
-            Problem("workers", f"{workers!r} is not a positive whole number", "give workers >= 1")
+            Problem(
+                "workers",
+                f"{workers!r} is not a positive whole number",
+                Fix("give {0.name} >= 1", (Setting("workers"),)),
+            )
         )
     if workers is not None and scheduler:
-        fix = "leave out workers: a running cluster has its own (start more with dask worker)"
+        fix = Fix(
+            "leave out {0.name}: a running cluster has its own (start more with dask worker)",
+            (Setting("workers"),),
+        )
         problems.append(Problem("workers", "applies to the local cluster only", fix))
     return problems
 
