@@ -24,8 +24,6 @@ from typing import Any
 
 from lagrangian import render
 from lagrangian.analysis import AnalysisReport, analyze
-from lagrangian.analysis.arguments import numeric_values, operating_state
-from lagrangian.analysis.manifold.constraint_manifold import require_on_manifold
 from lagrangian.constraints import constrained_equations
 from lagrangian.derivation import derive
 from lagrangian.errors import Fix, ModelError, Problem, Setting, Wording, raise_if_problems
@@ -71,12 +69,6 @@ def analysis_of(
     on a constrained model a state off the constraints is refused, with the fix of setting
     ``project`` in the words of ``wording``, unless ``project``."""
     state = parse_state(about, wording)
-    if about and system.constraints and not project:
-        eom = derive(system)
-        point = operating_state(eom, state)
-        flag, about_option = wording.setting(Setting("project", True)), wording.option("about")
-        fix = f"add {flag} to move the {about_option} state onto the constraints"
-        require_on_manifold(eom, point, numeric_values(eom), fix)
     return analyze(
         system,
         about=state if about else None,

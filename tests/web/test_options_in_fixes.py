@@ -49,5 +49,5 @@ def test_an_option_that_does_not_apply_names_the_request_options(client: Any) ->
 
 def test_an_about_state_off_the_constraints_names_options_project(client: Any) -> None:
     found = problems(client, "analyze", ROD, {"about": {"x": 0.0, "y": -0.5}})
-    assert any("add options.project = true" in p["fix"] for p in found), found
+    assert any("pass options.project = true" in p["fix"] for p in found), found
     assert any("options.about state" in p["fix"] for p in found), found

@@ -48,7 +48,7 @@ from lagrangian.analysis.parts import PARTS, AnalysisRequest, Found, symmetries_
 from lagrangian.analysis.rest import Equilibria
 from lagrangian.analysis.steady_motions import SteadyMotions
 from lagrangian.constraints import ConstraintClass, project_state
-from lagrangian.errors import AnalysisError
+from lagrangian.errors import AnalysisError, Fix, Setting
 from lagrangian.limits import bounded
 from lagrangian.size_limits import size_limit as sized_to
 
@@ -247,7 +247,7 @@ def _about_on_manifold(
     eom, numbers = context.eom, context.values
     state = operating_state(eom, about)
     if not project:
-        fix = "pass project=True to move the state onto the constraints (project_state)"
+        fix = Fix("pass {0} to move the state onto the constraints", (Setting("project", True),))
         require_on_manifold(eom, state, numbers, fix)
         return state
     moved = project_state(eom.system, numeric_point(eom, state, numbers))

@@ -33,7 +33,7 @@ import sympy as sp
 
 from lagrangian.constraints.pfaffian import pfaffian_form
 from lagrangian.derivation.backend import to_backend
-from lagrangian.errors import ConstraintError, Problem, raise_if_problems
+from lagrangian.errors import ConstraintError, Fix, Problem, raise_if_problems
 from lagrangian.model import Holonomic, System, Unilateral, VelocityConstraint, t, velocity
 from lagrangian.model.constraints import label, statement
 from lagrangian.model.system import require_system
@@ -194,7 +194,7 @@ class Violation:
     level: str
     residual: float
 
-    def problem(self, fix: str) -> Problem:
+    def problem(self, fix: str | Fix) -> Problem:
         """The violation as a Problem with ``fix`` in the words of the caller's interface."""
         what = "h(q, t)" if self.level == "position" else "a.q_dot + b"
         return Problem(

@@ -42,7 +42,7 @@ from lagrangian.constraints import ConstraintReport, classify, multiplier_symbol
 from lagrangian.constraints.pfaffian import acceleration_terms, pfaffian_form
 from lagrangian.constraints.projection import Violation, project_state, violations
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import ConstraintError, raise_if_problems
+from lagrangian.errors import ConstraintError, Fix, raise_if_problems
 from lagrangian.model.constraints import Constraint, label
 from lagrangian.symbolic.caches import IdentityCache
 from lagrangian.symbolic.conversion import to_sympy
@@ -207,7 +207,10 @@ def state_violations(
 
 
 def require_on_manifold(
-    eom: EquationsOfMotion, state: Mapping[sp.Symbol, sp.Expr], numbers: Mapping, fix: str
+    eom: EquationsOfMotion,
+    state: Mapping[sp.Symbol, sp.Expr],
+    numbers: Mapping,
+    fix: str | Fix,
 ) -> None:
     """ConstraintError naming every constraint ``state`` misses, each with its residual
     and ``fix`` (the way to project the state, in the caller's words)."""
