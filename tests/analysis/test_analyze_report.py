@@ -40,8 +40,11 @@ def test_planet_report() -> None:
     m, r, theta_dot = sp.symbols("m r theta_dot")
     assert report.dof == 2 and report.constraints == ()
     names = [c.name for c in report.conserved]
-    assert names == ["p_theta", "h"]
+    assert names == ["p_theta", "h", "I_1"]
     assert sp.simplify(report.conserved[0].expression - m * r**2 * theta_dot) == 0
+    # a component of the Laplace–Runge–Lenz vector (Goldstein §3.9), trigonometric in theta
+    assert report.conserved[2].origin == "quadratic first integral"
+    assert report.conserved[2].expression.has(sp.sin(sp.Symbol("theta")))
     assert report.energy is not None and report.energy.equals_total_energy
     assert report.normal_modes is None
     assert "No stable equilibrium" in (report.failure("normal_modes") or "")

@@ -87,11 +87,17 @@ def search_problem(eom: EquationsOfMotion, parameters: Values | None) -> SearchP
     return SearchProblem(eom, lagrangian, forces, tuple(sorted(free, key=str)))
 
 
+def sample_count(unknowns: int) -> int:
+    """The samples a search with ``unknowns`` takes: ``OVERSAMPLING`` per unknown and some
+    more."""
+    return OVERSAMPLING * unknowns + 10
+
+
 def samples(
     basis: FunctionBasis, unknowns: int, rng: np.random.Generator
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Random (t, q) rows and q_dot rows, ``OVERSAMPLING`` per unknown and some more."""
-    rows = OVERSAMPLING * unknowns + 10
+    """Random (t, q) rows and q_dot rows, :func:`sample_count` of them."""
+    rows = sample_count(unknowns)
     points = basis.random_points(rows, rng)
     return points, rng.uniform(-2.0, 2.0, size=(rows, points.shape[1] - 1))
 
@@ -205,10 +211,13 @@ def _symmetry(
     return LieSymmetry(xi, sp.ImmutableMatrix(eta), f, readable(charge, problem.parameters))
 
 
-def readable(expr: sp.Expr, parameters: Sequence[sp.Symbol] = ()) -> sp.Expr:
-    """``expr`` in its shortest form among expanded, factored and (when small) simplified,
-    after clearing the parameters from its denominators (a constant multiple of a conserved
-    quantity is conserved: k*x/(m*r) + ... reads better as k*x/r + m*...)."""
+def readable(
+    expr: sp.Expr, parameters: Sequence[sp.Symbol] = (), simplified: bool = True
+) -> sp.Expr:
+    """``expr`` in its shortest form among expanded, factored and (when small and
+    ``simplified``) simplified, after clearing the parameters from its denominators (a
+    constant multiple of a conserved quantity is conserved: k*x/(m*r) + ... reads better as
+    k*x/r + m*...)."""
     expanded = sp.expand(expr.replace(sp.cot, lambda u: sp.cos(u) / sp.sin(u)))
     terms = sp.Add.make_args(expanded)
     for p in parameters:
@@ -217,6 +226,6 @@ def readable(expr: sp.Expr, parameters: Sequence[sp.Symbol] = ()) -> sp.Expr:
             expanded = sp.expand(expanded * p ** (-lowest))
             terms = sp.Add.make_args(expanded)
     forms = [expanded, sp.factor_terms(expanded)]
-    if is_small(expanded):
+    if simplified and is_small(expanded):
         forms.append(sp.factor_terms(sp.expand(sp.simplify(expanded))))
     return min(forms, key=sp.count_ops)

@@ -28,6 +28,8 @@ import sympy as sp
 #: on the samples reach 1e-9 while exact null vectors sit at rounding level.
 NULL = 1e-7
 GAP = 1e3
+#: Columns whose norm is below this, relative to the largest, are zero (rounding only).
+ROUNDING = 1e-11
 #: Pivots smaller than this (relative) are numerical noise in the row-echelon form.
 PIVOT = 1e-7
 #: Tolerance of a coefficient's exponent and of its rational value.
@@ -95,6 +97,17 @@ def _rational(value: float) -> sp.Rational | None:
     return sp.Rational(fraction.numerator, fraction.denominator)
 
 
+def without_rounding(matrix: np.ndarray) -> np.ndarray:
+    """``matrix`` with its columns at rounding level (relative to the largest) made exact
+    zeros: such a column is a solution on its own (r**2 theta_dot, an angular momentum, is
+    one term of a polar ansatz), and scaled to unit norm its noise would pass for data and
+    enter the other null vectors with any weight."""
+    norms = np.linalg.norm(matrix, axis=0)
+    if not norms.size:
+        return matrix
+    return np.where(norms <= ROUNDING * norms.max(), 0.0, matrix)
+
+
 def exact_null_vectors(
     sampled: Callable[[dict[sp.Symbol, float]], np.ndarray],
     parameters: Sequence[sp.Symbol],
@@ -108,7 +121,7 @@ def exact_null_vectors(
     def real(values: dict[sp.Symbol, float]) -> np.ndarray:
         with np.errstate(all="ignore"):
             matrix = sampled(values)
-        return matrix[np.all(np.isfinite(matrix), axis=1)]
+        return without_rounding(matrix[np.all(np.isfinite(matrix), axis=1)])
 
     base, pivots = null_basis(real(generic))
     if not len(base):

@@ -23,7 +23,9 @@ of three particles (Hénon, Phys. Rev. B 9, 1921 (1974)).
 from __future__ import annotations
 
 import random
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from functools import partial
 from itertools import combinations_with_replacement
 
 import numpy as np
@@ -32,9 +34,11 @@ import sympy as sp
 from lagrangian.analysis.arguments import Subject, Values, equations_of, substitute, substitutions
 from lagrangian.analysis.integrals.function_basis import FunctionBasis, function_basis
 from lagrangian.analysis.integrals.lie_symmetries import (
+    SearchProblem,
     evaluated,
     numeric,
     readable,
+    sample_count,
     samples,
     search_problem,
     total_derivatives,
@@ -91,49 +95,92 @@ def polynomial_integrals(
     at random states to 30 digits (module docstring)."""
     eom = equations_of(subject)
     problem = search_problem(eom, parameters)
-    q, v = eom.coordinates, eom.velocities
-    n = len(q)  # at least 1: a System has coordinates
+    basis = function_basis(problem.lagrangian, eom.coordinates, degree)
+    exponents = velocity_monomials(len(eom.coordinates), order)
+    return integrals_in_basis(problem, parameters, basis, [Ansatz.uniform(exponents, basis)])
+
+
+@dataclass(frozen=True)
+class Ansatz:
+    """Which basis functions multiply which velocity monomial: ``supports[m]`` the indices
+    (into the basis) of the coefficient functions of ``exponents[m]``, and the last entry
+    those of K_0, the part free of the velocities (never the constant function, which is
+    no integral)."""
+
+    exponents: tuple[tuple[int, ...], ...]
+    supports: tuple[tuple[int, ...], ...]
+
+    @classmethod
+    def uniform(cls, exponents: Sequence[tuple[int, ...]], basis: FunctionBasis) -> Ansatz:
+        """Every basis function with every monomial (the first function is the constant)."""
+        every = tuple(range(len(basis.functions)))
+        return cls(tuple(exponents), (*(every for _ in exponents), every[1:]))
+
+    @property
+    def unknowns(self) -> int:
+        """The number of unknown coefficients."""
+        return sum(len(s) for s in self.supports)
+
+
+def integrals_in_basis(
+    problem: SearchProblem,
+    parameters: Values | None,
+    basis: FunctionBasis,
+    ansatze: Sequence[Ansatz],
+    novel: Callable[[sp.Expr], bool] | None = None,
+    simplified: bool = True,
+) -> tuple[sp.Expr, ...]:
+    """Every first integral sum_m K_m(t, q) m + K_0(t, q) whose coefficient functions are
+    combinations of the basis functions an ansatz allows each velocity monomial m, each
+    verified at random states to 30 digits (module docstring).  The ansatze are solved
+    apart (parts of one ansatz that dI/dt never mixes), on the same samples; ``novel``, when
+    given, drops a solution before its verification (one already known); ``simplified``
+    False spares the general simplification of what is found (:func:`readable`)."""
+    eom = problem.eom
+    n = len(eom.coordinates)  # at least 1: a System has coordinates
     values = substitutions(eom, parameters)
     mass = to_sympy(substitute(eom.mass_matrix, values))
     forcing = to_sympy(substitute(eom.forcing, values))
     function = numeric(problem, [*mass, *forcing])
-    basis = function_basis(problem.lagrangian, q, degree)
-    k = len(basis.functions)
-    exponents = velocity_monomials(n, order)
-    unknowns = (len(exponents) + 1) * k - 1
-    points, rates = samples(basis, unknowns, np.random.default_rng(13))
+    most = max(ansatz.unknowns for ansatz in ansatze)
+    points, rates = samples(basis, most, np.random.default_rng(13))
     phi, d_phi = total_derivatives(basis, points, rates)
 
-    def sampled(parameter_values: dict[sp.Symbol, float]) -> np.ndarray:
+    def sampled(ansatz: Ansatz, parameter_values: dict[sp.Symbol, float]) -> np.ndarray:
+        rows = slice(sample_count(ansatz.unknowns))  # a smaller part, fewer samples
         given = [parameter_values[p] for p in problem.parameters]
-        table = evaluated(function, points, rates, given)
+        table = evaluated(function, points[rows], rates[rows], given)
         matrices = table[:, : n * n].reshape(-1, n, n)
         a = np.linalg.solve(matrices, table[:, n * n :, None])[:, :, 0]
-        return velocity_columns(exponents, phi, d_phi, rates, a)
+        return velocity_columns(ansatz, phi[rows], d_phi[rows], rates[rows], a)
 
     rng = random.Random(5)
     generic = {p: rng.uniform(0.7, 1.7) for p in problem.parameters}
-    monomials = [sp.Mul(*(s**e for s, e in zip(v, powers))) for powers in exponents]
+    v = eom.velocities
     found = []
-    for vector in exact_null_vectors(sampled, problem.parameters, generic):
-        integral = integral_of(vector, basis, monomials)
-        if not is_zero(integral) and constant_on_motions(integral, eom, mass, forcing):
-            found.append(readable(integral, problem.parameters))
+    for ansatz in ansatze:
+        monomials = [sp.Mul(*(s**e for s, e in zip(v, powers))) for powers in ansatz.exponents]
+        for vector in exact_null_vectors(partial(sampled, ansatz), problem.parameters, generic):
+            integral = integral_of(vector, basis, monomials, ansatz)
+            if is_zero(integral) or (novel is not None and not novel(integral)):
+                continue
+            if constant_on_motions(integral, eom, mass, forcing):
+                found.append(readable(integral, problem.parameters, simplified))
     return tuple(found)
 
 
 def velocity_columns(
-    exponents: Sequence[tuple[int, ...]],
+    ansatz: Ansatz,
     phi: np.ndarray,
     d_phi: np.ndarray,
     rates: np.ndarray,
     accelerations: np.ndarray,
 ) -> np.ndarray:
     """The samples of dI/dt, one column per unknown coefficient: for each velocity monomial
-    m and basis function phi, D(phi m) = D(phi) m + phi D(m); then D(phi) for K_0 (without
-    the constant function, which is no integral)."""
+    m and basis function phi of its support, D(phi m) = D(phi) m + phi D(m); then D(phi)
+    for K_0."""
     columns = []
-    for powers in exponents:
+    for powers, support in zip(ansatz.exponents, ansatz.supports):
         # d/dt prod v_i**a_i = sum_i a_i v_i**(a_i - 1) q_ddot_i prod_{j != i} v_j**a_j
         product = np.prod(rates**powers, axis=1)
         product_rate = np.zeros_like(product)
@@ -142,8 +189,9 @@ def velocity_columns(
                 lowered = list(powers)
                 lowered[i] -= 1
                 product_rate += power * accelerations[:, i] * np.prod(rates**lowered, axis=1)
-        columns.append(d_phi * product[:, None] + phi * product_rate[:, None])
-    columns.append(d_phi[:, 1:])
+        chosen = list(support)
+        columns.append(d_phi[:, chosen] * product[:, None] + phi[:, chosen] * product_rate[:, None])
+    columns.append(d_phi[:, list(ansatz.supports[-1])])
     return np.column_stack(columns)
 
 
@@ -184,15 +232,18 @@ def constant_on_motions(
 
 
 def integral_of(
-    vector: Sequence[sp.Expr], basis: FunctionBasis, monomials: Sequence[sp.Expr]
+    vector: Sequence[sp.Expr],
+    basis: FunctionBasis,
+    monomials: Sequence[sp.Expr],
+    ansatz: Ansatz,
 ) -> sp.Expr:
     """sum_m K_m monomial_m + K_0 with the coefficients of ``vector`` (as the columns of
-    :func:`velocity_columns`: one block of basis functions per monomial, then K_0 without
-    the constant)."""
-    k = len(basis.functions)
+    :func:`velocity_columns`: one block per monomial over its support, then K_0)."""
     total = sp.Integer(0)
-    for m, monomial in enumerate(monomials):
-        coefficients = vector[m * k : (m + 1) * k]
-        total += monomial * sp.Add(*(c * f for c, f in zip(coefficients, basis.functions)))
-    last = vector[len(monomials) * k :]
-    return total + sp.Add(*(c * f for c, f in zip(last, basis.functions[1:])))
+    start = 0
+    for monomial, support in zip([*monomials, sp.Integer(1)], ansatz.supports):
+        coefficients = vector[start : start + len(support)]
+        start += len(support)
+        functions = [basis.functions[i] for i in support]
+        total += monomial * sp.Add(*(c * f for c, f in zip(coefficients, functions)))
+    return total

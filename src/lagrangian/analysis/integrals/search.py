@@ -1,11 +1,12 @@
 """Constants of the motion beyond cyclic coordinates and the energy: the Noether charges of
 Lie point symmetries (:mod:`~lagrangian.analysis.integrals.lie_symmetries`) and the integrals
-quadratic
-in the velocities (:mod:`~lagrangian.analysis.integrals.quadratic`; with ``degree`` >= 3 also
-cubic ones), kept when functionally independent of those already known, within a bound on
-the size of the search and its time.  Then the integrals that exist only under a relation
-between the parameters (:mod:`~lagrangian.analysis.integrals.conditional`: L_z of a 2-D
-oscillator when k1 = k2), each with that condition and whether the values given meet it.
+quadratic in the velocities (:mod:`~lagrangian.analysis.integrals.quadratic`; with ``degree``
+>= 3 also cubic ones; where there are angles, also those with coefficients trigonometric in
+them, :mod:`~lagrangian.analysis.integrals.trigonometric`), kept when functionally
+independent of those already known, within a bound on the size of the search and its time.
+Then the integrals that exist only under a relation between the parameters
+(:mod:`~lagrangian.analysis.integrals.conditional`: L_z of a 2-D oscillator when k1 = k2),
+each with that condition and whether the values given meet it.
 With constraints the polynomial integrals are sought on the constrained equations
 (:mod:`~lagrangian.analysis.manifold.integrals`).
 
@@ -17,7 +18,7 @@ and is left out.
 >>> import lagrangian as lg
 >>> search = first_integrals(lg.examples.planet(), known=())
 >>> [q.origin for q in search.found]
-['point symmetry', 'point symmetry']
+['point symmetry', 'point symmetry', 'quadratic first integral']
 """
 
 from __future__ import annotations
@@ -46,6 +47,7 @@ from lagrangian.analysis.integrals.conditional import candidate_relations, relat
 from lagrangian.analysis.integrals.function_basis import atoms
 from lagrangian.analysis.integrals.lie_symmetries import lie_point_symmetries
 from lagrangian.analysis.integrals.quadratic import constant_on_motions, polynomial_integrals
+from lagrangian.analysis.integrals.trigonometric import trigonometric_search
 from lagrangian.analysis.manifold.constraint_manifold import constraint_manifold
 from lagrangian.analysis.manifold.integrals import ConstrainedMotion, manifold_integrals
 from lagrangian.derivation import EquationsOfMotion
@@ -120,9 +122,18 @@ def first_integrals(
     # built at the first result: the gradients of the known quantities (h of a long chain)
     # cost more than a search that finds nothing
     independent = _Lazy(lambda: _Independence(eom, known, motion))
+
+    def novel(expression: sp.Expr | None = None) -> bool:
+        """Whether ``expression`` is independent of the quantities known; without one,
+        whether any integral without explicit time could still be."""
+        if expression is None:
+            return not independent.get().complete
+        return independent.get().would_add(expression)
+
     found: list[ConservedQuantity] = []
     searched: list[str] = []
-    for line, results in _stages(eom, parameters, degree, deadline, degree >= 3, motion):
+    stages = _stages(eom, parameters, degree, deadline, degree >= 3, motion, novel=novel)
+    for line, results in stages:
         searched.append(line)
         for expression, reason, origin in sorted(results, key=partial(_size, eom)):
             if independent.get().adds(expression):
@@ -138,6 +149,9 @@ def first_integrals(
 
 
 Results = list[tuple[sp.Expr, str, str]]
+#: A stage: its title, its search at a degree, its number of unknowns at a degree, and why
+#: it cannot run here ("" when it can; a function when that depends on the stages before).
+Stage = tuple[str, Callable[[int], Results], Callable[[int], int], str | Callable[[], str]]
 
 
 def _stages(
@@ -148,15 +162,18 @@ def _stages(
     cubic: bool = False,
     motion: ConstrainedMotion | None = None,
     lie: bool = True,
+    novel: Callable[..., bool] | None = None,
 ) -> Iterator[tuple[str, Results]]:
     """Each stage of the search: what it covered (or why not) and what it found; with
-    constraints (``motion``) on the constrained equations, states on the constraints."""
+    constraints (``motion``) on the constrained equations, states on the constraints; with
+    ``novel`` (the test of independence from what is known) also the integrals
+    trigonometric in the angles."""
     n = len(eom.coordinates)
     # each stage: its title, the search at a degree, the unknown functions it solves for
     # (xi, eta_i, f; or one K per velocity monomial and K_0), and why it cannot run here
     singular = "" if mass_matrix_is_regular(eom) else "the mass matrix is singular"
     source = eom.lagrangian
-    stages: list[tuple[str, Callable[[int], Results], int, str]] = []
+    stages: list[Stage] = []
     if motion is not None:
         singular, source = "", motion.source  # the multiplier form gives the accelerations
         lie = False
@@ -164,29 +181,40 @@ def _stages(
             (
                 "Lie point symmetries",
                 lambda d: [],
-                0,
+                lambda d: 0,
                 "the constraint forces are not in L; the integrals below include the "
                 "charges the constraints keep",
             )
         )
     if lie:
-        stages.append(("Lie point symmetries", partial(_charges, eom, parameters), n + 2, ""))
+        stages.append(
+            (
+                "Lie point symmetries",
+                partial(_charges, eom, parameters),
+                partial(_basis_unknowns, eom, n + 2, source),
+                "",
+            )
+        )
     for order, title in ((2, "quadratic"), (3, "cubic"))[: 2 if cubic else 1]:
         stages.append(
             (
                 f"integrals {title} in the velocities",
                 partial(_polynomial, eom, parameters, order=order, motion=motion),
-                math.comb(n + order, order),
+                partial(_basis_unknowns, eom, math.comb(n + order, order), source),
                 singular,  # the accelerations are solved from M q_ddot = forcing
             )
         )
-    for title, run, width, impossible in stages:
+        if order == 2 and novel is not None and motion is None:
+            stages += _trigonometric_stage(eom, parameters, novel, singular)
+    for title, run, cost, why_not in stages:
+        # asked only now: a stage may depend on what the stages before it found
+        impossible = why_not() if callable(why_not) else why_not
         if time.monotonic() > deadline:
             impossible = "the time budget was spent"
         if impossible:
             yield f"{title}: not searched ({impossible})", []
             continue
-        chosen = _affordable_degree(eom, degree, width, source)
+        chosen = _affordable_degree(degree, cost)
         if chosen is None:
             yield f"{title}: not searched (more than {MAX_UNKNOWNS} unknowns)", []
             continue
@@ -206,7 +234,8 @@ def _conditional(
     search's line (what it covered) comes first, with no quantity."""
     if time.monotonic() > deadline or not mass_matrix_is_regular(eom) or constraint_manifold(eom):
         return
-    if _affordable_degree(eom, degree, math.comb(len(eom.coordinates) + 2, 2)) is None:
+    width = math.comb(len(eom.coordinates) + 2, 2)
+    if _affordable_degree(degree, partial(_basis_unknowns, eom, width, None)) is None:
         return
     given = substitutions(eom, parameters)
     numbers = numeric_values(eom, parameters)
@@ -230,18 +259,45 @@ def _conditional(
                 yield ConservedQuantity("", expression, reason, relation, origin, holds), line
 
 
-def _affordable_degree(
-    eom: EquationsOfMotion, degree: int, width: int, source: sp.Expr | None = None
-) -> int | None:
-    """The highest degree <= ``degree`` whose basis (built from ``source``, else L) keeps
-    the unknowns within the bound (the basis counted before its dependent products are
-    dropped: an upper bound)."""
+def _basis_unknowns(eom: EquationsOfMotion, width: int, source: sp.Expr | None, degree: int) -> int:
+    """The unknowns of ``width`` unknown functions in the basis of ``degree`` built from
+    ``source`` (else L), counted before its dependent products are dropped: an upper
+    bound."""
     source = eom.lagrangian if source is None else source
     factors = 1 + len(eom.coordinates) + len(atoms(source, eom.coordinates))
+    return width * math.comb(factors + degree, degree)
+
+
+def _affordable_degree(degree: int, cost: Callable[[int], int]) -> int | None:
+    """The highest degree <= ``degree`` whose unknowns (``cost``) are within the bound."""
     for d in range(degree, 0, -1):
-        if width * math.comb(factors + d, d) <= MAX_UNKNOWNS:
+        if cost(d) <= MAX_UNKNOWNS:
             return d
     return None
+
+
+def _trigonometric_stage(
+    eom: EquationsOfMotion,
+    parameters: Values | None,
+    novel: Callable[..., bool],
+    impossible: str,
+) -> list[Stage]:
+    """The search with coefficients trigonometric in the angles, when there are angles."""
+    search = trigonometric_search(eom, parameters)
+    if search is None:
+        return []
+    angles = ", ".join(map(str, search.angles.all))
+
+    def run(degree: int) -> Results:
+        reason = "dI/dt = 0 on the equations of motion (coefficients trigonometric in the angles)"
+        return [(i, reason, "quadratic first integral") for i in search.integrals(degree, novel)]
+
+    title = f"integrals quadratic in the velocities, trigonometric in {angles}"
+
+    def why_not() -> str:
+        return impossible or ("" if novel() else "the integrals known fix every motion")
+
+    return [(title, run, search.unknowns, why_not)]
 
 
 def _charges(
@@ -309,6 +365,7 @@ class _Independence:
     ) -> None:
         self.variables = (*eom.coordinates, *eom.velocities)
         self.time = eom.time
+        self.timeless = 0  # how many of the rows are of quantities without explicit time
         self.rng = random.Random(17)
         self.points: dict[sp.Symbol, Any] = {}
         self.rows: list[np.ndarray] = []
@@ -344,20 +401,41 @@ class _Independence:
 
     def adds(self, expression: sp.Expr) -> bool:
         """True (and remembered) when ``expression`` is independent of those before."""
+        row = self._independent_row(expression)
+        if row is None:
+            return False
+        self.rows.append(row)
+        self.timeless += self.time not in to_sympy(expression).free_symbols
+        return True
+
+    @property
+    def complete(self) -> bool:
+        """True when no further integral without explicit time can be independent: 2n - 1
+        of them, or 2n of any kind, already fix every motion of the 2n-dimensional state
+        space (a pendulum's energy)."""
+        room = len(self.variables)
+        return self.timeless >= room - 1 or len(self.rows) >= room
+
+    def would_add(self, expression: sp.Expr) -> bool:
+        """True when ``expression`` is independent of those before (not remembered)."""
+        return self._independent_row(expression) is not None
+
+    def _independent_row(self, expression: sp.Expr) -> np.ndarray | None:
+        """The gradient of ``expression`` at the probe point when it is independent of
+        those before, else None."""
         expression = to_sympy(expression)
         point = self._point(set(expression.free_symbols) | set(self.variables) | {self.time})
         gradient = [evaluate(derivative(expression, s), point) for s in self.variables]
         if any(g is None for g in gradient):
-            return False  # not real and finite at the probe point: no judgement, not kept
+            return None  # not real and finite at the probe point: no judgement, not kept
         values = np.array(gradient, dtype=float)
         if self.tangent is not None:
             values = self.tangent @ values
         if not np.any(np.abs(values) > RANK_TOLERANCE):
-            return False
+            return None
         stacked = np.array([*self.rows, values])
         scaled = stacked / np.linalg.norm(stacked, axis=1, keepdims=True)
         singular = np.linalg.svd(scaled, compute_uv=False)
         if np.sum(singular > 1e-8 * singular[0]) < len(stacked):
-            return False
-        self.rows.append(values)
-        return True
+            return None
+        return values

@@ -46,6 +46,7 @@ from lagrangian.analysis.integrals.lie_symmetries import (
 )
 from lagrangian.analysis.integrals.null_vectors import exact_null_vectors
 from lagrangian.analysis.integrals.quadratic import (
+    Ansatz,
     integral_of,
     velocity_columns,
     velocity_monomials,
@@ -207,7 +208,8 @@ def manifold_integrals(
     q, v = eom.coordinates, eom.velocities
     basis = function_basis(motion.source, q, degree)
     exponents = velocity_monomials(len(q), order)
-    unknowns = (len(exponents) + 1) * len(basis.functions) - 1
+    ansatz = Ansatz.uniform(exponents, basis)
+    unknowns = ansatz.unknowns
     start, start_rates = samples(basis, unknowns, np.random.default_rng(13))
 
     def columns(parameter_values: dict[sp.Symbol, float]) -> tuple[np.ndarray, np.ndarray]:
@@ -224,7 +226,7 @@ def manifold_integrals(
                 phi[:, 1:],
             ]
         )
-        return velocity_columns(exponents, phi, d_phi, rates, accelerations), terms
+        return velocity_columns(ansatz, phi, d_phi, rates, accelerations), terms
 
     rng = random.Random(5)
     generic = {p: rng.uniform(0.7, 1.7) for p in motion.parameters}
@@ -242,7 +244,7 @@ def manifold_integrals(
         vector: list[sp.Expr] = [sp.Integer(0)] * unknowns
         for j, c in zip(kept, reduced):
             vector[j] = c
-        integral = integral_of(vector, basis, monomials)
+        integral = integral_of(vector, basis, monomials, ansatz)
         if not is_zero(integral) and conserved_on_constraints(integral, eom, checks):
             found.append(readable(integral, motion.parameters))
     return tuple(found)
