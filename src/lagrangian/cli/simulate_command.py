@@ -21,7 +21,7 @@ from lagrangian.model import System
 from lagrangian.render.animation import animate as write_animation
 from lagrangian.render.plots import save_plots
 from lagrangian.simulation import Trajectory, simulate
-from lagrangian.simulation.files import written_atomically
+from lagrangian.simulation.files import written_atomically, written_in_place
 from lagrangian.simulation.impact_table import impacts_summary, write_impacts_csv
 from lagrangian.simulation.progress_bar import progress_bar
 
@@ -178,7 +178,7 @@ def impacts_written(trajectory: Trajectory, out: str) -> list[str]:
     if not trajectory.impacts:
         return []
     summary = impacts_summary(trajectory.impacts)
-    if out == "-":
+    if out == "-" or written_in_place(out):  # no table beside a device, in /dev
         return [summary]
     table = impacts_path(out)
     write_impacts_csv(trajectory.impacts, table)
