@@ -196,6 +196,14 @@ class ArgumentError(LagrangianError, TypeError):
     exit_code = BAD_INPUT
 
 
+class OutputError(LagrangianError, ValueError):
+    """An output cannot be written where it was asked: a folder given for a file, a file in
+    a folder that does not exist or cannot be written, a file given for a folder.  Bad
+    input, found before any work."""
+
+    exit_code = BAD_INPUT
+
+
 class TimeLimitError(LagrangianError, TimeoutError):
     """A command ran past the time it was given (``lagrangian --timeout``): the input may be
     fine, the work was too large for the budget."""

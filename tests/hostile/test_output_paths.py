@@ -121,3 +121,36 @@ def test_a_folder_is_refused_by_its_own_name(tmp_path):
         pass
     assert caught.value.filename == str(tmp_path)
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("option", "name", "words"),
+    [
+        ("--out", "missing/run.csv", ["--out", "'missing/run.csv'", "does not exist", "mkdir -p"]),
+        ("--out", ".", ["--out", "'.' is a folder", "such as ./run.csv"]),
+        ("--plot", "missing/run.png", ["--plot", "'missing/run.png'", "does not exist"]),
+        ("--plot", "folder.png", ["--plot", "'folder.png' is a folder"]),
+        ("--animate", "missing/run.gif", ["--animate", "does not exist"]),
+        ("--out", "model.yaml/run.csv", ["--out", "'model.yaml' is a file, not a folder"]),
+    ],
+)
+def test_an_output_that_cannot_be_written_there_is_refused_by_option(
+    cli, tmp_path, option, name, words
+):
+    (tmp_path / "model.yaml").write_text(MODEL)
+    (tmp_path / "folder.png").mkdir()
+    argv = ["simulate", "model.yaml", "--samples", "11", "--out", "run.csv", option, name]
+    outcome = cli(argv)
+    assert outcome.code == 2 and not outcome.internal, outcome
+    for word in words:
+        assert word in outcome.err, (word, outcome)
+    assert "[Errno" not in outcome.err  # the user's path and the fix, not an errno
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["folder.png", "model.yaml"]
+
+
+@pytest.mark.parametrize("out", ["model.yaml", "model.yaml/sub"])
+def test_export_into_a_file_is_refused_by_option(cli, tmp_path, out):
+    (tmp_path / "model.yaml").write_text(MODEL)
+    outcome = cli(["export", "model.yaml", "--out", out])
+    assert outcome.code == 2 and not outcome.internal, outcome
+    assert "--out" in outcome.err and "is a file, not a folder" in outcome.err

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from lagrangian import examples, render
+from lagrangian.cli.outputs import folder_problem
 from lagrangian.cli.wording import COMMAND_LINE
 from lagrangian.constraints import ConstrainedEquations, constrained_equations, eliminate
 from lagrangian.derivation import derive
@@ -20,7 +21,7 @@ from lagrangian.documents import (
     derivation_document,
     derivation_latex,
 )
-from lagrangian.errors import ConstraintError, ModelError
+from lagrangian.errors import ConstraintError, ModelError, OutputError
 from lagrangian.io import load, loads
 from lagrangian.io.yaml_tree import MAX_CHARACTERS
 from lagrangian.model import Holonomic, System
@@ -179,6 +180,9 @@ def export_command(
                 "to export the multiplier form"
             )
         system = eliminate(system, [by_name[name] for name in names])
+    problem = folder_problem("--out", out)
+    if problem is not None:  # before the work of the derivation
+        raise OutputError("Cannot write the code:", [problem])
     files = export(derive(system), language)
     if out == "-":
         return "\n".join(

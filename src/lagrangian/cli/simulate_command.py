@@ -5,18 +5,23 @@ a run that fails or is stopped by Ctrl-C keeps the rows it computed."""
 from __future__ import annotations
 
 import dataclasses
-import errno
 import io
-import os
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
 from lagrangian.cli.commands import load_system
+from lagrangian.cli.outputs import file_problems
 from lagrangian.cli.wording import COMMAND_LINE
 from lagrangian.documents import apply_initial, apply_settings
-from lagrangian.errors import Problem, SimulationError, SimulationInputError, raise_if_problems
+from lagrangian.errors import (
+    OutputError,
+    Problem,
+    SimulationError,
+    SimulationInputError,
+    raise_if_problems,
+)
 from lagrangian.model import System
 from lagrangian.render.animation import animate as write_animation
 from lagrangian.render.plots import save_plots
@@ -92,13 +97,12 @@ ANIMATION_SUFFIXES = (".gif", ".html", ".mp4")
 
 
 def check_outputs(out: str, plot: str | None, animate: str | None) -> None:
-    """Refuse, before simulating, an output file in a folder that does not exist
-    (FileNotFoundError naming it: bad input) or of a format that cannot be written
-    (SimulationInputError, every problem at once)."""
-    for path in (out if out != "-" else None, plot, animate):
-        if path is not None and not Path(path).resolve().parent.is_dir():
-            raise FileNotFoundError(errno.ENOENT, os.strerror(errno.ENOENT), path)
-    problems = []
+    """Refuse, before simulating, an output file that cannot be written where it is asked
+    (a folder, a missing folder: :mod:`lagrangian.cli.outputs`) or of a format that cannot
+    be written: OutputError, every problem at once."""
+    problems = file_problems({"--out": out}, "run.csv")
+    problems += file_problems({"--plot": plot}, "run.png")
+    problems += file_problems({"--animate": animate}, "run.gif")
     if plot is not None and Path(plot).suffix not in PLOT_SUFFIXES:
         problems.append(
             Problem(
@@ -125,7 +129,7 @@ def check_outputs(out: str, plot: str | None, animate: str | None) -> None:
             )
         )
     if problems:
-        raise SimulationInputError("Cannot write the output:", problems)
+        raise OutputError("Cannot write the output:", problems)
 
 
 def _ffmpeg_available() -> bool:
