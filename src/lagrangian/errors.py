@@ -248,3 +248,33 @@ def raise_if_problems(problems: list[Problem], summary: str, kind: type[Lagrangi
         count = len(problems)
         noun = "problem" if count == 1 else "problems"
         raise kind(f"{summary} ({count} {noun}):", problems)
+
+
+def decode_text(data: bytes, source: str, kind: type[LagrangianError]) -> str:
+    """``data`` read as UTF-8 text, or raise ``kind`` naming the ``source``, the first byte
+    that is not UTF-8 (or a NUL byte: binary data, or UTF-16 text), its position, line and
+    column, and the fix.
+
+    >>> decode_text("caf\\xe9: 1".encode("latin-1"), "m.yaml", ModelError)
+    Traceback (most recent call last):
+    ...
+    lagrangian.errors.ModelError: m.yaml is not UTF-8 text (1 problem):
+      - m.yaml: encoding (line 1, column 4): byte 0xe9 at position 3 is not UTF-8 (invalid \
+continuation byte) — save the file as UTF-8 (an editor's Save As, encoding UTF-8)
+    """
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        start, reason = error.start, f"is not UTF-8 ({error.reason})"
+    else:
+        if "\0" not in text:
+            return text
+        start, reason = data.index(b"\0"), "is a NUL byte: binary data, not text"
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+        reason += "; the file is UTF-16 (it starts with a UTF-16 byte-order mark)"
+    line = data.count(b"\n", 0, start) + 1
+    column = start - data.rfind(b"\n", 0, start)
+    message = f"byte 0x{data[start]:02x} at position {start} {reason}"
+    fix = "save the file as UTF-8 (an editor's Save As, encoding UTF-8)"
+    problem = Problem("encoding", message, fix, line, column, source)
+    raise kind(f"{source} is not UTF-8 text (1 problem):", [problem])

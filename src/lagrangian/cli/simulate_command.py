@@ -165,7 +165,8 @@ def write_simulation(
         trajectory.to_csv(out)
         csv_text, where = "", out
     if not trajectory.success:
-        sys.stdout.write(csv_text)  # the rows so far, before the error is reported
+        if sys.stdout is not None:  # the rows so far, before the error is reported
+            sys.stdout.write(csv_text)
         stopped = f"{trajectory.message} {_rows_written(trajectory)} written to {where}."
         if trajectory.status == "interrupted":
             interrupted(stopped)

@@ -349,7 +349,12 @@ def _number(field: str, value: Any, problems: list[Problem]) -> float | None:
     try:
         number = float(value)
     except (TypeError, ValueError):
-        problems.append(Problem(field, f"{value!r} is not a number"))
+        problems.append(Problem(field, f"{value!r:.60} is not a number"))
+        return None
+    except OverflowError:  # an integer beyond a double (10**400): said without printing it
+        size = getattr(value, "bit_length", lambda: 1024)()
+        message = f"a number of about {int(size * math.log10(2)) + 1} digits is beyond a double"
+        problems.append(Problem(field, message, "give a value below 1.8e308"))
         return None
     if not math.isfinite(number):
         problems.append(Problem(field, f"{value!r} is not a finite number"))
