@@ -262,14 +262,17 @@ def decode_text(data: bytes, source: str, kind: type[LagrangianError]) -> str:
       - m.yaml: encoding (line 1, column 4): byte 0xe9 at position 3 is not UTF-8 (invalid \
 continuation byte) — save the file as UTF-8 (an editor's Save As, encoding UTF-8)
     """
+    nul = data.find(b"\0")
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as error:
         start, reason = error.start, f"is not UTF-8 ({error.reason})"
     else:
-        if "\0" not in text:
+        if nul < 0:
             return text
-        start, reason = data.index(b"\0"), "is a NUL byte: binary data, not text"
+        start = len(data)
+    if 0 <= nul < start:  # the first wrong byte is said
+        start, reason = nul, "is a NUL byte: binary data, not text"
     if data.startswith((b"\xff\xfe", b"\xfe\xff")):
         reason += "; the file is UTF-16 (it starts with a UTF-16 byte-order mark)"
     line = data.count(b"\n", 0, start) + 1

@@ -23,6 +23,7 @@ from lagrangian.documents import (
 )
 from lagrangian.errors import ConstraintError, ModelError, OutputError
 from lagrangian.io import load, loads
+from lagrangian.io.load import MAX_BYTES, model_text
 from lagrangian.io.yaml_tree import MAX_CHARACTERS
 from lagrangian.model import Holonomic, System
 from lagrangian.numerics.export import export
@@ -44,8 +45,13 @@ def load_system(reference: str) -> System:
         fmt = reference[2:] or None
         if fmt not in (None, "yaml", "toml", "json"):
             raise ModelError(f"{reference!r}: standard input is read as -:yaml, -:toml or -:json")
-        text = sys.stdin.read(MAX_CHARACTERS + 1)  # no more than a model file may hold
-        return loads(text, format=fmt, source="<standard input>")
+        source = "<standard input>"
+        if sys.stdin is None:  # closed (<&-)
+            raise ModelError("Standard input is closed: give the model as a file, or pipe it in.")
+        stream = getattr(sys.stdin, "buffer", None)  # bytes: decoded as a file is
+        if stream is None:
+            return loads(sys.stdin.read(MAX_CHARACTERS + 1), format=fmt, source=source)
+        return loads(model_text(stream.read(MAX_BYTES), source), format=fmt, source=source)
     name, _, size = reference.removeprefix(EXAMPLE_PREFIX).partition(":")
     if reference.startswith(EXAMPLE_PREFIX) or name in (*examples.CATALOG, *examples.BENCHMARKS):
         return _example(name, size)
