@@ -236,6 +236,14 @@ class ArgumentError(LagrangianError, TypeError):
     exit_code = BAD_INPUT
 
 
+class OutputError(LagrangianError, ValueError):
+    """An output cannot be written where it was asked: a folder given for a file, a file in
+    a folder that does not exist or cannot be written, a file given for a folder.  Bad
+    input, found before any work."""
+
+    exit_code = BAD_INPUT
+
+
 class TimeLimitError(LagrangianError, TimeoutError):
     """A command ran past the time it was given (``lagrangian --timeout``): the input may be
     fine, the work was too large for the budget."""
@@ -280,3 +288,36 @@ def raise_if_problems(problems: list[Problem], summary: str, kind: type[Lagrangi
         count = len(problems)
         noun = "problem" if count == 1 else "problems"
         raise kind(f"{summary} ({count} {noun}):", problems)
+
+
+def decode_text(data: bytes, source: str, kind: type[LagrangianError]) -> str:
+    """``data`` read as UTF-8 text, or raise ``kind`` naming the ``source``, the first byte
+    that is not UTF-8 (or a NUL byte: binary data, or UTF-16 text), its position, line and
+    column, and the fix.
+
+    >>> decode_text("caf\\xe9: 1".encode("latin-1"), "m.yaml", ModelError)
+    Traceback (most recent call last):
+    ...
+    lagrangian.errors.ModelError: m.yaml is not UTF-8 text (1 problem):
+      - m.yaml: encoding (line 1, column 4): byte 0xe9 at position 3 is not UTF-8 (invalid \
+continuation byte) — save the file as UTF-8 (an editor's Save As, encoding UTF-8)
+    """
+    nul = data.find(b"\0")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as error:
+        start, reason = error.start, f"is not UTF-8 ({error.reason})"
+    else:
+        if nul < 0:
+            return text
+        start = len(data)
+    if 0 <= nul < start:  # the first wrong byte is said
+        start, reason = nul, "is a NUL byte: binary data, not text"
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):
+        reason += "; the file is UTF-16 (it starts with a UTF-16 byte-order mark)"
+    line = data.count(b"\n", 0, start) + 1
+    column = start - data.rfind(b"\n", 0, start)
+    message = f"byte 0x{data[start]:02x} at position {start} {reason}"
+    fix = "save the file as UTF-8 (an editor's Save As, encoding UTF-8)"
+    problem = Problem("encoding", message, fix, line, column, source)
+    raise kind(f"{source} is not UTF-8 text (1 problem):", [problem])

@@ -352,7 +352,8 @@ def test_an_output_folder_that_does_not_exist_is_bad_input(
 ) -> None:
     out = tmp_path / "missing" / "traj.csv"
     code, _, err = run(capsys, "simulate", "examples/simple_pendulum", "--out", str(out))
-    assert code == 2 and "No such file or directory" in err
+    assert code == 2 and f"the folder {str(out.parent)!r} does not exist" in err
+    assert "--out" in err and "mkdir -p" in err and ".traj.csv." not in err
 
 
 def test_an_unreadable_model_is_bad_input_and_other_os_errors_fail() -> None:

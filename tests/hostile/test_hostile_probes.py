@@ -243,8 +243,22 @@ def test_ten_million_fixed_steps_are_refused_before_the_run(cli):
         (["--set", "m=-1"], ["kinetic energy is negative", "m=-1"]),
         (["--set", "m=inf"], ["--set m=inf", "not a finite number"]),
         (["--rtol", "1e-300"], ["--rtol"]),
+        (["--rtol", "1e300"], ["--rtol", "as large as the values", "below 1"]),
+        (["--rtol", "1"], ["--rtol", "below 1"]),
+        (["--atol", "1e300"], ["--atol", "as large as the state"]),
+        (["--method", "RK4", "--dt", "5"], ["--dt", "longer than the time span"]),
+        (["--method", "variational", "--dt", "2"], ["--dt", "longer than the time span"]),
     ],
-    ids=["negative mass", "infinite mass", "rtol below what the solver honours"],
+    ids=[
+        "negative mass",
+        "infinite mass",
+        "rtol below what the solver honours",
+        "rtol 1e300",
+        "rtol 1",
+        "atol 1e300",
+        "RK4 dt past the span",
+        "variational dt past the span",
+    ],
 )
 def test_a_simulation_asked_wrongly_is_refused(cli, argv, words):
     refused(cli(["simulate", "-", "--out", "-", *argv], HARMONIC), *words)

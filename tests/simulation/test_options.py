@@ -195,3 +195,26 @@ def test_a_failed_integration_is_not_bad_input() -> None:
     with pytest.raises(lg.SimulationError, match="Integration failed") as caught:
         lg.simulate(runaway, {"x": 1.0, "x_dot": 0.0}, 5.0)
     assert not isinstance(caught.value, ValueError) and caught.value.exit_code == 1
+
+
+@pytest.mark.parametrize(
+    ("keywords", "pattern"),
+    [
+        ({"rtol": 1.0}, r"rtol: rtol=1 lets each step's error be as large as the values"),
+        ({"rtol": 1e300}, r"rtol: rtol=1e\+300 .* pass a value below 1, such as rtol=1e-08"),
+        ({"atol": 1e300}, r"atol: atol=1e\+300 lets each step's error be as large as the state"),
+        ({"method": "RK4", "dt": 2.0}, r"dt: dt=2 is longer than the time span, 1"),
+    ],
+    ids=["rtol 1", "rtol 1e300", "atol 1e300", "dt past the span"],
+)
+def test_meaningless_tolerances_and_steps_are_refused_by_name(keywords, pattern):
+    with pytest.raises(lg.SimulationInputError, match=pattern):
+        lg.simulate(lg.examples.mass_on_spring(), {"x": 0.1, "x_dot": 0.0}, 1.0, **keywords)
+
+
+def test_atol_is_measured_against_the_scale_of_the_state():
+    # atol has the units of the state: a state of size 1e6 may take atol = 10
+    run = lg.simulate(lg.examples.mass_on_spring(), {"x": 1e6, "x_dot": 0.0}, 1.0, atol=10.0)
+    assert run.success
+    with pytest.raises(lg.SimulationInputError, match=r"its scale, .* is 1e\+06"):
+        lg.simulate(lg.examples.mass_on_spring(), {"x": 1e6, "x_dot": 0.0}, 1.0, atol=1e6)

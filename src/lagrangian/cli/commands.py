@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from lagrangian import examples, render
+from lagrangian.cli.outputs import folder_problem
 from lagrangian.cli.wording import COMMAND_LINE
 from lagrangian.constraints import ConstrainedEquations, constrained_equations, eliminate
 from lagrangian.constraints.multipliers import UNSOLVED
@@ -21,8 +22,9 @@ from lagrangian.documents import (
     derivation_document,
     derivation_latex,
 )
-from lagrangian.errors import ConstraintError, ModelError
+from lagrangian.errors import ConstraintError, ModelError, OutputError
 from lagrangian.io import load, loads
+from lagrangian.io.load import MAX_BYTES, model_text
 from lagrangian.io.yaml_tree import MAX_CHARACTERS
 from lagrangian.model import Holonomic, System
 from lagrangian.numerics.export import export
@@ -44,8 +46,13 @@ def load_system(reference: str) -> System:
         fmt = reference[2:] or None
         if fmt not in (None, "yaml", "toml", "json"):
             raise ModelError(f"{reference!r}: standard input is read as -:yaml, -:toml or -:json")
-        text = sys.stdin.read(MAX_CHARACTERS + 1)  # no more than a model file may hold
-        return loads(text, format=fmt, source="<standard input>")
+        source = "<standard input>"
+        if sys.stdin is None:  # closed (<&-)
+            raise ModelError("Standard input is closed: give the model as a file, or pipe it in.")
+        stream = getattr(sys.stdin, "buffer", None)  # bytes: decoded as a file is
+        if stream is None:
+            return loads(sys.stdin.read(MAX_CHARACTERS + 1), format=fmt, source=source)
+        return loads(model_text(stream.read(MAX_BYTES), source), format=fmt, source=source)
     name, _, size = reference.removeprefix(EXAMPLE_PREFIX).partition(":")
     if reference.startswith(EXAMPLE_PREFIX) or name in (*examples.CATALOG, *examples.BENCHMARKS):
         return _example(name, size)
@@ -186,6 +193,9 @@ def export_command(
                 "to export the multiplier form"
             )
         system = eliminate(system, [by_name[name] for name in names])
+    problem = folder_problem("--out", out)
+    if problem is not None:  # before the work of the derivation
+        raise OutputError("Cannot write the code:", [problem])
     files = export(derive(system), language)
     if out == "-":
         return "\n".join(

@@ -16,9 +16,12 @@ from __future__ import annotations
 import argparse
 import codecs
 import contextlib
+import io
 import math
 import os
+import signal
 import sys
+import threading
 import traceback
 from collections.abc import Iterator, Sequence
 from pathlib import Path
@@ -342,9 +345,15 @@ def method_names() -> str:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code."""
+    if sys.stderr is None:  # closed (2>&-): the messages go nowhere, as asked
+        sys.stderr = Discarded()
     args = build_parser().parse_args(argv)
     try:
-        with time_limit(args.timeout, args.command), size_limit(args.size_limit):
+        with (
+            terminated_in_order(args.command),
+            time_limit(args.timeout, args.command),
+            size_limit(args.size_limit),
+        ):
             output = run(args)
     except Exception as raised:
         code = exit_code(raised, given_paths(args))
@@ -358,6 +367,39 @@ def main(argv: Sequence[str] | None = None) -> int:
             sys.stderr.write(f"lagrangian: {BUG_HINT}\n")
         return code
     return write_output(output)
+
+
+class Discarded(io.TextIOBase):
+    """A text stream that keeps nothing: standard error when it was closed."""
+
+    def write(self, text: str) -> int:
+        return len(text)
+
+
+#: The exit code of a command ended by SIGTERM: 128 + 15, as shells report it.
+TERMINATED = 128 + signal.SIGTERM
+
+
+@contextlib.contextmanager
+def terminated_in_order(command: str = "") -> Iterator[None]:
+    """SIGTERM (``kill``, a batch system's time limit) ends the command in order: SystemExit
+    unwinds it, so a file being written removes its temporary file
+    (:mod:`lagrangian.simulation.files`) instead of leaving it beside the target; exit code
+    :data:`TERMINATED`.  Not for :data:`LONG_RUNNING` commands (their servers handle the
+    signal) nor off the main thread (where no handler can be set)."""
+    if command in LONG_RUNNING or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum: int, frame: Any) -> NoReturn:
+        sys.stderr.write("lagrangian: stopped by SIGTERM; files not finished were not written\n")
+        raise SystemExit(TERMINATED)
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 #: The commands that run until they are stopped: the command as a whole has no time limit
@@ -417,7 +459,13 @@ def write_output(output: str | JsonDocument) -> int:
     """Write ``output`` (text, or a JSON document encoded as it goes) to standard output,
     encoded a chunk at a time (a large output is never held twice); a reader that closes the
     pipe early (``| head``) is an error, said in one line: exit 1, never a success with the
-    data silently lost."""
+    data silently lost; so is a closed standard output (``>&-``)."""
+    if sys.stdout is None:
+        sys.stderr.write(
+            "lagrangian: standard output is closed, so the output was not written; give the "
+            "command an open standard output (a file, a pipe), or --out FILE where it has one\n"
+        )
+        return FAILURE
     encoding = sys.stdout.encoding or "utf-8"
     encoder = codecs.getincrementalencoder(encoding)(errors="replace")
     written = 0

@@ -7,25 +7,30 @@ table of impacts (``run.impacts.csv``) and the points of a Poincaré section
 from __future__ import annotations
 
 import dataclasses
-import errno
 import io
-import os
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
 from lagrangian.cli.commands import load_system
+from lagrangian.cli.outputs import file_problems
 from lagrangian.cli.wording import COMMAND_LINE
 from lagrangian.documents import apply_initial, apply_settings
-from lagrangian.errors import Problem, SimulationError, SimulationInputError, raise_if_problems
+from lagrangian.errors import (
+    OutputError,
+    Problem,
+    SimulationError,
+    SimulationInputError,
+    raise_if_problems,
+)
 from lagrangian.model import System
 from lagrangian.render.animation import animate as write_animation
 from lagrangian.render.plots import save_plots
 from lagrangian.render.section_plot import save_section_plot
 from lagrangian.simulation import Trajectory, simulate
 from lagrangian.simulation.crossings import Crossing
-from lagrangian.simulation.files import written_atomically
+from lagrangian.simulation.files import written_atomically, written_in_place
 from lagrangian.simulation.impact_table import impacts_summary, write_impacts_csv
 from lagrangian.simulation.poincare import PoincareSection, section_event, section_of
 from lagrangian.simulation.progress_bar import progress_bar
@@ -146,13 +151,12 @@ ANIMATION_SUFFIXES = (".gif", ".html", ".mp4")
 
 
 def check_outputs(out: str, plot: str | None, animate: str | None) -> None:
-    """Refuse, before simulating, an output file in a folder that does not exist
-    (FileNotFoundError naming it: bad input) or of a format that cannot be written
-    (SimulationInputError, every problem at once)."""
-    for path in (out if out != "-" else None, plot, animate):
-        if path is not None and not Path(path).resolve().parent.is_dir():
-            raise FileNotFoundError(errno.ENOENT, os.strerror(errno.ENOENT), path)
-    problems = []
+    """Refuse, before simulating, an output file that cannot be written where it is asked
+    (a folder, a missing folder: :mod:`lagrangian.cli.outputs`) or of a format that cannot
+    be written: OutputError, every problem at once."""
+    problems = file_problems({"--out": out}, "run.csv")
+    problems += file_problems({"--plot": plot}, "run.png")
+    problems += file_problems({"--animate": animate}, "run.gif")
     if plot is not None and Path(plot).suffix not in PLOT_SUFFIXES:
         problems.append(
             Problem(
@@ -179,7 +183,7 @@ def check_outputs(out: str, plot: str | None, animate: str | None) -> None:
             )
         )
     if problems:
-        raise SimulationInputError("Cannot write the output:", problems)
+        raise OutputError("Cannot write the output:", problems)
 
 
 def _ffmpeg_available() -> bool:
@@ -219,7 +223,8 @@ def write_simulation(
         trajectory.to_csv(out)
         csv_text, where = "", out
     if not trajectory.success:
-        sys.stdout.write(csv_text)  # the rows so far, before the error is reported
+        if sys.stdout is not None:  # the rows so far, before the error is reported
+            sys.stdout.write(csv_text)
         said = trajectory.worded_message(COMMAND_LINE)  # --max-steps, not max_steps=
         stopped = f"{said} {_rows_written(trajectory)} written to {where}."
         if trajectory.status == "interrupted":
@@ -238,7 +243,7 @@ def impacts_written(trajectory: Trajectory, out: str) -> list[str]:
     if not trajectory.impacts:
         return []
     summary = impacts_summary(trajectory.impacts)
-    if out == "-":
+    if out == "-" or written_in_place(out):  # no table beside a device, in /dev
         return [summary]
     table = beside(out, "impacts", ".csv")
     write_impacts_csv(trajectory.impacts, table)
@@ -250,7 +255,7 @@ def section_written(section: PoincareSection | None, out: str) -> list[str]:
     and how many there were; nothing without a section."""
     if section is None:
         return []
-    if out == "-":
+    if out == "-" or written_in_place(out):  # no table beside a device, in /dev
         return [f"{section.summary()} (--out FILE writes them beside the run)"]
     table = beside(out, "poincare", ".csv")
     section.to_csv(table)

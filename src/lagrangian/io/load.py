@@ -20,7 +20,13 @@ from typing import Any
 
 import sympy as sp
 
-from lagrangian.errors import ExpressionError, ModelError, Problem, raise_if_problems
+from lagrangian.errors import (
+    ExpressionError,
+    ModelError,
+    Problem,
+    decode_text,
+    raise_if_problems,
+)
 from lagrangian.io.applied import Loads, apply_loads, read_loads
 from lagrangian.io.declarations import (
     expression_names,
@@ -67,10 +73,29 @@ def load(path: str | os.PathLike[str], *, format: str | None = None) -> System:
     lagrangian.errors.ModelError: load takes the path of a model file, and this looks like ...
     """
     file = _as_path(path)
-    with file.open(encoding="utf-8") as stream:  # no more than a model file may hold
-        text = stream.read(MAX_CHARACTERS + 1)
+    with file.open("rb") as stream:  # no more than a model file may hold
+        text = model_text(stream.read(MAX_BYTES), str(file))
     chosen = format or SUFFIXES.get(file.suffix.lower()) or _guess_format(text)
     return _load_text(text, chosen, str(file), file.stem)
+
+
+#: The bytes read of a model file or of standard input: enough for one character more than
+#: a model may hold (:data:`~lagrangian.io.yaml_tree.MAX_CHARACTERS`) in UTF-8's longest.
+MAX_BYTES = 4 * (MAX_CHARACTERS + 1)
+
+
+def model_text(data: bytes, source: str) -> str:
+    """The text of a model read as ``data`` (at most :data:`MAX_BYTES` bytes of a file or of
+    standard input): UTF-8, else a ModelError naming the byte, its line and column.  All
+    :data:`MAX_BYTES` read means a file longer than a model may be: its start is kept (the
+    last character may be cut), for the size check to refuse it by its length.
+
+    >>> model_text(b"coordinates: [x]", "<string>")
+    'coordinates: [x]'
+    """
+    if len(data) >= MAX_BYTES:
+        return data.decode("utf-8", errors="replace")[: MAX_CHARACTERS + 1]
+    return decode_text(data, source, ModelError)
 
 
 def loads(text: str, format: str | None = None, source: str = "<string>") -> System:

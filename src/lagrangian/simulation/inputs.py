@@ -97,6 +97,7 @@ def checked_inputs(
     max_steps, max_wall_time = _budget(given, problems)
     _affordable(t_span, dt, max_step, max_steps, problems)
     _honoured(rtol, problems)
+    _meaningful(rtol, atol, x0, problems)
     _fits_in_memory(t_out, len(x0), problems)
     inputs = Inputs(
         parameters=values,
@@ -149,6 +150,27 @@ def _honoured(rtol: float, problems: list[Problem]) -> None:
         problems.append(Problem("rtol", message, fix))
 
 
+def _meaningful(rtol: float, atol: float, x0: np.ndarray, problems: list[Problem]) -> None:
+    """Refuse tolerances that let the error grow as large as the solution: rtol of 1 or more
+    (100 % of each value), atol as large as the state's scale (its largest initial value, at
+    least 1: atol has the units of the state, so a model in large units may take atol > 1).
+    A tolerance refused already (not a positive number) is not refused twice."""
+    flagged = {problem.field for problem in problems}
+    if rtol >= 1 and "rtol" not in flagged:
+        message = f"rtol={rtol:g} lets each step's error be as large as the values themselves"
+        fix = Fix("pass a value below 1, such as {} (the default)", (Setting("rtol", 1e-8),))
+        problems.append(Problem("rtol", message, fix))
+    finite = np.abs(x0[np.isfinite(x0)])
+    scale = max(1.0, float(np.max(finite))) if finite.size else 1.0
+    if atol >= scale and "atol" not in flagged:
+        message = (
+            f"atol={atol:g} lets each step's error be as large as the state itself (its "
+            f"scale, the largest initial value or 1, is {scale:g})"
+        )
+        fix = Fix("pass a value well below it, such as {} (the default)", (Setting("atol", 1e-10),))
+        problems.append(Problem("atol", message, fix))
+
+
 def _fits_in_memory(t_out: np.ndarray | None, size: int, problems: list[Problem]) -> None:
     """Refuse output times whose rows would not fit in :data:`OUTPUT_BYTES` (checked before
     anything is allocated but the times themselves)."""
@@ -175,8 +197,13 @@ def _affordable(
     problems: list[Problem],
 ) -> None:
     """Refuse a step so small that the run could not end within max_steps (dt = 1e-300 would
-    otherwise run for ever)."""
+    otherwise run for ever), or a dt longer than the span."""
     span = abs(t_span[1] - t_span[0])
+    if dt is not None and math.isfinite(dt) and dt > span > 0:
+        message = f"dt={dt:g} is longer than the time span, {span:g}: not one step fits"
+        fix = Fix("pass a step shorter than the span, such as {}", (Setting("dt", span / 100),))
+        problems.append(Problem("dt", message, fix))
+        return
     for name, step in (("dt", dt), ("max_step", max_step)):
         if step is None or not math.isfinite(step) or step <= 0:
             continue
@@ -349,7 +376,12 @@ def _number(field: str, value: Any, problems: list[Problem]) -> float | None:
     try:
         number = float(value)
     except (TypeError, ValueError):
-        problems.append(Problem(field, f"{value!r} is not a number"))
+        problems.append(Problem(field, f"{value!r:.60} is not a number"))
+        return None
+    except OverflowError:  # an integer beyond a double (10**400): said without printing it
+        size = getattr(value, "bit_length", lambda: 1024)()
+        message = f"a number of about {int(size * math.log10(2)) + 1} digits is beyond a double"
+        problems.append(Problem(field, message, "give a value below 1.8e308"))
         return None
     if not math.isfinite(number):
         problems.append(Problem(field, f"{value!r} is not a finite number"))

@@ -155,6 +155,7 @@ def simulate(
         parameters=parameters,
         events=events,
         conserved=conserved,
+        progress=progress,
         backend=backend,
         baumgarte=baumgarte,
         project_initial=project_initial,

@@ -14,8 +14,9 @@ integrator starts from.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from numbers import Integral, Real
 from typing import Any, TypeVar
 
 import numpy as np
@@ -62,15 +63,16 @@ def prepare(
     parameters: Mapping[Any, float] | None = None,
     events: Sequence[EventFunction] = (),
     conserved: Mapping[str, Any] | None = None,
+    progress: Any = None,
     **options: Any,
 ) -> RunSetup:
     """Check one simulate call and return its setup; SimulationInputError with every problem
     found.  ``stepping`` holds the :class:`~lagrangian.simulation.options.StepKeywords`
     given, ``options`` the other :class:`~lagrangian.simulation.options.Options` (backend,
-    baumgarte, project_initial, project_steps)."""
+    baumgarte, project_initial, project_steps); ``progress`` is only checked here."""
     eom, system, fallbacks = describe_system(system_or_eom)
     compiled = compile_equations(eom)
-    problems: list[Problem] = []
+    events, problems = callback_problems(events, progress)
     chosen = options_for(system, compiled, stepping, fallbacks, events=len(events), **options)
     checked = collect(problems, chosen)
     given = {"initial": initial, "parameters": parameters, "t_span": t_span, **stepping}
@@ -89,6 +91,42 @@ def prepare(
     return RunSetup(
         system, eom, compiled, checked, inputs, (*events, *guard.events), quantities, guard
     )
+
+
+def callback_problems(
+    events: Any, progress: Any
+) -> tuple[tuple[EventFunction, ...], list[Problem]]:
+    """The event functions of ``events`` and every problem with them and with ``progress``:
+    ``events`` is a list of functions g(t, q, q_dot), each with an optional ``direction``
+    (a number) and ``terminal`` (True, False or a count); ``progress`` is None or a
+    function of the time reached."""
+    problems = []
+    if progress is not None and not callable(progress):
+        fix = "pass a function of the time reached, or leave progress out"
+        problems.append(Problem("progress", f"{progress!r:.60} is not a function", fix))
+    if callable(events) or isinstance(events, (str, bytes)) or not isinstance(events, Iterable):
+        fix = "pass a list of functions g(t, q, q_dot): events=[g]"
+        problems.append(Problem("events", f"{events!r:.60} is not a list of functions", fix))
+        return (), problems
+    functions = tuple(events)
+    for i, g in enumerate(functions):
+        field = f"events[{i}]"
+        if not callable(g):
+            fix = "pass a function g(t, q, q_dot) whose zeros are the events"
+            problems.append(Problem(field, f"{g!r:.60} is not a function", fix))
+            continue
+        direction = getattr(g, "direction", 0.0)
+        if isinstance(direction, bool) or not isinstance(direction, Real):
+            fix = "set g.direction to 1 (upward zeros), -1 (downward) or 0 (both)"
+            problems.append(
+                Problem(f"{field}.direction", f"{direction!r:.60} is not a number", fix)
+            )
+        terminal = getattr(g, "terminal", False)
+        if not (isinstance(terminal, (bool, Integral)) and int(terminal) >= 0):
+            fix = "set g.terminal to True (stop at the first zero), False, or a count"
+            message = f"{terminal!r:.60} is not True, False or a count"
+            problems.append(Problem(f"{field}.terminal", message, fix))
+    return functions, problems
 
 
 def require_positive_inertia(

@@ -25,7 +25,6 @@ array([ 0., -1.])
 
 from __future__ import annotations
 
-import io
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -36,9 +35,8 @@ import numpy as np
 
 from lagrangian.errors import Fix, SimulationInputError, Wording
 from lagrangian.simulation.files import written_atomically
+from lagrangian.simulation.trajectory_csv import DOT, read_columns
 from lagrangian.symbolic.expressions import closest_name
-
-DOT = "_dot"
 
 
 class Event(NamedTuple):
@@ -246,22 +244,10 @@ class Trajectory:
 
     @classmethod
     def from_csv(cls, source: str | os.PathLike[str] | TextIO) -> Trajectory:
-        """Read a trajectory written by :meth:`to_csv` (arrays only; no events or status)."""
-        if isinstance(source, (str, os.PathLike)):
-            with open(source, encoding="utf-8") as stream:
-                text = stream.read()
-        else:
-            text = source.read()
-        header, *rows = text.splitlines() or [""]
-        names = header.split(",")
-        if names[:1] != ["t"] or "energy" not in names:
-            raise SimulationInputError(
-                f"Not a trajectory CSV: the header {header!r} must start with t and hold energy."
-            )
-        data = np.zeros((0, len(names)))
-        if any(row.strip() for row in rows):
-            data = np.loadtxt(io.StringIO("\n".join(rows)), delimiter=",", ndmin=2)
-        column = dict(zip(names, data.T))
+        """Read a trajectory written by :meth:`to_csv` (arrays only; no events or status);
+        anything else is a SimulationInputError naming the line and the column
+        (:mod:`lagrangian.simulation.trajectory_csv`)."""
+        names, column = read_columns(source)
         coordinates = tuple(name for name in names[1:] if name + DOT in column)
         start = 1 + 2 * len(coordinates)
         multiplier_names = tuple(names[start : names.index("energy")])

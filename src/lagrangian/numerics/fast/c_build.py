@@ -143,8 +143,8 @@ def _private_temporary() -> Path | None:
     getuid = getattr(os, "getuid", None)
     if getuid is None:
         return None
-    folder = Path(tempfile.gettempdir()) / f"lagrangian-{getuid()}"
-    try:
+    try:  # gettempdir raises when no temporary folder is writable
+        folder = Path(tempfile.gettempdir()) / f"lagrangian-{getuid()}"
         folder.mkdir(mode=0o700, exist_ok=True)
         status = os.lstat(folder)
     except OSError:
