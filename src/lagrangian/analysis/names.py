@@ -41,7 +41,7 @@ class OutputNames:
         symbols = {*eom.coordinates, *eom.velocities, *eom.accelerations, *eom.parameters}
         for matrix in (eom.mass_matrix, eom.forcing):
             symbols |= matrix.free_symbols
-        symbols |= sp.sympify(eom.potential_energy).free_symbols
+        symbols |= eom.potential_energy.free_symbols
         return cls.avoiding(s.name for s in symbols)
 
     def fresh(self, preferred: str, *alternatives: str) -> str:

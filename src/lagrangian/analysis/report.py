@@ -12,7 +12,7 @@ off the constraints is refused (ConstraintError) unless projected.
 >>> import lagrangian as lg
 >>> report = analyze(lg.examples.planet())
 >>> [c.name for c in report.conserved]
-['p_theta', 'h']
+['p_theta', 'h', 'I_1']
 >>> report.failure("normal_modes")
 'No stable equilibrium to oscillate about (sympy.solve finds no solution of the static equations).'
 """
