@@ -89,3 +89,22 @@ def test_a_constrained_overview_plots_the_constraint_forces_in_their_own_panel()
     assert np.allclose(line.get_ydata(), -m * g * math.sin(alpha) / 3, rtol=1e-8)
     free = overview(simulate(lg.examples.simple_pendulum(), t_span=1.0, samples=50))
     assert all(ax.get_title() != "Constraint forces" for ax in free.axes)
+
+
+def test_impacts_are_marked_where_the_ball_hits_the_floor() -> None:
+    """One dashed line per impact in the time series and the energy panel, at the impact
+    times of the run (its impacts table), and none for a run without impacts."""
+    from lagrangian.render.plots import MARKED_IMPACTS, overview
+    from lagrangian.simulation import simulate
+
+    system = lg.examples.bouncing_ball()
+    run = simulate(system, t_span=2.0, samples=201)
+    assert 0 < len(run.impacts) < MARKED_IMPACTS
+    figure = overview(run, system=system)
+    for title in ("Time series", "Energy change"):
+        (ax,) = [a for a in figure.axes if a.get_title().startswith(title)]
+        marks = [line for line in ax.get_lines() if line.get_linestyle() == "--"]
+        assert [float(line.get_xdata()[0]) for line in marks] == [i.t for i in run.impacts]
+        assert marks[0].get_label() == "impacts"
+    free = overview(simulate(lg.examples.simple_pendulum(), t_span=1.0, samples=20))
+    assert not [line for a in free.axes for line in a.get_lines() if line.get_label() == "impacts"]

@@ -97,9 +97,25 @@ def plot_time_series(
     if len(given) == 1 and None not in given:  # one unit: say it once, on the axis
         ax.set_ylabel(f"{', '.join(_letters(name) for name in shown)} [{given.pop()}]")
     ax.set_title("Time series")
+    mark_impacts(ax, trajectory)
     ax.legend(loc="best")
     ax.grid(True, alpha=0.3)
     return ax
+
+
+#: At most this many impacts are marked one by one; the bounces of a ball coming to rest
+#: crowd into a band, so later ones are left out (the impacts table lists them all).
+MARKED_IMPACTS = 200
+
+
+def mark_impacts(ax: Axes, trajectory: Trajectory) -> None:
+    """A thin dashed line at the time of each impact or transition of the run (one legend
+    entry, "impacts"); nothing for a run without them."""
+    times = [impact.t for impact in trajectory.impacts[:MARKED_IMPACTS]]
+    for k, t in enumerate(times):
+        ax.axvline(
+            t, color="0.5", linestyle="--", linewidth=0.6, label="impacts" if k == 0 else None
+        )
 
 
 def plot_phase_portrait(
@@ -145,6 +161,7 @@ def plot_energy_drift(
     ax.set_xlabel(time_label(units))
     ax.set_ylabel("(E - E0) / |E0|" if relative else "E - E0")
     ax.set_title(energy_title(trajectory))
+    mark_impacts(ax, trajectory)  # where the energy jumps (e < 1)
     ax.legend(loc="best")
     ax.grid(True, alpha=0.3)
     return ax
@@ -161,6 +178,8 @@ def plot_constraint_forces(
     assert trajectory.multipliers is not None, "a trajectory of a constrained system"
     for j, name in enumerate(trajectory.multiplier_names):
         ax.plot(trajectory.t, trajectory.multipliers[:, j], label=label(sp.Symbol(name)))
+    if len(trajectory.t):  # a contact that closes late still spans the run's time axis
+        ax.set_xlim(trajectory.t[0], trajectory.t[-1])
     ax.set_xlabel(time_label(units))
     ax.set_ylabel("multiplier")
     ax.set_title("Constraint forces")
