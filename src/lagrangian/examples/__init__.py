@@ -98,7 +98,8 @@ def get(name: str) -> Callable[..., System]:
         close = difflib.get_close_matches(name, [*CATALOG, *BENCHMARKS], n=3)
         hint = f" Did you mean {', '.join(close)}?" if close else ""
         raise ModelError(
-            f"There is no example named {name!r}.{hint} lagrangian.examples.names() lists them."
+            f"There is no example named {name!r}.{hint} `lagrangian examples` lists them "
+            "(in Python, lagrangian.examples.names())."
         ) from None
 
 
