@@ -389,3 +389,14 @@ print(json.dumps([m for m in ("sympy", "numpy", "scipy", "matplotlib") if m in s
 """
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert json.loads(done.stdout.splitlines()[-1]) == []
+
+
+def test_a_mistyped_option_gets_a_suggestion(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as stopped:
+        main(["simulate", "examples/simple_pendulum", "--t-edn", "3"])
+    assert stopped.value.code == 2
+    err = capsys.readouterr().err
+    assert "unrecognized arguments: --t-edn 3 — did you mean --t-end?" in err
+    with pytest.raises(SystemExit):
+        main(["derive", "examples/simple_pendulum", "--zzzzzz"])
+    assert "did you mean" not in capsys.readouterr().err  # nothing close: no guess

@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import codecs
 import contextlib
+import difflib
 import io
 import math
 import os
@@ -54,7 +55,29 @@ EPILOG = """examples:
 class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:  # argparse exits 2 on bad usage, as we do
         self.print_usage(sys.stderr)
-        self.exit(BAD_INPUT, f"{self.prog}: error: {message}\n")
+        self.exit(BAD_INPUT, f"{self.prog}: error: {message}{self._suggestion(message)}\n")
+
+    def _suggestion(self, message: str) -> str:
+        """`` — did you mean --t-end?`` for a mistyped option (argparse names none)."""
+        if not message.startswith("unrecognized arguments:"):
+            return ""
+        known = _option_strings(self)
+        guesses = []
+        for token in message.split(":", 1)[1].split():
+            if token.startswith("--"):
+                guesses += difflib.get_close_matches(token.split("=", 1)[0], known, n=1)
+        return f" — did you mean {', '.join(dict.fromkeys(guesses))}?" if guesses else ""
+
+
+def _option_strings(parser: argparse.ArgumentParser) -> list[str]:
+    """Every long option of ``parser`` and of its subcommands."""
+    found = []
+    for action in parser._actions:
+        found += [o for o in action.option_strings if o.startswith("--")]
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                found += _option_strings(sub)
+    return sorted(set(found))
 
 
 class _Version(argparse.Action):
