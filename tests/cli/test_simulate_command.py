@@ -4,6 +4,7 @@ and a summary line that reports drift only where the system conserves energy."""
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -205,3 +206,18 @@ def test_an_option_that_does_not_apply_is_refused_with_the_flag_to_change(
     )
     assert code == 2 and "--rtol: rtol steers the adaptive methods" in err
     assert "remove --rtol, or choose an adaptive method such as --method DOP853" in err
+
+
+def test_rows_on_standard_output_come_with_the_summary_on_standard_error(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from lagrangian.cli.main import main
+
+    assert main(["simulate", "examples/simple_pendulum", "--t-end", "1"]) == 0
+    captured = capsys.readouterr()
+    assert len(captured.out.splitlines()) == 1001  # a pipe gets every row
+    assert "1000 samples written to standard output; max |dE/E0| = " in captured.err
+    monkeypatch.setattr(sys.stdout, "isatty", lambda: True, raising=False)
+    assert main(["simulate", "examples/simple_pendulum", "--t-end", "1"]) == 0
+    shown = capsys.readouterr().out.splitlines()
+    assert len(shown) == 12 and "... 990 more rows: --out FILE writes them all" in shown[6]

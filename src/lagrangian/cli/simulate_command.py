@@ -230,11 +230,50 @@ def write_simulation(
         if trajectory.status == "interrupted":
             interrupted(stopped)
         raise SimulationError(" ".join([stopped, *_failed_pictures(system, trajectory, pictures)]))
-    messages = [f"{len(trajectory.t)} samples written to {out}; {trajectory.drift_summary()}"]
+    messages = [f"{len(trajectory.t)} samples written to {where}; {trajectory.drift_summary()}"]
     messages += impacts_written(trajectory, out)
     messages += section_written(pictures.section, out)
     messages += draw_pictures(system, trajectory, pictures)
-    return csv_text if out == "-" else "\n".join(messages)
+    if out != "-":
+        return "\n".join(messages)
+    print("\n".join(messages), file=sys.stderr)  # beside the rows, not among them
+    return terminal_preview(csv_text) if _terminal(sys.stdout) else csv_text
+
+
+#: Rows shown at each end of a CSV printed on a terminal (a pipe gets every row).
+PREVIEW_ROWS = 5
+
+
+def _terminal(stream: object) -> bool:
+    isatty = getattr(stream, "isatty", None)
+    return bool(isatty and isatty())
+
+
+def terminal_preview(csv_text: str) -> str:
+    """The header, the first and the last rows of a CSV, and how to keep them all: what a
+    terminal can show of 1000 rows.
+
+    >>> print(terminal_preview("t,x\\n" + "".join(f"{k},{k}\\n" for k in range(20))))
+    t,x
+    0,0
+    1,1
+    2,2
+    3,3
+    4,4
+    ... 10 more rows: --out FILE writes them all, or pipe the output
+    15,15
+    16,16
+    17,17
+    18,18
+    19,19
+    """
+    lines = csv_text.splitlines()
+    header, rows = lines[:1], lines[1:]
+    if len(rows) <= 2 * PREVIEW_ROWS + 1:
+        return csv_text
+    hidden = len(rows) - 2 * PREVIEW_ROWS
+    note = f"... {hidden} more rows: --out FILE writes them all, or pipe the output"
+    return "\n".join([*header, *rows[:PREVIEW_ROWS], note, *rows[-PREVIEW_ROWS:]])
 
 
 def impacts_written(trajectory: Trajectory, out: str) -> list[str]:
