@@ -184,7 +184,11 @@ def test_function_arity_is_checked(text: str, message: str) -> None:
         ("x_dto", "unknown name 'x_dto' — did you mean 'x_dot'\\?"),
         ("sinn(x)", "unknown function 'sinn' — did you mean 'sin'\\?"),
         ("abs(x)", "unknown function 'abs' — did you mean 'Abs'\\?"),
-        ("qqqq", "unknown name 'qqqq' — declare it; known names: E, g, k, l, m, pi, t, theta"),
+        (
+            "qqqq",
+            "unknown name 'qqqq' — declare it in parameters \\(in coordinates if it moves\\); "
+            "known names: E, g, k, l, m, pi, t, theta",
+        ),
     ],
 )
 def test_unknown_names_suggest_the_closest_allowed_one(text: str, suggestion: str) -> None:
@@ -221,7 +225,8 @@ def test_positions_point_into_the_file(
 def test_a_problem_reads_as_file_field_position_message_and_fix() -> None:
     problem = refusal("m*x_dot**2/2 + thetta", line=7, column=10)
     assert str(problem) == (
-        "model.yaml: f (line 7, column 25): unknown name 'thetta' — did you mean 'theta'?"
+        "model.yaml: f (line 7, column 25): unknown name 'thetta' — did you mean 'theta'? "
+        "Else declare it in parameters (in coordinates if it moves)"
     )
 
 
@@ -493,3 +498,9 @@ def test_the_reciprocal_functions_are_the_quotients_they_name():
         assert sp.simplify(parsed - expected) == 0
     parsed = parse_expression("csc(x)", names, field="potential")
     assert sp.simplify(parsed.diff(x) + sp.cos(x) / sp.sin(x) ** 2) == 0  # d csc = -csc cot
+
+
+def test_a_forgotten_coordinate_is_named_as_one() -> None:
+    """phi_dot in T without phi among the coordinates: the fix is to add phi there."""
+    with pytest.raises(ExpressionError, match="Else add 'phi' to coordinates"):
+        parse("sin(theta)**2*phi_dot**2")

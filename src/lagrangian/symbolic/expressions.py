@@ -605,7 +605,16 @@ class _Builder:
         known = ", ".join(heapq.nsmallest(20, self.names)) + (
             ", ..." if len(self.names) > 20 else ""
         )
-        fix = f"did you mean {close!r}?" if close else f"declare it; known names: {known}"
+        base = name.removesuffix("_ddot").removesuffix("_dot")
+        if base != name:  # a velocity or acceleration: its coordinate is what is missing
+            declare = f"add {base!r} to coordinates"
+        else:
+            declare = "declare it in parameters (in coordinates if it moves)"
+        fix = (
+            f"did you mean {close!r}? Else {declare}"
+            if close
+            else f"{declare}; known names: {known}"
+        )
         self.refuse(node, f"unknown name {name!r}", fix)
 
     def _constant(self, node: ast.Constant) -> sp.Expr:
