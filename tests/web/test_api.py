@@ -237,3 +237,22 @@ def test_export_refuses_an_unknown_language(client: Any) -> None:
     assert answer.status_code == 422
     problem = answer.json()["problems"][0]
     assert problem["field"] == "options.language" and "numpy, c, matlab, julia" in problem["fix"]
+
+
+@pytest.mark.parametrize(
+    "content_type",
+    ["text/plain;charset=json", "application/x-www-form-urlencoded", "text/json", ""],
+)
+def test_only_the_json_media_type_is_run(client: Any, content_type: str) -> None:
+    """A cross-site form or text POST (a "simple" request, sent without a preflight) is
+    refused before anything runs, whatever its parameters say."""
+    body = json.dumps({"model": "coordinates: [x]\nkinetic: x_dot**2/2", "format": "yaml"})
+    response = client.post("/api/derive", content=body, headers={"Content-Type": content_type})
+    assert response.status_code == 415
+    assert response.json()["problems"][0]["field"] == "body"
+
+
+def test_the_json_media_type_with_a_charset_is_run(client: Any) -> None:
+    body = json.dumps({"model": "coordinates: [x]\nkinetic: x_dot**2/2", "format": "yaml"})
+    headers = {"Content-Type": "application/json; charset=utf-8"}
+    assert client.post("/api/derive", content=body, headers=headers).status_code == 200

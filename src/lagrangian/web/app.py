@@ -82,7 +82,10 @@ async def command(request: Request) -> Response:
     if name not in OPTIONS:
         fix = "POST to /api/derive, /api/analyze, /api/simulate or /api/export"
         return problems_response(404, [Problem("path", f"no command {name!r}", fix)])
-    if "json" not in request.headers.get("content-type", ""):
+    # the media type itself, not a substring: "text/plain;charset=json" is a cross-site
+    # "simple" request a browser sends without asking, application/json never is
+    media = request.headers.get("content-type", "").split(";", 1)[0].strip().lower()
+    if media != "application/json":
         fix = "send the body as JSON with Content-Type: application/json"
         return problems_response(415, [Problem("body", "the body is not JSON", fix)])
     try:
