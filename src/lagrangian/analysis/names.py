@@ -22,6 +22,7 @@ from itertools import count
 import sympy as sp
 
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.symbolic.caches import IdentityCache
 
 
 @dataclass(frozen=True)
@@ -37,12 +38,9 @@ class OutputNames:
     @classmethod
     def of(cls, eom: EquationsOfMotion) -> OutputNames:
         """The names free in the model of ``eom``: its coordinates and their derivatives,
-        its parameters and every other symbol of its equations and energies (inputs)."""
-        symbols = {*eom.coordinates, *eom.velocities, *eom.accelerations, *eom.parameters}
-        for matrix in (eom.mass_matrix, eom.forcing):
-            symbols |= matrix.free_symbols
-        symbols |= eom.potential_energy.free_symbols
-        return cls.avoiding(s.name for s in symbols)
+        its parameters and every other symbol of its equations and energies (inputs);
+        found once per equations object (several parts of one analysis ask)."""
+        return _NAMES.get(eom, _model_names)
 
     def fresh(self, preferred: str, *alternatives: str) -> str:
         """``preferred`` unless the model has it, else the first free alternative, else
@@ -78,6 +76,16 @@ class OutputNames:
         """The ``index``-th first integral found by the search: I_1, else J_1."""
         return self.fresh(f"I_{index}", f"J_{index}")
 
+
+def _model_names(eom: EquationsOfMotion) -> OutputNames:
+    symbols = {*eom.coordinates, *eom.velocities, *eom.accelerations, *eom.parameters}
+    for matrix in (eom.mass_matrix, eom.forcing):
+        symbols |= matrix.free_symbols
+    symbols |= eom.potential_energy.free_symbols
+    return OutputNames.avoiding(s.name for s in symbols)
+
+
+_NAMES: IdentityCache[EquationsOfMotion, OutputNames] = IdentityCache()
 
 #: The textbook's names, for a model that uses none of them.
 TEXTBOOK_NAMES = OutputNames()
