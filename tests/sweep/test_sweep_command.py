@@ -281,7 +281,12 @@ def test_a_worker_killed_midway_is_replaced_and_the_sweep_completes(
     while _done(out) < 2 and thread.is_alive() and time.monotonic() < deadline:
         time.sleep(0.02)
     with Client(cluster.scheduler_address) as client:
-        victim = next(iter(client.run(os.getpid).values()))
+        # The worker holding the System: losing it must not lose the sweep (scattered
+        # data could not be recovered; a task's result is computed again).
+        holders = [w for key, w in client.who_has().items() if "sweep-model" in str(key)]
+        assert holders, "the System is not held by a worker"
+        address = next(iter(holders[0]))
+        victim = client.run(os.getpid, workers=[address])[address]
     os.kill(victim, signal.SIGKILL)
     thread.join(timeout=300)
     report = found["report"]

@@ -1,9 +1,10 @@
 """What a Dask worker does with one block: integrate its members, then make the store's
 arrays of them.
 
-The System arrives once per worker (the sweep scatters it); :func:`lagrangian.derive` and the
-compilation are cached by its identity, so each worker derives and compiles once, whatever
-the number of blocks it runs.  A block runs as one compiled batch (:func:`lagrangian.
+The System arrives once per worker (the sweep sends it as one task's result, which the
+scheduler computes again if its worker is lost); :func:`lagrangian.derive` and the compilation
+are cached by its identity, so each worker derives and compiles once, whatever the number of
+blocks it runs.  A block runs as one compiled batch (:func:`lagrangian.
 simulate_batch`; constrained systems, ``SweepVariables.per_member``, too: the multiplier form
 with project_initial), or, where the batch refuses the block (unilateral constraints, a member
 that starts off the constraints), member by member with :func:`lagrangian.simulate`, so that

@@ -243,8 +243,11 @@ def _run_blocks(
     """Submit every block, write each as it finishes; on an error, cancel the rest."""
     from dask.distributed import as_completed
 
-    model = client.scatter(system, broadcast=True, hash=False)
     run = uuid.uuid4().hex[:12]
+    # The System reaches each worker once, as the result of a task rather than scattered
+    # data: a worker lost with its copy makes the scheduler compute it again, where
+    # scattered data would be gone for good and every block waiting on it would fail.
+    model = client.submit(_the_system, system, key=f"lagrangian-sweep-model-{run}", pure=False)
     futures = {}
     for index, part in enumerate(todo):
         initial, parameters = grid.columns(part)
@@ -268,6 +271,11 @@ def _run_blocks(
             future.release()
     finally:
         client.cancel([f for f, _ in futures.values()])
+
+
+def _the_system(system: System) -> System:
+    """The System a worker keeps for every block it runs (a task, so it can be recomputed)."""
+    return system
 
 
 def _checked_times(
