@@ -76,6 +76,7 @@ def flip_times(
         rtol=rtol,
         atol=atol,
         stop_when=flipped,
+        samples=2,  # the flip time is all the map needs: keep only the ends
         backend=backend,
         progress=progress,
         workers=workers,

@@ -176,6 +176,7 @@ def run_batch(backend: str, k: int):
             method="DOP853",
             rtol=TOL,
             atol=TOL,
+            samples=2,  # the final states are what is compared: keep only the ends
             backend=BATCH_BACKENDS[backend],
         )
 

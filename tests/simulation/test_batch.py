@@ -5,6 +5,7 @@ its symmetry and solve_ivp-located events; plus the bad-input contract.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 from pathlib import Path
 
@@ -92,10 +93,30 @@ def test_a_batch_of_masses_oscillates_at_sqrt_k_over_m(backend: str) -> None:
     assert np.allclose(batch.energy, 0.5 * 10.0 * 0.1**2, rtol=1e-9)
 
 
-def test_the_default_output_is_the_start_and_the_end(double_pendulum) -> None:
-    batch = lg.simulate_batch(double_pendulum, {"theta": ANGLES, "phi": 0.0, **REST}, 1.5)
-    assert np.array_equal(batch.t, [0.0, 1.5])
+def test_the_default_output_is_enough_times_to_plot_and_agrees_with_simulate(
+    double_pendulum,
+) -> None:
+    initial = {"theta": ANGLES, "phi": 0.0, **REST}
+    batch = lg.simulate_batch(double_pendulum, initial, 1.5, rtol=1e-10, atol=1e-10)
+    np.testing.assert_allclose(batch.t, np.linspace(0.0, 1.5, 1000))
     assert np.array_equal(batch.final_t, [1.5] * len(ANGLES))
+    alone = lg.simulate(
+        double_pendulum, {"theta": ANGLES[1], "phi": 0.0, **REST}, 1.5, t_eval=batch.t
+    )
+    np.testing.assert_allclose(batch.q[1], alone.q, atol=1e-7)
+
+
+def test_the_default_output_of_a_huge_batch_keeps_fewer_times(double_pendulum) -> None:
+    many = np.linspace(0.1, 0.2, 20_000)  # 20,000 members x 4 states: 209 times fit 2**24
+    batch = lg.simulate_batch(double_pendulum, {"theta": many, "phi": 0.0, **REST}, 0.01)
+    assert len(batch.t) == 2**24 // (20_000 * 4)
+    assert batch.q.shape == (20_000, len(batch.t), 2)
+
+
+def test_the_systems_own_samples_are_the_batch_default() -> None:
+    system = dataclasses.replace(lg.examples.double_pendulum(), simulation={"samples": 7})
+    batch = lg.simulate_batch(system, {"theta": ANGLES, "phi": 0.0, **REST}, 1.5)
+    np.testing.assert_allclose(batch.t, np.linspace(0.0, 1.5, 7))
 
 
 def test_progress_reaches_the_end(double_pendulum) -> None:

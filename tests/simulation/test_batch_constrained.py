@@ -296,7 +296,13 @@ def test_rk4_members_are_the_single_rk4_runs(
     pendulum: lg.EquationsOfMotion, paths: list[str]
 ) -> None:
     batch = lg.simulate_batch(
-        pendulum, pendulum_starts(), 1.0, parameters={"l": LENGTH}, method="RK4", dt=0.01
+        pendulum,
+        pendulum_starts(),
+        1.0,
+        parameters={"l": LENGTH},
+        method="RK4",
+        dt=0.01,
+        t_eval=[0.0, 1.0],
     )
     assert batch.method == "RK4" and batch.t.tolist() == [0.0, 1.0]
     for i in (0, 3):

@@ -86,7 +86,7 @@ def run_chunk(
                 _values(initial, i),
                 _values(parameters, i),
                 settings.t_span,
-                _member_stepping(settings),
+                _stepping(settings),
                 settings.stop_when,
                 backend=settings.backend,
                 project_initial=settings.project_initial,
@@ -114,7 +114,7 @@ def _constrained_batch(
             stop_when=settings.stop_when,
             backend=settings.backend,
             project_initial=settings.project_initial,
-            **settings.stepping,
+            **_stepping(settings),
         )
     except Exception:  # each member then runs alone and records its own reason
         return None
@@ -138,7 +138,7 @@ def _batch_chunk(
             parameters=dict(parameters),
             stop_when=stop,
             backend=settings.backend,
-            **settings.stepping,
+            **_stepping(settings),
         )
     except SimulationInputError:
         raise
@@ -168,8 +168,9 @@ def _values(columns: Mapping[str, Any], i: int) -> dict[str, float]:
     return {name: float(np.asarray(values)[i]) for name, values in columns.items()}
 
 
-def _member_stepping(settings: ChunkSettings) -> dict[str, Any]:
-    """The stepping keywords of simulate: without output times, the ends (as the batch)."""
+def _stepping(settings: ChunkSettings) -> dict[str, Any]:
+    """The stepping keywords of simulate and simulate_batch: without output times, the
+    store's times ``settings.t`` (the ends of the span)."""
     stepping = dict(settings.stepping)
     if stepping.get("samples") is None and stepping.get("t_eval") is None:
         stepping["t_eval"] = np.asarray(settings.t)

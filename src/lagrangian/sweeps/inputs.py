@@ -25,6 +25,16 @@ from lagrangian.simulation.setup import prepare
 from lagrangian.sweeps.members import stop_event
 
 
+def ends_unless_asked(stepping: Mapping[str, Any]) -> dict[str, Any]:
+    """A sweep's stepping keywords: without ``samples`` or ``t_eval``, the two ends of the
+    time span only (a sweep stores every member: a batch's default of many times is not
+    its default)."""
+    given = dict(stepping)
+    if given.get("samples") is None and given.get("t_eval") is None:
+        given["samples"] = 2
+    return given
+
+
 def checked_times(
     system: System,
     initial: Mapping[str, Any],
@@ -35,7 +45,9 @@ def checked_times(
 ) -> np.ndarray:
     """The output times shared by every member; SimulationInputError on bad input (the
     checks of :func:`lagrangian.simulate_batch`, without integrating)."""
-    *_, batch = prepared_batch(system, initial, parameters, t_span, stepping, backend, "sweep")
+    *_, batch = prepared_batch(
+        system, initial, parameters, t_span, ends_unless_asked(stepping), backend, "sweep"
+    )
     return np.asarray(batch.t_out, dtype=float)
 
 
@@ -58,7 +70,7 @@ def checked_member_times(
             system,
             initial,
             t_span,
-            stepping,
+            ends_unless_asked(stepping),
             parameters=parameters,
             events=(stop_event(stop_when),) if stop_when is not None else (),
             backend=backend,

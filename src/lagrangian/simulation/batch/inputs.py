@@ -4,8 +4,10 @@ Every initial value and parameter may be a number (the same for every member) or
 k numbers (one per member); arrays of different lengths are refused, naming both fields.  The
 rest (names, missing values, method, tolerances, time span) is checked as
 :func:`lagrangian.simulation.inputs.checked_inputs` checks a single run, on member 0, and every
-problem is reported at once.  Without ``samples`` or ``t_eval`` a batch keeps only the
-initial and the final time (k long trajectories at every step would not fit in memory).
+problem is reported at once.  Output times as for a single run: ``samples`` or ``t_eval``, else
+the System's own ``samples``; with none of them (where a single run keeps every step, which k
+members cannot share) :data:`DEFAULT_SAMPLES` evenly spaced times, fewer when the batch would
+hold more than :data:`DEFAULT_NUMBERS` numbers (never fewer than the two ends).
 
 >>> import lagrangian as lg
 >>> from lagrangian.numerics.compile import compile_equations
@@ -62,15 +64,31 @@ def checked_batch(
     first = dict(given)
     first["initial"] = {name: values[0] for name, values in initial.items()}
     first["parameters"] = {name: values[0] for name, values in parameters.items()}
-    # a batch keeps only the ends unless the call asks for samples (module docstring)
-    own = {key: value for key, value in fallbacks.settings.items() if key != "samples"}
-    inputs, found = checked_inputs(compiled, first, Fallbacks(fallbacks.initial, own))
+    inputs, found = checked_inputs(compiled, first, fallbacks)
     problems.extend(found)
     k = 0 if problems else k  # no rows from arrays that do not fit together
     X0 = _rows(inputs.x0, compiled.state_names, initial, k)
     P = _rows(inputs.p, compiled.parameters, parameters, k)
-    t_out = inputs.t_out if inputs.t_out is not None else np.array(inputs.t_span, dtype=float)
+    t_out = inputs.t_out if inputs.t_out is not None else default_times(inputs.t_span, X0.shape)
     return BatchInputs(inputs, X0, P, t_out), problems
+
+
+#: Output times of a batch given neither samples nor t_eval (as many as a plot needs) ...
+DEFAULT_SAMPLES = 1000
+#: ... unless the members' states at them would exceed this many numbers (128 MiB).
+DEFAULT_NUMBERS = 2**24
+
+
+def default_times(t_span: tuple[float, float], states: tuple[int, ...]) -> np.ndarray:
+    """Evenly spaced output times for ``states`` (k members x n state variables): as many
+    as a plot needs, fewer for a batch too large to keep them, at least the two ends.
+
+    >>> len(default_times((0.0, 1.0), (3, 2))), len(default_times((0.0, 1.0), (10**7, 4)))
+    (1000, 2)
+    """
+    k, n = states
+    fitting = DEFAULT_NUMBERS // max(1, k * n)
+    return np.linspace(*t_span, int(min(DEFAULT_SAMPLES, max(2, fitting))))
 
 
 def _arrays(

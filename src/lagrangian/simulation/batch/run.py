@@ -16,7 +16,7 @@ holds the multipliers and the constraint residual.
 >>> batch = simulate_batch(lg.examples.simple_pendulum(), {"theta": [0.1, 0.2]}, 1.0,
 ...                        parameters={"l": 2.0}, method="DOP853")
 >>> batch.q.shape, batch.status
-((2, 2, 1), ('success', 'success'))
+((2, 1000, 1), ('success', 'success'))
 >>> float(batch.trajectory(1).q[0, 0])
 0.2
 """
@@ -85,7 +85,9 @@ def simulate_batch(
     t_span, method, rtol, atol, dt, max_step:
         As for :func:`lagrangian.simulation.simulate`; methods RK45, DOP853 and RK4.
     samples, t_eval:
-        Output times shared by every member; neither: the initial and final times only.
+        Output times shared by every member; neither: the System's own ``samples``, else
+        1000 evenly spaced times (fewer when k members would hold more than 2**24 numbers;
+        :func:`lagrangian.simulation.batch.inputs.default_times`).
     stop_when:
         g(t, q, q_dot); a member stops where g turns negative, its time located on the dense
         output (``Batch.stop_time``).  It is called with arrays t (m,), q and q_dot (m, n);
