@@ -27,7 +27,7 @@ import lagrangian as lg
 from lagrangian.errors import ModelError
 from lagrangian.numerics.export import export, export_c, export_julia, export_matlab, export_numpy
 
-PIECES = ("mass_matrix", "coriolis", "gravity", "generalized_forces", "forcing")
+PIECES = ("mass_matrix", "coriolis", "time_terms", "gravity", "generalized_forces", "forcing")
 # Holonomic, robot (dissipation, inputs), explicit time, velocity potential, M(q_dot).
 SYSTEMS = (
     "double_pendulum",
@@ -128,6 +128,21 @@ def test_numpy_module_matches_sympy(name: str, tmp_path: Path) -> None:
             function = getattr(module, piece)
             names = list(inspect.signature(function).parameters)
             _assert_close(function(*_arguments(state, names)), expected[piece])
+
+
+def test_time_terms_of_a_pendulum_on_a_shaken_pivot(tmp_path: Path) -> None:
+    # By hand: the pivot at x0 cos(omega t) adds m l x_s'' cos(theta) to the theta equation,
+    # x_s'' = -x0 omega^2 cos(omega t); the forcing is what is left of Lagrange's equation.
+    module = _numpy_module(_eom("moving_pivot_pendulum"), tmp_path)
+    m, g, l, x0, omega = (
+        module.DEFAULTS[module.PARAMETERS.index(s)] for s in ["m", "g", "l", "x0", "omega"]
+    )
+    for theta, theta_dot, t in ((0.3, -1.2, 0.7), (2.0, 0.5, 1.9)):
+        q, qd, p = np.array([theta]), np.array([theta_dot]), np.asarray(module.DEFAULTS)
+        shaking = -m * l * x0 * omega**2 * np.cos(omega * t) * np.cos(theta)
+        np.testing.assert_allclose(module.time_terms(q, qd, t, p), [shaking], rtol=1e-12)
+        weight = m * g * l * np.sin(theta)
+        np.testing.assert_allclose(module.forcing(q, qd, t, p), [-shaking - weight], rtol=1e-12)
 
 
 def test_velocity_dependent_mass_matrix_takes_qd(tmp_path: Path) -> None:
@@ -296,7 +311,10 @@ def test_julia_module_has_the_layout(name: str) -> None:
     assert file_name == f"{name}.jl" and source == export_julia(eom)
     module = "".join(part.capitalize() for part in name.split("_"))
     assert f"\nmodule {module}\n" in source and source.rstrip().endswith("end # module")
-    assert "export mass_matrix, coriolis, gravity, generalized_forces, forcing, rhs" in source
+    assert (
+        "export mass_matrix, coriolis, time_terms, gravity, generalized_forces, forcing, rhs"
+        in (source)
+    )
     assert "\nfunction forcing(q, qd, t, p)\n" in source
     assert "\nfunction rhs(t, x, p)\n" in source and "M \\ forcing(q, qd, t, p)" in source
     for piece, body in _numpy_bodies(eom).items():

@@ -5,6 +5,7 @@ Every language gets the same functions, with ``p`` the parameter vector in the o
 
     mass_matrix(q, t, p)              M
     coriolis(q, qd, t, p)             the vector C(q, qd) qd
+    time_terms(q, qd, t, p)           explicit time terms (moving supports, driven frames)
     gravity(q, t, p)                  G = dV/dq
     generalized_forces(q, qd, t, p)   Q
     forcing(q, qd, t, p)              M q_ddot = forcing

@@ -4,6 +4,7 @@ Every language gets the same functions (p in the order of ``eom.parameters``)::
 
     mass_matrix(q, t, p)              M                   (n x n)
     coriolis(q, qd, t, p)             C(q, qd) qd         (n)
+    time_terms(q, qd, t, p)           explicit time terms (n)
     gravity(q, t, p)                  G = dV/dq           (n)
     generalized_forces(q, qd, t, p)   Q                   (n)
     forcing(q, qd, t, p)              M q_ddot = forcing  (n)
@@ -37,6 +38,10 @@ IndexFormat = Callable[[str, int], str]
 OUTPUTS: dict[str, tuple[str, str]] = {
     "mass_matrix": ("M", "Mass matrix M ({n} x {n}), M q_ddot = forcing."),
     "coriolis": ("Cqd", "Coriolis and centrifugal terms, the vector C(q, qd) qd."),
+    "time_terms": (
+        "h",
+        "Explicit time terms: d/dt dT/dqd - dT/dq besides M q_ddot + C qd (moving supports).",
+    ),
     "gravity": ("G", "Potential forces G = dV/dq."),
     "generalized_forces": ("Q", "Applied generalized forces Q."),
     "forcing": ("f", "Right-hand side of M q_ddot = forcing."),
@@ -137,7 +142,7 @@ class ExportPlan:
             "",
             "    M(q, t) q_ddot = forcing(q, qd, t)",
             "    forcing = generalized_forces + dissipation and velocity-potential forces",
-            "              - coriolis - explicit time terms - gravity",
+            "              - coriolis - time_terms - gravity",
             "",
         ]
         if self.m:
@@ -180,6 +185,7 @@ def plan_export(
     pieces: dict[str, sp.MatrixBase] = {
         "mass_matrix": eom.mass_matrix,
         "coriolis": eom.coriolis,
+        "time_terms": eom.time_terms,
         "gravity": eom.gravity,
         "generalized_forces": eom.generalized_forces,
         "forcing": eom.forcing,
@@ -236,7 +242,8 @@ def _routine(
 def _check_symbols(eom: EquationsOfMotion) -> None:
     known = {*eom.coordinates, *eom.velocities, *eom.parameters, eom.time}
     found: set[sp.Basic] = set()
-    for matrix in (eom.mass_matrix, eom.coriolis, eom.gravity, eom.generalized_forces):
+    pieces = (eom.mass_matrix, eom.coriolis, eom.time_terms, eom.gravity, eom.generalized_forces)
+    for matrix in pieces:
         found |= matrix.free_symbols
     unknown = sorted(str(s) for s in (found | eom.forcing.free_symbols) - known)
     if unknown:
