@@ -38,6 +38,7 @@ def test_every_example_derives_as_json_following_the_contract(
         "mass_matrix",
         "forcing",
         "coriolis",
+        "potential_forces",
         "gravity",
         "generalized_forces",
         "dissipation_forces",
@@ -57,6 +58,18 @@ def test_every_example_derives_as_json_following_the_contract(
     parsed = [sp.parse_expr(e, local_dict=local) for e in document["equations"]]
     assert all(sp.expand(a - b) == 0 for a, b in zip(parsed, eom.equations, strict=True))
     assert document["coordinates"] == [q.name for q in eom.coordinates]
+
+
+def test_a_capacitors_force_is_a_potential_force_not_gravity(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    # The charge on a capacitor: V = q^2/(2C), so dV/dq = q/C (the inverse capacitance law).
+    code, out, _ = run(capsys, "derive", "examples/series_rlc", "--format", "json")
+    document = json.loads(out)
+    assert code == 0 and document["potential_forces"] == ["q/C"]
+    assert document["gravity"] == document["potential_forces"]  # the old name, one release
+    code, out, _ = run(capsys, "derive", "examples/series_rlc", "--matrix")
+    assert code == 0 and "potential_forces G = ∂V/∂q =" in out and "gravity" not in out
 
 
 def test_steps_text_for_the_double_pendulum(capsys: pytest.CaptureFixture[str]) -> None:

@@ -258,7 +258,7 @@ def test_matrix_form_text(driven_oscillator: lg.EquationsOfMotion) -> None:
     assert titles == [
         "mass_matrix M =",
         "coriolis C q̇ =",
-        "gravity G = ∂V/∂q =",
+        "potential_forces G = ∂V/∂q =",
         "generalized_forces Q =",
         "dissipation_forces −∂F/∂q̇ =",
         "forcing (M q̈ = forcing) =",

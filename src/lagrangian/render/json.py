@@ -47,7 +47,8 @@ def _matrix(text: _Writer, matrix: sp.MatrixBase) -> list[list[str]]:
 
 def eom_document(eom: EquationsOfMotion, *, steps: bool = False) -> dict[str, Any]:
     """The derive JSON object: coordinates, parameters, lagrangian, equations, mass_matrix,
-    forcing, coriolis, gravity, generalized_forces, dissipation_forces, and more."""
+    forcing, coriolis, potential_forces (G = dV/dq; ``gravity`` is its old name, kept for one
+    release), generalized_forces, dissipation_forces, and more."""
     text = _Writer()
     document: dict[str, Any] = {
         "name": eom.name,
@@ -65,6 +66,9 @@ def eom_document(eom: EquationsOfMotion, *, steps: bool = False) -> dict[str, An
         "forcing": _vector(text, eom.forcing),
         "coriolis": _vector(text, eom.coriolis),
         "time_terms": _vector(text, eom.time_terms),
+        "potential_forces": _vector(text, eom.gravity),
+        # The old name of potential_forces (which holds springs and capacitors too), kept
+        # for one release.
         "gravity": _vector(text, eom.gravity),
         "generalized_forces": _vector(text, eom.generalized_forces),
         "dissipation_forces": _vector(text, eom.dissipation_forces),

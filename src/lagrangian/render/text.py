@@ -553,7 +553,7 @@ def matrix_form_text(eom: EquationsOfMotion) -> str:
         parts.append(("time_terms", eom.time_terms))
         lhs += " + time_terms"
     parts += [
-        ("gravity G = ∂V/∂q", eom.gravity),
+        ("potential_forces G = ∂V/∂q", eom.gravity),
         ("generalized_forces Q", eom.generalized_forces),
         (f"dissipation_forces −∂F/∂{q_dot}", eom.dissipation_forces),
     ]
