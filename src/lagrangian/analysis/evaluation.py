@@ -147,11 +147,11 @@ def condition_text(condition: sp.Basic) -> str:
     """A condition on parameters as people write it: ``F = 0, k = 2``."""
     parts = condition.args if isinstance(condition, sp.And) else (condition,)
     return ", ".join(
-        f"{p.lhs} = {_number(p.rhs)}" if isinstance(p, sp.Eq) else str(p) for p in parts
+        f"{p.lhs} = {number_text(p.rhs)}" if isinstance(p, sp.Eq) else str(p) for p in parts
     )
 
 
-def _number(value: sp.Basic) -> str:
+def number_text(value: sp.Basic) -> str:
     """A value as given: 9.81, not 9.81000000000000."""
     return f"{float(value):g}" if isinstance(value, sp.Float) else str(value)
 
@@ -160,5 +160,5 @@ def otherwise_text(condition: sp.Basic) -> str:
     """The general case a condition leaves out, as people write it: ``F ≠ 0 or k ≠ 2``."""
     parts = condition.args if isinstance(condition, sp.And) else (condition,)
     return " or ".join(
-        f"{p.lhs} ≠ {_number(p.rhs)}" if isinstance(p, sp.Eq) else f"not {p}" for p in parts
+        f"{p.lhs} ≠ {number_text(p.rhs)}" if isinstance(p, sp.Eq) else f"not {p}" for p in parts
     )

@@ -88,6 +88,9 @@ class AnalysisReport:
     constraint_forces: ConstraintForces | None = None
     #: The names the report introduces (h, H, omega, p_q, ...), none a name of the model.
     names: OutputNames = OutputNames()
+    #: Each parameter and the value every statement is decided at (None: none given), in
+    #: the order of the equations' parameters.
+    parameter_values: tuple[tuple[sp.Symbol, sp.Expr | None], ...] = ()
 
     def failure(self, part: str) -> str | None:
         """Why ``part`` failed, or None when it did not."""
@@ -236,6 +239,7 @@ def _gathered(
         steady_motions=found["steady_motions"],
         names=names,
         constraint_forces=found["constraint_forces"],
+        parameter_values=tuple((p, request.context.values.get(p)) for p in eom.parameters),
     )
 
 

@@ -27,11 +27,13 @@ from lagrangian.io import load, loads
 from lagrangian.io.load import MAX_BYTES, model_text
 from lagrangian.io.yaml_tree import MAX_CHARACTERS
 from lagrangian.model import Holonomic, System
+from lagrangian.model.substitution import with_values
 from lagrangian.numerics.export import export
 from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.analysis_text import analysis_text
 from lagrangian.render.constrained import constrained_mathml
+from lagrangian.render.latex import expression_latex
 from lagrangian.render.mathml import matrix_form_mathml
 
 EXAMPLE_PREFIX = "examples/"
@@ -88,13 +90,23 @@ MAX_SIZE = 200
 
 
 def derive_command(
-    reference: str, *, fmt: str, steps: bool, matrix: bool, settings: Sequence[str]
+    reference: str,
+    *,
+    fmt: str,
+    steps: bool,
+    matrix: bool,
+    settings: Sequence[str],
+    substitute: bool = False,
 ) -> str:
+    """What ``derive`` prints: the equations in ``fmt``, symbolic or (``substitute``) with
+    the parameters' values put in; text and LaTeX end with the values in force."""
     if fmt == "json":
-        return str(derive_json(reference, steps=steps, settings=settings))
-    system = apply_settings(load_system(reference), settings, COMMAND_LINE)
+        return str(derive_json(reference, steps=steps, settings=settings, substitute=substitute))
+    given = apply_settings(load_system(reference), settings, COMMAND_LINE)
+    system = with_values(given) if substitute else given
     if fmt == "latex":
-        return derivation_latex(system, steps, matrix)
+        values = values_in_force(given, substitute, latex=True)
+        return derivation_latex(system, steps, matrix) + (f"\n{values}" if values else "")
     eom = derive(system)
     constrained = constrained_equations(eom, system.constraints) if system.constraints else None
     if fmt == "mathml":
@@ -111,7 +123,31 @@ def derive_command(
         parts.append(render.matrix_form_text(eom))
         if constrained is not None:
             parts.append(augmented_text(constrained))
-    return "\n\n".join(parts)
+    values = values_in_force(given, substitute)
+    return "\n\n".join([*parts, values] if values else parts)
+
+
+def values_in_force(system: System, substituted: bool, latex: bool = False) -> str:
+    """The parameters' values the equations hold for (after ``--set``), and whether they are
+    put in: a student asking for m1=2 sees it, and how to see the equations with it.
+
+    >>> import lagrangian as lg
+    >>> values_in_force(lg.examples.simple_pendulum(), False)
+    'Parameters: m = 1, g = 9.81, l = 1 (derive --substitute puts them in)'
+    """
+    given = list(system.parameters.items())
+    if not given:
+        return ""
+    if latex:
+        shown = r",\quad ".join(
+            f"{expression_latex(p, system.coordinates)} = "
+            + (r"\text{no value}" if v is None else f"{v:g}")
+            for p, v in given
+        )
+        return f"\\[ {shown} \\]"
+    shown = ", ".join(f"{p.name} = {'no value' if v is None else f'{v:g}'}" for p, v in given)
+    how = "put in" if substituted else "derive --substitute puts them in"
+    return f"Parameters: {shown} ({how})"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -130,10 +166,14 @@ class JsonDocument:
         return "".join(self.chunks())
 
 
-def derive_json(reference: str, *, steps: bool, settings: Sequence[str]) -> JsonDocument:
-    """What ``derive --format json`` prints (:func:`derivation_document`)."""
+def derive_json(
+    reference: str, *, steps: bool, settings: Sequence[str], substitute: bool = False
+) -> JsonDocument:
+    """What ``derive --format json`` prints (:func:`derivation_document`); ``substitute``:
+    of the System with its parameters' values put in (``parameters`` then lists only the
+    ones without a value)."""
     system = apply_settings(load_system(reference), settings, COMMAND_LINE)
-    return JsonDocument(derivation_document(system, steps))
+    return JsonDocument(derivation_document(with_values(system) if substitute else system, steps))
 
 
 def augmented_text(equations: ConstrainedEquations) -> str:

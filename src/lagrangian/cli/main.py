@@ -194,6 +194,11 @@ def build_parser() -> argparse.ArgumentParser:
     derive.add_argument("--format", choices=["text", "latex", "mathml", "json"], default="text")
     derive.add_argument("--steps", action="store_true", help="show every step of the derivation")
     derive.add_argument("--matrix", action="store_true", help="also show M, C q_dot, G, Q")
+    derive.add_argument(
+        "--substitute",
+        action="store_true",
+        help="put the parameters' values (with --set) into the equations",
+    )
 
     export = _command(
         sub,
@@ -537,10 +542,17 @@ def run(args: argparse.Namespace) -> str | JsonDocument:
     if getattr(args, "input_format", None) and args.model == "-":
         args.model = f"-:{args.input_format}"  # standard input in the format given
     if args.command == "derive" and args.format == "json":
-        return commands.derive_json(args.model, steps=args.steps, settings=args.set)
+        return commands.derive_json(
+            args.model, steps=args.steps, settings=args.set, substitute=args.substitute
+        )
     if args.command == "derive":
         return commands.derive_command(
-            args.model, fmt=args.format, steps=args.steps, matrix=args.matrix, settings=args.set
+            args.model,
+            fmt=args.format,
+            steps=args.steps,
+            matrix=args.matrix,
+            settings=args.set,
+            substitute=args.substitute,
         )
     if args.command == "analyze":
         return commands.analyze_command(

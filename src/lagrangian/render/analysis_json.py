@@ -3,8 +3,10 @@
 
 Keys: ``dof`` (the independent velocities, n minus every equality constraint),
 ``configuration_dimension`` (n minus the holonomic ones), ``independent_velocities`` and
-``freedom`` (the two explained), ``constraints`` (each classified: kind, holonomic,
-rheonomic, ...), ``momenta`` (coordinate name -> p), ``cyclic`` (the names of the coordinates
+``freedom`` (the two explained), ``parameter_values`` (each parameter and the value every
+statement is decided at: a number, an expression of other parameters, or null),
+``constraints`` (each classified: kind, holonomic, rheonomic, ...), ``momenta`` (coordinate
+name -> p), ``cyclic`` (the names of the coordinates
 absent from L and F; ``cyclic_coordinates`` has each with its momentum, whether it is
 conserved, what changes it and the condition), ``conserved`` (the expressions conserved at
 the parameter values given; ``conserved_quantities`` all of them with their reasons, origin,
@@ -173,6 +175,13 @@ def _cyclic(cyclic: CyclicCoordinate) -> dict[str, Any]:
     }
 
 
+def _value(value: sp.Expr | None) -> float | str | None:
+    """A parameter's value: a number, an expression of other parameters, or None."""
+    if value is None:
+        return None
+    return float(value) if value.is_number else expression_string(value)
+
+
 def analysis_document(report: AnalysisReport) -> dict[str, Any]:
     """The analyze JSON object (see the module docstring) of ``report``."""
     energy, legendre, canonical = report.energy, report.hamiltonian, report.hamilton_equations
@@ -183,6 +192,7 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
         "independent_velocities": report.independent_velocities,
         "freedom": report.freedom,
         "coordinates": [q.name for q in report.coordinates],
+        "parameter_values": {p.name: _value(v) for p, v in report.parameter_values},
         "constraints": [c.as_dict() for c in report.constraints],
         "momenta": None if report.momenta is None else _strings_by_name(report.momenta.by_name()),
         "cyclic": [c.coordinate.name for c in report.cyclic],

@@ -27,7 +27,7 @@ from lagrangian.analysis import (
     Equilibrium,
     Linearization,
 )
-from lagrangian.analysis.evaluation import condition_text
+from lagrangian.analysis.evaluation import condition_text, number_text
 from lagrangian.render.text import SumPrinter
 
 VERDICTS = {True: "stable", False: "unstable", None: "stability undetermined"}
@@ -149,9 +149,20 @@ def _hamiltonian_lines(report: AnalysisReport) -> list[str]:
     return lines
 
 
+def values_line(report: AnalysisReport) -> str:
+    """The parameter values the statements are decided at (the general case is said where
+    it differs)."""
+    shown = ", ".join(
+        f"{p} = {'no value' if v is None else number_text(v)}" for p, v in report.parameter_values
+    )
+    return f"at {shown} (where the general case differs, it is said)"
+
+
 def analysis_text(report: AnalysisReport) -> str:
     """The report as plain text (see the module docstring)."""
     lines = [f"{report.name or 'system'}: {report.freedom or f'dof = {report.dof}'}"]
+    if report.parameter_values:
+        lines.append(values_line(report))
     lines += _section(
         "Constraints",
         (f"{c.kind} {c.expression} = 0: {c.reason}" for c in report.constraints),
