@@ -195,9 +195,9 @@ def refuse_unphysical(motion: Motion, inputs: Inputs, names: Sequence[str]) -> N
     state = ", ".join(f"{name}={value:g}" for name, value in zip(names, x0))
     problem = Problem(
         "initial",
-        f"the equations of motion are not finite numbers at the initial state ({state}): "
-        f"the rate of {', '.join(bad)} is {rates[names.index(bad[0])]:g} — an overflow or a "
-        "division by zero there",
+        f"at the initial state ({state}) the equations of motion give the rate of "
+        f"{', '.join(bad)} as {rates[names.index(bad[0])]:g}, not a finite number: an "
+        "overflow or a division by zero there",
         Fix(
             "start from a state of physical size where the forces are finite ({}), or check "
             "the model's expressions for a division by zero",

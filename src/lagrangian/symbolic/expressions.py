@@ -27,6 +27,7 @@ from __future__ import annotations
 import ast
 import difflib
 import heapq
+import keyword
 import re
 import warnings
 from collections.abc import Callable, Iterable, Mapping
@@ -36,6 +37,7 @@ import sympy as sp
 
 from lagrangian.errors import ExpressionError, Problem, TimeLimitError, raise_if_problems
 from lagrangian.symbolic.caches import remembered
+from lagrangian.symbolic.names import name_problem
 
 MAX_LENGTH = 10_000
 MAX_DEPTH = 100
@@ -595,6 +597,11 @@ class _Builder:
 
     def _name(self, node: ast.Name) -> sp.Expr:
         name = node.id
+        written = self.segment(node)  # as typed: Python reads 𝐱 and ｘ as x (NFKC)
+        if not written.isascii():
+            found = name_problem(written)
+            if found is not None:
+                self.refuse(node, *found)
         if name.startswith("_"):
             self.refuse(node, f"the name {name!r} is not allowed", "names cannot start with '_'")
         if name in self.names:
@@ -641,6 +648,9 @@ def _read(text: str) -> ast.Expression:
         if "integer string conversion" in error.msg:  # Python's own limit, 4300 digits
             raise _Refusal(*_TOO_BIG, at) from None
         fix = "check for a missing operator (2*x, not 2x) or an unbalanced parenthesis"
+        word = next((w for w in re.findall(r"\w+", text) if keyword.iskeyword(w)), None)
+        if word is not None:  # lambda, as a name, stops Python's parser
+            fix = f"{word!r} is a Python keyword, not a name: write {word}_ or another name"
         if "\n" in text.rstrip():
             fix += "; wrap an expression of several lines in parentheses"
         raise _Refusal(f"cannot read the expression: {error.msg}", fix, at) from None
