@@ -33,6 +33,10 @@ from lagrangian.symbolic.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, t
 #: The most generalized coordinates a System may have: the equations hold n-by-n matrices,
 #: and a chain of a few hundred links already takes minutes to derive.
 MAX_COORDINATES = 1000
+#: The most parameters a System may have: two and a half times the largest chain's (a mass
+#: and a length per link of MAX_COORDINATES links, and g); a file declaring more is refused
+#: before its names are read.
+MAX_PARAMETERS = 5000
 
 CONFIGURATION = "configuration"  # may depend on q, t and parameters
 STATE = "state"  # may also depend on the velocities
@@ -181,6 +185,8 @@ def _check_names(values: dict[str, Any], problems: list[Problem]) -> None:
                 "model fewer degrees of freedom, or split the system into parts",
             )
         )
+    if len(values["parameters"]) > MAX_PARAMETERS:
+        problems.append(too_many_parameters(len(values["parameters"])))
     seen: set[str] = set()
     for q in coordinates:
         if q.name in seen:
@@ -216,6 +222,15 @@ def _check_names(values: dict[str, Any], problems: list[Problem]) -> None:
             )
         elif p.name == "t":
             problems.append(Problem("parameters.t", "t is time", "rename the parameter"))
+
+
+def too_many_parameters(count: int) -> Problem:
+    """The problem of a System declaring ``count`` parameters, more than MAX_PARAMETERS."""
+    return Problem(
+        "parameters",
+        f"{count:,} parameters, more than the {MAX_PARAMETERS:,} a system may have",
+        "write numbers in the expressions for values that never change, or split the system",
+    )
 
 
 def _vector(

@@ -28,6 +28,7 @@ import ast
 import difflib
 import heapq
 import keyword
+import math
 import re
 import warnings
 from collections.abc import Callable, Iterable, Mapping
@@ -36,6 +37,7 @@ from typing import NamedTuple, NoReturn, TypeGuard
 import sympy as sp
 
 from lagrangian.errors import ExpressionError, Problem, TimeLimitError, raise_if_problems
+from lagrangian.size_limits import active_operations, raise_advice
 from lagrangian.symbolic.caches import remembered
 from lagrangian.symbolic.names import name_problem
 
@@ -349,6 +351,7 @@ class ParseCache:
         self.checked: set[sp.Basic] = set()
         self.degrees: dict[sp.Basic, dict[sp.Basic, int]] = {}
         self.products: dict[sp.Basic, int] = {}
+        self.harmonics: dict[sp.Basic, int] = {}
         self.bits: dict[sp.Basic, int] = {}
         self.written: dict[sp.Basic, int] = {}
 
@@ -834,6 +837,79 @@ def _products(value: sp.Basic, limit: int, memo: dict[sp.Basic, int]) -> int:
     return count
 
 
+#: The operations of one term of a sum of harmonics: its coefficient, its product, the sine
+#: or cosine and its argument.
+OPERATIONS_PER_HARMONIC = 4
+_TRIG = (sp.sin, sp.cos)
+
+
+def harmonic_terms(value: sp.Basic, limit: int = MAX_TERMS) -> int:
+    """At most how many terms ``value`` has once its powers and products of sines and
+    cosines are multiplied out into sums of harmonics, as the derivation reduces them
+    (capped at ``limit + 1``).  A power n of a sum of k terms with sines and cosines has up to
+    the number of integer frequency vectors h in k dimensions with |h|_1 <= n,
+    sum_j 2^j C(k, j) C(n, j) (the Delannoy number D(k, n)): (sin a + sin b + sin c +
+    cos d)**40 has some 1.8 million, where its 12,341 monomials would suggest a small sum.
+
+    >>> a, b = sp.symbols("a b")
+    >>> harmonic_terms(sp.sin(a) ** 3), harmonic_terms((sp.sin(a) + sp.cos(b)) ** 2)
+    (7, 13)
+    """
+    return _harmonics(value, limit, {})
+
+
+def _harmonics(value: sp.Basic, limit: int, memo: dict[sp.Basic, int]) -> int:
+    count = memo.get(value)
+    if count is not None:
+        return count
+    count = 1
+    if isinstance(value, sp.Add):
+        count = min(limit + 1, sum(_harmonics(a, limit, memo) for a in value.args))
+    elif isinstance(value, sp.Mul):
+        for factor in value.args:
+            count = min(limit + 1, count * _harmonics(factor, limit, memo))
+    elif isinstance(value, sp.Pow) and value.exp.is_Integer and value.exp > 1:
+        base = _harmonics(value.base, limit, memo)
+        n = int(value.exp)
+        if value.base.has(*_TRIG):
+            count = _delannoy(base, n, limit)
+        else:  # the monomials of degree n, as expanded_terms counts them
+            count = min(limit + 1, math.comb(n + base - 1, base - 1)) if base < 64 else limit + 1
+            count = 1 if base == 1 else count
+    memo[value] = count
+    return count
+
+
+def _delannoy(k: int, n: int, limit: int) -> int:
+    """sum_j 2^j C(k, j) C(n, j), capped at ``limit + 1``."""
+    total = 0
+    for j in range(min(k, n) + 1):
+        total += 2**j * math.comb(k, j) * math.comb(n, j)
+        if total > limit:
+            return limit + 1
+    return total
+
+
+def _check_harmonics(value: sp.Basic, memo: dict[sp.Basic, int]) -> None:
+    """Refuse, by the size limit (:mod:`lagrangian.size_limits`), an expression whose sines
+    and cosines multiply out into more operations than the limit allows (predicted from its
+    structure before any work)."""
+    if not value.has(*_TRIG):
+        return
+    limit = active_operations()
+    terms_limit = int(min(limit, 10**12)) // OPERATIONS_PER_HARMONIC
+    terms = _harmonics(value, terms_limit, memo)
+    if terms > terms_limit:
+        predicted = f"more than {terms_limit * OPERATIONS_PER_HARMONIC:,}"
+        raise _Refusal(
+            f"multiplied out into sums of harmonics (as the derivation reduces sines and "
+            f"cosines), this expression would have {predicted} operations, beyond the size "
+            f"limit of {limit:,.0f}",
+            f"write it with fewer or lower powers of sums of sines and cosines; or "
+            f"{raise_advice()}",
+        )
+
+
 def expanded_bits(value: sp.Basic) -> int:
     """About how many bits the largest number of ``value`` has once its products and integer
     powers of sums are multiplied out: a product adds its factors' sizes, a sum of n terms
@@ -908,6 +984,7 @@ def _check_result(
             f"multiplied out, this expression has more than {MAX_TERMS:,} terms",
             "write it with fewer or shorter sums under powers and products",
         )
+    _check_harmonics(value, shared.harmonics)
     written = _written_bits(value, shared.written)
     if (bits := _bits_memo(value, shared.bits)) > written + MAX_EXPANDED_BITS:
         raise _Refusal(
