@@ -812,21 +812,30 @@ def _degrees(value: sp.Basic, memo: dict[sp.Basic, dict[sp.Basic, int]]) -> dict
     return found
 
 
-def _products(value: sp.Basic, limit: int, memo: dict[sp.Basic, int]) -> int:
+def _products(
+    value: sp.Basic, limit: int, memo: dict[sp.Basic, int], *, harmonics: bool = False
+) -> int:
     """The terms of ``value`` multiplied out, like terms not merged (at most ``limit + 1``;
-    ``memo``: the counts of parts found before, for this ``limit``)."""
+    ``memo``: the counts of parts found before, for this ``limit`` and ``harmonics``).
+    ``harmonics``: a power of a sum with sines and cosines counts its harmonics
+    (:func:`harmonic_terms`), not its monomials."""
     count = memo.get(value)
     if count is not None:
         return count
     count = 1  # a symbol, a number, a function: its arguments are not multiplied out
     if isinstance(value, sp.Add):
-        count = min(limit + 1, sum(_products(a, limit, memo) for a in value.args))
+        count = min(
+            limit + 1, sum(_products(a, limit, memo, harmonics=harmonics) for a in value.args)
+        )
     elif isinstance(value, sp.Mul):
         for factor in value.args:
-            count = min(limit + 1, count * _products(factor, limit, memo))
+            count = min(limit + 1, count * _products(factor, limit, memo, harmonics=harmonics))
     elif isinstance(value, sp.Pow) and value.exp.is_Integer and value.exp > 1:
-        terms = _products(value.base, limit, memo)
+        terms = _products(value.base, limit, memo, harmonics=harmonics)
         n = int(value.exp)
+        if harmonics and value.base.has(*_TRIG):
+            memo[value] = count = _delannoy(terms, n, limit)
+            return count
         # C(n + terms - 1, terms - 1): the monomials of degree n in ``terms``
         for i in range(1, min(n, terms - 1) + 1):
             count = count * (n + terms - 1 - min(n, terms - 1) + i) // i
@@ -855,29 +864,7 @@ def harmonic_terms(value: sp.Basic, limit: int = MAX_TERMS) -> int:
     >>> harmonic_terms(sp.sin(a) ** 3), harmonic_terms((sp.sin(a) + sp.cos(b)) ** 2)
     (7, 13)
     """
-    return _harmonics(value, limit, {})
-
-
-def _harmonics(value: sp.Basic, limit: int, memo: dict[sp.Basic, int]) -> int:
-    count = memo.get(value)
-    if count is not None:
-        return count
-    count = 1
-    if isinstance(value, sp.Add):
-        count = min(limit + 1, sum(_harmonics(a, limit, memo) for a in value.args))
-    elif isinstance(value, sp.Mul):
-        for factor in value.args:
-            count = min(limit + 1, count * _harmonics(factor, limit, memo))
-    elif isinstance(value, sp.Pow) and value.exp.is_Integer and value.exp > 1:
-        base = _harmonics(value.base, limit, memo)
-        n = int(value.exp)
-        if value.base.has(*_TRIG):
-            count = _delannoy(base, n, limit)
-        else:  # the monomials of degree n, as expanded_terms counts them
-            count = min(limit + 1, math.comb(n + base - 1, base - 1)) if base < 64 else limit + 1
-            count = 1 if base == 1 else count
-    memo[value] = count
-    return count
+    return _products(value, limit, {}, harmonics=True)
 
 
 def _delannoy(k: int, n: int, limit: int) -> int:
@@ -898,7 +885,7 @@ def _check_harmonics(value: sp.Basic, memo: dict[sp.Basic, int]) -> None:
         return
     limit = active_operations()
     terms_limit = int(min(limit, 10**12)) // OPERATIONS_PER_HARMONIC
-    terms = _harmonics(value, terms_limit, memo)
+    terms = _products(value, terms_limit, memo, harmonics=True)
     if terms > terms_limit:
         predicted = f"more than {terms_limit * OPERATIONS_PER_HARMONIC:,}"
         raise _Refusal(

@@ -44,6 +44,7 @@ from lagrangian.simulation.impacts import ImpactRecord
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.events import EventFunction, EventWatch
+from lagrangian.simulation.integrators.loop import SolverIntegrator
 from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Progress
 
 Mode = TypeVar("Mode", bound=Hashable)
@@ -108,26 +109,12 @@ class Hybrid(Protocol[Mode]):
         ...
 
 
-class PieceIntegrator(Protocol):
-    """An integrator of one smooth piece that spends the run's ``budget`` (the Python loop's
-    :class:`~lagrangian.simulation.integrators.loop.SolverIntegrator`)."""
-
-    def run(
-        self,
-        dynamics: Dynamics,
-        inputs: Inputs,
-        watch: EventWatch | None,
-        progress: Progress | None,
-        budget: Budget | None = None,
-    ) -> Integration: ...
-
-
 @dataclasses.dataclass(frozen=True)
 class PiecewiseIntegrator:
     """The :class:`~lagrangian.simulation.integrators.protocol.Integrator` of every hybrid
     motion: its pieces stepped by ``inner`` (module docstring)."""
 
-    inner: PieceIntegrator
+    inner: SolverIntegrator
 
     def run(
         self,
@@ -144,7 +131,7 @@ def integrate_piecewise(
     inputs: Inputs,
     watch: EventWatch | None,
     progress: Progress | None,
-    inner: PieceIntegrator,
+    inner: SolverIntegrator,
     disarmed: str | None = None,
 ) -> Integration:
     """Integrate ``hybrid`` piece by piece with ``inner`` (module docstring) from the checked
