@@ -855,26 +855,29 @@ _TRIG = (sp.sin, sp.cos)
 def harmonic_terms(value: sp.Basic, limit: int = MAX_TERMS) -> int:
     """At most how many terms ``value`` has once its powers and products of sines and
     cosines are multiplied out into sums of harmonics, as the derivation reduces them
-    (capped at ``limit + 1``).  A power n of a sum of k terms with sines and cosines has up to
-    the number of integer frequency vectors h in k dimensions with |h|_1 <= n,
-    sum_j 2^j C(k, j) C(n, j) (the Delannoy number D(k, n)): (sin a + sin b + sin c +
-    cos d)**40 has some 1.8 million, where its 12,341 monomials would suggest a small sum.
+    (capped at ``limit + 1``).  The frequencies of a power n of a sum of k terms with sines
+    and cosines are the integer vectors h in k dimensions with |h|_1 <= n, whose number is
+    the Delannoy number D(k, n) = sum_j 2^j C(k, j) C(n, j); h and -h make one term, and
+    those of the wrong parity cancel, which leaves about D(k, n) / 3 (as counted against
+    SymPy's product-to-sum expansion in the tests).  (sin a + sin b + sin c + cos d)**40 has
+    some 600,000 harmonics, where its 12,341 monomials would suggest a small sum.
 
     >>> a, b = sp.symbols("a b")
     >>> harmonic_terms(sp.sin(a) ** 3), harmonic_terms((sp.sin(a) + sp.cos(b)) ** 2)
-    (7, 13)
+    (3, 5)
     """
     return _products(value, limit, {}, harmonics=True)
 
 
 def _delannoy(k: int, n: int, limit: int) -> int:
-    """sum_j 2^j C(k, j) C(n, j), capped at ``limit + 1``."""
+    """The harmonics of a power n of k terms, D(k, n) / 3 rounded up (:func:`harmonic_terms`),
+    capped at ``limit + 1``."""
     total = 0
     for j in range(min(k, n) + 1):
         total += 2**j * math.comb(k, j) * math.comb(n, j)
-        if total > limit:
+        if total > 3 * limit:
             return limit + 1
-    return total
+    return -(-total // 3)
 
 
 def _check_harmonics(value: sp.Basic, memo: dict[sp.Basic, int]) -> None:
