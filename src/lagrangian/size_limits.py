@@ -167,6 +167,12 @@ def _sympy_operations(expression: Any, memo: dict[Any, int]) -> int:
     return count
 
 
+def raise_advice() -> str:
+    """How to raise the size limit that applies here, in the words of where it was set
+    (``give a larger --size-limit (none for no limit)`` on the command line)."""
+    return RAISE.get(_active_limit().where, RAISE["default"])
+
+
 def check_size(expression: Any, what: str) -> None:
     """Raise :class:`~lagrangian.errors.SizeLimitError` when ``expression`` has more
     operations than the active limit (:func:`active_operations`); ``what`` names it in the
@@ -182,5 +188,5 @@ def check_operations(count: int, what: str) -> None:
     if count > limit.operations:
         raise SizeLimitError(
             f"{what} has {count:,} operations, more than the size limit of "
-            f"{limit.operations:,.0f}: {SIMPLIFY}, or {RAISE.get(limit.where, RAISE['default'])}"
+            f"{limit.operations:,.0f}: {SIMPLIFY}, or {raise_advice()}"
         )

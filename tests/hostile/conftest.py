@@ -59,6 +59,14 @@ class Outcome:
     def __str__(self) -> str:
         return f"exit {self.code}; stderr: {self.err[-2000:]!r}"
 
+    def assert_refused(self, *words: str) -> None:
+        """Exit 2 (bad input), each of ``words`` (the field, the fix) in the message, and no
+        internal error."""
+        assert self.code == 2, self
+        assert not self.internal, self
+        for word in words:
+            assert word in self.err, (word, self)
+
 
 def _virtual_bytes() -> int:
     """The address space this process uses now (VmSize), 0 where /proc is missing."""

@@ -36,10 +36,7 @@ def many_unknown_names(count: int) -> str:
 
 def refused(outcome, *words: str) -> None:
     """Exit 2, a message with each of ``words`` (the field), and no internal error."""
-    assert outcome.code == 2, outcome
-    assert not outcome.internal, outcome
-    for word in words:
-        assert word in outcome.err, (word, outcome)
+    outcome.assert_refused(*words)
 
 
 # -- the reader: files built to exhaust it -------------------------------------------------

@@ -16,7 +16,7 @@ from lagrangian.io.document import child
 from lagrangian.io.reader import Reader, describe, suggestion
 from lagrangian.model import t, velocity
 from lagrangian.model.system import unit_problem
-from lagrangian.model.validation import MAX_COORDINATES
+from lagrangian.model.validation import MAX_COORDINATES, MAX_PARAMETERS, too_many_parameters
 
 
 def expression_names(coordinates: Iterable[str], parameters: Iterable[str]) -> dict[str, sp.Symbol]:
@@ -67,6 +67,10 @@ def read_parameters(
     """Parameter names with their default values (``None``: no default)."""
     raw = reader.mapping(data.get("parameters", {}), "parameters") or {}
     parameters: dict[str, float | None] = {}
+    if len(raw) > MAX_PARAMETERS:  # the names stay declared (each read in linear time)
+        found = too_many_parameters(len(raw))
+        first_beyond = child("parameters", list(raw)[MAX_PARAMETERS])
+        reader.problem(first_beyond, found.message, str(found.fix), key=True)
     for key, value in raw.items():
         path = child("parameters", key)
         name = reader.name(key, path, key=True)

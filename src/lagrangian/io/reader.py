@@ -27,6 +27,7 @@ from lagrangian.symbolic.expressions import (
     parse_condition,
     parse_expression,
 )
+from lagrangian.symbolic.names import name_problem
 from lagrangian.symbolic.probe import is_zero
 
 _EXAMPLE_VECTOR = 'a list such as ["l*sin(theta)", "-l*cos(theta)"]'
@@ -56,6 +57,18 @@ def suggestion(word: str, choices: Iterable[str], fix: str = "") -> str:
     close = closest_name(word, choices)
     hint = f"did you mean {close!r}?" if close else ""
     return " ".join(part for part in (hint, fix) if part)
+
+
+_MASSLESS = (
+    "a frame is a massless reference frame (no inertia, no position)",
+    "to give it mass, make it a rigid body (rigid_bodies: with mass, inertia and parent); "
+    "else leave the key out",
+)
+#: Keys that belong to another kind of entry, with why they do not belong here and the fix.
+_NOT_FOR: dict[tuple[str | None, str], tuple[str, str]] = {
+    ("frame", key): (f"frames have no {word}: {_MASSLESS[0]}", _MASSLESS[1])
+    for key, word in (("mass", "mass"), ("inertia", "inertia"), ("position", "position"))
+}
 
 
 class Reader:
@@ -101,6 +114,11 @@ class Reader:
         word = "section" if definition is None else "key"
         meant = set()  # keys a misspelling stands for: not reported missing as well
         for key in entry:
+            reason = _NOT_FOR.get((definition, key))
+            if reason is not None:  # a key of another kind of entry, meant here
+                self.problem(child(path, key), *reason, key=True)
+                meant.add(key)
+                continue
             if key not in keys.allowed:
                 close = closest_name(key, keys.allowed)
                 meant.update([close] if close else [])
@@ -196,9 +214,14 @@ class Reader:
         return None
 
     def name(self, value: Any, path: str, *, key: bool = False) -> str | None:
-        """A name: letters, digits and underscores, not starting with a digit."""
+        """A name: letters, digits and underscores, not starting with a digit; ASCII or Greek
+        letters, not a Python keyword (:mod:`lagrangian.symbolic.names`)."""
         if isinstance(value, str) and value.isidentifier():
-            return value
+            found = name_problem(value)
+            if found is None:
+                return value
+            self.problem(path, *found, key=key)
+            return None
         self.problem(
             path,
             f"{describe(value)} is not a name",

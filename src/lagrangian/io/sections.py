@@ -204,8 +204,11 @@ def read_elements(
     kind = ELEMENT_TYPES[definition]
     required = set(entry_keys(definition).required)
     elements = []
+    allowed = set(entry_keys(definition).allowed)
     for path, entry in reader.entries(value, section, definition):
-        values = read_fields(reader, entry, path, coordinates)
+        # a key the entry may not have is reported by the entry check, never passed on
+        known = {key: item for key, item in entry.items() if key in allowed}
+        values = read_fields(reader, known, path, coordinates)
         if values is not None and "inertia_about" in values:
             values = about_the_centre(reader, values, child(path, "inertia_about"))
         if values is not None and required <= set(values):

@@ -6,7 +6,6 @@ from __future__ import annotations
 import math
 import random
 import sys
-import unicodedata
 from collections.abc import Iterable
 from typing import Any
 
@@ -26,12 +25,18 @@ from lagrangian.model.inertia import Shape, check_inertia
 from lagrangian.model.rotation import Orientation, check_rotation
 from lagrangian.model.transitions import check_transitions
 from lagrangian.symbolic.expressions import closest_name, distinct_parts, free_symbols
+from lagrangian.symbolic.names import name_problem
+from lagrangian.symbolic.nonsmooth import kinks_in
 from lagrangian.symbolic.probe import PROBES, SEED, random_values
 from lagrangian.symbolic.symbols import DDOT_SUFFIX, DOT_SUFFIX, acceleration, t, velocity
 
 #: The most generalized coordinates a System may have: the equations hold n-by-n matrices,
 #: and a chain of a few hundred links already takes minutes to derive.
 MAX_COORDINATES = 1000
+#: The most parameters a System may have: two and a half times the largest chain's (a mass
+#: and a length per link of MAX_COORDINATES links, and g); a file declaring more is refused
+#: before its names are read.
+MAX_PARAMETERS = 5000
 
 CONFIGURATION = "configuration"  # may depend on q, t and parameters
 STATE = "state"  # may also depend on the velocities
@@ -153,25 +158,11 @@ def _not_finite(value: sp.Expr, atoms: set[sp.Basic]) -> str | None:
 
 
 def identifier_problem(name: str, field: str) -> Problem | None:
-    """Why ``name`` cannot name a coordinate or parameter, or None.
-
-    A name is an identifier (letters, digits, underscores; not starting with a digit) in the
-    normal form NFKC that Python's own tokenizer (and so the model files' parser) reads names
-    in: a fullwidth ``ｘ`` or a ligature ``ﬁ`` would be read as ``x`` or ``fi`` in every
-    expression, so one of two names would silently merge with the other, or could never be
-    referenced.  Newlines, spaces and quotes, which could carry text into exported code, are
-    not identifiers."""
-    normal = unicodedata.normalize("NFKC", name)
-    if not normal.isidentifier():
-        shown = name.encode("unicode_escape").decode("ascii")
-        return Problem(
-            field,
-            f"{shown!r} is not a name (letters, digits and underscores, not starting with a digit)",
-            "rename it, e.g. x1 or theta_2",
-        )
-    if normal != name:
-        return Problem(field, f"{name!r} is read as {normal!r} in expressions", f"write {normal}")
-    return None
+    """Why ``name`` cannot name a coordinate or parameter, or None: the one rule of
+    :mod:`lagrangian.symbolic.names` (ASCII identifiers or Greek letters, no Python keyword;
+    a lookalike letter is refused with the ASCII name it looks like)."""
+    found = name_problem(name)
+    return None if found is None else Problem(field, *found)
 
 
 def _check_names(values: dict[str, Any], problems: list[Problem]) -> None:
@@ -194,6 +185,8 @@ def _check_names(values: dict[str, Any], problems: list[Problem]) -> None:
                 "model fewer degrees of freedom, or split the system into parts",
             )
         )
+    if len(values["parameters"]) > MAX_PARAMETERS:
+        problems.append(too_many_parameters(len(values["parameters"])))
     seen: set[str] = set()
     for q in coordinates:
         if q.name in seen:
@@ -229,6 +222,15 @@ def _check_names(values: dict[str, Any], problems: list[Problem]) -> None:
             )
         elif p.name == "t":
             problems.append(Problem("parameters.t", "t is time", "rename the parameter"))
+
+
+def too_many_parameters(count: int) -> Problem:
+    """The problem of a System declaring ``count`` parameters, more than MAX_PARAMETERS."""
+    return Problem(
+        "parameters",
+        f"{count:,} parameters, more than the {MAX_PARAMETERS:,} a system may have",
+        "write numbers in the expressions for values that never change, or split the system",
+    )
 
 
 def _vector(
@@ -487,6 +489,8 @@ def validate(values: dict[str, Any]) -> Iterable[Problem]:
     scope = NameScope(values)
     for name in ("kinetic", "lagrangian", "velocity_potential", "dissipation"):
         scope.check(values[name], name, STATE, problems)
+    for name in ("kinetic", "lagrangian", "velocity_potential"):
+        _check_smooth_in_velocities(values[name], name, scope, problems)
     scope.check(values["potential"], "potential", CONFIGURATION, problems)
     for key, value in values["generalized_forces"].items():
         if key not in scope.coordinates:
@@ -516,6 +520,33 @@ def validate(values: dict[str, Any]) -> Iterable[Problem]:
         if found is not None:
             problems.append(Problem(f"initial.{key}", found, "give a finite real number"))
     return problems
+
+
+_LETTER = {"kinetic": "T", "lagrangian": "L", "velocity_potential": "U"}
+
+
+def _check_smooth_in_velocities(
+    value: Any, field: str, scope: NameScope, problems: list[Problem]
+) -> None:
+    """An energy whose momentum dT/dq_dot would jump (|x_dot| in T) is refused with the
+    reason (:func:`lagrangian.symbolic.nonsmooth.kinks_in`)."""
+    if not isinstance(value, sp.Expr):
+        return  # reported by the scope's check
+    kinks = kinks_in(value, scope.velocities)
+    if kinks:
+        parts = ", ".join(map(str, kinks[:3]))
+        problems.append(
+            Problem(
+                field,
+                f"{parts} is not smooth in the velocities: the momentum "
+                f"d{_LETTER[field]}/dq_dot "
+                "would jump where its argument changes sign, and the mass matrix hold an "
+                "impulse there, which no equations of motion describe",
+                "a force by the sign of a velocity (Coulomb friction) is a dissipation "
+                "function, such as dissipation: mu*N*Abs(x_dot); an energy is smooth in the "
+                "velocities (x_dot**2, not Abs(x_dot) nor Abs(x_dot)**2)",
+            )
+        )
 
 
 def _not_finite_value(value: Any) -> str | None:

@@ -26,16 +26,19 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, cast
 
+import numpy as np
+
 from lagrangian.constraints import constrained_equations, multiplier_symbols
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.errors import SimulationInputError
+from lagrangian.errors import Fix, Problem, Setting, SimulationInputError
 from lagrangian.model import System
 from lagrangian.numerics.constrained import compile_constrained
 from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics
 from lagrangian.simulation.dynamics import FreeDynamics, MultiplierDynamics
+from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.compiled import native_integrator
 from lagrangian.simulation.integrators.events import EventFunction, EventWatch
-from lagrangian.simulation.integrators.loop import SolverIntegrator
+from lagrangian.simulation.integrators.loop import FAILURES, SolverIntegrator
 from lagrangian.simulation.integrators.piecewise import Hybrid, PiecewiseIntegrator
 from lagrangian.simulation.integrators.protocol import Integrator, Motion
 from lagrangian.simulation.options import StepKeywords, check_keywords
@@ -163,9 +166,45 @@ def simulate(
     )
     motion, integrator = plan(setup)
     inputs = motion.start(setup.inputs, setup.options.project_initial)
+    refuse_unphysical(motion, inputs, setup.compiled.state_names)
     watch = EventWatch(setup.events, motion.unpack) if setup.events else None
     run = integrator.run(motion, inputs, watch, progress)
     return conclude(setup, motion, run, raise_on_failure)
+
+
+def refuse_unphysical(motion: Motion, inputs: Inputs, names: Sequence[str]) -> None:
+    """Refuse an initial state where the equations of motion are not finite numbers (a
+    velocity of 1e308 whose square overflows, a division by zero in the model): no step can
+    start from it, and an adaptive solver would look for its first step size for ever.
+    A formulation without a vector field (the discrete one) or a field that fails there
+    (a singular mass matrix) is left to the integrator, which reports it."""
+    field = getattr(motion, "field", None)
+    t0, x0 = inputs.t_span[0], inputs.x0
+    try:
+        with np.errstate(all="ignore"):
+            if field is None and isinstance(motion, SwitchedDynamics):
+                field = motion.piece(motion.initial_mode(t0, x0)[0]).field
+            if field is None:
+                return
+            rates = np.asarray(field(t0, x0), dtype=float)
+    except FAILURES:
+        return
+    bad = [name for name, rate in zip(names, rates) if not np.isfinite(rate)]
+    if not bad:
+        return
+    state = ", ".join(f"{name}={value:g}" for name, value in zip(names, x0))
+    problem = Problem(
+        "initial",
+        f"at the initial state ({state}) the equations of motion give the rate of "
+        f"{', '.join(bad)} as {rates[names.index(bad[0])]:g}, not a finite number: an "
+        "overflow or a division by zero there",
+        Fix(
+            "start from a state of physical size where the forces are finite ({}), or check "
+            "the model's expressions for a division by zero",
+            (Setting("initial", entry=names[int(np.argmax(np.abs(x0)))]),),
+        ),
+    )
+    raise SimulationInputError("Cannot simulate (1 problem):", [problem])
 
 
 def plan(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:

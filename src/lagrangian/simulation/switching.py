@@ -21,6 +21,13 @@ friction: D. Karnopp, *J. Dyn. Syst. Meas. Control* 107, 1985):
   which keeps du/dt = 0 (for friction: the block sticks, held by the static friction
   lam mu N); it ends when |lam| reaches 1 (the applied forces exceed what friction can hold)
   and the motion leaves on that side.
+* a surface of the configuration alone, u_k(q, t) (a kink of the potential: ``Abs(x)``,
+  ``x*sign(x)``), is met with du/dt the same on both sides: the fields differ in the
+  accelerations only.  Where the motion reaches it with du/dt = 0 (at rest at the bottom of
+  a V-shaped well) the second derivatives decide, as the first ones do above: both pushing
+  towards the surface, d2u/dt2|+ < 0 < d2u/dt2|-, the motion **rests on the kink** (sliding
+  of the second order: u = 0 and du/dt = 0 kept by the same convex combination, lam now
+  making d2u/dt2 = 0; Filippov, §19), until |lam| reaches 1.
 
 The surfaces are found in the equations of motion (:func:`switching_functions`); one slides
 at a time (a second sliding surface is refused by name).  A mode is a value
@@ -77,21 +84,25 @@ def has_switching(eom: EquationsOfMotion) -> bool:
 
 
 class SwitchMode(NamedTuple):
-    """A mode of a switched right-hand side: s_k = +-1 for every surface (``signs``), and the
-    surface the motion slides on, or None."""
+    """A mode of a switched right-hand side: s_k = +-1 for every surface (``signs``), the
+    surface the motion slides on, or None, and the ``order`` of that slide (1: u = 0 kept
+    by du/dt = 0; 2: resting on a kink, u = du/dt = 0 kept by d2u/dt2 = 0)."""
 
     signs: tuple[float, ...]
     sliding: int | None = None
+    order: int = 1
 
     def leaving(self, k: int, side: float) -> SwitchMode:
         """The mode on the side ``side`` (+1, -1) of surface k (ending a slide on it)."""
         signs = list(self.signs)
         signs[k] = side
-        return SwitchMode(tuple(signs), None if self.sliding == k else self.sliding)
+        if self.sliding == k:
+            return SwitchMode(tuple(signs))
+        return SwitchMode(tuple(signs), self.sliding, self.order)
 
-    def sliding_on(self, k: int) -> SwitchMode:
-        """The mode sliding on surface k."""
-        return SwitchMode(self.signs, k)
+    def sliding_on(self, k: int, order: int = 1) -> SwitchMode:
+        """The mode sliding on surface k (resting on it with ``order`` 2)."""
+        return SwitchMode(self.signs, k, order)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -106,7 +117,11 @@ class SwitchedDynamics(WithoutConstraints):
     multiplier_names: tuple[str, ...] = ()
     compiled: CompiledEquations = dataclasses.field(init=False, repr=False)
     surfaces: tuple[sp.Expr, ...] = dataclasses.field(init=False, repr=False)
-    functions: tuple[NumericFunction, NumericFunction] = dataclasses.field(init=False, repr=False)
+    functions: tuple[NumericFunction, NumericFunction, NumericFunction] = dataclasses.field(
+        init=False, repr=False
+    )
+    #: Whether each surface is one of the configuration alone (u_k(q, t): a kink to rest on).
+    kinks: tuple[bool, ...] = dataclasses.field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         eom = self.eom
@@ -121,10 +136,17 @@ class SwitchedDynamics(WithoutConstraints):
         values = NumericFunction(groups, list(surfaces), (len(surfaces),))
         gradient = [u.diff(v) for u in surfaces for v in (*q, *qd, t)]
         rates = NumericFunction(groups, gradient, (len(surfaces), 2 * len(q) + 1))
+        # du/dt of a surface u(q, t), whose gradient gives d2u/dt2 along a field (the rest on
+        # a kink); zero for a surface of the velocities, never rested on
+        kinks = tuple(not (u.free_symbols & set(qd)) for u in surfaces)
+        first = [_rate(u, q, qd, t) if kink else sp.S.Zero for u, kink in zip(surfaces, kinks)]
+        second = [w.diff(v) for w in first for v in (*q, *qd, t)]
+        second_rates = NumericFunction(groups, second, (len(surfaces), 2 * len(q) + 1))
         # a frozen value filled once, here: the compiled forms of the same equations
         object.__setattr__(self, "surfaces", surfaces)
+        object.__setattr__(self, "kinks", kinks)
         object.__setattr__(self, "compiled", _moded_equations(eom))
-        object.__setattr__(self, "functions", (values, rates))
+        object.__setattr__(self, "functions", (values, rates, second_rates))
 
     @property
     def n(self) -> int:
@@ -143,35 +165,38 @@ class SwitchedDynamics(WithoutConstraints):
         return self.compiled.rhs(t, x, np.concatenate([self.p, signs]))
 
     def sides(
-        self, mode: SwitchMode, k: int, t: float, x: np.ndarray
+        self, mode: SwitchMode, k: int, t: float, x: np.ndarray, order: int = 1
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The fields f+ and f- (s_k = +1, -1, the others as in the mode) and the gradient of
-        u_k in (q, q_dot, t): everything a switch or a slide on surface k needs, two field
-        evaluations."""
-        grad = np.asarray(self.functions[1](x[: self.n], x[self.n :], t, self.p))[k]
+        u_k in (q, q_dot, t) (``order`` 2: of du_k/dt): everything a switch or a slide on
+        surface k needs, two field evaluations."""
+        gradients = self.functions[order]
+        grad = np.asarray(gradients(x[: self.n], x[self.n :], t, self.p))[k]
         plus, minus = mode.leaving(k, 1.0).signs, mode.leaving(k, -1.0).signs
         return self.field_in(plus, t, x), self.field_in(minus, t, x), grad
 
     def rates(
-        self, mode: SwitchMode, k: int, t: float, x: np.ndarray
+        self, mode: SwitchMode, k: int, t: float, x: np.ndarray, order: int = 1
     ) -> tuple[float, float, float]:
-        """du_k/dt along f+ and f-, and the size of the terms (for the tolerance of a
-        decision)."""
-        up, down, scale, _, _ = self._rates_and_fields(mode, k, t, x)
+        """du_k/dt (``order`` 2: d2u_k/dt2) along f+ and f-, and the size of the terms (for
+        the tolerance of a decision)."""
+        up, down, scale, _, _ = self._rates_and_fields(mode, k, t, x, order)
         return up, down, scale
 
     def sliding_share(
         self, mode: SwitchMode, k: int, t: float, x: np.ndarray
     ) -> tuple[float, np.ndarray]:
-        """lam and the Filippov field on the surface u_k = 0."""
-        up, down, _, f_plus, f_minus = self._rates_and_fields(mode, k, t, x)
+        """lam and the Filippov field on the surface u_k = 0 (resting on it: on u_k = 0 and
+        du_k/dt = 0, the order of the mode)."""
+        order = mode.order if mode.sliding == k else 1
+        up, down, _, f_plus, f_minus = self._rates_and_fields(mode, k, t, x, order)
         lam = -(up + down) / (up - down) if up != down else 0.0
         return lam, (1 + lam) / 2 * f_plus + (1 - lam) / 2 * f_minus
 
     def _rates_and_fields(
-        self, mode: SwitchMode, k: int, t: float, x: np.ndarray
+        self, mode: SwitchMode, k: int, t: float, x: np.ndarray, order: int = 1
     ) -> tuple[float, float, float, np.ndarray, np.ndarray]:
-        f_plus, f_minus, grad = self.sides(mode, k, t, x)
+        f_plus, f_minus, grad = self.sides(mode, k, t, x, order)
         up = float(grad[:-1] @ f_plus + grad[-1])
         down = float(grad[:-1] @ f_minus + grad[-1])
         largest = max(np.abs(f_plus).max(), np.abs(f_minus).max())
@@ -185,13 +210,19 @@ class SwitchedDynamics(WithoutConstraints):
         is the side the motion arrives from (its old s_k)."""
         up, down, scale = self.rates(mode, k, t, x)
         tolerance = DECISION_TOLERANCE * scale
+        order, outcome = 1, "slide"
+        if self.kinks[k] and abs(up) <= tolerance and abs(down) <= tolerance:
+            # on a kink with du/dt = 0 on both sides: the accelerations decide
+            order, outcome = 2, "rest"
+            up, down, scale = self.rates(mode, k, t, x, order=2)
+            tolerance = DECISION_TOLERANCE * scale
         if up <= tolerance and down >= -tolerance and (up < -tolerance or down > tolerance):
             if mode.sliding is not None and mode.sliding != k:
                 raise SimulationError(
                     f"the motion slides on two switching surfaces at once, {self.surfaces[k]} "
                     f"= 0 and {self.surfaces[mode.sliding]} = 0, at t = {t:.6g}: not supported"
                 )
-            return mode.sliding_on(k), "slide"
+            return mode.sliding_on(k, order), outcome
         if up > tolerance and down > tolerance:
             side = 1.0
         elif up < -tolerance and down < -tolerance:
@@ -273,6 +304,11 @@ class _Surface:
             lam, _ = self.switched.sliding_share(self.mode, self.k, t, x)
             return 1.0 - abs(lam)
         return float(self.switched.values(t, x)[self.k]) * self.mode.signs[self.k]
+
+
+def _rate(u: sp.Expr, q: list[sp.Symbol], q_dot: list[sp.Symbol], t: sp.Symbol) -> sp.Expr:
+    """du/dt = sum_i du/dq_i q_dot_i + du/dt of a surface u(q, t)."""
+    return sum((u.diff(qi) * vi for qi, vi in zip(q, q_dot)), u.diff(t))
 
 
 def _moded_equations(eom: EquationsOfMotion) -> CompiledEquations:

@@ -27,6 +27,8 @@ from __future__ import annotations
 import ast
 import difflib
 import heapq
+import keyword
+import math
 import re
 import warnings
 from collections.abc import Callable, Iterable, Mapping
@@ -35,7 +37,9 @@ from typing import NamedTuple, NoReturn, TypeGuard
 import sympy as sp
 
 from lagrangian.errors import ExpressionError, Problem, TimeLimitError, raise_if_problems
+from lagrangian.size_limits import active_operations, raise_advice
 from lagrangian.symbolic.caches import remembered
+from lagrangian.symbolic.names import name_problem
 
 MAX_LENGTH = 10_000
 MAX_DEPTH = 100
@@ -347,6 +351,7 @@ class ParseCache:
         self.checked: set[sp.Basic] = set()
         self.degrees: dict[sp.Basic, dict[sp.Basic, int]] = {}
         self.products: dict[sp.Basic, int] = {}
+        self.harmonics: dict[sp.Basic, int] = {}
         self.bits: dict[sp.Basic, int] = {}
         self.written: dict[sp.Basic, int] = {}
 
@@ -595,6 +600,11 @@ class _Builder:
 
     def _name(self, node: ast.Name) -> sp.Expr:
         name = node.id
+        written = self.segment(node)  # as typed: Python reads 𝐱 and ｘ as x (NFKC)
+        if not written.isascii():
+            found = name_problem(written)
+            if found is not None:
+                self.refuse(node, *found)
         if name.startswith("_"):
             self.refuse(node, f"the name {name!r} is not allowed", "names cannot start with '_'")
         if name in self.names:
@@ -641,6 +651,9 @@ def _read(text: str) -> ast.Expression:
         if "integer string conversion" in error.msg:  # Python's own limit, 4300 digits
             raise _Refusal(*_TOO_BIG, at) from None
         fix = "check for a missing operator (2*x, not 2x) or an unbalanced parenthesis"
+        word = next((w for w in re.findall(r"\w+", text) if keyword.iskeyword(w)), None)
+        if word is not None:  # lambda, as a name, stops Python's parser
+            fix = f"{word!r} is a Python keyword, not a name: write {word}_ or another name"
         if "\n" in text.rstrip():
             fix += "; wrap an expression of several lines in parentheses"
         raise _Refusal(f"cannot read the expression: {error.msg}", fix, at) from None
@@ -799,21 +812,30 @@ def _degrees(value: sp.Basic, memo: dict[sp.Basic, dict[sp.Basic, int]]) -> dict
     return found
 
 
-def _products(value: sp.Basic, limit: int, memo: dict[sp.Basic, int]) -> int:
+def _products(
+    value: sp.Basic, limit: int, memo: dict[sp.Basic, int], *, harmonics: bool = False
+) -> int:
     """The terms of ``value`` multiplied out, like terms not merged (at most ``limit + 1``;
-    ``memo``: the counts of parts found before, for this ``limit``)."""
+    ``memo``: the counts of parts found before, for this ``limit`` and ``harmonics``).
+    ``harmonics``: a power of a sum with sines and cosines counts its harmonics
+    (:func:`harmonic_terms`), not its monomials."""
     count = memo.get(value)
     if count is not None:
         return count
     count = 1  # a symbol, a number, a function: its arguments are not multiplied out
     if isinstance(value, sp.Add):
-        count = min(limit + 1, sum(_products(a, limit, memo) for a in value.args))
+        count = min(
+            limit + 1, sum(_products(a, limit, memo, harmonics=harmonics) for a in value.args)
+        )
     elif isinstance(value, sp.Mul):
         for factor in value.args:
-            count = min(limit + 1, count * _products(factor, limit, memo))
+            count = min(limit + 1, count * _products(factor, limit, memo, harmonics=harmonics))
     elif isinstance(value, sp.Pow) and value.exp.is_Integer and value.exp > 1:
-        terms = _products(value.base, limit, memo)
+        terms = _products(value.base, limit, memo, harmonics=harmonics)
         n = int(value.exp)
+        if harmonics and value.base.has(*_TRIG):
+            memo[value] = count = _delannoy(terms, n, limit)
+            return count
         # C(n + terms - 1, terms - 1): the monomials of degree n in ``terms``
         for i in range(1, min(n, terms - 1) + 1):
             count = count * (n + terms - 1 - min(n, terms - 1) + i) // i
@@ -822,6 +844,60 @@ def _products(value: sp.Basic, limit: int, memo: dict[sp.Basic, int]) -> int:
                 break
     memo[value] = count
     return count
+
+
+#: The operations of one term of a sum of harmonics: its coefficient, its product, the sine
+#: or cosine and its argument.
+OPERATIONS_PER_HARMONIC = 4
+_TRIG = (sp.sin, sp.cos)
+
+
+def harmonic_terms(value: sp.Basic, limit: int = MAX_TERMS) -> int:
+    """At most how many terms ``value`` has once its powers and products of sines and
+    cosines are multiplied out into sums of harmonics, as the derivation reduces them
+    (capped at ``limit + 1``).  The frequencies of a power n of a sum of k terms with sines
+    and cosines are the integer vectors h in k dimensions with |h|_1 <= n, whose number is
+    the Delannoy number D(k, n) = sum_j 2^j C(k, j) C(n, j); h and -h make one term, and
+    those of the wrong parity cancel, which leaves about D(k, n) / 3 (as counted against
+    SymPy's product-to-sum expansion in the tests).  (sin a + sin b + sin c + cos d)**40 has
+    some 600,000 harmonics, where its 12,341 monomials would suggest a small sum.
+
+    >>> a, b = sp.symbols("a b")
+    >>> harmonic_terms(sp.sin(a) ** 3), harmonic_terms((sp.sin(a) + sp.cos(b)) ** 2)
+    (3, 5)
+    """
+    return _products(value, limit, {}, harmonics=True)
+
+
+def _delannoy(k: int, n: int, limit: int) -> int:
+    """The harmonics of a power n of k terms, D(k, n) / 3 rounded up (:func:`harmonic_terms`),
+    capped at ``limit + 1``."""
+    total = 0
+    for j in range(min(k, n) + 1):
+        total += 2**j * math.comb(k, j) * math.comb(n, j)
+        if total > 3 * limit:
+            return limit + 1
+    return -(-total // 3)
+
+
+def _check_harmonics(value: sp.Basic, memo: dict[sp.Basic, int]) -> None:
+    """Refuse, by the size limit (:mod:`lagrangian.size_limits`), an expression whose sines
+    and cosines multiply out into more operations than the limit allows (predicted from its
+    structure before any work)."""
+    if not value.has(*_TRIG):
+        return
+    limit = active_operations()
+    terms_limit = int(min(limit, 10**12)) // OPERATIONS_PER_HARMONIC
+    terms = _products(value, terms_limit, memo, harmonics=True)
+    if terms > terms_limit:
+        predicted = f"more than {terms_limit * OPERATIONS_PER_HARMONIC:,}"
+        raise _Refusal(
+            f"multiplied out into sums of harmonics (as the derivation reduces sines and "
+            f"cosines), this expression would have {predicted} operations, beyond the size "
+            f"limit of {limit:,.0f}",
+            f"write it with fewer or lower powers of sums of sines and cosines; or "
+            f"{raise_advice()}",
+        )
 
 
 def expanded_bits(value: sp.Basic) -> int:
@@ -898,6 +974,7 @@ def _check_result(
             f"multiplied out, this expression has more than {MAX_TERMS:,} terms",
             "write it with fewer or shorter sums under powers and products",
         )
+    _check_harmonics(value, shared.harmonics)
     written = _written_bits(value, shared.written)
     if (bits := _bits_memo(value, shared.bits)) > written + MAX_EXPANDED_BITS:
         raise _Refusal(

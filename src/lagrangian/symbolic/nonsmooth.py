@@ -100,3 +100,26 @@ def jacobian(exprs: Any, variables: Any) -> sp.Matrix:
     if not any(e.has(*NONSMOOTH) for e in column):
         return column.jacobian(variables)
     return sp.Matrix(len(column), len(variables), lambda i, j: derivative(column[i], variables[j]))
+
+
+def kinks_in(expr: Any, variables: Any) -> list[sp.Expr]:
+    """The Abs, sign and Heaviside parts of ``expr`` whose argument depends on ``variables``,
+    in a fixed order.
+
+    A kinetic energy with such a part in the velocities has a momentum dT/dq_dot that jumps
+    where the part's argument changes sign, and a mass matrix holding an impulse there: no
+    equations of motion between the jumps describe it (a force by the sign of a velocity,
+    Coulomb friction, is a dissipation function).  Even Abs(v)**2, equal to v**2 for a real
+    v, differentiates almost everywhere to a mass matrix 2 sign(v)**2 that vanishes at rest:
+    it is found too, for the user to write v**2.
+
+    >>> x, v = sp.symbols("x v")
+    >>> kinks_in(v**2/2 + sp.Abs(v), [v]), kinks_in(v**2 + sp.Abs(x), [v])
+    ([Abs(v)], [])
+    """
+    expr = sympy_object(expr)
+    if not isinstance(expr, sp.Basic) or not expr.has(*NONSMOOTH):
+        return []
+    wanted = set(variables)
+    found = {f for f in expr.atoms(*NONSMOOTH) if f.args[0].free_symbols & wanted}
+    return sorted(found, key=sp.default_sort_key)

@@ -18,6 +18,10 @@ change, keeping the rows computed so far:
   run that still needs more than :data:`STIFF_STEPS_LEFT` steps at its current step size is
   stopped with the advice to use an implicit method (Radau, BDF, LSODA); a shorter one ends
   normally, with the advice in its note;
+* one budget for the **whole run**: a run integrated piece by piece (switching, active
+  sets, impacts: :mod:`lagrangian.simulation.integrators.piecewise`) hands the same Budget
+  to every piece, so its steps, its wall time and its step-size history add up across
+  the pieces (a motion switching a million times spends a million steps, not one per piece);
 * a **collapsed step size** (the last :data:`COLLAPSE_STEPS` steps advanced t by less than
   :data:`COLLAPSE` of the time span) stops the run: an integrator creeping at 1e-12 per step
   at a singularity would otherwise fill the memory before its step budget is spent.
@@ -35,6 +39,7 @@ import numpy as np
 from lagrangian.errors import Fix, Setting
 
 if TYPE_CHECKING:  # the protocol module imports the inputs, which import this module
+    from lagrangian.simulation.inputs import Inputs
     from lagrangian.simulation.integrators.protocol import Stepper
 
 #: Accepted steps a run may take unless ``max_steps`` says otherwise (about a minute and a
@@ -110,6 +115,11 @@ class Budget:
     _recent: deque[bool] = field(default_factory=lambda: deque(maxlen=WINDOW))
     _times: deque[float] = field(default_factory=lambda: deque(maxlen=COLLAPSE_STEPS))
 
+    @classmethod
+    def of(cls, inputs: Inputs) -> Budget:
+        """The budget of a run from its checked inputs (its method, step and time budgets)."""
+        return cls(inputs.method, inputs.max_steps, inputs.max_wall_time, start=inputs.t_span[0])
+
     def spend(self, solver: Stepper, t_old: float, y_old: np.ndarray, t_end: float) -> Fix | None:
         """Count the step just taken; the reason to stop (with the options that would let
         the run go on), or None."""
@@ -124,6 +134,12 @@ class Budget:
             step = abs(solver.t - t_old)
             if step > 0 and abs(t_end - solver.t) / step > STIFF_STEPS_LEFT:
                 return stiffness_message(self.method, self.stiff_since, step)
+        return self.used_up()
+
+    def used_up(self) -> Fix | None:
+        """The reason to stop when the steps or the wall time are spent, else None (checked
+        after every step, and by the piecewise loop between two pieces: a piece ended by its
+        guard says nothing of the budget)."""
         if self.steps >= self.max_steps:
             return step_budget_message(self.max_steps, self.stiff_since)
         if self.max_wall_time is not None and time.monotonic() - self.started > self.max_wall_time:

@@ -54,7 +54,10 @@ class SolverIntegrator:
         inputs: Inputs,
         watch: EventWatch | None,
         progress: Progress | None,
+        budget: Budget | None = None,
     ) -> Integration:
+        """Step ``dynamics`` with the solver of ``inputs.method``; ``budget`` is the run's
+        when this is one piece of it (the piecewise loop), else the inputs' own."""
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             return integrate(
                 solver_starter(dynamics.field, inputs),
@@ -64,9 +67,7 @@ class SolverIntegrator:
                 watch,
                 progress,
                 dynamics.projection(),
-                Budget(
-                    inputs.method, inputs.max_steps, inputs.max_wall_time, start=inputs.t_span[0]
-                ),
+                budget if budget is not None else Budget.of(inputs),
             )
 
 
@@ -157,6 +158,13 @@ def integrate(
         if watch is not None:
             watch.start(t0, x0)
         while solver.status == "running":
+            if not np.isfinite(getattr(solver, "h_abs", 0.0)):
+                # SciPy's adaptive solvers shrink a step size that is NaN for ever
+                failure = (
+                    f"The equations of motion are not finite numbers at t = {solver.t:.6g}: "
+                    "no step size can be chosen (an overflow or a division by zero there)."
+                )
+                break
             t_old, y_old = solver.t, solver.y.copy()
             message = solver.step()
             if solver.status == "failed":

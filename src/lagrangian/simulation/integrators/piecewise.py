@@ -14,6 +14,9 @@ Systems*, 2012, ch. 2; Filippov's sliding and Moreau's active sets are such syst
             terminal event of the caller; at a guard: jump = transition(mode, guard, t, x);
             mode, x = settle(jump.mode, t, jump.state)
 
+The run has one :class:`~lagrangian.simulation.integrators.budget.Budget`, handed to every
+piece: its steps and wall time add up over the pieces (a motion switching without end stops
+at the run's ``max_steps`` or ``max_wall_time``, never a fresh budget per piece).
 The mode is a value (a frozen tuple or set): a hybrid Dynamics never changes.  The caller's
 events are watched across every piece (their terminal counts carried over); the pieces are
 joined into one :class:`~lagrangian.simulation.integrators.protocol.Integration` whose rows
@@ -39,8 +42,10 @@ import numpy as np
 
 from lagrangian.simulation.impacts import ImpactRecord
 from lagrangian.simulation.inputs import Inputs
+from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.events import EventFunction, EventWatch
-from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Integrator, Progress
+from lagrangian.simulation.integrators.loop import SolverIntegrator
+from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Progress
 
 Mode = TypeVar("Mode", bound=Hashable)
 #: An event as the Integration records it: (name, time, state).
@@ -109,7 +114,7 @@ class PiecewiseIntegrator:
     """The :class:`~lagrangian.simulation.integrators.protocol.Integrator` of every hybrid
     motion: its pieces stepped by ``inner`` (module docstring)."""
 
-    inner: Integrator[Dynamics]
+    inner: SolverIntegrator
 
     def run(
         self,
@@ -126,7 +131,7 @@ def integrate_piecewise(
     inputs: Inputs,
     watch: EventWatch | None,
     progress: Progress | None,
-    inner: Integrator[Dynamics],
+    inner: SolverIntegrator,
     disarmed: str | None = None,
 ) -> Integration:
     """Integrate ``hybrid`` piece by piece with ``inner`` (module docstring) from the checked
@@ -138,6 +143,7 @@ def integrate_piecewise(
     mode, entered = _settled(hybrid, *hybrid.initial_mode(t0, inputs.x0), t0, inputs.x0)
     pieces: list[Integration] = []
     current = inputs
+    budget = Budget.of(inputs)  # the whole run's, spent by every piece
     while True:
         piece = hybrid.piece(mode)
         guards = list(hybrid.guards(mode, piece))
@@ -146,7 +152,7 @@ def integrate_piecewise(
         piece_watch.disarmed = {
             len(own) + k for k, g in enumerate(guards) if g.__name__ == disarmed
         }
-        run = inner.run(piece, current, piece_watch, progress)
+        run = inner.run(piece, current, piece_watch, progress, budget)
         counts = piece_watch.counts[: len(own)].copy()
         guard = next((g for g in guards if g.__name__ == run.stopped_by), None)
         mine = {g.__name__ for g in guards}
@@ -155,6 +161,12 @@ def integrate_piecewise(
         run = hybrid.completed(mode, piece, dataclasses.replace(run, events=theirs))
         if run.status != "success" or stop is None:
             pieces.append(_on_output_times(run, current))
+            break
+        spent = budget.used_up()
+        if spent is not None:  # the guard ended the piece on the budget's last step
+            _, t_stop, x_stop = stop
+            ended = dataclasses.replace(run, failure=spent, t_reached=t_stop, x_reached=x_stop)
+            pieces.append(_on_output_times(ended, current))
             break
         _, t_jump, x_jump = stop
         jump = hybrid.transition(mode, guard, t_jump, x_jump)  # type: ignore[arg-type]
