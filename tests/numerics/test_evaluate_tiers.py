@@ -39,3 +39,21 @@ def test_single_states_count_towards_the_optimized_tier(monkeypatch: pytest.Monk
     assert f._optimized
     for value in values:
         np.testing.assert_allclose(value, closed_form(np.array([[0.5, -0.25]]), 1.0)[0])
+
+
+def test_heaviside_compiles_natively_with_sympys_values() -> None:
+    # SymEngine does not know Heaviside; written with sign it compiles (the fallback's
+    # common-subexpression search took minutes on Heaviside(x**200)).  The reference is
+    # SymPy's own value at each point, H(0) = 1/2 unless given.
+    x = sp.Symbol("x")
+    steps = [
+        sp.Heaviside(x**3 - x),
+        sp.Heaviside(x - 1, 0),
+        sp.Heaviside(x + 1, 1),
+        x * sp.Heaviside(x),
+    ]
+    function = NumericFunction(([x],), steps, shape=(4,))
+    assert function._native is not None
+    for value in (-2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0):
+        expected = [float(s.subs(x, value)) for s in steps]
+        np.testing.assert_allclose(function([value]), expected, rtol=0, atol=1e-15)

@@ -2,8 +2,9 @@
 
 The expressions are compiled once to machine code by SymEngine's LLVM backend
 (``symengine.Lambdify(..., backend="llvm", cse=True)``: common subexpressions computed once,
-a few milliseconds to compile, a few microseconds a call); where SymEngine cannot (a function
-it does not know, such as Heaviside, or a SymEngine built without LLVM) they fall back to
+a few milliseconds to compile, a few microseconds a call; Heaviside, which SymEngine does not
+know, is compiled written with sign); where SymEngine cannot (a function it does not know, or
+a SymEngine built without LLVM) they fall back to
 ``sympy.lambdify(..., modules="numpy", cse=True)``, which gives the same numbers.
 
 Compilation is tiered, as in a JIT: the first call compiles without LLVM's optimization passes
@@ -50,6 +51,32 @@ OPTIMIZE_AFTER_ROWS = 5000
 
 #: An argument group: a list of symbols (an array argument) or one symbol (a scalar argument).
 Group: TypeAlias = "Sequence[sp.Symbol] | sp.Symbol"
+
+
+def with_signs(expr: Any) -> Any:
+    """Heaviside(u, h0) written with sign, which SymEngine compiles (SymPy's lambdify would
+    run its common-subexpression search over the whole expression instead: minutes for
+    Heaviside(x**200)): (1 + sign(u))/2, plus (h0 - 1/2)(1 - sign(u)**2) for a value at 0
+    other than 1/2.
+
+    >>> x = sp.Symbol("x")
+    >>> with_signs(sp.Heaviside(x - 1))
+    sign(x - 1)/2 + 1/2
+    """
+    if not isinstance(expr, sp.Basic) or not expr.has(sp.Heaviside):
+        return expr
+
+    def step(u: sp.Expr, h0: sp.Expr = sp.S.Half) -> sp.Expr:
+        jump = (1 + sp.sign(u)) / 2
+        return jump if h0 == sp.S.Half else jump + (h0 - sp.S.Half) * (1 - sp.sign(u) ** 2)
+
+    return expr.replace(lambda e: isinstance(e, sp.Heaviside), lambda e: step(*e.args))
+
+
+def _has_symengine_step(expr: Any) -> bool:
+    return isinstance(expr, se.Basic) and any(
+        f.get_name() == "Heaviside" for f in expr.atoms(se.FunctionSymbol)
+    )
 
 
 class NumericFunction:
@@ -123,16 +150,26 @@ class NumericFunction:
         # SymEngine's CSE names its temporaries x0, x1, ...: a user's x1 would be taken for
         # one, so every argument gets a name no model can have
         renamed = {se.sympify(s): se.Symbol(f"_arg{i}_") for i, s in enumerate(symbols)}
+        expressions = self._compilable()
         try:
             return se.Lambdify(
                 list(renamed.values()),
-                [se.sympify(e).xreplace(renamed) for e in self._expressions],
+                [se.sympify(e).xreplace(renamed) for e in expressions],
                 backend="llvm",
                 cse=True,
                 opt_level=3 if optimize else 0,
             )
         except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
             return None
+
+    def _compilable(self) -> list[Any]:
+        """The expressions with Heaviside written with sign (SymEngine's own expressions
+        replaced by their SymPy form where they hold one: SymEngine keeps it as a SymPy
+        function, which it cannot compile)."""
+        expressions = self._expressions
+        if self._sympy_form is not None and any(map(_has_symengine_step, expressions)):
+            expressions = [piecewise_smooth(e) for e in self._sympy_form()]
+        return [with_signs(e) for e in expressions]
 
     def __call__(self, *arguments: Any) -> np.ndarray:
         if self._native is not None:
