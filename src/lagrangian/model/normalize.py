@@ -177,6 +177,7 @@ def _parameters(raw: Any, problems: list[Problem]) -> dict[sp.Symbol, float | No
         return {}
     items = raw.items() if isinstance(raw, Mapping) else ((name, None) for name in raw)
     result: dict[sp.Symbol, float | None] = {}
+    names: set[str] = set()  # a set, not a scan of result: linear in the number declared
     for key, value in items:
         symbol = sp.Symbol(key) if isinstance(key, str) else key
         if not isinstance(symbol, sp.Symbol):
@@ -186,13 +187,14 @@ def _parameters(raw: Any, problems: list[Problem]) -> dict[sp.Symbol, float | No
                 )
             )
             continue
-        if symbol in result or any(s.name == symbol.name for s in result):
+        if symbol.name in names:
             problems.append(
                 Problem(
                     f"parameters.{symbol.name}", "declared twice", "declare each parameter once"
                 )
             )
             continue
+        names.add(symbol.name)
         result[symbol] = _parameter_value(symbol.name, value, problems)
     return result
 
