@@ -58,12 +58,26 @@ _PLACE = (types.int64, _integers, _vector)
 
 _SIGNATURES = {
     "midpoint": types.int64(
-        *_FUNCTIONS, _DATA, _vector, _SCHEDULE, types.boolean, _MIDPOINT_STATE, *_PLACE, _OUT,
+        *_FUNCTIONS,
+        _DATA,
+        _vector,
+        _SCHEDULE,
+        types.boolean,
+        _MIDPOINT_STATE,
+        *_PLACE,
+        _OUT,
         _matrix,
     ),
     "collocation": types.int64(
-        *_FUNCTIONS, _DATA, _vector, _SCHEDULE, types.boolean, _TABLEAU, _COLLOCATION_STATE,
-        *_PLACE, _OUT,
+        *_FUNCTIONS,
+        _DATA,
+        _vector,
+        _SCHEDULE,
+        types.boolean,
+        _TABLEAU,
+        _COLLOCATION_STATE,
+        *_PLACE,
+        _OUT,
     ),
 }
 _MARCHES = {"midpoint": march_midpoint, "collocation": march_collocation}

@@ -29,9 +29,9 @@ from numba import njit
 
 from lagrangian.numerics.discrete_lagrangian import MAX_ITERATIONS, RESIDUAL_GUARD
 from lagrangian.numerics.fast.discrete_nodes import (
+    END_ROW,
     EVALUATIONS,
     FIRST_ROW,
-    END_ROW,
     KNOWN,
     NODE,
     next_node,

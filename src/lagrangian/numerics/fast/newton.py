@@ -42,11 +42,11 @@ VELOCITY_SINGULAR = 5
 
 
 @intrinsic
-def _data_pointer(typingctx, array):  # type: ignore[no-untyped-def]
+def _data_pointer(typingctx, array):
     """The pointer to the first element of ``array``."""
     signature = types.CPointer(array.dtype)(array)
 
-    def codegen(context, builder, signature, arguments):  # type: ignore[no-untyped-def]
+    def codegen(context, builder, signature, arguments):
         return context.make_array(array)(context, builder, arguments[0]).data
 
     return signature, codegen
@@ -60,7 +60,7 @@ def unowned(array):
     inline, by an atomic operation: a few per argument per call, most of the time of a step
     of a small system.  A view without an owner skips them; whoever made ``array`` keeps it
     alive while the view is used (:func:`hold`)."""
-    return carray(_data_pointer(array), array.shape)
+    return carray(_data_pointer(array), array.shape)  # type: ignore[call-arg]
 
 
 @njit(cache=False, nogil=True, error_model="numpy")

@@ -9,10 +9,10 @@ step, in numba loops.
 whose nodes the march makes as it reaches them: the memory of a run is that of its output
 rows) and returns the same :class:`~lagrangian.simulation.variational.march.Run`: the same
 equations, Newton iterations, tolerances and starting guesses, so the two trajectories agree
-to rounding (the tests hold them to 1e-10).  The system's terms are compiled to C functions by SymEngine's
-LLVM backend (milliseconds, :mod:`lagrangian.numerics.fast.discrete`) and the loop, compiled
-once per machine, calls them (:mod:`lagrangian.numerics.fast.midpoint`,
-:mod:`lagrangian.numerics.fast.collocation`): under a microsecond a step for a double
+to rounding (the tests hold them to 1e-10).  The system's terms are compiled to C functions
+by SymEngine's LLVM backend (milliseconds, :mod:`lagrangian.numerics.fast.discrete`) and the
+loop, compiled once per machine, calls them (:mod:`lagrangian.numerics.fast.midpoint`,
+:mod:`lagrangian.numerics.fast.collocation`): about a microsecond a step for a double
 pendulum, against a few hundred for the NumPy march.  :func:`fast_collocation_march` does the
 same for :func:`~lagrangian.simulation.variational.collocation_march.collocation_march`.
 
@@ -34,13 +34,13 @@ import numpy as np
 
 from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics
 from lagrangian.numerics.fast.discrete import native_mechanics
-from lagrangian.numerics.fast.discrete_nodes import CURSOR, EVALUATIONS, NODE
 from lagrangian.numerics.fast.discrete_loops import (
     discrete_march,
     output_arrays,
     run_march,
     system_arguments,
 )
+from lagrangian.numerics.fast.discrete_nodes import CURSOR, EVALUATIONS, NODE
 from lagrangian.numerics.fast.newton import (
     POSITION_DIVERGED,
     POSITION_SINGULAR,
@@ -170,18 +170,17 @@ def schedule_arrays(
     advance (with the output indices) or a StepSchedule, its number of output rows and of
     steps."""
     if isinstance(nodes, StepSchedule):
-        span = [nodes.t0, nodes.dt, nodes.t1, nodes.tolerance, nodes.count]
         every = nodes.t_out is None
+        # with every node an output none is left out: the grid is the uniform one alone
+        tolerance = -1.0 if every else nodes.tolerance
+        span = np.array([nodes.t0, nodes.dt, nodes.t1, tolerance, nodes.count], dtype=float)
         wanted = np.zeros(0) if nodes.t_out is None else np.sort(nodes.t_out)
-        if every:
-            span[3] = -1.0  # no node is left out: the grid is the uniform one alone
-        schedule = (np.array(span, dtype=float), wanted, wanted, every)
-        return schedule, nodes.rows, nodes.count + len(wanted)
+        return (span, wanted, wanted, every), nodes.rows, nodes.count + len(wanted)
     grid = np.ascontiguousarray(nodes, dtype=float)
     chosen = np.arange(len(grid)) if outputs is None else np.asarray(outputs)
-    span = np.array([grid[0], 0.0, grid[-1], 0.0, -1.0])
-    wanted = np.ascontiguousarray(grid[chosen], dtype=float)
-    return (span, grid, wanted, False), len(chosen), len(grid) - 1
+    bounds = np.array([grid[0], 0.0, grid[-1], 0.0, -1.0])
+    given = np.ascontiguousarray(grid[chosen], dtype=float)
+    return (bounds, grid, given, False), len(chosen), len(grid) - 1
 
 
 def failure_message(status: int, clock: np.ndarray) -> str | None:

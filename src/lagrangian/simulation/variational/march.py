@@ -197,10 +197,8 @@ def end_multipliers(halves: np.ndarray, last: int, first: bool) -> np.ndarray:
     three (rows 3-5, by k mod 3), as :func:`node_multipliers` gives them from every step's."""
     m = (halves.shape[1] - 1) // 2
     steps = min(last, 3)
-    if first:
-        taken = halves[:steps]
-    else:
-        taken = halves[[3 + k % 3 for k in range(last - steps, last)]]
+    rows = range(steps) if first else [3 + k % 3 for k in range(last - steps, last)]
+    taken = halves[list(rows)]
     grid = np.concatenate(([0.0], np.cumsum(taken[:, 2 * m])))
     node = 0 if first else steps
     return node_multipliers(grid, taken[:, :m], taken[:, m : 2 * m], steps, np.array([node]))[0]
