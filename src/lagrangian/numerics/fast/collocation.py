@@ -21,9 +21,9 @@ from lagrangian.numerics.discrete_lagrangian import (
 )
 from lagrangian.numerics.fast.discrete_nodes import (
     EVALUATIONS,
-    NODE,
+    arrive,
+    begin,
     next_node,
-    record,
     wants_output,
 )
 from lagrangian.numerics.fast.newton import (
@@ -284,11 +284,7 @@ def collocation_steps(
     q1, momentum1, v_old = vectors[0], vectors[1], vectors[2]
     matrix, rhs = velocity_work
     solver = (matrix, rhs, v_old)
-    if cursor[NODE] < 0:
-        clock[2] = next_node(schedule, cursor, clock)
-        cursor[NODE] = 0
-        clock[3] = next_node(schedule, cursor, clock)
-        record(schedule, cursor, clock[2], clock[3] == np.inf, q, v, h, jacobian, rate, out)
+    begin(schedule, cursor, clock, q, v, h, jacobian, rate, out)
     for _ in range(steps):
         t0, t1 = clock[2], clock[3]
         if t1 == np.inf:
@@ -318,7 +314,5 @@ def collocation_steps(
                 return status
         q[:] = q1
         previous[0] = dt
-        clock[0], clock[1], clock[2], clock[3] = clock[1], t0, t1, t2
-        cursor[NODE] += 1
-        record(schedule, cursor, t1, t2 == np.inf, q, v, h, jacobian, rate, out)
+        arrive(schedule, cursor, clock, t2, q, v, h, jacobian, rate, out)
     return RUNNING

@@ -110,3 +110,24 @@ def record(schedule, cursor, t, last, q, v, h, jacobian, rate, out) -> None:
         if every:
             break
     cursor[END_ROW] = cursor[ROW]
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def begin(schedule, cursor, clock, q, v, h, jacobian, rate, out) -> None:
+    """Before the first step (cursor[NODE] < 0): make the first two nodes and record the
+    first's output rows from the state there."""
+    if cursor[NODE] >= 0:
+        return
+    clock[2] = next_node(schedule, cursor, clock)
+    cursor[NODE] = 0
+    clock[3] = next_node(schedule, cursor, clock)
+    record(schedule, cursor, clock[2], clock[3] == np.inf, q, v, h, jacobian, rate, out)
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def arrive(schedule, cursor, clock, t2, q, v, h, jacobian, rate, out) -> None:
+    """After a step from clock[2] to clock[3]: the next node is t2 (inf: none); record the
+    output rows of the node reached from the state there."""
+    clock[0], clock[1], clock[2], clock[3] = clock[1], clock[2], clock[3], t2
+    cursor[NODE] += 1
+    record(schedule, cursor, clock[2], t2 == np.inf, q, v, h, jacobian, rate, out)

@@ -34,8 +34,9 @@ from lagrangian.numerics.fast.discrete_nodes import (
     FIRST_ROW,
     KNOWN,
     NODE,
+    arrive,
+    begin,
     next_node,
-    record,
     wants_output,
 )
 from lagrangian.numerics.fast.newton import (
@@ -234,11 +235,7 @@ def midpoint_steps(
     work = (matrix, rhs, work_1, work_2, work_3)
     velocity_work = (matrix, rhs, work_4)
     m = lam.size
-    if cursor[NODE] < 0:
-        clock[2] = next_node(schedule, cursor, clock)
-        cursor[NODE] = 0
-        clock[3] = next_node(schedule, cursor, clock)
-        record(schedule, cursor, clock[2], clock[3] == np.inf, q, v, h, jacobian, rate, out)
+    begin(schedule, cursor, clock, q, v, h, jacobian, rate, out)
     for _ in range(steps):
         t0, t1 = clock[2], clock[3]
         if t1 == np.inf:
@@ -275,7 +272,5 @@ def midpoint_steps(
         cursor[KNOWN] = min(cursor[KNOWN] + 1, 2)
         q[:] = q1
         lam[:] = lam1
-        clock[0], clock[1], clock[2], clock[3] = clock[1], t0, t1, t2
-        cursor[NODE] += 1
-        record(schedule, cursor, t1, t2 == np.inf, q, v, h, jacobian, rate, out)
+        arrive(schedule, cursor, clock, t2, q, v, h, jacobian, rate, out)
     return RUNNING
