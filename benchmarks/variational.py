@@ -56,6 +56,7 @@ import argparse
 import datetime
 import json
 import math
+import os
 import platform
 import subprocess
 import sys
@@ -149,7 +150,8 @@ def run_speed(steps: int, repeat: int, baseline: str | None) -> str:
     header = (
         f"Double pendulum (theta = 1, phi = 0.5 at rest), dt = {DRIFT_DT:g}, {steps:,} steps, "
         f"every step an output, through lg.simulate; best of {repeat} calls, each in a fresh "
-        "process."
+        f"process; 1-minute load average at the end: {os.getloadavg()[0]:.1f} on "
+        f"{os.cpu_count()} cores (on a shared machine the CPU time is the figure to read)."
     )
     return "\n".join([header, "", *lines, *([""] if ratios else []), *ratios])
 
@@ -438,11 +440,14 @@ def record(parts: list[str], command: str) -> None:
         body = existing.split(BEGIN, 1)[1].split(END, 1)[0]
         header, *kept = body.split("\n### ")
         # a block recorded before the blocks carried their own date keeps the section's
-        when = next((line for line in header.splitlines() if line.startswith("Recorded")), "")
+        lines = header.splitlines()
+        when = next((line for line in lines if line.startswith("Recorded")), "")
+        machine = next((line[2:] for line in lines if line.startswith("- CPU:")), "")
+        when = f"{when.split(';')[0]} ({machine})" if when and machine else when
         for block in kept:
             title, text = block.split("\n", 1)
             if when and not text.strip().startswith("Recorded"):
-                text = f"\n{when.split(';')[0]}.\n{text}"
+                text = f"\n{when}.\n{text}"
             blocks["### " + title] = f"### {title}\n{text}".strip("\n")
     new = {part.split("\n", 1)[0]: part for part in stamped}
     order = [title for title in new if title not in blocks] + list(blocks)
