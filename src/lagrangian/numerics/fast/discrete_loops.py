@@ -5,7 +5,8 @@ As the integration loops of :mod:`lagrangian.numerics.fast.loops`, each march ta
 system's C functions (:mod:`lagrangian.numerics.fast.discrete`) as function values, so it is
 compiled once per machine with an explicit signature and kept in numba's on-disk cache
 (:func:`lagrangian.numerics.fast.loops.compile_cached`).  Numba checks a cached march against
-the time stamp of its own file only: after editing the helpers it calls (``newton.py``),
+the time stamp of its own file only: after editing the helpers it calls (``newton.py``,
+``discrete_nodes.py``),
 delete the caches beside them (``__pycache__/*.nbi``, ``*.nbc``).
 
 :func:`run_march` calls a march over chunks of :data:`CHUNK` steps, or, when it reports
