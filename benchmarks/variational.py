@@ -2,6 +2,15 @@
 accuracy against SciPy's RK45 and DOP853 at equal work and at equal wall time.
 
 What is measured
+    speed   Steps per second of ``lg.simulate(eom, start, t_end, method=M, dt=0.01)`` on the
+            double pendulum of the drift part, for M = variational (midpoint rule), gauss4 and
+            gauss6, 10^6 steps (``--speed-steps``), every step an output, compiled and warmed
+            up first: the wall time of the call (best of ``--repeat`` calls) and its CPU time
+            (``time.process_time``, the better figure on a shared machine), with the largest
+            relative energy error of the run.  With ``--baseline SRC`` the same measurement
+            runs on another checkout's ``src`` (for example a worktree of the commit before)
+            in the same run, the two alternating call by call; the table gives both and their
+            ratio.  Every measurement is a fresh process.
     drift   The double pendulum of ``lg.examples.double_pendulum`` (unit masses and rods,
             g = 9.81, released at rest at theta = 1, phi = 0.5: chaotic motion) integrated by
             ``simulate(..., method="variational", dt=0.01)`` for 10^6 steps (t = 10^4 s), every
@@ -34,7 +43,8 @@ How
     before it is timed. Wall times are single runs on a possibly shared machine.
 
 Usage
-    python benchmarks/variational.py                      # both parts, 10^6 drift steps
+    python benchmarks/variational.py                      # every part, 10^6 drift steps
+    python benchmarks/variational.py --part speed --baseline ../before/src --record
     python benchmarks/variational.py --steps 100000       # a shorter drift run
     python benchmarks/variational.py --part work --periods 100 --per-period 40 80
     python benchmarks/variational.py --record             # write its section of RESULTS.md
@@ -44,8 +54,11 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import json
 import math
+import os
 import platform
+import subprocess
 import sys
 import time
 from dataclasses import dataclass
@@ -56,8 +69,13 @@ from scipy.integrate import solve_ivp
 from scipy.special import ellipk, ellipkinc
 
 HERE = Path(__file__).resolve()
-sys.path.insert(0, str(HERE.parents[1] / "src"))  # benchmark the checkout, installed or not
-sys.path.insert(0, str(HERE.parent))
+#: the package measured: this checkout's, installed or not, or the one of ``--source SRC``
+SOURCE = next(
+    (sys.argv[i + 1] for i, word in enumerate(sys.argv[:-1]) if word == "--source"),
+    str(HERE.parents[1] / "src"),
+)
+sys.path.insert(0, SOURCE)
+sys.path.insert(1, str(HERE.parent))
 
 import lagrangian as lg  # noqa: E402
 from lagrangian.numerics.compile import compile_equations  # noqa: E402
@@ -71,6 +89,71 @@ DRIFT_DT = 0.01
 THETA0, G = 1.0, 9.81
 RK_METHODS = ("RK45", "DOP853")
 DRIFT_FACTOR = 1.5  # allowed growth of the max energy error from decade 3 to the last
+
+
+# --------------------------------------------------------------------------- speed
+
+SPEED_METHODS = ("variational", "gauss4", "gauss6")
+
+
+def measure_speed(method: str, steps: int) -> dict[str, float]:
+    """One warm ``lg.simulate`` call of ``method`` over ``steps`` steps of the double pendulum:
+    wall and CPU seconds and the largest relative energy error (in this process)."""
+    pendulum = lg.examples.double_pendulum()
+    eom = lg.derive(pendulum)
+    start = dict(pendulum.initial)
+    lg.simulate(eom, start, 10 * DRIFT_DT, method=method, dt=DRIFT_DT)  # compile, warm up
+    wall, cpu = time.perf_counter(), time.process_time()
+    run = lg.simulate(eom, start, steps * DRIFT_DT, method=method, dt=DRIFT_DT)
+    wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    assert run.success and len(run.t) == steps + 1
+    return {"wall": wall, "cpu": cpu, "error": float(relative_energy_error(run).max())}
+
+
+def speed_in_process(source: str, method: str, steps: int) -> dict[str, float]:
+    """:func:`measure_speed` in a fresh process on the package at ``source``."""
+    command = [sys.executable, str(HERE), "--source", source, "--speed-worker", method]
+    done = subprocess.run(
+        [*command, "--speed-steps", str(steps)], capture_output=True, text=True, check=True
+    )
+    return dict(json.loads(done.stdout.strip().splitlines()[-1]))
+
+
+def run_speed(steps: int, repeat: int, baseline: str | None) -> str:
+    """The speed table: per method the best of ``repeat`` calls, this checkout against the
+    ``baseline`` source when given (alternating)."""
+    sources = {"this checkout": SOURCE} | ({"baseline": baseline} if baseline else {})
+    lines = [
+        "| method | package | wall s | steps/s (wall) | steps/s (CPU) | max abs(E - E0)/E0 |",
+        "|---|---|---:|---:|---:|---:|",
+    ]
+    ratios = []
+    for method in SPEED_METHODS:
+        best: dict[str, dict[str, float]] = {}
+        for _ in range(repeat):
+            for name, source in sources.items():
+                result = speed_in_process(source, method, steps)
+                print(f"  {method} {name}: {steps / result['wall']:,.0f} steps/s", file=sys.stderr)
+                if name not in best or result["wall"] < best[name]["wall"]:
+                    best[name] = result
+        for name, result in best.items():
+            lines.append(
+                f"| {method} | {name} | {result['wall']:.2f} | {steps / result['wall']:,.0f} | "
+                f"{steps / result['cpu']:,.0f} | {result['error']:.3e} |"
+            )
+        if "baseline" in best:
+            ours, theirs = best["this checkout"], best["baseline"]
+            ratios.append(
+                f"- {method}: {theirs['wall'] / ours['wall']:.2f}x the baseline's steps per "
+                f"second (wall), {theirs['cpu'] / ours['cpu']:.2f}x (CPU)"
+            )
+    header = (
+        f"Double pendulum (theta = 1, phi = 0.5 at rest), dt = {DRIFT_DT:g}, {steps:,} steps, "
+        f"every step an output, through lg.simulate; best of {repeat} calls, each in a fresh "
+        f"process; 1-minute load average at the end: {os.getloadavg()[0]:.1f} on "
+        f"{os.cpu_count()} cores (on a shared machine the CPU time is the figure to read)."
+    )
+    return "\n".join([header, "", *lines, *([""] if ratios else []), *ratios])
 
 
 # --------------------------------------------------------------------------- drift
@@ -345,27 +428,45 @@ def comparisons(rows: list[WorkRow]) -> list[str]:
 # --------------------------------------------------------------------------- recording
 
 
-def record(text: str) -> None:
-    """Write (or replace) this benchmark's own section of RESULTS.md, between its markers."""
+def record(parts: list[str], command: str) -> None:
+    """Write this benchmark's own section of RESULTS.md, between its markers: each of the
+    ``parts`` (a "### title" block) replaces the block of the same title, the blocks of the
+    parts not measured now are kept."""
     now = datetime.datetime.now().astimezone().isoformat(timespec="minutes")
+    stamped = [part.replace("\n\n", f"\n\nRecorded {now} by `{command}`.\n\n", 1) for part in parts]
+    existing = RESULTS.read_text() if RESULTS.exists() else "# Benchmark results\n"
+    blocks: dict[str, str] = {}
+    if BEGIN in existing and END in existing:
+        body = existing.split(BEGIN, 1)[1].split(END, 1)[0]
+        header, *kept = body.split("\n### ")
+        # a block recorded before the blocks carried their own date keeps the section's
+        lines = header.splitlines()
+        when = next((line for line in lines if line.startswith("Recorded")), "")
+        machine = next((line[2:] for line in lines if line.startswith("- CPU:")), "")
+        when = f"{when.split(';')[0]} ({machine})" if when and machine else when
+        for block in kept:
+            title, text = block.split("\n", 1)
+            if when and not text.strip().startswith("Recorded"):
+                text = f"\n{when}.\n{text}"
+            blocks["### " + title] = f"### {title}\n{text}".strip("\n")
+    new = {part.split("\n", 1)[0]: part for part in stamped}
+    order = [title for title in new if title not in blocks] + list(blocks)
     section = "\n".join(
         [
             BEGIN,
             "## Variational integrator (benchmarks/variational.py)",
             "",
-            f"Recorded {now} by `python benchmarks/variational.py --record`; see its docstring "
-            "for what is measured and how.",
+            "See the docstring of benchmarks/variational.py for what is measured and how.",
             "",
             f"- platform: {platform.platform()}",
             f"- CPU: {cpu_model()}",
             f"- python {platform.python_version()}, numpy {package_version('numpy')}, "
             f"scipy {package_version('scipy')}, sympy {package_version('sympy')}",
             "",
-            text,
+            "\n\n".join(new.get(title, blocks.get(title, "")) for title in order),
             END,
         ]
     )
-    existing = RESULTS.read_text() if RESULTS.exists() else "# Benchmark results\n"
     if BEGIN in existing and END in existing:
         before, rest = existing.split(BEGIN, 1)
         after = rest.split(END, 1)[1]
@@ -379,7 +480,12 @@ def record(text: str) -> None:
 
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--part", choices=("drift", "work", "both"), default="both")
+    parser.add_argument("--part", choices=("speed", "drift", "work", "both"), default="both")
+    parser.add_argument("--speed-steps", type=int, default=10**6, help="speed: steps (10^6)")
+    parser.add_argument("--repeat", type=int, default=3, help="speed: calls per method (3)")
+    parser.add_argument("--baseline", help="speed: another checkout's src to measure alongside")
+    parser.add_argument("--source", help=argparse.SUPPRESS)  # read before the imports
+    parser.add_argument("--speed-worker", help=argparse.SUPPRESS)
     parser.add_argument("--steps", type=int, default=10**6, help="drift steps (10^6)")
     parser.add_argument("--no-rk4", action="store_true", help="drift: skip the RK4 contrast")
     parser.add_argument("--periods", type=int, default=1000, help="work: periods (1000)")
@@ -394,7 +500,16 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
 
 def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
+    if args.speed_worker:
+        print(json.dumps(measure_speed(args.speed_worker, args.speed_steps)))
+        return 0
     parts = []
+    if args.part in ("speed", "both"):
+        print("speed ...", file=sys.stderr)
+        parts.append(
+            "### Steps per second through lg.simulate\n\n"
+            + run_speed(args.speed_steps, args.repeat, args.baseline)
+        )
     if args.part in ("drift", "both"):
         print("drift ...", file=sys.stderr)
         parts.append(
@@ -408,7 +523,8 @@ def main(argv: list[str] | None = None) -> int:
     text = "\n\n".join(parts)
     print(text)
     if args.record:
-        record(text)
+        words = [word for word in (argv if argv is not None else sys.argv[1:])]
+        record(parts, " ".join(["python benchmarks/variational.py", *words]))
         print(f"\nwritten to {RESULTS}")
     return 0
 

@@ -74,7 +74,9 @@ def test_oscillator_energy_bounded_while_rk4_drifts() -> None:
     error = _relative_energy_error(variational)
     first, last = _quarters(error)
     assert error.max() < dt**2
-    assert last < 1.5 * first
+    # the midpoint rule keeps a quadratic energy exactly: what is left is rounding, which
+    # may wander by a few ulps but does not drift
+    assert last < 1.5 * first + 100 * np.finfo(float).eps
     rk4 = simulate(_oscillator(), initial, steps * dt, method="RK4", dt=dt)
     rk4_error = _relative_energy_error(rk4)
     rk4_first, rk4_last = _quarters(rk4_error)

@@ -19,7 +19,13 @@ from lagrangian.numerics.discrete_lagrangian import (
     RESIDUAL_GUARD,
     SMALL_CORRECTION,
 )
-from lagrangian.numerics.fast.midpoint import record
+from lagrangian.numerics.fast.discrete_nodes import (
+    EVALUATIONS,
+    arrive,
+    begin,
+    next_node,
+    wants_output,
+)
 from lagrangian.numerics.fast.newton import (
     FINISHED,
     OK,
@@ -29,8 +35,11 @@ from lagrangian.numerics.fast.newton import (
     bind,
     call,
     evaluate_constraints,
+    hold,
     largest,
     solve,
+    unowned,
+    unowned_system,
     velocity_step,
     within,
 )
@@ -210,15 +219,15 @@ def extrapolate(c, ratio, V, scratch):
 
 
 def march_collocation(
-    midpoint, legendre, constraints, data, p, grid, row_of, nodes, linear, tableau, state,
-    counts, out,
+    midpoint, legendre, constraints, data, p, schedule, linear, tableau, state, steps, cursor,
+    clock, out,
 ):  # fmt: skip
-    """Nodes nodes[0]..nodes[1]-1 of ``grid`` by the collocation method ``tableau`` =
-    (a, a_hat, b, c, lobatto): record each output node, step to the next.
+    """At most ``steps`` steps of the collocation method ``tableau`` = (a, a_hat, b, c,
+    lobatto) from the current node: step to the next node, record its output rows.
 
     Arguments as :func:`lagrangian.numerics.fast.midpoint.march_midpoint`, but ``state`` =
-    (q, v, p, h, A, dh/dt, V, Lambda, [previous step]) and ``counts`` = [0, evaluations, last
-    node reached].  Returns RUNNING, FINISHED or the failure.
+    (q, v, p, h, A, dh/dt, V, Lambda, [previous step]).  Returns RUNNING, FINISHED or the
+    failure.
     """
     q, v, momentum, h, jacobian, rate, V, lam, previous = state
     n, m, s, r = q.size, h.size, V.shape[0], lam.shape[0]
@@ -227,43 +236,83 @@ def march_collocation(
         np.empty((s, n, n)), np.empty((s, n, n)), np.empty((s, n, n)), np.empty((s, n, n))
     )  # fmt: skip
     rows = (np.empty((s, m)), np.empty((s, m, n)), np.empty((s, m, n, n)), np.empty((s, m)))
-    stages = vectors + matrices + rows
     size = s * n + r * m
-    work = (stages, np.empty((s, n)), np.empty((size, size)), np.empty(size))
-    q1, momentum1, mu, scratch = np.empty(n), np.empty(n), np.empty(m), np.empty((s, n))
-    velocity_work = (np.empty((n + m, n + m)), np.empty(n + m), np.empty(n))
-    for k in range(nodes[0], nodes[1]):
-        if row_of[k] >= 0:
-            record(row_of[k], q, v, h, jacobian, rate, out)
-        if k == grid.size - 1:
+    owners = (
+        vectors, matrices, rows, np.empty((s, n)), np.empty((size, size)), np.empty(size),
+        np.empty((4, n)), np.empty(m), np.empty((s, n)), np.empty((n + m, n + m)),
+        np.empty(n + m),
+    )  # fmt: skip
+    stages = (
+        unowned(vectors[0]), unowned(vectors[1]), unowned(vectors[2]),
+        unowned(matrices[0]), unowned(matrices[1]), unowned(matrices[2]), unowned(matrices[3]),
+        unowned(rows[0]), unowned(rows[1]), unowned(rows[2]), unowned(rows[3]),
+    )  # fmt: skip
+    work = (stages, unowned(owners[3]), unowned(owners[4]), unowned(owners[5]))
+    spare = (unowned(owners[6]), unowned(owners[7]), unowned(owners[8]))
+    velocity_work = (unowned(owners[9]), unowned(owners[10]))
+    tableau_views = (
+        unowned(tableau[0]), unowned(tableau[1]), unowned(tableau[2]), unowned(tableau[3]),
+        tableau[4],
+    )  # fmt: skip
+    mine = (
+        unowned(q), unowned(v), unowned(momentum), unowned(h), unowned(jacobian),
+        unowned(rate), unowned(V), unowned(lam), unowned(previous),
+    )  # fmt: skip
+    place = (unowned(schedule[0]), unowned(schedule[1]), unowned(schedule[2]), schedule[3])
+    records = (
+        unowned(out[0]), unowned(out[1]), unowned(out[2]), unowned(out[3]), unowned(out[4]),
+        unowned(out[5]),
+    )  # fmt: skip
+    status = collocation_steps(
+        unowned_system(system), place, linear, tableau_views, mine, steps, unowned(cursor),
+        unowned(clock), records, work, spare, velocity_work,
+    )  # fmt: skip
+    hold((system, owners))
+    return status
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def collocation_steps(
+    system, schedule, linear, tableau, state, steps, cursor, clock, out, work, spare,
+    velocity_work,
+):  # fmt: skip
+    """:func:`march_collocation` on arrays that hold no references."""
+    q, v, momentum, h, jacobian, rate, V, lam, previous = state
+    s, m = V.shape[0], h.size
+    stages = work[0]
+    vectors, mu, scratch = spare
+    q1, momentum1, v_old = vectors[0], vectors[1], vectors[2]
+    matrix, rhs = velocity_work
+    solver = (matrix, rhs, v_old)
+    begin(schedule, cursor, clock, q, v, h, jacobian, rate, out)
+    for _ in range(steps):
+        t0, t1 = clock[2], clock[3]
+        if t1 == np.inf:
             return FINISHED
-        t0, dt = grid[k], grid[k + 1] - grid[k]
+        dt = t1 - t0
         if previous[0] > 0.0:
             extrapolate(tableau[3], dt / previous[0], V, scratch)
         status, evaluations = stage_step(
             system, tableau, q, momentum, t0, dt, V, lam, (q1, momentum1), work
         )
-        counts[1] += evaluations
+        cursor[EVALUATIONS] += evaluations
         if status != OK:
             return status
         momentum[:] = momentum1
-        if m > 0 or row_of[k + 1] >= 0:
+        t2 = next_node(schedule, cursor, clock)
+        if m > 0 or wants_output(schedule, cursor, t1, t2 == np.inf):
             h[:] = stages[7][s - 1]
             jacobian[:] = stages[8][s - 1]
             rate[:] = stages[10][s - 1]
             v[:] = V[s - 1]
             weight = dt * tableau[2][s - 1]
             status, evaluations = velocity_step(
-                system, q1, momentum, t0 + dt, weight, (jacobian, rate), linear, v, mu,
-                velocity_work,
-            )  # fmt: skip
-            counts[1] += evaluations
+                system, q1, momentum, t1, weight, (jacobian, rate), linear, v, mu, solver
+            )
+            cursor[EVALUATIONS] += evaluations
             if status != OK:
                 return status
         q[:] = q1
         previous[0] = dt
-        counts[2] = k + 1
-    k = nodes[1]  # the node reached is kept now: the caller may stop before the next chunk
-    if k < grid.size and row_of[k] >= 0:
-        record(row_of[k], q, v, h, jacobian, rate, out)
+        arrive(schedule, cursor, clock, t2, q, v, h, jacobian, rate, out)
     return RUNNING

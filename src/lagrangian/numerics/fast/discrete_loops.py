@@ -5,13 +5,15 @@ As the integration loops of :mod:`lagrangian.numerics.fast.loops`, each march ta
 system's C functions (:mod:`lagrangian.numerics.fast.discrete`) as function values, so it is
 compiled once per machine with an explicit signature and kept in numba's on-disk cache
 (:func:`lagrangian.numerics.fast.loops.compile_cached`).  Numba checks a cached march against
-the time stamp of its own file only: after editing the helpers it calls (``newton.py``),
-delete the caches beside them (``__pycache__/*.nbi``, ``*.nbc``).
+the time stamp of its own file only: after editing the helpers it calls (``newton.py``,
+``discrete_nodes.py``), delete the caches beside them (``__pycache__/*.nbi``, ``*.nbc``).
 
-:func:`run_march` calls a march over chunks of :data:`CHUNK` nodes, or, when it reports
+:func:`run_march` calls a march over chunks of :data:`CHUNK` steps, or, when it reports
 progress, of at most a hundredth of the run (a progress bar moves, a Ctrl-C raised by it
 stops the run where it was asked to); it stops at Ctrl-C between two chunks (the state lives
-in arrays, so the nodes computed before are kept).  This module is imported only when numba
+in arrays, so the nodes computed before are kept).  The nodes are made as the march reaches
+them (:mod:`lagrangian.numerics.fast.discrete_nodes`): the memory of a run is that of its
+output rows, whatever its number of steps.  This module is imported only when numba
 is installed.
 """
 
@@ -30,8 +32,8 @@ from lagrangian.numerics.fast.loops import C_FUNCTION, CFunction, compile_cached
 from lagrangian.numerics.fast.midpoint import march_midpoint
 from lagrangian.numerics.fast.newton import RUNNING
 
-#: Nodes per call into a compiled march (one progress report, one chance to stop, each).
-CHUNK = 4096
+#: Steps per call into a compiled march (one progress report, one chance to stop, each).
+CHUNK = 65536
 
 _f = types.float64
 _vector = types.Array(_f, 1, "C")
@@ -41,22 +43,41 @@ _integers = types.Array(types.int64, 1, "C")
 #: of a tuple of function values).
 _FUNCTIONS = (types.FunctionType(C_FUNCTION),) * 3
 _DATA = types.UniTuple(types.intp, 3)
-_GRID = (_vector, _vector, _integers, types.UniTuple(types.int64, 2))  # p, grid, row_of, nodes
+#: (span, extra, wanted, every) of :mod:`lagrangian.numerics.fast.discrete_nodes`.
+_SCHEDULE = types.Tuple((_vector, _vector, _vector, types.boolean))
 #: (q, v, momentum, lambda, h, A, dh/dt, history) of the midpoint march.
 _MIDPOINT_STATE = types.Tuple((*[_vector] * 5, _matrix, _vector, _matrix))
 #: (a, a_hat, b, c, lobatto) of a collocation method.
 _TABLEAU = types.Tuple((_matrix, _matrix, _vector, _vector, types.boolean))
 #: (q, v, momentum, h, A, dh/dt, V, Lambda, [previous step]) of the collocation march.
 _COLLOCATION_STATE = types.Tuple((*[_vector] * 4, _matrix, _vector, _matrix, _matrix, _vector))
-#: (q, v, residual, lambda at step starts, mu at step ends) of every march.
-_OUT = types.Tuple((_matrix, _matrix, _vector, _matrix, _matrix))
+#: (q, v, residual, multipliers, node, t) by output row, of every march.
+_OUT = types.Tuple((_matrix, _matrix, _vector, _matrix, _integers, _vector))
+#: steps, cursor, clock
+_PLACE = (types.int64, _integers, _vector)
 
 _SIGNATURES = {
     "midpoint": types.int64(
-        *_FUNCTIONS, _DATA, *_GRID, types.boolean, _MIDPOINT_STATE, _integers, _OUT
+        *_FUNCTIONS,
+        _DATA,
+        _vector,
+        _SCHEDULE,
+        types.boolean,
+        _MIDPOINT_STATE,
+        *_PLACE,
+        _OUT,
+        _matrix,
     ),
     "collocation": types.int64(
-        *_FUNCTIONS, _DATA, *_GRID, types.boolean, _TABLEAU, _COLLOCATION_STATE, _integers, _OUT
+        *_FUNCTIONS,
+        _DATA,
+        _vector,
+        _SCHEDULE,
+        types.boolean,
+        _TABLEAU,
+        _COLLOCATION_STATE,
+        *_PLACE,
+        _OUT,
     ),
 }
 _MARCHES = {"midpoint": march_midpoint, "collocation": march_collocation}
@@ -79,20 +100,19 @@ def system_arguments(native: NativeMechanics) -> tuple[tuple[Any, ...], tuple[in
 
 
 def run_march(
-    march: Callable[[tuple[int, int]], int],
-    nodes: int,
+    march: Callable[[int], int],
+    steps: int,
     reached: Callable[[], float],
     progress: Callable[[float], None] | None,
 ) -> tuple[int, bool]:
-    """Call ``march(chunk)`` over chunks of the ``nodes`` nodes until it stops; ``reached()``
-    is the time of the last node reached, given to ``progress`` after every chunk.  Returns
-    the last status and whether Ctrl-C stopped the march."""
-    status, first = RUNNING, 0
-    size = CHUNK if progress is None else max(1, min(CHUNK, nodes // 100))
+    """Call ``march(chunk)`` with chunks of steps until it stops (about ``steps`` in all);
+    ``reached()`` is the time of the last node reached, given to ``progress`` after every
+    chunk.  Returns the last status and whether Ctrl-C stopped the march."""
+    status = RUNNING
+    size = CHUNK if progress is None else max(1, min(CHUNK, steps // 100))
     try:
-        while status == RUNNING and first < nodes:
-            status = march((first, min(first + size, nodes)))
-            first += size
+        while status == RUNNING:
+            status = march(size)
             if progress is not None:
                 progress(reached())
     except KeyboardInterrupt:
@@ -100,12 +120,14 @@ def run_march(
     return status, False
 
 
-def state_arrays(n: int, m: int, rows: int, steps: int) -> tuple[np.ndarray, ...]:
-    """The output arrays (q, v, residual by output row; lambda, mu by step), NaN-filled."""
+def output_arrays(n: int, m: int, rows: int) -> tuple[np.ndarray, ...]:
+    """The output arrays (q, v, residual, multipliers, node, t by output row), NaN-filled
+    (node -1)."""
     return (
         np.full((rows, n), np.nan),
         np.full((rows, n), np.nan),
         np.full(rows, np.nan),
-        np.full((steps, m), np.nan),
-        np.full((steps, m), np.nan),
+        np.full((rows, m), np.nan),
+        np.full(rows, -1, dtype=np.int64),
+        np.full(rows, np.nan),
     )

@@ -22,7 +22,8 @@ installed.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import carray, njit, types
+from numba.core.extending import intrinsic
 
 from lagrangian.numerics.discrete_lagrangian import (
     MAX_ITERATIONS,
@@ -38,6 +39,46 @@ POSITION_DIVERGED = 2
 POSITION_SINGULAR = 3
 VELOCITY_DIVERGED = 4
 VELOCITY_SINGULAR = 5
+
+
+@intrinsic
+def _data_pointer(typingctx, array):
+    """The pointer to the first element of ``array``."""
+    signature = types.CPointer(array.dtype)(array)
+
+    def codegen(context, builder, signature, arguments):
+        return context.make_array(array)(context, builder, arguments[0]).data
+
+    return signature, codegen
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def unowned(array):
+    """A view of the C-contiguous ``array`` that holds no reference to its memory.
+
+    numba counts the references of every array it passes to a function that it does not
+    inline, by an atomic operation: a few per argument per call, most of the time of a step
+    of a small system.  A view without an owner skips them; whoever made ``array`` keeps it
+    alive while the view is used (:func:`hold`)."""
+    return carray(_data_pointer(array), array.shape)  # type: ignore[call-arg]
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def hold(owners) -> None:
+    """Nothing: a use of ``owners`` after the loop that works on their :func:`unowned`
+    views, so that numba frees them only then."""
+    return None
+
+
+@njit(cache=False, nogil=True, error_model="numpy")
+def unowned_system(system):
+    """``system`` of :func:`bind` with :func:`unowned` buffers (hold ``system`` meanwhile)."""
+    midpoint, legendre, constraints = system
+    return (
+        (midpoint[0], midpoint[1], unowned(midpoint[2]), unowned(midpoint[3])),
+        (legendre[0], legendre[1], unowned(legendre[2]), unowned(legendre[3])),
+        (constraints[0], constraints[1], unowned(constraints[2]), unowned(constraints[3])),
+    )
 
 
 @njit(cache=False, nogil=True, error_model="numpy")

@@ -24,6 +24,7 @@ array([0., 1., 2., 3., 4.])
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -35,8 +36,54 @@ from lagrangian.simulation.integrators.loop import integrate
 from lagrangian.simulation.variational.stepper import MidpointStepper, NodeStepper
 
 
+@dataclass(frozen=True)
+class StepSchedule:
+    """The nodes of a march: steps of ``dt`` from t0 to t1 (a shorter last one), and the output
+    times ``t_out`` as nodes too (None: every node is an output).
+
+    :meth:`grid` makes them all at once; the compiled marches make the same nodes one by one
+    as they reach them (:mod:`lagrangian.numerics.fast.discrete_nodes`), so that a run of
+    many steps keeps only its output rows.
+    """
+
+    t0: float
+    t1: float
+    dt: float
+    t_out: np.ndarray | None = None
+
+    @property
+    def count(self) -> int:
+        """The number of steps of dt (the last one shorter, to end at t1)."""
+        return max(int(np.ceil((self.t1 - self.t0) / self.dt - 1e-9)), 1)
+
+    @property
+    def tolerance(self) -> float:
+        """Output times within this of a node fall on it (no node of their own)."""
+        return 1e-9 * self.dt
+
+    @property
+    def rows(self) -> int:
+        """The number of output rows."""
+        return self.count + 1 if self.t_out is None else len(self.t_out)
+
+    def grid(self) -> tuple[np.ndarray, np.ndarray]:
+        """The node times (steps of dt, a shorter last one, plus every output time) and the
+        indices of the output times in them (every node when no output times are asked
+        for)."""
+        t0, t1, dt = self.t0, self.t1, self.dt
+        grid = np.minimum(t0 + dt * np.arange(self.count + 1), t1)
+        grid[-1] = t1
+        if self.t_out is None:
+            return grid, np.arange(len(grid))
+        grid = np.union1d(grid, self.t_out)
+        grid = grid[np.concatenate(([True], np.diff(grid) > self.tolerance))]
+        outputs = np.searchsorted(grid, self.t_out - self.tolerance)
+        return grid, np.clip(outputs, 0, len(grid) - 1)
+
+
 class Run(NamedTuple):
-    """What :func:`march` computed at the output nodes it reached (``outputs`` index the grid).
+    """What :func:`march` computed at the output nodes it reached (``outputs`` index the grid,
+    ``t`` are their times).
 
     ``constraint_residual`` is max(|h|, |A q_dot + dh/dt|) at each output; ``reached`` the
     last time reached; ``evaluations`` the number of evaluations of the compiled discrete
@@ -45,6 +92,7 @@ class Run(NamedTuple):
     """
 
     outputs: np.ndarray
+    t: np.ndarray
     q: np.ndarray
     q_dot: np.ndarray
     multipliers: np.ndarray
@@ -106,6 +154,7 @@ def stepped(
         multipliers = np.full((rows, stepper.mechanics.constraint_count), np.nan)
     return Run(
         reached,
+        grid[reached],
         run.x[:, :n],
         run.x[:, n:],
         multipliers,
@@ -140,3 +189,16 @@ def node_multipliers(
             one_sided = a + (grid[end] - grid[near[0]]) * (b - a) / (grid[near[1]] - grid[near[0]])
         values[nodes == end] = one_sided
     return values
+
+
+def end_multipliers(halves: np.ndarray, last: int, first: bool) -> np.ndarray:
+    """The multipliers at node 0 (``first``) or at the ``last`` node reached, from the halves
+    (lambda_k, mu_k, dt_k) of the first three steps (rows 0-2 of ``halves``) or of the last
+    three (rows 3-5, by k mod 3), as :func:`node_multipliers` gives them from every step's."""
+    m = (halves.shape[1] - 1) // 2
+    steps = min(last, 3)
+    rows = range(steps) if first else [3 + k % 3 for k in range(last - steps, last)]
+    taken = halves[list(rows)]
+    grid = np.concatenate(([0.0], np.cumsum(taken[:, 2 * m])))
+    node = 0 if first else steps
+    return node_multipliers(grid, taken[:, :m], taken[:, m : 2 * m], steps, np.array([node]))[0]

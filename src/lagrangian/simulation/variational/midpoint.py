@@ -67,7 +67,7 @@ from lagrangian.simulation.integrators.protocol import Integration, Progress
 from lagrangian.simulation.methods import VARIATIONAL, engine_for
 from lagrangian.simulation.variational.collocation import Tableau, tableau_for
 from lagrangian.simulation.variational.collocation_march import collocation_march
-from lagrangian.simulation.variational.march import Run, march
+from lagrangian.simulation.variational.march import Run, StepSchedule, march
 
 #: Whether to run the compiled marches where numba is installed (False: always the NumPy
 #: marches; tests compare the two).
@@ -94,7 +94,7 @@ class DiscreteDynamics(ConstrainedMotion[DiscreteMechanics]):
 
 @dataclasses.dataclass(frozen=True)
 class VariationalIntegrator:
-    """The variational integrator ``method`` over the grid of :func:`step_grid`: the midpoint
+    """The variational integrator ``method`` over the nodes of :func:`step_schedule`: the midpoint
     rule (``"variational"``) or a collocation method (``"gauss4"``, ``"gauss6"``, see
     :mod:`lagrangian.simulation.variational.collocation`)."""
 
@@ -107,29 +107,27 @@ class VariationalIntegrator:
         watch: EventWatch | None,
         progress: Progress | None,
     ) -> Integration:
-        grid, outputs = step_grid(inputs)
+        schedule = step_schedule(inputs)
         constrained = bool(dynamics.multiplier_names)
         tableau = None if self.method == VARIATIONAL else tableau_for(self.method, constrained)
         # the grid's steps are counted before the run (dt and max_steps are checked
         # together); the budget here holds the wall time
+        nodes = schedule.count + 1 + (0 if schedule.t_out is None else len(schedule.t_out))
         budget = Budget(
-            self.method,
-            max(inputs.max_steps, len(grid)),
-            inputs.max_wall_time,
-            start=float(grid[0]),
+            self.method, max(inputs.max_steps, nodes), inputs.max_wall_time, start=schedule.t0
         )
         engine = engine_here(self.method)
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             run = discrete_march(
-                dynamics.form, tableau, inputs.x0, inputs.p, grid, outputs, progress, budget,
+                dynamics.form, tableau, inputs.x0, inputs.p, schedule, None, progress, budget,
                 engine,
             )  # fmt: skip
         x = np.hstack((run.q, run.q_dot))
-        steps = max(int(np.searchsorted(grid, run.reached)), 1)
+        steps = max(int(np.ceil((run.reached - schedule.t0) / schedule.dt - 1e-9)), 1)
         own_rows = constrained and tableau is None  # else the multiplier form's (constraint_rows)
         name = "midpoint rule" if tableau is None else tableau.name
         return Integration(
-            t=grid[run.outputs],
+            t=run.t,
             x=x,
             t_reached=run.reached,
             x_reached=x[-1] if len(x) else np.asarray(inputs.x0, dtype=float),
@@ -151,20 +149,11 @@ def engine_here(method: str) -> str:
     return engine_for(method, {"numba": COMPILED and numba_available()})
 
 
-def step_grid(inputs: Inputs) -> tuple[np.ndarray, np.ndarray]:
-    """The step times (steps of dt, a shorter last one, plus every output time) and the indices
-    of the output times in them (every step when no output times are asked for)."""
+def step_schedule(inputs: Inputs) -> StepSchedule:
+    """The nodes of the run: steps of dt, a shorter last one, plus every output time (every
+    node an output when no output times are asked for)."""
     t0, t1 = inputs.t_span
-    dt = float(inputs.dt or t1 - t0)
-    count = max(int(np.ceil((t1 - t0) / dt - 1e-9)), 1)
-    grid = np.minimum(t0 + dt * np.arange(count + 1), t1)
-    grid[-1] = t1
-    if inputs.t_out is None:
-        return grid, np.arange(len(grid))
-    grid = np.union1d(grid, inputs.t_out)
-    grid = grid[np.concatenate(([True], np.diff(grid) > 1e-9 * dt))]
-    outputs = np.searchsorted(grid, inputs.t_out - 1e-9 * dt)
-    return grid, np.clip(outputs, 0, len(grid) - 1)
+    return StepSchedule(float(t0), float(t1), float(inputs.dt or t1 - t0), inputs.t_out)
 
 
 def discrete_march(
@@ -172,28 +161,35 @@ def discrete_march(
     tableau: Tableau | None,
     x0: np.ndarray,
     parameters: np.ndarray,
-    grid: np.ndarray,
-    outputs: np.ndarray,
+    nodes: np.ndarray | StepSchedule,
+    outputs: np.ndarray | None,
     progress: Progress | None,
     budget: Budget | None = None,
     engine: str | None = None,
 ) -> Run:
-    """The march of the midpoint rule (``tableau`` None) or of a collocation method: compiled
-    where numba is installed and the terms compile, else stepped in NumPy by the one Python
-    loop, within ``budget`` (module docstring)."""
+    """The march of the midpoint rule (``tableau`` None) or of a collocation method over the
+    ``nodes`` (a grid with the ``outputs`` indices into it, or a StepSchedule): compiled where
+    numba is installed and the terms compile (the nodes made as the march reaches them), else
+    stepped in NumPy by the one Python loop over the grid, within ``budget`` (module
+    docstring)."""
     if (engine or engine_here(VARIATIONAL)) == "numba":
         from lagrangian.simulation.variational import compiled as variational_fast  # numba
 
         try:
             if tableau is None:
                 return variational_fast.fast_march(
-                    mechanics, x0, parameters, grid, outputs, progress
+                    mechanics, x0, parameters, nodes, outputs, progress
                 )
             return variational_fast.fast_collocation_march(
-                mechanics, tableau, x0, parameters, grid, outputs, progress
+                mechanics, tableau, x0, parameters, nodes, outputs, progress
             )
         except SimulationError:  # a term with no compiled form: nothing was integrated yet
             pass
+    if isinstance(nodes, StepSchedule):
+        grid, outputs = nodes.grid()
+    else:
+        grid = nodes
+        outputs = np.arange(len(grid)) if outputs is None else outputs
     if tableau is None:
         return march(mechanics, x0, parameters, grid, outputs, progress, budget)
     return collocation_march(mechanics, tableau, x0, parameters, grid, outputs, progress, budget)

@@ -25,7 +25,14 @@ The Jacobian of the position equations in q1 is
     dt/4 (L_qq + Q_q) + (L_qv - L_qv^T)/2 + Q_v/2 - L_vv/dt,
 
 bordered by dt/2 A(q0)^T and A(q1); that of the velocity equations is [[L_vv, -dt/2 A^T],
-[A, 0]], exact after one step when L is quadratic in the velocities.
+[A, 0]], exact after one step when L is quadratic in the velocities.  The iteration ends with
+a correction below SMALL_CORRECTION of q1 whose residual was within RESIDUAL_GUARD of its
+terms: the corrected q1 is exact to rounding (its error is of the correction's square), and
+so is its momentum D2 L_d + f_d^+, moved from the last evaluation by its Jacobian in q1,
+
+    dt/4 (L_qq + Q_q) + (L_qv + L_qv^T + Q_v)/2 + L_vv/dt,
+
+so that a step of a smooth motion evaluates the terms twice.
 
 >>> import numpy as np, lagrangian as lg
 >>> from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics
@@ -60,7 +67,7 @@ class PositionSolution(NamedTuple):
 
     ``momentum`` is D2 L_d(q0, q1) + f_d^+ (p1 before the constraint impulse of mu);
     ``h``, ``jacobian`` and ``rate`` are h, A and dh/dt at (q1, t1); ``evaluations`` counts
-    the evaluations of the midpoint terms (Newton corrections + 1).
+    the evaluations of the midpoint terms (one per Newton correction).
     """
 
     q: np.ndarray
@@ -101,7 +108,6 @@ def position_step(
     z = np.concatenate((q1, multipliers))
     matrix = np.zeros((n + m, n + m))
     matrix[:n, n:] = dt / 2 * jacobian0.T
-    small = False
     for iteration in range(MAX_ITERATIONS + 1):
         q1, lam = z[:n], z[n:]
         L_q, L_v, Q, L_qq, L_qv, L_vv, Q_q, Q_v = mechanics.midpoint(
@@ -111,13 +117,17 @@ def position_step(
         force = dt / 2 * (L_q + Q)
         impulse = matrix[:n, n:] @ lam
         momentum_rows = p0 + force - L_v + impulse
-        if small and acceptable(momentum_rows, (p0, force, L_v, impulse), h, a1, q1, q0):
-            return PositionSolution(q1, lam, force + L_v, h, a1, rate, iteration + 1)
+        converging = acceptable(momentum_rows, (p0, force, L_v, impulse), h, a1, q1, q0)
         matrix[:n, :n] = dt / 4 * (L_qq + Q_q) + (L_qv - L_qv.T + Q_v) / 2 - L_vv / dt
         matrix[n:, :n] = a1
         correction = solve_correction(matrix, np.concatenate((momentum_rows, h)), "position")
         z = z - correction
-        small = small_correction(correction[:n], q1, q0)
+        if converging and small_correction(correction[:n], q1, q0):
+            # the momentum at the corrected q1 from its Jacobian there: exact to rounding
+            slope = dt / 4 * (L_qq + Q_q) + (L_qv + L_qv.T + Q_v) / 2 + L_vv / dt
+            momentum = force + L_v - slope @ correction[:n]
+            h, a1, rate = mechanics.constraints(z[:n], t1, parameters)
+            return PositionSolution(z[:n], z[n:], momentum, h, a1, rate, iteration + 1)
     raise SimulationError(not_converged("position", t0))
 
 
