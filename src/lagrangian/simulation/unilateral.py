@@ -488,7 +488,11 @@ def _bilateral(constraint: Constraint) -> Constraint:
 
 
 def _touching(index: int, constraint: Constraint, g: float, g_dot: float) -> bool:
-    """Whether a unilateral constraint starts active; raise when it is violated or hit."""
+    """Whether a unilateral constraint starts active; raise when it is violated or hit.  A
+    state just after an impact, within the contact band and leaving, starts inactive (the
+    start of a return map on the impact's section)."""
+    if -2 * RECONTACT_TOLERANCE <= g < -INITIAL_TOLERANCE and g_dot > INITIAL_TOLERANCE:
+        return False
     if g < -INITIAL_TOLERANCE:
         raise SimulationInputError(
             f"The initial state violates the unilateral constraint "
