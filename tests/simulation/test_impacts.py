@@ -164,3 +164,40 @@ def test_restitution_in_a_model_file_round_trips_and_bad_ones_are_refused() -> N
             kinetic=y**2,
             constraints=[lg.Unilateral(y, restitution=sp.Symbol("y_dot"))],
         )
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_many_simultaneous_contacts_are_solved_by_pivoting_as_by_enumeration(
+    seed: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Twelve contacts touching at once (more than the active sets enumerated): Lemke's
+    method gives the impulses the enumeration of every active set gives (the problem with a
+    positive definite Delassus matrix has one solution), and they meet the conditions: each
+    pushes, each contact leaves at least at -e times its closing rate, complementarity."""
+    from lagrangian.simulation import impacts
+
+    rng = np.random.default_rng(seed)
+    n, k = 30, 12
+    root = rng.normal(size=(n, n))
+    mass = root @ root.T + n * np.eye(n)
+    jacobian = rng.normal(size=(k + 1, n))  # the last row bilateral
+    v = rng.normal(size=n)
+    rates = jacobian @ v
+    rates[-1] = 0.0
+    v = v - np.linalg.solve(mass, jacobian[-1]) * (jacobian[-1] @ v) / (
+        jacobian[-1] @ np.linalg.solve(mass, jacobian[-1])
+    )  # on the bilateral constraint
+    rates = jacobian @ v
+    e = rng.uniform(0, 1, k)
+    touching = list(range(k))
+    pivoted = impacts.resolve(mass, jacobian, rates, [k], touching, e, v)
+    monkeypatch.setattr(impacts, "ENUMERATED_CONTACTS", k)
+    enumerated = impacts.resolve(mass, jacobian, rates, [k], touching, e, v)
+    assert np.allclose(pivoted[0], enumerated[0], atol=1e-9)
+    assert np.allclose(pivoted[1], enumerated[1], atol=1e-9)
+    after, impulses = pivoted
+    leaving = jacobian[:k] @ after + e * rates[:k]
+    assert np.all(impulses[:k] >= -1e-10) and np.all(leaving >= -1e-9)
+    assert np.allclose(impulses[:k] * leaving, 0, atol=1e-8)
+    assert abs(jacobian[k] @ after) < 1e-10  # the bilateral constraint is kept
+    assert np.allclose(mass @ (after - v), jacobian.T @ impulses, atol=1e-9)

@@ -82,16 +82,19 @@ class QuadraticGaps:
         ql = self.local(gaps, q)
         local = self.linear[gaps] + 2 * np.einsum("kij,kj->ki", self.quadratic[gaps], ql)
         rows = np.zeros((len(gaps), self.n + 1))
-        np.add.at(rows, (np.arange(len(gaps))[:, None], self.index[gaps]), local)
+        # a gap's coordinates are distinct but for the padding, where the entry is 0
+        rows[np.arange(len(gaps))[:, None], self.index[gaps]] = local
         return rows[:, : self.n]
 
     def along(
         self, gaps: np.ndarray, q: np.ndarray, v: np.ndarray, a: np.ndarray
     ) -> tuple[np.ndarray, ...]:
         """The coefficients (c0, ..., c4) of g(q + v s + a s^2/2) = sum c_j s^j."""
-        ql, vl, al = (self.local(gaps, x) for x in (q, v, a))
+        stacked = np.zeros((3, self.n + 1))
+        stacked[0, :-1], stacked[1, :-1], stacked[2, :-1] = q, v, a
+        ql, vl, al = stacked[:, self.index[gaps]]  # one gather for the three
         h, lin = self.quadratic[gaps], self.linear[gaps]
-        hq, hv, ha = (np.matmul(h, x[:, :, None])[:, :, 0] for x in (ql, vl, al))
+        hq, hv, ha = np.matmul(h[None], stacked[:, self.index[gaps], None])[..., 0]
 
         def dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
             return (x * y).sum(axis=1)

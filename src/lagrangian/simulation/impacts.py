@@ -108,7 +108,7 @@ def _local_impulses(delassus: np.ndarray, wanted: np.ndarray, free: int, scale: 
     if contacts <= ENUMERATED_CONTACTS:
         for size in range(contacts + 1):
             for chosen in itertools.combinations(range(free, len(wanted)), size):
-                found = _with_impulses(delassus, wanted, [*range(free), *chosen], scale)
+                found = _with_impulses(delassus, wanted, [*range(free), *chosen], scale, free)
                 if found is not None:
                     return found
     else:
@@ -121,7 +121,7 @@ def _local_impulses(delassus: np.ndarray, wanted: np.ndarray, free: int, scale: 
 
 
 def _with_impulses(
-    delassus: np.ndarray, wanted: np.ndarray, chosen: list[int], scale: float
+    delassus: np.ndarray, wanted: np.ndarray, chosen: list[int], scale: float, free: int
 ) -> np.ndarray | None:
     """The impulses with ``chosen`` rows taking one (each meeting its velocity condition),
     when they push and no other contact closes; None when they do not, or the rows are
@@ -137,18 +137,25 @@ def _with_impulses(
             impulses[chosen] = np.linalg.solve(delassus[np.ix_(chosen, chosen)], wanted[chosen])
         except np.linalg.LinAlgError:
             return None
-    return impulses if _complementary(delassus, wanted, impulses, chosen, scale) else None
+    return impulses if _complementary(delassus, wanted, impulses, chosen, scale, free) else None
 
 
 def _complementary(
-    delassus: np.ndarray, wanted: np.ndarray, impulses: np.ndarray, chosen: list[int], scale: float
+    delassus: np.ndarray,
+    wanted: np.ndarray,
+    impulses: np.ndarray,
+    chosen: list[int],
+    scale: float,
+    free: int,
 ) -> bool:
     """Whether the chosen contacts' impulses push and every other contact leaves: the rate
-    change W Lambda is at least the one -(1 + e) g_dot- that Newton's law asks."""
+    change W Lambda is at least the one -(1 + e) g_dot- that Newton's law asks (the first
+    ``free`` rows are bilateral, always chosen)."""
     tolerance = SIGN_TOLERANCE * (scale + float(np.max(np.abs(impulses), initial=0.0)))
     others = np.ones(len(wanted), dtype=bool)
     others[chosen] = False
-    pushing = np.all(impulses[chosen] >= -tolerance) if chosen else True
+    contacts = [i for i in chosen if i >= free]  # the bilateral impulses take any sign
+    pushing = np.all(impulses[contacts] >= -tolerance) if contacts else True
     return bool(pushing and np.all((delassus @ impulses - wanted)[others] >= -tolerance))
 
 
@@ -180,7 +187,7 @@ def _complementary_by_pivoting(
     if free:
         impulses[b] = through[:, -1] - through[:, :-1] @ pushes
     chosen = [*range(free), *(free + i for i in np.flatnonzero(pushes > 0))]
-    return impulses if _complementary(delassus, wanted, impulses, chosen, scale) else None
+    return impulses if _complementary(delassus, wanted, impulses, chosen, scale, free) else None
 
 
 def lemke(matrix: np.ndarray, offset: np.ndarray, tolerance: float) -> np.ndarray | None:
