@@ -114,6 +114,11 @@ class UnilateralDynamics:
         return frozenset(self.one_sided)
 
     @functools.cached_property
+    def bilateral(self) -> frozenset[int]:
+        """The indices of the holonomic and velocity constraints (always active)."""
+        return frozenset(range(len(self.system.constraints))) - self.unilateral
+
+    @functools.cached_property
     def gaps(self) -> QuadraticGaps | None:
         """The constraints as polynomial gaps (:mod:`lagrangian.simulation.flight`) when the
         motion between impacts can be polynomial in t: every constraint unilateral and of
@@ -346,8 +351,7 @@ class UnilateralDynamics:
         scale = float(np.max(np.abs(near.rates), initial=0.0)) + 1e-300
         staying = {i for i in touching if abs(rates[at[i]]) <= 1e-9 * scale
                    and (impulses[at[i]] > 0 or i in mode)}  # fmt: skip
-        every_bilateral = set(range(len(self.system.constraints))) - self.unilateral
-        after_mode = frozenset(every_bilateral | staying)
+        after_mode = self.bilateral | staying
         state = np.concatenate((q, after))
         if staying - mode:  # onto the contacts that persist (the impact was met at g = -tol)
             state = np.concatenate(self.piece(after_mode).form.project(q, after, t, self.p))
