@@ -201,3 +201,18 @@ def test_many_simultaneous_contacts_are_solved_by_pivoting_as_by_enumeration(
     assert np.allclose(impulses[:k] * leaving, 0, atol=1e-8)
     assert abs(jacobian[k] @ after) < 1e-10  # the bilateral constraint is kept
     assert np.allclose(mass @ (after - v), jacobian.T @ impulses, atol=1e-9)
+
+
+@pytest.mark.parametrize("gap", ["x2 - x1", "x2 - x1 + sin(x1)/10"])  # closed form, stepped
+def test_a_start_closing_on_a_contact_is_refused_by_name(gap: str) -> None:
+    carts = lg.loads(
+        f"""
+        coordinates: [x1, x2]
+        kinetic: (x1_dot**2 + x2_dot**2)/2
+        constraints:
+          - {{name: bumpers, unilateral: "{gap}", restitution: 1}}
+        initial: {{x1: 0.0, x2: 0.0, x1_dot: 1.0, x2_dot: 0.0}}
+        """
+    )
+    with pytest.raises(SimulationError, match="'bumpers'.*an impact at the start"):
+        lg.simulate(carts, t_span=1.0)
