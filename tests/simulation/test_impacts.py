@@ -214,5 +214,5 @@ def test_a_start_closing_on_a_contact_is_refused_by_name(gap: str) -> None:
         initial: {{x1: 0.0, x2: 0.0, x1_dot: 1.0, x2_dot: 0.0}}
         """
     )
-    with pytest.raises(SimulationError, match="'bumpers'.*an impact at the start"):
+    with pytest.raises(SimulationError, match=r"'bumpers'.*an impact at the start"):
         lg.simulate(carts, t_span=1.0)

@@ -165,8 +165,7 @@ def _monomials(
     for monomial, coefficient in sp.expand(g).as_coefficients_dict().items():
         powers = monomial.as_powers_dict() if monomial != 1 else {}
         if not coefficient.is_number or any(
-            s not in place or not (isinstance(p, sp.Integer) and p >= 0)
-            for s, p in powers.items()
+            s not in place or not (isinstance(p, sp.Integer) and p >= 0) for s, p in powers.items()
         ):
             return None
         counts = {s: int(p) for s, p in powers.items()}

@@ -100,7 +100,9 @@ def resolve(
     return v + mobility @ local, impulses
 
 
-def _local_impulses(delassus: np.ndarray, wanted: np.ndarray, free: int, scale: float) -> np.ndarray:
+def _local_impulses(
+    delassus: np.ndarray, wanted: np.ndarray, free: int, scale: float
+) -> np.ndarray:
     """The impulses of the rows of ``delassus`` (the first ``free`` bilateral, any sign; the
     others pushing, each on a contact that would otherwise close): enumerated active sets for
     a few contacts, Lemke's method on the contacts' Schur complement for many."""

@@ -120,8 +120,9 @@ def limit_cycle(
     of the state whose zero, crossed in ``direction`` (``rising``, ``falling`` or ``both``), is
     the section: ``"theta"`` for a pendulum's swings through the vertical.
 
-    Raises SimulationInputError for a section that is none of these, and SimulationError when a return does not reach the
-    section within ``max_return_time`` or Newton's method does not converge."""
+    Raises SimulationInputError for a section that is none of these, and SimulationError
+    when a return does not reach the section within ``max_return_time`` or Newton's method
+    does not converge."""
     returns = _ReturnMap(system, dict(initial or {}), dict(parameters or {}), section,
                          direction, max_return_time)  # fmt: skip
     x, _ = returns(returns.start)  # onto the section

@@ -226,13 +226,13 @@ class UnilateralDynamics:
         if self.gaps is not None:  # every gap at once
             every = np.arange(len(constraints))
             hs, cs = self.gaps.values(every, q), self.gaps.gradients(every, q) @ q_dot
-            pairs = zip(every.tolist(), hs.tolist(), cs.tolist())
+            found = list(zip(every.tolist(), hs.tolist(), cs.tolist()))
         else:
-            pairs = ((i, *(float(r[0]) for r in self.piece({i}).form.residuals(q, q_dot, t, self.p)))
-                     for i in self.one_sided)  # fmt: skip
-        for i, h, c in pairs:
-            if _touching(i, constraints[i], h, c):
-                active.add(i)
+            found = []
+            for i in self.one_sided:
+                h, c = self.piece({i}).form.residuals(q, q_dot, t, self.p)
+                found.append((i, float(h[0]), float(c[0])))
+        active.update(i for i, h, c in found if _touching(i, constraints[i], h, c))
         return active
 
     def guards(self, mode: frozenset[int], piece: Dynamics) -> list[_Watched | _Contacts]:
@@ -421,7 +421,8 @@ class UnilateralDynamics:
         n = len(self.eom.coordinates)
         full = np.full((len(run.t), len(self.multiplier_names)), np.nan)
         if not mode:  # no constraint active: no multiplier, no residual
-            return dataclasses.replace(run, multipliers=full, constraint_residual=np.zeros(len(run.t)))
+            residual = np.zeros(len(run.t))
+            return dataclasses.replace(run, multipliers=full, constraint_residual=residual)
         multipliers, residual = piece.constraint_rows(run.t, run.x[:, :n], run.x[:, n:])
         full[:, sorted(mode)] = multipliers
         return dataclasses.replace(run, multipliers=full, constraint_residual=residual)
