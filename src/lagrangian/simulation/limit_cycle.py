@@ -215,7 +215,7 @@ class _ReturnMap:
             plus, minus = x.copy(), x.copy()
             plus[i] += h
             minus[i] -= h
-            images = []
+            images: list[np.ndarray | None] = []
             for side in (plus, minus):
                 try:
                     images.append(self(side)[0])
