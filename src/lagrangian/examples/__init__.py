@@ -19,7 +19,6 @@ from importlib.resources import files
 from typing import Any
 
 from lagrangian.errors import ModelError
-from lagrangian.examples.gas import hard_disk_gas
 from lagrangian.examples.scalable import n_link_pendulum
 from lagrangian.io import loads
 from lagrangian.model import System
@@ -65,7 +64,7 @@ BENCHMARK_NAMES = ("whipple_bicycle",)
 
 def _catalog(benchmarks: bool = False) -> dict[str, Callable[..., System]]:
     catalog: dict[str, Callable[..., System]] = (
-        {} if benchmarks else {"n_link_pendulum": n_link_pendulum, "hard_disk_gas": hard_disk_gas}
+        {} if benchmarks else {"n_link_pendulum": n_link_pendulum}
     )
     for resource in MODELS.iterdir():
         if resource.name.endswith(".yaml"):
