@@ -216,3 +216,39 @@ def test_a_start_closing_on_a_contact_is_refused_by_name(gap: str) -> None:
     )
     with pytest.raises(SimulationError, match=r"'bumpers'.*an impact at the start"):
         lg.simulate(carts, t_span=1.0)
+
+
+def test_a_contact_under_a_constant_force_is_the_root_of_a_quartic() -> None:
+    """A particle thrown inside a circular bowl x^2 + y^2 <= R^2 under gravity: along the
+    parabola the gap R^2 - x^2 - y^2 is a quartic in t, found in closed form; its first zero
+    against SciPy's brentq on the same parabola, and the bounce against the reflection
+    about the bowl's normal (e = 1)."""
+    from scipy.optimize import brentq
+
+    bowl = lg.loads(
+        """
+        coordinates: [x, y]
+        parameters: {g: 9.81, R: 1.0}
+        kinetic: (x_dot**2 + y_dot**2)/2
+        potential: g*y
+        constraints:
+          - {name: bowl, unilateral: R**2 - x**2 - y**2, restitution: 1}
+        initial: {x: 0.1, y: 0.2, x_dot: 1.5, y_dot: 2.0}
+        """
+    )
+    run = lg.simulate(bowl, t_span=0.6, samples=7)
+    first = run.impacts[0]
+    x0, v0, a = np.array([0.1, 0.2]), np.array([1.5, 2.0]), np.array([0.0, -G])
+
+    def gap(s: float) -> float:
+        p = x0 + v0 * s + a * s * s / 2
+        return 1.0 - p @ p
+
+    expected = brentq(gap, 0.01, 0.6, xtol=1e-15)
+    assert first.t == pytest.approx(expected, abs=1e-12)
+    p = x0 + v0 * expected + a * expected**2 / 2
+    v = v0 + a * expected
+    normal = p / np.linalg.norm(p)
+    reflected = v - 2 * (v @ normal) * normal
+    after = np.array([first.after["x_dot"], first.after["y_dot"]])
+    assert np.allclose(after, reflected, atol=1e-9)
