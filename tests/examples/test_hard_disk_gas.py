@@ -90,7 +90,9 @@ def test_the_collisions_are_those_of_an_event_driven_reference() -> None:
     assert any(len(disks) == 2 for _, disks in expected)  # disk contacts, not walls alone
     for impact, (t, disks) in zip(run.impacts, expected):
         assert disks_of(impact) == disks
-        assert impact.t == pytest.approx(t, abs=1e-11)  # roots, not a stepped search
+        # roots, not a stepped search (which meets a contact 1e-8 inside it); the collisions
+        # amplify rounding, so the later times agree to 1e-10
+        assert impact.t == pytest.approx(t, abs=1e-10)
 
 
 def test_energy_and_momentum_are_exact_at_every_elastic_impact() -> None:
