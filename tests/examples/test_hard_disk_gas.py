@@ -90,9 +90,11 @@ def test_the_collisions_are_those_of_an_event_driven_reference() -> None:
     assert any(len(disks) == 2 for _, disks in expected)  # disk contacts, not walls alone
     for impact, (t, disks) in zip(run.impacts, expected):
         assert disks_of(impact) == disks
-        # roots, not a stepped search (which meets a contact 1e-8 inside it); the collisions
-        # amplify rounding, so the later times agree to 1e-10
-        assert impact.t == pytest.approx(t, abs=1e-10)
+        assert impact.t == pytest.approx(t, abs=1e-9)
+    # roots, not a stepped search (which meets a contact 1e-8 inside it): the first times
+    # agree to rounding (later ones less: every collision amplifies a difference)
+    for impact, (t, _) in zip(run.impacts[:10], expected[:10]):
+        assert impact.t == pytest.approx(t, abs=1e-13)
 
 
 def test_energy_and_momentum_are_exact_at_every_elastic_impact() -> None:
