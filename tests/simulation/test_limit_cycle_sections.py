@@ -74,3 +74,39 @@ def test_a_limit_cycle_through_a_section_on_the_command_line(capsys) -> None:
 def test_a_section_neither_a_transition_nor_an_expression_is_refused() -> None:
     with pytest.raises(SimulationInputError, match=r"'toe_off' is not a transition .* nor an"):
         lg.limit_cycle(lg.examples.simple_pendulum(), section="toe_off")
+
+
+def test_a_unilateral_constraint_is_a_section_the_state_just_after_its_impacts() -> None:
+    """A self-excited oscillator (negative damping c) against a wall x >= -a with e < 1: the
+    energy gained in flight balances the loss at the wall on an isolated cycle.  Checked by
+    SciPy: from the wall at the cycle's speed, the flight returns to the wall at the speed
+    that restitution turns into the same one, after one period."""
+    c, a, e = 0.1, 1.0, 0.8
+    oscillator = lg.loads(
+        f"""
+        coordinates: [x]
+        parameters: {{c: {c}, a: {a}, e: {e}}}
+        kinetic: x_dot**2/2
+        potential: x**2/2
+        generalized_forces: {{x: c*x_dot}}
+        constraints:
+          - {{name: wall, unilateral: x + a, restitution: e}}
+        initial: {{x: 0.0, x_dot: 1.2}}
+        """
+    )
+    cycle = lg.limit_cycle(oscillator, section="wall")
+    assert cycle.state["x"] == pytest.approx(-a, abs=1e-7)
+    speed = cycle.state["x_dot"]
+
+    def wall(t: float, s: np.ndarray) -> float:
+        return s[0] + a
+
+    wall.terminal, wall.direction = True, -1  # type: ignore[attr-defined]
+    flight = solve_ivp(lambda t, s: [s[1], c * s[1] - s[0]], (0, 50), [-a, speed],
+                       events=wall, rtol=1e-12, atol=1e-12)  # fmt: skip
+    (t_return,), ((_, v_return),) = flight.t_events[0], flight.y_events[0]
+    assert -e * v_return == pytest.approx(speed, rel=1e-6)
+    assert cycle.period == pytest.approx(t_return, rel=1e-6)
+    # the position is fixed by the section (a zero multiplier); the speed's is dP/dv < 1
+    moduli = sorted(abs(m) for m in cycle.multipliers)
+    assert moduli[0] < 1e-6 and 0 < moduli[1] < 1 and cycle.stable

@@ -151,3 +151,24 @@ def test_paths_without_transitions_refuse_them_by_name() -> None:
     for language in ("numpy", "c"):
         with pytest.raises(ModelError, match=r"its transitions \(heel_strike\) reset the state"):
             lg.export(walker, language)
+
+
+def test_transitions_firing_ever_faster_stop_at_their_accumulation() -> None:
+    """A ball bounced by a transition that halves its speed: the flights shrink by 1/2 each,
+    so the bounces accumulate at t_inf = t1 (1 + e) / (1 - e) = 3 t1 (t1 = sqrt(2 h / g));
+    the run stops there, saying so, instead of stepping ever smaller."""
+    ball = lg.loads(
+        """
+        coordinates: [y]
+        parameters: {g: 9.81}
+        kinetic: y_dot**2/2
+        potential: g*y
+        transitions: [{name: bounce, guard: y, direction: falling, reset: {y_dot: -y_dot/2}}]
+        initial: {y: 1.0, y_dot: 0.0}
+        """
+    )
+    run = lg.simulate(ball, t_span=3.0, samples=11, method="DOP853", rtol=1e-10, atol=1e-12)
+    assert run.success and "Zeno accumulation" in run.message
+    t_inf = 3 * np.sqrt(2 / 9.81)
+    assert run.impacts[-1].t == pytest.approx(t_inf, abs=1e-6)
+    assert run.impacts[-1].t <= t_inf

@@ -34,7 +34,7 @@ from typing import Any, NamedTuple, cast
 import numpy as np
 
 from lagrangian.errors import LagrangianError, SimulationError, SimulationInputError
-from lagrangian.model import System
+from lagrangian.model import System, Unilateral
 from lagrangian.simulation.crossings import Crossing, section_crossing
 from lagrangian.simulation.integrators.loop import SolverIntegrator
 from lagrangian.simulation.integrators.piecewise import (
@@ -115,13 +115,14 @@ def limit_cycle(
     ``System.initial``): first the motion is followed to the section, then Newton's method
     finds the fixed point of the return map (module docstring).
 
-    ``section`` names a transition of the System, or is an expression of the state whose
-    zero, crossed in ``direction`` (``rising``, ``falling`` or ``both``), is the section:
-    ``"theta"`` for a pendulum's swings through the vertical.
+    ``section`` names a transition of the System, or a unilateral constraint with a
+    coefficient of restitution (the state just after each impact on it), or is an expression
+    of the state whose zero, crossed in ``direction`` (``rising``, ``falling`` or ``both``), is
+    the section: ``"theta"`` for a pendulum's swings through the vertical.
 
-    Raises SimulationInputError for a section that is neither a transition of the System
-    nor an expression of its state, and SimulationError when a return does not reach the
-    section within ``max_return_time`` or Newton's method does not converge."""
+    Raises SimulationInputError for a section that is none of these, and SimulationError
+    when a return does not reach the section within ``max_return_time`` or Newton's method
+    does not converge."""
     returns = _ReturnMap(system, dict(initial or {}), dict(parameters or {}), section,
                          direction, max_return_time)  # fmt: skip
     x, _ = returns(returns.start)  # onto the section
@@ -206,14 +207,28 @@ class _ReturnMap:
         return np.array(run.x_reached, dtype=float), float(run.t_reached)
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
-        """dP/dx by central differences (steps of 1e-6 relative)."""
+        """dP/dx by central differences (steps of 1e-6 relative); one-sided where a step
+        leaves the admissible states (into a unilateral constraint of the section)."""
         columns = []
         for i in range(len(x)):
             h = 1e-6 * (1 + abs(x[i]))
             plus, minus = x.copy(), x.copy()
             plus[i] += h
             minus[i] -= h
-            columns.append((self(plus)[0] - self(minus)[0]) / (2 * h))
+            images: list[np.ndarray | None] = []
+            for side in (plus, minus):
+                try:
+                    images.append(self(side)[0])
+                except SimulationInputError:  # a start inside a constraint
+                    images.append(None)
+            if images[0] is not None and images[1] is not None:
+                columns.append((images[0] - images[1]) / (2 * h))
+            elif images[0] is not None or images[1] is not None:
+                centre = self(x)[0]
+                columns.append((images[0] - centre) / h if images[0] is not None
+                               else (centre - images[1]) / h)  # fmt: skip
+            else:
+                raise SimulationError("the return map has no admissible neighbour to differentiate")
         return np.column_stack(columns)
 
 
@@ -221,7 +236,7 @@ def _section(setup: RunSetup, section: str, direction: str) -> Crossing | None:
     """None for a transition's name; else the crossing of the section expression (its
     name unused by the transitions), or SimulationInputError saying it is neither."""
     names = [item.name for item in setup.system.transitions]
-    if section in names:
+    if section in names or section in impact_names(setup.system):
         return None
     try:
         crossing = section_crossing(setup.eom, section, setup.inputs.p, direction,
@@ -229,7 +244,9 @@ def _section(setup: RunSetup, section: str, direction: str) -> Crossing | None:
     except LagrangianError as error:
         raise SimulationInputError(
             f"section: {section!r} is not a transition of the system (its transitions: "
-            f"{', '.join(names) or 'none'}) nor an expression of its state: {error}"
+            f"{', '.join(names) or 'none'}), a unilateral constraint with a coefficient of "
+            f"restitution (those: {', '.join(impact_names(setup.system)) or 'none'}) nor an "
+            f"expression of its state: {error}"
         ) from None
     return crossing
 
@@ -262,4 +279,13 @@ class _StopAt:
         jump: Jump = self.inner.transition(mode, guard, t, x)
         if jump.label == self.section:
             return jump._replace(stop=True)
+        if jump.impact is not None and self.section in jump.impact.constraints:
+            return jump._replace(stop=True, label=self.section)  # an impact on the section
         return jump
+
+
+def impact_names(system: System) -> list[str]:
+    """The names of the unilateral constraints that take impacts (a section of a return
+    map: the state just after an impact on it)."""
+    return [c.name for c in system.constraints
+            if isinstance(c, Unilateral) and c.name and c.restitution is not None]  # fmt: skip

@@ -35,6 +35,7 @@ from lagrangian.model import System
 from lagrangian.numerics.constrained import compile_constrained
 from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics
 from lagrangian.simulation.dynamics import FreeDynamics, MultiplierDynamics
+from lagrangian.simulation.flight import FlightIntegrator
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.compiled import native_integrator
 from lagrangian.simulation.integrators.events import EventFunction, EventWatch
@@ -237,7 +238,8 @@ def formulation(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
         return discrete, VariationalIntegrator(options.method)
     if options.unilateral:
         dynamics = UnilateralDynamics(setup.system, eom, p, options.gains, names)
-        return dynamics, PiecewiseIntegrator(SolverIntegrator())
+        # pieces in closed form where the contacts' motion is polynomial in t, else stepped
+        return dynamics, PiecewiseIntegrator(FlightIntegrator(SolverIntegrator()))
     if constraints:
         equations = constrained_equations(eom, constraints)
         multipliers = MultiplierDynamics(

@@ -88,6 +88,8 @@ class WithTransitions:
     eom: EquationsOfMotion
     p: np.ndarray
     motion: Any  # the Motion of the formulation (multiplier names, rows, the start)
+    #: The times the transitions fired in the run under way (the state of one run).
+    fired: list[float] = dataclasses.field(default_factory=list, compare=False, repr=False)
 
     @property
     def multiplier_names(self) -> tuple[str, ...]:
@@ -110,6 +112,7 @@ class WithTransitions:
 
     # -- the Hybrid protocol ------------------------------------------------------------
     def initial_mode(self, t: float, x: np.ndarray) -> tuple[Any, list[Record]]:
+        self.fired.clear()  # a new run
         return self.inner.initial_mode(t, x)
 
     def settle(self, mode: Any, t: float, x: np.ndarray) -> tuple[Any, list[Record]]:
@@ -140,10 +143,37 @@ class WithTransitions:
         after = np.array(x, dtype=float)
         after[list(targets)] = np.asarray(reset(q, q_dot, t, self.p), dtype=float)
         record = ImpactRecord(t, (guard.__name__,), (), np.array(x, dtype=float), after)
+        self.fired.append(t)
+        if accumulating(self.fired):  # ever faster firings: stop at their accumulation
+            names = ", ".join(dict.fromkeys(i.name for i in self.eom.system.transitions))
+            label = f"rest ({names} fire ever faster: a Zeno accumulation)"
+            return Jump(mode, after, label, impact=record, disarm=True, stop=True)
         return Jump(mode, after, guard.__name__, impact=record, disarm=True)
 
     def completed(self, mode: Any, piece: Dynamics, run: Integration) -> Integration:
         return self.inner.completed(mode, piece, run)
+
+
+#: Firings closer than this (relative to 1 + |t|), each interval shorter than the one before,
+#: are the accumulation of a Zeno motion (a rimless wheel rocking to rest between two spokes).
+ZENO_INTERVAL = 1e-8
+
+
+def accumulating(fired: list[float]) -> bool:
+    """Whether the last firings come ever faster and the last interval is below
+    ZENO_INTERVAL: the geometric accumulation t_inf = t_k + d_k r / (1 - r) is reached to
+    that precision, and stepping on would take ever smaller steps without end.
+
+    >>> accumulating([0.0, 0.5, 0.75, 0.875])
+    False
+    >>> accumulating([1.0, 1 + 4e-9, 1 + 6e-9, 1 + 7e-9])
+    True
+    """
+    if len(fired) < 4:
+        return False
+    intervals = np.diff(fired[-4:])
+    shrinking = bool(np.all(np.diff(intervals) < 0))
+    return shrinking and bool(intervals[-1] < ZENO_INTERVAL * (1 + abs(fired[-1])))
 
 
 class _Condition:

@@ -40,6 +40,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 import sympy as sp
@@ -51,6 +52,7 @@ from lagrangian.model import System
 from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, label, statement
 from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
 from lagrangian.simulation.dynamics import INITIAL_TOLERANCE, MultiplierDynamics
+from lagrangian.simulation.flight import Calendar, QuadraticGaps, quadratic_gaps
 from lagrangian.simulation.impacts import ImpactRecord, resolve
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.piecewise import Guard, Jump, Record
@@ -59,8 +61,15 @@ from lagrangian.symbolic.caches import IdentityCache
 
 #: How far below zero an inactive constraint's g may go before it counts as a re-contact.
 RECONTACT_TOLERANCE = 1e-8
+#: Contacts the calendar finds within this time (relative to 1 + |t|) of an impact take
+#: part in it (simultaneous impacts, as on a symmetric lattice).
+SIMULTANEOUS = 1e-12
 
 _FORMS: IdentityCache[EquationsOfMotion, dict[tuple[int, ...], CompiledConstrained]] = (
+    IdentityCache()
+)
+_GAPS: IdentityCache[EquationsOfMotion, dict[bytes, QuadraticGaps | None]] = IdentityCache()
+_MASSES: IdentityCache[EquationsOfMotion, dict[bytes, tuple[np.ndarray, np.ndarray]]] = (
     IdentityCache()
 )
 
@@ -76,6 +85,8 @@ class _Watched:
     ) -> None:
         self.__name__ = name
         self.index, self.release, self.function = index, release, function
+        # an active contact's multiplier is constant where the acceleration is (a flight)
+        self.constant_in_flight = release
 
     def __call__(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
         return self.function(t, q, q_dot)
@@ -92,10 +103,89 @@ class UnilateralDynamics:
     gains: tuple[float, float]
     multiplier_names: tuple[str, ...]
 
-    @property
+    @functools.cached_property
     def one_sided(self) -> tuple[int, ...]:
         """The indices of the unilateral constraints."""
         return tuple(i for i, c in enumerate(self.system.constraints) if isinstance(c, Unilateral))
+
+    @functools.cached_property
+    def unilateral(self) -> frozenset[int]:
+        """The indices of the unilateral constraints, as a set."""
+        return frozenset(self.one_sided)
+
+    @functools.cached_property
+    def bilateral(self) -> frozenset[int]:
+        """The indices of the holonomic and velocity constraints (always active)."""
+        return frozenset(range(len(self.system.constraints))) - self.unilateral
+
+    @functools.cached_property
+    def gaps(self) -> QuadraticGaps | None:
+        """The constraints as polynomial gaps (:mod:`lagrangian.simulation.flight`) when the
+        motion between impacts can be polynomial in t: every constraint unilateral and of
+        degree <= 2 in q alone, the mass matrix and the forces constant; else None.  Found
+        once per equations and parameter values."""
+        found = _GAPS.get(self.eom, lambda _: {})
+        key = self.p.tobytes()
+        if key not in found:
+            found[key] = self._polynomial_gaps()
+        return found[key]
+
+    def _polynomial_gaps(self) -> QuadraticGaps | None:
+        eom, constraints = self.eom, self.system.constraints
+        if len(self.one_sided) != len(constraints) or not constraints:
+            return None
+        if any(order != 2 for order in eom.coordinate_orders.values()):
+            return None
+        state = {*eom.coordinates, *eom.velocities, eom.time}
+        if (eom.mass_matrix.free_symbols | eom.forcing.free_symbols) & state:
+            return None
+        values = {s: sp.Float(v) for s, v in zip(eom.parameters, self.p)}
+        expressions = [c.expression for c in constraints]
+        return quadratic_gaps(expressions, range(len(constraints)), eom.coordinates, values)
+
+    @functools.cached_property
+    def calendar(self) -> Calendar:
+        """The next contact time of every gap along the run's flights (gaps only)."""
+        assert self.gaps is not None
+        return Calendar(self.gaps)
+
+    @functools.cached_property
+    def constant_mass(self) -> tuple[np.ndarray, np.ndarray]:
+        """M and M^-1 of a system whose mass matrix is constant (gaps only), found once per
+        equations and parameter values."""
+        found = _MASSES.get(self.eom, lambda _: {})
+        key = self.p.tobytes()
+        if key not in found:
+            n = len(self.eom.coordinates)
+            zero = np.zeros(n)
+            mass = self.piece(set()).form.parts(zero, zero, 0.0, self.p).mass
+            diagonal = np.count_nonzero(mass - np.diag(np.diagonal(mass))) == 0
+            inverse = np.diag(1 / np.diagonal(mass)) if diagonal else np.linalg.inv(mass)
+            found[key] = (mass, inverse)
+        return found[key]
+
+    @functools.cached_property
+    def accelerations(self) -> dict[frozenset[int], np.ndarray]:
+        """The constant acceleration of each mode that moves in closed form, found once."""
+        return {}
+
+    def flies(self, mode: frozenset[int]) -> bool:
+        """Whether ``mode`` moves with a constant acceleration: gaps, and no active contact
+        but affine ones held without Baumgarte's terms (which depend on the state)."""
+        if self.gaps is None:
+            return False
+        affine = self.gaps.affine
+        return not mode or (self.gains == (0.0, 0.0) and all(affine[i] for i in mode))
+
+    def flight_acceleration(
+        self, mode: frozenset[int], piece: Dynamics, t: float, x: np.ndarray
+    ) -> np.ndarray | None:
+        """The constant acceleration of ``mode``, or None when it does not fly."""
+        if not self.flies(mode):
+            return None
+        if mode not in self.accelerations:
+            self.accelerations[mode] = piece.field(t, x)[len(x) // 2 :]
+        return self.accelerations[mode]
 
     def piece(self, active: set[int] | frozenset[int]) -> MultiplierDynamics:
         """The multiplier form of the ``active`` constraints (the unilateral ones as the
@@ -132,23 +222,32 @@ class UnilateralDynamics:
         """The constraints active at a start: the bilateral ones, and each unilateral one
         touching (g ~ 0, dg/dt ~ 0); SimulationInputError when one is violated or hit."""
         constraints = self.system.constraints
-        active = {i for i in range(len(constraints)) if i not in self.one_sided}
-        for i in self.one_sided:
-            h, c = self.piece({i}).form.residuals(q, q_dot, t, self.p)
-            if _touching(i, constraints[i], float(h[0]), float(c[0])):
-                active.add(i)
+        active = {i for i in range(len(constraints)) if i not in self.unilateral}
+        if self.gaps is not None:  # every gap at once
+            every = np.arange(len(constraints))
+            hs, cs = self.gaps.values(every, q), self.gaps.gradients(every, q) @ q_dot
+            found = list(zip(every.tolist(), hs.tolist(), cs.tolist()))
+        else:
+            found = []
+            for i in self.one_sided:
+                h, c = self.piece({i}).form.residuals(q, q_dot, t, self.p)
+                found.append((i, float(h[0]), float(c[0])))
+        active.update(i for i, h, c in found if _touching(i, constraints[i], h, c))
         return active
 
-    def guards(self, mode: frozenset[int], piece: Dynamics) -> list[_Watched]:
+    def guards(self, mode: frozenset[int], piece: Dynamics) -> list[_Watched | _Contacts]:
         """The terminal events of a piece: each active unilateral multiplier turning to the
-        pulling side (a release), each inactive one's g going below zero (a re-contact)."""
+        pulling side (a release), each inactive one's g going below zero (a re-contact; with
+        gaps, one guard for all of them, found in closed form where the mode flies)."""
         assert isinstance(piece, MultiplierDynamics)
         order = sorted(mode)
-        watched = [
+        watched: list[_Watched | _Contacts] = [
             _release(f"release {self.tag(i)}", i, k, piece)
             for k, i in enumerate(order)
-            if i in self.one_sided
+            if i in self.unilateral
         ]
+        if self.gaps is not None:
+            return [*watched, _Contacts(self, mode)]
         for i in self.one_sided:
             if i not in mode:
                 watched.append(_contact(f"contact {self.tag(i)}", i, self.piece({i}), self.p))
@@ -177,20 +276,27 @@ class UnilateralDynamics:
         """The active unilateral constraint whose multiplier pulls at (t, x) (the most
         negative one), or None."""
         n = len(self.eom.coordinates)
+        if not mode:
+            return None
         lam = self.piece(set(mode)).multipliers(t, x[:n], x[n:])
-        pulling = [(lam[k], i) for k, i in enumerate(sorted(mode)) if i in self.one_sided]
+        pulling = [(lam[k], i) for k, i in enumerate(sorted(mode)) if i in self.unilateral]
         pulling = [pair for pair in pulling if pair[0] < 0]
         return min(pulling)[1] if pulling else None
 
     def transition(self, mode: frozenset[int], guard: Guard, t: float, x: np.ndarray) -> Jump:
         """A release drops the constraint; a contact is an impact where the constraint has a
         coefficient of restitution, and ends the run where it has none."""
-        assert isinstance(guard, _Watched)
-        if guard.release:
-            return Jump(mode - {guard.index}, x, guard.__name__)
-        if self.restitution(guard.index) is None:
-            return Jump(mode, x, guard.__name__, _unmodelled(self.system, guard.index, t))
-        return self.impact(mode, guard.index, t, x)
+        if isinstance(guard, _Contacts):
+            index = guard.reached(t, x)
+        else:
+            assert isinstance(guard, _Watched)
+            if guard.release:
+                return Jump(mode - {guard.index}, x, guard.__name__)
+            index = guard.index
+        if self.restitution(index) is None:
+            return Jump(mode, x, f"contact {self.tag(index)}",
+                        _unmodelled(self.system, index, t))  # fmt: skip
+        return self.impact(mode, index, t, x)
 
     def restitution(self, i: int) -> float | None:
         """The coefficient of restitution of constraint i at the run's parameters, or None."""
@@ -218,48 +324,73 @@ class UnilateralDynamics:
         every unilateral constraint touching there (:func:`lagrangian.simulation.impacts.
         resolve`), and the mode after: the contacts that took an impulse and do not bounce
         stay active, the others are released."""
-        n, m = len(self.eom.coordinates), len(self.system.constraints)
+        n = len(self.eom.coordinates)
         q, v = x[:n], x[n:]
-        every = self.piece(set(range(m)))
-        parts = every.form.parts(q, v, t, self.p)
-        touching = self.touching(mode, index, parts.h, parts.rates)
+        near = self.near(mode, index, t, q, v)
+        at = {row: k for k, row in enumerate(near.rows)}
+        touching = self.touching(mode, index, near)
         missing = [i for i in touching if i not in mode and self.restitution(i) is None]
         if missing:
             return Jump(mode, x, f"contact {self.tag(missing[0])}",
                         _unmodelled(self.system, missing[0], t))  # fmt: skip
-        bilateral = [i for i in range(m) if i not in self.one_sided]
+        bilateral = [i for i in near.rows if i not in self.unilateral]
         e = {i: 0.0 if i in mode else float(self.restitution(i) or 0.0) for i in touching}
-        after, impulses = resolve(parts.mass, parts.jacobian, parts.rates, bilateral,
-                                  touching, [e[i] for i in touching], v)  # fmt: skip
-        rest = [i for i in touching if e[i] > 0 and impulses[i] > 0
+
+        def solved() -> tuple[np.ndarray, np.ndarray]:
+            return resolve(near.mass, near.jacobian, near.rates, [at[i] for i in bilateral],
+                           [at[i] for i in touching], [e[i] for i in touching], v,
+                           near.inverse_mass)  # fmt: skip
+
+        after, impulses = solved()
+        rest = [i for i in touching if e[i] > 0 and impulses[at[i]] > 0
                 and self.bounce_height(mode, i, t, q, after) <= RECONTACT_TOLERANCE]  # fmt: skip
         if rest:  # a bounce lower than the contact tolerance: the contact persists (Zeno)
             e.update(dict.fromkeys(rest, 0.0))
-            after, impulses = resolve(parts.mass, parts.jacobian, parts.rates, bilateral,
-                                      touching, [e[i] for i in touching], v)  # fmt: skip
-        rates = parts.jacobian @ after + parts.rates - parts.jacobian @ v
-        scale = float(np.max(np.abs(parts.rates), initial=0.0)) + 1e-300
-        staying = {i for i in touching if abs(rates[i]) <= 1e-9 * scale
-                   and (impulses[i] > 0 or i in mode)}  # fmt: skip
-        after_mode = frozenset(set(bilateral) | staying)
+            after, impulses = solved()
+        rates = near.jacobian @ (after - v) + near.rates
+        scale = float(np.max(np.abs(near.rates), initial=0.0)) + 1e-300
+        staying = {i for i in touching if abs(rates[at[i]]) <= 1e-9 * scale
+                   and (impulses[at[i]] > 0 or i in mode)}  # fmt: skip
+        after_mode = self.bilateral | staying
         state = np.concatenate((q, after))
         if staying - mode:  # onto the contacts that persist (the impact was met at g = -tol)
             state = np.concatenate(self.piece(after_mode).form.project(q, after, t, self.p))
-        hit = tuple(i for i in touching if impulses[i] > 0)
+        hit = tuple(i for i in touching if impulses[at[i]] > 0)
         names = tuple(self.tag(i) for i in hit)
-        record = ImpactRecord(t, names, tuple(float(impulses[i]) for i in hit), np.array(x),
+        record = ImpactRecord(t, names, tuple(float(impulses[at[i]]) for i in hit), np.array(x),
                               state, tuple(self.tag(i) for i in rest))  # fmt: skip
         also = tuple(f"rest {self.tag(i)}" for i in rest)
         return Jump(after_mode, state, f"impact {', '.join(names)}", impact=record, also=also)
 
-    def touching(
-        self, mode: frozenset[int], index: int, h: np.ndarray, rates: np.ndarray
-    ) -> list[int]:
+    def near(
+        self, mode: frozenset[int], index: int, t: float, q: np.ndarray, v: np.ndarray
+    ) -> _Near:
+        """The constraints an impact on ``index`` may involve, with M, their Jacobian rows,
+        rates and gaps: every constraint; with gaps, only ``index``, the active ones and those
+        the calendar (or, after a stepped piece, the contact band) finds touching now."""
+        if self.gaps is None:
+            m = len(self.system.constraints)
+            parts = self.piece(set(range(m))).form.parts(q, v, t, self.p)
+            return _Near(list(range(m)), parts.mass, parts.jacobian, parts.rates, parts.h, None)
+        calendar = self.calendar
+        if calendar.hit[0] == t:
+            soon = np.flatnonzero(calendar.times <= t + SIMULTANEOUS * (1 + abs(t)))
+        else:
+            every = np.arange(len(self.system.constraints))
+            soon = np.flatnonzero(np.abs(self.gaps.values(every, q)) <= 2 * RECONTACT_TOLERANCE)
+        rows = sorted({index, *mode, *soon.tolist()})
+        jacobian = self.gaps.gradients(np.array(rows), q)
+        mass, inverse = self.constant_mass
+        h = self.gaps.values(np.array(rows), q)
+        return _Near(rows, mass, jacobian, jacobian @ v, h, inverse)
+
+    def touching(self, mode: frozenset[int], index: int, near: _Near) -> list[int]:
         """The unilateral constraints an impact on ``index`` involves: it, those in contact,
         and every other one at g ~ 0 that is closing."""
         band = 2 * RECONTACT_TOLERANCE
-        near = {i for i in self.one_sided if abs(h[i]) <= band and rates[i] < 0}
-        return sorted({index} | (set(self.one_sided) & mode) | near)
+        closing = {row for row, h, rate in zip(near.rows, near.h, near.rates)
+                   if row in self.unilateral and abs(h) <= band and rate < 0}  # fmt: skip
+        return sorted({index} | (self.unilateral & mode) | closing)
 
     def bounce_height(
         self, mode: frozenset[int], i: int, t: float, q: np.ndarray, v: np.ndarray
@@ -269,10 +400,18 @@ class UnilateralDynamics:
         (it does not come back).  g_ddot = a_i q_ddot - gamma_i (A q_ddot = gamma is the
         constraints' second derivative held at zero)."""
         free = self.piece(set(mode) - {i})
-        q_ddot = free.field(t, np.concatenate((q, v)))[len(q) :]
-        parts = self.piece(set(range(len(self.system.constraints)))).form.parts(q, v, t, self.p)
-        g_dot = float(parts.rates[i])
-        g_ddot = float(parts.jacobian[i] @ q_ddot - parts.gamma[i])
+        x = np.concatenate((q, v))
+        released = frozenset(mode - {i})
+        flying = self.flight_acceleration(released, free, t, x)
+        q_ddot = flying if flying is not None else free.field(t, x)[len(q) :]
+        if self.gaps is not None:  # g along q + v s + q_ddot s^2/2: g_dot = c1, g_ddot = 2 c2
+            _, c1, c2, _, _ = self.gaps.along(np.array([i]), q, v, q_ddot)
+            g_dot, g_ddot = float(c1[0]), float(2 * c2[0])
+        else:
+            m = len(self.system.constraints)
+            parts = self.piece(set(range(m))).form.parts(q, v, t, self.p)
+            g_dot = float(parts.rates[i])
+            g_ddot = float(parts.jacobian[i] @ q_ddot - parts.gamma[i])
         return np.inf if g_ddot >= 0 else g_dot**2 / (2 * -g_ddot)
 
     def completed(self, mode: frozenset[int], piece: Dynamics, run: Integration) -> Integration:
@@ -280,10 +419,60 @@ class UnilateralDynamics:
         the residual of the active ones."""
         assert isinstance(piece, MultiplierDynamics)
         n = len(self.eom.coordinates)
-        multipliers, residual = piece.constraint_rows(run.t, run.x[:, :n], run.x[:, n:])
         full = np.full((len(run.t), len(self.multiplier_names)), np.nan)
+        if not mode:  # no constraint active: no multiplier, no residual
+            residual = np.zeros(len(run.t))
+            return dataclasses.replace(run, multipliers=full, constraint_residual=residual)
+        multipliers, residual = piece.constraint_rows(run.t, run.x[:, :n], run.x[:, n:])
         full[:, sorted(mode)] = multipliers
         return dataclasses.replace(run, multipliers=full, constraint_residual=residual)
+
+
+class _Near(NamedTuple):
+    """The constraints an impact may involve (``rows``, indices in the System's list) with the
+    mass matrix, their Jacobian rows, rates g_dot, gaps g, and M^-1 when it is constant."""
+
+    rows: list[int]
+    mass: np.ndarray
+    jacobian: np.ndarray
+    rates: np.ndarray
+    h: np.ndarray
+    inverse_mass: np.ndarray | None
+
+
+class _Contacts:
+    """The one contact guard of a mode of a system with gaps: the least gap of the inactive
+    contacts (plus the contact tolerance), whose first zero is the first contact.  A
+    :class:`~lagrangian.simulation.flight.FlightGuard`: where the mode flies the calendar finds
+    that zero in closed form; else it is stepped like any event function."""
+
+    terminal = True
+    direction = -1.0
+    __name__ = "contact"
+
+    def __init__(self, dynamics: UnilateralDynamics, mode: frozenset[int]) -> None:
+        assert dynamics.gaps is not None
+        self.dynamics, self.mode, self.gaps = dynamics, mode, dynamics.gaps
+        self.calendar = dynamics.calendar
+        self.excluded = np.zeros(len(dynamics.system.constraints), dtype=bool)
+        self.excluded[list(mode)] = True
+        self.open = np.flatnonzero(~self.excluded)
+
+    def __call__(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
+        values = self.gaps.values(self.open, q)
+        return float(np.min(values, initial=np.inf)) + RECONTACT_TOLERANCE
+
+    def acceleration(self, piece: Dynamics, t: float, x: np.ndarray) -> np.ndarray | None:
+        return self.dynamics.flight_acceleration(self.mode, piece, t, x)
+
+    def reached(self, t: float, x: np.ndarray) -> int:
+        """The constraint whose contact ends the piece at (t, x): the calendar's, else the
+        least gap."""
+        time, gap = self.calendar.hit
+        if time == t and gap >= 0:
+            return gap
+        values = self.gaps.values(self.open, x[: len(x) // 2])
+        return int(self.open[np.argmin(values)])
 
 
 def _unmodelled(system: System, index: int, t: float) -> str:
@@ -304,19 +493,24 @@ def _bilateral(constraint: Constraint) -> Constraint:
 
 
 def _touching(index: int, constraint: Constraint, g: float, g_dot: float) -> bool:
-    """Whether a unilateral constraint starts active; raise when it is violated or hit."""
-    where = f"{label(index, constraint)}, {statement(constraint)}"
+    """Whether a unilateral constraint starts active; raise when it is violated or hit.  A
+    state just after an impact, within the contact band and leaving, starts inactive (the
+    start of a return map on the impact's section)."""
+    if -2 * RECONTACT_TOLERANCE <= g < -INITIAL_TOLERANCE and g_dot > INITIAL_TOLERANCE:
+        return False
     if g < -INITIAL_TOLERANCE:
         raise SimulationInputError(
-            f"The initial state violates the unilateral constraint {where}: g = {g:.3g} < 0."
+            f"The initial state violates the unilateral constraint "
+            f"{label(index, constraint)}, {statement(constraint)}: g = {g:.3g} < 0."
         )
     if g > INITIAL_TOLERANCE or g_dot > INITIAL_TOLERANCE:
         return False
     if g_dot < -INITIAL_TOLERANCE:
         raise SimulationInputError(
-            f"The initial state moves into the unilateral constraint {where} (dg/dt = "
-            f"{g_dot:.3g} < 0 at g = 0): an impact at the start; start just outside it "
-            "(g > 0), where the impact is resolved by its coefficient of restitution."
+            f"The initial state moves into the unilateral constraint "
+            f"{label(index, constraint)}, {statement(constraint)} (dg/dt = {g_dot:.3g} < 0 at "
+            "g = 0): an impact at the start; start just outside it (g > 0), where the impact "
+            "is resolved by its coefficient of restitution."
         )
     return True
 
