@@ -33,6 +33,7 @@ import symengine as se
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem
+from lagrangian.model.rotation_factors import Factoring, factor_rotation
 from lagrangian.symbolic.caches import remembered
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.native import to_symengine
@@ -385,6 +386,7 @@ def _moving_axis(
 def _composed(
     parent: Orientation | None,
     factors: Sequence[tuple[sp.ImmutableMatrix, Any]],
+    tail: sp.ImmutableMatrix | None,
     q: Sequence[sp.Symbol],
     body: bool,
 ) -> sp.ImmutableMatrix:
@@ -396,7 +398,9 @@ def _composed(
         omega_s = omega_s(parent) + R_parent sum_k F1..F(k-1) n_k a_k_dot
                   (s <- n_k a_k_dot + F_k s, k = m..1, as F_k n_k = n_k),
 
-    matrix-vector products only: nothing is differentiated but the angles.  The result is
+    matrix-vector products only: nothing is differentiated but the angles.  A constant
+    ``tail`` C on the right (R = R_parent F1..Fm C, a matrix given whole) turns omega_b into
+    C^T omega_b and leaves omega_s as it is.  The result is
     expanded unless more than :data:`EXPANDED_TURNS` of the rotations turn with the
     coordinates (a long chain of joints, whose expanded products of sines and cosines would
     run to thousands of terms): then it stays nested, as the products give it.  (An
@@ -407,6 +411,8 @@ def _composed(
         w = sp.zeros(3, 1) if parent is None else sp.Matrix(_angular_velocity(parent, q, True))
         for n, a in factors:
             w = _about(n, a).T * w + n * _rate(a, q)
+        if tail is not None:
+            w = tail.T * w
         return sp.ImmutableMatrix(w.applyfunc(tidy))
     s = sp.zeros(3, 1)
     for n, a in reversed(factors):
@@ -416,25 +422,45 @@ def _composed(
     return sp.ImmutableMatrix(s.applyfunc(tidy))
 
 
-def _composition(
-    orientation: Orientation, q: tuple[sp.Symbol, ...]
-) -> tuple[Orientation | None, tuple[tuple[sp.ImmutableMatrix, Any], ...]] | None:
-    """(parent, factors) whose :func:`_composed` is the angular velocity of ``orientation``:
-    all its rotations about constant axes from the world, or its own from its parent; None
-    for an orientation not so composed."""
+Composition = tuple[
+    "Orientation | None", tuple[tuple[sp.ImmutableMatrix, Any], ...], "sp.ImmutableMatrix | None"
+]
+
+
+def _composition(orientation: Orientation, q: tuple[sp.Symbol, ...]) -> Composition | None:
+    """(parent, factors, tail) whose :func:`_composed` is the angular velocity of
+    ``orientation``: all its rotations about constant axes from the world, or its own from
+    its parent, or the factors a matrix given whole is recognised as
+    (:func:`~lagrangian.model.rotation_factors.factor_rotation`); None for an orientation
+    not so composed."""
     factors = orientation.factors()
     if factors and all(_constant(e, q) for axis, _ in factors for e in axis):
-        return None, factors
+        return None, factors, None
     if orientation.form == "rotations":
         own = orientation.own_factors()
         if all(_constant(e, q) for axis, _ in own for e in axis):
-            return orientation.parent, own
+            return orientation.parent, own, None
+    if orientation.form == "matrix":
+        found = _factoring(orientation.matrix, q)
+        if found is not None:
+            return None, found.factors, found.tail
     return None
+
+
+def _factoring(matrix: sp.ImmutableMatrix, q: tuple[sp.Symbol, ...]) -> Factoring | None:
+    try:
+        return _remembered_factoring(matrix, q)
+    except TypeError:  # an unhashable expression in it
+        return factor_rotation(matrix, q)
+
+
+_remembered_factoring = remembered(maxsize=REMEMBERED)(factor_rotation)
 
 
 def _composed_backend(
     parent: Orientation | None,
     factors: Sequence[tuple[sp.ImmutableMatrix, Any]],
+    tail: sp.ImmutableMatrix | None,
     q: tuple[sp.Symbol, ...],
     body: bool,
     limit: int,
@@ -449,6 +475,8 @@ def _composed_backend(
         e.is_Rational for n, _ in factors for e in n
     ):
         return None
+    if tail is not None and not all(e.is_Rational for e in tail):
+        return None
     inherited = None if parent is None else _fast(parent, q, body, limit)
     if parent is not None and inherited is None:
         return None
@@ -460,6 +488,8 @@ def _composed_backend(
         w = list(inherited or w)
         for n, a, rate in turns:
             w = [x + n_i * rate for x, n_i in zip(_times(_backend_about(n, a), w, True), n)]
+        if tail is not None:
+            w = _times([[to_symengine(e) for e in row] for row in tail.tolist()], w, True)
     else:
         for n, a, rate in reversed(turns):
             w = [n_i * rate + x for x, n_i in zip(_times(_backend_about(n, a), w), n)]
@@ -601,11 +631,11 @@ def _fast_composed(
     composition = _composition(orientation, q)
     if composition is None:
         return None
-    parent, factors = composition
+    parent, factors, tail = composition
     if sum(1 for _, a in factors if not _constant(a, q)) > limit:
         return None
     try:
-        return _composed_backend(parent, factors, q, body, limit)
+        return _composed_backend(parent, factors, tail, q, body, limit)
     except se.SympifyError:  # something SymEngine does not know: SymPy composes it
         return None
 
