@@ -105,22 +105,6 @@ def derive_lagrangian(phases: dict, by_hand: bool = False):
     return system
 
 
-def elementary_rotations():
-    """Rx, Ry, Rz: the elementary rotation matrices (body -> world) as functions of an angle."""
-    import sympy as sp
-
-    def rx(a):
-        return sp.Matrix([[1, 0, 0], [0, sp.cos(a), -sp.sin(a)], [0, sp.sin(a), sp.cos(a)]])
-
-    def ry(a):
-        return sp.Matrix([[sp.cos(a), 0, sp.sin(a)], [0, 1, 0], [-sp.sin(a), 0, sp.cos(a)]])
-
-    def rz(a):
-        return sp.Matrix([[sp.cos(a), -sp.sin(a), 0], [sp.sin(a), sp.cos(a), 0], [0, 0, 1]])
-
-    return rx, ry, rz
-
-
 def hand_bicycle():
     """The same bicycle written the way a sympy.physics.mechanics user writes it: each
     body's ``orientation`` a product of elementary rotation matrices in world axes, the
@@ -136,7 +120,7 @@ def hand_bicycle():
     import lagrangian as lg
     from lagrangian.examples import BENCHMARKS
 
-    rx, ry, rz = elementary_rotations()
+    rx, ry, rz = multibody.elementary_rotations()
     q = sp.symbols("x y yaw lean pitch steer thetaR thetaF")
     x, y, yaw, lean, pitch, steer, theta_r, theta_f = q
     parameters = BENCHMARKS["whipple_bicycle"]().parameters

@@ -27,6 +27,10 @@ What is measured
                ``rotations``, its centre written in world axes with the rotation products
                nested), then ``lg.derive``;
     kane_relative  KanesMethod on that chain (each frame oriented from the rod before).
+    hand       lagrangian on the Euler-angle chain written the way a sympy user writes it:
+               each rod's ``orientation`` the product Rz(a_i) Rx(b_i) Ry(c_i) of elementary
+               rotation matrices (a matrix, not a sequence), the centres composed by hand
+               from the joints, then ``lg.derive``; against the same Kane run as ``euler``.
 
     The ratios are KanesMethod's time over lagrangian's, both variants against the same Kane
     run (Kane's minimal coordinates: the Cartesian form has 3n more coordinates and 3n
@@ -70,9 +74,10 @@ SRC = HERE.parents[1] / "src"
 RESULTS = HERE.parent / "RESULTS.md"
 BEGIN, END = "<!-- multibody.py: begin -->", "<!-- multibody.py: end -->"
 
-METHODS = ("euler", "cartesian", "kane", "relative", "kane_relative")
+METHODS = ("euler", "cartesian", "kane", "relative", "kane_relative", "hand")
 LABELS = {
     "euler": "lagrangian, Euler angles",
+    "hand": "lagrangian, written by hand (orientations as matrix products)",
     "cartesian": "lagrangian, Cartesian + joint constraints",
     "kane": "KanesMethod",
     "relative": "lagrangian, joint angles (rods relative to each other)",
@@ -211,6 +216,55 @@ def relative_geometry(n: int):
     return rotations, centres, joints
 
 
+def elementary_rotations():
+    """Rx, Ry, Rz: the elementary rotation matrices (body -> world) as functions of an angle."""
+    import sympy as sp
+
+    def rx(a):
+        return sp.Matrix([[1, 0, 0], [0, sp.cos(a), -sp.sin(a)], [0, sp.sin(a), sp.cos(a)]])
+
+    def ry(a):
+        return sp.Matrix([[sp.cos(a), 0, sp.sin(a)], [0, 1, 0], [-sp.sin(a), 0, sp.cos(a)]])
+
+    def rz(a):
+        return sp.Matrix([[sp.cos(a), -sp.sin(a), 0], [sp.sin(a), sp.cos(a), 0], [0, 0, 1]])
+
+    return rx, ry, rz
+
+
+def hand_chain(n: int):
+    """The Euler-angle chain written by hand: each rod's orientation a product of
+    elementary rotation matrices, its centre the joint above it minus l_i/2 times the rod's
+    axis (nothing expanded)."""
+    import sympy as sp
+
+    import lagrangian as lg
+
+    rx, ry, rz = elementary_rotations()
+    rods, g = chain_symbols(n)
+    joint = sp.zeros(3, 1)
+    bodies = []
+    for i, (a, b, c, m, l, I, J) in enumerate(rods):
+        R = rz(a) * rx(b) * ry(c)
+        axis = R * sp.Matrix([0, 0, 1])
+        centre = joint - l / 2 * axis
+        bodies.append(lg.RigidBody(f"rod{i + 1}", m, sp.diag(I, I, J), centre, orientation=R))
+        joint = joint - l * axis
+    return lg.System(
+        coordinates=[s for rod in rods for s in rod[:3]],
+        parameters=[g, *(s for rod in rods for s in rod[3:])],
+        gravity=(0, 0, -g),
+        rigid_bodies=bodies,
+    )
+
+
+def derive_hand(n: int):
+    import lagrangian as lg
+
+    eom = lg.derive(hand_chain(n))
+    return {"mass_matrix": eom.mass_matrix, "forcing": eom.forcing}
+
+
 def derive_euler(n: int):
     import lagrangian as lg
 
@@ -278,6 +332,7 @@ DERIVERS = {
     "kane": kane_chain,
     "relative": derive_relative,
     "kane_relative": kane_relative,
+    "hand": derive_hand,
 }
 
 
@@ -350,7 +405,7 @@ def check(method: str, n: int, result: dict) -> str:
 
     values = random_values(n)
     theirs = kane_accelerations(n, values, relative=method == "relative")
-    if method in ("euler", "relative"):
+    if method in ("euler", "relative", "hand"):
         M, f = numbers(result["mass_matrix"], values), numbers(result["forcing"], values)
         ours = np.linalg.solve(M, f.ravel())
     else:
@@ -469,22 +524,26 @@ def report(measured: dict, ns: list[int], repeat: int, cap: float, kept: str = "
         "",
         "| n | coordinates (Euler / Cartesian) | Euler s | Cartesian s | Kane s "
         "| Kane/Euler | Kane/Cartesian | joint angles s | Kane (joint angles) s "
-        "| Kane/joint angles |",
-        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "| Kane/joint angles | by hand s | Kane/by hand |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     verdicts = []
     for n in ns:
-        euler, cartesian, kane, relative, kane_relative = (medians[m, n] for m in METHODS)
+        euler, cartesian, kane, relative, kane_relative, hand = (
+            medians.get((m, n), math.nan) for m in METHODS
+        )
         lines.append(
             f"| {n} | {3 * n} / {6 * n} | {_seconds(euler, cap)} | {_seconds(cartesian, cap)} "
             f"| {_seconds(kane, cap)} | {_ratio(kane, euler)} | {_ratio(kane, cartesian)} "
             f"| {_seconds(relative, cap)} | {_seconds(kane_relative, cap)} "
-            f"| {_ratio(kane_relative, relative)} |"
+            f"| {_ratio(kane_relative, relative)} | {_seconds(hand, cap)} "
+            f"| {_ratio(kane, hand)} |"
         )
         for method, ours, theirs in (
             ("euler", euler, kane),
             ("cartesian", cartesian, kane),
             ("relative", relative, kane_relative),
+            ("hand", hand, kane),
         ):
             if math.isnan(ours) or math.isnan(theirs):
                 continue  # one of them not run: nothing to compare
@@ -541,6 +600,7 @@ COLUMNS = {
     "Kane s": "kane",
     "joint angles s": "relative",
     "Kane (joint angles) s": "kane_relative",
+    "by hand s": "hand",
 }
 
 
