@@ -258,6 +258,82 @@ def hand_chain(n: int):
     )
 
 
+def hand_rolling_disc():
+    """A thin disc rolling without slip on z = 0, written by hand: the contact point (x, y,
+    0), heading psi, lean theta and spin phi; the orientation the product Rz(psi) Rx(theta)
+    Ry(phi) of rotation matrices, the centre r up the disc plane from the contact, and the
+    two no-slip conditions (the contact's material velocity v_centre + omega x (contact -
+    centre), world x and y) written out as ``VelocityConstraint`` expressions with omega
+    the sum of the rates about their axes."""
+    import sympy as sp
+
+    import lagrangian as lg
+
+    rx, ry, rz = elementary_rotations()
+    q = sp.symbols("x y psi theta phi")
+    x, y, psi, theta, phi = q
+    m, g, r = sp.symbols("m g r")
+    e_x, e_y, e_z = sp.Matrix([1, 0, 0]), sp.Matrix([0, 1, 0]), sp.Matrix([0, 0, 1])
+    lean = rz(psi) * rx(theta)
+    contact = sp.Matrix([x, y, 0])
+    centre = contact + r * lean * e_z
+    disc = lg.RigidBody(
+        "disc",
+        m,
+        sp.diag(m * r**2 / 4, m * r**2 / 2, m * r**2 / 4),
+        centre,
+        orientation=lean * ry(phi),
+    )
+    rate = {s: sp.Symbol(f"{s.name}_dot") for s in q}
+    omega = rate[psi] * e_z + rate[theta] * rz(psi) * e_x + rate[phi] * lean * e_y
+    centre_velocity = centre.applyfunc(lambda e: sum(e.diff(s) * rate[s] for s in q))
+    slip = centre_velocity + omega.cross(contact - centre)
+    return lg.System(
+        coordinates=list(q),
+        parameters={m: 1.0, g: 9.81, r: 0.3},
+        gravity=(0, 0, -g),
+        rigid_bodies=[disc],
+        constraints=[lg.VelocityConstraint(slip[0]), lg.VelocityConstraint(slip[1])],
+    )
+
+
+def kane_rolling_disc():
+    """KanesMethod on the rolling disc (its contact point's velocity as the nonholonomic
+    constraints, x' and y' dependent): the method and its q and u."""
+    import sympy as sp
+    import sympy.physics.mechanics as me
+
+    m, g, r = sp.symbols("m g r")
+    q = me.dynamicsymbols("x y psi theta phi")
+    u = me.dynamicsymbols("x_dot y_dot psi_dot theta_dot phi_dot")
+    N, Y, L, D = (me.ReferenceFrame(name) for name in "NYLD")
+    Y.orient_axis(N, N.z, q[2])
+    L.orient_axis(Y, Y.x, q[3])
+    D.orient_axis(L, L.y, q[4])
+    Y.set_ang_vel(N, u[2] * N.z)
+    L.set_ang_vel(Y, u[3] * Y.x)
+    D.set_ang_vel(L, u[4] * L.y)
+    contact = me.Point("C")
+    contact.set_vel(N, u[0] * N.x + u[1] * N.y)
+    centre = contact.locatenew("G", r * L.z)
+    centre.v2pt_theory(contact, N, L)  # the contact and the centre both fixed in L
+    slip = centre.vel(N) + D.ang_vel_in(N).cross(contact.pos_from(centre))
+    t = me.dynamicsymbols._t
+    method = me.KanesMethod(
+        N,
+        q,
+        u[2:],
+        kd_eqs=[qi.diff(t) - ui for qi, ui in zip(q, u)],
+        u_dependent=u[:2],
+        velocity_constraints=[slip.dot(N.x), slip.dot(N.y)],
+    )
+    inertia = me.inertia(D, m * r**2 / 4, m * r**2 / 2, m * r**2 / 4)
+    method.kanes_equations(
+        [me.RigidBody("disc", centre, D, m, (inertia, centre))], [(centre, -m * g * N.z)]
+    )
+    return {"method": method, "q": q, "u": u, "slip": [slip.dot(N.x), slip.dot(N.y)]}
+
+
 def derive_hand(n: int):
     import lagrangian as lg
 
