@@ -258,12 +258,18 @@ def hand_chain(n: int):
     )
 
 
-def hand_rolling_disc():
+#: How the hand-written rolling disc gives its orientation (:func:`hand_rolling_disc`).
+DISC_ORIENTATIONS = ("product", "expanded", "quaternion")
+
+
+def hand_rolling_disc(orientation: str = "product"):
     """A thin disc rolling without slip on z = 0, written by hand: the contact point (x, y,
-    0), heading psi, lean theta and spin phi; the orientation the product Rz(psi) Rx(theta)
-    Ry(phi) of rotation matrices, the centre r up the disc plane from the contact, and the
-    two no-slip conditions (the contact's material velocity v_centre + omega x (contact -
-    centre), world x and y) written out as ``VelocityConstraint`` expressions with omega
+    0), heading psi, lean theta and spin phi; the orientation Rz(psi) Rx(theta) Ry(phi)
+    given as the product of rotation matrices (``"product"``), as that matrix with every
+    entry multiplied out (``"expanded"``) or as the product of the three half-angle
+    quaternions (``"quaternion"``); the centre r up the disc plane from the contact, and
+    the two no-slip conditions (the contact's material velocity v_centre + omega x (contact
+    - centre), world x and y) written out as ``VelocityConstraint`` expressions with omega
     the sum of the rates about their axes."""
     import sympy as sp
 
@@ -295,6 +301,27 @@ def hand_rolling_disc():
         rigid_bodies=[disc],
         constraints=[lg.VelocityConstraint(slip[0]), lg.VelocityConstraint(slip[1])],
     )
+
+
+def _quaternion_product(psi, theta, phi):
+    """(w, x, y, z) of qz(psi) qx(theta) qy(phi), each q_k(a) = (cos(a/2), sin(a/2) e_k)
+    (Hamilton products written out)."""
+    import sympy as sp
+
+    def times(p, q):
+        (a, b, c, d), (e, f, g, h) = p, q
+        return (
+            a * e - b * f - c * g - d * h,
+            a * f + b * e + c * h - d * g,
+            a * g - b * h + c * e + d * f,
+            a * h + b * g - c * f + d * e,
+        )
+
+    half = [(sp.cos(a / 2), sp.sin(a / 2)) for a in (psi, theta, phi)]
+    qz = (half[0][0], 0, 0, half[0][1])
+    qx = (half[1][0], half[1][1], 0, 0)
+    qy = (half[2][0], 0, half[2][1], 0)
+    return times(times(qz, qx), qy)
 
 
 def kane_rolling_disc():

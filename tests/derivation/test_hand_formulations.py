@@ -27,8 +27,9 @@ def _numbers(expr: sp.Basic, values: dict) -> np.ndarray:
     return np.array(sp.Matrix(expr).xreplace(values).evalf(30), dtype=float)
 
 
-def test_the_rolling_disc_written_by_hand_matches_kanes_method() -> None:
-    system = multibody.hand_rolling_disc()
+@pytest.mark.parametrize("orientation", multibody.DISC_ORIENTATIONS)
+def test_the_rolling_disc_written_by_hand_matches_kanes_method(orientation: str) -> None:
+    system = multibody.hand_rolling_disc(orientation)
     kane = multibody.kane_rolling_disc()
     plain = {qi: sp.Symbol(qi.func.__name__) for qi in kane["q"]}
     plain.update({ui: sp.Symbol(ui.func.__name__) for ui in kane["u"]})

@@ -469,13 +469,15 @@ def _composed_backend(
     cosines as SymPy's expand gives, at a fraction of its cost (a bicycle's fork turns six
     times).  None where that sameness is not plain: an angle with a function or a constant
     such as pi in it (whose sines the two evaluate each their own way), or not expanded
-    already (SymPy's expand would reach into the sines), an axis not of rationals, or a
-    parent whose own angular velocity is not so composed."""
+    already (SymPy's expand would reach into the sines), an axis (or a constant tail) not of
+    rationals and polynomials in the sines and cosines of parameters (a steer axis tilted by
+    lam: (sin(lam), 0, -cos(lam))), or a parent whose own angular velocity is not so
+    composed."""
     if not all(_plain_angle(a) for _, a in factors) or not all(
-        e.is_Rational for n, _ in factors for e in n
+        _plain_constant(e) for n, _ in factors for e in n
     ):
         return None
-    if tail is not None and not all(e.is_Rational for e in tail):
+    if tail is not None and not all(_plain_constant(e) for e in tail):
         return None
     inherited = None if parent is None else _fast(parent, q, body, limit)
     if parent is not None and inherited is None:
@@ -505,6 +507,20 @@ def _plain_angle(angle: Any) -> bool:
     if angle.is_Symbol or angle.is_Rational:
         return True
     return not angle.has(sp.Function, sp.NumberSymbol) and angle == sp.expand(angle)
+
+
+def _plain_constant(entry: Any) -> bool:
+    """A rational, or an expanded polynomial in the sines and cosines of plain symbols, which
+    SymEngine and SymPy expand alike."""
+    entry = to_sympy(entry)
+    if entry.is_Rational:
+        return True
+    functions = entry.atoms(sp.Function)
+    return (
+        not entry.has(sp.NumberSymbol)
+        and all(isinstance(f, (sp.sin, sp.cos)) and f.args[0].is_Symbol for f in functions)
+        and entry == sp.expand(entry)
+    )
 
 
 def _backend_rate(angle: Any, q: Sequence[sp.Symbol]) -> Any:
@@ -684,6 +700,28 @@ def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) ->
     return array.real
 
 
+def _in_backend(matrix: sp.MatrixBase) -> list[Any] | None:
+    try:
+        return [to_symengine(e) for e in matrix]
+    except (se.SympifyError, TypeError, ValueError):
+        return None
+
+
+def _doubles(entries: list[Any], values: Mapping[sp.Symbol, float]) -> np.ndarray | None:
+    """A 3x3 matrix's entries (SymEngine) at ``values`` in double precision (ample for a
+    test of R^T R = 1 to 1e-9, and a hundred times faster than SymPy's evalf on a product
+    of rotations); None where they are not all finite real numbers."""
+    swap = {to_symengine(s): se.RealDouble(float(v)) for s, v in values.items()}
+    try:
+        numbers = [complex(e.xreplace(swap)) for e in entries]
+    except (TypeError, ValueError, RuntimeError):
+        return None
+    array = np.array(numbers).reshape(3, 3)
+    if not np.all(np.isfinite(array)) or np.max(np.abs(array.imag)) > 1e-12:
+        return None
+    return array.real
+
+
 def check_rotation(
     matrix: sp.MatrixBase,
     field: str,
@@ -698,8 +736,10 @@ def check_rotation(
     'the rotation is not orthonormal: R^T R - 1 has an entry of 0.5 at x = 0.5'
     """
     fix = "give an orthonormal matrix, or build it with euler_rotation, axis_angle or quaternions"
+    entries = _in_backend(matrix)
     for values in samples:
-        R = evaluate_matrix(matrix, values)
+        R = _doubles(entries, values) if entries is not None else None
+        R = evaluate_matrix(matrix, values) if R is None else R
         if R is None:
             continue
         used = sorted(matrix.free_symbols & set(values), key=str)
