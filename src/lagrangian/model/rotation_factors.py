@@ -152,9 +152,10 @@ def _agrees(
     rng: np.random.Generator,
 ) -> bool:
     """The product of the factors equals R at random parameters and angles."""
-    pieces = [*(axis for axis, _ in found.factors), found.tail or sp.eye(3)]
-    flat = [to_symengine(e) for piece in pieces for e in piece]
-    axes_and_tail = se.Lambdify(arguments, flat, backend="lambda")  # (the angles unused)
+    tail = sp.eye(3) if found.tail is None else found.tail
+    pieces = [*(axis for axis, _ in found.factors), tail]
+    entries = [to_symengine(e) for piece in pieces for e in piece]
+    axes_and_tail = se.Lambdify(arguments, entries, backend="lambda")  # (the angles unused)
     for _ in range(CHECK_SAMPLES):
         sample = rng.uniform(-3.0, 3.0, len(order))
         values = rng.uniform(0.3, 1.3, len(arguments) - len(order))
