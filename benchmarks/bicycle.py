@@ -46,7 +46,6 @@ Usage
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import statistics
@@ -144,35 +143,15 @@ def hand_bicycle():
     def inertia(xx, yy, zz, xz=0):
         return sp.Matrix([[xx, 0, -xz], [0, yy, 0], [-xz, 0, zz]])
 
+    parts = (  # name, mass, inertia (xx, yy, zz, xz), centre, orientation
+        ("rear_wheel", "R", ("IRxx", "IRyy", "IRxx", None), centre_r, rear_frame * ry(theta_r)),
+        ("rear_frame", "B", ("IBxx", "IByy", "IBzz", "IBxz"), frame_centre, rear_frame),
+        ("fork", "H", ("IHxx", "IHyy", "IHzz", "IHxz"), fork_centre, fork),
+        ("front_wheel", "F", ("IFxx", "IFyy", "IFxx", None), centre_f, fork * ry(theta_f)),
+    )
     bodies = [
-        lg.RigidBody(
-            "rear_wheel",
-            p["mR"],
-            inertia(p["IRxx"], p["IRyy"], p["IRxx"]),
-            centre_r,
-            orientation=rear_frame * ry(theta_r),
-        ),
-        lg.RigidBody(
-            "rear_frame",
-            p["mB"],
-            inertia(p["IBxx"], p["IByy"], p["IBzz"], p["IBxz"]),
-            frame_centre,
-            orientation=rear_frame,
-        ),
-        lg.RigidBody(
-            "fork",
-            p["mH"],
-            inertia(p["IHxx"], p["IHyy"], p["IHzz"], p["IHxz"]),
-            fork_centre,
-            orientation=fork,
-        ),
-        lg.RigidBody(
-            "front_wheel",
-            p["mF"],
-            inertia(p["IFxx"], p["IFyy"], p["IFxx"]),
-            centre_f,
-            orientation=fork * ry(theta_f),
-        ),
+        lg.RigidBody(name, p[f"m{key}"], inertia(*(p.get(n, 0) for n in I)), centre, orientation=R)
+        for name, key, I, centre, R in parts
     ]
     rate = {s: sp.Symbol(f"{s.name}_dot") for s in q}
 
@@ -578,15 +557,7 @@ def record(text: str, command: str) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--repeat", type=int, default=3, help="runs per method (3)")
-    parser.add_argument("--cap", type=float, default=300.0, help="seconds per run (300)")
-    parser.add_argument(
-        "--record", action="store_true", help=f"write the section in {RESULTS.name}"
-    )
-    parser.add_argument("--worker", metavar="METHOD", choices=METHODS, help=argparse.SUPPRESS)
-    parser.add_argument("--verify", action="store_true", help=argparse.SUPPRESS)
-    args = parser.parse_args(argv)
+    args = multibody.benchmark_parser(__doc__, METHODS).parse_args(argv)
     if args.worker:
         return worker(args.worker, args.verify)
     measured = measure(args.repeat, args.cap)

@@ -554,6 +554,20 @@ def worker(method: str, n: int, verify: bool) -> int:
     return 0
 
 
+def benchmark_parser(doc: str, methods: tuple[str, ...]) -> argparse.ArgumentParser:
+    """The options of a benchmark that times ``methods`` in fresh worker processes (the
+    bicycle's, the rolling disc's): --repeat, --cap, --record and the worker's own."""
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser.add_argument("--repeat", type=int, default=3, help="runs per method (3)")
+    parser.add_argument("--cap", type=float, default=300.0, help="seconds per run (300)")
+    parser.add_argument(
+        "--record", action="store_true", help=f"write the section in {RESULTS.name}"
+    )
+    parser.add_argument("--worker", metavar="METHOD", choices=methods, help=argparse.SUPPRESS)
+    parser.add_argument("--verify", action="store_true", help=argparse.SUPPRESS)
+    return parser
+
+
 def run(method: str, n: int, cap: float, verify: bool) -> dict:
     """One measurement in a fresh process; {"seconds": inf} when it overran the cap."""
     return run_worker(HERE, [method, str(n)], cap, verify)

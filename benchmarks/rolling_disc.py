@@ -33,7 +33,6 @@ Usage
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import statistics
@@ -133,7 +132,7 @@ def accelerations(method: str, found) -> list[float]:
             numbers(kane.mass_matrix.xreplace(plain), values),
             numbers(kane.forcing.xreplace(plain), values).ravel(),
         )
-        return [float(a) for a in solved]  # the independent speeds: psi, theta, phi
+        return [float(a) for a in solved[:3]]  # the independent speeds first: psi, theta, phi
     equations = lg.constrained_equations(found)
     coordinates = [q.name for q in equations.coordinates]
     values = {s: PARAMETERS.get(s.name, 0.0) for s in found.parameters}
@@ -209,15 +208,7 @@ def report(measured: dict, repeat: int, cap: float) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--repeat", type=int, default=3, help="runs per method (3)")
-    parser.add_argument("--cap", type=float, default=300.0, help="seconds per run (300)")
-    parser.add_argument(
-        "--record", action="store_true", help=f"write the section in {RESULTS.name}"
-    )
-    parser.add_argument("--worker", metavar="METHOD", choices=METHODS, help=argparse.SUPPRESS)
-    parser.add_argument("--verify", action="store_true", help=argparse.SUPPRESS)
-    args = parser.parse_args(argv)
+    args = multibody.benchmark_parser(__doc__, METHODS).parse_args(argv)
     if args.worker:
         return worker(args.worker, args.verify)
     text = report(measure(args.repeat, args.cap), args.repeat, args.cap)

@@ -7,7 +7,6 @@ Proc. R. Soc. A 463 (2007), Table 2.  The formulations live in benchmarks/, whic
 
 from __future__ import annotations
 
-import random
 import sys
 from pathlib import Path
 
@@ -16,43 +15,20 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.symbolic.symbols import t
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 import bicycle
 import multibody
+import rolling_disc
 
 
-def _numbers(expr: sp.Basic, values: dict) -> np.ndarray:
-    return np.array(sp.Matrix(expr).xreplace(values).evalf(30), dtype=float)
-
-
-@pytest.mark.parametrize("orientation", multibody.DISC_ORIENTATIONS)
-def test_the_rolling_disc_written_by_hand_matches_kanes_method(orientation: str) -> None:
-    system = multibody.hand_rolling_disc(orientation)
-    kane = multibody.kane_rolling_disc()
-    plain = {qi: sp.Symbol(qi.func.__name__) for qi in kane["q"]}
-    plain.update({ui: sp.Symbol(ui.func.__name__) for ui in kane["u"]})
-    equations = lg.constrained_equations(system)
-    x_dot, y_dot = system.velocities[:2]
-    slip = [s.xreplace(plain) for s in kane["slip"]]
-    rng = random.Random(17)
-    for _ in range(3):
-        values: dict = {p: rng.uniform(0.5, 1.5) for p in system.parameters}
-        values.update({s: rng.uniform(-1.0, 1.0) for s in system.coordinates})
-        values.update({s: rng.uniform(-2.0, 2.0) for s in system.velocities})
-        values[t] = 0.0
-        # x_dot, y_dot from Kane's own constraints (each holds x_dot or y_dot alone)
-        values[x_dot] -= float(slip[0].xreplace(values))
-        values[y_dot] -= float(slip[1].xreplace(values))
-        ours = np.linalg.solve(
-            _numbers(equations.augmented_matrix, values), _numbers(equations.augmented_rhs, values)
-        ).ravel()[:5]
-        method = kane["method"]
-        mass = _numbers(method.mass_matrix_full.xreplace(plain), values)
-        forcing = _numbers(method.forcing_full.xreplace(plain), values).ravel()
-        theirs = np.linalg.solve(mass, forcing)[5:]  # after q_dot; independent speeds first
-        np.testing.assert_allclose(ours[[2, 3, 4, 0, 1]], theirs, rtol=1e-9, atol=1e-9)
+@pytest.mark.parametrize("formulation", rolling_disc.METHODS[:-1])
+def test_every_formulation_of_the_rolling_disc_matches_kanes_method(formulation: str) -> None:
+    """The element, the example, and the matrix product, the expanded matrix and the
+    quaternions written by hand: psi'', theta'' and phi'' at a rolling state."""
+    ours = rolling_disc.accelerations(formulation, rolling_disc.derive(formulation))
+    theirs = rolling_disc.accelerations("kane", rolling_disc.derive("kane"))
+    np.testing.assert_allclose(ours, theirs, rtol=1e-9, atol=1e-9)
 
 
 def test_the_chain_written_by_hand_matches_kanes_method_and_the_euler_angle_chain() -> None:
