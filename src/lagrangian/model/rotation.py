@@ -10,6 +10,11 @@ Conventions (Murray, Li & Sastry 1994, ch. 2):
   R = Rz(a) Rx(b) Rz(c); *extrinsic* (world-fixed axes) is the reverse product
   R = Rz(c) Rx(b) Rz(a).  All 12 sequences are allowed.
 - Quaternions are scalar first, (w, x, y, z); R is the rotation of the unit quaternion q/|q|.
+- Angular velocities are composed from the rotations about constant axes an orientation is
+  made of (Euler angles, ``rotations``, and a matrix given whole that is such a product
+  multiplied out: :mod:`lagrangian.model.rotation_factors` finds its factors), never
+  differentiated from R where they can be; a quaternion's follow from its rates; only
+  any other matrix is differentiated, vee(R^T R_dot), and simplified.
 
 >>> import sympy as sp
 >>> phi, theta, psi = sp.symbols("phi theta psi")
