@@ -104,6 +104,18 @@ def derive_lagrangian(phases: dict, by_hand: bool = False):
     return system
 
 
+#: The paper's Table 1 (its names; lam the steer axis tilt; z down in the paper's axes), and
+#: the lean and steer torques, zero.
+TABLE_1 = {
+    **{"w": 1.02, "c": 0.08, "lam": math.pi / 10, "g": 9.81},
+    **{"rR": 0.3, "mR": 2.0, "IRxx": 0.0603, "IRyy": 0.12},
+    **{"xB": 0.3, "zB": -0.9, "mB": 85.0, "IBxx": 9.2, "IByy": 11.0, "IBzz": 2.8, "IBxz": 2.4},
+    **{"xH": 0.9, "zH": -0.7, "mH": 4.0, "IHxx": 0.05892, "IHyy": 0.06, "IHzz": 0.00708},
+    **{"IHxz": -0.00756, "rF": 0.35, "mF": 3.0, "IFxx": 0.1405, "IFyy": 0.28},
+    **{"Tlean": 0.0, "Tsteer": 0.0},
+}
+
+
 def hand_bicycle():
     """The same bicycle written the way a sympy.physics.mechanics user writes it: each
     body's ``orientation`` a product of elementary rotation matrices in world axes, the
@@ -112,17 +124,17 @@ def hand_bicycle():
     axle), the front contact's height as a ``Holonomic`` constraint and the four no-slip
     conditions (each contact's material velocity, v_centre + omega x (contact - centre),
     in world x and y) as ``VelocityConstraint`` expressions, each angular velocity written
-    as the sum of the joint rates about their axes.  The built-in example's coordinates
+    as the sum of the joint rates about their axes and the centres' velocities composed by
+    the two-point formula from the rear contact's.  The built-in example's coordinates
     (but x, y the rear contact's, not the rear wheel centre's) and parameters."""
     import sympy as sp
 
     import lagrangian as lg
-    from lagrangian.examples import BENCHMARKS
 
     rx, ry, rz = multibody.elementary_rotations()
     q = sp.symbols("x y yaw lean pitch steer thetaR thetaF")
     x, y, yaw, lean, pitch, steer, theta_r, theta_f = q
-    parameters = BENCHMARKS["whipple_bicycle"]().parameters
+    parameters = {sp.Symbol(name): value for name, value in TABLE_1.items()}
     p = {s.name: s for s in parameters}
     w, c, lam, g, r_r, r_f = (p[n] for n in ("w", "c", "lam", "g", "rR", "rF"))
     e_x, e_y, e_z = (sp.Matrix([1, 0, 0]), sp.Matrix([0, 1, 0]), sp.Matrix([0, 0, 1]))
@@ -154,16 +166,18 @@ def hand_bicycle():
         for name, key, I, centre, R in parts
     ]
     rate = {s: sp.Symbol(f"{s.name}_dot") for s in q}
-
-    def velocity(point):
-        return point.applyfunc(lambda e: sum(e.diff(s) * rate[s] for s in q))
-
-    omega_frame = rate[yaw] * e_z + rate[lean] * rz(yaw) * e_x + rate[pitch] * lean_frame * e_y
+    omega_lean = rate[yaw] * e_z + rate[lean] * rz(yaw) * e_x
+    omega_frame = omega_lean + rate[pitch] * lean_frame * e_y
     omega_r = omega_frame + rate[theta_r] * rear_frame * e_y
     omega_fork = omega_frame - rate[steer] * rear_frame * ry(-lam) * e_z
     omega_f = omega_fork + rate[theta_f] * fork * e_y
-    slip_r = velocity(centre_r) + omega_r.cross(contact_r - centre_r)
-    slip_f = velocity(centre_f) + omega_f.cross(contact_f - centre_f)
+    # velocities by the two-point formula v_B = v_A + omega x (B - A), A and B fixed in one
+    # frame (the contact and the rear centre in the lean frame, ...), as v2pt_theory does
+    v_centre_r = sp.Matrix([rate[x], rate[y], 0]) + omega_lean.cross(centre_r - contact_r)
+    v_foot = v_centre_r + omega_frame.cross(steer_foot - centre_r)
+    v_centre_f = v_foot + omega_fork.cross(centre_f - steer_foot)
+    slip_r = v_centre_r + omega_r.cross(contact_r - centre_r)
+    slip_f = v_centre_f + omega_f.cross(contact_f - centre_f)
     constraints = [lg.Holonomic(contact_f[2], name="front_contact_height")]
     constraints += [
         lg.VelocityConstraint(e, name=n)
