@@ -274,6 +274,7 @@ def hand_rolling_disc(orientation: str = "product"):
     import sympy as sp
 
     import lagrangian as lg
+    from lagrangian.model import quaternion_rotation
 
     rx, ry, rz = elementary_rotations()
     q = sp.symbols("x y psi theta phi")
@@ -283,13 +284,14 @@ def hand_rolling_disc(orientation: str = "product"):
     lean = rz(psi) * rx(theta)
     contact = sp.Matrix([x, y, 0])
     centre = contact + r * lean * e_z
-    disc = lg.RigidBody(
-        "disc",
-        m,
-        sp.diag(m * r**2 / 4, m * r**2 / 2, m * r**2 / 4),
-        centre,
-        orientation=lean * ry(phi),
-    )
+    if orientation == "quaternion":
+        turned = quaternion_rotation(*_quaternion_product(psi, theta, phi))
+    elif orientation == "expanded":
+        turned = (lean * ry(phi)).applyfunc(sp.expand)
+    else:
+        turned = lean * ry(phi)
+    inertia = sp.diag(m * r**2 / 4, m * r**2 / 2, m * r**2 / 4)
+    disc = lg.RigidBody("disc", m, inertia, centre, orientation=turned)
     rate = {s: sp.Symbol(f"{s.name}_dot") for s in q}
     omega = rate[psi] * e_z + rate[theta] * rz(psi) * e_x + rate[phi] * lean * e_y
     centre_velocity = centre.applyfunc(lambda e: sum(e.diff(s) * rate[s] for s in q))

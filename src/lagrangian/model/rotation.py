@@ -38,7 +38,7 @@ import symengine as se
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem
-from lagrangian.model.rotation_factors import Factoring, factor_rotation
+from lagrangian.model.rotation_factors import Factoring, factor_rotation, pythagorean_reduced
 from lagrangian.symbolic.caches import remembered
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.native import to_symengine
@@ -55,6 +55,9 @@ AXIS_NAMES = ("x", "y", "z")
 FORMS = ("matrix", "euler", "axis_angle", "quaternion", "rotations")
 #: Rotations with moving angles up to which a composed angular velocity is expanded.
 EXPANDED_TURNS = 6
+#: The largest |q|^2 (operations) trigsimp is tried on when the reduction modulo
+#: sin^2 + cos^2 = 1 does not give 1 (double angles and the like).
+TRIGSIMP_OPS = 60
 #: Orientations whose angular velocities are remembered (model building, the derivation and
 #: the loads ask for the same bodies' again).
 REMEMBERED = 256
@@ -312,7 +315,10 @@ def _turned(matrix: sp.Matrix, axis: Sequence[Any], angle: Any) -> sp.Matrix:
 def _norm_squared(w: Any, x: Any, y: Any, z: Any) -> sp.Expr:
     """|q|^2, replaced by 1 when it simplifies to 1 (e.g. (cos(a/2), sin(a/2) n))."""
     squared = sp.expand(w**2 + x**2 + y**2 + z**2)
-    return sp.Integer(1) if squared == 1 or sp.trigsimp(squared) == 1 else squared
+    if squared == 1 or pythagorean_reduced(squared) == 1:
+        return sp.Integer(1)  # (exact, and cheap where trigsimp takes seconds: q1 q2 q3)
+    small = sp.count_ops(squared) <= TRIGSIMP_OPS
+    return sp.Integer(1) if small and sp.trigsimp(squared) == 1 else squared
 
 
 def quaternion_rotation(w: Any, x: Any, y: Any, z: Any) -> Orientation:

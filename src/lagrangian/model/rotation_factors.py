@@ -173,10 +173,17 @@ def _tidy(value: sp.MatrixBase) -> sp.ImmutableMatrix:
     """Entries in the sines and cosines of constants, expanded and reduced modulo
     sin^2 + cos^2 = 1 (cos^2 x written 1 - sin^2 x: exact, and canonical for such
     polynomials, so a unit axis comes out as (sin(lam), 0, -cos(lam)), not as products)."""
-    return sp.ImmutableMatrix(sp.Matrix(value).applyfunc(_pythagorean))
+    return sp.ImmutableMatrix(sp.Matrix(value).applyfunc(pythagorean_reduced))
 
 
-def _pythagorean(expr: sp.Expr) -> sp.Expr:
+def pythagorean_reduced(expr: sp.Expr) -> sp.Expr:
+    """``expr`` expanded and reduced modulo sin^2 x + cos^2 x = 1 (cos^2 x -> 1 - sin^2 x),
+    canonical for polynomials in the sines and cosines of unrelated arguments.
+
+    >>> a = sp.Symbol("a")
+    >>> pythagorean_reduced((sp.cos(a / 2) ** 2 + sp.sin(a / 2) ** 2) ** 2)
+    1
+    """
     expanded = sp.expand(expr)
     reduced = expanded.replace(
         lambda e: e.is_Pow and e.base.func is sp.cos and e.exp.is_Integer and e.exp >= 2,
