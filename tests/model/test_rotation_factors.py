@@ -66,7 +66,18 @@ CASES = {
     "constant rotation on the right": rz(yaw) * rx(lean) * ry(lam),
     "constant rotation in between": rz(yaw) * rx(lam) * ry(pitch),
     "angles with offsets and a time-dependent turn": rz(yaw + lam) * rx(h * t) * ry(2 * pitch),
+    "a quaternion of half angles": sp.Matrix(
+        quaternion_rotation(sp.cos(yaw / 2), 0, 0, sp.sin(yaw / 2)).matrix
+    )
+    * rx(lean),
 }
+
+
+def test_a_quaternion_of_half_angles_turns_by_the_whole_angle() -> None:
+    R = sp.Matrix(quaternion_rotation(sp.cos(yaw / 2), sp.sin(yaw / 2), 0, 0).matrix)
+    found = factor_rotation(R, Q)
+    assert found is not None
+    assert [(tuple(n), a) for n, a in found.factors] == [((1, 0, 0), yaw)]
 
 
 @pytest.mark.parametrize("name", list(CASES))

@@ -451,7 +451,7 @@ def _composition(orientation: Orientation, q: tuple[sp.Symbol, ...]) -> Composit
         own = orientation.own_factors()
         if all(_constant(e, q) for axis, _ in own for e in axis):
             return orientation.parent, own, None
-    if orientation.form == "matrix":
+    if orientation.form in ("matrix", "quaternion"):  # a quaternion: a product of them?
         found = _factoring(orientation.matrix, q)
         if found is not None:
             return None, found.factors, found.tail

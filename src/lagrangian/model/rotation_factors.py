@@ -47,6 +47,8 @@ from lagrangian.symbolic.symbols import t
 
 #: Random angle samples the search compares the axes at, and the check's samples.
 SEARCH_SAMPLES, CHECK_SAMPLES = 3, 2
+#: The rates of an angle's turn recognised: multiples of 1/RATES (2 for a half angle).
+RATES = 6
 #: Agreement of numbers that are equal in exact arithmetic.
 TOLERANCE = 1e-9
 _SEED = 20070712
@@ -93,9 +95,9 @@ def factor_rotation(matrix: sp.MatrixBase, coordinates: Iterable[sp.Symbol]) -> 
     zero = {a: se.Integer(0) for a in angle_symbols}
     at_zero = sp.Matrix(3, 3, [to_sympy(e.xreplace(zero)) for e in entries])
     factors = []
-    for k in order:
+    for k, rate in order:
         turn = sp.Matrix(3, 3, [to_sympy(d.xreplace(zero)) for d in derivatives[k]])
-        factors.append((_tidy(_vee(turn * at_zero.T)), angles[k]))
+        factors.append((_tidy(_vee(turn * at_zero.T) / rate), rate * angles[k]))
     tail = _tidy(at_zero)
     found = Factoring(tuple(factors), None if tail == sp.eye(3) else sp.ImmutableMatrix(tail))
     return found if _agrees(found, numeric, arguments, order, rng) else None
@@ -126,21 +128,26 @@ def _search(numeric: Any, count: int, values: np.ndarray, rng: np.random.Generat
         step = _first_factor(evaluated, turned, remaining)
         if step is None:
             return None
-        k, axis = step
+        k, axis, rate = step
         for s, sample in enumerate(samples):
-            turned[s] = turned[s] @ _about(axis, sample[k])
+            turned[s] = turned[s] @ _about(axis, float(rate) * sample[k])
         remaining.remove(k)
-        order.append(k)
+        order.append((k, rate))
     tails = [P.T @ e[0] for P, e in zip(turned, evaluated)]
     return order if all(np.allclose(c, tails[0], atol=TOLERANCE) for c in tails) else None
 
 
 def _first_factor(evaluated: list, turned: list, remaining: list[int]) -> tuple | None:
+    """(index, unit axis, rate): the angle whose turn, seen from the factors found so far,
+    is about one constant axis; the rate |dR/d alpha R^T| a small rational (2 for the half
+    angles of a quaternion: the factor turns by 2 alpha)."""
     for k in remaining:
         axes = [P.T @ _vee_numbers(e[1 + k] @ e[0].T) for P, e in zip(turned, evaluated)]
-        unit = abs(np.linalg.norm(axes[0]) - 1) < TOLERANCE
-        if unit and all(np.allclose(a, axes[0], atol=TOLERANCE) for a in axes):
-            return k, axes[0]
+        norm = float(np.linalg.norm(axes[0]))
+        rate = sp.Rational(round(norm * RATES), RATES)
+        simple = rate > 0 and abs(norm - float(rate)) < TOLERANCE
+        if simple and all(np.allclose(a, axes[0], atol=TOLERANCE) for a in axes):
+            return k, axes[0] / norm, rate
     return None
 
 
@@ -148,7 +155,7 @@ def _agrees(
     found: Factoring,
     numeric: Any,
     arguments: list[Any],
-    order: list[int],
+    order: list[tuple[int, sp.Rational]],
     rng: np.random.Generator,
 ) -> bool:
     """The product of the factors equals R at random parameters and angles."""
@@ -162,8 +169,8 @@ def _agrees(
         matrix = _evaluated(numeric, sample, values)[0]
         flat = np.asarray(axes_and_tail([*sample, *values]), dtype=float).ravel()
         product = np.eye(3)
-        for i, k in enumerate(order):
-            product = product @ _about(flat[3 * i : 3 * i + 3], sample[k])
+        for i, (k, rate) in enumerate(order):
+            product = product @ _about(flat[3 * i : 3 * i + 3], float(rate) * sample[k])
         if not np.allclose(product @ flat[-9:].reshape(3, 3), matrix, atol=TOLERANCE):
             return False
     return True
