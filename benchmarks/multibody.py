@@ -27,6 +27,10 @@ What is measured
                ``rotations``, its centre written in world axes with the rotation products
                nested), then ``lg.derive``;
     kane_relative  KanesMethod on that chain (each frame oriented from the rod before).
+    hand       lagrangian on the Euler-angle chain written the way a sympy user writes it:
+               each rod's ``orientation`` the product Rz(a_i) Rx(b_i) Ry(c_i) of elementary
+               rotation matrices (a matrix, not a sequence), the centres composed by hand
+               from the joints, then ``lg.derive``; against the same Kane run as ``euler``.
 
     The ratios are KanesMethod's time over lagrangian's, both variants against the same Kane
     run (Kane's minimal coordinates: the Cartesian form has 3n more coordinates and 3n
@@ -70,9 +74,10 @@ SRC = HERE.parents[1] / "src"
 RESULTS = HERE.parent / "RESULTS.md"
 BEGIN, END = "<!-- multibody.py: begin -->", "<!-- multibody.py: end -->"
 
-METHODS = ("euler", "cartesian", "kane", "relative", "kane_relative")
+METHODS = ("euler", "cartesian", "kane", "relative", "kane_relative", "hand")
 LABELS = {
     "euler": "lagrangian, Euler angles",
+    "hand": "lagrangian, written by hand (orientations as matrix products)",
     "cartesian": "lagrangian, Cartesian + joint constraints",
     "kane": "KanesMethod",
     "relative": "lagrangian, joint angles (rods relative to each other)",
@@ -211,6 +216,160 @@ def relative_geometry(n: int):
     return rotations, centres, joints
 
 
+def elementary_rotations():
+    """Rx, Ry, Rz: the elementary rotation matrices (body -> world) as functions of an angle."""
+    import sympy as sp
+
+    def rx(a):
+        return sp.Matrix([[1, 0, 0], [0, sp.cos(a), -sp.sin(a)], [0, sp.sin(a), sp.cos(a)]])
+
+    def ry(a):
+        return sp.Matrix([[sp.cos(a), 0, sp.sin(a)], [0, 1, 0], [-sp.sin(a), 0, sp.cos(a)]])
+
+    def rz(a):
+        return sp.Matrix([[sp.cos(a), -sp.sin(a), 0], [sp.sin(a), sp.cos(a), 0], [0, 0, 1]])
+
+    return rx, ry, rz
+
+
+def hand_chain(n: int):
+    """The Euler-angle chain written by hand: each rod's orientation a product of
+    elementary rotation matrices, its centre the joint above it minus l_i/2 times the rod's
+    axis (nothing expanded)."""
+    import sympy as sp
+
+    import lagrangian as lg
+
+    rx, ry, rz = elementary_rotations()
+    rods, g = chain_symbols(n)
+    joint = sp.zeros(3, 1)
+    bodies = []
+    for i, (a, b, c, m, l, I, J) in enumerate(rods):
+        R = rz(a) * rx(b) * ry(c)
+        axis = R * sp.Matrix([0, 0, 1])
+        centre = joint - l / 2 * axis
+        bodies.append(lg.RigidBody(f"rod{i + 1}", m, sp.diag(I, I, J), centre, orientation=R))
+        joint = joint - l * axis
+    return lg.System(
+        coordinates=[s for rod in rods for s in rod[:3]],
+        parameters=[g, *(s for rod in rods for s in rod[3:])],
+        gravity=(0, 0, -g),
+        rigid_bodies=bodies,
+    )
+
+
+#: How the hand-written rolling disc gives its orientation (:func:`hand_rolling_disc`).
+DISC_ORIENTATIONS = ("product", "expanded", "quaternion")
+
+
+def hand_rolling_disc(orientation: str = "product"):
+    """A thin disc rolling without slip on z = 0, written by hand: the contact point (x, y,
+    0), heading psi, lean theta and spin phi; the orientation Rz(psi) Rx(theta) Ry(phi)
+    given as the product of rotation matrices (``"product"``), as that matrix with every
+    entry multiplied out (``"expanded"``) or as the product of the three half-angle
+    quaternions (``"quaternion"``); the centre r up the disc plane from the contact, and
+    the two no-slip conditions (the contact's material velocity v_centre + omega x (contact
+    - centre), world x and y) written out as ``VelocityConstraint`` expressions with omega
+    the sum of the rates about their axes."""
+    import sympy as sp
+
+    import lagrangian as lg
+    from lagrangian.model import quaternion_rotation
+
+    rx, ry, rz = elementary_rotations()
+    q = sp.symbols("x y psi theta phi")
+    x, y, psi, theta, phi = q
+    m, g, r = sp.symbols("m g r")
+    e_x, e_y, e_z = sp.Matrix([1, 0, 0]), sp.Matrix([0, 1, 0]), sp.Matrix([0, 0, 1])
+    lean = rz(psi) * rx(theta)
+    contact = sp.Matrix([x, y, 0])
+    centre = contact + r * lean * e_z
+    if orientation == "quaternion":
+        turned = quaternion_rotation(*_quaternion_product(psi, theta, phi))
+    elif orientation == "expanded":
+        turned = (lean * ry(phi)).applyfunc(sp.expand)
+    else:
+        turned = lean * ry(phi)
+    inertia = sp.diag(m * r**2 / 4, m * r**2 / 2, m * r**2 / 4)
+    disc = lg.RigidBody("disc", m, inertia, centre, orientation=turned)
+    rate = {s: sp.Symbol(f"{s.name}_dot") for s in q}
+    omega = rate[psi] * e_z + rate[theta] * rz(psi) * e_x + rate[phi] * lean * e_y
+    centre_velocity = centre.applyfunc(lambda e: sum(e.diff(s) * rate[s] for s in q))
+    slip = centre_velocity + omega.cross(contact - centre)
+    return lg.System(
+        coordinates=list(q),
+        parameters={m: 1.0, g: 9.81, r: 0.3},
+        gravity=(0, 0, -g),
+        rigid_bodies=[disc],
+        constraints=[lg.VelocityConstraint(slip[0]), lg.VelocityConstraint(slip[1])],
+    )
+
+
+def _quaternion_product(psi, theta, phi):
+    """(w, x, y, z) of qz(psi) qx(theta) qy(phi), each q_k(a) = (cos(a/2), sin(a/2) e_k)
+    (Hamilton products written out)."""
+    import sympy as sp
+
+    def times(p, q):
+        (a, b, c, d), (e, f, g, h) = p, q
+        return (
+            a * e - b * f - c * g - d * h,
+            a * f + b * e + c * h - d * g,
+            a * g - b * h + c * e + d * f,
+            a * h + b * g - c * f + d * e,
+        )
+
+    half = [(sp.cos(a / 2), sp.sin(a / 2)) for a in (psi, theta, phi)]
+    qz = (half[0][0], 0, 0, half[0][1])
+    qx = (half[1][0], half[1][1], 0, 0)
+    qy = (half[2][0], 0, half[2][1], 0)
+    return times(times(qz, qx), qy)
+
+
+def kane_rolling_disc():
+    """KanesMethod on the rolling disc (its contact point's velocity as the nonholonomic
+    constraints, x' and y' dependent): the method and its q and u."""
+    import sympy as sp
+    import sympy.physics.mechanics as me
+
+    m, g, r = sp.symbols("m g r")
+    q = me.dynamicsymbols("x y psi theta phi")
+    u = me.dynamicsymbols("x_dot y_dot psi_dot theta_dot phi_dot")
+    N, Y, L, D = (me.ReferenceFrame(name) for name in "NYLD")
+    Y.orient_axis(N, N.z, q[2])
+    L.orient_axis(Y, Y.x, q[3])
+    D.orient_axis(L, L.y, q[4])
+    Y.set_ang_vel(N, u[2] * N.z)
+    L.set_ang_vel(Y, u[3] * Y.x)
+    D.set_ang_vel(L, u[4] * L.y)
+    contact = me.Point("C")
+    contact.set_vel(N, u[0] * N.x + u[1] * N.y)
+    centre = contact.locatenew("G", r * L.z)
+    centre.v2pt_theory(contact, N, L)  # the contact and the centre both fixed in L
+    slip = centre.vel(N) + D.ang_vel_in(N).cross(contact.pos_from(centre))
+    t = me.dynamicsymbols._t
+    method = me.KanesMethod(
+        N,
+        q,
+        u[2:],
+        kd_eqs=[qi.diff(t) - ui for qi, ui in zip(q, u)],
+        u_dependent=u[:2],
+        velocity_constraints=[slip.dot(N.x), slip.dot(N.y)],
+    )
+    inertia = me.inertia(D, m * r**2 / 4, m * r**2 / 2, m * r**2 / 4)
+    method.kanes_equations(
+        [me.RigidBody("disc", centre, D, m, (inertia, centre))], [(centre, -m * g * N.z)]
+    )
+    return {"method": method, "q": q, "u": u, "slip": [slip.dot(N.x), slip.dot(N.y)]}
+
+
+def derive_hand(n: int):
+    import lagrangian as lg
+
+    eom = lg.derive(hand_chain(n))
+    return {"mass_matrix": eom.mass_matrix, "forcing": eom.forcing}
+
+
 def derive_euler(n: int):
     import lagrangian as lg
 
@@ -278,6 +437,7 @@ DERIVERS = {
     "kane": kane_chain,
     "relative": derive_relative,
     "kane_relative": kane_relative,
+    "hand": derive_hand,
 }
 
 
@@ -350,7 +510,7 @@ def check(method: str, n: int, result: dict) -> str:
 
     values = random_values(n)
     theirs = kane_accelerations(n, values, relative=method == "relative")
-    if method in ("euler", "relative"):
+    if method in ("euler", "relative", "hand"):
         M, f = numbers(result["mass_matrix"], values), numbers(result["forcing"], values)
         ours = np.linalg.solve(M, f.ravel())
     else:
@@ -394,6 +554,20 @@ def worker(method: str, n: int, verify: bool) -> int:
         outcome["check"] = check(method, n, result)
     print(json.dumps(outcome), flush=True)
     return 0
+
+
+def benchmark_parser(doc: str, methods: tuple[str, ...]) -> argparse.ArgumentParser:
+    """The options of a benchmark that times ``methods`` in fresh worker processes (the
+    bicycle's, the rolling disc's): --repeat, --cap, --record and the worker's own."""
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser.add_argument("--repeat", type=int, default=3, help="runs per method (3)")
+    parser.add_argument("--cap", type=float, default=300.0, help="seconds per run (300)")
+    parser.add_argument(
+        "--record", action="store_true", help=f"write the section in {RESULTS.name}"
+    )
+    parser.add_argument("--worker", metavar="METHOD", choices=methods, help=argparse.SUPPRESS)
+    parser.add_argument("--verify", action="store_true", help=argparse.SUPPRESS)
+    return parser
 
 
 def run(method: str, n: int, cap: float, verify: bool) -> dict:
@@ -469,22 +643,26 @@ def report(measured: dict, ns: list[int], repeat: int, cap: float, kept: str = "
         "",
         "| n | coordinates (Euler / Cartesian) | Euler s | Cartesian s | Kane s "
         "| Kane/Euler | Kane/Cartesian | joint angles s | Kane (joint angles) s "
-        "| Kane/joint angles |",
-        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        "| Kane/joint angles | by hand s | Kane/by hand |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     verdicts = []
     for n in ns:
-        euler, cartesian, kane, relative, kane_relative = (medians[m, n] for m in METHODS)
+        euler, cartesian, kane, relative, kane_relative, hand = (
+            medians.get((m, n), math.nan) for m in METHODS
+        )
         lines.append(
             f"| {n} | {3 * n} / {6 * n} | {_seconds(euler, cap)} | {_seconds(cartesian, cap)} "
             f"| {_seconds(kane, cap)} | {_ratio(kane, euler)} | {_ratio(kane, cartesian)} "
             f"| {_seconds(relative, cap)} | {_seconds(kane_relative, cap)} "
-            f"| {_ratio(kane_relative, relative)} |"
+            f"| {_ratio(kane_relative, relative)} | {_seconds(hand, cap)} "
+            f"| {_ratio(kane, hand)} |"
         )
         for method, ours, theirs in (
             ("euler", euler, kane),
             ("cartesian", cartesian, kane),
             ("relative", relative, kane_relative),
+            ("hand", hand, kane),
         ):
             if math.isnan(ours) or math.isnan(theirs):
                 continue  # one of them not run: nothing to compare
@@ -541,6 +719,7 @@ COLUMNS = {
     "Kane s": "kane",
     "joint angles s": "relative",
     "Kane (joint angles) s": "kane_relative",
+    "by hand s": "hand",
 }
 
 

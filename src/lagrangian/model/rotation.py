@@ -10,6 +10,11 @@ Conventions (Murray, Li & Sastry 1994, ch. 2):
   R = Rz(a) Rx(b) Rz(c); *extrinsic* (world-fixed axes) is the reverse product
   R = Rz(c) Rx(b) Rz(a).  All 12 sequences are allowed.
 - Quaternions are scalar first, (w, x, y, z); R is the rotation of the unit quaternion q/|q|.
+- Angular velocities are composed from the rotations about constant axes an orientation is
+  made of (Euler angles, ``rotations``, and a matrix given whole that is such a product
+  multiplied out: :mod:`lagrangian.model.rotation_factors` finds its factors), never
+  differentiated from R where they can be; a quaternion's follow from its rates; only
+  any other matrix is differentiated, vee(R^T R_dot), and simplified.
 
 >>> import sympy as sp
 >>> phi, theta, psi = sp.symbols("phi theta psi")
@@ -33,6 +38,7 @@ import symengine as se
 import sympy as sp
 
 from lagrangian.errors import ModelError, Problem
+from lagrangian.model.rotation_factors import Factoring, factor_rotation, pythagorean_reduced
 from lagrangian.symbolic.caches import remembered
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.native import to_symengine
@@ -49,6 +55,9 @@ AXIS_NAMES = ("x", "y", "z")
 FORMS = ("matrix", "euler", "axis_angle", "quaternion", "rotations")
 #: Rotations with moving angles up to which a composed angular velocity is expanded.
 EXPANDED_TURNS = 6
+#: The largest |q|^2 (operations) trigsimp is tried on when the reduction modulo
+#: sin^2 + cos^2 = 1 does not give 1 (double angles and the like).
+TRIGSIMP_OPS = 60
 #: Orientations whose angular velocities are remembered (model building, the derivation and
 #: the loads ask for the same bodies' again).
 REMEMBERED = 256
@@ -306,7 +315,10 @@ def _turned(matrix: sp.Matrix, axis: Sequence[Any], angle: Any) -> sp.Matrix:
 def _norm_squared(w: Any, x: Any, y: Any, z: Any) -> sp.Expr:
     """|q|^2, replaced by 1 when it simplifies to 1 (e.g. (cos(a/2), sin(a/2) n))."""
     squared = sp.expand(w**2 + x**2 + y**2 + z**2)
-    return sp.Integer(1) if squared == 1 or sp.trigsimp(squared) == 1 else squared
+    if squared == 1 or pythagorean_reduced(squared) == 1:
+        return sp.Integer(1)  # (exact, and cheap where trigsimp takes seconds: q1 q2 q3)
+    small = sp.count_ops(squared) <= TRIGSIMP_OPS
+    return sp.Integer(1) if small and sp.trigsimp(squared) == 1 else squared
 
 
 def quaternion_rotation(w: Any, x: Any, y: Any, z: Any) -> Orientation:
@@ -385,6 +397,7 @@ def _moving_axis(
 def _composed(
     parent: Orientation | None,
     factors: Sequence[tuple[sp.ImmutableMatrix, Any]],
+    tail: sp.ImmutableMatrix | None,
     q: Sequence[sp.Symbol],
     body: bool,
 ) -> sp.ImmutableMatrix:
@@ -396,7 +409,9 @@ def _composed(
         omega_s = omega_s(parent) + R_parent sum_k F1..F(k-1) n_k a_k_dot
                   (s <- n_k a_k_dot + F_k s, k = m..1, as F_k n_k = n_k),
 
-    matrix-vector products only: nothing is differentiated but the angles.  The result is
+    matrix-vector products only: nothing is differentiated but the angles.  A constant
+    ``tail`` C on the right (R = R_parent F1..Fm C, a matrix given whole) turns omega_b into
+    C^T omega_b and leaves omega_s as it is.  The result is
     expanded unless more than :data:`EXPANDED_TURNS` of the rotations turn with the
     coordinates (a long chain of joints, whose expanded products of sines and cosines would
     run to thousands of terms): then it stays nested, as the products give it.  (An
@@ -407,6 +422,8 @@ def _composed(
         w = sp.zeros(3, 1) if parent is None else sp.Matrix(_angular_velocity(parent, q, True))
         for n, a in factors:
             w = _about(n, a).T * w + n * _rate(a, q)
+        if tail is not None:
+            w = tail.T * w
         return sp.ImmutableMatrix(w.applyfunc(tidy))
     s = sp.zeros(3, 1)
     for n, a in reversed(factors):
@@ -416,25 +433,45 @@ def _composed(
     return sp.ImmutableMatrix(s.applyfunc(tidy))
 
 
-def _composition(
-    orientation: Orientation, q: tuple[sp.Symbol, ...]
-) -> tuple[Orientation | None, tuple[tuple[sp.ImmutableMatrix, Any], ...]] | None:
-    """(parent, factors) whose :func:`_composed` is the angular velocity of ``orientation``:
-    all its rotations about constant axes from the world, or its own from its parent; None
-    for an orientation not so composed."""
+Composition = tuple[
+    "Orientation | None", tuple[tuple[sp.ImmutableMatrix, Any], ...], "sp.ImmutableMatrix | None"
+]
+
+
+def _composition(orientation: Orientation, q: tuple[sp.Symbol, ...]) -> Composition | None:
+    """(parent, factors, tail) whose :func:`_composed` is the angular velocity of
+    ``orientation``: all its rotations about constant axes from the world, or its own from
+    its parent, or the factors a matrix given whole is recognised as
+    (:func:`~lagrangian.model.rotation_factors.factor_rotation`); None for an orientation
+    not so composed."""
     factors = orientation.factors()
     if factors and all(_constant(e, q) for axis, _ in factors for e in axis):
-        return None, factors
+        return None, factors, None
     if orientation.form == "rotations":
         own = orientation.own_factors()
         if all(_constant(e, q) for axis, _ in own for e in axis):
-            return orientation.parent, own
+            return orientation.parent, own, None
+    if orientation.form in ("matrix", "quaternion"):  # a quaternion: a product of them?
+        found = _factoring(orientation.matrix, q)
+        if found is not None:
+            return None, found.factors, found.tail
     return None
+
+
+def _factoring(matrix: sp.ImmutableMatrix, q: tuple[sp.Symbol, ...]) -> Factoring | None:
+    try:
+        return _remembered_factoring(matrix, q)
+    except TypeError:  # an unhashable expression in it
+        return factor_rotation(matrix, q)
+
+
+_remembered_factoring = remembered(maxsize=REMEMBERED)(factor_rotation)
 
 
 def _composed_backend(
     parent: Orientation | None,
     factors: Sequence[tuple[sp.ImmutableMatrix, Any]],
+    tail: sp.ImmutableMatrix | None,
     q: tuple[sp.Symbol, ...],
     body: bool,
     limit: int,
@@ -443,11 +480,15 @@ def _composed_backend(
     cosines as SymPy's expand gives, at a fraction of its cost (a bicycle's fork turns six
     times).  None where that sameness is not plain: an angle with a function or a constant
     such as pi in it (whose sines the two evaluate each their own way), or not expanded
-    already (SymPy's expand would reach into the sines), an axis not of rationals, or a
-    parent whose own angular velocity is not so composed."""
+    already (SymPy's expand would reach into the sines), an axis (or a constant tail) not of
+    rationals and polynomials in the sines and cosines of parameters (a steer axis tilted by
+    lam: (sin(lam), 0, -cos(lam))), or a parent whose own angular velocity is not so
+    composed."""
     if not all(_plain_angle(a) for _, a in factors) or not all(
-        e.is_Rational for n, _ in factors for e in n
+        _plain_constant(e) for n, _ in factors for e in n
     ):
+        return None
+    if tail is not None and not all(_plain_constant(e) for e in tail):
         return None
     inherited = None if parent is None else _fast(parent, q, body, limit)
     if parent is not None and inherited is None:
@@ -460,6 +501,8 @@ def _composed_backend(
         w = list(inherited or w)
         for n, a, rate in turns:
             w = [x + n_i * rate for x, n_i in zip(_times(_backend_about(n, a), w, True), n)]
+        if tail is not None:
+            w = _times([[to_symengine(e) for e in row] for row in tail.tolist()], w, True)
     else:
         for n, a, rate in reversed(turns):
             w = [n_i * rate + x for x, n_i in zip(_times(_backend_about(n, a), w), n)]
@@ -475,6 +518,20 @@ def _plain_angle(angle: Any) -> bool:
     if angle.is_Symbol or angle.is_Rational:
         return True
     return not angle.has(sp.Function, sp.NumberSymbol) and angle == sp.expand(angle)
+
+
+def _plain_constant(entry: Any) -> bool:
+    """A rational, or an expanded polynomial in the sines and cosines of plain symbols, which
+    SymEngine and SymPy expand alike."""
+    entry = to_sympy(entry)
+    if entry.is_Rational:
+        return True
+    functions = entry.atoms(sp.Function)
+    return (
+        not entry.has(sp.NumberSymbol)
+        and all(isinstance(f, (sp.sin, sp.cos)) and f.args[0].is_Symbol for f in functions)
+        and entry == sp.expand(entry)
+    )
 
 
 def _backend_rate(angle: Any, q: Sequence[sp.Symbol]) -> Any:
@@ -601,11 +658,11 @@ def _fast_composed(
     composition = _composition(orientation, q)
     if composition is None:
         return None
-    parent, factors = composition
+    parent, factors, tail = composition
     if sum(1 for _, a in factors if not _constant(a, q)) > limit:
         return None
     try:
-        return _composed_backend(parent, factors, q, body, limit)
+        return _composed_backend(parent, factors, tail, q, body, limit)
     except se.SympifyError:  # something SymEngine does not know: SymPy composes it
         return None
 
@@ -654,6 +711,28 @@ def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) ->
     return array.real
 
 
+def _in_backend(matrix: sp.MatrixBase) -> list[Any] | None:
+    try:
+        return [to_symengine(e) for e in matrix]
+    except (se.SympifyError, TypeError, ValueError):
+        return None
+
+
+def _doubles(entries: list[Any], values: Mapping[sp.Symbol, float]) -> np.ndarray | None:
+    """A 3x3 matrix's entries (SymEngine) at ``values`` in double precision (ample for a
+    test of R^T R = 1 to 1e-9, and a hundred times faster than SymPy's evalf on a product
+    of rotations); None where they are not all finite real numbers."""
+    swap = {to_symengine(s): se.RealDouble(float(v)) for s, v in values.items()}
+    try:
+        numbers = [complex(e.xreplace(swap)) for e in entries]
+    except (TypeError, ValueError, RuntimeError):
+        return None
+    array = np.array(numbers).reshape(3, 3)
+    if not np.all(np.isfinite(array)) or np.max(np.abs(array.imag)) > 1e-12:
+        return None
+    return array.real
+
+
 def check_rotation(
     matrix: sp.MatrixBase,
     field: str,
@@ -668,8 +747,10 @@ def check_rotation(
     'the rotation is not orthonormal: R^T R - 1 has an entry of 0.5 at x = 0.5'
     """
     fix = "give an orthonormal matrix, or build it with euler_rotation, axis_angle or quaternions"
+    entries = _in_backend(matrix)
     for values in samples:
-        R = evaluate_matrix(matrix, values)
+        R = _doubles(entries, values) if entries is not None else None
+        R = evaluate_matrix(matrix, values) if R is None else R
         if R is None:
             continue
         used = sorted(matrix.free_symbols & set(values), key=str)
