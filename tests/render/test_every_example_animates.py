@@ -55,7 +55,7 @@ def _drawn_at(figure: SceneFigure, pixels: np.ndarray, panel: int, points: np.nd
     height = pixels.shape[0]
     inked = 0
     for x, y in display:
-        row, column = int(round(height - y)), int(round(x))
+        row, column = round(height - y), round(x)
         patch = pixels[max(row - 2, 0) : row + 3, max(column - 2, 0) : column + 3]
         inked += bool(patch.size and patch.min() < 200)
     return inked / len(display)
@@ -125,7 +125,7 @@ def test_a_spring_is_a_coil_and_a_disc_shows_its_radius_line():
                                    atol=1e-9)  # fmt: skip
         figure, pixels = _scene_pixels(scene, frame)
         tip_pixel = figure.axes[0].transData.transform([0.8 * tip + 0.2 * centre])[0]
-        row, column = int(round(pixels.shape[0] - tip_pixel[1])), int(round(tip_pixel[0]))
+        row, column = round(pixels.shape[0] - tip_pixel[1]), round(tip_pixel[0])
         patch = pixels[row - 2 : row + 3, column - 2 : column + 3].reshape(-1, 3).astype(int)
         orange = np.abs(patch - [255, 127, 14]).max(axis=1) < 60
         assert orange.any()  # the radius line is drawn in its colour where it points

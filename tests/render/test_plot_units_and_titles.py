@@ -13,9 +13,6 @@ import pytest
 import lagrangian as lg
 from lagrangian.io import loads
 from lagrangian.render.animation import AXIS_COLORS, animate, animation_frame
-from lagrangian.render.projection import projection_matrix
-from lagrangian.render.scene import Scene, scene_of, shapes_of
-from lagrangian.render.scene_draw import SceneFigure
 from lagrangian.render.plots import (
     column_label,
     overview,
@@ -24,6 +21,9 @@ from lagrangian.render.plots import (
     save_plots,
     time_label,
 )
+from lagrangian.render.projection import projection_matrix
+from lagrangian.render.scene import Scene, scene_of, shapes_of
+from lagrangian.render.scene_draw import SceneFigure
 
 matplotlib.use("Agg")
 

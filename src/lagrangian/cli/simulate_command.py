@@ -202,22 +202,29 @@ def check_animation_options(animate: str | None, frames: int | None, fps: float 
     come without --animate: SimulationInputError, every problem at once."""
     problems = []
     if frames is not None and frames < 1:
-        problems.append(Problem("--frames", f"{frames} frames", "give 1 or more, e.g. --frames 100"))
+        problems.append(
+            Problem("--frames", f"{frames} frames", "give 1 or more, e.g. --frames 100")
+        )
     if fps is not None and not (math.isfinite(fps) and fps > 0):
-        problems.append(Problem("--fps", f"{fps:g} frames per second", "give a positive rate, e.g. --fps 25"))
+        problems.append(
+            Problem("--fps", f"{fps:g} frames per second", "give a positive rate, e.g. --fps 25")
+        )
     for flag, value in (("--frames", frames), ("--fps", fps)):
         if value is not None and animate is None:
-            problems.append(Problem(flag, "shapes the animation", "add --animate FILE.gif"))
+            what = (
+                "only an animation has frames" if flag == "--frames" else "only an animation plays"
+            )
+            problems.append(Problem(flag, what, "add --animate FILE.gif"))
     raise_if_problems(problems, "Cannot simulate", SimulationInputError)
 
 
 @dataclasses.dataclass(frozen=True)
 class Pictures:
     """What ``simulate`` draws after the CSV: the ``plot`` file (its phase portrait of
-    ``phase``), the ``animate`` file (``frames`` of it played at ``fps``; a progress bar on a
-    terminal, or always with ``progress``), and whether a failed run gets them too (``keep_failed``); the points of a
-    Poincaré ``section``, written beside the CSV and plotted in the plane of
-    ``section_axes`` beside the plot."""
+    ``phase``), the ``animate`` file (``frames`` of it played at ``fps``; a progress bar on
+    a terminal, or always with ``progress``), and whether a failed run gets them too
+    (``keep_failed``); the points of a Poincaré ``section``, written beside the CSV and
+    plotted in the plane of ``section_axes`` beside the plot."""
 
     plot: str | None = None
     animate: str | None = None

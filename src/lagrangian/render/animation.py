@@ -32,7 +32,7 @@ from lagrangian.model import System
 from lagrangian.render.frames_writer import write_gif, write_mp4, write_png
 from lagrangian.render.scene import Scene, scene_of
 from lagrangian.render.scene_bodies import AXIS_COLORS
-from lagrangian.render.scene_draw import SceneFigure
+from lagrangian.render.scene_draw import SceneFigure, scene_colors
 from lagrangian.render.scene_mechanics import rods
 from lagrangian.render.scene_player import scene_html, scene_page
 from lagrangian.simulation.trajectory import Trajectory
@@ -89,7 +89,7 @@ class Animation:
         elif suffix == ".mp4":
             write_mp4(self.frames(progress), target, self.scene.fps)
         elif suffix == ".gif":
-            write_gif(self.frames(progress), target, self.scene.fps)
+            write_gif(self.frames(progress), target, self.scene.fps, scene_colors(self.scene))
         else:
             known = ", ".join(FORMATS)
             raise ValueError(f"{str(target)!r}: animations are written as {known}, not {suffix!r}")
@@ -105,7 +105,9 @@ class Animation:
 
 def _checked(frames: int | None, fps: float | None) -> None:
     problems = []
-    if frames is not None and (isinstance(frames, bool) or not isinstance(frames, int) or frames < 1):
+    if frames is not None and (
+        isinstance(frames, bool) or not isinstance(frames, int) or frames < 1
+    ):
         problems.append(Problem("frames", f"{frames!r} is not a number of frames",
                                 "pass frames= a whole number, 1 or more"))  # fmt: skip
     if fps is not None and not (isinstance(fps, (int, float)) and np.isfinite(fps) and fps > 0):

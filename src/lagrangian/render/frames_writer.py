@@ -5,16 +5,19 @@ when ffmpeg is installed, a PNG of one frame.
 >>> import numpy as np, tempfile, pathlib
 >>> frames = [np.full((8, 8, 3), k * 60, dtype=np.uint8) for k in range(3)]
 >>> path = pathlib.Path(tempfile.mkdtemp()) / "a.gif"
->>> write_gif(iter(frames), path, fps=10)
->>> from PIL import Image; Image.open(path).n_frames
+>>> write_gif(iter(frames), path, fps=10, colors=["#3c3c3c", "#787878"])
+>>> from PIL import Image
+>>> with Image.open(path) as picture:
+...     picture.n_frames
 3
 """
 
 from __future__ import annotations
 
+import itertools
 import shutil
 import subprocess
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -31,20 +34,28 @@ def ffmpeg_path() -> str | None:
     return shutil.which(configured) or shutil.which("ffmpeg")
 
 
-def write_gif(frames: Iterator[np.ndarray], path: Path, fps: float) -> None:
-    """RGB frames as a looping GIF at ``fps``, all on the palette of the first frame (the
-    scene's background and colours are there from the start)."""
+def write_gif(
+    frames: Iterator[np.ndarray], path: Path, fps: float, colors: Sequence[str] = ()
+) -> None:
+    """RGB frames as a looping GIF at ``fps``, all on one palette: that of the first frame
+    and of ``colors`` (hex: what appears later, a trail, an impact's flash)."""
     from PIL import Image
 
-    first = Image.fromarray(next(frames))
-    palette = first.quantize(COLORS, method=Image.Quantize.MEDIANCUT)
-    pictures = [first.quantize(palette=palette, dither=Image.Dither.NONE)]
-    pictures += [
+    first = next(frames)
+    swatches = [np.full((8, first.shape[1], 3), _rgb(color), dtype=np.uint8) for color in colors]
+    source = Image.fromarray(np.concatenate([first, *swatches], axis=0))
+    palette = source.quantize(COLORS, method=Image.Quantize.MEDIANCUT)
+    pictures = [
         Image.fromarray(frame).quantize(palette=palette, dither=Image.Dither.NONE)
-        for frame in frames
+        for frame in itertools.chain([first], frames)
     ]
     pictures[0].save(path, format="GIF", save_all=True, append_images=pictures[1:],
                      duration=round(1000 / fps), loop=0)  # fmt: skip
+
+
+def _rgb(color: str) -> tuple[int, int, int]:
+    value = color.lstrip("#")
+    return int(value[0:2], 16), int(value[2:4], 16), int(value[4:6], 16)
 
 
 def write_mp4(frames: Iterator[np.ndarray], path: Path, fps: float) -> None:

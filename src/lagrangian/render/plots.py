@@ -18,8 +18,8 @@ rate's unit is the unit over the time's, ``rad/s``).  The energy drift is
 from __future__ import annotations
 
 import io
-import textwrap
 import os
+import textwrap
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -223,12 +223,14 @@ def fit_title(axes: Axes) -> None:
     """Wrap the panel's title onto lines no wider than the panel (a long reason the energy
     is not conserved would run off the figure): the width in characters is the panel's
     width over an average glyph, 0.6 of the font size."""
+    from matplotlib.figure import Figure
+
     text = axes.get_title()
     figure = axes.get_figure()
-    if not text or figure is None:
+    if not text or not isinstance(figure, Figure):
         return
     width_inches = axes.get_position().width * figure.get_figwidth()
-    size = axes.title.get_fontsize()
+    size = float(axes.title.get_fontsize())
     columns = max(int(width_inches * 72 / (0.6 * size)), 10)
     lines = [textwrap.fill(line, columns) for line in text.splitlines()]
     axes.set_title("\n".join(lines))

@@ -85,14 +85,19 @@ class Shape:
             keys = MOVING_KEYS[self.type] if self.moving else ()
             object.__setattr__(self, "moving", keys)
 
+    @property
+    def moving_keys(self) -> tuple[str, ...]:
+        """The keys of ``data`` given per frame."""
+        return self.moving if isinstance(self.moving, tuple) else ()
+
     def at(self, key: str, frame: int) -> Any:
         """``data[key]`` at ``frame`` (the same at every frame when it does not move)."""
         value = self.data[key]
-        return value[frame] if key in self.moving else value  # type: ignore[operator]
+        return value[frame] if key in self.moving_keys else value
 
     def to_dict(self) -> dict[str, Any]:
         data = {key: _plain(value) for key, value in self.data.items()}
-        return {"type": self.type, **data, **dict(self.style), "moving": list(self.moving)}
+        return {"type": self.type, **data, **dict(self.style), "moving": list(self.moving_keys)}
 
 
 @dataclass(frozen=True)
@@ -234,7 +239,9 @@ def scene_of(
     if loose or not panels:
         panels.append(coordinates_panel(system, states, loose or _all_names(system)))
     name = system.name or "system"
-    return Scene(name, states.t, tuple(panels), float(fps or FPS), impact_frames(trajectory, states))
+    return Scene(
+        name, states.t, tuple(panels), float(fps or FPS), impact_frames(trajectory, states)
+    )
 
 
 def _all_names(system: System) -> Sequence[str]:
@@ -249,9 +256,7 @@ def shapes_of(scene: Scene, kind: str) -> list[Shape]:
 __all__ = ["KINDS", "Element", "Panel", "Scene", "Shape", "scene_of", "shapes_of"]
 
 
-def style(
-    color: str = "#4d4d4d", width: float = 1.5, **more: Any
-) -> dict[str, Any]:
+def style(color: str = "#4d4d4d", width: float = 1.5, **more: Any) -> dict[str, Any]:
     """A shape's style: its ``color`` (hex), ``width`` in pixels and any more keys."""
     return {"color": color, "width": width, **more}
 

@@ -120,8 +120,8 @@ def _outline(
         lines.append(_silhouette(stage, centre, radius))
         lines.append(circle_points(centre, first, second, radius))  # its equator turns with it
     elif kind == "box":
-        half = 0.5 * np.array([sizes["length_x"], sizes["length_y"], sizes["length_z"]])
-        lines.append(box_line(centre, R, half))
+        edges = 0.5 * np.array([sizes["length_x"], sizes["length_y"], sizes["length_z"]])
+        lines.append(box_line(centre, R, edges))
     elif kind == "rod":
         half = sizes.get("length", 0.0) / 2
         lines.append(np.stack([centre - half * along, centre + half * along], axis=1))

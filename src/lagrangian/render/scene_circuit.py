@@ -18,6 +18,7 @@ side (the first mesh's left, the last one's right), then its bottom.
 
 from __future__ import annotations
 
+from itertools import pairwise
 from typing import Any
 
 import numpy as np
@@ -106,7 +107,7 @@ def _on_edges(
     for (start, end), group in zip(edges, per_edge):
         cuts = np.linspace(0.0, 1.0, len(group) + 1)
         wire = []
-        for element, (u0, u1) in zip(group, zip(cuts[:-1], cuts[1:])):
+        for element, (u0, u1) in zip(group, pairwise(cuts)):
             a = start + (end - start) * (u0 + 0.3 * (u1 - u0))
             b = start + (end - start) * (u1 - 0.3 * (u1 - u0))
             wire.append((start + (end - start) * u0, a))
@@ -126,7 +127,7 @@ def _symbol(element: Any, a: np.ndarray, b: np.ndarray) -> Element:
     along = (b - a) / np.linalg.norm(b - a)
     normal = np.array([-along[1], along[0]])
     centre = (a + b) / 2
-    size = np.linalg.norm(b - a)
+    size = float(np.linalg.norm(b - a))
     lines: list[np.ndarray] = []
     circles: list[Shape] = []
     if kind == "resistor":

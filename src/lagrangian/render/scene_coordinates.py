@@ -83,7 +83,7 @@ def _box(x: np.ndarray, y: np.ndarray) -> tuple[float, float, float, float]:
 def _strip(states: FrameStates, name: str, value: np.ndarray) -> Panel:
     """One coordinate: the point at its value, its last WINDOW of the run trailing left."""
     frames = len(value)
-    window = max(int(round(WINDOW * frames)), 2)
+    window = max(round(WINDOW * frames), 2)
     span = float(states.t[min(window, frames) - 1] - states.t[0]) or 1.0  # the time it shows
     trace = np.empty((frames, window, 2))
     for k in range(frames):

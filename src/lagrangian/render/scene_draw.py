@@ -110,6 +110,15 @@ class SceneFigure:
             ring.remove()
 
 
+def scene_colors(scene: Scene) -> list[str]:
+    """Every colour the scene's shapes are drawn in, and the impact's flash (hex)."""
+    colors = {IMPACT, "#000000", "#ffffff"}
+    for panel in scene.panels:
+        for element in panel.elements:
+            colors |= {shape.style.get("color", "#333333") for shape in element.shapes}
+    return sorted(colors)
+
+
 def _flashes(scene: Scene) -> dict[int, str]:
     """The frames an impact is shown on (its own and :data:`FLASH` - 1 after), and its label."""
     shown: dict[int, str] = {}
@@ -149,7 +158,7 @@ def _pose(shape: Shape, artists: list[Any], frame: int) -> None:
         at = np.asarray(shape.at("at", frame), dtype=float)
         artists[1].set_data([at[0]], [at[1]])
         trail = int(shape.style.get("trail", 0))
-        if trail and "at" in shape.moving:
+        if trail and "at" in shape.moving_keys:
             past = np.asarray(shape.data["at"][max(0, frame - trail) : frame + 1], dtype=float)
             artists[0].set_data(past[:, 0], past[:, 1])
     elif shape.type == "circle":

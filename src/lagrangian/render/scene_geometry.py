@@ -5,7 +5,7 @@ Arrays carry the frames first: ``a`` and ``b`` of shape (F, d) give outlines (F,
 
 >>> coil = coil_line(np.array([[0.0, 0.0]]), np.array([[1.0, 0.0]]), turns=4, width=0.1)
 >>> coil.shape, coil[0, 0].tolist(), coil[0, -1].tolist()
-((1, 12, 2), [0.0, 0.0], [1.0, 0.0])
+((1, 11, 2), [0.0, 0.0], [1.0, 0.0])
 """
 
 from __future__ import annotations

@@ -93,7 +93,8 @@ def mechanics_panel(system: System, states: FrameStates, projection: str) -> Pan
 def _spanning_anchors(stage: Stage) -> Stage:
     """The stage with its span grown to reach the fixed ends of springs and dampers."""
     reach = [stage.span]
-    for link in (*stage.system.springs, *stage.system.dampers):
+    links: list[Any] = [*stage.system.springs, *stage.system.dampers]
+    for link in links:
         for ref in link.between:
             ends = stage.anchor(ref)
             finite = ends[np.isfinite(ends)]
@@ -120,28 +121,37 @@ def _ref_name(ref: Any) -> str:
 def _link_elements(stage: Stage) -> list[Element]:
     """Springs (coils) and dampers (dashpots), side by side where they share their ends."""
     system = stage.system
-    links = [("spring", s) for s in system.springs] + [("damper", d) for d in system.dampers]
-    groups: dict[tuple[str, str], list[int]] = defaultdict(list)
+    links: list[tuple[str, Any]] = [("spring", s) for s in system.springs]
+    links += [("damper", d) for d in system.dampers]
+    groups: dict[tuple[str, ...], list[int]] = defaultdict(list)
     for k, (_, link) in enumerate(links):
-        groups[tuple(sorted(_ref_name(r) for r in link.between))].append(k)  # type: ignore[arg-type]
+        groups[_ends_key(link)].append(k)
     width = stage.pixels(COIL_WIDTH)
     made = []
     for k, (kind, link) in enumerate(links):
         a, b = (stage.flat(stage.anchor(ref)) for ref in link.between)
-        group = groups[tuple(sorted(_ref_name(r) for r in link.between))]  # type: ignore[index]
+        group = groups[_ends_key(link)]
         shift = (group.index(k) - (len(group) - 1) / 2) * 3.0 * width
         a, b = _shifted(a, b, shift)
         name = link.name or f"{_ref_name(link.between[0])}-{_ref_name(link.between[1])}"
+        info: dict[str, Any] = {"ends": np.stack([a, b], axis=1)}
         if kind == "spring":
             line = coil_line(a, b, TURNS, width)
-            info = {"rest_length": stage.number(link.rest_length), "stiffness": str(link.stiffness),
-                    "ends": np.stack([a, b], axis=1)}  # fmt: skip
+            info |= {
+                "rest_length": stage.number(link.rest_length),
+                "stiffness": str(link.stiffness),
+            }
         else:
             line = dashpot_line(a, b, width)
-            info = {"coefficient": str(link.coefficient), "ends": np.stack([a, b], axis=1)}
+            info |= {"coefficient": str(link.coefficient)}
         shape = Shape("line", {"points": line}, style(STRUCTURE, 1.5), moving=True)
         made.append(Element(kind, (shape,), name, info))
     return made
+
+
+def _ends_key(link: Any) -> tuple[str, ...]:
+    """The two ends of a spring or damper, in either order."""
+    return tuple(sorted(_ref_name(ref) for ref in link.between))
 
 
 def _shifted(a: np.ndarray, b: np.ndarray, shift: float) -> tuple[np.ndarray, np.ndarray]:
@@ -159,7 +169,7 @@ def _particle_elements(stage: Stage) -> list[Element]:
     """Each particle as a dot of its colour with a trail of its last :data:`TRAIL` frames."""
     particles = {p.name for p in stage.system.particles}
     made = []
-    for k, name in enumerate(stage.names):
+    for name in stage.names:
         if name not in particles:
             continue  # a body's centre: drawn with the body
         mass = next(p.mass for p in stage.system.particles if p.name == name)

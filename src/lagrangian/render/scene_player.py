@@ -30,7 +30,9 @@ PLAYER = r"""
   const slider = root.querySelector("input"), button = root.querySelector("button");
   const P = %(panel)d, TOP = 22, M = 10, F = S.times.length;
   const flashes = {};
-  for (const i of S.impacts) for (let k = i.frame; k < Math.min(i.frame + 3, F); k++) flashes[k] = i.label;
+  for (const i of S.impacts) {
+    for (let k = i.frame; k < Math.min(i.frame + 3, F); k++) flashes[k] = i.label;
+  }
   function view(panel, p) {
     const [x0, x1, y0, y1] = panel.bounds, w = P - 2 * M, h = P - TOP - 2 * M;
     let sx = w / ((x1 - x0) || 1), sy = h / ((y1 - y0) || 1);
@@ -41,7 +43,10 @@ PLAYER = r"""
   function at(shape, key, k) { return shape.moving.includes(key) ? shape[key][k] : shape[key]; }
   function polyline(map, points, close) {
     ctx.beginPath();
-    points.forEach(([x, y], i) => { const [u, v] = map(x, y); i ? ctx.lineTo(u, v) : ctx.moveTo(u, v); });
+    points.forEach(([x, y], i) => {
+      const [u, v] = map(x, y);
+      i ? ctx.lineTo(u, v) : ctx.moveTo(u, v);
+    });
     if (close) ctx.closePath();
     ctx.stroke();
   }
@@ -59,13 +64,15 @@ PLAYER = r"""
       const [u, v] = map(...at(shape, "at", k));
       ctx.beginPath(); ctx.arc(u, v, (shape.size || 8) / 2, 0, 2 * Math.PI); ctx.fill();
     } else if (shape.type === "circle") {
-      const c = at(shape, "centre", k), [u, v] = map(c[0], c[1]), [u2] = map(c[0] + shape.radius, c[1]);
+      const c = at(shape, "centre", k), [u, v] = map(c[0], c[1]);
+      const [u2] = map(c[0] + shape.radius, c[1]);
       ctx.beginPath(); ctx.arc(u, v, Math.abs(u2 - u), 0, 2 * Math.PI);
       if (shape.fill) { ctx.fillStyle = shape.fill; ctx.fill(); }
       ctx.stroke();
     } else if (shape.type === "text") {
       const [u, v] = map(...shape.at);
-      ctx.font = "11px sans-serif"; ctx.textAlign = "center"; ctx.fillText(at(shape, "text", k), u, v);
+      ctx.font = "11px sans-serif"; ctx.textAlign = "center";
+      ctx.fillText(at(shape, "text", k), u, v);
     }
   }
   function frame(k) {
@@ -89,7 +96,9 @@ PLAYER = r"""
     requestAnimationFrame(tick);
   }
   slider.max = F - 1;
-  slider.oninput = () => { playing = false; button.textContent = "play"; k = +slider.value; frame(k); };
+  slider.oninput = () => {
+    playing = false; button.textContent = "play"; k = +slider.value; frame(k);
+  };
   button.onclick = () => { playing = !playing; button.textContent = playing ? "pause" : "play"; };
   frame(0); requestAnimationFrame(tick);
 })();

@@ -36,7 +36,7 @@ SAMPLES = 64
 
 
 def curve_kind(position: list[Any], s: sp.Symbol) -> str | None:
-    """"circle", "line" or "parabola" for a path r(s), None for other curves.
+    """ "circle", "line" or "parabola" for a path r(s), None for other curves.
 
     >>> s, R = sp.symbols("s R")
     >>> curve_kind([R * sp.sin(s), -R * sp.cos(s)], s), curve_kind([s, s**2], s)
@@ -196,7 +196,9 @@ def _string(
     )
     shape = Shape("line", {"points": stage.flat(path)}, style(STRING, 1.5), moving=True)
     length = float(np.linalg.norm(path[0, 1:] - path[0, :-1], axis=1).sum())
-    return Element("string", (shape,), f"{names[0]}-{names[1]}", {"length": length, "masses": list(names)})
+    return Element(
+        "string", (shape,), f"{names[0]}-{names[1]}", {"length": length, "masses": list(names)}
+    )
 
 
 def _pulley(

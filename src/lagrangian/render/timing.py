@@ -9,9 +9,9 @@ frames = D / tau * FRAMES_PER_TURN, kept between :data:`MIN_FRAMES` and :data:`M
 a motion that never turns (a rolling disc, a free particle) gets :data:`MIN_FRAMES`.
 
 >>> import lagrangian as lg
->>> system = lg.examples.simple_pendulum()   # period 2.0 s at small amplitude (l = 1, g = 9.81)
->>> frame_count(lg.simulate(system, t_span=20.0, samples=2001))  # 20 turns
-200
+>>> system = lg.examples.simple_pendulum()   # period 2.03 s (l = 1 m, swinging 0.5 rad)
+>>> frame_count(lg.simulate(system, t_span=20.0, samples=2001))  # 19 turns after rest
+190
 """
 
 from __future__ import annotations
