@@ -177,3 +177,23 @@ def test_progress_is_told_after_every_frame_written(tmp_path: Path) -> None:
     page = tmp_path / "p.html"
     animate(system, trajectory, page, frames=3, progress=lambda *a: told.append(a))
     assert told[-1] == (3, 3) and "<script" in page.read_text()
+
+
+@pytest.mark.parametrize("name", ["charged_particle_em", "series_rlc", "moving_pivot_pendulum"])
+def test_panel_titles_stay_inside_their_panels(name: str) -> None:
+    """A long reason the energy is not conserved is wrapped onto lines as wide as its panel,
+    not run off the figure."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    system = lg.examples.get(name)()
+    figure = overview(lg.simulate(system, t_span=0.2, samples=9), system=system)
+    canvas = FigureCanvasAgg(figure)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    for axes in figure.axes:
+        title = axes.title.get_window_extent(renderer)
+        panel = axes.get_window_extent(renderer)
+        assert figure.bbox.x0 <= title.x0 and title.x1 <= figure.bbox.x1
+        assert title.width <= panel.width * 1.05, axes.get_title()
+    energy = figure.axes[-1].get_title()
+    assert "not conserved" in energy.replace("\n", " ")  # wrapped, every word kept

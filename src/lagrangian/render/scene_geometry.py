@@ -16,7 +16,7 @@ import numpy as np
 LEAD = 0.12
 
 
-def _across(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def across(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The vector a -> b, its length (F, 1) and the unit normal to it in the plane (F, 2)."""
     along = b - a
     length = np.linalg.norm(along, axis=-1, keepdims=True)
@@ -29,7 +29,7 @@ def coil_line(a: np.ndarray, b: np.ndarray, turns: int, width: float) -> np.ndar
     """A spring from ``a`` to ``b`` (F, 2): a lead of :data:`LEAD` of its length at each end,
     between them ``turns`` zigzags of half-width ``width`` (so the coil stretches with the
     spring and its pitch shows the strain); (F, 2 turns + 4, 2)."""
-    along, _, normal = _across(a, b)
+    along, _, normal = across(a, b)
     fractions = np.concatenate(
         [[0.0, LEAD], np.linspace(LEAD, 1 - LEAD, 2 * turns + 1)[1:-1], [1 - LEAD, 1.0]]
     )
@@ -46,10 +46,10 @@ def dashpot_line(a: np.ndarray, b: np.ndarray, width: float) -> np.ndarray:
     """A damper from ``a`` to ``b`` (F, 2) as one polyline: a rod from ``a`` to the piston
     (a bar across), the cylinder (open towards ``a``) fixed at ``b``'s end with its length
     a third of the rest distance, so the piston slides in it; (F, 10, 2)."""
-    along, length, normal = _across(a, b)
+    along, length, normal = across(a, b)
     unit = np.divide(along, length, out=np.zeros_like(along), where=length > 0)
     cylinder = 0.45 * length  # the cylinder's open end, from b
-    piston = b - 0.3 * length * unit - 0.0 * normal
+    piston = b - 0.3 * length * unit
     mouth = b - cylinder * unit
     w = width * normal
     return np.stack(

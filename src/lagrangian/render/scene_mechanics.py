@@ -26,7 +26,7 @@ import sympy as sp
 
 from lagrangian.model import System
 from lagrangian.render.scene import PALETTE, Element, Panel, Shape, style
-from lagrangian.render.scene_geometry import coil_line, dashpot_line
+from lagrangian.render.scene_geometry import across, coil_line, dashpot_line
 from lagrangian.render.stage import Stage, stage_of
 from lagrangian.render.timing import FrameStates
 from lagrangian.symbolic.conversion import to_sympy
@@ -158,10 +158,7 @@ def _shifted(a: np.ndarray, b: np.ndarray, shift: float) -> tuple[np.ndarray, np
     """Both ends moved ``shift`` across the line a -> b (side by side links)."""
     if shift == 0.0:
         return a, b
-    along = b - a
-    length = np.linalg.norm(along, axis=-1, keepdims=True)
-    unit = np.divide(along, length, out=np.zeros_like(along), where=length > 0)
-    normal = np.stack([-unit[:, 1], unit[:, 0]], axis=-1)
+    _, _, normal = across(a, b)
     return a + shift * normal, b + shift * normal
 
 
