@@ -224,3 +224,20 @@ def test_an_unknown_projection_is_refused_with_the_choices() -> None:
     system = lg.examples.heavy_symmetric_top()
     with pytest.raises(SimulationInputError, match=r"'side' is not a projection.*isometric"):
         scene_of(system, _run(system, 0.1, 5), projection="side")
+
+
+def test_meshes_coupled_only_by_a_mutual_inductance_are_two_closed_loops() -> None:
+    system = lg.examples.servo_system()
+    scene = scene_of(system, _run(system, t_end=0.01, samples=11), frames=5)
+    circuit = scene.panels[0]
+    sides = set()
+    for element in circuit.elements:
+        for shape in element.shapes:
+            if element.kind != "mutual" and shape.type == "line":
+                points = np.asarray(shape.data["points"])
+                if np.ptp(points[:, 0]) < 1e-12 and np.ptp(points[:, 1]) > 0:
+                    sides.add(round(float(points[0, 0]), 6))
+    assert sides == {0.0, 3.6, 4.4, 8.0}  # each loop has both its sides, apart
+    (mutual,) = scene.elements("mutual")
+    assert mutual.info["value"] == "LM*cos(q3)"
+    assert [p.kinds() for p in scene.panels][1] == ["coordinates"]  # the rotor angle q3

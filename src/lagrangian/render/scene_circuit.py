@@ -5,8 +5,9 @@ share, a mutual inductance as a dashed link between its coils; and the motion: e
 current as an arrow in the loop, its length the current over the largest of the run (its
 direction the current's sign), with the value written beside it.
 
-Mesh k is the box [4k, 4k + 4] x [0, 3]; its own elements go on its top edge, then its outer
-side (the first mesh's left, the last one's right), then its bottom.
+Mesh k is the box [4k, 4k + 4] x [0, 3] (narrowed by a gap where it shares nothing with its
+neighbour); its own elements go on its top edge, then the sides it shares with no other
+mesh, then its bottom.
 
 >>> import lagrangian as lg
 >>> from lagrangian.render.scene import scene_of
@@ -31,6 +32,8 @@ from lagrangian.render.timing import FrameStates
 from lagrangian.symbolic.conversion import to_sympy
 
 WIDTH, HEIGHT = 4.0, 3.0
+#: The space between the loops of meshes that share no branch, from their boundary.
+GAP = 0.4
 INK = "#333333"
 
 
@@ -76,7 +79,7 @@ def circuit_panel(system: System, states: FrameStates) -> Panel | None:
     elements: list[Element] = []
     placed: dict[int, np.ndarray] = {}  # id(element) -> its centre (for mutual links)
     for k, mesh in enumerate(meshes):
-        slots = _slots(k, len(meshes), k + 1 in shared)
+        slots = _slots(k, len(meshes), set(shared))
         elements += _on_edges(own[mesh], slots, placed)
     for k, branch in shared.items():
         edge = (np.array([WIDTH * k, HEIGHT]), np.array([WIDTH * k, 0.0]))
@@ -87,12 +90,18 @@ def circuit_panel(system: System, states: FrameStates) -> Panel | None:
     return Panel("circuit", bounds, tuple(elements))
 
 
-def _slots(k: int, count: int, right_shared: bool) -> list[tuple[np.ndarray, np.ndarray]]:
-    x0, x1 = WIDTH * k, WIDTH * (k + 1)
+def _slots(k: int, count: int, shared: set[int]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The edges of mesh k in drawing order: top, its own sides, bottom.  A side it shares
+    with its neighbour (``shared`` holds the boundaries k with a branch of both meshes k - 1
+    and k) is the neighbour's too and left to the shared branch; meshes that share nothing are
+    drawn apart, :data:`GAP` from the boundary."""
+    left_shared, right_shared = k in shared, k + 1 in shared
+    x0 = WIDTH * k + (GAP if k > 0 and not left_shared else 0.0)
+    x1 = WIDTH * (k + 1) - (GAP if k < count - 1 and not right_shared else 0.0)
     edges = [(np.array([x0, HEIGHT]), np.array([x1, HEIGHT]))]
-    if k == 0:
+    if not left_shared:
         edges.append((np.array([x0, 0.0]), np.array([x0, HEIGHT])))
-    if k == count - 1 and not right_shared:
+    if not right_shared:
         edges.append((np.array([x1, HEIGHT]), np.array([x1, 0.0])))
     edges.append((np.array([x1, 0.0]), np.array([x0, 0.0])))
     return edges
