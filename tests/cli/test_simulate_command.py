@@ -133,9 +133,9 @@ def test_output_names_are_checked_before_simulating(
 def test_an_mp4_without_ffmpeg_is_refused_before_simulating(
     capsys: pytest.CaptureFixture[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    from matplotlib.animation import FFMpegWriter
+    from lagrangian.render import frames_writer
 
-    monkeypatch.setattr(FFMpegWriter, "isAvailable", classmethod(lambda cls: False))
+    monkeypatch.setattr(frames_writer, "ffmpeg_path", lambda: None)
     monkeypatch.setattr(simulate_command, "simulate", None)  # calling it would fail the test
     code, _, err = run(
         capsys, "simulate", "examples/simple_pendulum", "--animate", str(tmp_path / "a.mp4")
@@ -176,7 +176,7 @@ def test_a_failing_animation_leaves_no_file(
 ) -> None:
     movie = tmp_path / "run.gif"
 
-    def animation(system: object, trajectory: object, path: Path) -> None:
+    def animation(system: object, trajectory: object, path: Path, **options: object) -> None:
         Path(path).write_bytes(b"GIF8")  # half a file, then the writer fails
         raise OSError(28, "No space left on device")
 

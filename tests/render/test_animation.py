@@ -10,6 +10,7 @@ import pytest
 
 import lagrangian as lg
 from lagrangian.render.animation import animate, animation_frame, animation_html, rods
+from lagrangian.render.frames_writer import ffmpeg_path
 
 matplotlib.use("Agg")
 
@@ -65,3 +66,56 @@ def test_cli_animate(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None
     )
     assert code == 0 and gif.stat().st_size > 1000
     assert "animation written" in capsys.readouterr().out
+
+
+def test_frames_and_fps_shape_the_gif_and_the_player(tmp_path: Path) -> None:
+    from PIL import Image
+
+    system = lg.examples.simple_pendulum()
+    trajectory = lg.simulate(system, t_span=2.0, samples=201)
+    gif = tmp_path / "p.gif"
+    animate(system, trajectory, gif, frames=12, fps=10)
+    with Image.open(gif) as picture:
+        assert picture.n_frames == 12 and picture.info["duration"] == 100  # 1000 ms / 10
+    page = tmp_path / "p.html"
+    scene = animate(system, trajectory, page, frames=12, fps=10).scene
+    text = page.read_text()
+    assert '"fps":10.0' in text and text.count("<canvas") == 1
+    assert len(scene.times) == 12 and len(text) < 30_000  # the numbers, not 12 pictures
+
+
+def test_the_tour_html_is_compact() -> None:
+    """The double pendulum over 20 s: the player and its numbers, a few tens of kilobytes
+    (one PNG per frame made it 5 MB)."""
+    system = lg.examples.double_pendulum()
+    trajectory = lg.simulate(system, t_span=20.0, samples=1000)
+    html = animation_html(system, trajectory)
+    assert 10_000 < len(html) < 200_000
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [({"frames": 0}, r"frames: 0 is not a number of frames.*frames= a whole number"),
+     ({"fps": -1.0}, r"fps: -1.0 is not a frame rate.*fps= a positive number")],
+)  # fmt: skip
+def test_bad_frames_or_fps_are_refused_naming_the_keyword(options, message) -> None:
+    from lagrangian.errors import SimulationInputError
+
+    system = lg.examples.simple_pendulum()
+    trajectory = lg.simulate(system, t_span=0.2, samples=5)
+    with pytest.raises(SimulationInputError, match=message):
+        animate(system, trajectory, **options)
+
+
+def test_an_animation_shows_as_its_player_in_jupyter() -> None:
+    system = lg.examples.simple_pendulum()
+    animation = animate(system, lg.simulate(system, t_span=0.2, samples=5), frames=3)
+    assert "<canvas" in animation._repr_html_()
+
+
+@pytest.mark.skipif(ffmpeg_path() is None, reason="ffmpeg is not installed")
+def test_an_mp4_is_written_through_ffmpeg(tmp_path: Path) -> None:
+    system = lg.examples.simple_pendulum()
+    movie = tmp_path / "p.mp4"
+    animate(system, lg.simulate(system, t_span=0.5, samples=11), movie, frames=5)
+    assert movie.read_bytes()[4:8] == b"ftyp"

@@ -12,7 +12,7 @@ import pytest
 
 import lagrangian as lg
 from lagrangian.io import loads
-from lagrangian.render.animation import AXIS_COLORS, animate, animation_frame, animation_scene
+from lagrangian.render.animation import AXIS_COLORS, animate, animation_frame
 from lagrangian.render.plots import (
     column_label,
     overview,
@@ -21,6 +21,9 @@ from lagrangian.render.plots import (
     save_plots,
     time_label,
 )
+from lagrangian.render.projection import projection_matrix
+from lagrangian.render.scene import Scene, scene_of, shapes_of
+from lagrangian.render.scene_draw import SceneFigure
 
 matplotlib.use("Agg")
 
@@ -92,72 +95,62 @@ def test_save_plots_with_the_system_writes_the_picture(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(
-    ("name", "title"), [("double_pendulum", "double_pendulum"), ("series_rlc", "series_rlc")]
+    ("name", "title"), [("double_pendulum", "double_pendulum"), ("series_rlc", "circuit")]
 )
 def test_animations_are_titled_with_the_system_name(name: str, title: str) -> None:
     system = lg.examples.get(name)()
     trajectory = lg.simulate(system, t_span=0.2, samples=5)
-    figure, _, _ = animation_scene(system, trajectory, frames=3)
-    assert figure.axes[0].get_title() == title
+    scene = scene_of(system, trajectory, frames=3)
+    assert scene.name == name and scene.panels[0].title == title
+    assert SceneFigure(scene).axes[0].get_title() == title
 
 
-def _lines_at(system: lg.System, trajectory: lg.Trajectory, frame: int) -> list[np.ndarray]:
-    """The data of every line of the animation at ``frame``: (points, 2 or 3) each."""
-    figure, draw, _ = animation_scene(system, trajectory)
-    axes = figure.axes[0]
-    draw(frame)
-    return [
-        np.array(line.get_data_3d() if hasattr(line, "get_data_3d") else line.get_xydata())
-        for line in axes.get_lines()
-    ]
+def _link_ends(scene: Scene, kind: str, frame: int) -> list[np.ndarray]:
+    """The two ends of every spring (or damper) of the scene at ``frame``, (2, 2) each."""
+    return [np.asarray(e.info["ends"])[frame] for e in scene.elements(kind)]
 
 
 def test_a_spring_anchored_where_parameters_say_is_drawn_from_there() -> None:
     system = loads(ANCHORED).with_parameters({"a": 3.0})
     trajectory = lg.simulate(system, t_span=0.5, samples=6)
-    lines = _lines_at(system, trajectory, 5)
+    scene = scene_of(system, trajectory)
     expected = np.array([[3.0, 0.0], [trajectory["x"][5], trajectory["y"][5]]])  # (a, 0) -> bob
-    assert any(line.shape == (2, 2) and np.allclose(line, expected) for line in lines)
+    assert any(np.allclose(ends, expected) for ends in _link_ends(scene, "spring", 5))
+    coil = np.asarray(shapes_of(scene, "spring")[0].at("points", 5))
+    assert np.allclose(coil[0], expected[0]) and np.allclose(coil[-1], expected[1])
 
 
 def test_the_walls_of_the_one_dimensional_springs_are_drawn_at_their_parameter_positions() -> None:
     system = lg.examples.two_masses_three_springs()
     a = float(system.parameters[next(p for p in system.parameters if p.name == "a")])
     trajectory = lg.simulate(system, t_span=0.5, samples=6)
-    lines = _lines_at(system, trajectory, 5)
+    scene = scene_of(system, trajectory)
     wall = np.array([[trajectory["x2"][5] + 2 * a, 0.0], [3 * a, 0.0]])  # mass2 -> wall at 3a
-    assert any(line.shape == (2, 2) and np.allclose(line, wall) for line in lines)
+    assert any(np.allclose(ends, wall) for ends in _link_ends(scene, "spring", 5))
+    assert [e.info["rest_length"] for e in scene.elements("spring")] == [a, a, a]
 
 
 def test_a_top_is_drawn_with_its_body_axes_turning_with_the_spin() -> None:
     system = lg.examples.heavy_symmetric_top()
     trajectory = lg.simulate(system, t_span=0.2, samples=11)
-    figure, draw, _ = animation_scene(system, trajectory)
-    axes = figure.axes[0]
+    view = projection_matrix("isometric")
+    scene = scene_of(system, trajectory, projection="isometric")
+    (top,) = scene.elements("body_axes")
+    axes = list(top.shapes)
+    assert [s.style["color"] for s in axes] == list(AXIS_COLORS)
     for frame in (0, 10):
-        draw(frame)
-        body = [line for line in axes.get_lines() if line.get_color() in _colors()]
-        assert len(body) == 3
-        tips = [
-            np.array(line.get_data_3d())[:, 1] - np.array(line.get_data_3d())[:, 0] for line in body
-        ]
-        directions = np.array([tip / np.linalg.norm(tip) for tip in tips])
-        np.testing.assert_allclose(directions @ directions.T, np.eye(3), atol=1e-9)
+        drawn = np.array([np.diff(np.asarray(s.at("points", frame)), axis=0)[0] for s in axes])
         phi, theta, psi = (trajectory[n][frame] for n in ("phi", "theta", "psi"))
         # Goldstein's ZXZ angles: the symmetry axis (body z) points from the tip to the centre
         symmetry = np.array(
             [np.sin(phi) * np.sin(theta), -np.cos(phi) * np.sin(theta), np.cos(theta)]
         )
-        np.testing.assert_allclose(directions[2], symmetry, atol=1e-9)
-        # the body x axis makes the angle psi with the line of nodes (cos phi, sin phi, 0)
+        # the body x axis: the line of nodes (cos phi, sin phi, 0) turned by psi about body z
         nodes = np.array([np.cos(phi), np.sin(phi), 0.0])
-        assert directions[0] @ nodes == pytest.approx(np.cos(psi), abs=1e-9)
-
-
-def _colors() -> set[str]:
-    from matplotlib.colors import to_hex
-
-    return {to_hex(c) for c in AXIS_COLORS} | set(AXIS_COLORS)
+        body_x = np.cos(psi) * nodes + np.sin(psi) * np.cross(symmetry, nodes)
+        length = np.linalg.norm(drawn[0] - 0) / np.linalg.norm(view @ body_x)
+        np.testing.assert_allclose(drawn[2], length * (view @ symmetry), atol=1e-9)
+        np.testing.assert_allclose(drawn[0], length * (view @ body_x), atol=1e-9)
 
 
 def test_the_body_axes_show_in_the_picture(tmp_path: Path) -> None:
@@ -184,3 +177,23 @@ def test_progress_is_told_after_every_frame_written(tmp_path: Path) -> None:
     page = tmp_path / "p.html"
     animate(system, trajectory, page, frames=3, progress=lambda *a: told.append(a))
     assert told[-1] == (3, 3) and "<script" in page.read_text()
+
+
+@pytest.mark.parametrize("name", ["charged_particle_em", "series_rlc", "moving_pivot_pendulum"])
+def test_panel_titles_stay_inside_their_panels(name: str) -> None:
+    """A long reason the energy is not conserved is wrapped onto lines as wide as its panel,
+    not run off the figure."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    system = lg.examples.get(name)()
+    figure = overview(lg.simulate(system, t_span=0.2, samples=9), system=system)
+    canvas = FigureCanvasAgg(figure)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    for axes in figure.axes:
+        title = axes.title.get_window_extent(renderer)
+        panel = axes.get_window_extent(renderer)
+        assert figure.bbox.x0 <= title.x0 and title.x1 <= figure.bbox.x1
+        assert title.width <= panel.width * 1.05, axes.get_title()
+    energy = figure.axes[-1].get_title()
+    assert "not conserved" in energy.replace("\n", " ")  # wrapped, every word kept

@@ -335,6 +335,19 @@ def build_parser() -> argparse.ArgumentParser:
         "--animate", metavar="FILE", help="write an animation: .gif, .html, or .mp4 (needs ffmpeg)"
     )
     simulate.add_argument(
+        "--frames",
+        type=int,
+        metavar="N",
+        help="frames of the --animate animation (default: from the motion's time scale, "
+        "10 per swing of its fastest coordinate, 40 to 300)",
+    )
+    simulate.add_argument(
+        "--fps",
+        type=float,
+        metavar="F",
+        help="frames per second of the --animate animation's playback (default 25)",
+    )
+    simulate.add_argument(
         "--progress",
         action="store_true",
         help="show the progress bars (the run, the frames of --animate) even when stderr is "
@@ -587,6 +600,8 @@ def run(args: argparse.Namespace) -> str | JsonDocument:
             plot=args.plot,
             settings=args.set,
             animate=args.animate,
+            frames=args.frames,
+            fps=args.fps,
             progress=args.progress,
             phase=args.phase,
             initial=args.initial,

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import io
+import math
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -44,6 +45,8 @@ def run_simulate(
     plot: str | None,
     settings: Sequence[str],
     animate: str | None = None,
+    frames: int | None = None,
+    fps: float | None = None,
     progress: bool = False,
     phase: str | None = None,
     initial: Sequence[str] = (),
@@ -56,8 +59,10 @@ def run_simulate(
     rows computed so far (with ``keep_failed`` a failed run's plot and animation of them
     too), says where it stopped, and ends: SimulationError (exit 1), or after Ctrl-C exit
     code :data:`INTERRUPTED`.  ``initial`` items (``theta=0.5``) set initial values;
-    ``poincare`` asks for the crossings of a section (:class:`Poincare`)."""
+    ``poincare`` asks for the crossings of a section (:class:`Poincare`); ``frames`` and
+    ``fps`` shape the animation."""
     check_outputs(out, plot, animate)
+    check_animation_options(animate, frames, fps)
     try:
         system = apply_settings(load_system(reference), settings, COMMAND_LINE)
         system = apply_initial(system, initial, COMMAND_LINE)
@@ -70,7 +75,7 @@ def run_simulate(
         events = [event] if event is not None else []
         trajectory = simulate(system, t_span=t_end, progress=bar, raise_on_failure=False,
                               events=events, **given)  # fmt: skip
-        pictures = Pictures(plot, animate, phase, progress, keep_failed)
+        pictures = Pictures(plot, animate, phase, progress, keep_failed, frames=frames, fps=fps)
         if poincare is not None and event is not None:
             section = section_of(trajectory, event, poincare.expression, poincare.direction)
             pictures = dataclasses.replace(pictures, section=section, section_axes=poincare.axes)
@@ -187,18 +192,39 @@ def check_outputs(out: str, plot: str | None, animate: str | None) -> None:
 
 
 def _ffmpeg_available() -> bool:
-    from matplotlib.animation import FFMpegWriter
+    from lagrangian.render.frames_writer import ffmpeg_path
 
-    return bool(FFMpegWriter.isAvailable())
+    return ffmpeg_path() is not None
+
+
+def check_animation_options(animate: str | None, frames: int | None, fps: float | None) -> None:
+    """Refuse, before simulating, --frames and --fps that are not counts and rates, or that
+    come without --animate: SimulationInputError, every problem at once."""
+    problems = []
+    if frames is not None and frames < 1:
+        problems.append(
+            Problem("--frames", f"{frames} frames", "give 1 or more, e.g. --frames 100")
+        )
+    if fps is not None and not (math.isfinite(fps) and fps > 0):
+        problems.append(
+            Problem("--fps", f"{fps:g} frames per second", "give a positive rate, e.g. --fps 25")
+        )
+    for flag, value in (("--frames", frames), ("--fps", fps)):
+        if value is not None and animate is None:
+            what = (
+                "only an animation has frames" if flag == "--frames" else "only an animation plays"
+            )
+            problems.append(Problem(flag, what, "add --animate FILE.gif"))
+    raise_if_problems(problems, "Cannot simulate", SimulationInputError)
 
 
 @dataclasses.dataclass(frozen=True)
 class Pictures:
     """What ``simulate`` draws after the CSV: the ``plot`` file (its phase portrait of
-    ``phase``), the ``animate`` file (a progress bar on a terminal, or always with
-    ``progress``), and whether a failed run gets them too (``keep_failed``); the points of a
-    Poincaré ``section``, written beside the CSV and plotted in the plane of
-    ``section_axes`` beside the plot."""
+    ``phase``), the ``animate`` file (``frames`` of it played at ``fps``; a progress bar on
+    a terminal, or always with ``progress``), and whether a failed run gets them too
+    (``keep_failed``); the points of a Poincaré ``section``, written beside the CSV and
+    plotted in the plane of ``section_axes`` beside the plot."""
 
     plot: str | None = None
     animate: str | None = None
@@ -207,6 +233,8 @@ class Pictures:
     keep_failed: bool = False
     section: PoincareSection | None = None
     section_axes: tuple[str, str] | None = None
+    frames: int | None = None
+    fps: float | None = None
 
 
 def write_simulation(
@@ -337,7 +365,12 @@ def draw_pictures(system: System, trajectory: Trajectory, pictures: Pictures) ->
     if pictures.animate:
         with written_atomically(pictures.animate) as temporary:
             write_animation(
-                system, trajectory, temporary, progress=frame_progress(pictures.progress)
+                system,
+                trajectory,
+                temporary,
+                frames=pictures.frames,
+                fps=pictures.fps,
+                progress=frame_progress(pictures.progress),
             )
         messages.append(f"animation written to {pictures.animate}")
     return messages

@@ -10,7 +10,7 @@ rich display in Jupyter (docs/architecture.md).
 
 from lagrangian.render.action_plot import plot_action_variation
 from lagrangian.render.analysis_latex import analysis_latex
-from lagrangian.render.animation import animate, animation_frame, animation_html
+from lagrangian.render.animation import Animation, animate, animation_frame, animation_html
 from lagrangian.render.jupyter import Latex, register
 from lagrangian.render.jupyter import display_steps as steps
 from lagrangian.render.latex import equations_latex, steps_latex, system_latex
@@ -21,10 +21,13 @@ from lagrangian.render.plots import (
     plot_time_series,
     save_plots,
 )
+from lagrangian.render.scene import Scene, scene_of
 from lagrangian.render.text import equations_text, matrix_form_text, steps_text
 
 __all__ = [
+    "Animation",
     "Latex",
+    "Scene",
     "analysis_latex",
     "animate",
     "animation_frame",
@@ -39,6 +42,7 @@ __all__ = [
     "plot_time_series",
     "register",
     "save_plots",
+    "scene_of",
     "steps",
     "steps_latex",
     "steps_mathml",

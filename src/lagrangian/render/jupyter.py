@@ -122,7 +122,7 @@ def register(shell: Any = None) -> bool:
     'image/png' one for Trajectory (time series, phase portrait, energy drift) and a
     'text/html' table for ``Trajectory.drift()``, in ``shell`` (the running IPython when None).
     Importing lagrangian registers nothing: call this, or ``%load_ext lagrangian``.
-    Animations display with ``IPython.display.HTML(animation_html(system, trajectory))``.
+    An animation (``lg.render.animate(system, trajectory)``) shows as its player by itself.
 
     Returns True when registered, False (doing nothing) when IPython is missing or not running.
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import io
 import os
+import textwrap
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -213,7 +214,26 @@ def overview(
     plot_phase_portrait(trajectory, chosen, ax=middle, units=units)
     plot_energy_drift(trajectory, ax=right, units=units)
     figure.suptitle(overview_title(trajectory, system))
+    for axes in figure.axes:
+        fit_title(axes)
     return figure
+
+
+def fit_title(axes: Axes) -> None:
+    """Wrap the panel's title onto lines no wider than the panel (a long reason the energy
+    is not conserved would run off the figure): the width in characters is the panel's
+    width over an average glyph, 0.6 of the font size."""
+    from matplotlib.figure import Figure
+
+    text = axes.get_title()
+    figure = axes.get_figure()
+    if not text or not isinstance(figure, Figure):
+        return
+    width_inches = axes.get_position().width * figure.get_figwidth()
+    size = float(axes.title.get_fontsize())
+    columns = max(int(width_inches * 72 / (0.6 * size)), 10)
+    lines = [textwrap.fill(line, columns) for line in text.splitlines()]
+    axes.set_title("\n".join(lines))
 
 
 def overview_title(trajectory: Trajectory, system: System | None = None) -> str:
