@@ -72,7 +72,9 @@ def test_a_panel_of_one_unit_says_it_once_on_its_axis() -> None:
     assert [line.get_label() for line in mixed.get_lines()] == ["θ [rad]", "φ\u0307 [rad/s]"]
 
 
-def test_the_overview_is_titled_with_the_system_and_labelled_with_its_units() -> None:
+def test_the_overview_is_titled_with_the_system_and_labelled_with_its_units(
+    tmp_path: Path,
+) -> None:
     system = loads(PENDULUM)
     trajectory = lg.simulate(system, t_span=1.0, samples=21)
     figure = overview(trajectory, system=system)
@@ -81,8 +83,16 @@ def test_the_overview_is_titled_with_the_system_and_labelled_with_its_units() ->
     assert (series.get_xlabel(), series.get_ylabel()) == ("t [s]", "θ [rad]")
     assert (phase.get_xlabel(), phase.get_ylabel()) == ("θ [rad]", "θ\u0307 [rad/s]")
     assert phase.get_title() == "Phase portrait of θ" and energy.get_xlabel() == "t [s]"
-    untitled = overview(trajectory)  # without the system: no name, no units, no coordinates
-    assert untitled.get_suptitle() == "Simulation (RK45)"
+    # Without the system (as Jupyter shows a Trajectory): the name and units it keeps.
+    kept = overview(trajectory)
+    assert kept.get_suptitle() == "Pendulum with units (RK45)"
+    assert (kept.axes[1].get_xlabel(), kept.axes[0].get_xlabel()) == ("θ [rad]", "t [s]")
+    assert repr(trajectory).startswith("Trajectory(Pendulum with units: theta; 21 rows")
+    # A Trajectory read back from its CSV file knows neither.
+    path = Path(tmp_path) / "pendulum.csv"
+    trajectory.to_csv(path)
+    untitled = overview(lg.Trajectory.from_csv(path))
+    assert untitled.get_suptitle().startswith("Simulation")
     assert untitled.axes[0].get_xlabel() == "t"
 
 

@@ -195,10 +195,10 @@ def overview(
     """One figure with the time series, the phase portrait of ``coordinate`` (default: the
     first) and the energy drift, side by side, and the constraint forces below the time series
     of a constrained system; titled with the name of ``system`` and labelled with its units
-    when it is given."""
+    (when it is not given: the ones the trajectory keeps)."""
     from matplotlib.figure import Figure
 
-    units = dict(system.units) if system is not None else None
+    units = dict(system.units) if system is not None else dict(trajectory.units) or None
     groups = scale_groups(trajectory)
     forces = trajectory.multipliers is not None and len(trajectory.multiplier_names) > 0
     rows = len(groups) + forces
@@ -237,8 +237,8 @@ def fit_title(axes: Axes) -> None:
 
 
 def overview_title(trajectory: Trajectory, system: System | None = None) -> str:
-    """The system's name and the method: ``double_pendulum (RK45)``; ``Simulation (RK45)``
-    without a system (or a name).
+    """The system's name and the method: ``double_pendulum (RK45)`` (the name the trajectory
+    keeps when no system is given); ``Simulation (RK45)`` without a name.
 
     >>> import lagrangian as lg
     >>> from lagrangian.simulation import simulate
@@ -246,7 +246,7 @@ def overview_title(trajectory: Trajectory, system: System | None = None) -> str:
     >>> overview_title(simulate(system, t_span=0.1, samples=3), system)
     'simple_pendulum (RK45)'
     """
-    name = system.name if system is not None and system.name else "Simulation"
+    name = (system.name if system is not None else trajectory.system_name) or "Simulation"
     return f"{name} ({trajectory.method})" if trajectory.method else name
 
 

@@ -150,6 +150,8 @@ def _columns(setup: RunSetup, motion: Motion, run: Integration) -> Trajectory:
         conserved=columns,
         not_conserved=with_impacts(reasons, impacts, compiled.energy_function_differs),
         impacts=impacts,
+        system_name=setup.system.name,
+        units=dict(setup.system.units),
     )
 
 

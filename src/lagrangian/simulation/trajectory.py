@@ -108,6 +108,9 @@ class Trajectory:
         ``message`` with the options it names (a failed run's ``max_steps``) kept for each
         interface to word (:meth:`worded_message`), or None; given, ``message`` is it in
         Python's words.
+    system_name, units:
+        The name of the system simulated and its units by name (``{"l": "m"}``), for titles
+        and axis labels ("" and {} when unknown: a Trajectory read from a CSV file).
     """
 
     t: np.ndarray
@@ -128,6 +131,8 @@ class Trajectory:
     not_conserved: Mapping[str, str] | None = None
     impacts: tuple[Impact, ...] = ()
     message_template: Fix | None = None
+    system_name: str = ""
+    units: Mapping[str, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         n = len(self.coordinates)
@@ -280,8 +285,9 @@ class Trajectory:
 
     def __repr__(self) -> str:
         span = f"t={self.t[0]:.6g}..{self.t[-1]:.6g}" if len(self.t) else "no rows"
+        named = f"{self.system_name}: " if self.system_name else ""
         return (
-            f"Trajectory({', '.join(self.coordinates)}; {len(self.t)} rows, {span}, "
+            f"Trajectory({named}{', '.join(self.coordinates)}; {len(self.t)} rows, {span}, "
             f"{self.method or 'unknown method'}, {self.status})"
         )
 
