@@ -32,7 +32,9 @@ def to_backend(expr: Any) -> Backend:
     return to_symengine(expr)
 
 
-def vector_to_backend(values: Iterable[Any], terms: dict[Any, Backend] | None = None) -> list[Backend]:
+def vector_to_backend(
+    values: Iterable[Any], terms: dict[Any, Backend] | None = None
+) -> list[Backend]:
     """Each of ``values`` in SymEngine (:func:`to_backend`).  With ``terms``, the terms of a
     SymPy sum are converted once across calls and remembered there, the sum made of them: the
     positions of a chain repeat the terms of the points above them (link k's in every point
