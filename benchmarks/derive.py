@@ -339,6 +339,9 @@ def import_for(method: str) -> None:
 
         lagrangian.derive  # noqa: B018
         lagrangian.examples.n_link_pendulum  # noqa: B018
+        # the chains' other ways of writing: their lazily imported parts, imported here
+        lagrangian.constrained_equations  # noqa: B018
+        lagrangian.RigidBody, lagrangian.Holonomic  # noqa: B018
     warm_up_sympy()
 
 
