@@ -64,7 +64,7 @@ def _point_terms(
 ) -> tuple[Matrix, Backend, set[tuple[int, int]], set[tuple[int, int]]]:
     """sum m J^T J (+ I g^T g), the kinetic terms of degree 0 and 1 in the velocities, the
     entries that are one combined product times a sum of weights, and those that are several
-    such products sharing their one sine or cosine (:func:`_one_trigonometric_factor`).
+    such products sharing their one sine or cosine (:func:`one_trigonometric_factor`).
 
     The weights of each combined column product are summed before they multiply it: a chain's
     entry is l_j l_k (m_k + ... + m_n) cos(theta_j - theta_k), never grown term by term; a
@@ -101,7 +101,7 @@ def _point_terms(
             mass[j][k] = se.Add(*[table.weight_sum(holders) * c for c, holders in ordered])
             if len(groups) == 1 and not ordered[0][0].is_Add:
                 single.add((j, k))
-            elif _one_trigonometric_factor([c for c, _ in ordered]):
+            elif one_trigonometric_factor([c for c, _ in ordered]):
                 shared.add((j, k))
     for rotation in asm.rotations:
         low_degree += _rotation_terms(rotation, asm, mass, combined)
@@ -110,7 +110,7 @@ def _point_terms(
     return mass, low_degree, single, shared
 
 
-def _one_trigonometric_factor(products: list[Backend]) -> bool:
+def one_trigonometric_factor(products: list[Backend]) -> bool:
     """Whether every product is a plain product (numbers, symbols and their powers) times the
     same sine or cosine of a plain angle (or all times none): a chain of rods, whose link
     columns differ between a rod's own centre (l_k / 2) and the rods below (l_k), has two
@@ -129,6 +129,15 @@ def _one_trigonometric_factor(products: list[Backend]) -> bool:
         elif trig != shared:
             return False
     return shared is None or plain_angle(shared.args[0])
+
+
+def collected_entry(entry: Backend, state: set[Backend]) -> Backend:
+    """An entry of M whose products share one sine or cosine (:func:`one_trigonometric_factor`)
+    collected now, as the mass matrix's tidying would collect it, when that makes it one
+    product: its sum of masses is then one factor in C q_dot (never n terms each); else
+    combined as any other entry."""
+    collected = collect_state(se.expand(entry), state)
+    return collected if collected.is_Mul else combine_trig(entry)
 
 
 def _symbol_power(factor: Backend) -> bool:
@@ -420,9 +429,7 @@ def kinetic_form(asm: Assembly) -> KineticForm:
             if explicit[j][k] == _ZERO and (j, k) in single:  # combined already
                 mass[j][k] = point_mass[j][k]
             elif explicit[j][k] == _ZERO and (j, k) in shared:
-                # nothing to combine: collected now, as the mass matrix's tidying would, so
-                # its sum of masses stays one factor in C q_dot (never n terms each)
-                mass[j][k] = collect_state(se.expand(point_mass[j][k]), state)
+                mass[j][k] = collected_entry(point_mass[j][k], state)
             else:
                 mass[j][k] = combine_trig(explicit[j][k] + point_mass[j][k])
             mass[k][j] = mass[j][k]
