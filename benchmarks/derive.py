@@ -41,6 +41,7 @@ import contextlib
 import datetime
 import json
 import math
+import os
 import platform
 import queue
 import statistics
@@ -59,7 +60,21 @@ SRC = HERE.parents[1] / "src"
 RESULTS = HERE.parent / "RESULTS.md"
 
 METHODS = ("lagrangian", "kane", "lagrange")
-LABELS = {"lagrangian": "lagrangian", "kane": "KanesMethod", "lagrange": "LagrangesMethod"}
+#: The chain written three ways (lagrangian), for the scaling measurement (``--chains``).
+CHAIN_METHODS = ("particles", "rods", "cartesian")
+OURS = ("lagrangian", *CHAIN_METHODS)
+CHAIN_N = (25, 50, 100, 200)
+KANE_CHAIN_N = (25, 50)  # KanesMethod beside them where it ends within the cap
+CHAIN_TARGET_SECONDS = 3.0  # 200 links
+CHAIN_TARGET_RATIO = 20.0  # t(200) / t(50); n^2 alone gives 16
+LABELS = {
+    "lagrangian": "lagrangian",
+    "kane": "KanesMethod",
+    "lagrange": "LagrangesMethod",
+    "particles": "particles",
+    "rods": "rigid rods",
+    "cartesian": "Cartesian + constraints",
+}
 DEFAULT_N = (2, 4, 8, 10, 12, 16, 20)
 QUICK_N = (2, 4, 10)
 STARTUP_SECONDS = 120.0  # allowance for the worker's imports, not part of the cap
@@ -135,7 +150,107 @@ def derive_lagrange(n: int):
     return method.mass_matrix, method.forcing
 
 
-DERIVERS = {"lagrangian": derive_lagrangian, "kane": derive_kane, "lagrange": derive_lagrange}
+def rod_chain(n: int):
+    """The n-link pendulum written with rigid rods: rod i of mass m_i, length l_i and inertia
+    m_i l_i^2 / 12 about its centre, which sits halfway along the rod, turned by theta_i."""
+    import sympy as sp
+
+    import lagrangian as lg
+
+    thetas = sp.symbols(f"theta1:{n + 1}")
+    masses, lengths = sp.symbols(f"m1:{n + 1}"), sp.symbols(f"l1:{n + 1}")
+    g = sp.Symbol("g")
+    x, y = [sp.Integer(0)], [sp.Integer(0)]  # the terms of the joint above the rod
+    rods = []
+    for i in range(n):
+        half = lengths[i] / 2
+        centre = (
+            sp.Add(*x, half * sp.sin(thetas[i])),
+            sp.Add(*y, -half * sp.cos(thetas[i])),
+        )
+        inertia = masses[i] * lengths[i] ** 2 / 12
+        rods.append(lg.RigidBody(f"rod{i + 1}", masses[i], inertia, centre, angle=thetas[i]))
+        x.append(lengths[i] * sp.sin(thetas[i]))
+        y.append(-lengths[i] * sp.cos(thetas[i]))
+    return lg.System(
+        coordinates=thetas,
+        parameters={s: 1.0 for s in (*masses, *lengths, g)},
+        rigid_bodies=rods,
+        gravity=(0, -g),
+    )
+
+
+def cartesian_chain(n: int):
+    """The n-link pendulum written in the bobs' Cartesian coordinates x_i, y_i, each rod a
+    holonomic constraint (x_i - x_(i-1))^2 + (y_i - y_(i-1))^2 - l_i^2 = 0."""
+    import sympy as sp
+
+    import lagrangian as lg
+
+    xs, ys = sp.symbols(f"x1:{n + 1}"), sp.symbols(f"y1:{n + 1}")
+    masses, lengths = sp.symbols(f"m1:{n + 1}"), sp.symbols(f"l1:{n + 1}")
+    g = sp.Symbol("g")
+    particles, constraints = [], []
+    for i in range(n):
+        previous = (xs[i - 1], ys[i - 1]) if i else (0, 0)
+        particles.append(lg.Particle(f"bob{i + 1}", masses[i], (xs[i], ys[i])))
+        rod = (xs[i] - previous[0]) ** 2 + (ys[i] - previous[1]) ** 2 - lengths[i] ** 2
+        constraints.append(lg.Holonomic(rod, name=f"rod{i + 1}"))
+    return lg.System(
+        coordinates=[c for pair in zip(xs, ys, strict=True) for c in pair],
+        parameters={s: 1.0 for s in (*masses, *lengths, g)},
+        particles=particles,
+        constraints=constraints,
+        gravity=(0, -g),
+    )
+
+
+#: Seconds the last chain derivation took to build its System (the rest is deriving).
+BUILT: dict[str, float] = {}
+
+
+def _built(build, n: int):
+    start = time.perf_counter()
+    system = build(n)
+    BUILT["seconds"] = time.perf_counter() - start
+    return system
+
+
+def derive_rods(n: int):
+    """M and f of the chain of rigid rods."""
+    import lagrangian as lg
+
+    eom = lg.derive(_built(rod_chain, n))
+    return eom.mass_matrix, eom.forcing
+
+
+def derive_cartesian(n: int):
+    """M and f of the Cartesian chain, with its multiplier form (constraint Jacobian, the
+    acceleration-level gamma) read as well."""
+    import lagrangian as lg
+
+    constrained = lg.constrained_equations(_built(cartesian_chain, n))
+    constrained.constraint_jacobian, constrained.gamma  # noqa: B018
+    return constrained.mass_matrix, constrained.forcing
+
+
+def derive_particles(n: int):
+    """M and f of the built-in chain of particles (lagrangian's own row, its build timed
+    apart)."""
+    import lagrangian as lg
+
+    eom = lg.derive(_built(lg.examples.n_link_pendulum, n))
+    return eom.mass_matrix, eom.forcing
+
+
+DERIVERS = {
+    "lagrangian": derive_lagrangian,
+    "kane": derive_kane,
+    "lagrange": derive_lagrange,
+    "particles": derive_particles,
+    "rods": derive_rods,
+    "cartesian": derive_cartesian,
+}
 
 
 # --------------------------------------------------------------------------- untimed measures
@@ -219,12 +334,15 @@ def import_for(method: str) -> None:
 
     with contextlib.suppress(ImportError):
         import symengine  # noqa: F401
-    if method == "lagrangian":
+    if method in OURS:
         sys.path.insert(0, str(SRC))  # benchmark the checkout, installed or not
         import lagrangian
 
         lagrangian.derive  # noqa: B018
         lagrangian.examples.n_link_pendulum  # noqa: B018
+        # the chains' other ways of writing: their lazily imported parts, imported here
+        lagrangian.constrained_equations  # noqa: B018
+        lagrangian.RigidBody, lagrangian.Holonomic  # noqa: B018
     warm_up_sympy()
 
 
@@ -247,9 +365,10 @@ def worker(method: str, n: int, measure: bool) -> int:
         return 0
     emit("ready")
     try:
-        start = time.perf_counter()
+        start, started_cpu = time.perf_counter(), time.process_time()
         M, f = DERIVERS[method](n)
         seconds = time.perf_counter() - start
+        cpu = time.process_time() - started_cpu
     except Exception as exc:
         emit("error", error=f"{type(exc).__name__}: {exc}")
         return 0
@@ -258,7 +377,7 @@ def worker(method: str, n: int, measure: bool) -> int:
     check = None
     if measure and n <= CHECK_MAX_N and method in REFERENCE:
         check = check_against(REFERENCE[method], n, M, f)
-    emit("done", seconds=seconds, ops=ops, check=check)
+    emit("done", seconds=seconds, ops=ops, check=check, built=BUILT.get("seconds"), cpu=cpu)
     return 0
 
 
@@ -274,6 +393,8 @@ class Run:
     ops: int | None = None
     check: str | None = None
     error: str | None = None
+    built: float | None = None  # of ``seconds``, building the System (chain formulations)
+    cpu: float | None = None  # CPU seconds of the derivation (this process alone)
 
 
 def _pump(stream, events: queue.Queue) -> None:
@@ -306,7 +427,9 @@ def _follow(events: queue.Queue, cap: float) -> Run:
     event = _next_event(events, cap)  # the untimed size and check get a cap of their own
     if event is None or event["event"] != "done":
         return Run("ok", seconds, error="size/check did not finish")
-    return Run("ok", seconds, event["ops"], event["check"])
+    return Run(
+        "ok", seconds, event["ops"], event["check"], built=event.get("built"), cpu=event.get("cpu")
+    )
 
 
 def run_worker(method: str, n: int, cap: float, measure: bool) -> Run:
@@ -337,6 +460,8 @@ class Cell:
     ops: int | None = None
     status: str = "ok"  # ok, capped, skipped (capped at a smaller n), unavailable, error
     notes: list[str] = field(default_factory=list)
+    built: list[float] = field(default_factory=list)  # seconds building the System
+    cpu: list[float] = field(default_factory=list)  # CPU seconds of the runs
 
     @property
     def median(self) -> float | None:
@@ -352,6 +477,10 @@ def _record_run(cell: Cell, run: Run, method: str, n: int) -> None:
         cell.notes.append(f"{LABELS[method]} n={n}: {run.status}: {run.error}")
         return
     cell.times.append(run.seconds)
+    if run.built is not None:
+        cell.built.append(run.built)
+    if run.cpu is not None:
+        cell.cpu.append(run.cpu)
     if run.status == "capped":
         cell.status = "capped"
     cell.ops = run.ops if run.ops is not None else cell.ops
@@ -361,13 +490,16 @@ def _record_run(cell: Cell, run: Run, method: str, n: int) -> None:
         cell.notes.append(f"WARNING {LABELS[method]} n={n}: M^-1 f {run.check}")
 
 
-def measure(ns: list[int], repeat: int, cap: float) -> dict[tuple[str, int], Cell]:
-    """Run every method at every n ``repeat`` times, alternating methods run by run."""
-    cells = {(method, n): Cell() for method in METHODS for n in ns}
+def measure(
+    ns: list[int], repeat: int, cap: float, methods_at=lambda n: METHODS
+) -> dict[tuple[str, int], Cell]:
+    """Run every method (``methods_at(n)``) at every n ``repeat`` times, alternating methods
+    run by run."""
+    cells = {(method, n): Cell() for n in ns for method in methods_at(n)}
     stopped: dict[str, str] = {}  # method -> status it carries to larger n
     for n in ns:
         for r in range(repeat):
-            for method in METHODS:
+            for method in methods_at(n):
                 cell = cells[method, n]
                 if method in stopped and cell.status == "ok":
                     cell.status = stopped[method]
@@ -377,7 +509,7 @@ def measure(ns: list[int], repeat: int, cap: float) -> dict[tuple[str, int], Cel
                 _record_run(cell, run, method, n)
                 shown = f"{run.seconds:.3g} s" if run.status == "ok" else run.status
                 print(f"  n={n:<3} {method:<10} run {r + 1}/{repeat}: {shown}", file=sys.stderr)
-        for method in METHODS:
+        for method in methods_at(n):
             status = cells[method, n].status
             if status != "ok":
                 stopped.setdefault(method, "skipped" if status == "capped" else status)
@@ -483,6 +615,83 @@ def report(cells, ns: list[int], repeat: int, cap: float) -> str:
     return "\n".join(parts)
 
 
+# --------------------------------------------------------------------------- chains
+
+
+def chain_methods(n: int) -> tuple[str, ...]:
+    """The chain written three ways, and KanesMethod where it ends in reasonable time."""
+    return (*CHAIN_METHODS, "kane") if n in KANE_CHAIN_N else CHAIN_METHODS
+
+
+def chain_table(cells, ns: list[int], cap: float) -> str:
+    """Seconds of each formulation (of which building the System), KanesMethod's beside."""
+    header = "| n | " + " | ".join(f"{LABELS[m]} s (build) [CPU]" for m in CHAIN_METHODS)
+    lines = [header + " | KanesMethod s | Kane/particles |", "|" + "---:|" * 6]
+    for n in ns:
+        row = [str(n)]
+        for method in CHAIN_METHODS:
+            cell = cells[method, n]
+            built = f" ({statistics.median(cell.built):.2f})" if cell.built else ""
+            row.append(_seconds_text(cell, cap) + built + _cpu_text(cell))
+        kane = cells.get(("kane", n))
+        row.append(_seconds_text(kane, cap) + _cpu_text(kane) if kane else "not run")
+        ratio = None
+        if kane and cells["particles", n].median and kane.median:
+            ratio = speedup({**cells, ("lagrangian", n): cells["particles", n]}, "kane", n, cap)
+        row.append(_speedup_text(ratio))
+        lines.append("| " + " | ".join(row) + " |")
+    return "\n".join(lines)
+
+
+def _cpu_text(cell: Cell) -> str:
+    return f" [{statistics.median(cell.cpu):.3g}]" if cell.cpu else ""
+
+
+def chain_verdicts(cells, ns: list[int]) -> list[str]:
+    """200 links within 3 s, and t(200) / t(50) within 20, for each formulation."""
+    lines = []
+    for method in CHAIN_METHODS:
+        label = LABELS[method]
+        t50 = cells[method, 50].median if (method, 50) in cells else None
+        t200 = cells[method, 200].median if (method, 200) in cells else None
+        if t200 is None or math.isinf(t200):
+            lines.append(f"N/A   {label}: n=200 not measured")
+            continue
+        verdict = "PASS" if t200 <= CHAIN_TARGET_SECONDS else "FAIL"
+        lines.append(f"{verdict}  {label}: 200 links <= {CHAIN_TARGET_SECONDS:g} s ({t200:.3g} s)")
+        if t50 is None or math.isinf(t50):
+            continue
+        ratio = t200 / t50
+        verdict = "PASS" if ratio <= CHAIN_TARGET_RATIO else "FAIL"
+        lines.append(f"{verdict}  {label}: t(200)/t(50) <= {CHAIN_TARGET_RATIO:g} ({ratio:.3g})")
+        c50, c200 = cells[method, 50].cpu, cells[method, 200].cpu
+        if c50 and c200:  # on a loaded machine the CPU time is the steadier measure
+            ratio = statistics.median(c200) / statistics.median(c50)
+            verdict = "PASS" if ratio <= CHAIN_TARGET_RATIO else "FAIL"
+            lines.append(
+                f"{verdict}  {label}: CPU t(200)/t(50) <= {CHAIN_TARGET_RATIO:g} ({ratio:.3g})"
+            )
+    return lines
+
+
+def chain_report(cells, ns: list[int], repeat: int, cap: float) -> str:
+    notes = [note for cell in cells.values() for note in cell.notes]
+    parts = [
+        f"Median of {repeat} run(s) per cell, wall seconds from nothing to M and the forcing "
+        f"(the Cartesian chain: its multiplier form); in round brackets the part spent "
+        f"building the System, in square brackets the CPU seconds of the worker; cap {cap:g} s "
+        f"per run; 1-minute load {os.getloadavg()[0]:.1f} at the end on {os.cpu_count()} cores.",
+        "",
+        chain_table(cells, ns, cap),
+        "",
+        *notes,
+        "```",
+        *chain_verdicts(cells, ns),
+        "```",
+    ]
+    return "\n".join(parts)
+
+
 # --------------------------------------------------------------------------- recording
 
 HEADER = """# Benchmark results
@@ -519,6 +728,11 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--cap", type=float, default=300.0, help="seconds per single run (300)")
     parser.add_argument("--quick", action="store_true", help=f"n = {QUICK_N}, one run each")
     parser.add_argument("--record", action="store_true", help=f"append results to {RESULTS.name}")
+    parser.add_argument(
+        "--chains",
+        action="store_true",
+        help=f"large chains written three ways (n = {CHAIN_N}), KanesMethod at n = {KANE_CHAIN_N}",
+    )
     parser.add_argument("--worker", nargs=2, metavar=("METHOD", "N"), help=argparse.SUPPRESS)
     parser.add_argument("--measure", action="store_true", help=argparse.SUPPRESS)
     return parser.parse_args(argv)
@@ -529,10 +743,15 @@ def main(argv: list[str] | None = None) -> int:
     if args.worker:
         method, n = args.worker
         return worker(method, int(n), args.measure)
-    ns = sorted(set(args.n or (QUICK_N if args.quick else DEFAULT_N)))
     repeat = 1 if args.quick else args.repeat
-    cells = measure(ns, repeat, args.cap)
-    text = report(cells, ns, repeat, args.cap)
+    if args.chains:
+        ns = sorted(set(args.n or CHAIN_N))
+        cells = measure(ns, repeat, args.cap, chain_methods)
+        text = chain_report(cells, ns, repeat, args.cap)
+    else:
+        ns = sorted(set(args.n or (QUICK_N if args.quick else DEFAULT_N)))
+        cells = measure(ns, repeat, args.cap)
+        text = report(cells, ns, repeat, args.cap)
     print(text)
     if args.record:
         record(text)

@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 
 import lagrangian as lg
 from lagrangian.derivation.assemble import Assembly, assemble
-from lagrangian.derivation.kinetic import kinetic_form
+from lagrangian.derivation.kinetic import collected_entry, kinetic_form, one_trigonometric_factor
 from lagrangian.derivation.trig import combine_trig
 
 t = sp.Symbol("t")
@@ -124,7 +124,12 @@ def _mass_point_by_point(asm: Assembly) -> list[list[se.Basic]]:
             groups = weights.get((j, k), {})
             entry = se.Add(*[se.Add(*w) * c for c, w in groups.items()])
             single = len(groups) == 1 and not next(iter(groups)).is_Add
-            mass[j][k] = entry if single else combine_trig(se.Integer(0) + entry)
+            if single:
+                mass[j][k] = entry
+            elif one_trigonometric_factor(list(groups)):  # one product once collected
+                mass[j][k] = collected_entry(entry, {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t})
+            else:
+                mass[j][k] = combine_trig(se.Integer(0) + entry)
     return mass
 
 

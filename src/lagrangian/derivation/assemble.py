@@ -8,6 +8,7 @@ Everything here is a sum of the user's pieces; no equation is formed yet.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import symengine as se
 import sympy as sp
@@ -75,8 +76,8 @@ class Assembly:
         return [self.time_derivative(x) for x in position]
 
 
-def _points(system: System) -> dict[str, tuple[Backend, ...]]:
-    return {name: tuple(vector_to_backend(r)) for name, r in system.points().items()}
+def _points(system: System, terms: dict[Any, Backend]) -> dict[str, tuple[Backend, ...]]:
+    return {name: tuple(vector_to_backend(r, terms)) for name, r in system.points().items()}
 
 
 def _resolve(ref: object, points: dict[str, tuple[Backend, ...]]) -> tuple[Backend, ...]:
@@ -209,19 +210,22 @@ def assemble(system: System) -> Assembly:
     lagrangian = to_backend(system.lagrangian)
     static_part = lagrangian.subs({v: 0 for v in q_dot})  # L(q, 0, t) acts as -V
     magnetic, electric, resistive = _circuit_energies(system)
+    terms: dict[Any, Backend] = {}  # the terms of the positions, each converted once
     points = tuple(
-        InertialPoint(to_backend(p.mass), tuple(vector_to_backend(p.position)), se.Integer(0), None)
+        InertialPoint(
+            to_backend(p.mass), tuple(vector_to_backend(p.position, terms)), se.Integer(0), None
+        )
         for p in system.particles
     ) + tuple(
         InertialPoint(
             to_backend(b.mass),
-            tuple(vector_to_backend(b.position)),
+            tuple(vector_to_backend(b.position, terms)),
             to_backend(b.inertia) if b.planar else se.Integer(0),
             to_backend(b.angle) if b.planar else None,
         )
         for b in system.rigid_bodies
     )
-    named = _points(system)
+    named = _points(system, terms)
     base = Assembly(
         q,
         q_dot,

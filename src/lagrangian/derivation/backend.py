@@ -32,8 +32,26 @@ def to_backend(expr: Any) -> Backend:
     return to_symengine(expr)
 
 
-def vector_to_backend(values: Iterable[Any]) -> list[Backend]:
-    return [to_symengine(v) for v in values]
+def vector_to_backend(
+    values: Iterable[Any], terms: dict[Any, Backend] | None = None
+) -> list[Backend]:
+    """Each of ``values`` in SymEngine (:func:`to_backend`).  With ``terms``, the terms of a
+    SymPy sum are converted once across calls and remembered there, the sum made of them: the
+    positions of a chain repeat the terms of the points above them (link k's in every point
+    below it), n^2/2 terms for n points, of which n differ."""
+    if terms is None:
+        return [to_symengine(v) for v in values]
+    return [_sum_to_backend(v, terms) if isinstance(v, sp.Add) else to_symengine(v) for v in values]
+
+
+def _sum_to_backend(expr: sp.Add, terms: dict[Any, Backend]) -> Backend:
+    converted = []
+    for term in expr.args:
+        known = terms.get(term)
+        if known is None:
+            known = terms[term] = to_symengine(term)
+        converted.append(known)
+    return se.Add(*converted)
 
 
 _TRIG: dict[type, Callable[..., sp.Expr]] = {se.sin: sp.sin, se.cos: sp.cos}
@@ -122,21 +140,27 @@ class SympyView:
 
     def vector(self, values: Iterable[Backend]) -> sp.ImmutableMatrix:
         entries = list(values)
-        return _remember(sp.ImmutableMatrix(self._all(entries)), entries)
+        return _remember(_immutable(len(entries), 1, self._all(entries)), entries)
 
     def matrix(self, rows: Sequence[Sequence[Backend]]) -> sp.ImmutableMatrix:
         entries = [v for row in rows for v in row]
-        converted = sp.ImmutableMatrix(len(rows), len(rows[0]) if rows else 0, self._all(entries))
-        return _remember(converted, entries)
+        columns = len(rows[0]) if rows else 0
+        return _remember(_immutable(len(rows), columns, self._all(entries)), entries)
 
     def symmetric_matrix(self, rows: Sequence[Sequence[Backend]]) -> sp.ImmutableMatrix:
         """Convert the upper triangle only and mirror it."""
         n = len(rows)
         pairs = [(j, k) for j in range(n) for k in range(j, n)]
         upper = dict(zip(pairs, self._all([rows[j][k] for j, k in pairs])))
-        converted = sp.ImmutableMatrix(n, n, lambda j, k: upper[(min(j, k), max(j, k))])
-        entries = [rows[min(j, k)][max(j, k)] for j in range(n) for k in range(n)]
-        return _remember(converted, entries)
+        mirrored = [(min(j, k), max(j, k)) for j in range(n) for k in range(n)]
+        converted = _immutable(n, n, [upper[pair] for pair in mirrored])
+        return _remember(converted, [rows[j][k] for j, k in mirrored])
+
+
+def _immutable(rows: int, columns: int, entries: list[sp.Expr]) -> sp.ImmutableMatrix:
+    """The matrix of SymPy ``entries`` (row by row), made without sympifying each again (a
+    SymPy expression is itself; a 200-link chain's M has 40,000 entries)."""
+    return sp.ImmutableMatrix._new(rows, columns, entries, copy=False)
 
 
 class _CollectorPause:
@@ -230,7 +254,10 @@ def _symbol_difference(argument: sp.Expr) -> tuple[sp.Symbol, sp.Symbol, bool] |
     if len(positive) != 1 or len(negative) != 1:
         return None
     x, y = positive[0], negative[0]
-    first, second = sorted((x, y), key=sp.default_sort_key)
+    if type(x) is sp.Symbol and type(y) is sp.Symbol:  # SymPy orders plain symbols by name
+        first, second = (x, y) if x.name <= y.name else (y, x)
+    else:
+        first, second = sorted((x, y), key=sp.default_sort_key)
     return first, second, x is not first
 
 

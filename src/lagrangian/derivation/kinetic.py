@@ -23,7 +23,8 @@ import symengine as se
 
 from lagrangian.derivation.assemble import Assembly, Rotation
 from lagrangian.derivation.backend import Backend
-from lagrangian.derivation.trig import combine_trig
+from lagrangian.derivation.collect import collect_state
+from lagrangian.derivation.trig import combine_trig, plain_angle
 from lagrangian.derivation.trig_polynomial import (
     Key,
     Poly,
@@ -58,9 +59,12 @@ def _hessian(expr: Backend, symbols: tuple[Backend, ...]) -> Matrix:
     return [[f.diff(s) for s in symbols] if f != _ZERO else [f] * len(symbols) for f in first]
 
 
-def _point_terms(asm: Assembly) -> tuple[Matrix, Backend, set[tuple[int, int]]]:
-    """sum m J^T J (+ I g^T g), the kinetic terms of degree 0 and 1 in the velocities, and the
-    entries that are one combined product times a sum of weights.
+def _point_terms(
+    asm: Assembly,
+) -> tuple[Matrix, Backend, set[tuple[int, int]], set[tuple[int, int]]]:
+    """sum m J^T J (+ I g^T g), the kinetic terms of degree 0 and 1 in the velocities, the
+    entries that are one combined product times a sum of weights, and those that are several
+    such products sharing their one sine or cosine (:func:`one_trigonometric_factor`).
 
     The weights of each combined column product are summed before they multiply it: a chain's
     entry is l_j l_k (m_k + ... + m_n) cos(theta_j - theta_k), never grown term by term; a
@@ -83,7 +87,8 @@ def _point_terms(asm: Assembly) -> tuple[Matrix, Backend, set[tuple[int, int]]]:
                 low_degree += weight * se.Add(*[v * d for v, d in zip(moving, drift)])
                 low_degree += weight * se.Add(*[d**2 for d in drift]) / 2
     mass = [[se.Integer(0)] * n for _ in range(n)]
-    single = set()
+    single: set[tuple[int, int]] = set()
+    shared: set[tuple[int, int]] = set()  # products that differ only in their coefficient
     combined: dict[Backend, Backend] = {}  # the same column pairs recur for every point below
     for j in range(n):
         for k in range(j, n):
@@ -96,10 +101,47 @@ def _point_terms(asm: Assembly) -> tuple[Matrix, Backend, set[tuple[int, int]]]:
             mass[j][k] = se.Add(*[table.weight_sum(holders) * c for c, holders in ordered])
             if len(groups) == 1 and not ordered[0][0].is_Add:
                 single.add((j, k))
+            elif one_trigonometric_factor([c for c, _ in ordered]):
+                shared.add((j, k))
     for rotation in asm.rotations:
         low_degree += _rotation_terms(rotation, asm, mass, combined)
         single.clear()
-    return mass, low_degree, single
+        shared.clear()
+    return mass, low_degree, single, shared
+
+
+def one_trigonometric_factor(products: list[Backend]) -> bool:
+    """Whether every product is a plain product (numbers, symbols and their powers) times the
+    same sine or cosine of a plain angle (or all times none): a chain of rods, whose link
+    columns differ between a rod's own centre (l_k / 2) and the rods below (l_k), has two
+    such products in an entry of M, l_j l_k cos(theta_j - theta_k) / 2 and l_j l_k
+    cos(theta_j - theta_k), each times its sum of masses."""
+    shared = None
+    for index, product in enumerate(products):
+        trig = None
+        for factor in product.args if product.is_Mul else (product,):
+            if isinstance(factor, (se.sin, se.cos)) and trig is None:
+                trig = factor
+            elif not (factor.is_Symbol or factor.is_Number or _symbol_power(factor)):
+                return False
+        if index == 0:
+            shared = trig
+        elif trig != shared:
+            return False
+    return shared is None or plain_angle(shared.args[0])
+
+
+def collected_entry(entry: Backend, state: set[Backend]) -> Backend:
+    """An entry of M whose products share one sine or cosine (:func:`one_trigonometric_factor`)
+    collected now, as the mass matrix's tidying would collect it, when that makes it one
+    product: its sum of masses is then one factor in C q_dot (never n terms each); else
+    combined as any other entry."""
+    collected = collect_state(se.expand(entry), state)
+    return collected if collected.is_Mul else combine_trig(entry)
+
+
+def _symbol_power(factor: Backend) -> bool:
+    return bool(factor.is_Pow and factor.args[0].is_Symbol and factor.args[1].is_Number)
 
 
 class _ColumnTable:
@@ -379,12 +421,15 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     structured = _structured_form(asm, explicit) if asm.rotations else None
     if structured is not None:
         return structured
-    point_mass, point_low, single = _point_terms(asm)
+    point_mass, point_low, single, shared = _point_terms(asm)
     mass = [[se.Integer(0)] * n for _ in range(n)]
+    state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
     for j in range(n):
         for k in range(j, n):
             if explicit[j][k] == _ZERO and (j, k) in single:  # combined already
                 mass[j][k] = point_mass[j][k]
+            elif explicit[j][k] == _ZERO and (j, k) in shared:
+                mass[j][k] = collected_entry(point_mass[j][k], state)
             else:
                 mass[j][k] = combine_trig(explicit[j][k] + point_mass[j][k])
             mass[k][j] = mass[j][k]

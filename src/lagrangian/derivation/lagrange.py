@@ -16,8 +16,10 @@ at once); a System is immutable, so a remembered derivation is never stale.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
+from lagrangian.derivation.backend import Backend
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.derivation.terms import EulerLagrangeTerms, euler_lagrange_terms
 from lagrangian.errors import require
@@ -25,7 +27,7 @@ from lagrangian.limits import configured_seconds
 from lagrangian.limits import time_limit as limited_to
 from lagrangian.model import System
 from lagrangian.model.system import require_system
-from lagrangian.size_limits import check_size, configured_operations
+from lagrangian.size_limits import active_operations, check_operations, configured_operations
 from lagrangian.size_limits import size_limit as sized_to
 from lagrangian.symbolic.caches import RecentCache
 from lagrangian.symbolic.frozen import FrozenMapping, frozen
@@ -113,9 +115,33 @@ def _check_sizes(terms: EulerLagrangeTerms) -> None:
     """Every entry of M and the forcing within the size limit (SizeLimitError naming the
     entry), before they are converted for the user: converting, printing and compiling an
     expression cost far more time and memory than computing it."""
-    q = terms.coordinates
+    if math.isinf(active_operations()):
+        return
+    q, counted = terms.coordinates, TreeOperations()
     for j, row in enumerate(terms.mass):
         for k in range(j, len(row)):
-            check_size(row[k], f"derive: the mass matrix entry M[{q[j]}, {q[k]}]")
+            check_operations(counted(row[k]), f"derive: the mass matrix entry M[{q[j]}, {q[k]}]")
     for j, entry in enumerate(terms.forcing):
-        check_size(entry, f"derive: the forcing of the equation of {q[j]}")
+        check_operations(counted(entry), f"derive: the forcing of the equation of {q[j]}")
+
+
+class TreeOperations:
+    """The operations of SymEngine expressions counted over their trees as SymEngine's
+    ``count_ops`` counts them (n - 1 for a sum or product of n arguments, one for a power or
+    a function, none for an atom), each distinct subexpression counted once across calls and
+    its count remembered: a chain's mass sums m_k + ... + m_n recur in n entries of M each,
+    and counting every entry afresh would walk n^3/6 masses."""
+
+    def __init__(self) -> None:
+        self._known: dict[Backend, int] = {}
+
+    def __call__(self, expr: Backend) -> int:
+        known = self._known.get(expr)
+        if known is not None:
+            return known
+        args = expr.args
+        if not args:
+            return 0
+        own = len(args) - 1 if (expr.is_Add or expr.is_Mul) else 1
+        count = self._known[expr] = own + sum(map(self, args))
+        return count

@@ -50,6 +50,10 @@ from lagrangian.symbolic.symbols import t
 #: expansion and collection write them (the order of their terms included).
 LONG_SUM = 8
 
+#: How many times its operations a potential's expansion may have terms for
+#: :meth:`EulerLagrangeTerms.potential_gradient` to differentiate it expanded.
+SPREAD = 4
+
 #: What :meth:`EulerLagrangeTerms.compress` remembers of a sum that is not one of parameters.
 _MOVING = se.Integer(0)
 
@@ -82,7 +86,7 @@ class EulerLagrangeTerms:
         self._factors: dict[Backend, Backend] = {}  # collect_state's sorting of factors
         self.velocity_potential_forces = self._velocity_potential_forces()
         self.mass = self._mass_matrix()
-        self.gravity = [asm.potential.diff(q) for q in asm.q]
+        self.gravity = self.potential_gradient(asm.potential)
         self.dissipation_forces = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
         # sums kept whole in M (a chain's m_k + ... + m_n) recur in C q_dot: keep them whole
         # there too; with none, looking for them would only cost time
@@ -231,6 +235,18 @@ class EulerLagrangeTerms:
                 if i is not None:
                     parts[i].append(term.diff(s))
         return [se.Add(*p) for p in parts]
+
+    def potential_gradient(self, potential: Backend) -> list[Backend]:
+        """G = dV/dq.  A potential whose expansion has at most :data:`SPREAD` times as many
+        terms as it has operations is expanded and differentiated term by term
+        (:meth:`gradient`): a chain's V = -sum_i m_i g . r_i holds each link's height in the
+        n - k points below link k, and differentiating it whole by each coordinate walks all
+        n^2/2 of its terms n times (the tidying of the forcing expands each G_j anyway)."""
+        q = list(self.assembly.q)
+        ops = size(potential)
+        if ops > NESTED_CHECK_OPS and expanded_terms(potential, SPREAD * ops) < SPREAD * ops:
+            return self.gradient(se.expand(potential), q)
+        return [potential.diff(s) for s in q]
 
     def time_derivative(self, expr: Backend) -> Backend:
         """d/dt by the chain rule, sum(de/dq q_dot + de/dq_dot q_ddot) + de/dt, term by term

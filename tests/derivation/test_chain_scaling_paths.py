@@ -1,0 +1,109 @@
+"""The paths that keep a long chain's derivation proportional to its output: the positions'
+terms converted once, the potential's gradient taken term by term, the entries' sizes counted
+once per shared sum; each checked against a closed form, SymEngine's own count, or
+sympy.physics.mechanics."""
+
+from __future__ import annotations
+
+import pytest
+import symengine as se
+import sympy as sp
+import sympy.physics.mechanics as me
+
+import lagrangian as lg
+from lagrangian.derivation.backend import vector_to_backend
+from lagrangian.derivation.lagrange import TreeOperations
+from lagrangian.derivation.terms import euler_lagrange_terms
+from lagrangian.derivation.trig import NESTED_CHECK_OPS, size
+
+
+def test_a_long_chains_gravity_is_its_closed_form() -> None:
+    """G_j = g l_j (m_j + ... + m_n) sin(theta_j), taken from the expanded potential."""
+    n = 40
+    terms = euler_lagrange_terms(lg.examples.n_link_pendulum(n))
+    assert size(terms.assembly.potential) > NESTED_CHECK_OPS  # the term-by-term path
+    theta, m, ell = (
+        sp.symbols(f"theta1:{n + 1}"),
+        sp.symbols(f"m1:{n + 1}"),
+        sp.symbols(f"l1:{n + 1}"),
+    )
+    g = sp.Symbol("g")
+    for j in range(n):
+        closed = g * ell[j] * sp.Add(*m[j:]) * sp.sin(theta[j])
+        assert se.expand(terms.gravity[j] - se.sympify(closed)) == 0
+
+
+def test_the_gradient_of_a_potential_is_its_derivative_either_way() -> None:
+    terms = euler_lagrange_terms(lg.examples.n_link_pendulum(40))
+    potential = terms.assembly.potential
+    by_term = terms.potential_gradient(potential)
+    whole = [potential.diff(q) for q in terms.assembly.q]
+    assert all(se.expand(a - b) == 0 for a, b in zip(by_term, whole, strict=True))
+
+
+def test_positions_converted_term_by_term_are_the_positions() -> None:
+    system = lg.examples.n_link_pendulum(15)
+    shared: dict[object, object] = {}
+    for particle in system.particles:
+        assert vector_to_backend(particle.position, shared) == vector_to_backend(particle.position)
+    x = sp.Symbol("x")
+    step = [sp.Heaviside(x, evaluate=False) + x**2 + sp.sin(x)]  # a function SymPy alone has
+    assert vector_to_backend(step, {}) == vector_to_backend(step)
+
+
+@pytest.mark.parametrize("name", ["n_link_pendulum", "double_pendulum", "rolling_disc", "dumbbell"])
+def test_operations_are_counted_as_symengine_counts_them(name: str) -> None:
+    system = (
+        lg.examples.n_link_pendulum(12) if name == "n_link_pendulum" else lg.examples.get(name)()
+    )
+    terms = euler_lagrange_terms(system)
+    counted = TreeOperations()  # one memo for every entry, as the size check uses it
+    entries = [e for row in terms.mass for e in row] + [*terms.forcing, terms.assembly.potential]
+    for entry in entries:
+        assert counted(entry) == int(se.count_ops(entry))
+
+
+def test_a_size_limit_still_names_the_entry_past_it() -> None:
+    with pytest.raises(lg.SizeLimitError, match="forcing of the equation of theta1"):
+        lg.derive(lg.examples.n_link_pendulum(6), size_limit=60)
+
+
+def _lagranges_method(n: int) -> tuple[sp.Matrix, sp.Matrix]:
+    """M and the forcing of the chain from sympy.physics.mechanics' LagrangesMethod, with
+    q(t) as the symbol theta_i and q'(t) as theta_i_dot."""
+    q = me.dynamicsymbols(f"theta1:{n + 1}")
+    m, ell = sp.symbols(f"m1:{n + 1}"), sp.symbols(f"l1:{n + 1}")
+    g = sp.Symbol("g")
+    frame, origin = me.ReferenceFrame("N"), me.Point("O")
+    origin.set_vel(frame, 0)
+    previous, bobs = origin, []
+    for i in range(n):
+        link = frame.orientnew(f"A{i}", "Axis", (q[i], frame.z))
+        point = previous.locatenew(f"P{i}", -ell[i] * link.y)
+        point.v2pt_theory(previous, frame, link)
+        bob = me.Particle(f"bob{i}", point, m[i])
+        bob.potential_energy = m[i] * g * point.pos_from(origin).dot(frame.y)
+        bobs.append(bob)
+        previous = point
+    method = me.LagrangesMethod(me.Lagrangian(frame, *bobs), q)
+    method.form_lagranges_equations()
+    t = me.dynamicsymbols._t
+    plain = {qi.diff(t): sp.Symbol(f"theta{i + 1}_dot") for i, qi in enumerate(q)}
+    plain.update({qi: sp.Symbol(f"theta{i + 1}") for i, qi in enumerate(q)})
+    return method.mass_matrix.xreplace(plain), method.forcing.xreplace(plain)
+
+
+def _zero(expr: sp.Expr) -> bool:
+    return sp.expand(sp.expand_trig(expr)) == 0
+
+
+@pytest.mark.parametrize(
+    "n", [3, 4, pytest.param(5, marks=pytest.mark.slow), pytest.param(6, marks=pytest.mark.slow)]
+)
+def test_the_chain_is_lagranges_methods_chain(n: int) -> None:
+    """M and the forcing equal LagrangesMethod's entry by entry once trigonometry is
+    expanded (a chain's entries are polynomials in sines and cosines)."""
+    eom = lg.derive(lg.examples.n_link_pendulum(n))
+    mass, forcing = _lagranges_method(n)
+    assert all(_zero(a - b) for a, b in zip(eom.mass_matrix, mass, strict=True))
+    assert all(_zero(a - b) for a, b in zip(eom.forcing, forcing, strict=True))
