@@ -61,3 +61,41 @@ def test_frames_without_animate_say_to_add_it(
     code, _, err = run(capsys, "simulate", "simple_pendulum", "--out", str(tmp_path / "p.csv"),
                        "--frames", "10")  # fmt: skip
     assert code == 2 and "--frames: only an animation has frames — add --animate FILE.gif" in err
+
+
+def test_projection_chooses_the_view_of_a_3d_system(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from lagrangian.render.projection import PROJECTIONS
+
+    views = {}
+    for view in ("xy", "xz"):
+        movie = tmp_path / f"top_{view}.gif"
+        argv = ["simulate", "heavy_symmetric_top", "--t-end", "0.5", "--samples", "20"]
+        argv += ["--out", str(tmp_path / "top.csv"), "--animate", str(movie), "--frames", "3"]
+        code, _, err = run(capsys, *argv, "--projection", view)
+        assert code == 0, err
+        views[view] = movie.read_bytes()
+    assert views["xy"] != views["xz"]
+    # The command hands the view to the drawing (whose views are tested in tests/render).
+    from lagrangian.cli import simulate_command
+
+    asked: list[str] = []
+    drawn = simulate_command.write_animation
+    monkeypatch.setattr(
+        simulate_command,
+        "write_animation",
+        lambda *a, **k: (asked.append(k["projection"]), drawn(*a, **k)),
+    )
+    code, _, err = run(capsys, *argv, "--projection", "isometric")
+    assert code == 0 and asked == ["isometric"], err
+    code, _, err = run(capsys, "simulate", "heavy_symmetric_top", "--projection", "zz",
+                       "--animate", str(tmp_path / "x.gif"))  # fmt: skip
+    assert code == 2 and "--projection: 'zz' — choose one of " + ", ".join(PROJECTIONS) in err
+    # The help names the views there are (written out: the command line does not import
+    # the render layer to start).
+    with pytest.raises(SystemExit):
+        main(["simulate", "--help"])
+    shown = " ".join(capsys.readouterr().out.split())
+    listed = shown.split("--projection VIEW")[-1][:300]
+    assert all(f" {view}" in listed for view in PROJECTIONS), listed

@@ -348,6 +348,14 @@ def build_parser() -> argparse.ArgumentParser:
         help="frames per second of the --animate animation's playback (default 25)",
     )
     simulate.add_argument(
+        "--projection",
+        metavar="VIEW",
+        # the names of lagrangian.render.projection.PROJECTIONS (a test keeps them equal;
+        # importing the render layer here would slow every command's start)
+        help="the view of a 3-D system in the --animate animation: auto (default: the plane "
+        "the motion spreads over most), xy, xz, yz or isometric",
+    )
+    simulate.add_argument(
         "--progress",
         action="store_true",
         help="show the progress bars (the run, the frames of --animate) even when stderr is "
@@ -602,6 +610,7 @@ def run(args: argparse.Namespace) -> str | JsonDocument:
             animate=args.animate,
             frames=args.frames,
             fps=args.fps,
+            projection=args.projection,
             progress=args.progress,
             phase=args.phase,
             initial=args.initial,

@@ -28,6 +28,7 @@ from lagrangian.errors import (
 from lagrangian.model import System
 from lagrangian.render.animation import animate as write_animation
 from lagrangian.render.plots import save_plots
+from lagrangian.render.projection import PROJECTIONS
 from lagrangian.render.section_plot import save_section_plot
 from lagrangian.simulation import Trajectory, simulate
 from lagrangian.simulation.crossings import Crossing
@@ -47,6 +48,7 @@ def run_simulate(
     animate: str | None = None,
     frames: int | None = None,
     fps: float | None = None,
+    projection: str | None = None,
     progress: bool = False,
     phase: str | None = None,
     initial: Sequence[str] = (),
@@ -59,10 +61,10 @@ def run_simulate(
     rows computed so far (with ``keep_failed`` a failed run's plot and animation of them
     too), says where it stopped, and ends: SimulationError (exit 1), or after Ctrl-C exit
     code :data:`INTERRUPTED`.  ``initial`` items (``theta=0.5``) set initial values;
-    ``poincare`` asks for the crossings of a section (:class:`Poincare`); ``frames`` and
-    ``fps`` shape the animation."""
+    ``poincare`` asks for the crossings of a section (:class:`Poincare`); ``frames``,
+    ``fps`` and ``projection`` (a 3-D system's view) shape the animation."""
     check_outputs(out, plot, animate)
-    check_animation_options(animate, frames, fps)
+    check_animation_options(animate, frames, fps, projection)
     try:
         system = apply_settings(load_system(reference), settings, COMMAND_LINE)
         system = apply_initial(system, initial, COMMAND_LINE)
@@ -75,7 +77,16 @@ def run_simulate(
         events = [event] if event is not None else []
         trajectory = simulate(system, t_span=t_end, progress=bar, raise_on_failure=False,
                               events=events, **given)  # fmt: skip
-        pictures = Pictures(plot, animate, phase, progress, keep_failed, frames=frames, fps=fps)
+        pictures = Pictures(
+            plot,
+            animate,
+            phase,
+            progress,
+            keep_failed,
+            frames=frames,
+            fps=fps,
+            projection=projection or "auto",
+        )
         if poincare is not None and event is not None:
             section = section_of(trajectory, event, poincare.expression, poincare.direction)
             pictures = dataclasses.replace(pictures, section=section, section_axes=poincare.axes)
@@ -197,9 +208,12 @@ def _ffmpeg_available() -> bool:
     return ffmpeg_path() is not None
 
 
-def check_animation_options(animate: str | None, frames: int | None, fps: float | None) -> None:
+def check_animation_options(
+    animate: str | None, frames: int | None, fps: float | None, projection: str | None = None
+) -> None:
     """Refuse, before simulating, --frames and --fps that are not counts and rates, or that
-    come without --animate: SimulationInputError, every problem at once."""
+    come (with --projection) without --animate: SimulationInputError, every problem at
+    once."""
     problems = []
     if frames is not None and frames < 1:
         problems.append(
@@ -209,11 +223,17 @@ def check_animation_options(animate: str | None, frames: int | None, fps: float 
         problems.append(
             Problem("--fps", f"{fps:g} frames per second", "give a positive rate, e.g. --fps 25")
         )
-    for flag, value in (("--frames", frames), ("--fps", fps)):
+    if projection is not None and projection not in PROJECTIONS:
+        problems.append(
+            Problem("--projection", repr(projection), "choose one of " + ", ".join(PROJECTIONS))
+        )
+    alone = {
+        "--frames": (frames, "only an animation has frames"),
+        "--fps": (fps, "only an animation plays"),
+        "--projection": (projection, "only the animation draws a view of the system"),
+    }
+    for flag, (value, what) in alone.items():
         if value is not None and animate is None:
-            what = (
-                "only an animation has frames" if flag == "--frames" else "only an animation plays"
-            )
             problems.append(Problem(flag, what, "add --animate FILE.gif"))
     raise_if_problems(problems, "Cannot simulate", SimulationInputError)
 
@@ -221,7 +241,8 @@ def check_animation_options(animate: str | None, frames: int | None, fps: float 
 @dataclasses.dataclass(frozen=True)
 class Pictures:
     """What ``simulate`` draws after the CSV: the ``plot`` file (its phase portrait of
-    ``phase``), the ``animate`` file (``frames`` of it played at ``fps``; a progress bar on
+    ``phase``), the ``animate`` file (``frames`` of it played at ``fps``, a 3-D system seen
+    in ``projection``; a progress bar on
     a terminal, or always with ``progress``), and whether a failed run gets them too
     (``keep_failed``); the points of a Poincaré ``section``, written beside the CSV and
     plotted in the plane of ``section_axes`` beside the plot."""
@@ -235,6 +256,7 @@ class Pictures:
     section_axes: tuple[str, str] | None = None
     frames: int | None = None
     fps: float | None = None
+    projection: str = "auto"
 
 
 def write_simulation(
@@ -370,6 +392,7 @@ def draw_pictures(system: System, trajectory: Trajectory, pictures: Pictures) ->
                 temporary,
                 frames=pictures.frames,
                 fps=pictures.fps,
+                projection=pictures.projection,
                 progress=frame_progress(pictures.progress),
             )
         messages.append(f"animation written to {pictures.animate}")
