@@ -8,7 +8,8 @@
   not sent within ``Limits.body_seconds`` 408, a request from a page of another site 403;
 - ``POST /api/export`` with ``{"options": {"language": "numpy|c|matlab|julia"}}``: the
   generated code as ``{"language", "files": {NAME: TEXT}}``;
-- ``GET /api/examples``: the built-in examples that have a model file, with a line each;
+- ``GET /api/examples``: the built-in examples that have a model file (the Whipple bicycle
+  among them), with a line each;
 - ``GET /api/examples/NAME``: ``{"name", "description", "format", "model"}``;
 - ``GET /api/health``: the workers running and the requests admitted.
 
@@ -27,6 +28,7 @@ import json
 from collections.abc import AsyncIterator, Sequence
 from contextlib import asynccontextmanager
 from functools import cache
+from typing import Any
 from pathlib import Path
 from urllib.parse import urlsplit
 
@@ -192,13 +194,19 @@ async def answer_unless_gone(
 
 
 @cache
-def example_list() -> list[dict[str, str]]:
-    """The examples that ship a model file: name and one line each."""
+def example_list() -> list[dict[str, Any]]:
+    """The examples that ship a model file, the field's benchmarks (large, last) among them:
+    name, one line, and whether it is a benchmark."""
     from lagrangian import examples
 
+    listed = [*examples.names(), *examples.BENCHMARKS]
     return [
-        {"name": name, "description": examples.describe(name)}
-        for name in examples.names()
+        {
+            "name": name,
+            "description": examples.describe(name),
+            "benchmark": name in examples.BENCHMARKS,
+        }
+        for name in listed
         if examples.MODELS.joinpath(f"{name}.yaml").is_file()
     ]
 
