@@ -220,11 +220,7 @@ class WorkerPool:
             return
         ticket.cancelled.set()
         self.superseded += 1
-        queue = self._waiting.get(ticket.client)
-        if queue is not None and ticket in queue:
-            queue.remove(ticket)
-            if not queue:
-                del self._waiting[ticket.client]
+        self._unqueue(ticket)
         granted = ticket.granted
         if granted is not None and not granted.done():
             granted.set_exception(Superseded())
@@ -232,11 +228,7 @@ class WorkerPool:
     def _leave(self, ticket: Ticket) -> None:
         """``ticket`` gave up waiting: out of the queue (a worker granted meanwhile goes back)."""
         self.admitted -= 1
-        queue = self._waiting.get(ticket.client)
-        if queue is not None and ticket in queue:
-            queue.remove(ticket)
-            if not queue:
-                del self._waiting[ticket.client]
+        self._unqueue(ticket)
         granted = ticket.granted
         done = granted is not None and granted.done() and not granted.cancelled()
         if done and granted is not None and granted.exception() is None:
@@ -244,6 +236,14 @@ class WorkerPool:
             self._idle.append(granted.result())
         self._forget(ticket)
         self._dispatch()
+
+    def _unqueue(self, ticket: Ticket) -> None:
+        """Take ``ticket`` out of its client's queue, if it is there."""
+        queue = self._waiting.get(ticket.client)
+        if queue is not None and ticket in queue:
+            queue.remove(ticket)
+            if not queue:
+                del self._waiting[ticket.client]
 
     def _release(self, client: str) -> None:
         self._running[client] -= 1

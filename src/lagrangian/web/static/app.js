@@ -304,12 +304,60 @@ function breakPoints(row) {
     if (c === "{") depth += 1;
     else if (c === "}") depth -= 1;
     else if (depth === 0 && i > 0 && /[+\-=]/.test(c) && row[i - 1] === " ") points.push(i);
+    if (depth === 0 && row.startsWith(" \\text{", i)) points.push(i + 1); // between words
   }
   return points;
 }
 
-function brokenRow(row, lines) {
-  const flat = row.replace(/&/g, (match, at) => (row[at - 1] === "\\" ? match : ""));
+// The group in braces that starts at ``at`` (a "{"): [its inside, the index after it].
+function braceGroup(latex, at) {
+  let depth = 0;
+  for (let i = at; i < latex.length; i++) {
+    if (latex[i] === "\\") i += 1;
+    else if (latex[i] === "{") depth += 1;
+    else if (latex[i] === "}" && --depth === 0) return [latex.slice(at + 1, i), i + 1];
+  }
+  return [latex.slice(at + 1), latex.length];
+}
+
+// Each fraction outside braces, A/B, written 1/B (A), and each text word by word: a long
+// numerator or sentence may then break.
+function openFractions(latex) {
+  let out = "";
+  let depth = 0;
+  for (let i = 0; i < latex.length; i++) {
+    if (depth === 0 && latex.startsWith("\\frac{", i)) {
+      const [top, afterTop] = braceGroup(latex, i + 5);
+      const [bottom, after] = braceGroup(latex, afterTop);
+      out += `\\frac{1}{${bottom}}\\bigl(${top}\\bigr)`;
+      i = after - 1;
+      continue;
+    }
+    if (depth === 0 && latex.startsWith("\\text{", i)) {
+      const [words, after] = braceGroup(latex, i + 5);
+      out += words.split(" ").map((word) => `\\text{${word} }`).join(" ");
+      i = after - 1;
+      continue;
+    }
+    const c = latex[i];
+    if (c === "\\") {
+      out += c + (latex[i + 1] || "");
+      i += 1;
+      continue;
+    }
+    if (c === "{") depth += 1;
+    else if (c === "}") depth -= 1;
+    out += c;
+  }
+  return out;
+}
+
+// ``row`` over about ``lines`` lines; the looser, the more places to break: its \left( \right)
+// pairs become \bigl( \bigr) (1), and its fractions 1/B (A) (2).
+function brokenRow(row, lines, loose) {
+  let flat = row.replace(/&/g, (match, at) => (row[at - 1] === "\\" ? match : ""));
+  if (loose >= 2) flat = openFractions(flat);
+  if (loose >= 1) flat = flat.replace(/\\left\(/g, "\\bigl(").replace(/\\right\)/g, "\\bigr)");
   const points = breakPoints(flat);
   if (lines <= 1 || !points.length) return flat;
   const target = flat.length / lines;
@@ -332,13 +380,29 @@ function renderRow(item) {
     else item.textContent = latex;
   };
   const fits = () => item.scrollWidth <= item.clientWidth + 1;
-  render(brokenRow(row, 1));
-  for (let lines = 2; !fits() && lines <= 40; lines++) {
-    const before = item.innerHTML;
-    render(brokenRow(row, lines));
-    if (item.innerHTML === before) break; // no more places to break
+  render(brokenRow(row, 1, 0));
+  for (const loose of [0, 1, 2]) {
+    let lines = 1;
+    while (!fits() && lines < 80) {
+      // as many lines as the row is wider than its box, then one more at a time
+      lines = Math.max(lines + 1, Math.ceil((lines * item.scrollWidth) / item.clientWidth));
+      const before = item.innerHTML;
+      render(brokenRow(row, lines, loose));
+      if (item.innerHTML === before) break; // no more places to break
+    }
   }
-  item.classList.toggle("wide", !fits()); // the last resort: this row scrolls on its own
+  item.style.fontSize = "";
+  if (!fits()) {
+    // a piece that cannot break (a matrix, a long fraction): a smaller type, down to 60 %
+    item.style.fontSize = `${Math.max(0.6, (0.98 * item.clientWidth) / item.scrollWidth)}em`;
+  }
+  const wide = !fits(); // the last resort: this row scrolls on its own, by keyboard too
+  item.classList.toggle("wide", wide);
+  if (wide) {
+    item.tabIndex = 0;
+    item.setAttribute("role", "group");
+    item.setAttribute("aria-label", "a wide equation: scroll it sideways");
+  }
   item.dataset.typeset = "true";
 }
 
