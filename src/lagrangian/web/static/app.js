@@ -289,8 +289,9 @@ function latexRows(latex) {
   return rows;
 }
 
-// Places where a row may break: before a top-level "+", "-" or "=" (outside \left( \right) too).
-function breakPoints(row) {
+// Places where a row may break: before a top-level "+", "-" or "=" (outside \left( \right) too),
+// and, when ``anySpace``, between any two factors of a product too.
+function breakPoints(row, anySpace) {
   const points = [];
   let depth = 0;
   for (let i = 0; i < row.length; i++) {
@@ -305,6 +306,9 @@ function breakPoints(row) {
     else if (c === "}") depth -= 1;
     else if (depth === 0 && i > 0 && /[+\-=]/.test(c) && row[i - 1] === " ") points.push(i);
     if (depth === 0 && row.startsWith(" \\text{", i)) points.push(i + 1); // between words
+    else if (anySpace && depth === 0 && c === " " && i > 0 && /[\\\w]/.test(row[i + 1] || "")) {
+      points.push(i + 1);
+    }
   }
   return points;
 }
@@ -353,12 +357,12 @@ function openFractions(latex) {
 }
 
 // ``row`` over about ``lines`` lines; the looser, the more places to break: its \left( \right)
-// pairs become \bigl( \bigr) (1), and its fractions 1/B (A) (2).
+// pairs become \bigl( \bigr) (1), its fractions 1/B (A) (2), and it breaks between factors (3).
 function brokenRow(row, lines, loose) {
   let flat = row.replace(/&/g, (match, at) => (row[at - 1] === "\\" ? match : ""));
   if (loose >= 2) flat = openFractions(flat);
   if (loose >= 1) flat = flat.replace(/\\left\(/g, "\\bigl(").replace(/\\right\)/g, "\\bigr)");
-  const points = breakPoints(flat);
+  const points = breakPoints(flat, loose >= 3);
   if (lines <= 1 || !points.length) return flat;
   const target = flat.length / lines;
   const parts = [];
@@ -381,7 +385,7 @@ function renderRow(item) {
   };
   const fits = () => item.scrollWidth <= item.clientWidth + 1;
   render(brokenRow(row, 1, 0));
-  for (const loose of [0, 1, 2]) {
+  for (const loose of [0, 1, 2, 3]) {
     let lines = 1;
     while (!fits() && lines < 80) {
       // as many lines as the row is wider than its box, then one more at a time
