@@ -43,9 +43,10 @@ def live_server() -> Iterator[str]:
     app = _app()
     import uvicorn
 
+    from lagrangian.web.connections import server_config
+
     port = free_port()
-    config = uvicorn.Config(app, host="127.0.0.1", port=port, log_level="warning")
-    server = uvicorn.Server(config)
+    server = uvicorn.Server(server_config(app, "127.0.0.1", port, TEST_LIMITS))
     thread = threading.Thread(target=server.run, daemon=True)
     thread.start()
     for _ in range(600):

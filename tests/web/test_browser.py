@@ -74,6 +74,8 @@ def test_an_example_is_typeset_and_animated(page: Any) -> None:
     assert page.evaluate(INK, "canvas") > 500
     assert page.evaluate(INK, "plot") > 500
     page.click("[data-testid=analyze-button]")
+    page.wait_for_selector("[data-testid=analysis] .item", timeout=90_000)
+    page.locator("[data-testid=analysis]").scroll_into_view_if_needed()  # typeset in view
     page.wait_for_selector("[data-testid=analysis] .katex", timeout=90_000)
     _shot(page, "double_pendulum.png")
     if os.environ.get("LAGRANGIAN_README_SCREENSHOT"):
@@ -82,16 +84,16 @@ def test_an_example_is_typeset_and_animated(page: Any) -> None:
 
 def test_a_slider_reruns_the_simulation(page: Any) -> None:
     page.select_option("[data-testid=examples]", "simple_pendulum")
-    page.wait_for_selector("#sliders input[data-name=l]", timeout=60_000)
+    page.wait_for_selector("#sliders input[type=range][data-name=l]", timeout=60_000)
     assert "simple" in page.input_value("[data-testid=editor]").lower()
     with page.expect_response(lambda r: r.url.endswith("/api/simulate")) as answer:
         page.eval_on_selector(
-            "#sliders input[data-name=l]",
+            "#sliders input[type=range][data-name=l]",
             "(el) => { el.value = 2.5; el.dispatchEvent(new Event('input')); }",
         )
     response = answer.value
-    chosen = float(page.input_value("#sliders input[data-name=l]"))  # 2.5 on the slider's steps
-    assert response.status == 200 and abs(chosen - 2.5) < 0.05
+    chosen = float(page.input_value("#sliders input[type=number][data-name=l]"))
+    assert response.status == 200 and chosen == 2.5  # exact: no snapping to the slider's steps
     assert f"l={chosen:g}" in response.request.post_data
     assert response.json()["summary"]["parameters"]["l"] == pytest.approx(chosen)
     page.wait_for_timeout(300)

@@ -4,25 +4,33 @@
 - ``POST /api/derive``, ``/api/analyze``, ``/api/simulate`` with ``{"model": TEXT, "format":
   "yaml|toml|json", "options": {...}}``: the command's JSON; a bad model or option is 422
   with ``{"problems": [{"field", "line", "column", "message", "fix"}]}``, a body over
-  ``Limits.max_body_bytes`` 413, a full queue 503, a body not sent as JSON 415;
+  ``Limits.max_body_bytes`` 413, a full queue 503, a body not sent as JSON 415, a body
+  not sent within ``Limits.body_seconds`` 408, a request from a page of another site 403;
 - ``POST /api/export`` with ``{"options": {"language": "numpy|c|matlab|julia"}}``: the
   generated code as ``{"language", "files": {NAME: TEXT}}``;
-- ``GET /api/examples``: the built-in examples that have a model file, with a line each;
+- ``GET /api/examples``: the built-in examples that have a model file (the Whipple bicycle
+  among them), with a line each;
 - ``GET /api/examples/NAME``: ``{"name", "description", "format", "model"}``;
 - ``GET /api/health``: the workers running and the requests admitted.
 
 The work runs in worker processes (:mod:`.pool`); the server itself only reads, checks and
-forwards, so one slow request never stalls another.
+forwards, so one slow request never stalls another.  Requests are queued per client: the
+page names itself in the ``X-Lagrangian-Client`` header (else the client's address counts),
+and its newer request of a kind (derive, analyze, ...) cancels the older one, as does a
+client that goes away before its answer (409 for a request so cancelled).
 """
 
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 from collections.abc import AsyncIterator, Sequence
 from contextlib import asynccontextmanager
 from functools import cache
 from pathlib import Path
+from typing import Any
+from urllib.parse import urlsplit
 
 from starlette.applications import Starlette
 from starlette.datastructures import MutableHeaders
@@ -36,7 +44,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from lagrangian.errors import LagrangianError, Problem
 from lagrangian.web.limits import Limits
 from lagrangian.web.options import OPTIONS, read_request
-from lagrangian.web.pool import PoolBusy, WorkerLost, WorkerPool
+from lagrangian.web.pool import PoolBusy, Superseded, Ticket, WorkerLost, WorkerPool
 from lagrangian.web.wording import problem_document
 
 STATIC = Path(__file__).resolve().parent / "static"
@@ -57,8 +65,41 @@ def problems_response(status: int, problems: list[Problem], summary: str = "") -
     return JSONResponse({"error": summary or problems[0].message, "problems": listed}, status)
 
 
+#: The header naming the client (one page): its requests are queued and superseded together.
+CLIENT_HEADER = "x-lagrangian-client"
+
+
 class BodyTooLarge(Exception):
     """The request's body is over the limit."""
+
+
+def client_of(request: Request) -> str:
+    """Who sent ``request``: its address, and the page's own name for itself if it gives one
+    (several pages on one machine share an address)."""
+    address = request.client.host if request.client else ""
+    return f"{address} {request.headers.get(CLIENT_HEADER, '')[:64]}".strip()
+
+
+def origin_allowed(request: Request) -> bool:
+    """Whether a browser sent ``request`` from the playground's own page: its ``Origin`` (a
+    browser always sends one with a POST) names this server, as the Host header does, or one
+    of the allowed hosts; a request without ``Origin`` is not a browser's (curl, a script)."""
+    origin = request.headers.get("origin")
+    if origin is None:
+        return True
+    parts = urlsplit(origin)
+    if parts.scheme not in ("http", "https") or not parts.netloc:
+        return False  # "null": a sandboxed frame, a file
+    if parts.netloc.lower() == request.headers.get("host", "").lower():
+        return True
+    allowed = request.app.state.allowed_hosts
+    return allowed is not None and (parts.hostname or "") in allowed
+
+
+async def until_disconnected(request: Request) -> None:
+    """Return when the client closes its connection (after the body has been read)."""
+    while (await request.receive())["type"] != "http.disconnect":
+        pass
 
 
 async def read_body(request: Request, limit: int) -> bytes:
@@ -88,8 +129,15 @@ async def command(request: Request) -> Response:
     if media != "application/json":
         fix = "send the body as JSON with Content-Type: application/json"
         return problems_response(415, [Problem("body", "the body is not JSON", fix)])
+    if not origin_allowed(request):
+        fix = "use the playground's own page, or call the API without a browser"
+        return problems_response(403, [Problem("origin", "a page of another site sent it", fix)])
     try:
-        raw = await read_body(request, limits.max_body_bytes)
+        raw = await asyncio.wait_for(read_body(request, limits.max_body_bytes), limits.body_seconds)
+    except TimeoutError:
+        fix = "send the whole body at once"
+        message = f"the body did not arrive within {limits.body_seconds:g} s"
+        return problems_response(408, [Problem("body", message, fix)])
     except BodyTooLarge:
         size = f"{limits.max_body_bytes // 1000} kB"
         fix = "send a smaller model; large systems run with the lagrangian command"
@@ -104,8 +152,17 @@ async def command(request: Request) -> Response:
     except LagrangianError as error:
         return problems_response(422, list(error.problems), str(error).splitlines()[0])
     pool: WorkerPool = request.app.state.pool
+    page_named = CLIENT_HEADER in request.headers  # only a page's requests supersede
+    ticket = Ticket(
+        (name, checked.model, checked.format, checked.options),
+        client_of(request),
+        name if page_named else "",
+    )
     try:
-        status, answer = await pool.run((name, checked.model, checked.format, checked.options))
+        status, answer = await answer_unless_gone(request, pool, ticket)
+    except Superseded:
+        problem = Problem("request", "a newer request replaced this one", "nothing to do")
+        return problems_response(409, [problem])
     except PoolBusy:
         problem = Problem("server", "every worker is busy and the queue is full", "try again")
         response = problems_response(503, [problem])
@@ -118,14 +175,38 @@ async def command(request: Request) -> Response:
     return Response(answer, status, media_type="application/json")
 
 
+async def answer_unless_gone(
+    request: Request, pool: WorkerPool, ticket: Ticket
+) -> tuple[int, bytes]:
+    """The pool's answer to ``ticket``, cancelled (its worker freed) if the client goes away
+    before it."""
+    work = asyncio.ensure_future(pool.run(ticket))
+    gone = asyncio.ensure_future(until_disconnected(request))
+    try:
+        await asyncio.wait({work, gone}, return_when=asyncio.FIRST_COMPLETED)
+        if not work.done():
+            pool.cancel(ticket)
+        return await work
+    finally:
+        gone.cancel()
+        with contextlib.suppress(asyncio.CancelledError):
+            await gone
+
+
 @cache
-def example_list() -> list[dict[str, str]]:
-    """The examples that ship a model file: name and one line each."""
+def example_list() -> list[dict[str, Any]]:
+    """The examples that ship a model file, the field's benchmarks (large, last) among them:
+    name, one line, and whether it is a benchmark."""
     from lagrangian import examples
 
+    listed = [*examples.names(), *examples.BENCHMARKS]
     return [
-        {"name": name, "description": examples.describe(name)}
-        for name in examples.names()
+        {
+            "name": name,
+            "description": examples.describe(name),
+            "benchmark": name in examples.BENCHMARKS,
+        }
+        for name in listed
         if examples.MODELS.joinpath(f"{name}.yaml").is_file()
     ]
 
@@ -150,7 +231,12 @@ async def example(request: Request) -> Response:
 async def health(request: Request) -> Response:
     pool: WorkerPool = request.app.state.pool
     return JSONResponse(
-        {"workers": pool.alive(), "admitted": pool.admitted, "replaced": pool.replaced}
+        {
+            "workers": pool.alive(),
+            "admitted": pool.admitted,
+            "replaced": pool.replaced,
+            "superseded": pool.superseded,
+        }
     )
 
 
@@ -193,6 +279,7 @@ def create_app(
         lifespan=lifespan,
     )
     app.state.limits = chosen
+    app.state.allowed_hosts = None if allowed_hosts is None else tuple(allowed_hosts)
     app.add_middleware(SecurityHeaders)
     if allowed_hosts is not None:
         app.add_middleware(TrustedHostMiddleware, allowed_hosts=list(allowed_hosts))

@@ -26,6 +26,9 @@ class Limits:
     memory_bytes: address space of a worker process (RLIMIT_AS).
     max_body_bytes: size of a request's body; over it the request gets a 413 error.
     max_samples: output times of one simulation.
+    header_seconds: time a connection has to send a request's headers; then it is closed.
+    body_seconds: time a request has to send its body; then it gets a 408 error.
+    max_connections: connections open at once; a request on one more gets a 503 error.
     """
 
     workers: int = 2
@@ -34,6 +37,15 @@ class Limits:
     memory_bytes: int = 4 << 30
     max_body_bytes: int = 200_000
     max_samples: int = 20_000
+    header_seconds: float = 10.0
+    body_seconds: float = 30.0
+    max_connections: int = 64
+
+    @property
+    def client_workers(self) -> int:
+        """How many workers one client's requests may hold at once: all but one, so that a
+        client's heavy requests always leave a worker to the others."""
+        return max(1, self.workers - 1)
 
     @property
     def wall_seconds(self) -> float:

@@ -5,17 +5,26 @@ request at a time each; up to ``Limits.queue`` more requests wait for a worker, 
 is refused at once (:class:`PoolBusy`, HTTP 503).  A worker that does not answer within the
 wall-clock backstop, or dies (its memory or CPU time exhausted in C code that never returned
 to Python), is killed and replaced; only its own request gets the error.
+
+The waiting requests are queued per client and served in turn (round robin), and one client
+holds at most ``Limits.client_workers`` workers at once: a client's heavy requests wait
+behind each other, never in front of another client's.  A request is a :class:`Ticket`; one
+cancelled (its client went away, or sent a newer request of the same kind) leaves the queue,
+or, running, has its work interrupted (SIGUSR1, :mod:`.worker`) so that its worker is free.
 """
 
 from __future__ import annotations
 
 import asyncio
 import os
+import signal
 import socket
 import subprocess
 import sys
+import threading
 import time
-from dataclasses import dataclass
+from collections import deque
+from dataclasses import dataclass, field
 from multiprocessing.connection import Connection
 from typing import Any
 
@@ -50,6 +59,30 @@ class WorkerLost(Exception):
     which, in words for the person who sent the request."""
 
 
+class Superseded(Exception):
+    """The request was cancelled before a worker took it: its client went away or sent a
+    newer request of the same kind."""
+
+
+Request = tuple[str, str, str, dict[str, Any]]
+
+
+@dataclass(eq=False)
+class Ticket:
+    """One request: what it asks, whose it is, and whether it is still wanted.
+
+    client: who sent it (requests are queued and bounded per client).
+    kind: what it is for (the command); a newer request of the same client and kind
+        supersedes this one.
+    """
+
+    request: Request
+    client: str = ""
+    kind: str = ""
+    cancelled: threading.Event = field(default_factory=threading.Event)
+    granted: asyncio.Future[Worker] | None = None
+
+
 @dataclass
 class Worker:
     """One worker process and the server's end of its pipe."""
@@ -76,23 +109,35 @@ class Worker:
         return self.process.poll() is None
 
     def call(
-        self, request: tuple[str, str, str, dict[str, Any]], seconds: float, cpu_seconds: float
+        self,
+        request: Request,
+        seconds: float,
+        cpu_seconds: float,
+        cancelled: threading.Event | None = None,
     ) -> Any:
         """Send ``request`` and wait for its answer at most ``seconds``, and while the worker
         has used at most ``cpu_seconds`` of CPU time on it (a backstop for work stuck in C
-        code, where the worker's own limit cannot interrupt it); else raise WorkerLost."""
+        code, where the worker's own limit cannot interrupt it); else raise WorkerLost.  Once
+        ``cancelled`` is set the work is interrupted, and given GRACE_SECONDS to answer."""
         if not self.ready:
             self.receive(START_SECONDS)
             self.ready = True
         start = cpu_time(self.process.pid)
         self.connection.send(request)
         deadline = time.monotonic() + seconds
+        interrupted = False
         while time.monotonic() < deadline:
             if self.connection.poll(POLL_SECONDS):
                 return self.receive(0.0)
             used = cpu_time(self.process.pid)
             if used is not None and start is not None and used - start > cpu_seconds:
                 raise WorkerLost(f"the work used more than {cpu_seconds:g} s of CPU time")
+            if cancelled is not None and cancelled.is_set() and not interrupted:
+                interrupted = True
+                self.process.send_signal(signal.SIGUSR1)
+                deadline = min(deadline, time.monotonic() + GRACE_SECONDS)
+        if interrupted:
+            raise WorkerLost("the request was cancelled")
         raise WorkerLost(f"the work did not finish within {seconds:g} s")
 
     def receive(self, seconds: float) -> Any:
@@ -114,62 +159,141 @@ class Worker:
 
 
 class WorkerPool:
-    """Worker processes behind a bounded queue; :meth:`run` answers one request."""
+    """Worker processes behind a bounded queue, fair between clients; :meth:`run` answers
+    one request."""
 
     def __init__(self, limits: Limits) -> None:
         self.limits = limits
         self.admitted = 0  # running or waiting
         self.replaced = 0  # workers killed and started anew
+        self.superseded = 0  # requests cancelled, waiting or running
         self._workers: list[Worker] = []
-        self._idle: asyncio.Queue[Worker] | None = None
+        self._idle: list[Worker] = []
+        self._started = False
+        # client -> its waiting tickets; the dict's order is the turn (round robin)
+        self._waiting: dict[str, deque[Ticket]] = {}
+        self._running: dict[str, int] = {}
+        self._latest: dict[tuple[str, str], Ticket] = {}
 
     def start(self) -> None:
         """Start the workers (they import the library in the background)."""
-        self._idle = asyncio.Queue()
+        self._started = True
         for _ in range(self.limits.workers):
             worker = Worker.start(self.limits)
             self._workers.append(worker)
-            self._idle.put_nowait(worker)
+            self._idle.append(worker)
 
     def close(self) -> None:
         for worker in self._workers:
             worker.stop()
         self._workers.clear()
 
-    async def run(self, request: tuple[str, str, str, dict[str, Any]]) -> tuple[int, bytes]:
+    async def run(self, request: Request | Ticket) -> tuple[int, bytes]:
         """The status and body answering ``request``; PoolBusy when the queue is full,
-        WorkerLost when its worker had to be killed."""
-        if self._idle is None:
+        Superseded when it was cancelled while waiting, WorkerLost when its worker had to be
+        killed."""
+        if not self._started:
             raise RuntimeError("the worker pool is not started")
+        ticket = request if isinstance(request, Ticket) else Ticket(request)
         if self.admitted >= self.limits.workers + self.limits.queue:
             raise PoolBusy
+        if ticket.kind:
+            older = self._latest.get((ticket.client, ticket.kind))
+            if older is not None:
+                self.cancel(older)
+            self._latest[(ticket.client, ticket.kind)] = ticket
         self.admitted += 1
+        ticket.granted = asyncio.get_running_loop().create_future()
+        self._waiting.setdefault(ticket.client, deque()).append(ticket)
+        self._dispatch()
         try:
-            worker = await self._idle.get()
+            worker = await ticket.granted
         except BaseException:
-            self.admitted -= 1
+            self._leave(ticket)
             raise
         # shielded: a request abandoned by its client still gives its worker back, once done
-        return await asyncio.shield(self._use(worker, request))
+        return await asyncio.shield(self._use(worker, ticket))
 
-    async def _use(
-        self, worker: Worker, request: tuple[str, str, str, dict[str, Any]]
-    ) -> tuple[int, bytes]:
-        assert self._idle is not None
+    def cancel(self, ticket: Ticket) -> None:
+        """Cancel ``ticket``: out of the queue if it waits, its work interrupted if it runs."""
+        if ticket.cancelled.is_set():
+            return
+        ticket.cancelled.set()
+        self.superseded += 1
+        self._unqueue(ticket)
+        granted = ticket.granted
+        if granted is not None and not granted.done():
+            granted.set_exception(Superseded())
+
+    def _leave(self, ticket: Ticket) -> None:
+        """``ticket`` gave up waiting: out of the queue (a worker granted meanwhile goes back)."""
+        self.admitted -= 1
+        self._unqueue(ticket)
+        granted = ticket.granted
+        done = granted is not None and granted.done() and not granted.cancelled()
+        if done and granted is not None and granted.exception() is None:
+            self._release(ticket.client)
+            self._idle.append(granted.result())
+        self._forget(ticket)
+        self._dispatch()
+
+    def _unqueue(self, ticket: Ticket) -> None:
+        """Take ``ticket`` out of its client's queue, if it is there."""
+        queue = self._waiting.get(ticket.client)
+        if queue is not None and ticket in queue:
+            queue.remove(ticket)
+            if not queue:
+                del self._waiting[ticket.client]
+
+    def _release(self, client: str) -> None:
+        self._running[client] -= 1
+        if not self._running[client]:
+            del self._running[client]
+
+    def _forget(self, ticket: Ticket) -> None:
+        if self._latest.get((ticket.client, ticket.kind)) is ticket:
+            del self._latest[(ticket.client, ticket.kind)]
+
+    def _dispatch(self) -> None:
+        """Give idle workers to waiting tickets: clients in turn, each under its share."""
+        while self._idle:
+            ticket = self._next_ticket()
+            if ticket is None:
+                return
+            self._running[ticket.client] = self._running.get(ticket.client, 0) + 1
+            assert ticket.granted is not None
+            ticket.granted.set_result(self._idle.pop())
+
+    def _next_ticket(self) -> Ticket | None:
+        for client in list(self._waiting):
+            if self._running.get(client, 0) >= self.limits.client_workers:
+                continue
+            queue = self._waiting.pop(client)
+            ticket = queue.popleft()
+            if queue:
+                self._waiting[client] = queue  # back of the turn
+            return ticket
+        return None
+
+    async def _use(self, worker: Worker, ticket: Ticket) -> tuple[int, bytes]:
         try:
             status, body = await asyncio.to_thread(
                 worker.call,
-                request,
+                ticket.request,
                 self.limits.wall_seconds,
                 self.limits.cpu_seconds + GRACE_SECONDS,
+                ticket.cancelled,
             )
             return int(status), bytes(body)
         except WorkerLost:
             worker = await asyncio.to_thread(self._replace, worker)
             raise
         finally:
-            self._idle.put_nowait(worker)
+            self._release(ticket.client)
+            self._idle.append(worker)
             self.admitted -= 1
+            self._forget(ticket)
+            self._dispatch()
 
     def _replace(self, worker: Worker) -> Worker:
         worker.process.kill()

@@ -64,7 +64,12 @@ def derive_document(model: str, fmt: str, options: dict[str, Any]) -> dict[str, 
     --matrix``."""
     system = system_of(model, fmt, options)
     steps = options.get("steps", True)
-    return {**derivation_document(system, steps), "latex": derivation_latex(system, steps, True)}
+    initial = {str(name): float(value) for name, value in system.initial.items()}
+    return {
+        **derivation_document(system, steps),
+        "latex": derivation_latex(system, steps, True),
+        "initial": initial,  # the model's initial values: the page's sliders start there
+    }
 
 
 def analyze_document(model: str, fmt: str, options: dict[str, Any]) -> dict[str, Any]:
@@ -133,7 +138,8 @@ def simulation_summary(trajectory: Trajectory) -> dict[str, Any]:
 
 def scene(system: System, trajectory: Trajectory) -> dict[str, Any] | None:
     """The named points' positions at every sample and the links drawn between them (rods,
-    springs, dampers), each end a point's name or fixed coordinates; None with no points."""
+    springs, dampers), each end a point's name or fixed coordinates, with what each link is
+    (``link_kinds``: rod, spring or damper); None with no points."""
     if not [name for name in system.points() if name != "origin"]:
         return None
     points = compile_points(system)
@@ -142,13 +148,15 @@ def scene(system: System, trajectory: Trajectory) -> dict[str, Any] | None:
         len(trajectory.t), len(points.names), points.dimension
     )
     links: list[list[Any]] = [[a, b] for a, b in rods(system)]
-    ends = [spring.between for spring in system.springs]
-    ends += [damper.between for damper in system.dampers]
-    links += [[_end(ref, trajectory) for ref in pair] for pair in ends]
+    kinds = ["rod"] * len(links)
+    for kind, items in (("spring", system.springs), ("damper", system.dampers)):
+        links += [[_end(ref, trajectory) for ref in item.between] for item in items]
+        kinds += [kind] * len(items)
     return {
         "dimension": points.dimension,
         "points": {name: finite_list(values[:, i, :]) for i, name in enumerate(points.names)},
         "links": links,
+        "link_kinds": kinds,
     }
 
 

@@ -15,6 +15,8 @@ from lagrangian.web.limits import Limits
 LOOPBACK = "127.0.0.1"
 #: The names this machine answers to on its loopback addresses, as a Host header gives them.
 LOOPBACK_NAMES = ("localhost", "127.0.0.1", "[::1]")
+#: The addresses meaning "every interface": no Host header names them.
+EVERY_ADDRESS = ("0.0.0.0", "::", "[::]")
 
 
 def is_loopback(host: str) -> bool:
@@ -32,19 +34,32 @@ def is_loopback(host: str) -> bool:
 
 
 def allowed_hosts(host: str, extra: Sequence[str] = ()) -> tuple[str, ...] | None:
-    """The Host-header names the server answers to: the loopback names (and ``extra``) when
-    it listens on this machine only; ``extra`` alone when given for a shared server; any
-    (None) for a shared server without them.
+    """The Host-header names the server answers to: the address it listens on (the one it
+    prints), the loopback names when it listens on this machine only, and ``extra``; for a
+    shared server on every address (``0.0.0.0``) without ``extra``, any (None).
 
     >>> allowed_hosts("127.0.0.1")
     ('localhost', '127.0.0.1', '[::1]')
+    >>> allowed_hosts("127.0.0.2")
+    ('localhost', '127.0.0.1', '[::1]', '127.0.0.2')
     >>> allowed_hosts("0.0.0.0") is None, allowed_hosts("0.0.0.0", ["lab.example.org"])
     (True, ('lab.example.org',))
+    >>> allowed_hosts("192.0.2.7")
+    ('192.0.2.7',)
     """
     names = tuple(name.lower() for name in extra)
+    listening = () if host in EVERY_ADDRESS else (_host_name(host),)
     if is_loopback(host):
-        return LOOPBACK_NAMES + names
-    return names or None
+        return tuple(dict.fromkeys(LOOPBACK_NAMES + listening + names))
+    if not names and not listening:
+        return None
+    return tuple(dict.fromkeys(listening + names))
+
+
+def _host_name(host: str) -> str:
+    """``host`` as a Host header names it (an IPv6 address in brackets)."""
+    host = host.lower()
+    return f"[{host}]" if ":" in host and not host.startswith("[") else host
 
 
 def page_address(host: str, port: int) -> str:
@@ -53,8 +68,7 @@ def page_address(host: str, port: int) -> str:
     >>> page_address("::1", 8000)
     'http://[::1]:8000/'
     """
-    shown = f"[{host}]" if ":" in host and not host.startswith("[") else host
-    return f"http://{shown}:{port}/"
+    return f"http://{_host_name(host)}:{port}/"
 
 
 def serve(
@@ -75,30 +89,35 @@ def serve(
     import uvicorn
 
     from lagrangian.web.app import create_app
+    from lagrangian.web.connections import server_config
 
+    chosen = limits or Limits()
     address = page_address(host, port)
     if not is_loopback(host):
         sys.stderr.write(
             f"lagrangian: serving on {host}, reachable from other machines; each request is "
             "bounded in CPU time, memory and size\n"
         )
-    sys.stderr.write(f"lagrangian: the playground is at {address} (Ctrl-C to stop)\n")
-    config = uvicorn.Config(
-        create_app(limits, allowed_hosts(host, hosts)), host=host, port=port, log_level="warning"
+    app = create_app(chosen, allowed_hosts(host, hosts))
+    server = uvicorn.Server(server_config(app, host, port, chosen))
+    announcer = threading.Thread(
+        target=_announce_when_started, args=(server, address, open_browser), daemon=True
     )
-    server = uvicorn.Server(config)
-    if open_browser:
-        threading.Thread(target=_open_when_started, args=(server, address), daemon=True).start()
+    announcer.start()
     with contextlib.suppress(KeyboardInterrupt):  # uvicorn stops cleanly, then re-raises it
         server.run()
 
 
-def _open_when_started(server: object, address: str) -> None:
-    """Open the page once the server answers (its workers are ready by then)."""
+def _announce_when_started(server: object, address: str, open_browser: bool) -> None:
+    """Say where the page is once the server answers (its workers are ready by then), and
+    open it in a browser if asked."""
     import time
 
-    for _ in range(600):
-        if getattr(server, "started", False):
-            webbrowser.open(address)
+    while not getattr(server, "started", False):
+        if getattr(server, "should_exit", False):
             return
-        time.sleep(0.1)
+        time.sleep(0.05)
+    sys.stderr.write(f"lagrangian: the playground is at {address} (Ctrl-C to stop)\n")
+    sys.stderr.flush()
+    if open_browser:
+        webbrowser.open(address)

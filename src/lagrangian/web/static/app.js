@@ -1,22 +1,41 @@
 // The playground page: an editor for a model file, the equations and the analysis typeset
 // with KaTeX, and the simulation drawn on a canvas. Everything it needs comes from the
 // server's JSON API (/api/derive, /api/analyze, /api/simulate, /api/examples).
+//
+// Every result belongs to one text of the model (state.version, raised at each edit): an
+// answer to an older text is dropped, a panel computed from an older text is marked out of
+// date, and downloads take only what is current.
 "use strict";
 
 const $ = (id) => document.getElementById(id);
 const editor = $("editor");
 const gutter = $("gutter");
+// This page's name for itself: the server queues its requests together, and its newer
+// request of a kind replaces the older one there too.
+const CLIENT =
+  (window.crypto && crypto.randomUUID && crypto.randomUUID()) || String(Math.random()).slice(2);
+// Rows of LaTeX longer than this are typeset only when asked (the Whipple bicycle's are MBs).
+const LARGE_ROW = 20000;
+// Curve colours with at least 4.5:1 contrast on white (WCAG AA for text).
+const COLORS = ["#1f5fa8", "#b3261e", "#2e7d32", "#8a4b08", "#6a1b9a", "#00695c"];
 const state = {
-  derived: null, // the derive answer
-  analysis: null, // the analyze answer
-  run: null, // the simulate answer
+  version: 0, // raised at each change of the model's text or format
+  derived: null, // {version, answer}
+  analysis: null, // {version, answer}
+  run: null, // {version, settings, answer}
   settings: {}, // slider values: name -> number (options.set)
+  defaults: {}, // the model's own values of the sliders' names
+  playing: true,
+  playhead: 0, // the motion's time shown
+  rate: 1, // seconds of motion per second on screen
   frame: 0,
+  lastTick: 0,
   animation: null,
-  started: 0,
 };
 
-// ---- the model in the URL: #model=<base64url of the UTF-8 text>&format=yaml
+const current = (result) => result && result.version === state.version;
+
+// ---- the model in the URL: #model=<base64url of the UTF-8 text>&format=yaml&set=k=2;m=1
 function encodeText(text) {
   const bytes = new TextEncoder().encode(text);
   let binary = "";
@@ -31,6 +50,8 @@ function decodeText(code) {
 
 function saveToUrl() {
   const params = new URLSearchParams({ model: encodeText(editor.value), format: $("format").value });
+  const settings = settingsList();
+  if (settings.length) params.set("set", settings.join(";"));
   history.replaceState(null, "", "#" + params.toString());
 }
 
@@ -43,10 +64,15 @@ function readUrl() {
     return false;
   }
   $("format").value = params.get("format") || "yaml";
+  state.settings = {};
+  for (const item of (params.get("set") || "").split(";").filter(Boolean)) {
+    const [name, value] = item.split("=");
+    if (name && isFinite(Number(value))) state.settings[name] = Number(value);
+  }
   return true;
 }
 
-// ---- the editor's line numbers and the errors
+// ---- the editor: line numbers, errors, and the keyboard (Tab leaves, Esc then Tab indents)
 let badLines = new Set();
 
 function drawGutter() {
@@ -87,80 +113,373 @@ function showProblems(problems) {
       item.appendChild(fix);
     }
     if (p.line) {
+      const go = document.createElement("button");
+      go.type = "button";
+      go.className = "go";
+      go.textContent = `go to line ${p.line}`;
+      go.addEventListener("click", () => goToLine(p.line, p.column));
+      item.appendChild(go);
       item.dataset.line = p.line;
       badLines.add(p.line);
-      item.addEventListener("click", () => goToLine(p.line, p.column));
     }
     list.appendChild(item);
   }
   drawGutter();
 }
 
-// ---- talking to the server
-let busy = 0;
+const INDENT = "  ";
+let indentArmed = false; // Escape or Ctrl-] pressed: Tab indents until another key
+
+function indentLines(outdent) {
+  const text = editor.value;
+  const start = text.lastIndexOf("\n", editor.selectionStart - 1) + 1;
+  const end = editor.selectionEnd;
+  const block = text.slice(start, end);
+  const lines = block.split("\n");
+  const changed = lines
+    .map((line) => (outdent ? line.replace(/^ {1,2}/, "") : INDENT + line))
+    .join("\n");
+  editor.setRangeText(changed, start, end, "select");
+  if (editor.selectionStart === editor.selectionEnd || lines.length === 1) {
+    const caret = outdent ? Math.max(start, end - (block.length - changed.length)) : end + INDENT.length;
+    editor.setSelectionRange(caret, caret);
+  }
+  modelChanged();
+}
+
+function setIndentMode(armed) {
+  indentArmed = armed;
+  $("editor-help").textContent = armed
+    ? "Tab indents, Shift+Tab outdents (any other key, and Tab moves on again)."
+    : "Tab moves to the next control; Esc or Ctrl+] then Tab indents.";
+}
+
+editor.addEventListener("keydown", (event) => {
+  if (event.key === "Escape" || (event.ctrlKey && event.key === "]")) {
+    event.preventDefault();
+    setIndentMode(true);
+    return;
+  }
+  if (event.key === "Tab" && indentArmed) {
+    event.preventDefault();
+    indentLines(event.shiftKey);
+    return;
+  }
+  if (indentArmed && event.key !== "Shift") setIndentMode(false);
+});
+editor.addEventListener("blur", () => setIndentMode(false));
+
+// ---- the server: requests tied to the text that made them, and a server that went away
+const controllers = {}; // command -> the AbortController of its request in flight
+let lost = false;
 
 function setStatus(text) {
   $("status").textContent = text;
 }
 
-async function call(command, options) {
-  const body = { model: editor.value, format: $("format").value, options: options || {} };
-  busy += 1;
-  setStatus(`${command}…`);
+function serverLost() {
+  if (lost) return;
+  lost = true;
+  const banner = $("connection");
+  banner.hidden = false;
+  banner.textContent =
+    "The server does not answer: is lagrangian serve still running? Results shown may be out " +
+    "of date; the page tries again every few seconds.";
+  setStatus("no server");
+  document.body.dataset.server = "lost";
+}
+
+function serverFound() {
+  if (!lost) return;
+  lost = false;
+  $("connection").hidden = true;
+  document.body.dataset.server = "up";
+  setStatus("the server answers again");
+  if (!current(state.derived) || !current(state.run)) refresh();
+}
+
+async function checkServer() {
   try {
-    const response = await fetch(`/api/${command}`, {
-      method: "POST",
-      headers: { "Content-Type": "application/json" },
-      body: JSON.stringify(body),
-    });
-    const answer = await response.json();
-    if (!response.ok) {
-      showProblems(answer.problems || [{ field: "", message: `HTTP ${response.status}` }]);
-      setStatus(`${command}: ${answer.error || "error"}`);
-      return null;
-    }
-    showProblems([]);
-    setStatus(`${command}: done`);
-    return answer;
+    const response = await fetch("/api/health", { cache: "no-store" });
+    if (response.ok) serverFound();
+    else serverLost();
   } catch (error) {
-    showProblems([{ field: "server", message: String(error), fix: "is lagrangian serve running?" }]);
-    setStatus("no answer");
-    return null;
-  } finally {
-    busy -= 1;
+    serverLost();
   }
 }
 
-// ---- LaTeX with KaTeX: each align* block typeset on its own
-function typeset(target, latex) {
+// The answer of ``command`` for the current text, or null (an error shown, a newer request
+// made, the text changed meanwhile, or no server).
+async function call(command, options) {
+  const version = state.version;
+  const body = { model: editor.value, format: $("format").value, options: options || {} };
+  if (controllers[command]) controllers[command].abort();
+  const controller = new AbortController();
+  controllers[command] = controller;
+  setStatus(`${command}…`);
+  let response;
+  let answer;
+  try {
+    response = await fetch(`/api/${command}`, {
+      method: "POST",
+      headers: { "Content-Type": "application/json", "X-Lagrangian-Client": CLIENT },
+      body: JSON.stringify(body),
+      signal: controller.signal,
+    });
+    answer = await response.json();
+  } catch (error) {
+    if (controller.signal.aborted) return null; // replaced by a newer request
+    serverLost();
+    return null;
+  } finally {
+    if (controllers[command] === controller) delete controllers[command];
+  }
+  serverFound();
+  if (version !== state.version || response.status === 409) return null;
+  if (!response.ok) {
+    showProblems(answer.problems || [{ field: "", message: `HTTP ${response.status}` }]);
+    setStatus(`${command}: ${answer.error || "error"}`);
+    return null;
+  }
+  showProblems([]);
+  setStatus(`${command}: done`);
+  return answer;
+}
+
+// ---- LaTeX with KaTeX: one row at a time, typeset as it scrolls into view, each fitted to
+// its box (a long row broken at its top-level + and −, a matrix row at its =)
+function splitTopLevel(latex, separator) {
+  // Pieces of ``latex`` between occurrences of ``separator`` outside braces and environments.
+  const pieces = [];
+  let depth = 0;
+  let start = 0;
+  for (let i = 0; i < latex.length; i++) {
+    const c = latex[i];
+    if (c === "\\") {
+      if (latex.startsWith("\\begin{", i)) depth += 1;
+      else if (latex.startsWith("\\end{", i)) depth -= 1;
+      else if (depth === 0 && latex.startsWith(separator, i)) {
+        pieces.push(latex.slice(start, i));
+        start = i + separator.length;
+        i = start - 1;
+        continue;
+      }
+      i += 1; // an escaped character is never a separator
+      continue;
+    }
+    if (c === "{") depth += 1;
+    else if (c === "}") depth -= 1;
+    else if (depth === 0 && latex.startsWith(separator, i)) {
+      pieces.push(latex.slice(start, i));
+      start = i + separator.length;
+      i = start - 1;
+    }
+  }
+  pieces.push(latex.slice(start));
+  return pieces;
+}
+
+function latexRows(latex) {
+  const rows = [];
+  for (const block of latex.split(/\\end\{align\*\}/)) {
+    const body = block.replace(/\\begin\{align\*\}/, "").trim();
+    if (!body) continue;
+    for (const row of splitTopLevel(body, "\\\\")) if (row.trim()) rows.push(row.trim());
+  }
+  return rows;
+}
+
+// Places where a row may break: before a top-level "+", "-" or "=" (outside \left( \right) too),
+// and, when ``anySpace``, between any two factors of a product too.
+function breakPoints(row, anySpace) {
+  const points = [];
+  let depth = 0;
+  for (let i = 0; i < row.length; i++) {
+    const c = row[i];
+    if (c === "\\") {
+      if (row.startsWith("\\left", i) || row.startsWith("\\begin{", i)) depth += 1;
+      else if (row.startsWith("\\right", i) || row.startsWith("\\end{", i)) depth -= 1;
+      i += 1;
+      continue;
+    }
+    if (c === "{") depth += 1;
+    else if (c === "}") depth -= 1;
+    else if (depth === 0 && i > 0 && /[+\-=]/.test(c) && row[i - 1] === " ") points.push(i);
+    if (depth === 0 && row.startsWith(" \\text{", i)) points.push(i + 1); // between words
+    else if (anySpace && depth === 0 && c === " " && i > 0 && /[\\\w]/.test(row[i + 1] || "")) {
+      points.push(i + 1);
+    }
+  }
+  return points;
+}
+
+// The group in braces that starts at ``at`` (a "{"): [its inside, the index after it].
+function braceGroup(latex, at) {
+  let depth = 0;
+  for (let i = at; i < latex.length; i++) {
+    if (latex[i] === "\\") i += 1;
+    else if (latex[i] === "{") depth += 1;
+    else if (latex[i] === "}" && --depth === 0) return [latex.slice(at + 1, i), i + 1];
+  }
+  return [latex.slice(at + 1), latex.length];
+}
+
+// Each fraction outside braces, A/B, written 1/B (A), and each text word by word: a long
+// numerator or sentence may then break.
+function openFractions(latex) {
+  let out = "";
+  let depth = 0;
+  for (let i = 0; i < latex.length; i++) {
+    if (depth === 0 && latex.startsWith("\\frac{", i)) {
+      const [top, afterTop] = braceGroup(latex, i + 5);
+      const [bottom, after] = braceGroup(latex, afterTop);
+      out += `\\frac{1}{${bottom}}\\bigl(${top}\\bigr)`;
+      i = after - 1;
+      continue;
+    }
+    if (depth === 0 && latex.startsWith("\\text{", i)) {
+      const [words, after] = braceGroup(latex, i + 5);
+      out += words.split(" ").map((word) => `\\text{${word} }`).join(" ");
+      i = after - 1;
+      continue;
+    }
+    const c = latex[i];
+    if (c === "\\") {
+      out += c + (latex[i + 1] || "");
+      i += 1;
+      continue;
+    }
+    if (c === "{") depth += 1;
+    else if (c === "}") depth -= 1;
+    out += c;
+  }
+  return out;
+}
+
+// ``row`` over about ``lines`` lines; the looser, the more places to break: its \left( \right)
+// pairs become \bigl( \bigr) (1), its fractions 1/B (A) (2), and it breaks between factors (3).
+function brokenRow(row, lines, loose) {
+  let flat = row.replace(/&/g, (match, at) => (row[at - 1] === "\\" ? match : ""));
+  if (loose >= 2) flat = openFractions(flat);
+  if (loose >= 1) flat = flat.replace(/\\left\(/g, "\\bigl(").replace(/\\right\)/g, "\\bigr)");
+  const points = breakPoints(flat, loose >= 3);
+  if (lines <= 1 || !points.length) return flat;
+  const target = flat.length / lines;
+  const parts = [];
+  let start = 0;
+  for (const point of points) {
+    if (point - start >= target) {
+      parts.push(flat.slice(start, point).trim());
+      start = point;
+    }
+  }
+  parts.push(flat.slice(start).trim());
+  return "\\begin{aligned}&" + parts.join("\\\\&\\qquad ") + "\\end{aligned}";
+}
+
+function renderRow(item) {
+  const row = item.dataset.latex;
+  const render = (latex) => {
+    if (window.katex) window.katex.render(latex, item, { displayMode: true, throwOnError: false });
+    else item.textContent = latex;
+  };
+  const fits = () => item.scrollWidth <= item.clientWidth + 1;
+  render(brokenRow(row, 1, 0));
+  for (const loose of [0, 1, 2, 3]) {
+    let lines = 1;
+    while (!fits() && lines < 80) {
+      // as many lines as the row is wider than its box, then one more at a time
+      lines = Math.max(lines + 1, Math.ceil((lines * item.scrollWidth) / item.clientWidth));
+      const before = item.innerHTML;
+      render(brokenRow(row, lines, loose));
+      if (item.innerHTML === before) break; // no more places to break
+    }
+  }
+  item.style.fontSize = "";
+  if (!fits()) {
+    // a piece that cannot break (a matrix, a long fraction): a smaller type, down to 60 %
+    item.style.fontSize = `${Math.max(0.6, (0.98 * item.clientWidth) / item.scrollWidth)}em`;
+  }
+  const wide = !fits(); // the last resort: this row scrolls on its own, by keyboard too
+  item.classList.toggle("wide", wide);
+  if (wide) {
+    item.tabIndex = 0;
+    item.setAttribute("role", "group");
+    item.setAttribute("aria-label", "a wide equation: scroll it sideways");
+  }
+  item.dataset.typeset = "true";
+}
+
+const observer =
+  "IntersectionObserver" in window
+    ? new IntersectionObserver(
+        (entries) => {
+          for (const entry of entries) {
+            if (entry.isIntersecting) {
+              observer.unobserve(entry.target);
+              renderRow(entry.target);
+            }
+          }
+        },
+        { rootMargin: "400px" },
+      )
+    : null;
+
+function typeset(target, latex, version) {
   target.innerHTML = "";
-  const blocks = latex.split(/(?<=\\end\{align\*\})/).map((b) => b.trim()).filter(Boolean);
-  for (const block of blocks) {
+  target.dataset.version = version;
+  target.classList.remove("stale");
+  for (const row of latexRows(latex)) {
     const item = document.createElement("div");
     item.className = "item";
-    if (window.katex) {
-      window.katex.render(block, item, { displayMode: true, throwOnError: false });
+    item.dataset.latex = row;
+    if (row.length > LARGE_ROW) {
+      const show = document.createElement("button");
+      show.type = "button";
+      show.className = "show-large";
+      show.textContent = `Show this equation (${Math.round(row.length / 1000)} kB of LaTeX)`;
+      show.addEventListener("click", () => renderRow(item));
+      item.appendChild(show);
+    } else if (observer) {
+      item.textContent = "…";
+      observer.observe(item);
     } else {
-      item.textContent = block;
+      renderRow(item);
     }
     target.appendChild(item);
   }
 }
 
+// ---- the panels and what they show
+function markStale() {
+  for (const id of ["equations", "analysis", "simulation-panel"]) {
+    const panel = $(id);
+    panel.classList.toggle("stale", panel.dataset.version !== String(state.version));
+  }
+  const latexReady = current(state.derived);
+  const csvReady = current(state.run);
+  $("download-latex").setAttribute("aria-disabled", String(!latexReady));
+  $("download-csv").setAttribute("aria-disabled", String(!csvReady));
+}
+
 async function derive() {
-  const answer = await call("derive", { steps: true, set: settingsList() });
-  if (!answer) return false;
-  state.derived = answer;
-  typeset($("equations"), answer.latex);
+  const answer = await call("derive", { steps: true });
+  if (!answer) {
+    markStale();
+    return false;
+  }
+  state.derived = { version: state.version, answer };
+  typeset($("equations"), answer.latex, state.version);
+  markStale();
   return true;
 }
 
 async function analyze() {
   const answer = await call("analyze", { set: settingsList() });
   if (!answer) return;
-  state.analysis = answer;
+  state.analysis = { version: state.version, answer };
   const target = $("analysis");
-  typeset(target, answer.latex);
+  typeset(target, answer.latex, state.version);
   const notes = [];
   for (const c of answer.conserved_quantities || []) {
     const when = (c.conditions || []).join(", ");
@@ -176,97 +495,218 @@ async function analyze() {
     }
     target.appendChild(list);
   }
+  markStale();
 }
 
-// ---- sliders: every parameter and initial value, re-running the simulation at once
+// ---- sliders: each parameter and initial value, with an exact number beside it
 function settingsList() {
   return Object.entries(state.settings).map(([name, value]) => `${name}=${value}`);
 }
 
-function sliderRange(value) {
+// The slider's range: from the value's size and sign; coordinates and velocities go both ways.
+function sliderRange(value, signed, scale) {
+  const size = Math.max(Math.abs(value), scale || 0);
+  if (signed) {
+    const reach = 2 * size || 1;
+    return [-reach, reach];
+  }
   if (value > 0) return [0, 3 * value];
-  if (value < 0) return [3 * value, -value];
+  if (value < 0) return [3 * value, 0];
   return [-1, 1];
 }
 
-function addSlider(name, value, kind) {
+const shortNumber = (v) => Number(Number(v).toPrecision(3));
+
+function addSlider(name, fallback, kind, signed, scale) {
+  const model = state.defaults[name] ?? fallback;
+  state.defaults[name] = model;
+  const value = state.settings[name] ?? model;
+  const unit = ((current(state.derived) && state.derived.answer.units) || {})[name];
+  const row = document.createElement("div");
+  row.className = "slider";
+  const id = `set-${name}`;
   const label = document.createElement("label");
+  label.htmlFor = id;
+  label.textContent = unit ? `${name} (${unit})` : name;
   label.title = kind;
-  const [low, high] = sliderRange(value);
-  const input = document.createElement("input");
-  Object.assign(input, { type: "range", min: low, max: high, step: (high - low) / 200, value });
-  input.dataset.name = name;
-  const shown = document.createElement("output");
-  shown.textContent = Number(value).toPrecision(3);
-  const text = document.createElement("span");
-  text.textContent = name;
-  label.append(text, input, shown);
-  let timer = null;
-  input.addEventListener("input", () => {
-    shown.textContent = Number(input.value).toPrecision(3);
-    state.settings[name] = Number(input.value);
-    clearTimeout(timer);
-    timer = setTimeout(() => simulate(false), 250);
+  const [low, high] = sliderRange(model, signed, scale);
+  const slider = document.createElement("input");
+  Object.assign(slider, { type: "range", min: Math.min(low, value), max: Math.max(high, value) });
+  slider.step = "any";
+  slider.value = value;
+  slider.dataset.name = name;
+  slider.setAttribute("aria-label", `${name}, ${kind}, slider`);
+  const box = document.createElement("input");
+  Object.assign(box, { type: "number", id, step: "any", value: String(value) });
+  box.dataset.name = name;
+  const reset = document.createElement("button");
+  reset.type = "button";
+  reset.className = "reset";
+  reset.textContent = "↺";
+  reset.setAttribute("aria-label", `reset ${name} to ${model}`);
+  reset.title = `back to the model's ${model}`;
+  row.append(label, slider, box, reset);
+  const chosen = (number) => {
+    if (number === model) delete state.settings[name];
+    else state.settings[name] = number;
+    saveToUrl();
+    scheduleSimulation();
+  };
+  slider.addEventListener("input", () => {
+    const number = shortNumber(slider.value); // a short value, not the slider's pixel
+    box.value = String(number);
+    chosen(number);
   });
-  $("sliders").appendChild(label);
+  box.addEventListener("input", () => {
+    if (box.value === "" || !isFinite(Number(box.value))) return;
+    const number = Number(box.value); // exactly as typed
+    slider.min = Math.min(Number(slider.min), number);
+    slider.max = Math.max(Number(slider.max), number);
+    slider.value = number;
+    chosen(number);
+  });
+  reset.addEventListener("click", () => {
+    box.value = String(model);
+    slider.value = model;
+    chosen(model);
+  });
+  $("sliders").appendChild(row);
+}
+
+let simulationTimer = null;
+function scheduleSimulation() {
+  clearTimeout(simulationTimer);
+  simulationTimer = setTimeout(() => simulate(false), 250);
+}
+
+function columnScale(column) {
+  return Math.max(0, ...(column || []).map((v) => Math.abs(v ?? 0)));
 }
 
 function buildSliders(run) {
   $("sliders").innerHTML = "";
-  for (const [name, value] of Object.entries(run.summary.parameters || {})) {
-    addSlider(name, state.settings[name] ?? value, "parameter");
+  const derived = current(state.derived) ? state.derived.answer : {};
+  for (const [name, value] of Object.entries(derived.parameters || run.summary.parameters || {})) {
+    addSlider(name, value, "parameter", false, 0);
   }
-  const coordinates = (state.derived && state.derived.coordinates) || [];
-  for (const q of coordinates) {
+  const initial = derived.initial || {};
+  for (const q of derived.coordinates || []) {
     for (const name of [q, q + "_dot"]) {
       const column = run.columns[name];
-      if (column) addSlider(name, state.settings[name] ?? column[0], "initial value");
+      if (column) addSlider(name, initial[name] ?? column[0], "initial value", true, columnScale(column));
     }
   }
+  $("reset-all").hidden = !$("sliders").children.length;
 }
 
 async function simulate(rebuild = true) {
-  const options = { set: settingsList() };
-  const answer = await call("simulate", options);
-  if (!answer) return;
-  state.run = answer;
-  if (rebuild) buildSliders(answer);
+  const settings = settingsList().join(";");
+  const answer = await call("simulate", { set: settingsList() });
+  if (!answer || !current(state.derived)) {
+    markStale();
+    return;
+  }
+  state.run = { version: state.version, settings, answer };
+  $("simulation-panel").dataset.version = state.version;
+  if (rebuild || !$("sliders").children.length) buildSliders(answer);
   buildPlotMenu();
-  $("summary").textContent =
-    `${answer.summary.samples} samples, ${answer.summary.method}: ${answer.summary.drift_summary}`;
+  const s = answer.summary;
+  $("summary").textContent = `${s.samples} samples, ${s.method}: ${s.drift_summary}`;
   drawPlot();
-  startAnimation();
+  startAnimation(rebuild);
+  markStale();
 }
 
-// ---- the animation: the particles and bodies, or gauges of the coordinates
-function startAnimation() {
-  cancelAnimationFrame(state.animation);
-  state.started = performance.now();
-  const step = () => {
-    drawFrame();
-    state.animation = requestAnimationFrame(step);
-  };
-  step();
+async function refresh() {
+  if (await derive()) await simulate();
 }
 
-function currentIndex() {
-  const t = state.run.columns.t;
+// ---- the animation: the motion's own time scale, play/pause, step, speed, a time slider
+function motionPeriod(columns, names) {
+  // The shortest period among the coordinates, from how often each crosses its mean.
+  const t = columns.t;
   const span = t[t.length - 1] - t[0] || 1;
-  const elapsed = ((performance.now() - state.started) / 1000) % Math.max(span, 1e-9);
+  let period = span;
+  for (const name of names) {
+    const values = (columns[name] || []).filter((v) => v !== null);
+    if (values.length < 3) continue;
+    const mean = values.reduce((a, b) => a + b, 0) / values.length;
+    let crossings = 0;
+    for (let k = 1; k < values.length; k++) {
+      if ((values[k - 1] - mean) * (values[k] - mean) < 0) crossings += 1;
+    }
+    if (crossings >= 2) period = Math.min(period, (2 * span) / crossings);
+  }
+  return period;
+}
+
+function chooseSpeeds(columns) {
+  // One period of the motion takes 2 s on screen, and the whole run at least 4 s.
+  const t = columns.t;
+  const span = t[t.length - 1] - t[0] || 1;
+  const names = gaugeNames();
+  const base = Math.min(motionPeriod(columns, names) / 2, span / 4);
+  const menu = $("speed");
+  menu.innerHTML = "";
+  for (const factor of [0.25, 0.5, 1, 2, 4]) {
+    const option = document.createElement("option");
+    option.value = String(base * factor);
+    option.textContent = `${shortNumber(base * factor)}× real time`;
+    menu.appendChild(option);
+  }
+  menu.selectedIndex = 2;
+  state.rate = base;
+}
+
+function startAnimation(fresh) {
+  const columns = state.run.answer.columns;
+  const slider = $("time");
+  slider.max = String(columns.t.length - 1);
+  if (fresh) {
+    chooseSpeeds(columns);
+    state.playhead = columns.t[0];
+  }
+  cancelAnimationFrame(state.animation);
+  state.lastTick = performance.now();
+  const tick = (now) => {
+    if (state.playing && current(state.run)) {
+      const t = columns.t;
+      const span = t[t.length - 1] - t[0] || 1;
+      state.playhead += ((now - state.lastTick) / 1000) * state.rate;
+      if (state.playhead > t[t.length - 1]) state.playhead = t[0] + ((state.playhead - t[0]) % span);
+    }
+    state.lastTick = now;
+    drawFrame();
+    state.animation = requestAnimationFrame(tick);
+  };
+  state.animation = requestAnimationFrame(tick);
+}
+
+function setPlaying(playing) {
+  state.playing = playing;
+  const button = $("play");
+  button.textContent = playing ? "Pause" : "Play";
+  button.setAttribute("aria-pressed", String(!playing));
+}
+
+function stepFrame(by) {
+  if (!state.run) return;
+  setPlaying(false);
+  const t = state.run.answer.columns.t;
+  const index = Math.min(t.length - 1, Math.max(0, state.frame + by));
+  state.playhead = t[index];
+}
+
+function indexAt(time) {
+  const t = state.run.answer.columns.t;
   let low = 0;
   let high = t.length - 1;
   while (low < high) {
     const middle = (low + high) >> 1;
-    if (t[middle] - t[0] < elapsed) low = middle + 1;
+    if (t[middle] < time) low = middle + 1;
     else high = middle;
   }
   return low;
-}
-
-function project(point, dimension) {
-  if (dimension === 3) return [point[0] + 0.35 * point[1], point[2] + 0.35 * point[1]];
-  if (dimension === 1) return [point[0], 0];
-  return [point[0], point[1]];
 }
 
 function drawFrame() {
@@ -275,15 +715,50 @@ function drawFrame() {
   context.fillStyle = "#fff";
   context.fillRect(0, 0, canvas.width, canvas.height);
   if (!state.run) return;
-  const index = currentIndex();
+  const run = state.run.answer;
+  const index = indexAt(state.playhead);
   state.frame = index;
-  const scene = state.run.scene;
-  if (scene) drawScene(context, canvas, scene, index);
-  else drawGauges(context, canvas, index);
+  const shapes = run.scene ? sceneShapes(run.scene, index) : gaugeShapes(index);
+  drawShapes(context, canvas, shapes, run.scene);
+  const t = run.columns.t[index];
   context.fillStyle = "#333";
   context.font = "13px sans-serif";
-  context.fillText(`t = ${state.run.columns.t[index].toFixed(2)}`, 8, 16);
+  context.fillText(`t = ${t.toPrecision(4)} s`, 8, 16);
+  $("time").value = String(index);
+  $("time-shown").textContent = `t = ${t.toPrecision(4)} s`;
   drawPlotCursor(index);
+}
+
+function project(point, dimension) {
+  if (dimension === 3) return [point[0] + 0.35 * point[1], point[2] + 0.35 * point[1]];
+  if (dimension === 1) return [point[0], 0];
+  return [point[0], point[1]];
+}
+
+// What the canvas draws at one sample, in the model's own coordinates: rods, springs (coils),
+// dampers, bodies and their recent paths.  A scene description from the server would give
+// these shapes directly (discs with their radius, a top's axes).
+function sceneShapes(scene, index) {
+  const origin = scene.dimension === 3 ? [0, 0, 0] : [0, 0];
+  const where = (end) => {
+    if (typeof end === "string") return end === "origin" ? origin : scene.points[end][index];
+    return end.map((v) => v ?? 0);
+  };
+  const kinds = scene.link_kinds || [];
+  const shapes = scene.links.map(([a, b], i) => ({
+    kind: kinds[i] || "rod",
+    from: project(where(a), scene.dimension),
+    to: project(where(b), scene.dimension),
+  }));
+  shapes.push({ kind: "pivot", at: project(origin, scene.dimension) });
+  Object.entries(scene.points).forEach(([name, path], i) => {
+    const from = Math.max(0, index - 60);
+    const trail = path.slice(from, index + 1).map((p) => project(p, scene.dimension));
+    const color = COLORS[i % COLORS.length];
+    shapes.push({ kind: "trail", points: trail, color });
+    shapes.push({ kind: "body", at: project(path[index], scene.dimension), name, color });
+  });
+  return shapes;
 }
 
 function sceneScale(scene, canvas) {
@@ -298,85 +773,118 @@ function sceneScale(scene, canvas) {
   return (0.45 * Math.min(canvas.width, canvas.height)) / extent;
 }
 
-function drawScene(context, canvas, scene, index) {
-  const scale = sceneScale(scene, canvas);
-  const toCanvas = (p) => {
-    const [x, y] = project(p, scene.dimension);
-    return [canvas.width / 2 + scale * x, canvas.height / 2 - scale * y];
-  };
-  const origin = scene.dimension === 3 ? [0, 0, 0] : [0, 0];
-  const where = (end) => {
-    if (typeof end === "string") return end === "origin" ? origin : scene.points[end][index];
-    return end.map((v) => v ?? 0);
-  };
-  context.strokeStyle = "#555";
-  context.lineWidth = 2;
-  for (const [a, b] of scene.links) {
-    const [x1, y1] = toCanvas(where(a));
-    const [x2, y2] = toCanvas(where(b));
-    context.beginPath();
-    context.moveTo(x1, y1);
-    context.lineTo(x2, y2);
-    context.stroke();
+function drawCoil(context, [x1, y1], [x2, y2]) {
+  const length = Math.hypot(x2 - x1, y2 - y1) || 1;
+  const [ux, uy] = [(x2 - x1) / length, (y2 - y1) / length];
+  const turns = 8;
+  context.beginPath();
+  context.moveTo(x1, y1);
+  for (let k = 1; k < 2 * turns; k++) {
+    const along = 0.1 + (0.8 * k) / (2 * turns);
+    const side = (k % 2 ? 1 : -1) * 7;
+    context.lineTo(x1 + ux * along * length - uy * side, y1 + uy * along * length + ux * side);
   }
-  const colors = ["#1e88e5", "#e53935", "#43a047", "#fb8c00", "#8e24aa", "#00897b"];
-  Object.entries(scene.points).forEach(([name, path], i) => {
-    const color = colors[i % colors.length];
-    context.strokeStyle = color;
-    context.globalAlpha = 0.4;
-    context.lineWidth = 1;
-    context.beginPath();
-    for (let k = Math.max(0, index - 60); k <= index; k++) {
-      const [x, y] = toCanvas(path[k]);
-      if (k === Math.max(0, index - 60)) context.moveTo(x, y);
-      else context.lineTo(x, y);
+  context.lineTo(x2, y2);
+  context.stroke();
+}
+
+function drawShapes(context, canvas, shapes, scene) {
+  const scale = scene ? sceneScale(scene, canvas) : 1;
+  const toCanvas = ([x, y]) =>
+    scene ? [canvas.width / 2 + scale * x, canvas.height / 2 - scale * y] : [x, y];
+  for (const shape of shapes) {
+    context.lineWidth = 2;
+    context.strokeStyle = "#455a64";
+    if (shape.kind === "rod" || shape.kind === "damper") {
+      const [x1, y1] = toCanvas(shape.from);
+      const [x2, y2] = toCanvas(shape.to);
+      context.lineWidth = shape.kind === "rod" ? 3 : 6;
+      if (shape.kind === "damper") context.strokeStyle = "#78909c";
+      context.beginPath();
+      context.moveTo(x1, y1);
+      context.lineTo(x2, y2);
+      context.stroke();
+    } else if (shape.kind === "spring") {
+      drawCoil(context, toCanvas(shape.from), toCanvas(shape.to));
+    } else if (shape.kind === "pivot") {
+      const [x, y] = toCanvas(shape.at);
+      context.fillStyle = "#263238";
+      context.fillRect(x - 4, y - 4, 8, 8);
+    } else if (shape.kind === "trail") {
+      context.strokeStyle = shape.color;
+      context.globalAlpha = 0.4;
+      context.lineWidth = 1;
+      context.beginPath();
+      shape.points.forEach((p, k) => {
+        const [x, y] = toCanvas(p);
+        if (k === 0) context.moveTo(x, y);
+        else context.lineTo(x, y);
+      });
+      context.stroke();
+      context.globalAlpha = 1;
+    } else if (shape.kind === "body") {
+      const [x, y] = toCanvas(shape.at);
+      context.fillStyle = shape.color;
+      context.beginPath();
+      context.arc(x, y, 8, 0, 2 * Math.PI);
+      context.fill();
+      context.fillStyle = "#263238";
+      context.font = "13px sans-serif";
+      context.fillText(shape.name, x + 10, y - 10);
+    } else if (shape.kind === "gauge") {
+      context.fillStyle = "#eceff1";
+      context.fillRect(shape.x, shape.y, shape.width, shape.height);
+      context.fillStyle = COLORS[0];
+      const middle = shape.x + shape.width / 2;
+      const bar = (shape.value * shape.width) / 2;
+      context.fillRect(Math.min(middle, middle + bar), shape.y, Math.abs(bar), shape.height);
+      context.fillStyle = "#263238";
+      context.font = "13px sans-serif";
+      context.fillText(shape.name, 8, shape.y + shape.height * 0.8);
     }
-    context.stroke();
-    context.globalAlpha = 1;
-    const [x, y] = toCanvas(path[index]);
-    context.fillStyle = color;
-    context.beginPath();
-    context.arc(x, y, 8, 0, 2 * Math.PI);
-    context.fill();
-    context.fillStyle = "#333";
-    context.fillText(name, x + 10, y - 10);
-  });
-  context.fillStyle = "#333";
-  const [ox, oy] = toCanvas(origin);
-  context.fillRect(ox - 3, oy - 3, 6, 6);
+  }
 }
 
 function gaugeNames() {
-  const coordinates = (state.derived && state.derived.coordinates) || [];
+  const columns = state.run ? state.run.answer.columns : {};
+  const coordinates = (current(state.derived) && state.derived.answer.coordinates) || [];
   const names = [];
   for (const q of coordinates) names.push(q, q + "_dot");
-  return names.filter((n) => state.run.columns[n]);
+  return names.filter((n) => columns[n]);
 }
 
-function drawGauges(context, canvas, index) {
+// A circuit (no points): a gauge per charge and current, scaled by its largest value.
+function gaugeShapes(index) {
+  const canvas = $("canvas");
+  const columns = state.run.answer.columns;
   const names = gaugeNames();
   const height = Math.min(40, (canvas.height - 40) / Math.max(1, names.length));
-  names.forEach((name, i) => {
-    const column = state.run.columns[name];
-    const largest = Math.max(...column.map((v) => Math.abs(v ?? 0))) || 1;
-    const value = (column[index] ?? 0) / largest;
-    const y = 30 + i * height;
-    const middle = canvas.width / 2 + 40;
-    context.fillStyle = "#eceff1";
-    context.fillRect(90, y, canvas.width - 110, height * 0.7);
-    context.fillStyle = "#1e88e5";
-    const width = value * (canvas.width - 110) / 2;
-    context.fillRect(Math.min(middle, middle + width), y, Math.abs(width), height * 0.7);
-    context.fillStyle = "#333";
-    context.fillText(name, 8, y + height * 0.5);
-  });
+  return names.map((name, i) => ({
+    kind: "gauge",
+    name,
+    value: (columns[name][index] ?? 0) / (columnScale(columns[name]) || 1),
+    x: 90,
+    y: 30 + i * height,
+    width: canvas.width - 110,
+    height: height * 0.7,
+  }));
 }
 
-// ---- the plot of the coordinates against time
 // ---- the plot: the coordinates against t, a phase portrait, or the energy's change
+function units() {
+  return (current(state.derived) && state.derived.answer.units) || {};
+}
+
+function withUnit(name) {
+  const unit = units()[name];
+  return unit ? `${name} (${unit})` : name;
+}
+
 function plotChoices() {
-  const columns = state.run ? state.run.columns : {};
-  const names = ((state.derived && state.derived.coordinates) || []).filter((n) => columns[n]);
+  const columns = state.run ? state.run.answer.columns : {};
+  const names = ((current(state.derived) && state.derived.answer.coordinates) || []).filter(
+    (n) => columns[n],
+  );
   const choices = [["coordinates", "coordinates against t"]];
   for (const n of names) if (columns[`${n}_dot`]) choices.push([`phase:${n}`, `phase portrait of ${n}`]);
   if (columns.energy) choices.push(["energy", "energy − E(0) against t"]);
@@ -396,22 +904,29 @@ function buildPlotMenu() {
   if ([...menu.options].some((o) => o.value === chosen)) menu.value = chosen;
 }
 
-// The curves of the chosen plot: [{name, xs, ys}], with the axis names.
+// The curves of the chosen plot: [{name, xs, ys}], with the axis titles.
 function plotCurves() {
-  const columns = state.run.columns;
+  const columns = state.run.answer.columns;
   const kind = $("plot-kind").value || "coordinates";
+  const time = units().t ? `t (${units().t})` : "t (s)";
   if (kind.startsWith("phase:")) {
     const name = kind.slice(6);
-    return { x: name, y: `${name}_dot`, curves: [{ name, xs: columns[name], ys: columns[`${name}_dot`] }] };
+    const rate = units()[name] ? `${name}_dot (${units()[name]}/s)` : `${name}_dot`;
+    return { x: withUnit(name), y: rate, curves: [{ name, xs: columns[name], ys: columns[`${name}_dot`] }] };
   }
   if (kind === "energy") {
     const e0 = columns.energy[0] ?? 0;
     const ys = columns.energy.map((v) => (v === null ? null : v - e0));
-    const label = state.run.summary.drift_summary;
-    return { x: "t", y: "E − E(0)", curves: [{ name: label, xs: columns.t, ys }] };
+    const label = state.run.answer.summary.drift_summary;
+    return { x: time, y: "E − E(0)", curves: [{ name: label, xs: columns.t, ys }] };
   }
-  const names = ((state.derived && state.derived.coordinates) || []).filter((n) => columns[n]);
-  return { x: "t", y: "", curves: names.map((name) => ({ name, xs: columns.t, ys: columns[name] })) };
+  const names = ((current(state.derived) && state.derived.answer.coordinates) || []).filter(
+    (n) => columns[n],
+  );
+  const shared = new Set(names.map((n) => units()[n] || ""));
+  const y = shared.size === 1 && [...shared][0] ? `(${[...shared][0]})` : "";
+  const curves = names.map((name) => ({ name: withUnit(name), xs: columns.t, ys: columns[name] }));
+  return { x: time, y, curves };
 }
 
 function range(arrays) {
@@ -430,6 +945,25 @@ function range(arrays) {
   return [low, high];
 }
 
+// Ticks at 1, 2 or 5 times a power of ten, about ``count`` of them over [low, high].
+function ticks(low, high, count) {
+  const raw = (high - low) / count;
+  const power = Math.pow(10, Math.floor(Math.log10(raw)));
+  const step = [1, 2, 5, 10].map((f) => f * power).find((s) => s >= raw) || 10 * power;
+  const values = [];
+  for (let v = Math.ceil(low / step) * step; v <= high + step * 1e-9; v += step) {
+    values.push(Math.abs(v) < step * 1e-9 ? 0 : v);
+  }
+  return values;
+}
+
+function tickText(v) {
+  const text = Number(v.toPrecision(6));
+  return Math.abs(text) >= 1e5 || (Math.abs(text) < 1e-3 && text !== 0)
+    ? text.toExponential(1)
+    : String(text);
+}
+
 function drawPlot() {
   const canvas = $("plot");
   const context = canvas.getContext("2d");
@@ -439,22 +973,42 @@ function drawPlot() {
   const plot = plotCurves();
   const [xLow, xHigh] = range(plot.curves.map((c) => c.xs));
   const [yLow, yHigh] = range(plot.curves.map((c) => c.ys));
-  const left = 48;
-  const box = { left, top: 10, width: canvas.width - left - 10, height: canvas.height - 40 };
+  const box = { left: 58, top: 12, width: canvas.width - 70, height: canvas.height - 58 };
   const x = (v) => box.left + (box.width * (v - xLow)) / (xHigh - xLow);
   const y = (v) => box.top + box.height * (1 - (v - yLow) / (yHigh - yLow));
   state.plotBox = { ...box, plot, x, y };
-  context.strokeStyle = "#999";
+  context.font = "12px sans-serif";
+  context.fillStyle = "#263238";
+  context.strokeStyle = "#e0e0e0";
+  context.lineWidth = 1;
+  context.textAlign = "center";
+  for (const v of ticks(xLow, xHigh, 5)) {
+    context.beginPath();
+    context.moveTo(x(v), box.top);
+    context.lineTo(x(v), box.top + box.height);
+    context.stroke();
+    context.fillText(tickText(v), x(v), box.top + box.height + 15);
+  }
+  context.textAlign = "right";
+  for (const v of ticks(yLow, yHigh, 5)) {
+    context.beginPath();
+    context.moveTo(box.left, y(v));
+    context.lineTo(box.left + box.width, y(v));
+    context.stroke();
+    context.fillText(tickText(v), box.left - 5, y(v) + 4);
+  }
+  context.strokeStyle = "#546e7a";
   context.strokeRect(box.left, box.top, box.width, box.height);
-  context.fillStyle = "#333";
-  context.font = "11px sans-serif";
-  context.fillText(yHigh.toPrecision(3), 2, box.top + 10);
-  context.fillText(yLow.toPrecision(3), 2, box.top + box.height);
-  context.fillText(plot.y, 2, box.top + box.height / 2);
-  context.fillText(`${plot.x}: ${xLow.toPrecision(3)} … ${xHigh.toPrecision(3)}`, box.left + box.width - 150, canvas.height - 12);
-  const colors = ["#1e88e5", "#e53935", "#43a047", "#fb8c00", "#8e24aa", "#00897b"];
+  context.textAlign = "center";
+  context.fillText(plot.x, box.left + box.width / 2, canvas.height - 8);
+  context.save();
+  context.translate(12, box.top + box.height / 2);
+  context.rotate(-Math.PI / 2);
+  context.fillText(plot.y, 0, 0);
+  context.restore();
+  context.textAlign = "left";
   plot.curves.forEach((curve, i) => {
-    context.strokeStyle = colors[i % colors.length];
+    context.strokeStyle = COLORS[i % COLORS.length];
     context.lineWidth = 1.5;
     context.beginPath();
     curve.ys.forEach((v, k) => {
@@ -463,11 +1017,24 @@ function drawPlot() {
       else context.lineTo(...at);
     });
     context.stroke();
-    context.fillStyle = colors[i % colors.length];
-    const label = plot.curves.length > 1 ? curve.name : curve.name.slice(0, 40);
-    context.fillText(label, box.left + 8 + 70 * i, canvas.height - 12);
   });
+  drawLegend(plot);
   state.plotImage = context.getImageData(0, 0, canvas.width, canvas.height);
+}
+
+// The legend as text beside the plot: it wraps, never overlaps, and screen readers read it.
+function drawLegend(plot) {
+  const legend = $("legend");
+  legend.innerHTML = "";
+  plot.curves.forEach((curve, i) => {
+    const item = document.createElement("li");
+    item.style.color = COLORS[i % COLORS.length];
+    const swatch = document.createElement("span");
+    swatch.className = "swatch";
+    swatch.style.background = COLORS[i % COLORS.length];
+    item.append(swatch, document.createTextNode(curve.name));
+    legend.appendChild(item);
+  });
 }
 
 // The current sample on the plot: a line at its time, or a dot on the phase curve.
@@ -477,10 +1044,11 @@ function drawPlotCursor(index) {
   const context = canvas.getContext("2d");
   context.putImageData(state.plotImage, 0, 0);
   const { plot, x, y, top, height } = state.plotBox;
-  context.strokeStyle = "rgba(0,0,0,0.35)";
-  context.fillStyle = "rgba(0,0,0,0.6)";
-  if (plot.x === "t") {
-    const at = x(state.run.columns.t[index]);
+  context.strokeStyle = "rgba(0,0,0,0.45)";
+  context.fillStyle = "rgba(0,0,0,0.7)";
+  if (!plot.curves.length) return;
+  if (plot.x.startsWith("t")) {
+    const at = x(state.run.answer.columns.t[index]);
     context.beginPath();
     context.moveTo(at, top);
     context.lineTo(at, top + height);
@@ -493,7 +1061,7 @@ function drawPlotCursor(index) {
   }
 }
 
-// ---- downloads
+// ---- downloads: only what the page shows for the current text
 function download(name, text, type) {
   const link = document.createElement("a");
   link.href = URL.createObjectURL(new Blob([text], { type }));
@@ -503,74 +1071,106 @@ function download(name, text, type) {
 }
 
 function csvText() {
-  if (!state.run) return "";
-  const names = Object.keys(state.run.columns);
+  const columns = state.run.answer.columns;
+  const names = Object.keys(columns);
   const rows = [names.join(",")];
-  const count = state.run.columns.t.length;
-  for (let k = 0; k < count; k++) rows.push(names.map((n) => state.run.columns[n][k]).join(","));
+  for (let k = 0; k < columns.t.length; k++) rows.push(names.map((n) => columns[n][k] ?? "").join(","));
   return rows.join("\n") + "\n";
 }
 
 // ---- examples and wiring
 async function loadExamples() {
-  const response = await fetch("/api/examples");
-  const { examples } = await response.json();
+  let examples = [];
+  try {
+    const response = await fetch("/api/examples");
+    ({ examples } = await response.json());
+  } catch (error) {
+    serverLost();
+    return;
+  }
   const menu = $("examples");
-  for (const { name, description } of examples) {
+  for (const { name, description, benchmark } of examples) {
     const option = document.createElement("option");
     option.value = name;
-    option.textContent = name.replace(/_/g, " ");
+    option.textContent = name.replace(/_/g, " ") + (benchmark ? " (large)" : "");
     option.title = description;
     menu.appendChild(option);
   }
 }
 
+let examplePicked = 0;
 async function loadExample(name) {
   if (!name) return;
-  const response = await fetch(`/api/examples/${encodeURIComponent(name)}`);
-  if (!response.ok) return;
-  const example = await response.json();
+  const picked = ++examplePicked;
+  let example;
+  try {
+    const response = await fetch(`/api/examples/${encodeURIComponent(name)}`);
+    if (!response.ok) return;
+    example = await response.json();
+  } catch (error) {
+    serverLost();
+    return;
+  }
+  serverFound();
+  if (picked !== examplePicked) return; // another example was picked meanwhile
   editor.value = example.model;
   $("format").value = example.format;
   modelChanged();
-  await derive();
-  await simulate();
+  await refresh();
 }
 
 function modelChanged() {
+  state.version += 1;
+  document.body.dataset.version = state.version;
   state.settings = {};
-  state.run = null;
+  state.defaults = {};
   $("sliders").innerHTML = "";
+  $("reset-all").hidden = true;
+  $("analysis").innerHTML = '<p class="hint">Press Analyze.</p>';
+  $("analysis").dataset.version = state.version;
+  for (const command of Object.keys(controllers)) controllers[command].abort();
   drawGutter();
   saveToUrl();
+  markStale();
 }
 
 let typingTimer = null;
 editor.addEventListener("input", () => {
   modelChanged();
   clearTimeout(typingTimer);
-  typingTimer = setTimeout(derive, 700); // errors at their line as the user types
+  typingTimer = setTimeout(refresh, 700); // errors at their line as the user types
 });
 editor.addEventListener("scroll", () => {
   gutter.scrollTop = editor.scrollTop;
 });
-editor.addEventListener("keydown", (event) => {
-  if (event.key === "Tab") {
-    event.preventDefault();
-    editor.setRangeText("  ", editor.selectionStart, editor.selectionEnd, "end");
-    modelChanged();
-  }
+$("format").addEventListener("change", () => {
+  modelChanged();
+  refresh();
 });
-$("format").addEventListener("change", saveToUrl);
 $("plot-kind").addEventListener("change", () => {
   drawPlot();
-  if (state.run) drawPlotCursor(currentIndex());
+  if (state.run) drawPlotCursor(state.frame);
 });
 $("examples").addEventListener("change", (event) => loadExample(event.target.value));
 $("derive").addEventListener("click", derive);
 $("analyze").addEventListener("click", analyze);
-$("simulate").addEventListener("click", async () => {
-  if (await derive()) await simulate();
+$("simulate").addEventListener("click", refresh);
+$("play").addEventListener("click", () => setPlaying(!state.playing));
+$("step-back").addEventListener("click", () => stepFrame(-1));
+$("step-forward").addEventListener("click", () => stepFrame(1));
+$("speed").addEventListener("change", () => {
+  state.rate = Number($("speed").value);
+});
+$("time").addEventListener("input", () => {
+  if (!state.run) return;
+  setPlaying(false);
+  state.playhead = state.run.answer.columns.t[Number($("time").value)];
+});
+$("reset-all").addEventListener("click", () => {
+  state.settings = {};
+  saveToUrl();
+  if (state.run) buildSliders(state.run.answer);
+  scheduleSimulation();
 });
 $("download-model").addEventListener("click", (event) => {
   event.preventDefault();
@@ -578,11 +1178,20 @@ $("download-model").addEventListener("click", (event) => {
 });
 $("download-latex").addEventListener("click", (event) => {
   event.preventDefault();
-  const parts = [state.derived && state.derived.latex, state.analysis && state.analysis.latex];
-  download("equations.tex", parts.filter(Boolean).join("\n\n"), "text/x-tex");
+  if (!current(state.derived)) {
+    setStatus("LaTeX: derive the current text first");
+    return;
+  }
+  const parts = [state.derived.answer.latex];
+  if (current(state.analysis)) parts.push(state.analysis.answer.latex);
+  download("equations.tex", parts.join("\n\n"), "text/x-tex");
 });
 $("download-csv").addEventListener("click", (event) => {
   event.preventDefault();
+  if (!current(state.run)) {
+    setStatus("CSV: simulate the current text first");
+    return;
+  }
   download("trajectory.csv", csvText(), "text/csv");
 });
 $("download-code").addEventListener("click", async (event) => {
@@ -594,10 +1203,16 @@ $("download-code").addEventListener("click", async (event) => {
 });
 
 async function start() {
+  setIndentMode(false);
+  document.body.dataset.server = "up";
+  setInterval(checkServer, 3000); // a lost server is noticed even when nothing is asked
   await loadExamples();
   if (readUrl()) {
-    drawGutter();
-    if (await derive()) await simulate();
+    const settings = { ...state.settings };
+    modelChanged();
+    state.settings = settings;
+    saveToUrl();
+    await refresh();
   } else {
     $("examples").value = "double_pendulum";
     await loadExample("double_pendulum");
