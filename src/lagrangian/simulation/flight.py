@@ -41,8 +41,10 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.simulation.inputs import Inputs
+from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.events import EventWatch
-from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Integrator, Progress
+from lagrangian.simulation.integrators.loop import SolverIntegrator
+from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Progress
 
 #: Most coordinates one gap may involve (its polynomial is kept as a dense block that size).
 MOST_COORDINATES = 8
@@ -313,7 +315,7 @@ class FlightIntegrator:
     of a mode with constant acceleration; by ``stepping`` otherwise (the caller's events, a
     transition's guard, a mode whose motion is not polynomial)."""
 
-    stepping: Integrator[Dynamics]
+    stepping: SolverIntegrator
 
     def run(
         self,
@@ -321,14 +323,19 @@ class FlightIntegrator:
         inputs: Inputs,
         watch: EventWatch | None,
         progress: Progress | None,
+        budget: Budget | None = None,
     ) -> Integration:
+        """One piece: a flight in closed form where it can be, else stepped; ``budget`` is
+        the run's (a flight counts as one step of it, so max_steps bounds the impacts)."""
         functions: tuple[Any, ...] = watch.functions if watch is not None else ()
         guards = [f for f in functions if isinstance(getattr(f, "calendar", None), Calendar)]
         rest = [f for f in functions if f not in guards and not _constant_in_flight(f)]
         t0, x0 = inputs.t_span[0], inputs.x0
         a = guards[0].acceleration(dynamics, t0, x0) if len(guards) == 1 and not rest else None
         if a is None:
-            return self.stepping.run(dynamics, inputs, watch, progress)
+            return self.stepping.run(dynamics, inputs, watch, progress, budget)
+        if budget is not None:
+            budget.steps += 1
         return _flight(guards[0], a, inputs, progress)
 
 

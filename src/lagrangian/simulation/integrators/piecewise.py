@@ -44,7 +44,6 @@ from lagrangian.simulation.impacts import ImpactRecord
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.events import EventFunction, EventWatch
-from lagrangian.simulation.integrators.loop import SolverIntegrator
 from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Progress
 
 Mode = TypeVar("Mode", bound=Hashable)
@@ -109,12 +108,26 @@ class Hybrid(Protocol[Mode]):
         ...
 
 
+class PieceIntegrator(Protocol):
+    """What steps one piece of a hybrid motion: an Integrator that spends the run's
+    ``budget`` (SciPy's solvers through the Python loop, or a flight in closed form)."""
+
+    def run(
+        self,
+        dynamics: Any,
+        inputs: Inputs,
+        watch: EventWatch | None,
+        progress: Progress | None,
+        budget: Budget | None = None,
+    ) -> Integration: ...
+
+
 @dataclasses.dataclass(frozen=True)
 class PiecewiseIntegrator:
     """The :class:`~lagrangian.simulation.integrators.protocol.Integrator` of every hybrid
     motion: its pieces stepped by ``inner`` (module docstring)."""
 
-    inner: SolverIntegrator
+    inner: PieceIntegrator
 
     def run(
         self,
@@ -131,7 +144,7 @@ def integrate_piecewise(
     inputs: Inputs,
     watch: EventWatch | None,
     progress: Progress | None,
-    inner: SolverIntegrator,
+    inner: PieceIntegrator,
     disarmed: str | None = None,
 ) -> Integration:
     """Integrate ``hybrid`` piece by piece with ``inner`` (module docstring) from the checked
