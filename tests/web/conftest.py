@@ -3,14 +3,12 @@ real uvicorn server on the loopback address in a thread (for the load and browse
 
 from __future__ import annotations
 
-import threading
-import time
 import warnings
 from collections.abc import Iterator
 from typing import Any
 
 import pytest
-from playground_setup import TEST_LIMITS, free_port
+from playground_setup import TEST_LIMITS, served
 
 
 def _app() -> Any:
@@ -40,20 +38,5 @@ def client() -> Iterator[Any]:
 @pytest.fixture(scope="session")
 def live_server() -> Iterator[str]:
     """The playground served by uvicorn on 127.0.0.1 in a thread; its base URL."""
-    app = _app()
-    import uvicorn
-
-    from lagrangian.web.connections import server_config
-
-    port = free_port()
-    server = uvicorn.Server(server_config(app, "127.0.0.1", port, TEST_LIMITS))
-    thread = threading.Thread(target=server.run, daemon=True)
-    thread.start()
-    for _ in range(600):
-        if server.started or not thread.is_alive():
-            break
-        time.sleep(0.1)
-    assert server.started, "the server did not start"
-    yield f"http://127.0.0.1:{port}"
-    server.should_exit = True
-    thread.join(timeout=30)
+    with served(_app(), TEST_LIMITS) as port:
+        yield f"http://127.0.0.1:{port}"

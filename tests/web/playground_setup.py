@@ -1,8 +1,14 @@
-"""What the playground's tests share: the server's limits and a hostile model."""
+"""What the playground's tests share: the server's limits, a hostile model, and a real
+uvicorn server in a thread."""
 
 from __future__ import annotations
 
+import contextlib
 import socket
+import threading
+import time
+from collections.abc import Iterator
+from typing import Any
 
 from lagrangian.web import Limits
 
@@ -18,3 +24,27 @@ def free_port() -> int:
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))
         return int(probe.getsockname()[1])
+
+
+@contextlib.contextmanager
+def served(app: Any, limits: Limits) -> Iterator[int]:
+    """``app`` served by uvicorn on 127.0.0.1 in a thread, configured as ``lagrangian serve``
+    configures it for ``limits``, until the block ends; yields its port."""
+    import uvicorn
+
+    from lagrangian.web.connections import server_config
+
+    port = free_port()
+    server = uvicorn.Server(server_config(app, "127.0.0.1", port, limits))
+    thread = threading.Thread(target=server.run, daemon=True)
+    thread.start()
+    for _ in range(600):
+        if server.started or not thread.is_alive():
+            break
+        time.sleep(0.1)
+    assert server.started, "the server did not start"
+    try:
+        yield port
+    finally:
+        server.should_exit = True
+        thread.join(timeout=30)

@@ -6,7 +6,6 @@ tests/web/artifacts/ (and, with LAGRANGIAN_README_SCREENSHOT=1, to docs/playgrou
 from __future__ import annotations
 
 import os
-import shutil
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -15,9 +14,6 @@ import pytest
 
 ARTIFACTS = Path(__file__).resolve().parent / "artifacts"
 README_PICTURE = Path(__file__).resolve().parents[2] / "docs" / "playground.png"
-CHROMIUM = next(
-    (path for name in ("chromium", "chromium-browser") if (path := shutil.which(name))), None
-)
 BROKEN = "coordinates: [x]\nparameters: {k: 1}\npotential: k*x**\nkinetic: x_dot**2/2\n"
 #: How many pixels of a canvas are not its white background.
 INK = """(id) => {
@@ -31,21 +27,6 @@ INK = """(id) => {
 }"""
 
 pytestmark = pytest.mark.slow
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Any]:
-    playwright_api = pytest.importorskip(
-        "playwright.sync_api", reason="Playwright for Python is not installed"
-    )
-    if CHROMIUM is None:
-        pytest.skip("Chromium is not installed (apt-get install chromium)")
-    with playwright_api.sync_playwright() as playwright:
-        launched = playwright.chromium.launch(
-            executable_path=CHROMIUM, args=["--no-sandbox", "--disable-gpu"]
-        )
-        yield launched
-        launched.close()
 
 
 @pytest.fixture

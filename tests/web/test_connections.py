@@ -5,13 +5,12 @@ cannot run the API (its Origin)."""
 from __future__ import annotations
 
 import socket
-import threading
 import time
 from collections.abc import Iterator
 from typing import Any
 
 import pytest
-from playground_setup import free_port
+from playground_setup import served
 
 from lagrangian import examples
 from lagrangian.web import Limits
@@ -27,23 +26,10 @@ SIMPLE = examples.model_text("simple_pendulum")
 def short_server() -> Iterator[tuple[str, int]]:
     for module in ("starlette", "uvicorn", "httpx"):
         pytest.importorskip(module)
-    import uvicorn
-
     from lagrangian.web import create_app
-    from lagrangian.web.connections import server_config
 
-    port = free_port()
-    server = uvicorn.Server(server_config(create_app(SHORT), "127.0.0.1", port, SHORT))
-    thread = threading.Thread(target=server.run, daemon=True)
-    thread.start()
-    for _ in range(600):
-        if server.started or not thread.is_alive():
-            break
-        time.sleep(0.1)
-    assert server.started, "the server did not start"
-    yield "127.0.0.1", port
-    server.should_exit = True
-    thread.join(timeout=30)
+    with served(create_app(SHORT), SHORT) as port:
+        yield "127.0.0.1", port
 
 
 def _connect(address: tuple[str, int]) -> socket.socket:

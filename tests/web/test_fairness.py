@@ -5,14 +5,13 @@ from __future__ import annotations
 
 import asyncio
 import statistics
-import threading
 import time
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import pytest
-from playground_setup import HOSTILE, free_port
+from playground_setup import HOSTILE, served
 
 from lagrangian import examples
 from lagrangian.web import Limits
@@ -78,23 +77,10 @@ FAIR = Limits(workers=2, queue=32, cpu_seconds=8.0)
 def fair_server() -> Iterator[str]:
     for module in ("starlette", "uvicorn", "httpx"):
         pytest.importorskip(module)
-    import uvicorn
-
     from lagrangian.web import create_app
-    from lagrangian.web.connections import server_config
 
-    port = free_port()
-    server = uvicorn.Server(server_config(create_app(FAIR), "127.0.0.1", port, FAIR))
-    thread = threading.Thread(target=server.run, daemon=True)
-    thread.start()
-    for _ in range(600):
-        if server.started or not thread.is_alive():
-            break
-        time.sleep(0.1)
-    assert server.started, "the server did not start"
-    yield f"http://127.0.0.1:{port}"
-    server.should_exit = True
-    thread.join(timeout=30)
+    with served(create_app(FAIR), FAIR) as port:
+        yield f"http://127.0.0.1:{port}"
 
 
 def _post(base: str, client: str, command: str, model: str) -> tuple[int, float, float]:

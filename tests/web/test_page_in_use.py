@@ -13,12 +13,11 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
 from typing import Any
 
 import pytest
 from playground_setup import free_port
-from test_browser import ARTIFACTS, CHROMIUM
+from test_browser import ARTIFACTS
 
 from lagrangian import examples
 from lagrangian.web.runs import run
@@ -26,19 +25,6 @@ from lagrangian.web.runs import run
 pytestmark = pytest.mark.slow
 
 SIZES = {"desktop": {"width": 1366, "height": 768}, "phone": {"width": 390, "height": 844}}
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Any]:
-    playwright_api = pytest.importorskip("playwright.sync_api")
-    if CHROMIUM is None:
-        pytest.skip("Chromium is not installed (apt-get install chromium)")
-    with playwright_api.sync_playwright() as playwright:
-        launched = playwright.chromium.launch(
-            executable_path=CHROMIUM, args=["--no-sandbox", "--disable-gpu"]
-        )
-        yield launched
-        launched.close()
 
 
 def _open(browser: Any, url: str, size: str = "desktop") -> Any:
