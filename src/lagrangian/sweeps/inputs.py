@@ -20,18 +20,25 @@ import numpy as np
 from lagrangian.errors import SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.simulation.batch.run import StopCondition, prepared_batch
+from lagrangian.simulation.methods import DEFAULT_METHOD, TABLE, method_named
 from lagrangian.simulation.run import plan
 from lagrangian.simulation.setup import prepare
 from lagrangian.sweeps.members import stop_event
 
 
-def ends_unless_asked(stepping: Mapping[str, Any]) -> dict[str, Any]:
+def ends_unless_asked(stepping: Mapping[str, Any], system: System) -> dict[str, Any]:
     """A sweep's stepping keywords: without ``samples`` or ``t_eval``, the two ends of the
     time span only (a sweep stores every member: a batch's default of many times is not
-    its default)."""
+    its default) -- except for a fixed-step method without ``dt``, whose step the check
+    must still ask for (two samples would make the whole span one step)."""
     given = dict(stepping)
-    if given.get("samples") is None and given.get("t_eval") is None:
-        given["samples"] = 2
+    if given.get("samples") is not None or given.get("t_eval") is not None:
+        return given
+    name = given.get("method") or system.simulation.get("method") or DEFAULT_METHOD
+    fixed = name in TABLE and method_named(name).stepping == "fixed"
+    if fixed and given.get("dt") is None:
+        return given
+    given["samples"] = 2
     return given
 
 
@@ -46,7 +53,7 @@ def checked_times(
     """The output times shared by every member; SimulationInputError on bad input (the
     checks of :func:`lagrangian.simulate_batch`, without integrating)."""
     *_, batch = prepared_batch(
-        system, initial, parameters, t_span, ends_unless_asked(stepping), backend, "sweep"
+        system, initial, parameters, t_span, stepping, backend, "sweep", ends_only=True
     )
     return np.asarray(batch.t_out, dtype=float)
 
@@ -70,7 +77,7 @@ def checked_member_times(
             system,
             initial,
             t_span,
-            ends_unless_asked(stepping),
+            ends_unless_asked(stepping, system),
             parameters=parameters,
             events=(stop_event(stop_when),) if stop_when is not None else (),
             backend=backend,

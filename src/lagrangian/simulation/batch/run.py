@@ -218,10 +218,12 @@ def prepared_batch(
     stepping: Mapping[str, Any],
     backend: str,
     driver: str,
+    ends_only: bool = False,
     **options: Any,
 ) -> tuple[EquationsOfMotion, CompiledEquations, BatchInputs]:
     """The equations, their compiled form and the checked members of a batch, without
-    integrating; SimulationInputError lists every problem (``driver`` names the caller).
+    integrating; SimulationInputError lists every problem (``driver`` names the caller;
+    ``ends_only``: a sweep's default output times, :func:`checked_batch`).
     ``options``: baumgarte and project_initial (checked as simulate checks them, the
     members of a constrained system started on the constraints)."""
     check_keywords(stepping, driver)
@@ -233,7 +235,7 @@ def prepared_batch(
     )
     checked = collect(problems, chosen)
     given = {"initial": initial, "parameters": parameters, "t_span": t_span, **stepping}
-    batch, found = checked_batch(compiled, given, fallbacks)
+    batch, found = checked_batch(compiled, given, fallbacks, ends_only)
     problems += found
     if not problems and checked is not None and checked.constraints:
         equations = constrained_equations(eom, checked.constraints)
