@@ -52,15 +52,13 @@ from lagrangian.numerics.status import Outcome, Status
 from lagrangian.simulation.batch.inputs import BatchInputs
 from lagrangian.simulation.batch.native import Members
 from lagrangian.simulation.batch.result import ConstraintRows
+from lagrangian.simulation.batch.stop import STOP_EVENT, negative_at_start, stop_event
 from lagrangian.simulation.dynamics import INITIAL_TOLERANCE, MultiplierDynamics
 from lagrangian.simulation.inputs import Inputs
-from lagrangian.simulation.integrators.events import EventFunction
 from lagrangian.simulation.options import Options
 from lagrangian.simulation.run import simulate
 from lagrangian.simulation.trajectory import Trajectory
 
-#: The name of the terminal event a stop condition becomes in ``simulate``.
-STOP_EVENT = "stop_when"
 #: Members named in a message about the members that start off the constraints.
 NAMED = 8
 
@@ -147,7 +145,7 @@ def simulated_members(
     messages: list[str | None] = [None] * k
     for i in range(k):
         inputs = member_inputs(compiled, batch, i)
-        if stop_when is not None and _negative(stop_when, t0, inputs.x0, n):
+        if stop_when is not None and negative_at_start(stop_when, t0, inputs.x0[:n], inputs.x0[n:]):
             first = int(np.searchsorted(batch.t_out, t0, side="right"))
             out[i, :first] = inputs.x0
             status[i], t_final[i] = Status.STOPPED, t0  # as the C loop: stopped at the start
@@ -179,12 +177,6 @@ def _start_rows(
     rows.final_multipliers[i], rows.final_constraint_residual[i] = lam[0], residual[0]
 
 
-def _negative(stop_when: Callable[..., Any], t: float, x: np.ndarray, n: int) -> bool:
-    """Whether g is negative at the state x = [q; q_dot] (called as the batch calls it)."""
-    value = np.asarray(stop_when(np.array([t]), x[None, :n], x[None, n:]), dtype=float)
-    return not value.reshape(-1)[0] >= 0 and not math.isnan(value.reshape(-1)[0])
-
-
 def _simulate(
     eom: EquationsOfMotion,
     compiled: CompiledEquations,
@@ -209,7 +201,7 @@ def _simulate(
             dict(zip(compiled.state_names, inputs.x0.tolist())),
             inputs.t_span,
             parameters=inputs.parameters,
-            events=() if stop_when is None else (_stop_event(stop_when),),
+            events=() if stop_when is None else (stop_event(stop_when),),
             raise_on_failure=False,
             baumgarte=options.baumgarte,
             method=inputs.method,
@@ -252,17 +244,3 @@ def _member(
         return Status.FAILED, member.message
     stopped = any(event.name == STOP_EVENT for event in member.events)
     return (Status.STOPPED if stopped else Status.FINISHED), None
-
-
-def _stop_event(stop_when: Callable[..., Any]) -> EventFunction:
-    """``stop_when`` as ``simulate``'s terminal event where it turns negative, called with
-    the arrays of one member as the batch calls it."""
-
-    def stop(t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
-        value = stop_when(np.array([t]), np.asarray(q)[None, :], np.asarray(q_dot)[None, :])
-        return float(np.asarray(value, dtype=float).reshape(-1)[0])
-
-    stop.__name__ = STOP_EVENT
-    setattr(stop, "terminal", True)  # noqa: B010 (attributes of a function, as solve_ivp's)
-    setattr(stop, "direction", -1.0)  # noqa: B010
-    return stop

@@ -19,6 +19,7 @@ of losing it.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -107,6 +108,8 @@ class _Output:
             self.t.append(t)
             self.x.append(state)
             return
+        if self.next >= len(self.times) or self.times[self.next] > t:
+            return  # no output time in this step (most steps of a fine output)
         end = int(np.searchsorted(self.times, t, side="right"))
         if end > self.next:
             block = self.times[self.next : end]
@@ -158,7 +161,7 @@ def integrate(
         if watch is not None:
             watch.start(t0, x0)
         while solver.status == "running":
-            if not np.isfinite(getattr(solver, "h_abs", 0.0)):
+            if not math.isfinite(getattr(solver, "h_abs", 0.0)):
                 # SciPy's adaptive solvers shrink a step size that is NaN for ever
                 failure = (
                     f"The equations of motion are not finite numbers at t = {solver.t:.6g}: "
@@ -170,7 +173,7 @@ def integrate(
             if solver.status == "failed":
                 failure = message or "the solver failed"
                 break
-            if not np.all(np.isfinite(solver.y)):
+            if not np.isfinite(solver.y).all():
                 failure = "The state is no longer finite (the solution blew up)."
                 break
             over_budget = budget.spend(solver, t_old, y_old, solver.t_bound)
