@@ -59,11 +59,16 @@ class Fallbacks:
 
 
 def checked_inputs(
-    compiled: CompiledEquations, given: Mapping[str, Any], fallbacks: Fallbacks
+    compiled: CompiledEquations,
+    given: Mapping[str, Any],
+    fallbacks: Fallbacks,
+    ends_only: bool = False,
 ) -> tuple[Inputs, list[Problem]]:
     """The inputs of ``given`` (the arguments of simulate) and every problem with them
     (placeholders stand where a value is wrong), for the caller to raise once with the
-    problems of the options.
+    problems of the options.  ``ends_only``: without ``samples`` or ``t_eval`` in ``given``
+    the output times are the two ends of the span, the System's own ``samples`` left out
+    (a sweep stores every member); a fixed-step method is still asked for its ``dt``.
 
     ``given`` holds initial, parameters, t_span and the :class:`~lagrangian.simulation.
     options.StepKeywords`, each possibly absent or None (then ``fallbacks``, or the
@@ -83,7 +88,7 @@ def checked_inputs(
     x0 = initial_state(compiled, initial, fallbacks.initial, problems)
     t_span = time_span(given.get("t_span"), settings.get("t_end"), problems)
     t_eval = given.get("t_eval")
-    samples = setting("samples") if t_eval is None else given.get("samples")
+    samples = given.get("samples") if t_eval is not None or ends_only else setting("samples")
     t_out = output_times(t_span, samples, t_eval, problems)
     method = TABLE.get(setting("method", DEFAULT_METHOD), TABLE[DEFAULT_METHOD])
     rtol, atol = TOLERANCES["rtol"], TOLERANCES["atol"]
@@ -99,6 +104,8 @@ def checked_inputs(
     _honoured(rtol, problems)
     _meaningful(rtol, atol, x0, problems)
     _fits_in_memory(t_out, len(x0), problems)
+    if ends_only and t_out is None and t_eval is None:
+        t_out = np.array(t_span, dtype=float)
     inputs = Inputs(
         parameters=values,
         p=np.array([values[name] for name in compiled.parameters], dtype=float),

@@ -64,19 +64,22 @@ def prepare(
     events: Sequence[EventFunction] = (),
     conserved: Mapping[str, Any] | None = None,
     progress: Any = None,
+    ends_only: bool = False,
     **options: Any,
 ) -> RunSetup:
     """Check one simulate call and return its setup; SimulationInputError with every problem
     found.  ``stepping`` holds the :class:`~lagrangian.simulation.options.StepKeywords`
     given, ``options`` the other :class:`~lagrangian.simulation.options.Options` (backend,
-    baumgarte, project_initial, project_steps); ``progress`` is only checked here."""
+    baumgarte, project_initial, project_steps); ``progress`` is only checked here;
+    ``ends_only``: a sweep's default output times
+    (:func:`~lagrangian.simulation.inputs.checked_inputs`)."""
     eom, system, fallbacks = describe_system(system_or_eom)
     compiled = compile_equations(eom)
     events, problems = callback_problems(events, progress)
     chosen = options_for(system, compiled, stepping, fallbacks, events=len(events), **options)
     checked = collect(problems, chosen)
     given = {"initial": initial, "parameters": parameters, "t_span": t_span, **stepping}
-    inputs, found = checked_inputs(compiled, given, fallbacks)
+    inputs, found = checked_inputs(compiled, given, fallbacks, ends_only)
     problems.extend(found)
     quantities = collect(problems, lambda: conserved_expressions(eom, system, conserved or {}))
     raise_if_problems(problems, "Cannot simulate", SimulationInputError)

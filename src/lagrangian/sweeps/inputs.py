@@ -20,26 +20,9 @@ import numpy as np
 from lagrangian.errors import SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.simulation.batch.run import StopCondition, prepared_batch
-from lagrangian.simulation.methods import DEFAULT_METHOD, TABLE, method_named
 from lagrangian.simulation.run import plan
 from lagrangian.simulation.setup import prepare
 from lagrangian.sweeps.members import stop_event
-
-
-def ends_unless_asked(stepping: Mapping[str, Any], system: System) -> dict[str, Any]:
-    """A sweep's stepping keywords: without ``samples`` or ``t_eval``, the two ends of the
-    time span only (a sweep stores every member: a batch's default of many times is not
-    its default) -- except for a fixed-step method without ``dt``, whose step the check
-    must still ask for (two samples would make the whole span one step)."""
-    given = dict(stepping)
-    if given.get("samples") is not None or given.get("t_eval") is not None:
-        return given
-    name = given.get("method") or system.simulation.get("method") or DEFAULT_METHOD
-    fixed = name in TABLE and method_named(name).stepping == "fixed"
-    if fixed and given.get("dt") is None:
-        return given
-    given["samples"] = 2
-    return given
 
 
 def checked_times(
@@ -77,12 +60,13 @@ def checked_member_times(
             system,
             initial,
             t_span,
-            ends_unless_asked(stepping, system),
+            stepping,
             parameters=parameters,
             events=(stop_event(stop_when),) if stop_when is not None else (),
             backend=backend,
             project_initial=project_initial,
             driver="sweep",  # its fixes name the stop condition stop_when, not events
+            ends_only=True,
         )
         motion, _ = plan(setup)
         motion.start(setup.inputs, project_initial)

@@ -58,8 +58,7 @@ def checked_batch(
 ) -> tuple[BatchInputs, list[Problem]]:
     """The inputs of ``given`` (simulate_batch's arguments) and every problem with them
     (placeholders stand where a value is wrong), for the caller to raise once.
-    ``ends_only``: without samples or t_eval in ``given``, the ends of the span (a sweep's
-    default), the System's own samples left out."""
+    ``ends_only``: a sweep's default output times (:func:`checked_inputs`)."""
     problems: list[Problem] = []
     initial = _arrays("initial", given.get("initial") or {}, problems)
     parameters = _arrays("parameters", given.get("parameters") or {}, problems)
@@ -69,18 +68,14 @@ def checked_batch(
     first = dict(given)
     first["initial"] = {name: values[0] for name, values in initial.items()}
     first["parameters"] = {name: values[0] for name, values in parameters.items()}
-    if ends_only:
-        own = {key: value for key, value in fallbacks.settings.items() if key != "samples"}
-        fallbacks = Fallbacks(fallbacks.initial, own)
-    inputs, found = checked_inputs(compiled, first, fallbacks)
+    inputs, found = checked_inputs(compiled, first, fallbacks, ends_only)
     problems.extend(found)
     k = 0 if problems else k  # no rows from arrays that do not fit together
     X0 = _rows(inputs.x0, compiled.state_names, initial, k)
     P = _rows(inputs.p, compiled.parameters, parameters, k)
     t_out = inputs.t_out
     if t_out is None:
-        ends = np.array(inputs.t_span, dtype=float)
-        t_out = ends if ends_only else default_times(inputs.t_span, X0.shape)
+        t_out = default_times(inputs.t_span, X0.shape)
     return BatchInputs(inputs, X0, P, t_out), problems
 
 
