@@ -4,7 +4,9 @@ systems.  The reference is the symbolic equations with the values substituted af
 
 from __future__ import annotations
 
+import html
 import json
+import re
 
 import numpy as np
 import pytest
@@ -66,3 +68,36 @@ def test_substituted_equations_are_the_symbolic_ones_with_the_values(
             assert got == pytest.approx(want, rel=1e-9, abs=1e-9 * max(1.0, abs(want)))
     text = run(capsys, "derive", f"examples/{name}", "--substitute")
     assert text.rstrip().endswith("(put in)")
+
+
+def test_substituted_mathml_holds_the_numbers_by_hand(capsys: pytest.CaptureFixture[str]) -> None:
+    mathml = run(
+        capsys,
+        "derive",
+        "examples/double_pendulum",
+        "--set",
+        "m1=2",
+        "--substitute",
+        "--format",
+        "mathml",
+    )
+    # By hand, as in the text: (m1 + m2) l1^2 = 3 and g l1 (m1 + m2) = 29.43.
+    assert "<mn>3</mn>" in mathml and "<mn>29.43</mn>" in mathml
+
+
+@pytest.mark.parametrize("name", KINDS)
+def test_substituted_mathml_names_no_parameter(
+    capsys: pytest.CaptureFixture[str], name: str
+) -> None:
+    system = lg.examples.get(name)()
+    symbolic = run(capsys, "derive", f"examples/{name}", "--format", "mathml")
+    numeric = run(capsys, "derive", f"examples/{name}", "--substitute", "--format", "mathml")
+    identifiers = set(re.findall(r"<mi>([^<]+)</mi>", numeric))
+    symbolic_identifiers = set(re.findall(r"<mi>([^<]+)</mi>", symbolic))
+    given = {html.unescape(p.name) for p, v in system.parameters.items() if v is not None}
+    # a parameter's name (its first letter, as MathML writes m_1 as <mi>m</mi>) is an
+    # identifier of the symbolic equations and of none of the substituted ones
+    letters = {html.unescape(i) for i in symbolic_identifiers - identifiers}
+    assert letters, f"{name}: the substituted MathML still names every identifier"
+    assert {name[0] for name in given} & letters
+    assert numeric.count("<mtr>") == symbolic.count("<mtr>")

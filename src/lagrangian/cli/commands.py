@@ -33,8 +33,8 @@ from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.analysis_text import analysis_text
 from lagrangian.render.constrained import constrained_mathml
-from lagrangian.render.latex import expression_latex
 from lagrangian.render.mathml import matrix_form_mathml
+from lagrangian.render.values import values_in_force
 
 EXAMPLE_PREFIX = "examples/"
 
@@ -125,29 +125,6 @@ def derive_command(
             parts.append(augmented_text(constrained))
     values = values_in_force(given, substitute)
     return "\n\n".join([*parts, values] if values else parts)
-
-
-def values_in_force(system: System, substituted: bool, latex: bool = False) -> str:
-    """The parameters' values the equations hold for (after ``--set``), and whether they are
-    put in: a student asking for m1=2 sees it, and how to see the equations with it.
-
-    >>> import lagrangian as lg
-    >>> values_in_force(lg.examples.simple_pendulum(), False)
-    'Parameters: m = 1, g = 9.81, l = 1 (derive --substitute puts them in)'
-    """
-    given = list(system.parameters.items())
-    if not given:
-        return ""
-    if latex:
-        shown = r",\quad ".join(
-            f"{expression_latex(p, system.coordinates)} = "
-            + (r"\text{no value}" if v is None else f"{v:g}")
-            for p, v in given
-        )
-        return f"\\[ {shown} \\]"
-    shown = ", ".join(f"{p.name} = {'no value' if v is None else f'{v:g}'}" for p, v in given)
-    how = "put in" if substituted else "derive --substitute puts them in"
-    return f"Parameters: {shown} ({how})"
 
 
 @dataclasses.dataclass(frozen=True)

@@ -22,9 +22,9 @@ from lagrangian.analysis import (
     NormalModes,
     Symmetry,
 )
-from lagrangian.analysis.evaluation import number_text
 from lagrangian.render.constrained import FORCES_HEADING
 from lagrangian.render.latex import block, symbol_names
+from lagrangian.render.values import values_latex
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.probe import is_small
 
@@ -55,11 +55,7 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
 
     lines = [rf"&{_text(report.name or 'system')}:\ {report.dof}\ {_text('degrees of freedom')}"]
     if report.parameter_values:
-        values = SEPARATOR.join(
-            f"{tex(p)} = "
-            + (_text("no value") if v is None else number_text(v) if v.is_number else tex(v))
-            for p, v in report.parameter_values
-        )
+        values = values_latex(report.parameter_values, tex)
         lines.append(rf"&{_text('at')}\ {values}")
     if report.freedom and report.configuration_dimension != report.independent_velocities:
         lines.append(rf"&{_text(report.freedom)}")

@@ -27,8 +27,9 @@ from lagrangian.analysis import (
     Equilibrium,
     Linearization,
 )
-from lagrangian.analysis.evaluation import condition_text, number_text
+from lagrangian.analysis.evaluation import condition_text
 from lagrangian.render.text import SumPrinter
+from lagrangian.render.values import values_text
 
 VERDICTS = {True: "stable", False: "unstable", None: "stability undetermined"}
 
@@ -152,10 +153,7 @@ def _hamiltonian_lines(report: AnalysisReport) -> list[str]:
 def values_line(report: AnalysisReport) -> str:
     """The parameter values the statements are decided at (the general case is said where
     it differs)."""
-    shown = ", ".join(
-        f"{p} = {'no value' if v is None else number_text(v)}" for p, v in report.parameter_values
-    )
-    return f"at {shown} (where the general case differs, it is said)"
+    return f"at {values_text(report.parameter_values)} (where the general case differs, it is said)"
 
 
 def analysis_text(report: AnalysisReport) -> str:
