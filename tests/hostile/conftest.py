@@ -12,6 +12,7 @@ standard input, output and error on files; where the test process has other thre
 from __future__ import annotations
 
 import contextlib
+import gc
 import os
 import resource
 import signal
@@ -135,6 +136,9 @@ def _run_forked(argv, files, timeout, memory, cwd) -> tuple[int | None, int]:
         pid = os.fork()
     if pid == 0:  # the child: never returns
         code = CRASHED
+        # the test process's objects are not the probe's: frozen, the collector does not walk
+        # (and copy, page by page) the parent's heap on every collection of the probe
+        gc.freeze()
         try:
             _limit_memory(memory)
             if cwd is not None:
