@@ -61,7 +61,26 @@ def _drawn_at(figure: SceneFigure, pixels: np.ndarray, panel: int, points: np.nd
     return inked / len(display)
 
 
-@pytest.mark.parametrize("name", lg.examples.names())
+#: One example of each kind runs in the default suite (planar, 3-D, rolling, holonomic
+#: constraint, impacts, circuit, electromechanical, coordinates only); the others with the
+#: slow tests (each example costs a derivation, a run and a GIF).
+EVERY_KIND = {
+    "double_pendulum",
+    "heavy_symmetric_top",
+    "rolling_disc",
+    "atwood_machine",
+    "bouncing_ball",
+    "series_rlc",
+    "servo_system",
+    "henon_heiles",
+}
+EXAMPLES = [
+    name if name in EVERY_KIND else pytest.param(name, marks=pytest.mark.slow)
+    for name in lg.examples.names()
+]
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
 def test_every_example_is_drawn_with_its_elements(name, tmp_path):
     system = lg.examples.get(name)()
     trajectory = lg.simulate(system, t_span=0.2, samples=9)
