@@ -214,19 +214,32 @@ def scene_of(
     frames: int | None = None,
     fps: float | None = None,
     projection: str = "auto",
+    rows: Sequence[int] | None = None,
 ) -> Scene:
     """The scene of ``trajectory``: ``frames`` evenly spaced times (default: from the
-    motion's time scale, :func:`lagrangian.render.timing.frame_count`), played at ``fps``
+    motion's time scale, :func:`lagrangian.render.timing.frame_count`), or the run's own
+    samples at ``rows`` (indices into ``trajectory.t``, increasing: frame k is sample
+    ``rows[k]``, as a player whose time slider walks the samples needs), played at ``fps``
     (default :data:`~lagrangian.render.timing.FPS`); a 3-D system seen in ``projection``
     ("auto", "xy", "xz", "yz", "isometric").  Mechanical parts, the circuit and the
     coordinates without geometry each get a panel; a system with none gets the coordinates."""
     from lagrangian.render.scene_circuit import circuit_panel
     from lagrangian.render.scene_coordinates import coordinates_panel, loose_coordinates
     from lagrangian.render.scene_mechanics import mechanics_panel
-    from lagrangian.render.timing import FPS, frame_count, frame_states, impact_frames
+    from lagrangian.render.timing import (
+        FPS,
+        frame_count,
+        frame_states,
+        impact_frames,
+        sample_states,
+    )
 
-    count = frames if frames is not None else frame_count(trajectory)
-    states = frame_states(trajectory, count)
+    if rows is not None:
+        if frames is not None:
+            raise ValueError("scene_of takes frames or rows, not both: leave one out")
+        states = sample_states(trajectory, rows)
+    else:
+        states = frame_states(trajectory, frames if frames is not None else frame_count(trajectory))
     panels = [
         panel
         for panel in (
