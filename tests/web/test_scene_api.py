@@ -3,7 +3,7 @@ own description (``Scene.to_dict()``), each frame one sample of the run (``rows`
 bodies are checked where the physics puts them, from the answer's own columns and the
 model's closed forms (a pendulum's bob, a compound pendulum's disc turning with its angle, a
 top's symmetry axis and spin, a rolling disc's contact point on the floor, a circuit's mesh
-currents), not from the library's drawing code."""
+currents and capacitor charges), not from the library's drawing code."""
 
 from __future__ import annotations
 
@@ -189,6 +189,15 @@ def test_a_circuit_is_its_schematic_with_its_mesh_currents(client: Any, name: st
                                    **DIGITS)  # fmt: skip
         words = arrow["shapes"][2]["text"]
         assert words == [f"i = {value:.3g}" for value in current]
+        # the capacitor on this mesh alone holds its charge: written under its capacitance
+        capacitor = next(
+            e
+            for panel in document["scene"]["panels"]
+            for e in panel["elements"]
+            if e["kind"] == "capacitor" and e["info"]["branch"] == mesh
+        )
+        charge = next(s for s in capacitor["shapes"] if s["type"] == "text" and s["moving"])
+        assert charge["text"] == [f"q = {value:.3g}" for value in at_rows(document, mesh)]
 
 
 def test_one_drawing_code_for_the_page_and_the_html_animations(client: Any) -> None:
