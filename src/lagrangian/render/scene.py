@@ -214,7 +214,7 @@ def scene_of(
     frames: int | None = None,
     fps: float | None = None,
     projection: str = "auto",
-    rows: Sequence[int] | None = None,
+    rows: Sequence[int] | np.ndarray | None = None,
 ) -> Scene:
     """The scene of ``trajectory``: ``frames`` evenly spaced times (default: from the
     motion's time scale, :func:`lagrangian.render.timing.frame_count`), or the run's own

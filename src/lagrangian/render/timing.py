@@ -16,6 +16,7 @@ a motion that never turns (a rolling disc, a free particle) gets :data:`MIN_FRAM
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -97,7 +98,7 @@ def frame_states(trajectory: Trajectory, count: int) -> FrameStates:
     )
 
 
-def sample_states(trajectory: Trajectory, rows: Any) -> FrameStates:
+def sample_states(trajectory: Trajectory, rows: Sequence[int] | np.ndarray) -> FrameStates:
     """The run's own samples at ``rows`` (indices into its times, increasing) as the frames:
     no interpolation, so frame k shows the state of sample ``rows[k]`` exactly."""
     picked = np.asarray(rows, dtype=int)
