@@ -14,7 +14,7 @@ import pytest
 import lagrangian as lg
 from lagrangian.errors import SimulationInputError
 from lagrangian.io import loads
-from lagrangian.render.scene import scene_of, shapes_of
+from lagrangian.render.scene import Shape, scene_of, shapes_of
 from lagrangian.render.scene_draw import SceneFigure
 from lagrangian.render.timing import (
     MAX_FRAMES,
@@ -241,6 +241,15 @@ def test_a_capacitor_shows_its_charge() -> None:
         charge = trajectory[capacitor.info["branch"]][spread_rows(len(trajectory.t), 25)]
         words = next(s for s in capacitor.shapes if s.type == "text" and s.moving_keys)
         assert list(words.data["text"]) == [f"q = {value:.3g}" for value in charge]
+
+
+def test_numbers_keep_five_significant_digits_as_printf_rounds_them() -> None:
+    rng = np.random.default_rng(7)
+    values = rng.normal(size=(4000, 2)) * 10.0 ** rng.integers(-30, 30, size=(4000, 2))
+    values[:4] = [[0.0, np.nan], [np.inf, 1e-320], [9.99995, 0.5], [-12345.5, 1.5e300]]
+    shown = Shape("line", {"points": values}).to_dict()["points"]
+    expected = [[float(f"{v:.5g}") if np.isfinite(v) else 0.0 for v in row] for row in values]
+    assert shown == expected
 
 
 def test_the_scene_is_plain_json_in_its_documented_format() -> None:

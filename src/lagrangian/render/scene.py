@@ -203,8 +203,28 @@ def _plain(value: Any) -> Any:
     array = np.asarray(value, dtype=float)
     if array.ndim == 0:
         return _round(float(array))
-    rounded = np.vectorize(_round, otypes=[float])(array) if array.size else array
-    return rounded.tolist()
+    return _significant(array).tolist()
+
+
+def _significant(array: np.ndarray) -> np.ndarray:
+    """:func:`_round` of every number at once: n = x / 10^e rounded to an integer of DIGITS
+    digits, then n * 10^e (or n / 10^-e) with an exact power of ten, which IEEE arithmetic
+    rounds to the double nearest the decimal, as ``float(f"{x:.5g}")`` does."""
+    out = np.zeros(array.shape)
+    usable = np.isfinite(array) & (array != 0)
+    x = array[usable]
+    e = np.floor(np.log10(np.abs(x))).astype(int) - (DIGITS - 1)
+    exact = np.abs(e) <= 22  # the powers of ten a double holds exactly
+    r = np.array([_round(v) for v in x[~exact]]) if (~exact).any() else np.empty(0)
+    rounded = np.empty_like(x)
+    rounded[~exact] = r
+    down, up = exact & (e < 0), exact & (e >= 0)
+    scale = 10.0 ** -e[down]
+    rounded[down] = np.round(x[down] * scale) / scale
+    scale = 10.0 ** e[up]
+    rounded[up] = np.round(x[up] / scale) * scale
+    out[usable] = rounded
+    return out
 
 
 def scene_of(
