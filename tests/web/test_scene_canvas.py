@@ -248,3 +248,23 @@ def test_an_impact_flashes_its_frame(browser: Any, live_server: str) -> None:
     panel.screenshot(path=str(ARTIFACTS / "scene_impact.png"))
     assert not errors
     page.context.close()
+
+
+def test_a_scene_of_two_panels_stacks_them(browser: Any, live_server: str) -> None:
+    page, errors = open_page(browser, live_server + "/", "phone")
+    page.select_option("[data-testid=examples]", "servo_system")  # a circuit and a rotor
+    settled(page, "servo_system")
+    scene, rows = page.evaluate("[state.run.answer.scene, state.run.answer.rows]")
+    assert len(scene["panels"]) == 2 and scene["panels"][0]["title"] == "circuit"
+    canvas = page.evaluate("[canvas.width, canvas.height]")
+    assert canvas == [380, 600]  # one square a panel, one above the other
+    k = len(rows) // 3
+    drawn = show_frame(page, k)
+    assert {e["panel"] for e in drawn["elements"]} == {0, 1}
+    check_shape(page, scene, canvas, first(scene, "current", "line"), k)
+    check_shape(page, scene, canvas, first(scene, "coordinates", "dot"), k)
+    page.locator("[data-testid=simulation-panel]").screenshot(
+        path=str(ARTIFACTS / "scene_servo_system_phone.png")
+    )
+    assert not errors
+    page.context.close()
