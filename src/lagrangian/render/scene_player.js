@@ -158,7 +158,8 @@
     ctx.textAlign = "left";
     ctx.font = "11px sans-serif";
     const corner = boxes[0] || { x: 0, y: 0 }; // inside the first panel's frame
-    ctx.fillText("t = " + Number(scene.times[frame]).toPrecision(3), corner.x + 6, corner.y + TITLE + 14);
+    const time = "t = " + Number(scene.times[frame]).toPrecision(3);
+    ctx.fillText(time, corner.x + 6, corner.y + TITLE + 14);
     if (flash) {
       ctx.fillStyle = FLASH;
       ctx.fillText(flash, corner.x + 6, corner.y + TITLE + 28);

@@ -740,7 +740,8 @@ function drawFrame() {
   const frame = indexAt(state.playhead);
   const sample = run.rows[frame];
   state.frame = frame;
-  state.drawn = { version: state.run.version, sample, ...LagrangianScene.drawFrame(canvas, run.scene, frame) };
+  const drawn = LagrangianScene.drawFrame(canvas, run.scene, frame);
+  state.drawn = { version: state.run.version, sample, ...drawn };
   const t = run.columns.t[sample];
   $("time").value = String(frame);
   $("time-shown").textContent = `t = ${t.toPrecision(4)} s`;
