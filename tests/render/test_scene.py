@@ -14,9 +14,15 @@ import pytest
 import lagrangian as lg
 from lagrangian.errors import SimulationInputError
 from lagrangian.io import loads
-from lagrangian.render.scene import scene_of, shapes_of
+from lagrangian.render.scene import Shape, scene_of, shapes_of
 from lagrangian.render.scene_draw import SceneFigure
-from lagrangian.render.timing import MIN_FRAMES, frame_count, frame_states
+from lagrangian.render.timing import (
+    MAX_FRAMES,
+    MIN_FRAMES,
+    frame_count,
+    frame_states,
+    spread_rows,
+)
 
 #: A bead on a hoop of radius R turning at omega about the vertical z axis (Goldstein 2.6).
 HOOP = """\
@@ -205,6 +211,45 @@ def test_the_frames_follow_the_motion_and_interpolate_the_run() -> None:
     np.testing.assert_allclose(
         states.column("theta"), np.interp(states.t, trajectory.t, trajectory["theta"])
     )
+
+
+def test_frames_at_the_runs_own_samples_show_those_samples() -> None:
+    system = lg.examples.double_pendulum()
+    trajectory = _run(system, 3.0, 1000)
+    rows = spread_rows(len(trajectory.t))
+    assert len(rows) == MAX_FRAMES and rows[0] == 0 and rows[-1] == 999
+    assert set(np.diff(rows)) <= {3, 4}  # 999 / 299 apart, evenly
+    scene = scene_of(system, trajectory, rows=rows)
+    np.testing.assert_array_equal(scene.times, trajectory.t[rows])  # no interpolation
+    theta = trajectory["theta"][rows]
+    bob = np.asarray(next(iter(shapes_of(scene, "particle"))).data["at"])
+    np.testing.assert_allclose(bob, np.c_[np.sin(theta), -np.cos(theta)], atol=1e-12)
+    assert spread_rows(7, 300).tolist() == list(range(7))
+    with pytest.raises(ValueError, match="frames or rows, not both"):
+        scene_of(system, trajectory, frames=10, rows=rows)
+    with pytest.raises(ValueError, match="rows must be increasing"):
+        scene_of(system, trajectory, rows=[3, 2])
+    with pytest.raises(ValueError, match=r"rows must lie in 0\.\.999"):
+        scene_of(system, trajectory, rows=[0, 1000])
+
+
+def test_a_capacitor_shows_its_charge() -> None:
+    system = lg.examples.two_mesh_circuit()
+    trajectory = _run(system, t_end=0.02)
+    scene = scene_of(system, trajectory, rows=spread_rows(len(trajectory.t), 25))
+    for capacitor in scene.elements("capacitor"):  # C1 holds q1, C2 holds q2
+        charge = trajectory[capacitor.info["branch"]][spread_rows(len(trajectory.t), 25)]
+        words = next(s for s in capacitor.shapes if s.type == "text" and s.moving_keys)
+        assert list(words.data["text"]) == [f"q = {value:.3g}" for value in charge]
+
+
+def test_numbers_keep_five_significant_digits_as_printf_rounds_them() -> None:
+    rng = np.random.default_rng(7)
+    values = rng.normal(size=(4000, 2)) * 10.0 ** rng.integers(-30, 30, size=(4000, 2))
+    values[:4] = [[0.0, np.nan], [np.inf, 1e-320], [9.99995, 0.5], [-12345.5, 1.5e300]]
+    shown = Shape("line", {"points": values}).to_dict()["points"]
+    expected = [[float(f"{v:.5g}") if np.isfinite(v) else 0.0 for v in row] for row in values]
+    assert shown == expected
 
 
 def test_the_scene_is_plain_json_in_its_documented_format() -> None:

@@ -88,19 +88,15 @@ def test_simulate_gives_the_columns_of_the_csv_and_the_scene(client: Any) -> Non
     summary = document["summary"]
     assert summary["status"] == "success" and summary["samples"] == 41
     assert summary["parameters"]["l"] == 2.0 and summary["drift"]["energy_relative"] < 1e-4
-    # the bob at (l sin theta, -l cos theta): the closed form, not the library's code
+    # the bob at (l sin theta, -l cos theta) at each frame's sample: the closed form, not the
+    # library's code (the scene keeps 5 significant digits)
+    assert document["rows"] == list(range(41))  # few samples: every one is a frame
     theta = np.array(columns["theta"])
-    bob = np.array(document["scene"]["points"]["bob"])
-    np.testing.assert_allclose(bob, np.c_[2 * np.sin(theta), -2 * np.cos(theta)], atol=1e-12)
-    assert document["scene"]["links"] == [["origin", "bob"]]
-
-
-def test_a_circuit_has_no_scene(client: Any) -> None:
-    model = examples.model_text("series_rlc")
-    document = client.post(
-        "/api/simulate", json={"model": model, "options": {"samples": 11}}
-    ).json()
-    assert document["scene"] is None and len(document["columns"]["t"]) == 11
+    elements = document["scene"]["panels"][0]["elements"]
+    assert [e["kind"] for e in elements] == ["rod", "particle"]
+    bob = np.array(elements[1]["shapes"][0]["at"])
+    np.testing.assert_allclose(bob, np.c_[2 * np.sin(theta), -2 * np.cos(theta)], atol=1e-4)
+    assert elements[0]["info"]["length"] == 2.0
 
 
 @pytest.mark.parametrize(

@@ -203,8 +203,28 @@ def _plain(value: Any) -> Any:
     array = np.asarray(value, dtype=float)
     if array.ndim == 0:
         return _round(float(array))
-    rounded = np.vectorize(_round, otypes=[float])(array) if array.size else array
-    return rounded.tolist()
+    return _significant(array).tolist()
+
+
+def _significant(array: np.ndarray) -> np.ndarray:
+    """:func:`_round` of every number at once: n = x / 10^e rounded to an integer of DIGITS
+    digits, then n * 10^e (or n / 10^-e) with an exact power of ten, which IEEE arithmetic
+    rounds to the double nearest the decimal, as ``float(f"{x:.5g}")`` does."""
+    out = np.zeros(array.shape)
+    usable = np.isfinite(array) & (array != 0)
+    x = array[usable]
+    e = np.floor(np.log10(np.abs(x))).astype(int) - (DIGITS - 1)
+    exact = np.abs(e) <= 22  # the powers of ten a double holds exactly
+    r = np.array([_round(v) for v in x[~exact]]) if (~exact).any() else np.empty(0)
+    rounded = np.empty_like(x)
+    rounded[~exact] = r
+    down, up = exact & (e < 0), exact & (e >= 0)
+    scale = 10.0 ** -e[down]
+    rounded[down] = np.round(x[down] * scale) / scale
+    scale = 10.0 ** e[up]
+    rounded[up] = np.round(x[up] / scale) * scale
+    out[usable] = rounded
+    return out
 
 
 def scene_of(
@@ -214,19 +234,32 @@ def scene_of(
     frames: int | None = None,
     fps: float | None = None,
     projection: str = "auto",
+    rows: Sequence[int] | np.ndarray | None = None,
 ) -> Scene:
     """The scene of ``trajectory``: ``frames`` evenly spaced times (default: from the
-    motion's time scale, :func:`lagrangian.render.timing.frame_count`), played at ``fps``
+    motion's time scale, :func:`lagrangian.render.timing.frame_count`), or the run's own
+    samples at ``rows`` (indices into ``trajectory.t``, increasing: frame k is sample
+    ``rows[k]``, as a player whose time slider walks the samples needs), played at ``fps``
     (default :data:`~lagrangian.render.timing.FPS`); a 3-D system seen in ``projection``
     ("auto", "xy", "xz", "yz", "isometric").  Mechanical parts, the circuit and the
     coordinates without geometry each get a panel; a system with none gets the coordinates."""
     from lagrangian.render.scene_circuit import circuit_panel
     from lagrangian.render.scene_coordinates import coordinates_panel, loose_coordinates
     from lagrangian.render.scene_mechanics import mechanics_panel
-    from lagrangian.render.timing import FPS, frame_count, frame_states, impact_frames
+    from lagrangian.render.timing import (
+        FPS,
+        frame_count,
+        frame_states,
+        impact_frames,
+        sample_states,
+    )
 
-    count = frames if frames is not None else frame_count(trajectory)
-    states = frame_states(trajectory, count)
+    if rows is not None:
+        if frames is not None:
+            raise ValueError("scene_of takes frames or rows, not both: leave one out")
+        states = sample_states(trajectory, rows)
+    else:
+        states = frame_states(trajectory, frames if frames is not None else frame_count(trajectory))
     panels = [
         panel
         for panel in (

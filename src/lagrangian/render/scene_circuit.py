@@ -3,7 +3,8 @@ symbols (resistor zigzag, inductor coil, capacitor plates, source circle), an el
 current is a difference of two mesh currents (q1_dot - q2_dot) on the branch the two loops
 share, a mutual inductance as a dashed link between its coils; and the motion: each mesh's
 current as an arrow in the loop, its length the current over the largest of the run (its
-direction the current's sign), with the value written beside it.
+direction the current's sign), with the value written beside it, and each capacitor's charge
+written beside its plates.
 
 Mesh k is the box [4k, 4k + 4] x [0, 3] (narrowed by a gap where it shares nothing with its
 neighbour); its own elements go on its top edge, then the sides it shares with no other
@@ -28,6 +29,7 @@ from lagrangian.model import System
 from lagrangian.model.circuit import Capacitor, Inductor, MutualInductance, Resistor
 from lagrangian.render.scene import PALETTE, Element, Panel, Shape, style
 from lagrangian.render.scene_geometry import coil_line
+from lagrangian.render.stage import frame_values
 from lagrangian.render.timing import FrameStates
 from lagrangian.symbolic.conversion import to_sympy
 
@@ -78,16 +80,26 @@ def circuit_panel(system: System, states: FrameStates) -> Panel | None:
             shared.setdefault(max(meshes.index(m) for m in its), []).append(element)
     elements: list[Element] = []
     placed: dict[int, np.ndarray] = {}  # id(element) -> its centre (for mutual links)
+    charges = _charges(system, states, parts)
     for k, mesh in enumerate(meshes):
         slots = _slots(k, len(meshes), set(shared))
-        elements += _on_edges(own[mesh], slots, placed)
+        elements += _on_edges(own[mesh], slots, placed, charges)
     for k, branch in shared.items():
         edge = (np.array([WIDTH * k, HEIGHT]), np.array([WIDTH * k, 0.0]))
-        elements += _on_edges(branch, [edge], placed)
+        elements += _on_edges(branch, [edge], placed, charges)
     elements += _mutual(system, placed)
     elements += [_current(states, mesh, k) for k, mesh in enumerate(meshes)]
     bounds = (-0.8, WIDTH * len(meshes) + 0.8, -0.8, HEIGHT + 0.8)
     return Panel("circuit", bounds, tuple(elements))
+
+
+def _charges(system: System, states: FrameStates, parts: list[Any]) -> dict[int, np.ndarray]:
+    """Each capacitor's charge at every frame, by ``id`` of the capacitor."""
+    capacitors = [e for e in parts if isinstance(e, Capacitor)]
+    if not capacitors:
+        return {}
+    values = frame_values(system, states, [e.charge for e in capacitors])
+    return {id(e): values[:, i] for i, e in enumerate(capacitors)}
 
 
 def _slots(k: int, count: int, shared: set[int]) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -108,9 +120,13 @@ def _slots(k: int, count: int, shared: set[int]) -> list[tuple[np.ndarray, np.nd
 
 
 def _on_edges(
-    parts: list[Any], edges: list[tuple[np.ndarray, np.ndarray]], placed: dict[int, np.ndarray]
+    parts: list[Any],
+    edges: list[tuple[np.ndarray, np.ndarray]],
+    placed: dict[int, np.ndarray],
+    charges: dict[int, np.ndarray],
 ) -> list[Element]:
-    """``parts`` spread over ``edges`` in order, the rest of each edge a plain wire."""
+    """``parts`` spread over ``edges`` in order, the rest of each edge a plain wire; a
+    capacitor with its charge at every frame (``charges`` by ``id``)."""
     per_edge = [parts[i :: len(edges)] for i in range(len(edges))]
     made = []
     for (start, end), group in zip(edges, per_edge):
@@ -122,7 +138,7 @@ def _on_edges(
             wire.append((start + (end - start) * u0, a))
             wire.append((b, start + (end - start) * u1))
             placed[id(element)] = (a + b) / 2
-            made.append(_symbol(element, a, b))
+            made.append(_symbol(element, a, b, charges.get(id(element))))
         if not group:
             wire.append((start, end))
         lines = tuple(Shape("line", {"points": np.array(seg)}, style(INK, 1.5)) for seg in wire)
@@ -130,8 +146,9 @@ def _on_edges(
     return made
 
 
-def _symbol(element: Any, a: np.ndarray, b: np.ndarray) -> Element:
-    """The symbol of one element between ``a`` and ``b``, with its value written beside."""
+def _symbol(element: Any, a: np.ndarray, b: np.ndarray, charge: np.ndarray | None) -> Element:
+    """The symbol of one element between ``a`` and ``b``, with its value written beside (and
+    across from it a capacitor's ``charge`` at every frame)."""
     kind = _kind(element)
     along = (b - a) / np.linalg.norm(b - a)
     normal = np.array([-along[1], along[0]])
@@ -166,6 +183,11 @@ def _symbol(element: Any, a: np.ndarray, b: np.ndarray) -> Element:
         *circles,
         Shape("text", {"at": label_at, "text": _value(element)}, {"color": INK}),
     )
+    if charge is not None:
+        words = [f"q = {value:.3g}" for value in charge]
+        charge_at = 2 * centre - label_at + 0.45 * along  # across from the label, off the arrow
+        shapes += (Shape("text", {"at": charge_at, "text": words}, {"color": INK},
+                         moving=True),)  # fmt: skip
     info = {"value": _value(element), "branch": str(_branch(element))}
     return Element(kind, shapes, element.name or kind, info)
 

@@ -63,20 +63,11 @@ class Stage:
 
     def evaluate(self, expressions: list[Any]) -> np.ndarray:
         """``expressions`` of (q, t, p) at every frame, (F, len(expressions))."""
-        system = self.system
-        groups = (list(system.coordinates), t, list(system.parameters))
-        function = NumericFunction(groups, [to_sympy(e) for e in expressions],
-                                   shape=(len(expressions),))  # fmt: skip
-        values = function(self.states.q, self.states.t, self.p)
-        return np.asarray(values, dtype=float).reshape(self.frames, len(expressions))
+        return self.at_states(expressions, self.states.q, self.states.t)
 
     def at_states(self, expressions: list[Any], q: np.ndarray, times: np.ndarray) -> np.ndarray:
         """``expressions`` at the states ``q`` (K, n) and ``times`` (K,), (K, len)."""
-        system = self.system
-        groups = (list(system.coordinates), t, list(system.parameters))
-        function = NumericFunction(groups, [to_sympy(e) for e in expressions],
-                                   shape=(len(expressions),))  # fmt: skip
-        return np.asarray(function(q, times, self.p), dtype=float).reshape(len(q), -1)
+        return values_at(self.system, expressions, q, times, self.p)
 
     def anchor(self, ref: Any) -> np.ndarray:
         """The world position (F, 3) of an end of a spring or damper: a point's name, or a
@@ -105,6 +96,24 @@ class Stage:
     def pixels(self, fraction: float) -> float:
         """A length on the page: ``fraction`` of the scene's half-width."""
         return fraction * self.span
+
+
+def values_at(
+    system: System, expressions: list[Any], q: np.ndarray, times: np.ndarray, p: np.ndarray
+) -> np.ndarray:
+    """``expressions`` of (q, t, p) at the states ``q`` (K, n), ``times`` (K,) and the
+    parameter vector ``p`` (in the order of ``system.parameters``), (K, len(expressions))."""
+    groups = (list(system.coordinates), t, list(system.parameters))
+    function = NumericFunction(groups, [to_sympy(e) for e in expressions],
+                               shape=(len(expressions),))  # fmt: skip
+    return np.asarray(function(q, times, p), dtype=float).reshape(len(q), -1)
+
+
+def frame_values(system: System, states: FrameStates, expressions: list[Any]) -> np.ndarray:
+    """``expressions`` of (q, t, p) at every frame of ``states`` with the run's parameters,
+    (F, len(expressions)): what a picture without points needs (a circuit's charges)."""
+    p = np.array([states.parameters.get(s.name, np.nan) for s in system.parameters])
+    return values_at(system, expressions, states.q, states.t, p)
 
 
 def stage_of(system: System, states: FrameStates, projection: str) -> Stage:

@@ -16,6 +16,7 @@ a motion that never turns (a rolling disc, a free particle) gets :data:`MIN_FRAM
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -95,6 +96,33 @@ def frame_states(trajectory: Trajectory, count: int) -> FrameStates:
         parameters,
         names,
     )
+
+
+def sample_states(trajectory: Trajectory, rows: Sequence[int] | np.ndarray) -> FrameStates:
+    """The run's own samples at ``rows`` (indices into its times, increasing) as the frames:
+    no interpolation, so frame k shows the state of sample ``rows[k]`` exactly."""
+    picked = np.asarray(rows, dtype=int)
+    t = np.asarray(trajectory.t, dtype=float)
+    if picked.ndim != 1 or picked.size == 0 or np.any(np.diff(picked) <= 0):
+        raise ValueError("rows must be increasing sample indices, at least one")
+    if picked[0] < 0 or picked[-1] >= len(t):
+        raise ValueError(f"rows must lie in 0..{len(t) - 1}, the run's samples")
+    parameters = {str(k): float(v) for k, v in dict(trajectory.parameters).items()}
+    return FrameStates(t[picked], np.asarray(trajectory.q)[picked],
+                       np.asarray(trajectory.q_dot)[picked], parameters,
+                       tuple(trajectory.coordinates))  # fmt: skip
+
+
+def spread_rows(samples: int, most: int = MAX_FRAMES) -> np.ndarray:
+    """At most ``most`` of ``samples`` rows, evenly spread over them, the first and the last
+    always among them (every row when there are no more than ``most``).
+
+    >>> spread_rows(5, 3).tolist(), spread_rows(3).tolist()
+    ([0, 2, 4], [0, 1, 2])
+    """
+    if samples <= max(most, 1):
+        return np.arange(samples)
+    return np.unique(np.round(np.linspace(0, samples - 1, max(most, 2))).astype(int))
 
 
 def _interpolated(times: np.ndarray, t: np.ndarray, values: Any) -> np.ndarray:

@@ -48,6 +48,9 @@ from lagrangian.web.pool import PoolBusy, Superseded, Ticket, WorkerLost, Worker
 from lagrangian.web.wording import problem_document
 
 STATIC = Path(__file__).resolve().parent / "static"
+#: The drawing of a scene: one file, which the HTML animations inline and the page loads as
+#: ``/static/scene_player.js`` (found by its path: the server never imports the render layer).
+SCENE_DRAWING = Path(__file__).resolve().parents[1] / "render" / "scene_player.js"
 #: The page may load its own scripts, styles and fonts only (KaTeX sets inline styles).
 HEADERS = {
     "Content-Security-Policy": (
@@ -244,6 +247,10 @@ async def page(request: Request) -> Response:
     return FileResponse(STATIC / "index.html", media_type="text/html")
 
 
+async def scene_drawing(request: Request) -> Response:
+    return FileResponse(SCENE_DRAWING, media_type="text/javascript")
+
+
 def create_app(
     limits: Limits | None = None, allowed_hosts: Sequence[str] | None = None
 ) -> Starlette:
@@ -274,6 +281,7 @@ def create_app(
             Route("/api/examples/{name}", example),
             Route("/api/health", health),
             Route("/api/{command}", command, methods=["POST"]),
+            Route("/static/scene_player.js", scene_drawing),
             Mount("/static", StaticFiles(directory=STATIC), name="static"),
         ],
         lifespan=lifespan,

@@ -35,14 +35,13 @@ from lagrangian.errors import LagrangianError, Problem, SimulationError
 from lagrangian.io import loads
 from lagrangian.model import System
 from lagrangian.numerics.export import export
-from lagrangian.numerics.points import compile_points
 from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
-from lagrangian.render.animation import rods
+from lagrangian.render.scene import scene_of
+from lagrangian.render.timing import spread_rows
 from lagrangian.simulation import Trajectory, simulate
 from lagrangian.simulation.impact_table import impact_records, impacts_summary
 from lagrangian.size_limits import size_limit
-from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.web.limits import TimeLimitExceeded
 from lagrangian.web.wording import WEB, problem_document
 
@@ -100,8 +99,9 @@ def simulate_document(
     model: str, fmt: str, options: dict[str, Any], wall_seconds: float | None = None
 ) -> dict[str, Any]:
     """``lagrangian simulate`` as ``{"columns": {"t": [...], NAME: [...]}, "summary": {...},
-    "scene": {...}}``: the CSV's columns, the run's status and drift, and the positions of
-    the particles and bodies for an animation (``scene`` is null for a circuit)."""
+    "scene": {...}, "rows": [...]}``: the CSV's columns, the run's status and drift, and the
+    scene of ``--animate`` (bodies, springs, a circuit's schematic and currents...) with the
+    sample each of its frames shows (:func:`scene_document`)."""
     system = system_of(model, fmt, options)
     given = {key: value for key, value in options.items() if key not in ("set", "initial")}
     t_end = given.pop("t_end", None)
@@ -117,7 +117,7 @@ def simulate_document(
     return {
         "columns": {name: finite_list(values) for name, values in trajectory.columns().items()},
         "summary": simulation_summary(trajectory),
-        "scene": scene(system, trajectory),
+        **scene_document(system, trajectory),
     }
 
 
@@ -136,37 +136,13 @@ def simulation_summary(trajectory: Trajectory) -> dict[str, Any]:
     }
 
 
-def scene(system: System, trajectory: Trajectory) -> dict[str, Any] | None:
-    """The named points' positions at every sample and the links drawn between them (rods,
-    springs, dampers), each end a point's name or fixed coordinates, with what each link is
-    (``link_kinds``: rod, spring or damper); None with no points."""
-    if not [name for name in system.points() if name != "origin"]:
-        return None
-    points = compile_points(system)
-    p = points.parameter_vector(dict(trajectory.parameters))
-    values = np.asarray(points(trajectory.q, trajectory.t, p)).reshape(
-        len(trajectory.t), len(points.names), points.dimension
-    )
-    links: list[list[Any]] = [[a, b] for a, b in rods(system)]
-    kinds = ["rod"] * len(links)
-    for kind, items in (("spring", system.springs), ("damper", system.dampers)):
-        links += [[_end(ref, trajectory) for ref in item.between] for item in items]
-        kinds += [kind] * len(items)
-    return {
-        "dimension": points.dimension,
-        "points": {name: finite_list(values[:, i, :]) for i, name in enumerate(points.names)},
-        "links": links,
-        "link_kinds": kinds,
-    }
-
-
-def _end(ref: Any, trajectory: Trajectory) -> Any:
-    """A link's end: a point's name, or a fixed position (parameters put in)."""
-    if isinstance(ref, str):
-        return ref
-    values = {name: value for name, value in trajectory.parameters.items()}
-    fixed = [to_sympy(x).subs(values) for x in ref]
-    return [float(x) if x.is_number else None for x in fixed]
+def scene_document(system: System, trajectory: Trajectory) -> dict[str, Any]:
+    """The run's scene (``Scene.to_dict()``, the command line's animations' format) at no more
+    than :data:`~lagrangian.render.timing.MAX_FRAMES` of its samples, evenly spread, and
+    ``rows``: the sample (the row of ``columns``) each frame shows, so that the page's time
+    slider, its plot cursor and its drawing show the same sample."""
+    rows = spread_rows(len(trajectory.t))
+    return {"scene": scene_of(system, trajectory, rows=rows).to_dict(), "rows": rows.tolist()}
 
 
 def _finite(value: Any) -> Any:

@@ -606,7 +606,8 @@ async function simulate(rebuild = true) {
     markStale();
     return;
   }
-  state.run = { version: state.version, settings, answer };
+  const times = answer.rows.map((row) => answer.columns.t[row]); // the scene's frames' times
+  state.run = { version: state.version, settings, answer, times };
   $("simulation-panel").dataset.version = state.version;
   if (rebuild || !$("sliders").children.length) buildSliders(answer);
   buildPlotMenu();
@@ -621,7 +622,12 @@ async function refresh() {
   if (await derive()) await simulate();
 }
 
-// ---- the animation: the motion's own time scale, play/pause, step, speed, a time slider
+// ---- the animation: the run's scene (Scene.to_dict(), drawn by scene_player.js, the one
+// drawing code of the command line's animations too), each of its frames one sample of the
+// run (answer.rows); played at the motion's own time scale, with play/pause, step, speed and
+// a time slider over the frames.
+const PANEL_HEIGHT = 300; // the canvas's height per panel of the scene (panels stack)
+
 function motionPeriod(columns, names) {
   // The shortest period among the coordinates, from how often each crosses its mean.
   const t = columns.t;
@@ -640,12 +646,20 @@ function motionPeriod(columns, names) {
   return period;
 }
 
+// The coordinates and velocities the run has columns for.
+function motionNames() {
+  const columns = state.run ? state.run.answer.columns : {};
+  const coordinates = (current(state.derived) && state.derived.answer.coordinates) || [];
+  const names = [];
+  for (const q of coordinates) names.push(q, q + "_dot");
+  return names.filter((n) => columns[n]);
+}
+
 function chooseSpeeds(columns) {
   // One period of the motion takes 2 s on screen, and the whole run at least 4 s.
   const t = columns.t;
   const span = t[t.length - 1] - t[0] || 1;
-  const names = gaugeNames();
-  const base = Math.min(motionPeriod(columns, names) / 2, span / 4);
+  const base = Math.min(motionPeriod(columns, motionNames()) / 2, span / 4);
   const menu = $("speed");
   menu.innerHTML = "";
   for (const factor of [0.25, 0.5, 1, 2, 4]) {
@@ -659,21 +673,24 @@ function chooseSpeeds(columns) {
 }
 
 function startAnimation(fresh) {
-  const columns = state.run.answer.columns;
-  const slider = $("time");
-  slider.max = String(columns.t.length - 1);
+  const run = state.run;
+  const times = run.times;
+  $("time").max = String(times.length - 1);
+  const height = PANEL_HEIGHT * Math.max(1, run.answer.scene.panels.length);
+  if ($("canvas").height !== height) $("canvas").height = height;
   if (fresh) {
-    chooseSpeeds(columns);
-    state.playhead = columns.t[0];
+    chooseSpeeds(run.answer.columns);
+    state.playhead = times[0];
   }
   cancelAnimationFrame(state.animation);
   state.lastTick = performance.now();
   const tick = (now) => {
     if (state.playing && current(state.run)) {
-      const t = columns.t;
-      const span = t[t.length - 1] - t[0] || 1;
+      const span = times[times.length - 1] - times[0] || 1;
       state.playhead += ((now - state.lastTick) / 1000) * state.rate;
-      if (state.playhead > t[t.length - 1]) state.playhead = t[0] + ((state.playhead - t[0]) % span);
+      if (state.playhead > times[times.length - 1]) {
+        state.playhead = times[0] + ((state.playhead - times[0]) % span);
+      }
     }
     state.lastTick = now;
     drawFrame();
@@ -692,182 +709,43 @@ function setPlaying(playing) {
 function stepFrame(by) {
   if (!state.run) return;
   setPlaying(false);
-  const t = state.run.answer.columns.t;
-  const index = Math.min(t.length - 1, Math.max(0, state.frame + by));
-  state.playhead = t[index];
+  const times = state.run.times;
+  state.playhead = times[Math.min(times.length - 1, Math.max(0, state.frame + by))];
 }
 
+// The first frame at or after ``time``.
 function indexAt(time) {
-  const t = state.run.answer.columns.t;
+  const times = state.run.times;
   let low = 0;
-  let high = t.length - 1;
+  let high = times.length - 1;
   while (low < high) {
     const middle = (low + high) >> 1;
-    if (t[middle] < time) low = middle + 1;
+    if (times[middle] < time) low = middle + 1;
     else high = middle;
   }
   return low;
 }
 
+// The frame at the playhead: the scene drawn, the time slider, the time and the plot's cursor
+// at its sample.  What was drawn is kept in state.drawn (the frame, its sample, the elements).
 function drawFrame() {
   const canvas = $("canvas");
-  const context = canvas.getContext("2d");
-  context.fillStyle = "#fff";
-  context.fillRect(0, 0, canvas.width, canvas.height);
-  if (!state.run) return;
+  if (!state.run) {
+    const context = canvas.getContext("2d");
+    context.fillStyle = "#fff";
+    context.fillRect(0, 0, canvas.width, canvas.height);
+    return;
+  }
   const run = state.run.answer;
-  const index = indexAt(state.playhead);
-  state.frame = index;
-  const shapes = run.scene ? sceneShapes(run.scene, index) : gaugeShapes(index);
-  drawShapes(context, canvas, shapes, run.scene);
-  const t = run.columns.t[index];
-  context.fillStyle = "#333";
-  context.font = "13px sans-serif";
-  context.fillText(`t = ${t.toPrecision(4)} s`, 8, 16);
-  $("time").value = String(index);
+  const frame = indexAt(state.playhead);
+  const sample = run.rows[frame];
+  state.frame = frame;
+  const drawn = LagrangianScene.drawFrame(canvas, run.scene, frame);
+  state.drawn = { version: state.run.version, sample, ...drawn };
+  const t = run.columns.t[sample];
+  $("time").value = String(frame);
   $("time-shown").textContent = `t = ${t.toPrecision(4)} s`;
-  drawPlotCursor(index);
-}
-
-function project(point, dimension) {
-  if (dimension === 3) return [point[0] + 0.35 * point[1], point[2] + 0.35 * point[1]];
-  if (dimension === 1) return [point[0], 0];
-  return [point[0], point[1]];
-}
-
-// What the canvas draws at one sample, in the model's own coordinates: rods, springs (coils),
-// dampers, bodies and their recent paths.  A scene description from the server would give
-// these shapes directly (discs with their radius, a top's axes).
-function sceneShapes(scene, index) {
-  const origin = scene.dimension === 3 ? [0, 0, 0] : [0, 0];
-  const where = (end) => {
-    if (typeof end === "string") return end === "origin" ? origin : scene.points[end][index];
-    return end.map((v) => v ?? 0);
-  };
-  const kinds = scene.link_kinds || [];
-  const shapes = scene.links.map(([a, b], i) => ({
-    kind: kinds[i] || "rod",
-    from: project(where(a), scene.dimension),
-    to: project(where(b), scene.dimension),
-  }));
-  shapes.push({ kind: "pivot", at: project(origin, scene.dimension) });
-  Object.entries(scene.points).forEach(([name, path], i) => {
-    const from = Math.max(0, index - 60);
-    const trail = path.slice(from, index + 1).map((p) => project(p, scene.dimension));
-    const color = COLORS[i % COLORS.length];
-    shapes.push({ kind: "trail", points: trail, color });
-    shapes.push({ kind: "body", at: project(path[index], scene.dimension), name, color });
-  });
-  return shapes;
-}
-
-function sceneScale(scene, canvas) {
-  let extent = 1e-9;
-  for (const path of Object.values(scene.points)) {
-    for (const p of path) {
-      for (const value of project(p, scene.dimension)) {
-        if (value !== null && isFinite(value)) extent = Math.max(extent, Math.abs(value));
-      }
-    }
-  }
-  return (0.45 * Math.min(canvas.width, canvas.height)) / extent;
-}
-
-function drawCoil(context, [x1, y1], [x2, y2]) {
-  const length = Math.hypot(x2 - x1, y2 - y1) || 1;
-  const [ux, uy] = [(x2 - x1) / length, (y2 - y1) / length];
-  const turns = 8;
-  context.beginPath();
-  context.moveTo(x1, y1);
-  for (let k = 1; k < 2 * turns; k++) {
-    const along = 0.1 + (0.8 * k) / (2 * turns);
-    const side = (k % 2 ? 1 : -1) * 7;
-    context.lineTo(x1 + ux * along * length - uy * side, y1 + uy * along * length + ux * side);
-  }
-  context.lineTo(x2, y2);
-  context.stroke();
-}
-
-function drawShapes(context, canvas, shapes, scene) {
-  const scale = scene ? sceneScale(scene, canvas) : 1;
-  const toCanvas = ([x, y]) =>
-    scene ? [canvas.width / 2 + scale * x, canvas.height / 2 - scale * y] : [x, y];
-  for (const shape of shapes) {
-    context.lineWidth = 2;
-    context.strokeStyle = "#455a64";
-    if (shape.kind === "rod" || shape.kind === "damper") {
-      const [x1, y1] = toCanvas(shape.from);
-      const [x2, y2] = toCanvas(shape.to);
-      context.lineWidth = shape.kind === "rod" ? 3 : 6;
-      if (shape.kind === "damper") context.strokeStyle = "#78909c";
-      context.beginPath();
-      context.moveTo(x1, y1);
-      context.lineTo(x2, y2);
-      context.stroke();
-    } else if (shape.kind === "spring") {
-      drawCoil(context, toCanvas(shape.from), toCanvas(shape.to));
-    } else if (shape.kind === "pivot") {
-      const [x, y] = toCanvas(shape.at);
-      context.fillStyle = "#263238";
-      context.fillRect(x - 4, y - 4, 8, 8);
-    } else if (shape.kind === "trail") {
-      context.strokeStyle = shape.color;
-      context.globalAlpha = 0.4;
-      context.lineWidth = 1;
-      context.beginPath();
-      shape.points.forEach((p, k) => {
-        const [x, y] = toCanvas(p);
-        if (k === 0) context.moveTo(x, y);
-        else context.lineTo(x, y);
-      });
-      context.stroke();
-      context.globalAlpha = 1;
-    } else if (shape.kind === "body") {
-      const [x, y] = toCanvas(shape.at);
-      context.fillStyle = shape.color;
-      context.beginPath();
-      context.arc(x, y, 8, 0, 2 * Math.PI);
-      context.fill();
-      context.fillStyle = "#263238";
-      context.font = "13px sans-serif";
-      context.fillText(shape.name, x + 10, y - 10);
-    } else if (shape.kind === "gauge") {
-      context.fillStyle = "#eceff1";
-      context.fillRect(shape.x, shape.y, shape.width, shape.height);
-      context.fillStyle = COLORS[0];
-      const middle = shape.x + shape.width / 2;
-      const bar = (shape.value * shape.width) / 2;
-      context.fillRect(Math.min(middle, middle + bar), shape.y, Math.abs(bar), shape.height);
-      context.fillStyle = "#263238";
-      context.font = "13px sans-serif";
-      context.fillText(shape.name, 8, shape.y + shape.height * 0.8);
-    }
-  }
-}
-
-function gaugeNames() {
-  const columns = state.run ? state.run.answer.columns : {};
-  const coordinates = (current(state.derived) && state.derived.answer.coordinates) || [];
-  const names = [];
-  for (const q of coordinates) names.push(q, q + "_dot");
-  return names.filter((n) => columns[n]);
-}
-
-// A circuit (no points): a gauge per charge and current, scaled by its largest value.
-function gaugeShapes(index) {
-  const canvas = $("canvas");
-  const columns = state.run.answer.columns;
-  const names = gaugeNames();
-  const height = Math.min(40, (canvas.height - 40) / Math.max(1, names.length));
-  return names.map((name, i) => ({
-    kind: "gauge",
-    name,
-    value: (columns[name][index] ?? 0) / (columnScale(columns[name]) || 1),
-    x: 90,
-    y: 30 + i * height,
-    width: canvas.width - 110,
-    height: height * 0.7,
-  }));
+  drawPlotCursor(sample);
 }
 
 // ---- the plot: the coordinates against t, a phase portrait, or the energy's change
@@ -1149,7 +1027,7 @@ $("format").addEventListener("change", () => {
 });
 $("plot-kind").addEventListener("change", () => {
   drawPlot();
-  if (state.run) drawPlotCursor(state.frame);
+  if (state.run) drawPlotCursor(state.run.answer.rows[state.frame]);
 });
 $("examples").addEventListener("change", (event) => loadExample(event.target.value));
 $("derive").addEventListener("click", derive);
@@ -1164,7 +1042,7 @@ $("speed").addEventListener("change", () => {
 $("time").addEventListener("input", () => {
   if (!state.run) return;
   setPlaying(false);
-  state.playhead = state.run.answer.columns.t[Number($("time").value)];
+  state.playhead = state.run.times[Number($("time").value)];
 });
 $("reset-all").addEventListener("click", () => {
   state.settings = {};
