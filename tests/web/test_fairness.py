@@ -70,6 +70,43 @@ def test_a_waiting_request_replaced_by_a_newer_one_never_runs() -> None:
     assert newer[0] == 200
 
 
+def test_a_client_naming_itself_many_times_still_leaves_a_worker_to_the_others() -> None:
+    """Two heavy requests from one address under two page names (a name is the client's own
+    word) hold one worker, not both: another address's light request is answered while both
+    are still unanswered."""
+
+    async def scenario() -> tuple[Any, int]:
+        pool = WorkerPool(Limits(workers=2, queue=8, cpu_seconds=4.0))
+        pool.start()
+        await asyncio.to_thread(pool.wait_ready)
+        try:
+            heavy = [
+                asyncio.ensure_future(
+                    pool.run(
+                        Ticket(
+                            ("derive", HOSTILE, "yaml", {}),
+                            f"10.0.0.1 page-{n}",
+                            "derive",
+                            address="10.0.0.1",
+                        )
+                    )
+                )
+                for n in range(2)
+            ]
+            await asyncio.sleep(0.5)  # both heavy requests are in first
+            light = Ticket(("derive", SIMPLE, "yaml", {}), "10.0.0.2 page", "derive", "10.0.0.2")
+            answer = await pool.run(light)
+            unanswered = sum(not request.done() for request in heavy)
+            await asyncio.gather(*heavy, return_exceptions=True)
+            return answer, unanswered
+        finally:
+            pool.close()
+
+    answer, unanswered = asyncio.run(scenario())
+    assert answer[0] == 200
+    assert unanswered == 2  # one heavy request running, the other waiting behind it
+
+
 FAIR = Limits(workers=2, queue=32, cpu_seconds=8.0)
 
 
@@ -83,16 +120,20 @@ def fair_server() -> Iterator[str]:
         yield f"http://127.0.0.1:{port}"
 
 
-def _post(base: str, client: str, command: str, model: str) -> tuple[int, float, float]:
+def _post(
+    base: str, client: str, command: str, model: str, address: str = "127.0.0.1"
+) -> tuple[int, float, float]:
+    """POST from the loopback ``address`` (each user of the load test its own machine)."""
     import httpx
 
     start = time.monotonic()
-    answer = httpx.post(
-        f"{base}/api/{command}",
-        json={"model": model},
-        headers={"X-Lagrangian-Client": client},
-        timeout=120,
-    )
+    with httpx.Client(transport=httpx.HTTPTransport(local_address=address)) as http:
+        answer = http.post(
+            f"{base}/api/{command}",
+            json={"model": model},
+            headers={"X-Lagrangian-Client": client},
+            timeout=120,
+        )
     return answer.status_code, start, time.monotonic()
 
 
@@ -107,7 +148,8 @@ def test_two_heavy_requests_of_one_client_leave_a_worker_to_the_others(
         ]
         time.sleep(0.5)  # both heavy requests are in before the light ones
         light = [
-            threads.submit(_post, fair_server, f"light-{n}", "derive", SIMPLE) for n in range(8)
+            threads.submit(_post, fair_server, f"light-{n}", "derive", SIMPLE, f"127.0.0.{n + 2}")
+            for n in range(8)
         ]
         light_answers = [future.result() for future in light]
         heavy_answers = [future.result() for future in heavy]

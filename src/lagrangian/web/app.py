@@ -17,7 +17,9 @@ The work runs in worker processes (:mod:`.pool`); the server itself only reads, 
 forwards, so one slow request never stalls another.  Requests are queued per client: the
 page names itself in the ``X-Lagrangian-Client`` header (else the client's address counts),
 and its newer request of a kind (derive, analyze, ...) cancels the older one, as does a
-client that goes away before its answer (409 for a request so cancelled).
+client that goes away before its answer (409 for a request so cancelled).  The workers held
+at once are bounded per address, which the connection gives and a page cannot choose: a page
+that names itself many times still leaves a worker to the others.
 """
 
 from __future__ import annotations
@@ -160,6 +162,7 @@ async def command(request: Request) -> Response:
         (name, checked.model, checked.format, checked.options),
         client_of(request),
         name if page_named else "",
+        address=request.client.host if request.client else "",
     )
     try:
         status, answer = await answer_unless_gone(request, pool, ticket)

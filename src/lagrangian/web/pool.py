@@ -6,9 +6,10 @@ is refused at once (:class:`PoolBusy`, HTTP 503).  A worker that does not answer
 wall-clock backstop, or dies (its memory or CPU time exhausted in C code that never returned
 to Python), is killed and replaced; only its own request gets the error.
 
-The waiting requests are queued per client and served in turn (round robin), and one client
-holds at most ``Limits.client_workers`` workers at once: a client's heavy requests wait
-behind each other, never in front of another client's.  A request is a :class:`Ticket`; one
+The waiting requests are queued per client and served in turn (round robin), and one address
+holds at most ``Limits.client_workers`` workers at once, whatever clients (pages) it names: a
+client's heavy requests wait behind each other, never in front of another client's, and
+naming more clients does not take more workers.  A request is a :class:`Ticket`; one
 cancelled (its client went away, or sent a newer request of the same kind) leaves the queue,
 or, running, has its work interrupted (SIGUSR1, :mod:`.worker`) so that its worker is free.
 """
@@ -71,14 +72,17 @@ Request = tuple[str, str, str, dict[str, Any]]
 class Ticket:
     """One request: what it asks, whose it is, and whether it is still wanted.
 
-    client: who sent it (requests are queued and bounded per client).
+    client: who sent it (requests are queued per client).
     kind: what it is for (the command); a newer request of the same client and kind
         supersedes this one.
+    address: where it came from, as the connection says (the client by default): the
+        workers held at once are bounded per address, since a client names itself.
     """
 
     request: Request
     client: str = ""
     kind: str = ""
+    address: str = ""
     cancelled: threading.Event = field(default_factory=threading.Event)
     granted: asyncio.Future[Worker] | None = None
 
@@ -232,7 +236,7 @@ class WorkerPool:
         granted = ticket.granted
         done = granted is not None and granted.done() and not granted.cancelled()
         if done and granted is not None and granted.exception() is None:
-            self._release(ticket.client)
+            self._release(ticket)
             self._idle.append(granted.result())
         self._forget(ticket)
         self._dispatch()
@@ -245,10 +249,11 @@ class WorkerPool:
             if not queue:
                 del self._waiting[ticket.client]
 
-    def _release(self, client: str) -> None:
-        self._running[client] -= 1
-        if not self._running[client]:
-            del self._running[client]
+    def _release(self, ticket: Ticket) -> None:
+        holder = ticket.address or ticket.client
+        self._running[holder] -= 1
+        if not self._running[holder]:
+            del self._running[holder]
 
     def _forget(self, ticket: Ticket) -> None:
         if self._latest.get((ticket.client, ticket.kind)) is ticket:
@@ -260,13 +265,15 @@ class WorkerPool:
             ticket = self._next_ticket()
             if ticket is None:
                 return
-            self._running[ticket.client] = self._running.get(ticket.client, 0) + 1
+            holder = ticket.address or ticket.client
+            self._running[holder] = self._running.get(holder, 0) + 1
             assert ticket.granted is not None
             ticket.granted.set_result(self._idle.pop())
 
     def _next_ticket(self) -> Ticket | None:
-        for client in list(self._waiting):
-            if self._running.get(client, 0) >= self.limits.client_workers:
+        for client, waiting in list(self._waiting.items()):
+            holder = waiting[0].address or client
+            if self._running.get(holder, 0) >= self.limits.client_workers:
                 continue
             queue = self._waiting.pop(client)
             ticket = queue.popleft()
@@ -289,7 +296,7 @@ class WorkerPool:
             worker = await asyncio.to_thread(self._replace, worker)
             raise
         finally:
-            self._release(ticket.client)
+            self._release(ticket)
             self._idle.append(worker)
             self.admitted -= 1
             self._forget(ticket)
