@@ -26,7 +26,8 @@ whose Euler–Lagrange equations are the first block row above.  Unilateral cons
 treated as active (g = 0) holonomic ones; they are checked each on its own with the equality
 constraints, and solved for only when they can all be in contact at once.
 sympy.physics.mechanics.LagrangesMethod solved through ``mass_matrix_full`` /
-``forcing_full`` gives the same multipliers; its ``eom`` expression has them with the opposite sign (its ``lam_coeffs`` are -A; sympy issue #30215).
+``forcing_full`` gives the same multipliers; its ``eom`` expression has them with the
+opposite sign (its ``lam_coeffs`` are -A; sympy issue #30215).
 
 >>> import lagrangian as lg, sympy as sp
 >>> x, y, m, g, l = sp.symbols("x y m g l")
