@@ -243,3 +243,23 @@ def test_a_gas_of_any_size_on_the_command_line(capsys, tmp_path) -> None:
     assert f"{len(expected)} impacts" in said
     code = main(["derive", "hard_disk_gas:101"])
     assert code == 2 and "from 1 to 100" in capsys.readouterr().err
+
+
+def test_every_column_of_a_gas_is_found_by_name_and_survives_csv(tmp_path) -> None:
+    """A column per contact (10 disks: 40 walls and 45 pairs): each by its name is the
+    multiplier of its constraint (NaN in flight, no contact persists in an elastic gas), each
+    coordinate and velocity its own, and the CSV round trip keeps every one."""
+    run = run_gas(10, 0.05, 0.5, 6)
+    assert len(run.multiplier_names) == 85
+    for k, name in enumerate(run.multiplier_names):
+        np.testing.assert_array_equal(run[name], run.multipliers[:, k])
+    assert np.all(np.isnan(run.multipliers))
+    for k, name in enumerate(run.coordinates):
+        np.testing.assert_array_equal(run[name], run.q[:, k])
+        np.testing.assert_array_equal(run[f"{name}_dot"], run.q_dot[:, k])
+    assert tuple(run.columns()) == run.names
+    run.to_csv(tmp_path / "gas.csv")
+    again = lg.Trajectory.from_csv(tmp_path / "gas.csv")
+    assert again.names == run.names
+    for name in run.names:
+        np.testing.assert_array_equal(again[name], run[name])
