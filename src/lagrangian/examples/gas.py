@@ -39,8 +39,10 @@ def hard_disk_gas(n: int = 4, radius: float | None = None, side: float = 1.0) ->
     """Gas of n elastic hard disks in a square box: every wall and disk contact unilateral, e = 1.
 
     The disks have mass m = 1 and radius r = ``radius`` (a fifth of the lattice spacing when
-    not given: 0.1 for four disks, 0.02 for a hundred); the box has side L = ``side``
-    (module docstring)."""
+    not given: 0.1 for four disks, 0.02 for a hundred); the box has side L = ``side``.  They
+    start on a square lattice with speed 1 in seeded directions and fly freely between
+    impacts (a parabola in the optional field g_x, g_y).  On the command line
+    ``examples/hard_disk_gas`` has four disks, ``hard_disk_gas:N`` has N."""
     if n < 1:
         raise ValueError(f"hard_disk_gas: n = {n}; give at least one disk")
     if radius is None:
