@@ -3,9 +3,9 @@ event-driven simulation written here.
 
 What is measured
     100 elastic hard disks (mass 1, radius 0.02) in the unit box, the built-in example
-    ``lagrangian.examples.hard_disk_gas(100)``: disks on a 10 x 10 lattice, speed 1 in seeded
-    random directions; every wall and every pair a unilateral constraint with e = 1 (400 + 4950
-    constraints), simulated over ``--t-end`` with 11 output rows:
+    ``lagrangian.examples.hard_disk_gas(100, radius=0.02)``: disks on a 10 x 10 lattice,
+    speed 1 in seeded random directions; every wall and every pair a unilateral constraint
+    with e = 1 (400 + 4950 constraints), simulated over ``--t-end`` with 11 output rows:
         lagrangian  ``lagrangian.simulate`` of the derived equations: the piecewise loop of the
                     unilateral constraints, each piece in closed form (free flight), every
                     contact found as the root of its gap's polynomial by the calendar of
@@ -43,6 +43,9 @@ import numpy as np
 
 import lagrangian as lg
 from lagrangian.examples.gas import hard_disk_gas
+
+#: The disks' radius, whatever their number (the built-in example's for 100 disks).
+RADIUS = 0.02
 
 
 class EventDrivenGas:
@@ -107,7 +110,7 @@ class EventDrivenGas:
 
 def measure(disks: int, t_end: float) -> dict[str, float]:
     started = time.perf_counter()
-    gas = hard_disk_gas(disks)
+    gas = hard_disk_gas(disks, radius=RADIUS)
     eom = lg.derive(gas)
     initial = dict(gas.initial)
     lg.simulate(eom, initial, 1e-6, samples=2)  # compiles the pieces' forms
@@ -123,7 +126,7 @@ def measure(disks: int, t_end: float) -> dict[str, float]:
     velocities = np.array([by_name[f"{q.name}_dot"] for q in gas.coordinates])
     x = state.reshape(2, disks).T
     v = velocities.reshape(2, disks).T
-    reference = EventDrivenGas(x, v, 0.02, 1.0)
+    reference = EventDrivenGas(x, v, RADIUS, 1.0)
     started = time.perf_counter()
     reference.run(t_end)
     theirs = time.perf_counter() - started

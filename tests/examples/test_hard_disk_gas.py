@@ -5,12 +5,16 @@ gas of hard disks."""
 
 from __future__ import annotations
 
+import csv
 import functools
+import json
 
 import numpy as np
 import pytest
+import sympy as sp
 
 import lagrangian as lg
+from lagrangian.cli.main import main
 from lagrangian.examples.gas import hard_disk_gas
 
 
@@ -75,6 +79,10 @@ def brute_force(
 
 def disks_of(impact: lg.Impact) -> tuple[int, ...]:
     (name,) = impact.constraints
+    return disks_of_name(name)
+
+
+def disks_of_name(name: str) -> tuple[int, ...]:
     if name.startswith("disks"):
         i, j = name.removeprefix("disks").split("_")
         return (int(i) - 1, int(j) - 1)
@@ -145,3 +153,113 @@ def test_the_wall_pressure_is_that_of_kinetic_theory_with_the_excluded_area() ->
     assert measured == pytest.approx(ideal * z, rel=0.06)
     # the excluded area is seen: an ideal gas (Z = 1) would be 1 within that scatter
     assert measured / ideal - 1 > (z - 1) / 2
+
+
+# The built-in example on the command line: four disks of radius 0.1, t_end = 2.
+EXAMPLE = hard_disk_gas()
+EXAMPLE_RADIUS = 0.1
+
+
+def cli(capsys: pytest.CaptureFixture[str], *argv: str) -> str:
+    code = main(list(argv))
+    said = capsys.readouterr()
+    assert code == 0, said.err
+    return said.out
+
+
+def test_derive_gives_free_flight_and_every_contact_with_its_multiplier(capsys) -> None:
+    """By hand: T = m/2 sum (x_i_dot^2 + y_i_dot^2), V = -m (g_x x_i + g_y y_i), so each
+    equation is m q_ddot - m g_q = 0; the walls' gradients are unit vectors, a pair's is
+    2 (x_i - x_j, y_i - y_j) on disk i and the opposite on disk j."""
+    document = json.loads(cli(capsys, "derive", "examples/hard_disk_gas", "--format", "json"))
+    names = [*document["coordinates"], *document["velocities"], *document["accelerations"]]
+    local = {name: sp.Symbol(name) for name in [*names, *document["parameters"]]}
+    m, g_x, g_y = local["m"], local["g_x"], local["g_y"]
+    expected = [m * local[f"{q}_ddot"] - m * (g_x if q[0] == "x" else g_y) for q in names[:8]]
+    parsed = [sp.parse_expr(e, local_dict=local) for e in document["equations"]]
+    assert [sp.expand(a - b) for a, b in zip(parsed, expected, strict=True)] == [0] * 8
+    assert document["parameters"]["r"] == EXAMPLE_RADIUS
+    rows = [
+        [sp.parse_expr(e, local_dict=local) for e in row] for row in document["constraint_jacobian"]
+    ]
+    assert len(rows) == len(document["multipliers"]) == 4 * 4 + 6  # walls, then pairs
+    column = {q: k for k, q in enumerate(names[:8])}
+    assert rows[0][column["x1"]] == 1 and rows[1][column["x1"]] == -1  # left1, right1
+    x1, x2, y1, y2 = (local[s] for s in ("x1", "x2", "y1", "y2"))
+    pair = rows[16]  # disks1_2
+    assert sp.expand(pair[column["x1"]] - 2 * (x1 - x2)) == 0
+    assert sp.expand(pair[column["y2"]] + 2 * (y1 - y2)) == 0
+    # the contacts cannot all close at once, so no joint solution is printed
+    assert document["constraint_forces"]["solved"] is None
+    assert "cannot all be in contact at once" in document["constraint_forces"]["reason"]
+
+
+def test_analyze_counts_the_freedom_and_keeps_the_energy(capsys) -> None:
+    document = json.loads(cli(capsys, "analyze", "examples/hard_disk_gas", "--format", "json"))
+    # unilateral constraints remove no freedom: 2 per disk
+    assert document["dof"] == document["configuration_dimension"] == 8
+    kinds = {c["kind"] for c in document["constraints"]}
+    assert kinds == {"unilateral"} and len(document["constraints"]) == 22
+    assert document["energy_conserved"] is True
+    local = {s: sp.Symbol(s) for s in ("m", "g_x", "g_y")}
+    speeds = [f"{a}{k}" for a in "xy" for k in range(1, 5)]
+    local.update({s: sp.Symbol(s) for s in speeds})
+    local.update({f"{s}_dot": sp.Symbol(f"{s}_dot") for s in speeds})
+    energy = sp.parse_expr(document["energy_function"], local_dict=local)
+    m = local["m"]
+    by_hand = sum(
+        m * local[f"{s}_dot"] ** 2 / 2 - m * local["g_x" if s[0] == "x" else "g_y"] * local[s]
+        for s in speeds
+    )
+    assert sp.expand(energy - by_hand) == 0
+
+
+def test_simulate_meets_the_reference_collisions_with_the_energy_kept(capsys, tmp_path) -> None:
+    out = tmp_path / "gas.csv"
+    said = cli(capsys, "simulate", "examples/hard_disk_gas", "--out", str(out))
+    x, v = start(4, EXAMPLE_RADIUS)
+    expected = brute_force(x, v, EXAMPLE_RADIUS, float(EXAMPLE.simulation["t_end"]))
+    with open(tmp_path / "gas.impacts.csv", encoding="utf-8") as stream:
+        impacts = list(csv.DictReader(stream))
+    assert f"{len(expected)} impacts" in said
+    assert len(impacts) == len(expected) > 10
+    assert any(len(disks) == 2 for _, disks in expected)
+    for row, (t, disks) in zip(impacts, expected):
+        assert float(row["t"]) == pytest.approx(t, abs=1e-12)
+        (name,) = row["constraints"].split(";")
+        assert disks_of_name(name) == disks
+        assert abs(float(row["energy_lost"])) < 1e-14  # e = 1: nothing lost but rounding
+    with open(out, encoding="utf-8") as stream:
+        energy = [float(row["energy"]) for row in csv.DictReader(stream)]
+    speeds = sum(v[k] @ v[k] for k in range(4)) / 2
+    assert len(energy) == 201 and max(abs(e - speeds) for e in energy) < 1e-14
+
+
+def test_a_gas_of_any_size_on_the_command_line(capsys, tmp_path) -> None:
+    out = tmp_path / "gas9.csv"
+    said = cli(capsys, "simulate", "hard_disk_gas:9", "--t-end", "0.5", "--out", str(out))
+    x, v = start(9, 1 / 3 / 5)
+    expected = brute_force(x, v, 1 / 3 / 5, 0.5)
+    assert f"{len(expected)} impacts" in said
+    code = main(["derive", "hard_disk_gas:101"])
+    assert code == 2 and "from 1 to 100" in capsys.readouterr().err
+
+
+def test_every_column_of_a_gas_is_found_by_name_and_survives_csv(tmp_path) -> None:
+    """A column per contact (10 disks: 40 walls and 45 pairs): each by its name is the
+    multiplier of its constraint (NaN in flight, no contact persists in an elastic gas), each
+    coordinate and velocity its own, and the CSV round trip keeps every one."""
+    run = run_gas(10, 0.05, 0.5, 6)
+    assert len(run.multiplier_names) == 85
+    for k, name in enumerate(run.multiplier_names):
+        np.testing.assert_array_equal(run[name], run.multipliers[:, k])
+    assert np.all(np.isnan(run.multipliers))
+    for k, name in enumerate(run.coordinates):
+        np.testing.assert_array_equal(run[name], run.q[:, k])
+        np.testing.assert_array_equal(run[f"{name}_dot"], run.q_dot[:, k])
+    assert tuple(run.columns()) == run.names
+    run.to_csv(tmp_path / "gas.csv")
+    again = lg.Trajectory.from_csv(tmp_path / "gas.csv")
+    assert again.names == run.names
+    for name in run.names:
+        np.testing.assert_array_equal(again[name], run[name])

@@ -63,3 +63,64 @@ def test_the_example_starts_on_its_steady_roll() -> None:
             strike.after["theta_dot"], rel=1e-12
         )
     assert "transitions" in run.drift_summary()
+
+
+def rock_time(rate: float, angle: float) -> float:
+    """The time a wheel standing on a spoke at ``angle`` from the vertical, turning towards
+    the vertical at ``rate`` too slow to pass it, takes to fall back onto the spoke it left:
+    twice the quadrature of energy conservation from the turning point theta_0,
+    theta_dot^2 = (2 g / l)(cos(theta_0) - cos(theta)), written with theta = theta_0 + u^2
+    (no singularity at the turning point) and cos a - cos b = 2 sin((a + b)/2) sin((b - a)/2)
+    (no cancellation near it).  Below 1e-4 rad/s the rock is one of constant deceleration,
+    g sin(angle) / l, to 1e-9 of its length (the angle changes by rate^2 / (2 g sin(angle)))."""
+    if rate < 1e-4:
+        return 2 * rate / (G / L * np.sin(angle))
+    theta_0 = np.arccos(np.cos(angle) + rate**2 * L / (2 * G))
+
+    def dt(u: float) -> float:
+        if u == 0:
+            return 2 / np.sqrt(2 * G / L * np.sin(theta_0))
+        theta = theta_0 + u * u
+        drop = 2 * np.sin((theta + theta_0) / 2) * np.sin(u * u / 2)
+        return 2 * u / np.sqrt(2 * G / L * drop)
+
+    return 2 * float(quad(dt, 0.0, np.sqrt(angle - theta_0), epsabs=1e-15, epsrel=1e-13)[0])
+
+
+def test_a_slow_wheel_rocks_between_two_spokes_to_rest() -> None:
+    """Too slow to pass over its foot, the wheel falls back onto the rear spoke (alpha - gamma
+    from the vertical), then forward onto the front one (alpha + gamma), each strike with
+    omega+ = cos(2 alpha) omega- (McGeer 1990), each rock as long as the quadrature says;
+    the rocks shrink geometrically, end within a single step of the integrator (every one is
+    still found, none skipped: the wheel never rolls over a foot) and accumulate to rest."""
+    alpha, gamma = np.pi / 8, 0.1
+    wheel = lg.examples.rimless_wheel()
+    start = {"theta": gamma - alpha, "theta_dot": 0.5}
+    run = lg.simulate(wheel, start, 5.0, samples=501)
+    assert run.success and "Zeno accumulation" in run.message
+    assert np.all(run["theta"] >= gamma - alpha - 1e-9) and np.all(
+        run["theta"] <= gamma + alpha + 1e-9
+    )
+    t, rate, angle, expected = 0.0, 0.5, alpha - gamma, []
+    while rate > 1e-12:
+        t += rock_time(rate, angle)
+        rate *= np.cos(2 * alpha)
+        expected.append((t, "back_strike" if angle == alpha - gamma else "heel_strike", rate))
+        angle = alpha + gamma if angle == alpha - gamma else alpha - gamma
+    at_rest = expected[-1][0]  # the rest of the series is below 1e-11 s
+    expected = [strike for strike in expected if strike[2] > 1e-5]
+    assert len(run.impacts) > len(expected) > 20
+    for strike, (t, name, after) in zip(run.impacts, expected):
+        assert strike.constraints == (name,)
+        assert strike.t == pytest.approx(t, abs=1e-9)
+        assert abs(strike.after["theta_dot"]) == pytest.approx(after, rel=1e-7, abs=1e-10)
+        assert strike.after["theta_dot"] == pytest.approx(
+            np.cos(2 * alpha) * strike.before["theta_dot"], rel=1e-12
+        )
+    # the last rocks checked, 2 omega / (g sin(angle) / l) ~ 1e-5 s, are far shorter than the
+    # integrator's steps (~2 ms here): each began and ended within one step
+    assert run.impacts[len(expected) - 1].t - run.impacts[len(expected) - 2].t < 2e-5
+    # rest where the rocks accumulate (the run stops when rocks of ~1e-7 rad/s, 1e-8 s long,
+    # come at once: the rest of the series is shorter than 1e-6 s)
+    assert run.impacts[-1].t == pytest.approx(at_rest, abs=1e-6)
+    assert run.impacts[-1].t <= at_rest

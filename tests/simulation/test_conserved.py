@@ -92,6 +92,34 @@ def test_a_constraint_on_a_cyclic_coordinate_removes_its_momentum() -> None:
     assert "p_x" not in lg.simulate(pendulum, start, 0.1, samples=3).conserved
 
 
+def test_a_gas_in_a_box_keeps_no_momentum_and_asks_no_analysis(monkeypatch) -> None:
+    """Disks flying freely (no field: every coordinate absent from L) in a box: each wall
+    pushes along a coordinate, so no momentum is conserved through the impacts; that is seen
+    from the constraints' symbols, without the analysis of cyclic coordinates (which asks
+    every constraint for its force along every coordinate), while a free coordinate of the
+    same system is still analysed and reported."""
+    from lagrangian.examples.gas import hard_disk_gas
+    from lagrangian.simulation import conserved
+
+    gas = hard_disk_gas(3, radius=0.08)
+    speeds = [sp.Symbol(f"{q.name}_dot") for q in gas.coordinates]
+    flying = gas.replace(particles=(), gravity=None, kinetic=sum(v**2 for v in speeds) / 2)
+    asked = []
+    analysis = conserved.cyclic_coordinates
+    monkeypatch.setattr(
+        conserved, "cyclic_coordinates", lambda eom: asked.append(eom) or analysis(eom)
+    )
+    run = lg.simulate(flying, t_span=1.0, samples=3)
+    assert run.success and run.impacts and not run.conserved and not asked
+    z = sp.Symbol("z")
+    lifted = flying.replace(
+        coordinates=(*flying.coordinates, z), kinetic=flying.kinetic + sp.Symbol("z_dot") ** 2 / 2
+    )
+    run = lg.simulate(lifted, {**flying.initial, "z": 0.0, "z_dot": 0.5}, 1.0, samples=3)
+    assert list(run.conserved) == ["p_z"] and len(asked) == 1
+    np.testing.assert_allclose(run["p_z"], 0.5)
+
+
 def test_bad_conserved_quantities_are_named() -> None:
     with pytest.raises(SimulationError, match=r"conserved\.bad.*nonsense") as caught:
         lg.simulate(

@@ -11,7 +11,7 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.errors import ModelError, SimulationError
+from lagrangian.errors import ModelError, SimulationError, SimulationInputError
 from lagrangian.simulation.unilateral import RECONTACT_TOLERANCE
 
 G = 9.81
@@ -252,3 +252,22 @@ def test_a_contact_under_a_constant_force_is_the_root_of_a_quartic() -> None:
     reflected = v - 2 * (v @ normal) * normal
     after = np.array([first.after["x_dot"], first.after["y_dot"]])
     assert np.allclose(after, reflected, atol=1e-9)
+
+
+def test_what_a_run_keeps_per_system_follows_the_parameters() -> None:
+    """The coefficients of restitution at the run's parameters and the System of the start's
+    active contacts are kept per System: a second run with e = 0.5 bounces as e = 0.5 says,
+    e = 1.5 is refused (on every run), the first parameters still give the first run."""
+    ball = bouncing_ball(0.8)
+    first = lg.simulate(ball, {"y": 1.0, "y_dot": 0.0}, 1.0, samples=3)
+    half = lg.simulate(ball, {"y": 1.0, "y_dot": 0.0}, 1.0, samples=3, parameters={"e": 0.5})
+    for run, e in ((first, 0.8), (half, 0.5)):
+        hit = run.impacts[0]
+        assert hit.after["y_dot"] == pytest.approx(-e * hit.before["y_dot"], rel=1e-12)
+    for _ in range(2):
+        with pytest.raises(
+            SimulationInputError, match=r"restitution of .* 1\.5, is not in \[0, 1\]"
+        ):
+            lg.simulate(ball, {"y": 1.0, "y_dot": 0.0}, 1.0, parameters={"e": 1.5})
+    again = lg.simulate(ball, {"y": 1.0, "y_dot": 0.0}, 1.0, samples=3)
+    assert [i.t for i in again.impacts] == [i.t for i in first.impacts]

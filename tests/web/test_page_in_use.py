@@ -171,7 +171,9 @@ def test_every_equation_of_every_example_fits_its_box(
     listed = page.eval_on_selector_all(
         "[data-testid=examples] option", "(os) => os.map((o) => o.value).filter(Boolean)"
     )
-    assert "whipple_bicycle" in listed and len(listed) == len(examples.names())
+    with_files = [n for n in examples.names() if examples.MODELS.joinpath(f"{n}.yaml").is_file()]
+    assert "whipple_bicycle" in listed
+    assert sorted(listed) == sorted([*with_files, *examples.BENCHMARKS])
     misfits: dict[str, list[str]] = {}
     ARTIFACTS.mkdir(exist_ok=True)
     for name in listed:

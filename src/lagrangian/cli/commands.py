@@ -72,21 +72,17 @@ def _example(name: str, size: str) -> System:
     builder = examples.get(name)
     if not size:
         return builder()
-    if name not in SCALABLE:
+    largest = examples.SCALABLE.get(name)
+    if largest is None:
         raise ModelError(
             f"The example {name!r} has no size: write examples/{name}; "
-            f"{', '.join(SCALABLE)} take one, as in {next(iter(SCALABLE))}:5."
+            f"{', '.join(examples.SCALABLE)} take one, as in {next(iter(examples.SCALABLE))}:5."
         )
-    if not size.isdigit() or not 1 <= int(size) <= MAX_SIZE:
+    if not size.isdigit() or not 1 <= int(size) <= largest:
         raise ModelError(
-            f"{name}:{size}: the size must be a whole number from 1 to {MAX_SIZE}, as in {name}:5."
+            f"{name}:{size}: the size must be a whole number from 1 to {largest}, as in {name}:5."
         )
     return builder(int(size))
-
-
-#: The examples built to a size (``NAME:SIZE`` on the command line), and the largest size.
-SCALABLE = ("n_link_pendulum",)
-MAX_SIZE = 200
 
 
 def derive_command(

@@ -13,6 +13,12 @@ taken in order, holonomic constraints first:
 
 Inconsistency raises :class:`~lagrangian.errors.ConstraintError` naming the constraints.
 
+Unilateral constraints g(q, t) >= 0 are inequalities: a gas's walls and disk contacts cannot
+all be closed at once, and need not be.  :func:`contact_dependence` takes each on its own with
+the equality constraints: a contact that can never close (no configuration on the equality
+constraints has g = 0) is inconsistent, one whose Jacobian row at a closed configuration is a
+combination of the equality rows is redundant (its multiplier would not be determined).
+
 >>> import sympy as sp
 >>> from lagrangian.model import System, Holonomic
 >>> x, y = sp.symbols("x y")
@@ -131,6 +137,43 @@ def dependence(system: System, active: bool = False) -> Dependence:
     if inconsistent:
         _raise_velocity_inconsistent(system, inconsistent, kept)
     return Dependence(point, rows, tuple(sorted(redundant)), a, b.ravel())
+
+
+def contact_dependence(system: System, found: Dependence) -> tuple[int, ...]:
+    """The unilateral constraints redundant in contact, each taken on its own with the
+    equality constraints (``found``, their :func:`dependence`): g = 0 is projected onto from
+    the equality constraints' generic point, and the contact is redundant when its Jacobian
+    row there is a combination of the equality rows kept.  ConstraintError names the contacts
+    that can never close (no configuration on the holonomic constraints has g = 0)."""
+    coordinates = system.coordinates
+    constraints = system.constraints
+    holonomic = [c.expression for c in constraints if isinstance(c, Holonomic)]
+    kept = [i for i in found.rows if i not in found.redundant]
+    kept_forms = [pfaffian_form(constraints[i], coordinates) for i in kept]
+    redundant, unreachable = [], []
+    for i, contact in enumerate(constraints):
+        if not isinstance(contact, Unilateral):
+            continue
+        closed = project([*holonomic, contact.expression], coordinates, found.point)
+        if not closed.satisfied:
+            unreachable.append((i, closed.residuals[-1]))
+            continue
+        forms = [*kept_forms, pfaffian_form(contact, coordinates)]
+        a, _ = _jacobian_at(forms, coordinates, closed.values)
+        if a is not None and numeric_rank(a) <= len(kept):
+            redundant.append(i)
+    problems = [
+        Problem(
+            f"constraints[{i}]",
+            f"{statement(constraints[i])} can never be in contact: no configuration "
+            f"{'on the holonomic constraints ' if holonomic else ''}has it = 0 "
+            f"(least-squares residual {r:.3g})",
+            "correct the inequality, or remove it (it never acts)",
+        )
+        for i, r in unreachable
+    ]
+    raise_if_problems(problems, "A unilateral constraint can never close", ConstraintError)
+    return tuple(redundant)
 
 
 def _jacobian_at(

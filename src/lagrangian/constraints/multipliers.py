@@ -23,9 +23,11 @@ request.
 
 Holonomic constraints are also the augmented Lagrangian L + sum_j lambda_j h_j (Goldstein §2.4),
 whose Euler–Lagrange equations are the first block row above.  Unilateral constraints are
-treated as active (g = 0) holonomic ones.  sympy.physics.mechanics.LagrangesMethod solved
-through ``mass_matrix_full`` / ``forcing_full`` gives the same multipliers; its ``eom``
-expression has them with the opposite sign (its ``lam_coeffs`` are -A; sympy issue #30215).
+treated as active (g = 0) holonomic ones; they are checked each on its own with the equality
+constraints, and solved for only when they can all be in contact at once.
+sympy.physics.mechanics.LagrangesMethod solved through ``mass_matrix_full`` /
+``forcing_full`` gives the same multipliers; its ``eom`` expression has them with the
+opposite sign (its ``lam_coeffs`` are -A; sympy issue #30215).
 
 >>> import lagrangian as lg, sympy as sp
 >>> x, y, m, g, l = sp.symbols("x y m g l")
@@ -46,12 +48,12 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from lagrangian.constraints.dependence import dependence
+from lagrangian.constraints.dependence import contact_dependence, dependence
 from lagrangian.constraints.pfaffian import acceleration_terms, pfaffian_form
 from lagrangian.derivation import EquationsOfMotion, derive, equations_of
 from lagrangian.derivation.trig import combine_trig_sympy
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
-from lagrangian.model import System
+from lagrangian.model import System, Unilateral
 from lagrangian.model.constraints import Constraint, VelocityConstraint, statement
 from lagrangian.symbolic.caches import IdentityCache
 from lagrangian.symbolic.frozen import FrozenMapping, frozen
@@ -60,8 +62,9 @@ from lagrangian.symbolic.probe import generic_rank
 SMALL = 4  # n up to which a dense M is solved symbolically
 #: Why the constraint forces are not solved symbolically, when they are not.
 UNSOLVED = (
-    f"not solved symbolically (M singular, or dense with more than {SMALL} coordinates): "
-    "they follow from the augmented system at each state, as simulate computes them"
+    f"not solved symbolically (M singular, dense with more than {SMALL} coordinates, or "
+    "unilateral constraints that cannot all be in contact at once): they follow from the "
+    "augmented system at each state, as simulate computes them"
 )
 
 
@@ -247,7 +250,9 @@ def _multipliers(system: System) -> tuple[sp.Symbol, ...]:
 
 
 def _refuse_redundant(system: System) -> None:
-    found = dependence(system, active=True)  # raises for inconsistent constraints
+    """The equality constraints checked together, each unilateral one on its own with them
+    (inequalities need not hold together: a gas's walls never all touch a disk at once)."""
+    found = dependence(system)  # raises for inconsistent constraints
     problems = [
         Problem(
             f"constraints[{i}]",
@@ -257,13 +262,38 @@ def _refuse_redundant(system: System) -> None:
         )
         for i in found.redundant
     ]
+    problems += [
+        Problem(
+            f"constraints[{i}]",
+            f"{statement(system.constraints[i])} is redundant in contact: its Jacobian row "
+            "is a combination of the equality constraints' rows, so its multiplier is not "
+            "determined",
+            "remove it, or the equality constraints that imply it",
+        )
+        for i in contact_dependence(system, found)
+    ]
     raise_if_problems(problems, "The constraints are redundant", ConstraintError)
+
+
+def _in_contact_together(system: System) -> bool:
+    """Whether every constraint, the unilateral ones closed (g = 0), can hold at once with
+    independent Jacobian rows: only then is the multiplier form solved for them all."""
+    if not any(isinstance(c, Unilateral) for c in system.constraints):
+        return True
+    if len(system.constraints) > len(system.coordinates):
+        return False  # more rows than columns: dependent, or no configuration at all
+    try:
+        return not dependence(system, active=True).redundant
+    except ConstraintError:
+        return False
 
 
 def _solve(equations: ConstrainedEquations) -> FrozenMapping[sp.Symbol, sp.Expr] | None:
     """lambda by the Schur complement, then q_ddot; None when not small or M is singular."""
     mass, forcing, n = equations.mass_matrix, equations.forcing, len(equations.coordinates)
     if not (mass.is_diagonal() or n <= SMALL) or generic_rank(mass) < n:
+        return None
+    if not _in_contact_together(equations.system):
         return None
     jacobian, gamma = equations.constraint_jacobian, equations.gamma
     free = _inverse_times(mass, forcing)  # M^-1 forcing

@@ -1,5 +1,6 @@
 """Built-in systems: the classic worked examples of analytical mechanics, shipped as model files
-(``examples/models/NAME.yaml``), plus scalable test systems built in Python.
+(``examples/models/NAME.yaml``), plus systems built in Python to a size (:data:`SCALABLE`:
+the n-link pendulum, the gas of hard disks).
 
 :data:`CATALOG` maps every example name to a function returning its System, and
 ``lagrangian.examples.NAME()`` works for each; :func:`model_text` gives the model file itself.
@@ -19,6 +20,7 @@ from importlib.resources import files
 from typing import Any
 
 from lagrangian.errors import ModelError
+from lagrangian.examples.gas import hard_disk_gas
 from lagrangian.examples.scalable import n_link_pendulum
 from lagrangian.io import loads
 from lagrangian.model import System
@@ -62,9 +64,14 @@ def _file_example(name: str) -> Callable[[], System]:
 BENCHMARK_NAMES = ("whipple_bicycle",)
 
 
+#: The examples built in Python to a size (``NAME:SIZE`` on the command line) -> the largest
+#: size: a chain's links, a gas's disks (n disks have n (n - 1) / 2 contacts).
+SCALABLE: dict[str, int] = {"n_link_pendulum": 200, "hard_disk_gas": 100}
+
+
 def _catalog(benchmarks: bool = False) -> dict[str, Callable[..., System]]:
     catalog: dict[str, Callable[..., System]] = (
-        {} if benchmarks else {"n_link_pendulum": n_link_pendulum}
+        {} if benchmarks else {"n_link_pendulum": n_link_pendulum, "hard_disk_gas": hard_disk_gas}
     )
     for resource in MODELS.iterdir():
         if resource.name.endswith(".yaml"):
@@ -109,4 +116,4 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'lagrangian.examples' has no attribute {name!r}")
 
 
-__all__ = ["BENCHMARKS", "CATALOG", "describe", "get", "model_text", "names", *CATALOG]
+__all__ = ["BENCHMARKS", "CATALOG", "SCALABLE", "describe", "get", "model_text", "names", *CATALOG]

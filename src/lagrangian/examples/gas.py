@@ -11,7 +11,9 @@ so between impacts each disk flies in a straight line (M constant, no force; a p
 the uniform field (g_x, g_y), zero by default) and the impacts
 are those of billiard balls: a wall reverses the normal velocity, two disks exchange the
 normal components of their velocities.  The disks start on a square lattice, with speeds 1
-in directions drawn from a fixed seed (the same gas on every call).
+in directions drawn from a fixed seed (the same gas on every call).  The built-in example
+(``lagrangian simulate examples/hard_disk_gas``) has four disks; ``hard_disk_gas:N`` on the
+command line builds N.
 
 >>> gas = hard_disk_gas(3)
 >>> len(gas.coordinates), len(gas.constraints)
@@ -25,7 +27,7 @@ import math
 import numpy as np
 import sympy as sp
 
-from lagrangian.model import System, Unilateral
+from lagrangian.model import Particle, System, Unilateral
 
 __all__ = ["hard_disk_gas"]
 
@@ -33,18 +35,22 @@ __all__ = ["hard_disk_gas"]
 SEED = 2026
 
 
-def hard_disk_gas(n: int = 16, radius: float = 0.02, side: float = 1.0) -> System:
-    """``n`` elastic hard disks of mass m = 1 and radius r = ``radius`` in a box of side
-    L = ``side`` (module docstring)."""
+def hard_disk_gas(n: int = 4, radius: float | None = None, side: float = 1.0) -> System:
+    """Gas of n elastic hard disks in a square box: every wall and disk contact unilateral, e = 1.
+
+    The disks have mass m = 1 and radius r = ``radius`` (a fifth of the lattice spacing when
+    not given: 0.1 for four disks, 0.02 for a hundred); the box has side L = ``side``.  They
+    start on a square lattice with speed 1 in seeded directions and fly freely between
+    impacts (a parabola in the optional field g_x, g_y).  On the command line
+    ``examples/hard_disk_gas`` has four disks, ``hard_disk_gas:N`` has N."""
     if n < 1:
         raise ValueError(f"hard_disk_gas: n = {n}; give at least one disk")
+    if radius is None:
+        radius = side / math.ceil(math.sqrt(n)) / 5
     xs, ys = sp.symbols(f"x1:{n + 1}"), sp.symbols(f"y1:{n + 1}")
-    m, r, big_l = sp.symbols("m r L", positive=True)
+    m, r, big_l = sp.symbols("m r L")
     gx, gy = sp.symbols("g_x g_y")
-    velocities = [sp.Symbol(f"{q.name}_dot") for q in (*xs, *ys)]
-    kinetic = m * sum((v**2 for v in velocities), sp.Integer(0)) / 2
-    # a uniform field (g_x, g_y) on every disk, none by default
-    potential = -m * sum((gx * x + gy * y for x, y in zip(xs, ys)), sp.Integer(0))
+    disks = [Particle(f"disk{i + 1}", m, (x, y)) for i, (x, y) in enumerate(zip(xs, ys))]
     constraints = []
     for i in range(n):
         x, y = xs[i], ys[i]
@@ -61,11 +67,11 @@ def hard_disk_gas(n: int = 16, radius: float = 0.02, side: float = 1.0) -> Syste
         description=f"A gas of {n} elastic hard disks in a square box (walls and disk contacts)",
         coordinates=(*xs, *ys),
         parameters={m: 1.0, r: radius, big_l: side, gx: 0.0, gy: 0.0},
-        kinetic=kinetic,
-        potential=potential,
+        particles=disks,
+        gravity=(gx, gy),  # a uniform field on every disk, none by default
         constraints=constraints,
         initial=_lattice(xs, ys, n, radius, side),
-        simulation={"t_end": 2.0},
+        simulation={"t_end": 2.0, "samples": 201},
     )
 
 

@@ -33,6 +33,7 @@ from lagrangian.symbolic.caches import IdentityCache
 
 _CYCLIC: IdentityCache[EquationsOfMotion, tuple[CyclicCoordinate, ...]] = IdentityCache()
 _COMPILED: IdentityCache[EquationsOfMotion, dict[Any, NumericFunction]] = IdentityCache()
+_INVOLVED: IdentityCache[System, frozenset[sp.Symbol]] = IdentityCache()
 
 #: What ``simulate(..., conserved=...)`` accepts: quantity name -> expression text or SymPy.
 Requested = Mapping[str, Any]
@@ -80,24 +81,31 @@ def momentum_obstructions(
 
 
 def _free_cyclic(eom: EquationsOfMotion, system: System | None) -> list[CyclicCoordinate]:
-    """The cyclic coordinates that no constraint involves."""
+    """The cyclic coordinates that no constraint involves.
+
+    The coordinates absent from L and from every constraint are found first, from the
+    symbols of each (one pass over the constraints per System); the analysis of cyclic
+    coordinates, which asks every constraint for its force along every coordinate, runs only
+    when one remains.  A gas of hard disks, whose coordinates all meet a wall, skips it."""
     involved = _constrained_symbols(system)
-    return [
-        c
-        for c in _cyclic(eom)
-        if not involved & {c.coordinate, eom.velocities[eom.coordinates.index(c.coordinate)]}
-    ]
+    used = eom.lagrangian.free_symbols
+    free = {
+        q
+        for q, q_dot in zip(eom.coordinates, eom.velocities)
+        if q not in used and q not in involved and q_dot not in involved
+    }
+    if not free:
+        return []
+    return [c for c in _cyclic(eom) if c.coordinate in free]
 
 
 def _cyclic(eom: EquationsOfMotion) -> tuple[CyclicCoordinate, ...]:
-    """The cyclic coordinates, looked for only when some coordinate is absent from L.
+    """The cyclic coordinates (cached per equations).
 
     analysis.cyclic_coordinates also finds a coordinate whose terms in L cancel, at the cost
     of every Euler-Lagrange step (0.2 s on a 10-link pendulum): too much to pay on every
-    simulation for a case that rare (``analyze`` reports it; name it in ``conserved``)."""
-    used = eom.lagrangian.free_symbols
-    if all(q in used for q in eom.coordinates):
-        return ()
+    simulation for a case that rare (``analyze`` reports it; name it in ``conserved``), so
+    only coordinates absent from L are asked for."""
     return _CYCLIC.get(eom, cyclic_coordinates)
 
 
@@ -137,12 +145,13 @@ def conserved_columns(
     return {name: values[:, i] for i, name in enumerate(names)}
 
 
-def _constrained_symbols(system: System | None) -> set[sp.Symbol]:
+def _constrained_symbols(system: System | None) -> frozenset[sp.Symbol]:
     """Every symbol a constraint of ``system`` uses (their coordinates' momenta are not
-    conserved: the constraint force acts along them)."""
-    if system is None:
-        return set()
-    used: set[sp.Symbol] = set()
-    for constraint in system.constraints:
-        used |= constraint.expression.free_symbols
-    return used
+    conserved: the constraint force acts along them); computed once per System."""
+    if system is None or not system.constraints:
+        return frozenset()
+    return _INVOLVED.get(system, _symbols_of_constraints)
+
+
+def _symbols_of_constraints(system: System) -> frozenset[sp.Symbol]:
+    return frozenset().union(*(c.expression.free_symbols for c in system.constraints))

@@ -91,22 +91,24 @@ class QuadraticGaps:
     def along(
         self, gaps: np.ndarray, q: np.ndarray, v: np.ndarray, a: np.ndarray
     ) -> tuple[np.ndarray, ...]:
-        """The coefficients (c0, ..., c4) of g(q + v s + a s^2/2) = sum c_j s^j."""
+        """The coefficients (c0, ..., c4) of g(q + v s + a s^2/2) = sum c_j s^j.
+
+        With the linear parts l.x and the quadratic forms x^T H y of x, y in (q, v, a),
+        each found for every gap in one pass (a gas finds ~200 gaps' roots per collision):
+        c0 = g(q), c1 = l.v + 2 q^T H v, c2 = l.a / 2 + v^T H v + q^T H a, c3 = v^T H a,
+        c4 = a^T H a / 4."""
         stacked = np.zeros((3, self.n + 1))
         stacked[0, :-1], stacked[1, :-1], stacked[2, :-1] = q, v, a
-        ql, vl, al = stacked[:, self.index[gaps]]  # one gather for the three
-        h, lin = self.quadratic[gaps], self.linear[gaps]
-        hq, hv, ha = np.matmul(h[None], stacked[:, self.index[gaps], None])[..., 0]
-
-        def dot(x: np.ndarray, y: np.ndarray) -> np.ndarray:
-            return (x * y).sum(axis=1)
-
+        local = stacked[:, self.index[gaps]]  # (q, v, a) at each gap's coordinates
+        lq, lv, la = np.einsum("ki,xki->xk", self.linear[gaps], local)
+        pushed = np.matmul(self.quadratic[gaps][None], local[..., None])[..., 0]  # H x
+        forms = np.einsum("xki,yki->xyk", local, pushed)
         return (
-            self.constant[gaps] + dot(lin, ql) + dot(ql, hq),
-            dot(lin, vl) + 2 * dot(ql, hv),
-            dot(lin, al) / 2 + dot(vl, hv) + dot(ql, ha),
-            dot(vl, ha),
-            dot(al, ha) / 4,
+            self.constant[gaps] + lq + forms[0, 0],
+            lv + 2 * forms[0, 1],
+            la / 2 + forms[1, 1] + forms[0, 2],
+            forms[1, 2],
+            forms[2, 2] / 4,
         )
 
     @functools.cached_property

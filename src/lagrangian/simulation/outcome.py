@@ -18,6 +18,7 @@ Without it the Trajectory is returned, with status ``"failed"`` or ``"interrupte
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -128,11 +129,8 @@ def _columns(setup: RunSetup, motion: Motion, run: Integration) -> Trajectory:
     function = compile_conserved(eom, setup.quantities)
     columns = conserved_columns(function, tuple(setup.quantities), q, q_dot, t, p)
     momenta = momentum_obstructions(eom, setup.system, inputs.parameters)
-    events = tuple(
-        Event(name, time, state_by_name(compiled, time, state, p))
-        for name, time, state in run.events
-    )
-    impacts = tuple(impact_of(compiled, p, record) for record in run.impacts)
+    events = events_of(compiled, p, run.events)
+    impacts = impacts_of(compiled, p, run.impacts)
     reasons = not_conserved(eom, inputs.parameters, compiled.energy_function_differs, momenta)
     said = _with_note(message(compiled, run), backend_note(setup.options.backend))
     return trajectory_of_rows(
@@ -155,23 +153,56 @@ def _columns(setup: RunSetup, motion: Motion, run: Integration) -> Trajectory:
     )
 
 
-def impact_of(compiled: CompiledEquations, p: np.ndarray, record: ImpactRecord) -> Impact:
-    """The Impact a user reads from what the integration recorded: velocities by name and the
-    energy E = T + V lost (the positions do not jump, so the kinetic energy's loss)."""
-    q = record.before[: len(compiled.coordinates)]
-    before = compiled.velocities(record.t, record.before, p)
-    after = compiled.velocities(record.t, record.after, p)
-    lost = float(compiled.energy(q, before, record.t, p) - compiled.energy(q, after, record.t, p))
+def impacts_of(
+    compiled: CompiledEquations, p: np.ndarray, records: Sequence[ImpactRecord]
+) -> tuple[Impact, ...]:
+    """The Impacts a user reads from what the integration recorded: velocities by name and
+    the energy E = T + V lost (the positions do not jump, so the kinetic energy's loss).
+    Evaluated for every impact at once (a gas's run has thousands)."""
+    if not records:
+        return ()
+    n = len(compiled.coordinates)
+    t = np.array([record.t for record in records])
+    states = np.array([(record.before, record.after) for record in records], dtype=float)
+    q = states[:, 0, :n]
+    before = compiled.velocities(t, states[:, 0], p)
+    after = compiled.velocities(t, states[:, 1], p)
+    lost = compiled.energy(q, before, t, p) - compiled.energy(q, after, t, p)
     names = [f"{name}_dot" for name in compiled.coordinates]
-    return Impact(
-        record.t,
-        record.constraints,
-        dict(zip(record.constraints, record.impulses)),
-        dict(zip(names, before.tolist())),
-        dict(zip(names, after.tolist())),
-        lost,
-        record.rest,
+    return tuple(
+        Impact(
+            record.t,
+            record.constraints,
+            dict(zip(record.constraints, record.impulses)),
+            dict(zip(names, jump_before)),
+            dict(zip(names, jump_after)),
+            lost_here,
+            record.rest,
+        )
+        for record, jump_before, jump_after, lost_here in zip(
+            records, before.tolist(), after.tolist(), np.atleast_1d(lost).tolist()
+        )
     )
+
+
+def events_of(
+    compiled: CompiledEquations, p: np.ndarray, recorded: Sequence[tuple[str, float, np.ndarray]]
+) -> tuple[Event, ...]:
+    """Each recorded (name, time, state) as an Event with the state by name, the velocities
+    of every event evaluated at once."""
+    if not recorded:
+        return ()
+    n = len(compiled.coordinates)
+    t = np.array([time for _, time, _ in recorded])
+    x = np.array([state for _, _, state in recorded], dtype=float)
+    q_dot = compiled.velocities(t, x, p).tolist()
+    names = [f"{name}_dot" for name in compiled.coordinates]
+    found = []
+    for (name, time, _), q, rates in zip(recorded, x[:, :n].tolist(), q_dot):
+        state = dict(zip(compiled.coordinates, q))
+        state.update(zip(names, rates))
+        found.append(Event(name, time, state))
+    return tuple(found)
 
 
 #: An impact that loses more than this share of the energy scale makes E not conserved.
@@ -211,16 +242,6 @@ def rows_with_energies(
     if not differs:
         return Rows(t, q, q_dot, energy)
     return Rows(t, q, q_dot, energy, compiled.energy_function(q, q_dot, t, p))
-
-
-def state_by_name(
-    compiled: CompiledEquations, t: float, x: np.ndarray, p: np.ndarray
-) -> dict[str, float]:
-    """Every coordinate and velocity at state x, by name."""
-    q_dot = compiled.velocities(t, x, p)
-    values = dict(zip(compiled.coordinates, x[: len(compiled.coordinates)].tolist()))
-    values.update((name + "_dot", float(v)) for name, v in zip(compiled.coordinates, q_dot))
-    return values
 
 
 #: What a collapsed step size usually means, added to the integrator's words.

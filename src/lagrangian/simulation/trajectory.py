@@ -133,6 +133,9 @@ class Trajectory:
     message_template: Fix | None = None
     system_name: str = ""
     units: Mapping[str, str] = field(default_factory=dict)
+    #: Column name -> (array attribute, column) of the coordinates, velocities and
+    #: multipliers: one lookup per column, not a search along thousands of contacts' names.
+    _where: Mapping[str, tuple[str, int]] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         n = len(self.coordinates)
@@ -159,6 +162,7 @@ class Trajectory:
             object.__setattr__(self, "not_conserved", MappingProxyType(reasons))
         if self.message_template is not None:
             object.__setattr__(self, "message", str(self.message_template))
+        object.__setattr__(self, "_where", MappingProxyType(_column_places(self)))
 
     def worded_message(self, wording: Wording) -> str:
         """:attr:`message` with the options it names as ``wording`` names them
@@ -191,14 +195,13 @@ class Trajectory:
         """The column ``name``: ``"t"``, a coordinate, ``NAME_dot``, ``"energy"``."""
         if name in ("t", "energy") or (name == "energy_function" and name in self.names):
             return getattr(self, name)
-        if name in self.coordinates:
-            return self.q[:, self.coordinates.index(name)]
-        if name in self.multiplier_names and self.multipliers is not None:
-            return self.multipliers[:, self.multiplier_names.index(name)]
+        place = self._where.get(name)
+        if place is not None:
+            array, column = place
+            values: np.ndarray = getattr(self, array)[:, column]
+            return values
         if name in self.conserved:
             return self.conserved[name]
-        if name.endswith(DOT) and name[: -len(DOT)] in self.coordinates:
-            return self.q_dot[:, self.coordinates.index(name[: -len(DOT)])]
         close = closest_name(name, self.names)
         hint = f"did you mean {close!r}? " if close else ""
         raise KeyError(f"No column {name!r} in this trajectory: {hint}columns are {self.names}")
@@ -290,6 +293,22 @@ class Trajectory:
             f"Trajectory({named}{', '.join(self.coordinates)}; {len(self.t)} rows, {span}, "
             f"{self.method or 'unknown method'}, {self.status})"
         )
+
+
+def _column_places(trajectory: Trajectory) -> dict[str, tuple[str, int]]:
+    """Where each coordinate, velocity and multiplier column is, the earlier kinds first
+    where names repeat (a coordinate, then a multiplier, then a conserved quantity, then
+    NAME_dot: the order Trajectory[name] has always looked in)."""
+    places: dict[str, tuple[str, int]] = {}
+    for k, name in enumerate(trajectory.coordinates):
+        places.setdefault(name, ("q", k))
+    if trajectory.multipliers is not None:
+        for k, name in enumerate(trajectory.multiplier_names):
+            places.setdefault(name, ("multipliers", k))
+    for k, name in enumerate(trajectory.coordinates):
+        if name + DOT not in trajectory.conserved:
+            places.setdefault(name + DOT, ("q_dot", k))
+    return places
 
 
 class Rows(NamedTuple):

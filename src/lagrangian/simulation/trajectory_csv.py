@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import io
 import os
+from collections import Counter
 from typing import Any, TextIO
 
 import numpy as np
@@ -70,11 +71,12 @@ def _header_problems(names: list[str], header: str, where: str) -> list[Problem]
         message = f"the header {header[:80]!r} must start with t and hold energy"
         return [Problem("header", message, FIX, 1, source=where)]
     problems = []
-    repeated = sorted({name for name in names if names.count(name) > 1})
+    repeated = sorted(name for name, count in Counter(names).items() if count > 1)
     if repeated:
         message = f"the columns {', '.join(repeated)} are named more than once"
         problems.append(Problem("header", message, FIX, 1, source=where))
-    if not any(name + DOT in names for name in names[1:]):
+    known = set(names)  # a gas has a column per contact: look names up, not along the list
+    if not any(name + DOT in known for name in names[1:]):
         message = "no coordinate column with its velocity (NAME and NAME_dot)"
         problems.append(Problem("header", message, FIX, 1, source=where))
     return problems

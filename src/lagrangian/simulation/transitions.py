@@ -160,19 +160,22 @@ ZENO_INTERVAL = 1e-8
 
 
 def accumulating(fired: list[float]) -> bool:
-    """Whether the last firings come ever faster and the last interval is below
-    ZENO_INTERVAL: the geometric accumulation t_inf = t_k + d_k r / (1 - r) is reached to
-    that precision, and stepping on would take ever smaller steps without end.
+    """Whether the last firings come ever faster (or all at one instant: two guards whose
+    resets land on each other's zero at rest) and the last interval is below ZENO_INTERVAL:
+    the geometric accumulation t_inf = t_k + d_k r / (1 - r) is reached to that precision,
+    and stepping on would take ever smaller steps without end.
 
     >>> accumulating([0.0, 0.5, 0.75, 0.875])
     False
     >>> accumulating([1.0, 1 + 4e-9, 1 + 6e-9, 1 + 7e-9])
     True
+    >>> accumulating([1.0, 1.0, 1.0, 1.0])
+    True
     """
     if len(fired) < 4:
         return False
     intervals = np.diff(fired[-4:])
-    shrinking = bool(np.all(np.diff(intervals) < 0))
+    shrinking = bool(np.all(np.diff(intervals) <= 0))
     return shrinking and bool(intervals[-1] < ZENO_INTERVAL * (1 + abs(fired[-1])))
 
 

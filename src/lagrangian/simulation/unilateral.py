@@ -72,6 +72,8 @@ _GAPS: IdentityCache[EquationsOfMotion, dict[bytes, QuadraticGaps | None]] = Ide
 _MASSES: IdentityCache[EquationsOfMotion, dict[bytes, tuple[np.ndarray, np.ndarray]]] = (
     IdentityCache()
 )
+_RESTITUTIONS: IdentityCache[System, dict[bytes, tuple[float | None, ...]]] = IdentityCache()
+_ACTIVE: IdentityCache[System, dict[tuple[int, ...], System]] = IdentityCache()
 
 
 class _Watched:
@@ -211,12 +213,19 @@ class UnilateralDynamics:
         """The start checked against the constraints active there (a projection keeps the
         touching unilateral ones at g = 0, as the holonomic ones they act like)."""
         n, t0 = len(self.eom.coordinates), inputs.t_span[0]
-        active = sorted(self.active_at(t0, inputs.x0[:n], inputs.x0[n:]))
-        chosen = [_bilateral(self.system.constraints[i]) for i in active]
-        piece = dataclasses.replace(
-            self.piece(set(active)), system=self.system.replace(constraints=chosen)
-        )
+        active = tuple(sorted(self.active_at(t0, inputs.x0[:n], inputs.x0[n:])))
+        piece = dataclasses.replace(self.piece(set(active)), system=self.with_active(active))
         return piece.start(inputs, project_initial)
+
+    def with_active(self, active: tuple[int, ...]) -> System:
+        """The System with the ``active`` constraints only, the unilateral ones as holonomic:
+        made once per System and active set (validating a System of thousands of contacts
+        costs more than a run of hundreds of impacts)."""
+        made = _ACTIVE.get(self.system, lambda _: {})
+        if active not in made:
+            chosen = [_bilateral(self.system.constraints[i]) for i in active]
+            made[active] = self.system.replace(constraints=chosen)
+        return made[active]
 
     def active_at(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> set[int]:
         """The constraints active at a start: the bilateral ones, and each unilateral one
@@ -305,7 +314,15 @@ class UnilateralDynamics:
     @functools.cached_property
     def restitutions(self) -> tuple[float | None, ...]:
         """Every constraint's coefficient of restitution at the run's parameters (None for
-        none), evaluated once per run; SimulationInputError for one outside [0, 1]."""
+        none), evaluated once per System and parameter values; SimulationInputError for one
+        outside [0, 1]."""
+        found = _RESTITUTIONS.get(self.system, lambda _: {})
+        key = self.p.tobytes()
+        if key not in found:
+            found[key] = self._restitutions()
+        return found[key]
+
+    def _restitutions(self) -> tuple[float | None, ...]:
         values = {s: sp.Float(v) for s, v in zip(self.eom.parameters, self.p)}
         found: list[float | None] = []
         for i, constraint in enumerate(self.system.constraints):

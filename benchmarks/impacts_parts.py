@@ -1,0 +1,101 @@
+"""Benchmark: the parts of a gas run whose cost grows with the number of contacts, timed one
+by one (best of several calls), to compare two versions of the code on one machine.
+
+What is measured, for ``--disks`` hard disks of radius 0.02 (``hard_disk_gas(n, radius=0.02)``)
+    conserved   ``conserved_expressions`` and ``momentum_obstructions`` of the gas without a
+                field (every coordinate absent from L, every one met by a wall): which
+                momenta a simulation reports, first call and again;
+    columns     a run's ``Trajectory.columns()``, ``to_csv`` and ``from_csv`` (one multiplier
+                column per contact);
+    flight      ``QuadraticGaps.along`` on 1 gap (an impact's bounce check) and on the ~4 n
+                gaps of two disks (the calendar after a collision).
+
+Usage
+    python benchmarks/impacts_parts.py --disks 40
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import time
+from collections.abc import Callable
+
+import numpy as np
+import sympy as sp
+
+import lagrangian as lg
+from lagrangian.examples.gas import hard_disk_gas
+from lagrangian.simulation.conserved import conserved_expressions, momentum_obstructions
+from lagrangian.simulation.flight import quadratic_gaps
+
+
+def best(work: Callable[[], object], repeat: int = 5) -> float:
+    times = []
+    for _ in range(repeat):
+        started = time.perf_counter()
+        work()
+        times.append(time.perf_counter() - started)
+    return min(times)
+
+
+def conserved_part(disks: int) -> tuple[float, float]:
+    gas = hard_disk_gas(disks, radius=0.02)
+    speeds = [sp.Symbol(f"{q.name}_dot") for q in gas.coordinates]
+    flying = gas.replace(
+        particles=(), gravity=None, potential=0, kinetic=sum(v**2 for v in speeds) / 2
+    )
+    eom = lg.derive(flying)
+
+    def ask() -> None:
+        conserved_expressions(eom, flying, {})
+        momentum_obstructions(eom, flying, {})
+
+    first = best(ask, 1)
+    return first, best(ask)
+
+
+def columns_part(disks: int) -> tuple[float, float, float]:
+    gas = hard_disk_gas(disks, radius=0.02)
+    run = lg.simulate(lg.derive(gas), dict(gas.initial), 0.2, samples=11)
+    buffer = io.StringIO()
+    run.to_csv(buffer)
+    text = buffer.getvalue()
+    return (
+        best(run.columns),
+        best(lambda: run.to_csv(io.StringIO())),
+        best(lambda: lg.Trajectory.from_csv(io.StringIO(text))),
+    )
+
+
+def flight_part(disks: int) -> tuple[float, float]:
+    gas = hard_disk_gas(disks, radius=0.02)
+    values = {s: sp.Float(v) for s, v in gas.parameters.items()}
+    expressions = [c.expression for c in gas.constraints]
+    gaps = quadratic_gaps(expressions, range(len(expressions)), gas.coordinates, values)
+    assert gaps is not None
+    rng = np.random.default_rng(1)
+    n = len(gas.coordinates)
+    q, v, a = rng.uniform(0, 1, n), rng.normal(size=n), np.zeros(n)
+    pair = np.unique(np.concatenate([gaps.incidence[0], gaps.incidence[1]]))
+    one = np.array([0])
+    return best(lambda: gaps.along(one, q, v, a), 200), best(lambda: gaps.along(pair, q, v, a), 200)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--disks", type=int, default=40)
+    args = parser.parse_args()
+    first, again = conserved_part(args.disks)
+    print(f"conserved momenta, {args.disks} disks without a field: first {first:.3g} s, "
+          f"again {again:.3g} s")  # fmt: skip
+    columns, written, read = columns_part(args.disks)
+    print(f"Trajectory with a column per contact: columns() {columns * 1e3:.3g} ms, to_csv "
+          f"{written * 1e3:.3g} ms, from_csv {read * 1e3:.3g} ms")  # fmt: skip
+    single, pair = flight_part(args.disks)
+    print(f"a flight's gap polynomials: 1 gap {single * 1e6:.3g} us, the gaps of two disks "
+          f"{pair * 1e6:.3g} us")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
