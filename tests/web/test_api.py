@@ -166,7 +166,13 @@ def test_the_page_and_its_assets_are_served_locally(client: Any) -> None:
         assert f'data-testid="{testid}"' in page.text
     assert "default-src 'self'" in page.headers["content-security-policy"]
     assert "http" not in page.text.replace('lang="en"', "")  # no asset from elsewhere
-    for asset in ("app.js", "style.css", "katex/katex.min.js", "katex/katex.min.css"):
+    for asset in (
+        "app.js",
+        "equations.js",
+        "style.css",
+        "katex/katex.min.js",
+        "katex/katex.min.css",
+    ):
         assert client.get(f"/static/{asset}").status_code == 200
     font = client.get("/static/katex/fonts/KaTeX_Main-Regular.woff2")
     assert font.status_code == 200 and font.content[:4] == b"wOF2"
