@@ -16,6 +16,7 @@ A spring and a damper between the same two points are drawn side by side, as the
 from __future__ import annotations
 
 import dataclasses
+import random
 from collections import defaultdict
 from collections.abc import Sequence
 from itertools import pairwise
@@ -30,6 +31,7 @@ from lagrangian.render.scene_geometry import across, coil_line, dashpot_line
 from lagrangian.render.stage import Stage, stage_of
 from lagrangian.render.timing import FrameStates
 from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.probe import PROBES, SEED, ZERO, evaluate, random_values
 
 #: Frames of trail behind each particle.
 TRAIL = 40
@@ -41,8 +43,22 @@ STRUCTURE = "#4d4d4d"
 
 
 def _constant_distance(a: Sequence[Any], b: Sequence[Any], coordinates: set[sp.Symbol]) -> bool:
-    squared = sp.trigsimp(sp.expand(sum((to_sympy(x) - to_sympy(y)) ** 2 for x, y in zip(a, b))))
-    return not (squared.free_symbols & coordinates) and squared != 0
+    """Whether the points a and b keep one non-zero distance whatever the coordinates: the
+    squared distance takes one value at random configurations (the probe's points and
+    precision, :mod:`lagrangian.symbolic.probe`), the parameters held at random values.  No
+    simplification: a bicycle's points would keep ``trigsimp`` busy for minutes."""
+    squared = sp.sympify(sum((to_sympy(x) - to_sympy(y)) ** 2 for x, y in zip(a, b)))
+    free = squared.free_symbols
+    rng = random.Random(SEED)
+    held = random_values(free - coordinates, rng)
+    values = [
+        evaluate(squared, {**held, **random_values(free & coordinates, rng)})
+        for _ in range(PROBES if free & coordinates else 1)
+    ]
+    if any(v is None for v in values):
+        return False
+    numbers = np.array(values, dtype=float)
+    return bool(numbers[0] > ZERO and np.ptp(numbers) <= 1e-12 * max(1.0, abs(numbers[0])))
 
 
 def rods(system: System) -> list[tuple[str, str]]:
