@@ -212,19 +212,29 @@ class TrigAlgebra:
             c = a[ONE]
             return {k: c * v for k, v in b.items()}
         parts: dict[Key, list[Backend]] = defaultdict(list)
+        self.accumulate_product(parts, a, b)
+        return self.gather(parts)
+
+    def accumulate_product(
+        self, target: dict[Key, list[Backend]], a: Poly, b: Poly, weight: Backend = None
+    ) -> None:
+        """Add ``weight`` (a coefficient, 1 when None) * ``a`` * ``b`` to the coefficient
+        lists ``target``: the products of many pairs summed with one :meth:`gather`, as an
+        entry of M sums every body's share, with no polynomial made per pair."""
         known = self._products  # looked up here: most pairs are known
         for ka, ca in a.items():
+            if weight is not None:
+                ca = weight * ca
             for kb, cb in b.items():
                 both = ca * cb
                 r = known.get((*ka, -1, *kb))
                 if r is None:
                     r = self._product(ka, kb)
                 if not r or r[0].__class__ is int:  # a monomial
-                    parts[r].append(both)
+                    target[r].append(both)
                     continue
                 for k, n in _monomials(r):
-                    parts[k].append(both if n == 1 else n * both)
-        return self.gather(parts)
+                    target[k].append(both if n == 1 else n * both)
 
     def accumulate(
         self, target: dict[Key, list[Backend]], p: Poly, factor: Key, scale: Any = 1
