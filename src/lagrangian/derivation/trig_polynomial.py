@@ -73,6 +73,36 @@ def _monomials(terms: Terms) -> Iterator[tuple[Key, int]]:
     return zip(it, it)
 
 
+def _merged(a: Key, b: Key, squares: list[bool]) -> Key | None:
+    """The product of two monomials merged in index order (both are sorted), or None when
+    it has a generator flagged in ``squares`` to a power of 2 or more (it needs reduction):
+    the common product, made without a dict and a sort."""
+    out: list[int] = []
+    i = j = 0
+    la, lb = len(a), len(b)
+    while i < la and j < lb:
+        ia, ib = a[i], b[j]
+        if ia < ib:
+            index, exponent = ia, a[i + 1]
+            i += 2
+        elif ib < ia:
+            index, exponent = ib, b[j + 1]
+            j += 2
+        else:
+            index, exponent = ia, a[i + 1] + b[j + 1]
+            i += 2
+            j += 2
+        if exponent > 1 and squares[index]:
+            return None
+        out += (index, exponent)
+    for rest, start in ((a, i), (b, j)):
+        for k in range(start, len(rest), 2):
+            if rest[k + 1] > 1 and squares[rest[k]]:
+                return None
+        out += rest[start:]
+    return tuple(out)
+
+
 def _key(exponents: Iterable[tuple[int, int]]) -> Key:
     """The monomial of (index, exponent) pairs, sorted by index."""
     return tuple(chain.from_iterable(sorted(exponents)))
@@ -102,8 +132,13 @@ class TrigAlgebra:
         self._monomials: dict[Key, Backend] = {}
         self._powers: dict[tuple[int, int], Backend] = {}
         self._factored: dict[tuple[Backend, ...], Backend] = {}
+        self._factored_parts: dict[tuple[tuple[Backend, Backend], ...], Backend] = {}
         self._sine_reduced: dict[Key, Product] = {}
         self._splits: dict[Key, tuple[Key, Key]] = {}
+        #: The number of terms of each coefficient counted: SymEngine makes a Python object
+        #: of every term to give a sum's arguments (as long as expanding it), and a
+        #: coefficient is counted for its form, its other form and its grouping.
+        self._counts: dict[Backend, int] = {}
         #: Monomials a product or sum may have before :class:`PolynomialTooLarge` (None: any).
         self.limit: int | None = None
 
@@ -153,8 +188,8 @@ class TrigAlgebra:
     def remembered(self) -> int:
         """The number of memo entries (conversions, products, derivatives)."""
         memos: tuple[dict[Any, Any], ...] = (self._converted, self._products, self._derivatives)
-        more = (self._factored, self._sine_reduced, self._splits)
-        return sum(len(memo) for memo in (*memos, *more))
+        more = (self._factored, self._factored_parts, self._sine_reduced, self._splits)
+        return sum(len(memo) for memo in (*memos, *more, self._counts))
 
     def keep_nested(self, expr: Backend) -> None:
         """Mark ``expr`` as too large to expand: converting it (or an expression that holds
@@ -278,6 +313,10 @@ class TrigAlgebra:
         memo = self._products.get(memo_key)
         if memo is not None:
             return memo
+        merged = _merged(a, b, self.cosine)
+        if merged is not None:
+            self._products[memo_key] = merged
+            return merged
         exponents = dict(pairs(a))
         for i, e in pairs(b):
             exponents[i] = exponents.get(i, 0) + e
@@ -460,13 +499,24 @@ class TrigAlgebra:
             groups[moving].append((self.monomial_expression(constant), c))
         result = []
         for k, parts in groups.items():
-            if sum(len(c.args) if c.is_Add else 1 for _, c in parts) <= FACTORED_TERMS:
-                terms = tuple(f * t for f, c in parts for t in (c.args if c.is_Add else (c,)))
-                coefficient = self._factor(terms)
+            if sum(self.count(c) for _, c in parts) <= FACTORED_TERMS:
+                coefficient = self._factor_parts(parts)
             else:
                 coefficient = se.Add(*[f * c for f, c in parts])
             result.append(self.monomial_expression(k) * coefficient)
         return se.Add(*result)
+
+    def _factor_parts(self, parts: list[tuple[Backend, Backend]]) -> Backend:
+        """:meth:`_factor` of the terms of sum f c over ``parts`` (constant monomial f,
+        expanded coefficient c), remembered by the parts: the same parts recur in the
+        entries of M, in C q_dot and in the forcing, and making their terms (a product per
+        term, the terms of each sum) costs more than factoring them."""
+        key = tuple(sorted(parts, key=hash))
+        known = self._factored_parts.get(key)
+        if known is None:
+            terms = tuple(f * t for f, c in parts for t in (c.args if c.is_Add else (c,)))
+            known = self._factored_parts[key] = self._factor(terms)
+        return known
 
     def _factor(self, terms: tuple[Backend, ...]) -> Backend:
         """:func:`factor_common` of ``terms``, remembered: the same coefficient recurs in the
@@ -480,11 +530,20 @@ class TrigAlgebra:
 
     def terms(self, p: Poly) -> int:
         """The number of terms of the expanded form of a finished polynomial."""
-        return sum(len(c.args) if c.is_Add else 1 for c in p.values())
+        return sum(map(self.count, p.values()))
 
     def size(self, p: Poly) -> int:
         """A size for choosing between forms: terms of the coefficients plus factors."""
-        return sum((len(c.args) if c.is_Add else 1) + sum(k[1::2]) for k, c in p.items())
+        count = self.count
+        return sum(count(c) + sum(k[1::2]) for k, c in p.items())
+
+    def count(self, coefficient: Backend) -> int:
+        """The number of terms of an expanded coefficient, remembered."""
+        known = self._counts.get(coefficient)
+        if known is None:
+            known = len(coefficient.args) if coefficient.is_Add else 1
+            self._counts[coefficient] = known
+        return known
 
 
 def expanded_terms(expr: Backend, cap: int) -> int:
