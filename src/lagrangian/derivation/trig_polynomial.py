@@ -27,7 +27,7 @@ from __future__ import annotations
 import threading
 from collections import defaultdict
 from collections.abc import Iterable, Iterator
-from itertools import chain
+from itertools import chain, product
 from math import comb
 from typing import Any
 
@@ -134,6 +134,7 @@ class TrigAlgebra:
         self._factored: dict[tuple[Backend, ...], Backend] = {}
         self._factored_parts: dict[tuple[tuple[Backend, Backend], ...], Backend] = {}
         self._sine_reduced: dict[Key, Product] = {}
+        self._reductions: dict[tuple[Any, ...], Terms] = {}
         self._splits: dict[Key, tuple[Key, Key]] = {}
         #: The number of terms of each coefficient counted: SymEngine makes a Python object
         #: of every term to give a sum's arguments (as long as expanding it), and a
@@ -189,7 +190,7 @@ class TrigAlgebra:
         """The number of memo entries (conversions, products, derivatives)."""
         memos: tuple[dict[Any, Any], ...] = (self._converted, self._products, self._derivatives)
         more = (self._factored, self._factored_parts, self._sine_reduced, self._splits)
-        return sum(len(memo) for memo in (*memos, *more, self._counts))
+        return sum(len(memo) for memo in (*memos, *more, self._counts, self._reductions))
 
     def keep_nested(self, expr: Backend) -> None:
         """Mark ``expr`` as too large to expand: converting it (or an expression that holds
@@ -332,29 +333,37 @@ class TrigAlgebra:
 
     def _reduced(self, exponents: dict[int, int], squares: list[bool] | None = None) -> Terms:
         """The monomial of ``exponents`` with every f(x)**k, k >= 2 (f the cosine, or the
-        generators flagged in ``squares``) written as f**(k mod 2) (1 - g**2)**(k // 2)."""
+        generators flagged in ``squares``) written as f**(k mod 2) (1 - g**2)**(k // 2).
+
+        The terms come in the order of expanding the binomials one after the other in the
+        order of ``exponents`` (the last varying fastest); remembered by that order."""
         squares = self.cosine if squares is None else squares
-        terms: list[tuple[dict[int, int], int]] = [({}, 1)]
+        memo_key = (squares is self.sine, *chain.from_iterable(exponents.items()))
+        known = self._reductions.get(memo_key)
+        if known is not None:
+            return known
+        base: dict[int, int] = {}  # what every term has: the other powers, f**(k mod 2)
+        binomials: list[tuple[int, int]] = []  # (g, k // 2) of each f(x)**k
         for i, e in exponents.items():
             if e == 0:
                 continue
-            if not (squares[i] and e >= 2):
-                for t, _ in terms:
-                    t[i] = t.get(i, 0) + e
-                continue
-            half, rest = divmod(e, 2)
-            other = self.partner[i]
-            expanded = []
-            for t, n in terms:
-                for j in range(half + 1):
-                    new = dict(t)
-                    if rest:
-                        new[i] = new.get(i, 0) + rest
-                    if j:
-                        new[other] = new.get(other, 0) + 2 * j
-                    expanded.append((new, n * comb(half, j) * (-1) ** j))
-            terms = expanded
-        return tuple(chain.from_iterable((_key(t.items()), n) for t, n in terms))  # all e > 0
+            if squares[i] and e >= 2:
+                half, rest = divmod(e, 2)
+                if rest:
+                    base[i] = base.get(i, 0) + rest
+                binomials.append((self.partner[i], half))
+            else:
+                base[i] = base.get(i, 0) + e
+        terms: list[Any] = []
+        for picks in product(*[range(half + 1) for _, half in binomials]):
+            powers, n = dict(base), 1
+            for (other, half), j in zip(binomials, picks):
+                if j:  # C(half, j) (-g**2)**j
+                    powers[other] = powers.get(other, 0) + 2 * j
+                    n *= -comb(half, j) if j % 2 else comb(half, j)
+            terms += (_key(powers.items()), n)  # all e > 0
+        result = self._reductions[memo_key] = tuple(terms)
+        return result
 
     # -- calculus -------------------------------------------------------------------------
 
