@@ -541,8 +541,9 @@ def warm_up() -> None:
     lg.constrained_equations  # noqa: B018
     # the model files' reader and the examples, as sympy.physics.mechanics is imported above:
     # a library's import is start-up (benchmarks/startup.py), not derivation
-    import lagrangian.examples  # noqa: F401
+    import lagrangian.examples
     import lagrangian.io  # noqa: F401
+
     warm_a, warm_b = sp.symbols("warm_a warm_b")
     _ = (warm_a * sp.sin(warm_b) + warm_b * sp.cos(warm_a)) ** 2  # SymPy's lazy imports
 

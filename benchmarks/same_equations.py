@@ -49,9 +49,16 @@ HAND = {
 def model_names(src: str) -> list[str]:
     """Every built-in example and benchmark, then the hand-written models."""
     found = subprocess.run(
-        [sys.executable, "-c", "from lagrangian.examples import CATALOG, BENCHMARKS;"
-         "print(' '.join([*CATALOG, *BENCHMARKS]))"],
-        env=_environment(src), capture_output=True, text=True, check=True,
+        [
+            sys.executable,
+            "-c",
+            "from lagrangian.examples import CATALOG, BENCHMARKS;"
+            "print(' '.join([*CATALOG, *BENCHMARKS]))",
+        ],
+        env=_environment(src),
+        capture_output=True,
+        text=True,
+        check=True,
     )
     return [*found.stdout.split(), *HAND]
 
@@ -91,7 +98,10 @@ def collect(src: str, out: Path, only: list[str] | None = None) -> None:
     for name in only or model_names(src):
         done = subprocess.run(
             [sys.executable, __file__, "--worker", name],
-            env=_environment(src), capture_output=True, text=True, check=False,
+            env=_environment(src),
+            capture_output=True,
+            text=True,
+            check=False,
         )
         lines = [line for line in done.stdout.splitlines() if line.startswith("{")]
         results[name] = json.loads(lines[-1]) if lines else {"error": done.stderr[-500:]}
