@@ -25,7 +25,6 @@ import sys
 from pathlib import Path
 
 import multibody
-from multibody import RESULTS
 
 HERE = Path(__file__).resolve().parent
 #: (label, script, worker arguments, the Kane job it is compared with)
@@ -67,11 +66,15 @@ def measure(before: Path, repeat: int, cap: float) -> dict:
             for side, tree in trees.items():
                 outcome = multibody.run_worker(tree / script, arguments, cap, verify=False)
                 times.setdefault((side, label), []).append(outcome["seconds"])
+                cpu = outcome.get("cpu_seconds", math.nan)
+                times.setdefault((side, "cpu", label), []).append(cpu)
                 note = f" ({outcome['error'][-120:]})" if "error" in outcome else ""
                 print(f"  {side:<6} {label}: {outcome['seconds']:.3g} s{note}", file=sys.stderr)
         for key, (script, arguments) in KANE.items():
             outcome = multibody.run_worker(HERE / script, arguments, cap, verify=False)
             times.setdefault(("kane", key), []).append(outcome["seconds"])
+            cpu = outcome.get("cpu_seconds", math.nan)
+            times.setdefault(("kane", "cpu", key), []).append(cpu)
             print(f"  kane   {key}: {outcome['seconds']:.3g} s", file=sys.stderr)
         print(f"round {r + 1} of {repeat} done", file=sys.stderr)
     return times
@@ -91,21 +94,29 @@ def _median(values: list[float]) -> float:
 
 
 def report(times: dict, repeat: int, before: Path) -> str:
+    """Two tables: wall time (the project's measure), then the CPU time of the worker
+    process (its own work only: steadier when other processes share the cores)."""
     lines = [
         f"Median (min-max) of {repeat} run(s) per cell, seconds; before = `{before.name}`, "
         "after = this checkout.",
-        "",
-        "| formulation | before s | after s | after/before | Kane s | Kane/before | Kane/after |",
-        "|---|---:|---:|---:|---:|---:|---:|",
     ]
-    for label, _, _, kane_key in JOBS:
-        old, new = times[("before", label)], times[("after", label)]
-        kane = times[("kane", kane_key)]
-        m_old, m_new, m_kane = _median(old), _median(new), _median(kane)
-        lines.append(
-            f"| {label} | {_cell(old)} | {_cell(new)} | {m_new / m_old:.2f} | {_cell(kane)} "
-            f"| {m_kane / m_old:.2f} | {m_kane / m_new:.2f} |"
-        )
+    for title, kind in (("Wall time", ()), ("CPU time of the worker process", ("cpu",))):
+        lines += [
+            "",
+            f"{title}:",
+            "",
+            "| formulation | before s | after s | after/before | Kane s | Kane/before "
+            "| Kane/after |",
+            "|---|---:|---:|---:|---:|---:|---:|",
+        ]
+        for label, _, _, kane_key in JOBS:
+            old, new = times[("before", *kind, label)], times[("after", *kind, label)]
+            kane = times[("kane", *kind, kane_key)]
+            m_old, m_new, m_kane = _median(old), _median(new), _median(kane)
+            lines.append(
+                f"| {label} | {_cell(old)} | {_cell(new)} | {m_new / m_old:.2f} "
+                f"| {_cell(kane)} | {m_kane / m_old:.2f} | {m_kane / m_new:.2f} |"
+            )
     return "\n".join(lines)
 
 
@@ -114,20 +125,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--before", type=Path, required=True, help="the other checkout")
     parser.add_argument("--repeat", type=int, default=3, help="rounds (3)")
     parser.add_argument("--cap", type=float, default=600.0, help="seconds per run (600)")
-    parser.add_argument("--record", action="store_true", help=f"write a section in {RESULTS.name}")
+    parser.add_argument("--record", action="store_true", help="write a section in RESULTS.md")
     args = parser.parse_args(argv)
     before = args.before.resolve()
     if not (before / "benchmarks" / "bicycle.py").exists():
         parser.error(f"--before {args.before}: no benchmarks/bicycle.py there; give a checkout")
     text = report(measure(before, args.repeat, args.cap), args.repeat, before)
-    print(text)
-    if args.record:
-        shown = " ".join(["python benchmarks/before_after.py", *(argv or sys.argv[1:])])
-        title = (
-            "3-D formulations before and after, against KanesMethod (benchmarks/before_after.py)"
-        )
-        multibody.record(text, shown.replace(" --record", ""), title, (BEGIN, END))
-        print(f"\nwritten to {RESULTS}")
+    title = "3-D formulations before and after, against KanesMethod (benchmarks/before_after.py)"
+    multibody.publish(text, "before_after.py", argv, title, (BEGIN, END), args.record)
     return 0
 
 
