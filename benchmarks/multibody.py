@@ -539,6 +539,11 @@ def warm_up() -> None:
 
     lg.derive  # noqa: B018  (the lazy import of the derivation, outside the clock)
     lg.constrained_equations  # noqa: B018
+    # the model files' reader and the examples, as sympy.physics.mechanics is imported above:
+    # a library's import is start-up (benchmarks/startup.py), not derivation
+    import lagrangian.examples
+    import lagrangian.io  # noqa: F401
+
     warm_a, warm_b = sp.symbols("warm_a warm_b")
     _ = (warm_a * sp.sin(warm_b) + warm_b * sp.cos(warm_a)) ** 2  # SymPy's lazy imports
 
@@ -546,10 +551,10 @@ def warm_up() -> None:
 def worker(method: str, n: int, verify: bool) -> int:
     """Time one derivation in this fresh process; print one JSON line."""
     warm_up()
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     result = DERIVERS[method](n)
     seconds = time.perf_counter() - start
-    outcome = {"seconds": seconds}
+    outcome: dict = {"seconds": seconds, "cpu_seconds": time.process_time() - cpu}
     if verify and not method.startswith("kane") and n <= CHECK_MAX_N:
         outcome["check"] = check(method, n, result)
     print(json.dumps(outcome), flush=True)
@@ -710,6 +715,18 @@ def record(
     else:
         updated = existing.rstrip("\n") + "\n\n" + section + "\n"
     RESULTS.write_text(updated)
+
+
+def publish(
+    text: str, script: str, argv: list[str] | None, title: str, markers: tuple[str, str], keep: bool
+) -> None:
+    """Print a benchmark's report and, when ``keep`` (its ``--record``), write it as its
+    section of RESULTS.md with the command that measured it."""
+    print(text)
+    if keep:
+        shown = " ".join([f"python benchmarks/{script}", *(argv or sys.argv[1:])])
+        record(text, shown.replace(" --record", ""), title, markers)
+        print(f"\nwritten to {RESULTS}")
 
 
 #: The table's columns of seconds, by method (older records have the first three only).

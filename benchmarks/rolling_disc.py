@@ -41,7 +41,6 @@ import time
 from pathlib import Path
 
 import multibody
-from multibody import RESULTS
 
 HERE = Path(__file__).resolve()
 BEGIN, END = "<!-- rolling_disc.py: begin -->", "<!-- rolling_disc.py: end -->"
@@ -154,9 +153,10 @@ def accelerations(method: str, found) -> list[float]:
 
 def worker(method: str, verify: bool) -> int:
     multibody.warm_up()
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     found = derive(method)
     outcome: dict = {"seconds": time.perf_counter() - start}
+    outcome["cpu_seconds"] = time.process_time() - cpu
     if verify:
         outcome["accelerations"] = accelerations(method, found)
     print(json.dumps(outcome), flush=True)
@@ -212,14 +212,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.worker:
         return worker(args.worker, args.verify)
     text = report(measure(args.repeat, args.cap), args.repeat, args.cap)
-    print(text)
-    if args.record:
-        shown = " ".join(["python benchmarks/rolling_disc.py", *(argv or sys.argv[1:])])
-        title = (
-            "The rolling disc in every formulation against KanesMethod (benchmarks/rolling_disc.py)"
-        )
-        multibody.record(text, shown.replace(" --record", ""), title, (BEGIN, END))
-        print(f"\nwritten to {RESULTS}")
+    title = "The rolling disc in every formulation against KanesMethod (benchmarks/rolling_disc.py)"
+    multibody.publish(text, "rolling_disc.py", argv, title, (BEGIN, END), args.record)
     return 0
 
 

@@ -26,6 +26,7 @@ from lagrangian.derivation.backend import Backend
 from lagrangian.derivation.collect import collect_state
 from lagrangian.derivation.trig import combine_trig, plain_angle
 from lagrangian.derivation.trig_polynomial import (
+    ONE,
     Key,
     Poly,
     PolynomialTooLarge,
@@ -572,18 +573,23 @@ def _canonical_form(asm: Assembly, explicit: Matrix, algebra: TrigAlgebra) -> Ki
     if products > NESTED_PRODUCTS:
         raise PolynomialTooLarge(f"{products} products of Jacobian monomials")
     weighted = [(w, _turned(algebra, rows) if len(rows) == 3 else rows) for w, rows in weighted]
-    spins = [_rotation_parts(algebra, rotation, asm) for rotation in asm.rotations]
+    # every body's share of an entry goes into one list of coefficients per monomial, summed
+    # once (:meth:`TrigAlgebra.gather`): no polynomial per body, row or pair of axes
+    shares: list[list[dict[Key, list[Backend]]]] = [
+        [defaultdict(list) for _ in range(n)] for _ in range(n)
+    ]
+    for j in range(n):
+        for k in range(j, n):
+            for key, c in algebra.convert(explicit[j][k]).items():
+                shares[j][k][key].append(c)
+    for weight, rows in weighted:
+        _add_gram(algebra, shares, algebra.convert(weight), rows, rows)
+    for rotation in asm.rotations:
+        _add_rotation_share(algebra, shares, rotation, asm)
     mass_poly: list[list[Poly]] = [[{} for _ in range(n)] for _ in range(n)]
     for j in range(n):
         for k in range(j, n):
-            parts = [algebra.convert(explicit[j][k])]
-            for weight, rows in weighted:
-                terms = [algebra.multiply(r[j], r[k]) for r in rows if r[j] and r[k]]
-                if terms:
-                    parts.append(algebra.multiply(algebra.convert(weight), algebra.add(terms)))
-            for spin in spins:
-                parts += spin.get((j, k), ())
-            mass_poly[j][k] = algebra.add(parts)  # once: the sum of every body's share
+            mass_poly[j][k] = algebra.gather(shares[j][k])
     mass = [[se.Integer(0)] * n for _ in range(n)]
     for j in range(n):
         for k in range(j, n):
@@ -747,32 +753,55 @@ def _jacobian_row(algebra: TrigAlgebra, x: Backend, q: tuple[Backend, ...]) -> l
     return [algebra.finish(algebra.derivative(converted, s)) for s in q]
 
 
-def _rotation_parts(
-    algebra: TrigAlgebra, rotation: Rotation, asm: Assembly
-) -> dict[tuple[int, int], list[Poly]]:
-    """The parts of J_w^T I J_w (omega_b = J_w q_dot) for the upper triangle of M, by entry:
-    I_ab (J_aj J_bk + J_bj J_ak) for a < b, I_aa J_aj J_ak."""
-    n, inertia = len(asm.q), rotation.inertia
+def _add_gram(
+    algebra: TrigAlgebra,
+    shares: list[list[dict[Key, list[Backend]]]],
+    weight: Poly,
+    first: list[list[Poly]],
+    second: list[list[Poly]],
+) -> None:
+    """Add weight * sum_r (first_rj second_rk + second_rj first_rk) (once when ``first`` is
+    ``second``: weight J^T J) to the upper triangle of the entries' coefficient lists."""
+    n = len(shares)
+    if not weight:
+        return
+    scale = weight.get(ONE) if len(weight) == 1 else None
+    pairs = list(zip(first, second))
+    pairs += [] if first is second else [(b, a) for a, b in pairs]
+    for j in range(n):
+        for k in range(j, n):
+            target = shares[j][k]
+            for a, b in pairs:
+                if not (a[j] and b[k]):
+                    continue
+                if scale is not None:
+                    algebra.accumulate_product(target, a[j], b[k], scale)
+                    continue
+                # a weight that moves (never a mass or an inertia)
+                for key, c in algebra.multiply(weight, algebra.multiply(a[j], b[k])).items():
+                    target[key].append(c)
+
+
+def _add_rotation_share(
+    algebra: TrigAlgebra,
+    shares: list[list[dict[Key, list[Backend]]]],
+    rotation: Rotation,
+    asm: Assembly,
+) -> None:
+    """Add J_w^T I J_w (omega_b = J_w q_dot) to the upper triangle of the entries'
+    coefficient lists: I_ab (J_aj J_bk + J_bj J_ak) for a < b, I_aa J_aj J_ak."""
+    inertia = rotation.inertia
     jac = [
         [algebra.finish(algebra.convert(se.expand(w.diff(v)))) for v in asm.q_dot]
         for w in rotation.angular_velocity
     ]
     jac = _spun_back(algebra, jac, inertia)
-    parts: dict[tuple[int, int], list[Poly]] = defaultdict(list)
     for a in range(3):
         for b in range(a, 3):
-            if inertia[a][b] == 0:
-                continue
-            weight = algebra.convert(inertia[a][b])
-            for j in range(n):
-                for k in range(j, n):
-                    terms = [algebra.multiply(jac[a][j], jac[b][k])]
-                    if a != b:
-                        terms.append(algebra.multiply(jac[b][j], jac[a][k]))
-                    term = algebra.add(terms)
-                    if term:
-                        parts[j, k].append(algebra.multiply(weight, term))
-    return parts
+            if inertia[a][b] != 0:
+                rows = [jac[a]]
+                weight = algebra.convert(inertia[a][b])
+                _add_gram(algebra, shares, weight, rows, rows if a == b else [jac[b]])
 
 
 def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) -> list[Poly]:

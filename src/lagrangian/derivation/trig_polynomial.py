@@ -27,7 +27,7 @@ from __future__ import annotations
 import threading
 from collections import defaultdict
 from collections.abc import Iterable, Iterator
-from itertools import chain
+from itertools import chain, product
 from math import comb
 from typing import Any
 
@@ -73,6 +73,36 @@ def _monomials(terms: Terms) -> Iterator[tuple[Key, int]]:
     return zip(it, it)
 
 
+def _merged(a: Key, b: Key, squares: list[bool]) -> Key | None:
+    """The product of two monomials merged in index order (both are sorted), or None when
+    it has a generator flagged in ``squares`` to a power of 2 or more (it needs reduction):
+    the common product, made without a dict and a sort."""
+    out: list[int] = []
+    i = j = 0
+    la, lb = len(a), len(b)
+    while i < la and j < lb:
+        ia, ib = a[i], b[j]
+        if ia < ib:
+            index, exponent = ia, a[i + 1]
+            i += 2
+        elif ib < ia:
+            index, exponent = ib, b[j + 1]
+            j += 2
+        else:
+            index, exponent = ia, a[i + 1] + b[j + 1]
+            i += 2
+            j += 2
+        if exponent > 1 and squares[index]:
+            return None
+        out += (index, exponent)
+    for rest, start in ((a, i), (b, j)):
+        for k in range(start, len(rest), 2):
+            if rest[k + 1] > 1 and squares[rest[k]]:
+                return None
+        out += rest[start:]
+    return tuple(out)
+
+
 def _key(exponents: Iterable[tuple[int, int]]) -> Key:
     """The monomial of (index, exponent) pairs, sorted by index."""
     return tuple(chain.from_iterable(sorted(exponents)))
@@ -102,8 +132,14 @@ class TrigAlgebra:
         self._monomials: dict[Key, Backend] = {}
         self._powers: dict[tuple[int, int], Backend] = {}
         self._factored: dict[tuple[Backend, ...], Backend] = {}
+        self._factored_parts: dict[tuple[tuple[Backend, Backend], ...], Backend] = {}
         self._sine_reduced: dict[Key, Product] = {}
+        self._reductions: dict[tuple[Any, ...], Terms] = {}
         self._splits: dict[Key, tuple[Key, Key]] = {}
+        #: The number of terms of each coefficient counted: SymEngine makes a Python object
+        #: of every term to give a sum's arguments (as long as expanding it), and a
+        #: coefficient is counted for its form, its other form and its grouping.
+        self._counts: dict[Backend, int] = {}
         #: Monomials a product or sum may have before :class:`PolynomialTooLarge` (None: any).
         self.limit: int | None = None
 
@@ -153,8 +189,8 @@ class TrigAlgebra:
     def remembered(self) -> int:
         """The number of memo entries (conversions, products, derivatives)."""
         memos: tuple[dict[Any, Any], ...] = (self._converted, self._products, self._derivatives)
-        more = (self._factored, self._sine_reduced, self._splits)
-        return sum(len(memo) for memo in (*memos, *more))
+        more = (self._factored, self._factored_parts, self._sine_reduced, self._splits)
+        return sum(len(memo) for memo in (*memos, *more, self._counts, self._reductions))
 
     def keep_nested(self, expr: Backend) -> None:
         """Mark ``expr`` as too large to expand: converting it (or an expression that holds
@@ -212,19 +248,29 @@ class TrigAlgebra:
             c = a[ONE]
             return {k: c * v for k, v in b.items()}
         parts: dict[Key, list[Backend]] = defaultdict(list)
+        self.accumulate_product(parts, a, b)
+        return self.gather(parts)
+
+    def accumulate_product(
+        self, target: dict[Key, list[Backend]], a: Poly, b: Poly, weight: Backend = None
+    ) -> None:
+        """Add ``weight`` (a coefficient, 1 when None) * ``a`` * ``b`` to the coefficient
+        lists ``target``: the products of many pairs summed with one :meth:`gather`, as an
+        entry of M sums every body's share, with no polynomial made per pair."""
         known = self._products  # looked up here: most pairs are known
         for ka, ca in a.items():
+            if weight is not None:
+                ca = weight * ca
             for kb, cb in b.items():
                 both = ca * cb
                 r = known.get((*ka, -1, *kb))
                 if r is None:
                     r = self._product(ka, kb)
                 if not r or r[0].__class__ is int:  # a monomial
-                    parts[r].append(both)
+                    target[r].append(both)
                     continue
                 for k, n in _monomials(r):
-                    parts[k].append(both if n == 1 else n * both)
-        return self.gather(parts)
+                    target[k].append(both if n == 1 else n * both)
 
     def accumulate(
         self, target: dict[Key, list[Backend]], p: Poly, factor: Key, scale: Any = 1
@@ -268,6 +314,10 @@ class TrigAlgebra:
         memo = self._products.get(memo_key)
         if memo is not None:
             return memo
+        merged = _merged(a, b, self.cosine)
+        if merged is not None:
+            self._products[memo_key] = merged
+            return merged
         exponents = dict(pairs(a))
         for i, e in pairs(b):
             exponents[i] = exponents.get(i, 0) + e
@@ -283,29 +333,37 @@ class TrigAlgebra:
 
     def _reduced(self, exponents: dict[int, int], squares: list[bool] | None = None) -> Terms:
         """The monomial of ``exponents`` with every f(x)**k, k >= 2 (f the cosine, or the
-        generators flagged in ``squares``) written as f**(k mod 2) (1 - g**2)**(k // 2)."""
+        generators flagged in ``squares``) written as f**(k mod 2) (1 - g**2)**(k // 2).
+
+        The terms come in the order of expanding the binomials one after the other in the
+        order of ``exponents`` (the last varying fastest); remembered by that order."""
         squares = self.cosine if squares is None else squares
-        terms: list[tuple[dict[int, int], int]] = [({}, 1)]
+        memo_key = (squares is self.sine, *chain.from_iterable(exponents.items()))
+        known = self._reductions.get(memo_key)
+        if known is not None:
+            return known
+        base: dict[int, int] = {}  # what every term has: the other powers, f**(k mod 2)
+        binomials: list[tuple[int, int]] = []  # (g, k // 2) of each f(x)**k
         for i, e in exponents.items():
             if e == 0:
                 continue
-            if not (squares[i] and e >= 2):
-                for t, _ in terms:
-                    t[i] = t.get(i, 0) + e
-                continue
-            half, rest = divmod(e, 2)
-            other = self.partner[i]
-            expanded = []
-            for t, n in terms:
-                for j in range(half + 1):
-                    new = dict(t)
-                    if rest:
-                        new[i] = new.get(i, 0) + rest
-                    if j:
-                        new[other] = new.get(other, 0) + 2 * j
-                    expanded.append((new, n * comb(half, j) * (-1) ** j))
-            terms = expanded
-        return tuple(chain.from_iterable((_key(t.items()), n) for t, n in terms))  # all e > 0
+            if squares[i] and e >= 2:
+                half, rest = divmod(e, 2)
+                if rest:
+                    base[i] = base.get(i, 0) + rest
+                binomials.append((self.partner[i], half))
+            else:
+                base[i] = base.get(i, 0) + e
+        terms: list[Any] = []
+        for picks in product(*[range(half + 1) for _, half in binomials]):
+            powers, n = dict(base), 1
+            for (other, half), j in zip(binomials, picks):
+                if j:  # C(half, j) (-g**2)**j
+                    powers[other] = powers.get(other, 0) + 2 * j
+                    n *= -comb(half, j) if j % 2 else comb(half, j)
+            terms += (_key(powers.items()), n)  # all e > 0
+        result = self._reductions[memo_key] = tuple(terms)
+        return result
 
     # -- calculus -------------------------------------------------------------------------
 
@@ -450,13 +508,24 @@ class TrigAlgebra:
             groups[moving].append((self.monomial_expression(constant), c))
         result = []
         for k, parts in groups.items():
-            if sum(len(c.args) if c.is_Add else 1 for _, c in parts) <= FACTORED_TERMS:
-                terms = tuple(f * t for f, c in parts for t in (c.args if c.is_Add else (c,)))
-                coefficient = self._factor(terms)
+            if sum(self.count(c) for _, c in parts) <= FACTORED_TERMS:
+                coefficient = self._factor_parts(parts)
             else:
                 coefficient = se.Add(*[f * c for f, c in parts])
             result.append(self.monomial_expression(k) * coefficient)
         return se.Add(*result)
+
+    def _factor_parts(self, parts: list[tuple[Backend, Backend]]) -> Backend:
+        """:meth:`_factor` of the terms of sum f c over ``parts`` (constant monomial f,
+        expanded coefficient c), remembered by the parts: the same parts recur in the
+        entries of M, in C q_dot and in the forcing, and making their terms (a product per
+        term, the terms of each sum) costs more than factoring them."""
+        key = tuple(sorted(parts, key=hash))
+        known = self._factored_parts.get(key)
+        if known is None:
+            terms = tuple(f * t for f, c in parts for t in (c.args if c.is_Add else (c,)))
+            known = self._factored_parts[key] = self._factor(terms)
+        return known
 
     def _factor(self, terms: tuple[Backend, ...]) -> Backend:
         """:func:`factor_common` of ``terms``, remembered: the same coefficient recurs in the
@@ -470,11 +539,20 @@ class TrigAlgebra:
 
     def terms(self, p: Poly) -> int:
         """The number of terms of the expanded form of a finished polynomial."""
-        return sum(len(c.args) if c.is_Add else 1 for c in p.values())
+        return sum(map(self.count, p.values()))
 
     def size(self, p: Poly) -> int:
         """A size for choosing between forms: terms of the coefficients plus factors."""
-        return sum((len(c.args) if c.is_Add else 1) + sum(k[1::2]) for k, c in p.items())
+        count = self.count
+        return sum(count(c) + sum(k[1::2]) for k, c in p.items())
+
+    def count(self, coefficient: Backend) -> int:
+        """The number of terms of an expanded coefficient, remembered."""
+        known = self._counts.get(coefficient)
+        if known is None:
+            known = len(coefficient.args) if coefficient.is_Add else 1
+            self._counts[coefficient] = known
+        return known
 
 
 def expanded_terms(expr: Backend, cap: int) -> int:

@@ -67,25 +67,35 @@ def factor_rotation(matrix: sp.MatrixBase, coordinates: Iterable[sp.Symbol]) -> 
     """The factoring of the rotation ``matrix`` (module docstring) whose angles move with
     ``coordinates`` or t; None when it is not such a product (or does not move)."""
     moving = {*coordinates, t}
-    trig = sorted(sp.ImmutableMatrix(matrix).atoms(sp.sin, sp.cos), key=sp.default_sort_key)
+    matrix = sp.ImmutableMatrix(matrix)
+    trig = sorted(matrix.atoms(sp.sin, sp.cos), key=sp.default_sort_key)
     angles = list(dict.fromkeys(f.args[0] for f in trig if f.args[0].free_symbols & moving))
     if not angles:
         return None
-    taken = {s.name for s in sp.ImmutableMatrix(matrix).free_symbols}
+    taken = {s.name for s in matrix.free_symbols}
     alphas = [_fresh(f"alpha{k}", taken) for k in range(len(angles))]
-    swap = {f: f.func(alphas[angles.index(f.args[0])]) for f in trig if f.args[0] in angles}
-    R = sp.Matrix(matrix).xreplace(swap)
-    if R.free_symbols & moving:
-        return None  # a moving symbol outside the sines and cosines
-    parameters = sorted(R.free_symbols - set(alphas), key=sp.default_sort_key)
-    try:  # differentiated and evaluated in SymEngine: SymPy's diff and lambdify cost seconds
-        entries = [to_symengine(e) for e in R]
+    # the angles put in and the entries differentiated and evaluated in SymEngine: SymPy's
+    # substitution into nested products, diff and lambdify cost seconds
+    try:
         angle_symbols = [to_symengine(a) for a in alphas]
+        swap = {
+            to_symengine(f): to_symengine(f.func(alphas[angles.index(f.args[0])]))
+            for f in trig
+            if f.args[0] in angles
+        }
+        entries = [to_symengine(e).xreplace(swap) for e in matrix]
+        symbols = set().union(*(e.free_symbols for e in entries))
+        if symbols & {to_symengine(s) for s in moving}:
+            return None  # a moving symbol outside the sines and cosines
+        by_name = {s.name: s for s in matrix.free_symbols}
+        parameters = sorted(
+            (by_name[str(s)] for s in symbols - set(angle_symbols)), key=sp.default_sort_key
+        )
         derivatives = [[e.diff(a) for e in entries] for a in angle_symbols]
         arguments = [*angle_symbols, *(to_symengine(p) for p in parameters)]
         flat = [*entries, *(d for row in derivatives for d in row)]
         numeric = se.Lambdify(arguments, flat, backend="lambda")
-    except (se.SympifyError, RuntimeError, TypeError):
+    except (se.SympifyError, RuntimeError, TypeError, KeyError):
         return None
     rng = np.random.default_rng(_SEED)
     values = rng.uniform(0.3, 1.3, len(parameters))
@@ -93,12 +103,13 @@ def factor_rotation(matrix: sp.MatrixBase, coordinates: Iterable[sp.Symbol]) -> 
     if order is None:
         return None
     zero = {a: se.Integer(0) for a in angle_symbols}
-    at_zero = sp.Matrix(3, 3, [to_sympy(e.xreplace(zero)) for e in entries])
+    at_zero = se.DenseMatrix(3, 3, [e.xreplace(zero) for e in entries])
     factors = []
     for k, rate in order:
-        turn = sp.Matrix(3, 3, [to_sympy(d.xreplace(zero)) for d in derivatives[k]])
-        factors.append((_tidy(_vee(turn * at_zero.T) / rate), rate * angles[k]))
-    tail = _tidy(at_zero)
+        turn = se.DenseMatrix(3, 3, [d.xreplace(zero) for d in derivatives[k]])
+        axis = sp.Matrix([to_sympy(e) for e in _vee(turn * at_zero.T)])
+        factors.append((_tidy(axis / rate), rate * angles[k]))
+    tail = _tidy(sp.Matrix(3, 3, [to_sympy(e) for e in at_zero]))
     found = Factoring(tuple(factors), None if tail == sp.eye(3) else sp.ImmutableMatrix(tail))
     return found if _agrees(found, numeric, arguments, order, rng) else None
 
@@ -199,8 +210,8 @@ def pythagorean_reduced(expr: sp.Expr) -> sp.Expr:
     return expanded if reduced == expanded else sp.expand(reduced)
 
 
-def _vee(skew: sp.MatrixBase) -> sp.Matrix:
-    return sp.Matrix([skew[2, 1], skew[0, 2], skew[1, 0]])
+def _vee(skew: Any) -> list[Any]:
+    return [skew[2, 1], skew[0, 2], skew[1, 0]]
 
 
 def _vee_numbers(skew: np.ndarray) -> np.ndarray:
