@@ -387,37 +387,3 @@ def test_undeclared_symbols_and_unknown_functions_are_refused() -> None:
     opaque = dataclasses.replace(eom, forcing=eom.forcing + sp.Matrix([unknown, 0]))
     with pytest.raises(ModelError, match=r"Cannot export to C: .*Use the functions"):
         export_c(opaque)
-
-
-def test_outputs_beyond_the_whole_cse_size_are_eliminated_row_by_row(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    """Beyond WHOLE_CSE_NODES each equation (each row of M) is eliminated on its own, its
-    temporaries numbered on from the rows before: the module still computes SymPy's values."""
-    from lagrangian.numerics.export import common
-
-    eom = lg.derive(lg.examples.n_link_pendulum(4))
-    whole = common.plan_export(eom)
-    monkeypatch.setattr(common, "WHOLE_CSE_NODES", 10)
-    rows = common.plan_export(eom)
-    by_name = {r.name: r for r in rows.routines}
-    assert by_name != {r.name: r for r in whole.routines}
-    for routine in rows.routines:
-        names = [s.name for s, _ in routine.temporaries]
-        assert len(names) == len(set(names))  # no row reuses another row's name
-    module = _numpy_module(eom, tmp_path)
-    for state in _states(eom):
-        expected = _reference(eom, state)
-        for piece in (*PIECES, "rhs"):
-            function = getattr(module, piece)
-            names = list(inspect.signature(function).parameters)
-            _assert_close(function(*_arguments(state, names)), expected[piece])
-
-
-def test_the_row_by_row_elimination_counts_nodes_only_up_to_the_bound() -> None:
-    from lagrangian.numerics.export.common import _nodes
-
-    x_, y_ = sp.symbols("x y")
-    exprs = [x_ + y_, sp.sin(x_) * y_]  # 3 and 4 nodes
-    assert _nodes(exprs, 100) == 7
-    assert _nodes(exprs, 2) == 3

@@ -12,8 +12,7 @@ Every language gets the same functions (p in the order of ``eom.parameters``)::
 
 A mass matrix (or G) that depends on the velocities takes ``qd`` too:
 ``mass_matrix(q, qd, t, p)``.  The model's symbols become array elements (``q[0]`` or ``q(1)``)
-after a common-subexpression elimination over all outputs of one function (row by row, each
-equation or each row of a matrix, when the outputs are larger than ``WHOLE_CSE_NODES``).
+after a common-subexpression elimination over all outputs of one function.
 """
 
 from __future__ import annotations
@@ -234,47 +233,10 @@ def _routine(
         if c not in (sp.pi, sp.E)
     }
     exprs = [e.xreplace(constants) for e in matrix]
-    replacements, reduced = _eliminated(exprs, matrix.cols if matrix.cols > 1 else 1)
+    replacements, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("s"), order="canonical")
     temporaries = tuple((s, e.xreplace(mapping)) for s, e in replacements)
     outputs = sp.ImmutableMatrix(matrix.rows, matrix.cols, [e.xreplace(mapping) for e in reduced])
     return Routine(name, arguments, temporaries, outputs)
-
-
-#: The size (SymPy expression nodes) of a function's outputs up to which their common
-#: subexpressions are eliminated all together; beyond it, row by row (each equation, each
-#: row of a matrix): SymPy's ``cse`` over a whole system grows faster than the system (a
-#: 100-link chain's mass matrix and forcing took a minute), row by row it grows with it.
-WHOLE_CSE_NODES = 20_000
-
-
-def _eliminated(
-    exprs: list[sp.Expr], row_length: int
-) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.Expr]]:
-    """SymPy's ``cse`` of ``exprs`` (a matrix's entries row by row): over all of them, or,
-    when they are larger than :data:`WHOLE_CSE_NODES`, over each row of ``row_length`` in
-    turn, the temporaries numbered on across rows (a row's may repeat an earlier row's)."""
-    names = sp.numbered_symbols("s")
-    if _nodes(exprs, WHOLE_CSE_NODES) <= WHOLE_CSE_NODES:
-        replacements, reduced = sp.cse(exprs, symbols=names, order="canonical")
-        return list(replacements), list(reduced)
-    replacements, reduced = [], []
-    for start in range(0, len(exprs), row_length):
-        row = exprs[start : start + row_length]
-        found, outputs = sp.cse(row, symbols=names, order="canonical")
-        replacements += found
-        reduced += outputs
-    return replacements, reduced
-
-
-def _nodes(exprs: Sequence[sp.Expr], enough: int) -> int:
-    """The number of nodes of ``exprs``' trees, counted until it passes ``enough``."""
-    count = 0
-    for expr in exprs:
-        for _ in sp.preorder_traversal(expr):
-            count += 1
-            if count > enough:
-                return count
-    return count
 
 
 def _check_symbols(eom: EquationsOfMotion) -> None:
