@@ -164,16 +164,21 @@ def _sum_powers(factor: Backend, state: set[Backend]) -> _SumPowers | None:
         split.append(_powers(list(factors)))
     common = dict(split[0][1])
     for _, powers in split[1:]:
-        for base, least in list(common.items()):
-            exponent = powers.get(base)
-            if exponent is None:
-                del common[base]
-            else:
-                common[base] = min(least, exponent)
+        _keep_least(common, powers)
     magnitudes = {abs(number) for number, _ in split}
     negative = all(_negative(number) for number, _ in split)
     positive = all(not _negative(number) for number, _ in split)
     return common, magnitudes, negative, positive, len(split)
+
+
+def _keep_least(common: dict[Backend, Backend], powers: dict[Backend, Backend]) -> None:
+    """Keep in ``common`` the bases also in ``powers``, each at the lesser exponent."""
+    for base, least in list(common.items()):
+        exponent = powers.get(base)
+        if exponent is None:
+            del common[base]
+        else:
+            common[base] = min(least, exponent)
 
 
 def _collected_products(
@@ -229,13 +234,8 @@ def _collected_products(
             negative = negative and (summed[3] if _negative(number) else summed[2])
         if common is None:
             common = own
-            continue
-        for base, least in list(common.items()):
-            exponent = own.get(base)
-            if exponent is None:
-                del common[base]
-            else:
-                common[base] = min(least, exponent)
+        else:
+            _keep_least(common, own)
     scale = magnitudes.pop() if len(magnitudes) == 1 else se.Integer(1)
     if negative:
         scale = -scale
