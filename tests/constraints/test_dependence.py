@@ -54,3 +54,19 @@ def test_a_jacobian_without_a_real_value_is_refused() -> None:
     )
     with pytest.raises(ConstraintError, match="not defined at a generic configuration"):
         dependence(system)
+
+
+def test_values_at_substitutes_all_entries_as_each_alone() -> None:
+    """The values of many entries, substituted as one matrix, are each entry's own value;
+    an entry not real at the point gives None, and no entries give an empty array."""
+    import symengine as se
+
+    from lagrangian.constraints.dependence import values_at
+
+    a, b = sp.symbols("a b")
+    entries = [se.Integer(0), se.sympify(a * b), se.sin(se.Symbol("a")) + 3, se.Integer(2)]
+    point = {a: 0.7, b: -1.3}
+    expected = [0.0, 0.7 * -1.3, float(np.sin(0.7)) + 3, 2.0]
+    np.testing.assert_allclose(values_at(entries, point), expected, rtol=1e-15)
+    assert values_at([se.sqrt(se.Symbol("b"))], point) is None
+    assert values_at([], point).shape == (0,)

@@ -7,6 +7,7 @@ tests/web/artifacts/."""
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import signal
@@ -148,14 +149,48 @@ ROW_MEASURES = """() => [...document.querySelectorAll('#equations .item')].map((
   })"""
 
 
-def _misfits(page: Any) -> list[str]:
-    """The rows of the equations panel wider than their box, scrolling sideways, or set in a
-    type smaller than the page's text."""
+def _misfits(page: Any, panel: str = "equations") -> list[str]:
+    """The rows of the ``panel`` (the equations, or the analysis) wider than their box,
+    scrolling sideways, or set in a type smaller than the page's text."""
     return [
         f"{start}… {width}/{box} px{' scrolls' if scrolls else ''}, type {type_px:.1f} px"
-        for start, width, box, scrolls, type_px, text_px in page.evaluate(ROW_MEASURES)
+        for start, width, box, scrolls, type_px, text_px in page.evaluate(
+            ROW_MEASURES.replace("#equations", f"#{panel}")
+        )
         if width > box or scrolls or type_px < text_px - 0.05
     ]
+
+
+@functools.cache
+def _analysis_latex(name: str) -> str:
+    """The analysis of an example as the page receives it (computed once for both sizes)."""
+    status, body = run("analyze", examples.model_text(name), "yaml", {})
+    assert status == 200, name
+    return str(json.loads(body)["latex"])
+
+
+@pytest.mark.parametrize("size", list(SIZES))
+def test_every_analysis_of_every_example_fits_its_box(
+    browser: Any, live_server: str, size: str
+) -> None:
+    """The analysis panel's rows (momenta, energy, equilibria, modes...) of every example in
+    the menu fit their box as the derivation's do."""
+    page = _open(browser, live_server + "/", size)
+    listed = page.eval_on_selector_all(
+        "[data-testid=examples] option", "(os) => os.map((o) => o.value).filter(Boolean)"
+    )
+    misfits: dict[str, list[str]] = {}
+    for name in listed:
+        latex = _analysis_latex(name)
+        page.evaluate("(latex) => typeset(document.getElementById('analysis'), latex, -1)", latex)
+        if misfit := _misfits(page, "analysis"):
+            misfits[name] = misfit
+        if name in PICTURED:
+            page.locator("#analysis").screenshot(
+                path=str(ARTIFACTS / f"analysis_{name}_{size}.png")
+            )
+    page.context.close()
+    assert not misfits, json.dumps(misfits, indent=1)
 
 
 #: Examples whose equations are kept as pictures: short rows, matrices whose entries are named

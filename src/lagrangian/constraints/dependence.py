@@ -205,10 +205,16 @@ def _jacobian_at(
 def values_at(exprs: Sequence[Any], point: Mapping[sp.Symbol, float]) -> np.ndarray | None:
     """The values of SymEngine expressions at ``point``, one substitution each (nothing
     compiled: for the few points a probe needs, compiling costs more than it saves); None
-    where one is not finite or not real.  ValueError where SymEngine cannot evaluate one."""
+    where one is not finite or not real.  ValueError where SymEngine cannot evaluate one.
+
+    All are substituted as one matrix: a substitution converts its whole mapping first, and
+    a chain of n bodies has n (2n + 1) entries (most of them 0) over 4n + 1 symbols."""
     values = {to_backend(s): se.RealDouble(v) for s, v in point.items()}
+    if not exprs:
+        return np.zeros(0)
     try:
-        numbers = np.array([complex(e.subs(values)) for e in exprs], dtype=complex)
+        substituted = se.DenseMatrix(len(exprs), 1, [to_backend(e) for e in exprs]).subs(values)
+        numbers = np.array([complex(e) for e in substituted], dtype=complex)
     except (RuntimeError, TypeError) as error:
         raise ValueError(f"SymEngine cannot evaluate an expression: {error}") from error
     if not np.all(np.isfinite(numbers)) or np.any(np.abs(numbers.imag) > 1e-12):

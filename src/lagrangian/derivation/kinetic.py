@@ -23,7 +23,7 @@ import symengine as se
 
 from lagrangian.derivation.assemble import Assembly, Rotation
 from lagrangian.derivation.backend import Backend
-from lagrangian.derivation.collect import collect_state
+from lagrangian.derivation.collect import _negative, _powers, collect_state
 from lagrangian.derivation.trig import combine_trig, plain_angle
 from lagrangian.derivation.trig_polynomial import (
     ONE,
@@ -37,6 +37,7 @@ from lagrangian.derivation.trig_polynomial import (
 Matrix = list[list[Backend]]
 
 _ZERO = se.Integer(0)  # compared with as it is (0 would be converted at each comparison)
+ONE = se.Integer(1)
 
 
 @dataclass(frozen=True)
@@ -132,13 +133,128 @@ def one_trigonometric_factor(products: list[Backend]) -> bool:
     return shared is None or plain_angle(shared.args[0])
 
 
-def collected_entry(entry: Backend, state: set[Backend]) -> Backend:
+def collected_entry(
+    entry: Backend, state: set[Backend], sums: dict[Backend, _SumPowers | None] | None = None
+) -> Backend:
     """An entry of M whose products share one sine or cosine (:func:`one_trigonometric_factor`)
     collected now, as the mass matrix's tidying would collect it, when that makes it one
     product: its sum of masses is then one factor in C q_dot (never n terms each); else
-    combined as any other entry."""
-    collected = collect_state(se.expand(entry), state)
+    combined as any other entry.  ``sums`` remembers what :func:`_collected_products` reads
+    off each sum of masses across the entries (the sums recur in n entries each)."""
+    collected = _collected_products(entry, state, {} if sums is None else sums)
+    if collected is None:
+        collected = collect_state(se.expand(entry), state)
     return collected if collected.is_Mul else combine_trig(entry)
+
+
+#: What the collection of an expanded sum of masses needs of it: the least exponent of each
+#: base in every term, the magnitudes of the terms' numbers, whether all are negative and
+#: whether all are positive, and how many terms it has.
+_SumPowers = tuple[dict[Backend, Backend], set[Backend], bool, bool, int]
+
+
+def _sum_powers(factor: Backend, state: set[Backend]) -> _SumPowers | None:
+    """The :data:`_SumPowers` of a sum of plain products free of the state, else None."""
+    if not state.isdisjoint(factor.free_symbols):
+        return None
+    split = []
+    for term in factor.args if factor.is_Add else (factor,):
+        factors = term.args if term.is_Mul else (term,)
+        if not all(f.is_Symbol or f.is_Number or _symbol_power(f) for f in factors):
+            return None
+        split.append(_powers(list(factors)))
+    common = dict(split[0][1])
+    for _, powers in split[1:]:
+        _keep_least(common, powers)
+    magnitudes = {abs(number) for number, _ in split}
+    negative = all(_negative(number) for number, _ in split)
+    positive = all(not _negative(number) for number, _ in split)
+    return common, magnitudes, negative, positive, len(split)
+
+
+def _keep_least(common: dict[Backend, Backend], powers: dict[Backend, Backend]) -> None:
+    """Keep in ``common`` the bases also in ``powers``, each at the lesser exponent."""
+    for base, least in list(common.items()):
+        exponent = powers.get(base)
+        if exponent is None:
+            del common[base]
+        else:
+            common[base] = min(least, exponent)
+
+
+def _collected_products(
+    entry: Backend, state: set[Backend], sums: dict[Backend, _SumPowers | None]
+) -> Backend | None:
+    """``collect_state(se.expand(entry), state)`` for an entry that is a sum of products, each
+    a number, parameters, one sine or cosine of the state shared by all, and at most one sum
+    of parameter products (a sum of masses), whose expanded terms all differ; else None.
+
+    Collecting the expanded entry walks its terms in Python, n per entry of a chain of rods
+    and n^3/6 in all; here each sum of masses is read once (``sums``), an entry by its few
+    products, and the expansion is SymEngine's.  The collection of one monomial is its
+    coefficient's common factor (each base's least exponent over the terms, the numbers'
+    one magnitude, negative when every number is) times the terms divided by it, which is
+    the value built here; SymEngine's sums and products are canonical, so it is the same
+    expression."""
+    trig = None
+    # (the plain factors, their number and powers, the sum or None, the sum's powers or None)
+    products = []
+    for term in entry.args if entry.is_Add else (entry,):
+        plain, sum_factor, summed = [], None, None
+        for factor in term.args if term.is_Mul else (term,):
+            if isinstance(factor, (se.sin, se.cos)) and (trig is None or factor == trig):
+                trig = factor
+            elif factor.is_Add and sum_factor is None:
+                if factor not in sums:
+                    sums[factor] = _sum_powers(factor, state)
+                sum_factor, summed = factor, sums[factor]
+                if summed is None:
+                    return None
+            elif factor.is_Symbol or factor.is_Number or _symbol_power(factor):
+                plain.append(factor)
+            else:
+                return None
+        number, powers = _powers(plain)
+        if not state.isdisjoint(powers):
+            return None
+        products.append((plain, number, powers, sum_factor, summed))
+    if trig is None or state.isdisjoint(trig.free_symbols) or not products:
+        return None
+    common: dict[Backend, Backend] | None = None
+    magnitudes: set[Backend] = set()
+    negative = True
+    for _, number, powers, _, summed in products:
+        own = dict(powers)
+        if summed is None:
+            magnitudes.add(abs(number))
+            negative = negative and _negative(number)
+        else:
+            for base, least in summed[0].items():
+                own[base] = own[base] + least if base in own else least
+            magnitudes.update(abs(number) * m for m in summed[1])
+            negative = negative and (summed[3] if _negative(number) else summed[2])
+        if common is None:
+            common = own
+        else:
+            _keep_least(common, own)
+    scale = magnitudes.pop() if len(magnitudes) == 1 else se.Integer(1)
+    if negative:
+        scale = -scale
+    outside = scale * se.Mul(*[b**e for b, e in (common or {}).items()])
+    # the expanded coefficient divided by its common factor: its terms, one per term of the
+    # expanded entry unless two combined (then the entry is collected from its expansion)
+    inside = se.expand(
+        se.Add(
+            *[
+                se.Mul(*plain) / outside * (ONE if sum_factor is None else sum_factor)
+                for plain, _, _, sum_factor, _ in products
+            ]
+        )
+    )
+    expected = sum(1 if summed is None else summed[4] for *_, summed in products)
+    if len(inside.args if inside.is_Add else (inside,)) != expected:
+        return None
+    return trig * (outside * inside)
 
 
 def _symbol_power(factor: Backend) -> bool:
@@ -425,12 +541,13 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     point_mass, point_low, single, shared = _point_terms(asm)
     mass = [[se.Integer(0)] * n for _ in range(n)]
     state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
+    mass_sums: dict[Backend, _SumPowers | None] = {}
     for j in range(n):
         for k in range(j, n):
             if explicit[j][k] == _ZERO and (j, k) in single:  # combined already
                 mass[j][k] = point_mass[j][k]
             elif explicit[j][k] == _ZERO and (j, k) in shared:
-                mass[j][k] = collected_entry(point_mass[j][k], state)
+                mass[j][k] = collected_entry(point_mass[j][k], state, mass_sums)
             else:
                 mass[j][k] = combine_trig(explicit[j][k] + point_mass[j][k])
             mass[k][j] = mass[j][k]

@@ -63,6 +63,13 @@ T = TypeVar("T")
 MAX_UNKNOWNS = 300
 #: Time after which no further stage of the search starts.
 SEARCH_SECONDS = 20.0
+#: The most coordinates a system may have for the search to run.  Long before it the Lie
+#: and polynomial stages' bases have more than MAX_UNKNOWNS unknowns at the lowest degree (a
+#: chain: from about 8 links); what is left, the trigonometric and conditional stages and the
+#: independence test (the energy, n^2 terms for a chain, differentiated by each of the 2n
+#: state variables), grows faster than the system (half a minute at 20 links, unbounded at
+#: 100), so beyond it the search is skipped whole and the report says what was not searched.
+MAX_SEARCH_COORDINATES = 20
 
 
 @dataclass(frozen=True)
@@ -116,6 +123,16 @@ def first_integrals(
     between the parameters (:mod:`~lagrangian.analysis.integrals.conditional`), each with
     its condition and whether the parameter values given meet it."""
     eom = equations_of(subject)
+    n = len(eom.coordinates)
+    if n > MAX_SEARCH_COORDINATES:
+        return FirstIntegralSearch(
+            (),
+            (
+                "Lie point symmetries, integrals quadratic in the velocities, trigonometric "
+                "and conditional integrals: not searched (the system has "
+                f"{n} coordinates, more than the {MAX_SEARCH_COORDINATES} the search handles)",
+            ),
+        )
     deadline = time.monotonic() + seconds
     manifold = constraint_manifold(eom)  # None, or without rows when all are unilateral
     motion = ConstrainedMotion(eom, parameters) if manifold and manifold.size else None
