@@ -153,12 +153,11 @@ class PointFunction:
             # SymEngine's CSE names its temporaries x0, x1, ...: a user's x1 would be taken
             # for one, so every argument gets a name no model can have
             renamed = {se.sympify(s): se.Symbol(f"_arg{i}_") for i, s in enumerate(self.symbols)}
-            compiled = se.Lambdify(
-                list(renamed.values()),
-                [se.sympify(e).xreplace(renamed) for e in _entries(exprs)],
-                real=False,
-                cse=True,
-            )
+            # renamed as one matrix: each substitution converts its whole mapping first, and a
+            # chain of n bodies has n (2n + 1) entries over 4n + 1 symbols
+            entries = [se.sympify(e) for e in _entries(exprs)]
+            column = se.DenseMatrix(len(entries), 1, entries).xreplace(renamed)
+            compiled = se.Lambdify(list(renamed.values()), list(column), real=False, cse=True)
             self._function = lambda *values: compiled(values)
         except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
             # a derivative of |u| SymPy left unevaluated: SymPy prints it piecewise smooth
