@@ -4,13 +4,15 @@ accuracy against SciPy's RK45 and DOP853 at equal work and at equal wall time.
 What is measured
     speed   Steps per second of ``lg.simulate(eom, start, t_end, method=M, dt=0.01)`` on the
             double pendulum of the drift part, for M = variational (midpoint rule), gauss4 and
-            gauss6, 10^6 steps (``--speed-steps``), every step an output, compiled and warmed
-            up first: the wall time of the call (best of ``--repeat`` calls) and its CPU time
-            (``time.process_time``, the better figure on a shared machine), with the largest
-            relative energy error of the run.  With ``--baseline SRC`` the same measurement
-            runs on another checkout's ``src`` (for example a worktree of the commit before)
-            in the same run, the two alternating call by call; the table gives both and their
-            ratio.  Every measurement is a fresh process.
+            gauss6, 10^6 steps (``--speed-steps``), every step an output (or
+            ``--speed-samples`` output times), compiled and warmed up first: the wall time of
+            the call (best of ``--repeat`` calls) and its CPU time (``time.process_time``, the
+            better figure on a shared machine), the CPU time of the march alone (the compiled
+            march over the same nodes, without lg.simulate's set-up and columns) and the
+            largest relative energy error at the outputs.  With ``--baseline SRC`` the same
+            measurement runs on another checkout's ``src`` (for example a worktree of the
+            commit before) in the same run, the two alternating call by call; the table gives
+            both and their ratio.  Every measurement is a fresh process.
     drift   The double pendulum of ``lg.examples.double_pendulum`` (unit masses and rods,
             g = 9.81, released at rest at theta = 1, phi = 0.5: chaotic motion) integrated by
             ``simulate(..., method="variational", dt=0.01)`` for 10^6 steps (t = 10^4 s), every
@@ -45,6 +47,7 @@ How
 Usage
     python benchmarks/variational.py                      # every part, 10^6 drift steps
     python benchmarks/variational.py --part speed --baseline ../before/src --record
+    python benchmarks/variational.py --part speed --speed-steps 10000000 --speed-samples 101
     python benchmarks/variational.py --steps 100000       # a shorter drift run
     python benchmarks/variational.py --part work --periods 100 --per-period 40 80
     python benchmarks/variational.py --record             # write its section of RESULTS.md
@@ -96,50 +99,89 @@ DRIFT_FACTOR = 1.5  # allowed growth of the max energy error from decade 3 to th
 SPEED_METHODS = ("variational", "gauss4", "gauss6")
 
 
-def measure_speed(method: str, steps: int) -> dict[str, float]:
-    """One warm ``lg.simulate`` call of ``method`` over ``steps`` steps of the double pendulum:
-    wall and CPU seconds and the largest relative energy error (in this process)."""
+def speed_title(steps: int, samples: int) -> str:
+    """The heading of a speed block: the steps per second through lg.simulate over ``steps``
+    steps, every step an output (``samples`` 0, the block of earlier records) or ``samples``."""
+    if not samples:
+        return "### Steps per second through lg.simulate\n\n"
+    return f"### Steps per second through lg.simulate, {steps:,} steps, {samples} samples\n\n"
+
+
+def measure_speed(method: str, steps: int, samples: int = 0) -> dict[str, float]:
+    """One warm ``lg.simulate`` call of ``method`` over ``steps`` steps of the double pendulum,
+    every step an output (``samples`` 0) or ``samples`` output times: wall and CPU seconds,
+    the CPU seconds of the march alone (the compiled march over the same nodes, without
+    lg.simulate's set-up and output columns) and the largest relative energy error at the
+    outputs (in this process)."""
     pendulum = lg.examples.double_pendulum()
     eom = lg.derive(pendulum)
     start = dict(pendulum.initial)
-    lg.simulate(eom, start, 10 * DRIFT_DT, method=method, dt=DRIFT_DT)  # compile, warm up
+    rows = {"samples": samples} if samples else {}
+    lg.simulate(eom, start, 10 * DRIFT_DT, method=method, dt=DRIFT_DT, **rows)  # compile, warm up
     wall, cpu = time.perf_counter(), time.process_time()
-    run = lg.simulate(eom, start, steps * DRIFT_DT, method=method, dt=DRIFT_DT)
+    run = lg.simulate(
+        eom, start, steps * DRIFT_DT, method=method, dt=DRIFT_DT, max_steps=steps + 1, **rows
+    )
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
-    assert run.success and len(run.t) == steps + 1
-    return {"wall": wall, "cpu": cpu, "error": float(relative_energy_error(run).max())}
+    assert run.success and len(run.t) == (samples or steps + 1)
+    return {
+        "wall": wall,
+        "cpu": cpu,
+        "march": march_alone(eom, method, steps, run.t if samples else None),
+        "error": float(relative_energy_error(run).max()),
+    }
 
 
-def speed_in_process(source: str, method: str, steps: int) -> dict[str, float]:
+def march_alone(eom: lg.EquationsOfMotion, method: str, steps: int, t_out: object) -> float:
+    """CPU seconds of the march of ``method`` alone over ``steps`` steps of the double
+    pendulum (outputs at ``t_out``, or every node for None)."""
+    from lagrangian.simulation.variational import midpoint as variational
+    from lagrangian.simulation.variational.collocation import tableau_for
+
+    mechanics = compile_discrete_mechanics(eom)
+    p = np.array([float(eom.system.parameters[s]) for s in eom.parameters])
+    initial = eom.system.initial
+    x0 = np.array([float(initial.get(s, 0.0)) for s in (*eom.coordinates, *eom.velocities)])
+    tableau = None if method == "variational" else tableau_for(method, False)
+    schedule = variational.StepSchedule(0.0, steps * DRIFT_DT, DRIFT_DT, t_out)  # type: ignore[arg-type]
+    cpu = time.process_time()
+    run = variational.discrete_march(mechanics, tableau, x0, p, schedule, None, None)
+    cpu = time.process_time() - cpu
+    assert run.failure is None
+    return cpu
+
+
+def speed_in_process(source: str, method: str, steps: int, samples: int) -> dict[str, float]:
     """:func:`measure_speed` in a fresh process on the package at ``source``."""
     command = [sys.executable, str(HERE), "--source", source, "--speed-worker", method]
-    done = subprocess.run(
-        [*command, "--speed-steps", str(steps)], capture_output=True, text=True, check=True
-    )
+    sizes = ["--speed-steps", str(steps), "--speed-samples", str(samples)]
+    done = subprocess.run([*command, *sizes], capture_output=True, text=True, check=True)
     return dict(json.loads(done.stdout.strip().splitlines()[-1]))
 
 
-def run_speed(steps: int, repeat: int, baseline: str | None) -> str:
+def run_speed(steps: int, repeat: int, baseline: str | None, samples: int = 0) -> str:
     """The speed table: per method the best of ``repeat`` calls, this checkout against the
     ``baseline`` source when given (alternating)."""
     sources = {"this checkout": SOURCE} | ({"baseline": baseline} if baseline else {})
     lines = [
-        "| method | package | wall s | steps/s (wall) | steps/s (CPU) | max abs(E - E0)/E0 |",
-        "|---|---|---:|---:|---:|---:|",
+        "| method | package | wall s | steps/s (wall) | steps/s (CPU) | march alone steps/s "
+        "(CPU) | max abs(E - E0)/E0 |",
+        "|---|---|---:|---:|---:|---:|---:|",
     ]
     ratios = []
     for method in SPEED_METHODS:
         best: dict[str, dict[str, float]] = {}
         for _ in range(repeat):
             for name, source in sources.items():
-                result = speed_in_process(source, method, steps)
+                result = speed_in_process(source, method, steps, samples)
                 print(f"  {method} {name}: {steps / result['wall']:,.0f} steps/s", file=sys.stderr)
                 if name not in best or result["wall"] < best[name]["wall"]:
                     best[name] = result
         for name, result in best.items():
             lines.append(
                 f"| {method} | {name} | {result['wall']:.2f} | {steps / result['wall']:,.0f} | "
-                f"{steps / result['cpu']:,.0f} | {result['error']:.3e} |"
+                f"{steps / result['cpu']:,.0f} | {steps / result['march']:,.0f} | "
+                f"{result['error']:.3e} |"
             )
         if "baseline" in best:
             ours, theirs = best["this checkout"], best["baseline"]
@@ -149,7 +191,8 @@ def run_speed(steps: int, repeat: int, baseline: str | None) -> str:
             )
     header = (
         f"Double pendulum (theta = 1, phi = 0.5 at rest), dt = {DRIFT_DT:g}, {steps:,} steps, "
-        f"every step an output, through lg.simulate; best of {repeat} calls, each in a fresh "
+        f"{'every step an output' if not samples else f'{samples} output samples'}, through "
+        f"lg.simulate; best of {repeat} calls, each in a fresh "
         f"process; 1-minute load average at the end: {os.getloadavg()[0]:.1f} on "
         f"{os.cpu_count()} cores (on a shared machine the CPU time is the figure to read)."
     )
@@ -482,6 +525,9 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--part", choices=("speed", "drift", "work", "both"), default="both")
     parser.add_argument("--speed-steps", type=int, default=10**6, help="speed: steps (10^6)")
+    parser.add_argument(
+        "--speed-samples", type=int, default=0, help="speed: output samples (0: every step)"
+    )
     parser.add_argument("--repeat", type=int, default=3, help="speed: calls per method (3)")
     parser.add_argument("--baseline", help="speed: another checkout's src to measure alongside")
     parser.add_argument("--source", help=argparse.SUPPRESS)  # read before the imports
@@ -501,14 +547,14 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
 def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
     if args.speed_worker:
-        print(json.dumps(measure_speed(args.speed_worker, args.speed_steps)))
+        print(json.dumps(measure_speed(args.speed_worker, args.speed_steps, args.speed_samples)))
         return 0
     parts = []
     if args.part in ("speed", "both"):
         print("speed ...", file=sys.stderr)
         parts.append(
-            "### Steps per second through lg.simulate\n\n"
-            + run_speed(args.speed_steps, args.repeat, args.baseline)
+            speed_title(args.speed_steps, args.speed_samples)
+            + run_speed(args.speed_steps, args.repeat, args.baseline, args.speed_samples)
         )
     if args.part in ("drift", "both"):
         print("drift ...", file=sys.stderr)

@@ -45,7 +45,7 @@ from lagrangian.numerics.fast.newton import (
 )
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def evaluate_stages(system, tableau, q0, t0, dt, V, stages):
     """The terms at the stages Q_i = q0 + dt sum_j a_ij V_j, t_i = t0 + c_i dt into ``stages``
     = (Q, F = L_q + Q_f, L_v, L_qv, L_qv + Q_v, L_vv, L_qq + Q_q, h, A, Hessians, dh/dt)."""
@@ -74,7 +74,7 @@ def evaluate_stages(system, tableau, q0, t0, dt, V, stages):
         evaluate_constraints(system, Q[i], t, h[i], A[i], rate[i], H[i])
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def stage_residual(tableau, p0, dt, lam, stages, forces, rhs):
     """The momentum rows and the scaled constraint rows into ``rhs``; ``forces`` receives
     F_j + A_j^T Lambda_j.  Returns the size of the momentum rows' terms."""
@@ -103,7 +103,7 @@ def stage_residual(tableau, p0, dt, lam, stages, forces, rhs):
     return size
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def stage_jacobian(tableau, dt, lam, stages, matrix):
     """The Jacobian of the stage equations in (V, dt Lambda) (see
     :mod:`lagrangian.simulation.variational.collocation_step`); adds the constraint Hessians to
@@ -141,7 +141,7 @@ def stage_jacobian(tableau, dt, lam, stages, matrix):
                 matrix[s * n + i * m + l, s * n + k] = 0.0
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def stages_hold(stages, q0, r) -> bool:
     """|h| <= RESIDUAL_GUARD |A| (|Q| + |Q - q0|) at the constrained stages 2..r+1."""
     if r == 0:
@@ -154,7 +154,7 @@ def stages_hold(stages, q0, r) -> bool:
     return within(largest(h), largest(A) * (largest(Q) + change), RESIDUAL_GUARD)
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def stage_step(system, tableau, q0, p0, t0, dt, V, lam, found, work):
     """Solve the stage equations for V (s, n) and Lambda (r, m) in place from their guesses;
     ``found`` = (q1, momentum before the impulse of Lambda_s).  Returns (status, stage
@@ -191,7 +191,7 @@ def stage_step(system, tableau, q0, p0, t0, dt, V, lam, found, work):
     return POSITION_DIVERGED, (MAX_ITERATIONS + 1) * s
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def weighted(b, rows, x) -> float:
     """sum_i b_i rows[i, x]."""
     total = 0.0
@@ -200,7 +200,7 @@ def weighted(b, rows, x) -> float:
     return total
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def extrapolate(c, ratio, V, scratch):
     """V_i <- sum_j l_j(1 + ratio c_i) V_j (l_j the Lagrange polynomials of the nodes c)."""
     s, n = V.shape
@@ -271,7 +271,7 @@ def march_collocation(
     return status
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def collocation_steps(
     system, schedule, linear, tableau, state, steps, cursor, clock, out, work, spare,
     velocity_work,

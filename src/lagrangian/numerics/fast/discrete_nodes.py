@@ -33,7 +33,7 @@ UNIFORM, EXTRA, WANTED, ROW, NODE, FIRST_ROW, END_ROW, KNOWN, EVALUATIONS = rang
 CURSOR = 9
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def uniform_node(span, j) -> float:
     """U_j (module docstring)."""
     t0, dt, t1, count = span[0], span[1], span[2], int(span[4])
@@ -42,7 +42,7 @@ def uniform_node(span, j) -> float:
     return min(t0 + dt * j, t1)
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def next_union(schedule, cursor) -> float:
     """The next time of the union of the uniform nodes and the extra times (inf after the
     last), each equal time once."""
@@ -58,7 +58,7 @@ def next_union(schedule, cursor) -> float:
     return value
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def next_node(schedule, cursor, clock) -> float:
     """The node after the last one made (the first node at the start); inf after the last."""
     tolerance = schedule[0][3]
@@ -71,7 +71,7 @@ def next_node(schedule, cursor, clock) -> float:
             return value
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def wants_output(schedule, cursor, t, last) -> bool:
     """Whether the node at time t (the ``last`` node or not) has an output row."""
     wanted, every = schedule[2], schedule[3]
@@ -80,7 +80,7 @@ def wants_output(schedule, cursor, t, last) -> bool:
     return cursor[WANTED] < wanted.size and wanted[cursor[WANTED]] - schedule[0][3] <= t
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def record(schedule, cursor, t, last, q, v, h, jacobian, rate, out) -> None:
     """The output rows of node ``cursor[NODE]`` at time t (with every remaining output time
     when it is the ``last`` node): q, v, the node and its time, and the largest residual
@@ -112,7 +112,7 @@ def record(schedule, cursor, t, last, q, v, h, jacobian, rate, out) -> None:
     cursor[END_ROW] = cursor[ROW]
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def begin(schedule, cursor, clock, q, v, h, jacobian, rate, out) -> None:
     """Before the first step (cursor[NODE] < 0): make the first two nodes and record the
     first's output rows from the state there."""
@@ -124,7 +124,7 @@ def begin(schedule, cursor, clock, q, v, h, jacobian, rate, out) -> None:
     record(schedule, cursor, clock[2], clock[3] == np.inf, q, v, h, jacobian, rate, out)
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def arrive(schedule, cursor, clock, t2, q, v, h, jacobian, rate, out) -> None:
     """After a step from clock[2] to clock[3]: the next node is t2 (inf: none); record the
     output rows of the node reached from the state there."""

@@ -12,7 +12,7 @@ from __future__ import annotations
 from numba import njit
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def solve_linear(matrix, vector) -> bool:
     """Overwrite ``vector`` with matrix^-1 vector; False when the matrix is singular."""
     n = vector.size

@@ -60,7 +60,7 @@ from lagrangian.numerics.fast.newton import (
 )
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def position_step(system, q0, p0, t0, dt, jacobian0, q1, lam, found, work):
     """Solve the position equations (module docstring) for (q1, lambda), in place from their
     guesses; ``found`` = (momentum, h, A, dh/dt, Hessians) receives dt/2 (L_q + Q) + L_v and
@@ -108,7 +108,7 @@ def position_step(system, q0, p0, t0, dt, jacobian0, q1, lam, found, work):
     return POSITION_DIVERGED, MAX_ITERATIONS + 1
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def newton_matrix(values, dt, n, matrix):
     """The q1 block of the position equations' Jacobian,
     dt/4 (L_qq + Q_q) + (L_qv - L_qv^T + Q_v)/2 - L_vv/dt, from the midpoint terms."""
@@ -122,7 +122,7 @@ def newton_matrix(values, dt, n, matrix):
             matrix[i, k] = dt / 4 * (L_qq + Q_q) + (L_qv - L_vq + Q_v) / 2 - L_vv / dt
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def corrected_momentum(values, dt, n, correction, momentum):
     """momentum -= J correction: dt/2 (L_q + Q) + L_v moved with q1 by -correction, J its
     Jacobian in q1, dt/4 (L_qq + Q_q) + (L_qv + L_qv^T + Q_v)/2 + L_vv/dt."""
@@ -139,7 +139,7 @@ def corrected_momentum(values, dt, n, correction, momentum):
         momentum[i] -= change
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def guess(clock, q, history, known, q1):
     """q_{k+1} into q1: the polynomial through q_k and the ``known`` (0, 1 or 2) earlier
     nodes history[0] = q_{k-1}, history[1] = q_{k-2}, extrapolated (an error O(dt^3));
@@ -157,7 +157,7 @@ def guess(clock, q, history, known, q1):
         q1[i] = q[i] + (clock[3] - clock[2]) * (s1 + (clock[3] - clock[1]) * curvature)
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def keep_halves(k, lam, mu, dt, halves, out, cursor):
     """The halves (lambda_k, mu_k, dt_k) of step k into ``halves`` (rows 0-2: the first three
     steps; rows 3-5: the last three, by k mod 3), and the multiplier at node k > 0 into its
@@ -218,7 +218,7 @@ def march_midpoint(
     return status
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def midpoint_steps(
     system, schedule, linear, state, steps, cursor, clock, out, halves, free, solver
 ):

@@ -15,8 +15,13 @@ parameters written once, and :func:`evaluate_midpoint`, :func:`evaluate_legendre
 for (v1, mu) by Newton's method (one solve when the Legendre map is affine in v), as
 :func:`lagrangian.simulation.variational.step.velocity_step` does in NumPy, with the same
 tolerances (:mod:`lagrangian.numerics.discrete_lagrangian`).  Every function returns a status
-(:data:`OK` or the failure) instead of raising.  This module is imported only when numba is
-installed.
+(:data:`OK` or the failure) instead of raising.
+
+The pieces of a step, here and in the marches, are inlined into the march that calls them
+(numba's ``inline="always"``): called as functions they took arrays and tuples of arrays by
+value, hundreds of words pushed per call, most of a step of a small system; inlined, LLVM
+optimizes the step whole (a double pendulum's midpoint step five times faster, at about twice
+the one-time compile of the march).  This module is imported only when numba is installed.
 """
 
 from __future__ import annotations
@@ -102,7 +107,7 @@ def bind(functions, data, p, n, m):
     )
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def call(function, q, v, t):
     """out of ``function`` = (f, user_data, in, out) at (q, v, t), or at (q, t) for an
     empty v."""
@@ -117,7 +122,7 @@ def call(function, q, v, t):
     return outputs
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def evaluate_constraints(system, q, t, h, jacobian, rate, hessians):
     """h, A, dh/dt and the Hessians d2h_j/dq2 at (q, t) into the given arrays."""
     m, n = h.size, q.size
@@ -133,7 +138,7 @@ def evaluate_constraints(system, q, t, h, jacobian, rate, hessians):
                 hessians[j, i, k] = values[2 * m + m * n + (j * n + i) * n + k]
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def largest(x) -> float:
     """max |x_i| over every entry (0 when empty), NaN when an entry is NaN."""
     result = 0.0
@@ -146,13 +151,13 @@ def largest(x) -> float:
     return result
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def within(residual, size, tolerance) -> bool:
     """residual <= tolerance * size (size 0 counts as 1); False for NaN."""
     return residual <= tolerance * (size if size != 0.0 else 1.0)
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def small_correction(correction, new, old) -> bool:
     """Whether a Newton correction is below SMALL_CORRECTION of the size of ``new`` and of
     its change from ``old`` (False for NaN)."""
@@ -164,7 +169,7 @@ def small_correction(correction, new, old) -> bool:
     return within(largest(correction), size, SMALL_CORRECTION)
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def constraints_hold(h, jacobian, q1, q0) -> bool:
     """|h| <= RESIDUAL_GUARD |A| (|q1| + |q1 - q0|) (True without constraints)."""
     if h.size == 0:
@@ -176,7 +181,7 @@ def constraints_hold(h, jacobian, q1, q0) -> bool:
     return within(largest(h), reach, RESIDUAL_GUARD)
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def solve(matrix, rhs) -> bool:
     """rhs <- matrix^-1 rhs; False when the matrix is singular or the solution not finite."""
     if not solve_linear(matrix, rhs):
@@ -187,7 +192,7 @@ def solve(matrix, rhs) -> bool:
     return True
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def velocity_step(system, q1, momentum, t1, weight, constraint, linear, v, mu, work):
     """Solve the velocity equations (module docstring) for v (in place, from its guess) and
     mu; ``constraint`` = (A1, dh/dt) at (q1, t1); ``momentum`` becomes momentum + weight
@@ -234,7 +239,7 @@ def velocity_step(system, q1, momentum, t1, weight, constraint, linear, v, mu, w
     return VELOCITY_DIVERGED, MAX_ITERATIONS + 1
 
 
-@njit(cache=False, nogil=True, error_model="numpy")
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def add_impulse(momentum, weight, jacobian, mu):
     """momentum += weight A^T mu."""
     for i in range(momentum.size):
