@@ -45,7 +45,7 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
     names = symbol_names(report.coordinates)
 
     def tex(expr: sp.Basic) -> str:
-        expr = to_sympy(expr)
+        expr = _shown(to_sympy(expr))
         if not is_small(expr, TYPESET_OPERATIONS):  # the Hamiltonian of five links or more
             return _text(
                 f"(more than {TYPESET_OPERATIONS:,} operations: too long to typeset; the "
@@ -134,9 +134,18 @@ def analysis_latex(report: AnalysisReport, environment: str = "align*") -> str:
     return block(analysis_lines(report), environment)
 
 
+def _shown(expr: sp.Basic) -> sp.Basic:
+    """``expr`` with its floating-point numbers at six significant digits, as the text report
+    writes them (5.19615, not 5.19615242270663): a frequency is read, not computed with."""
+    floats = expr.atoms(sp.Float)
+    return (
+        expr.xreplace({f: sp.Float(float(f"{float(f):.6g}")) for f in floats}) if floats else expr
+    )
+
+
 def _tex(expr: object) -> str:
     """LaTeX of an expression whose velocities are written NAME_dot (dotted by name)."""
-    value = to_sympy(expr)
+    value = _shown(to_sympy(expr))
     coordinates = {
         sp.Symbol(s.name.removesuffix("_ddot").removesuffix("_dot")) for s in value.free_symbols
     }

@@ -61,7 +61,8 @@ function latexRows(latex) {
 }
 
 // Places where a row may break: before a top-level "+", "-" or "=" (outside \left( \right) too),
-// between the words of a text, and, when ``betweenFactors``, between any two factors.
+// after the comma of a list, between the words of a text, and, when ``betweenFactors``,
+// between any two factors.
 function breakPoints(row, betweenFactors) {
   const points = [];
   let depth = 0;
@@ -78,6 +79,11 @@ function breakPoints(row, betweenFactors) {
     else if (depth === 0 && i > 0 && /[+\-=]/.test(c) && row[i - 1] === " ") {
       const sign = c !== "=" && /= *$/.test(row.slice(Math.max(0, i - 3), i)); // "= -x"
       if (!sign) points.push(i);
+    }
+    if (depth === 0 && c === ",") {
+      // after a comma of a list (values, frequencies), before the next item
+      const gap = /^,(\\ |\\quad |\\qquad )/.exec(row.slice(i, i + 9));
+      if (gap) points.push(i + gap[0].length);
     }
     if (depth === 0 && row.startsWith(" \\text{", i)) points.push(i + 1); // between words
     else if (betweenFactors && depth === 0 && c === " " && /[\\\w]/.test(row[i + 1] || "")) {
