@@ -20,7 +20,7 @@ ZERO = se.Integer(0)
 SHARED = 3
 
 
-def _powers(factors: list[Any]) -> tuple[Any, dict[Any, Any]]:
+def product_powers(factors: list[Any]) -> tuple[Any, dict[Any, Any]]:
     """(numeric coefficient, {base: exponent}) of a product of parameters, given as the
     list of its factors."""
     number = ONE
@@ -45,7 +45,7 @@ def _factor_common(products: list[Any]) -> Any:
     """:func:`factor_common` of products given as the sequences of their factors."""
     if len(products) == 1:
         return se.Mul(*products[0])
-    split = [_powers(factors) for factors in products]
+    split = [product_powers(factors) for factors in products]
     common = dict(split[0][1])
     for _, powers in split[1:]:
         for base, least in list(common.items()):
@@ -56,7 +56,7 @@ def _factor_common(products: list[Any]) -> Any:
                 common[base] = min(least, exponent)
     magnitudes = {abs(number) for number, _ in split}
     scale = magnitudes.pop() if len(magnitudes) == 1 else ONE
-    if all(_negative(number) for number, _ in split):
+    if all(is_negative_number(number) for number, _ in split):
         scale = -scale
     if not common and scale == 1:
         return se.Add(*[se.Mul(*factors) for factors in products])
@@ -71,7 +71,7 @@ def _factor_common(products: list[Any]) -> Any:
     return outside * se.Add(*parts)
 
 
-def _negative(number: Any) -> bool:
+def is_negative_number(number: Any) -> bool:
     """``number < 0``, read off an integer or a fraction (the comparison costs 20 times more)."""
     if number.is_Rational:  # an integer or a fraction
         return bool(number.is_negative)
@@ -87,7 +87,7 @@ def _divided(powers: dict[Any, Any], common: dict[Any, Any]) -> Any:
     """The product of base ** (exponent - common exponent) over ``powers``.
 
     A base outside ``common`` is raised to its own exponent (e - 0 is e) and, when that
-    is the 1 :func:`_powers` gives a factor that is no power, left as it is (b ** 1 is b);
+    is the 1 :func:`product_powers` gives a factor that is no power, left as it is (b ** 1 is b);
     a base whose exponent and common exponent are both that 1 is left out (b ** 0 is 1,
     which a product leaves out): the same product, without two operations per factor."""
     factors = []
@@ -261,7 +261,7 @@ def _put_back(factor: Any, sums: Mapping[Any, tuple[Any, Any]], form: int) -> An
 def _leads_negative(product: Any) -> bool:
     """Whether a product starts with a negative number."""
     first = product.args[0]
-    return bool(first.is_Number) and _negative(first)
+    return bool(first.is_Number) and is_negative_number(first)
 
 
 def _sum_by_coefficient(pairs: list[tuple[Any, Any]], unchanged: Any) -> Any:

@@ -23,7 +23,7 @@ import symengine as se
 
 from lagrangian.derivation.assemble import Assembly, Rotation
 from lagrangian.derivation.backend import Backend
-from lagrangian.derivation.collect import _negative, _powers, collect_state
+from lagrangian.derivation.collect import collect_state, is_negative_number, product_powers
 from lagrangian.derivation.trig import combine_trig, plain_angle
 from lagrangian.derivation.trig_polynomial import (
     ONE,
@@ -37,7 +37,7 @@ from lagrangian.derivation.trig_polynomial import (
 Matrix = list[list[Backend]]
 
 _ZERO = se.Integer(0)  # compared with as it is (0 would be converted at each comparison)
-ONE = se.Integer(1)
+_UNIT = se.Integer(1)  # the number 1 (ONE is the key of the constant monomial)
 
 
 @dataclass(frozen=True)
@@ -162,13 +162,13 @@ def _sum_powers(factor: Backend, state: set[Backend]) -> _SumPowers | None:
         factors = term.args if term.is_Mul else (term,)
         if not all(f.is_Symbol or f.is_Number or _symbol_power(f) for f in factors):
             return None
-        split.append(_powers(list(factors)))
+        split.append(product_powers(list(factors)))
     common = dict(split[0][1])
     for _, powers in split[1:]:
         _keep_least(common, powers)
     magnitudes = {abs(number) for number, _ in split}
-    negative = all(_negative(number) for number, _ in split)
-    positive = all(not _negative(number) for number, _ in split)
+    negative = all(is_negative_number(number) for number, _ in split)
+    positive = all(not is_negative_number(number) for number, _ in split)
     return common, magnitudes, negative, positive, len(split)
 
 
@@ -214,7 +214,7 @@ def _collected_products(
                 plain.append(factor)
             else:
                 return None
-        number, powers = _powers(plain)
+        number, powers = product_powers(plain)
         if not state.isdisjoint(powers):
             return None
         products.append((plain, number, powers, sum_factor, summed))
@@ -227,12 +227,12 @@ def _collected_products(
         own = dict(powers)
         if summed is None:
             magnitudes.add(abs(number))
-            negative = negative and _negative(number)
+            negative = negative and is_negative_number(number)
         else:
             for base, least in summed[0].items():
                 own[base] = own[base] + least if base in own else least
             magnitudes.update(abs(number) * m for m in summed[1])
-            negative = negative and (summed[3] if _negative(number) else summed[2])
+            negative = negative and (summed[3] if is_negative_number(number) else summed[2])
         if common is None:
             common = own
         else:
@@ -246,7 +246,7 @@ def _collected_products(
     inside = se.expand(
         se.Add(
             *[
-                se.Mul(*plain) / outside * (ONE if sum_factor is None else sum_factor)
+                se.Mul(*plain) / outside * (_UNIT if sum_factor is None else sum_factor)
                 for plain, _, _, sum_factor, _ in products
             ]
         )

@@ -47,7 +47,7 @@ def _constant_distance(a: Sequence[Any], b: Sequence[Any], coordinates: set[sp.S
     squared distance takes one value at random configurations (the probe's points and
     precision, :mod:`lagrangian.symbolic.probe`), the parameters held at random values.  No
     simplification: a bicycle's points would keep ``trigsimp`` busy for minutes."""
-    squared = sp.sympify(sum((to_sympy(x) - to_sympy(y)) ** 2 for x, y in zip(a, b)))
+    squared = sp.Add(*[(to_sympy(x) - to_sympy(y)) ** 2 for x, y in zip(a, b)])
     free = squared.free_symbols
     rng = random.Random(SEED)
     held = random_values(free - coordinates, rng)
