@@ -114,7 +114,20 @@ def test_analyze_accepts_equations_of_motion() -> None:
 @pytest.mark.slow
 @pytest.mark.parametrize("name", lg.examples.names())
 def test_every_example_gives_a_json_report(name: str) -> None:
-    report = analyze(lg.examples.get(name)(), about={})
+    # the gas's state of zeros puts every disk at the corner, through the walls and each
+    # other: an operating state off its contacts is refused by name (ConstraintError, as
+    # test_a_state_off_the_contacts_is_refused checks); its report is about no state
+    about = None if name == "hard_disk_gas" else {}
+    report = analyze(lg.examples.get(name)(), about=about)
     document = analysis_document(report)
     json.dumps(document)
     assert not any("internal error" in reason for reason in document["failures"].values())
+
+
+def test_a_state_off_the_contacts_is_refused() -> None:
+    """An operating state through the walls of the gas is refused naming each contact it
+    violates, with its residual (h = x - r = -0.1 at x = 0, r = 0.1)."""
+    with pytest.raises(lg.ConstraintError) as refused:
+        analyze(lg.examples.get("hard_disk_gas")(), about={})
+    message = str(refused.value)
+    assert "'left1' (constraints[0])" in message and "h(q, t) = -0.1" in message
