@@ -124,6 +124,7 @@ def test_the_floquet_multipliers_are_those_of_an_independent_return_map() -> Non
     assert sum(abs(m) < 1e-6 for m in cycle.multipliers) == 2
 
 
+@pytest.mark.slow  # half a minute: the walker's cycle found from the command line
 def test_a_limit_cycle_on_the_command_line(capsys) -> None:
     from lagrangian.cli.main import main
 
