@@ -45,13 +45,13 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
     names = symbol_names(report.coordinates)
 
     def tex(expr: sp.Basic) -> str:
-        expr = _shown(to_sympy(expr))
+        expr = to_sympy(expr)
         if not is_small(expr, TYPESET_OPERATIONS):  # the Hamiltonian of five links or more
             return _text(
                 f"(more than {TYPESET_OPERATIONS:,} operations: too long to typeset; the "
                 "text and JSON reports write it out)"
             )
-        return sp.latex(expr, symbol_names=names)
+        return sp.latex(_shown(expr), symbol_names=names)
 
     lines = [rf"&{_text(report.name or 'system')}:\ {report.dof}\ {_text('degrees of freedom')}"]
     if report.parameter_values:
