@@ -20,9 +20,9 @@ import numpy as np
 from lagrangian.errors import SimulationInputError, raise_if_problems
 from lagrangian.model import System
 from lagrangian.simulation.batch.run import StopCondition, prepared_batch
+from lagrangian.simulation.batch.stop import stop_event
 from lagrangian.simulation.run import plan
 from lagrangian.simulation.setup import prepare
-from lagrangian.sweeps.members import stop_event
 
 
 def checked_times(

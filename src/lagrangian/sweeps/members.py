@@ -10,9 +10,10 @@ residual and which of its columns the system conserves
 (:mod:`lagrangian.simulation.conservation`) — so that one piece of code
 (:mod:`lagrangian.sweeps.chunk_run`) turns either into the arrays of the store.
 
-The stop condition of a member run by ``simulate`` is a terminal event where g goes from
-positive to negative, plus the batch's rule at the start: a member whose g is negative there
-stops at once.
+The stop condition of a member run by ``simulate`` is the batch's
+(:mod:`lagrangian.simulation.batch.stop`): called with one member's arrays as the batch calls
+it, a terminal event where g goes from positive to negative, and a member whose g is negative
+at its start stops at once.
 
 >>> import lagrangian as lg
 >>> system = lg.examples.cylinder_on_incline()
@@ -35,6 +36,7 @@ from lagrangian.model import System
 from lagrangian.numerics.compile import compile_equations
 from lagrangian.simulation.batch.result import Batch
 from lagrangian.simulation.batch.run import StopCondition
+from lagrangian.simulation.batch.stop import STOP_EVENT, negative_at_start, stop_event
 from lagrangian.simulation.conservation import not_conserved
 from lagrangian.simulation.conserved import (
     compile_conserved,
@@ -42,13 +44,9 @@ from lagrangian.simulation.conserved import (
     conserved_expressions,
     momentum_obstructions,
 )
-from lagrangian.simulation.integrators.events import EventFunction
 from lagrangian.simulation.outcome import rows_with_energies
 from lagrangian.simulation.run import simulate
 from lagrangian.simulation.trajectory import DOT, Event, Rows, Trajectory, trajectory_of_rows
-
-#: The name of the event a stop condition becomes (the batch's name for it too).
-STOP_EVENT = "stop_when"
 
 
 def simulate_member(
@@ -86,19 +84,6 @@ def simulate_member(
     return member
 
 
-def stop_event(stop_when: StopCondition) -> EventFunction:
-    """``stop_when`` as a terminal event of :func:`lagrangian.simulate` where g turns
-    negative."""
-
-    def event(t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
-        return float(np.asarray(stop_when(t, q, q_dot)))
-
-    event.__name__ = STOP_EVENT
-    setattr(event, "terminal", True)  # noqa: B010 (attributes of a function, as solve_ivp's)
-    setattr(event, "direction", -1.0)  # noqa: B010
-    return event
-
-
 def stop_time(member: Trajectory) -> float:
     """When the stop condition stopped ``member``, NaN when it did not."""
     times = [event.t for event in member.events if event.name == STOP_EVENT]
@@ -108,7 +93,7 @@ def stop_time(member: Trajectory) -> float:
 def _negative_at_start(stop_when: StopCondition, member: Trajectory) -> bool:
     if not len(member.t):
         return False
-    return not float(np.asarray(stop_when(member.t[0], member.q[0], member.q_dot[0]))) >= 0
+    return negative_at_start(stop_when, float(member.t[0]), member.q[0], member.q_dot[0])
 
 
 def _stopped_at_start(member: Trajectory) -> Trajectory:
