@@ -151,9 +151,18 @@ def condition_text(condition: sp.Basic) -> str:
     )
 
 
-def number_text(value: sp.Basic) -> str:
-    """A value as given: 9.81, not 9.81000000000000."""
-    return f"{float(value):g}" if isinstance(value, sp.Float) else str(value)
+def number_text(value: Any) -> str:
+    """A value as given: 9.81, not 9.81000000000000; 1, not 1.0; an expression as written
+    (the one way every report writes a parameter's value; None: it has none).
+
+    >>> [number_text(v) for v in (sp.Float(9.81), 1.0, sp.Symbol("m") / 2, None)]
+    ['9.81', '1', 'm/2', 'no value']
+    """
+    if value is None:
+        return "no value"
+    if isinstance(value, sp.Basic) and not isinstance(value, sp.Float):
+        return str(value)
+    return f"{float(value):g}"
 
 
 def otherwise_text(condition: sp.Basic) -> str:

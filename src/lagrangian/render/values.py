@@ -15,6 +15,7 @@ from typing import Any
 
 import sympy as sp
 
+from lagrangian.analysis.evaluation import number_text
 from lagrangian.model import System
 from lagrangian.render.latex import expression_latex
 
@@ -24,18 +25,9 @@ Pairs = Iterable[tuple[Any, Any]]
 SEPARATOR = r",\quad "
 
 
-def value_text(value: Any) -> str:
-    """A value as given: 9.81, not 9.81000000000000; 1, not 1.0; an expression as written."""
-    if value is None:
-        return "no value"
-    if isinstance(value, sp.Basic) and not isinstance(value, sp.Float):
-        return str(value)
-    return f"{float(value):g}"
-
-
 def values_text(pairs: Pairs) -> str:
     """``name = value, ...`` in plain text."""
-    return ", ".join(f"{p} = {value_text(v)}" for p, v in pairs)
+    return ", ".join(f"{p} = {number_text(v)}" for p, v in pairs)
 
 
 def values_latex(pairs: Pairs, tex: Callable[[Any], str]) -> str:
@@ -47,7 +39,7 @@ def values_latex(pairs: Pairs, tex: Callable[[Any], str]) -> str:
         elif isinstance(v, sp.Basic) and not v.is_number:
             value = tex(v)
         else:
-            value = value_text(v)
+            value = number_text(v)
         shown.append(f"{tex(p)} = {value}")
     return SEPARATOR.join(shown)
 
