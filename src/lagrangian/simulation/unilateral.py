@@ -50,8 +50,8 @@ from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
 from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, label, statement
-from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
 from lagrangian.numerics.compile import compile_equations
+from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
 from lagrangian.simulation.dynamics import (
     INITIAL_TOLERANCE,
     MultiplierDynamics,
