@@ -376,7 +376,8 @@ def _flight(
     if inputs.t_out is None:
         times = np.array([t0, t_stop]) if t_stop > t0 else np.array([t0])
     else:  # the output times in the flight, then its end at a contact
-        times = inputs.t_out[(inputs.t_out >= t0) & (inputs.t_out <= t_stop)]
+        t_out = inputs.t_out  # sorted
+        times = t_out[np.searchsorted(t_out, t0) : np.searchsorted(t_out, t_stop, "right")]
         if hit and (len(times) == 0 or times[-1] < t_hit):
             times = np.append(times, t_hit)
     q, v = calendar.state_at(np.append(times, t_stop)[:, None])  # type: ignore[arg-type]

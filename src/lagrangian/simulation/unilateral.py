@@ -208,12 +208,22 @@ class UnilateralDynamics:
     def piece(self, active: set[int] | frozenset[int]) -> MultiplierDynamics:
         """The multiplier form of the ``active`` constraints (the unilateral ones as the
         holonomic constraints they act like), compiled once per set and equations."""
+        made = self.pieces.get(frozenset(active))
+        if made is not None:
+            return made
         order = tuple(sorted(active))
         forms = _FORMS.get(self.eom, lambda _: {})
         if order not in forms:
             chosen = [_bilateral(self.system.constraints[i]) for i in order]
             forms[order] = compile_constrained(constrained_equations(self.eom, chosen))
-        return MultiplierDynamics(self.system, forms[order], self.p, self.gains)
+        made = MultiplierDynamics(self.system, forms[order], self.p, self.gains)
+        self.pieces[frozenset(active)] = made
+        return made
+
+    @functools.cached_property
+    def pieces(self) -> dict[frozenset[int], MultiplierDynamics]:
+        """The multiplier form of each active set met in a run, made once per set."""
+        return {}
 
     def unpack(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         n = len(self.eom.coordinates)
