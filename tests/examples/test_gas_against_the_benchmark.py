@@ -6,9 +6,9 @@ a box, every flight a parabola); energy and momentum kept at every impact."""
 from __future__ import annotations
 
 import functools
-import importlib.util
+import runpy
 from pathlib import Path
-from types import ModuleType
+from types import SimpleNamespace
 
 import pytest
 
@@ -19,13 +19,10 @@ DISKS, RADIUS = 9, 0.06
 
 
 @functools.cache
-def benchmark() -> ModuleType:
+def benchmark() -> SimpleNamespace:
+    """benchmarks/impacts.py (not part of the package), its names."""
     path = Path(__file__).resolve().parents[2] / "benchmarks" / "impacts.py"
-    spec = importlib.util.spec_from_file_location("impacts_benchmark", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return SimpleNamespace(**runpy.run_path(str(path)))
 
 
 @functools.cache
