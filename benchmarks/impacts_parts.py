@@ -7,8 +7,10 @@ What is measured, for ``--disks`` hard disks of radius 0.02 (``hard_disk_gas(n, 
                 momenta a simulation reports, first call and again;
     columns     a run's ``Trajectory.columns()``, ``to_csv`` and ``from_csv`` (one multiplier
                 column per contact);
-    flight      ``QuadraticGaps.along`` on 1 gap (an impact's bounce check) and on the ~4 n
-                gaps of two disks (the calendar after a collision).
+    flight      ``quadratic_gaps`` of every contact (once per run's setup), then
+                ``QuadraticGaps.along`` on 1 gap (an impact's bounce check) and on the ~4 n
+                gaps of two disks (the calendar after a collision), their
+                ``first_crossings``, and ``resolve`` of a lone contact (its closed form).
 
 Usage
     python benchmarks/impacts_parts.py --disks 40
@@ -27,7 +29,8 @@ import sympy as sp
 import lagrangian as lg
 from lagrangian.examples.gas import hard_disk_gas
 from lagrangian.simulation.conserved import conserved_expressions, momentum_obstructions
-from lagrangian.simulation.flight import quadratic_gaps
+from lagrangian.simulation.flight import first_crossings, quadratic_gaps
+from lagrangian.simulation.impacts import resolve
 
 
 def best(work: Callable[[], object], repeat: int = 5) -> float:
@@ -68,18 +71,37 @@ def columns_part(disks: int) -> tuple[float, float, float]:
     )
 
 
-def flight_part(disks: int) -> tuple[float, float]:
+def flight_part(disks: int) -> tuple[float, float, float, float, float]:
+    """Reading every contact's polynomial (once per run's setup), a flight's gap polynomials
+    on 1 gap and on the gaps of two disks, their first crossings, and a lone contact's
+    impulse (``resolve`` of one disk pair)."""
     gas = hard_disk_gas(disks, radius=0.02)
     values = {s: sp.Float(v) for s, v in gas.parameters.items()}
     expressions = [c.expression for c in gas.constraints]
+    started = time.perf_counter()
     gaps = quadratic_gaps(expressions, range(len(expressions)), gas.coordinates, values)
+    read = time.perf_counter() - started
     assert gaps is not None
     rng = np.random.default_rng(1)
     n = len(gas.coordinates)
     q, v, a = rng.uniform(0, 1, n), rng.normal(size=n), np.zeros(n)
     pair = np.unique(np.concatenate([gaps.incidence[0], gaps.incidence[1]]))
     one = np.array([0])
-    return best(lambda: gaps.along(one, q, v, a), 200), best(lambda: gaps.along(pair, q, v, a), 200)
+    coefficients = gaps.along(pair, q, v, a)
+    contact = np.array([len(expressions) - 1])
+    jacobian = gaps.gradients(contact, q)
+    inverse = np.eye(n)
+
+    def impulse() -> object:
+        return resolve(inverse, jacobian, -np.abs(jacobian @ v), [], [0], [1.0], v, inverse)
+
+    return (
+        read,
+        best(lambda: gaps.along(one, q, v, a), 200),
+        best(lambda: gaps.along(pair, q, v, a), 200),
+        best(lambda: first_crossings(*coefficients), 200),
+        best(impulse, 200),
+    )
 
 
 def main() -> None:
@@ -92,9 +114,11 @@ def main() -> None:
     columns, written, read = columns_part(args.disks)
     print(f"Trajectory with a column per contact: columns() {columns * 1e3:.3g} ms, to_csv "
           f"{written * 1e3:.3g} ms, from_csv {read * 1e3:.3g} ms")  # fmt: skip
-    single, pair = flight_part(args.disks)
-    print(f"a flight's gap polynomials: 1 gap {single * 1e6:.3g} us, the gaps of two disks "
-          f"{pair * 1e6:.3g} us")  # fmt: skip
+    read, single, pair, crossings, impulse = flight_part(args.disks)
+    print(f"every contact's polynomial read: {read:.3g} s; a flight's gap polynomials: 1 gap "
+          f"{single * 1e6:.3g} us, the gaps of two disks {pair * 1e6:.3g} us, their first "
+          f"crossings {crossings * 1e6:.3g} us; a lone contact's impulse "
+          f"{impulse * 1e6:.3g} us")  # fmt: skip
 
 
 if __name__ == "__main__":

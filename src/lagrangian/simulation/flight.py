@@ -38,6 +38,7 @@ from collections.abc import Sequence
 from typing import Any, Protocol
 
 import numpy as np
+import symengine as se
 import sympy as sp
 
 from lagrangian.simulation.inputs import Inputs
@@ -70,46 +71,70 @@ class QuadraticGaps:
         return ~np.any(self.quadratic != 0, axis=(1, 2))
 
     def local(self, gaps: np.ndarray, x: np.ndarray) -> np.ndarray:
-        """x's entries at the coordinates of ``gaps`` (0 at the padding)."""
-        return np.append(x, 0.0)[self.index[gaps]]
+        """The point (x, 1) at the coordinates of each of the ``gaps`` (0 at the padding)."""
+        return np.concatenate((x, (0.0, 1.0)))[self.augmented_index[gaps]]
 
     def values(self, gaps: np.ndarray, q: np.ndarray) -> np.ndarray:
-        """g of the ``gaps`` at q."""
-        ql = self.local(gaps, q)
-        quad = np.einsum("ki,kij,kj->k", ql, self.quadratic[gaps], ql)
-        return self.constant[gaps] + np.einsum("ki,ki->k", self.linear[gaps], ql) + quad
+        """g of the ``gaps`` at q: (q, 1)^T K (q, 1) (``along``)."""
+        return self.values_and_gradients(gaps, q, rows=False)[0]
 
     def gradients(self, gaps: np.ndarray, q: np.ndarray) -> np.ndarray:
-        """The rows dg/dq of the ``gaps`` at q (one row of length n each)."""
+        """The rows dg/dq = l + 2 H q of the ``gaps`` at q (one row of length n each)."""
+        return self.values_and_gradients(gaps, q)[1]
+
+    def values_and_gradients(
+        self, gaps: np.ndarray, q: np.ndarray, rows: bool = True
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """g and the rows dg/dq of the ``gaps`` at q (the rows empty unless ``rows``): with
+        K (q, 1) = (H q + l/2, l.q/2 + c), g = (q, 1) . K (q, 1) and dg/dq twice the first
+        entries of K (q, 1), scattered to the gap's coordinates."""
         ql = self.local(gaps, q)
-        local = self.linear[gaps] + 2 * np.einsum("kij,kj->ki", self.quadratic[gaps], ql)
-        rows = np.zeros((len(gaps), self.n + 1))
+        pushed = np.matmul(self.forms[gaps], ql[..., None])[..., 0]
+        values = np.einsum("ki,ki->k", ql, pushed)
+        if not rows:
+            return values, np.zeros((len(gaps), 0))
+        gradients = np.zeros((len(gaps), self.n + 1))
         # a gap's coordinates are distinct but for the padding, where the entry is 0
-        rows[np.arange(len(gaps))[:, None], self.index[gaps]] = local
-        return rows[:, : self.n]
+        gradients[np.arange(len(gaps))[:, None], self.index[gaps]] = 2 * pushed[:, :-1]
+        return values, gradients[:, : self.n]
 
     def along(
         self, gaps: np.ndarray, q: np.ndarray, v: np.ndarray, a: np.ndarray
     ) -> tuple[np.ndarray, ...]:
         """The coefficients (c0, ..., c4) of g(q + v s + a s^2/2) = sum c_j s^j.
 
-        With the linear parts l.x and the quadratic forms x^T H y of x, y in (q, v, a),
-        each found for every gap in one pass (a gas finds ~200 gaps' roots per collision):
-        c0 = g(q), c1 = l.v + 2 q^T H v, c2 = l.a / 2 + v^T H v + q^T H a, c3 = v^T H a,
-        c4 = a^T H a / 4."""
-        stacked = np.zeros((3, self.n + 1))
-        stacked[0, :-1], stacked[1, :-1], stacked[2, :-1] = q, v, a
-        local = stacked[:, self.index[gaps]]  # (q, v, a) at each gap's coordinates
-        lq, lv, la = np.einsum("ki,xki->xk", self.linear[gaps], local)
-        pushed = np.matmul(self.quadratic[gaps][None], local[..., None])[..., 0]  # H x
-        forms = np.einsum("xki,yki->xyk", local, pushed)
+        Each gap's form is the symmetric matrix K = [[H, l/2], [l^T/2, c]] of the point
+        (x, 1), so that with q~ = (q, 1), v~ = (v, 0), a~ = (a, 0) and the bilinear form
+        <x, y> = x^T K y: c0 = <q~, q~>, c1 = 2 <q~, v~>, c2 = <v~, v~> + <q~, a~>,
+        c3 = <v~, a~>, c4 = <a~, a~>/4.  The nine forms of every gap are two batched
+        products of its small matrices (a gas finds ~200 gaps' roots per collision)."""
+        columns = np.zeros((self.n + 2, 3))  # (q, v, a); row n the padding, n + 1 the (1, 0, 0)
+        columns[: self.n, 0], columns[: self.n, 1], columns[: self.n, 2] = q, v, a
+        columns[self.n + 1, 0] = 1.0
+        local = columns[self.augmented_index[gaps]]  # (gaps, width + 1, 3)
+        forms = np.matmul(local.transpose(0, 2, 1), np.matmul(self.forms[gaps], local))
         return (
-            self.constant[gaps] + lq + forms[0, 0],
-            lv + 2 * forms[0, 1],
-            la / 2 + forms[1, 1] + forms[0, 2],
-            forms[1, 2],
-            forms[2, 2] / 4,
+            forms[:, 0, 0],
+            2 * forms[:, 0, 1],
+            forms[:, 1, 1] + forms[:, 0, 2],
+            forms[:, 1, 2],
+            forms[:, 2, 2] / 4,
         )
+
+    @functools.cached_property
+    def augmented_index(self) -> np.ndarray:
+        """Each gap's coordinates, then the index n + 1 of the point's constant 1."""
+        return np.hstack((self.index, np.full((len(self.index), 1), self.n + 1)))
+
+    @functools.cached_property
+    def forms(self) -> np.ndarray:
+        """Each gap's matrix K = [[H, l/2], [l^T/2, c]] (``along``)."""
+        k, width = self.linear.shape
+        forms = np.zeros((k, width + 1, width + 1))
+        forms[:, :width, :width] = self.quadratic
+        forms[:, :width, width] = forms[:, width, :width] = self.linear / 2
+        forms[:, width, width] = self.constant
+        return forms
 
     @functools.cached_property
     def incidence(self) -> list[np.ndarray]:
@@ -134,23 +159,21 @@ def quadratic_gaps(
     """The gaps of ``expressions`` (constraint ``rows``) at the parameter ``values``, or None
     when one is not a polynomial of degree <= 2 in the coordinates alone (it has t or a
     velocity, a function, or more than MOST_COORDINATES coordinates)."""
-    n, place = len(coordinates), {q: i for i, q in enumerate(coordinates)}
+    n = len(coordinates)
+    place = {se.sympify(q): i for i, q in enumerate(coordinates)}
+    numbers = {se.sympify(s): float(v) for s, v in values.items()}
     size = len(expressions)
     index = np.full((size, MOST_COORDINATES), n, dtype=np.intp)
     constant, linear = np.zeros(size), np.zeros((size, MOST_COORDINATES))
     quadratic = np.zeros((size, MOST_COORDINATES, MOST_COORDINATES))
     for k, expression in enumerate(expressions):
-        terms = _monomials(expression.xreplace(values), place)
-        if terms is None:
+        found = _taylor(expression, numbers, place)
+        if found is None:
             return None
-        own = sorted({s for powers, _ in terms for s in powers}, key=place.__getitem__)
-        if len(own) > MOST_COORDINATES:
-            return None
-        slot = {s: j for j, s in enumerate(own)}
-        index[k, : len(own)] = [place[s] for s in own]
-        for powers, coefficient in terms:
-            _place_term(k, [slot[s] for s, p in powers.items() for _ in range(p)],
-                        coefficient, constant, linear, quadratic)  # fmt: skip
+        own, constant[k], gradient, hessian = found
+        width = len(own)
+        index[k, :width] = [place[s] for s in own]
+        linear[k, :width], quadratic[k, :width, :width] = gradient, hessian / 2
     width = max(1, int(np.max(np.sum(index < n, axis=1), initial=1)))  # the widest gap's
     return QuadraticGaps(
         tuple(rows), index[:, :width], constant, linear[:, :width],
@@ -158,46 +181,31 @@ def quadratic_gaps(
     )  # fmt: skip
 
 
-def _monomials(
-    g: sp.Expr, place: dict[sp.Symbol, int]
-) -> list[tuple[dict[sp.Symbol, int], float]] | None:
-    """The terms of g expanded, each (powers of coordinates, number), or None when g is not
-    a polynomial of degree <= 2 in the coordinates with numeric coefficients."""
-    if not g.free_symbols <= place.keys():
-        return None
-    terms = []
-    for monomial, coefficient in sp.expand(g).as_coefficients_dict().items():
-        powers = monomial.as_powers_dict() if monomial != 1 else {}
-        if not coefficient.is_number or any(
-            s not in place or not (isinstance(p, sp.Integer) and p >= 0) for s, p in powers.items()
-        ):
+def _taylor(
+    expression: sp.Expr, numbers: dict[Any, float], place: dict[Any, int]
+) -> tuple[list[Any], float, np.ndarray, np.ndarray] | None:
+    """(its coordinates, g, dg/dq, d2g/dq2 at q = 0) of a gap g whose second derivatives are
+    numbers: then g is exactly c + l.q + q^T H q / 2 (its Taylor polynomial); None when they
+    are not (g is not a polynomial of degree <= 2 in the coordinates alone), when g has
+    another symbol or more than MOST_COORDINATES coordinates, or cannot be read.  Found
+    with SymEngine (a gas of a hundred disks has 5,350 gaps)."""
+    try:
+        g = se.sympify(expression).subs(numbers)
+        own = sorted(g.free_symbols, key=lambda s: place.get(s, -1))
+        if len(own) > MOST_COORDINATES or any(s not in place for s in own):
             return None
-        counts = {s: int(p) for s, p in powers.items()}
-        if sum(counts.values()) > 2:
+        origin = dict.fromkeys(own, 0.0)
+        first = [g.diff(s) for s in own]
+        second = [[d.diff(s) for s in own] for d in first]
+        if any(h.free_symbols for row in second for h in row):
             return None
-        terms.append((counts, float(coefficient)))
-    return terms
-
-
-def _place_term(
-    k: int,
-    which: list[int],
-    coefficient: float,
-    constant: np.ndarray,
-    linear: np.ndarray,
-    quadratic: np.ndarray,
-) -> None:
-    """One monomial of gap k (``which``: the slot of each factor) into its constant, linear
-    or (symmetric) quadratic part."""
-    if not which:
-        constant[k] += coefficient
-    elif len(which) == 1:
-        linear[k, which[0]] += coefficient
-    elif which[0] == which[1]:
-        quadratic[k, which[0], which[0]] += coefficient
-    else:
-        quadratic[k, which[0], which[1]] += coefficient / 2
-        quadratic[k, which[1], which[0]] += coefficient / 2
+        value = float(g.subs(origin))
+        gradient = np.array([float(d.subs(origin)) for d in first])
+        hessian = np.array([[float(h) for h in row] for row in second]).reshape(len(own), -1)
+    except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
+        return None  # SymEngine cannot read or evaluate it: not a polynomial gap
+    numbers_found = np.concatenate(([value], gradient, hessian.ravel()))
+    return (own, value, gradient, hessian) if np.all(np.isfinite(numbers_found)) else None
 
 
 def first_crossings(
@@ -210,14 +218,13 @@ def first_crossings(
     """Per gap, the first s > 0 where c0 + c1 s + ... + c4 s^4 turns negative (0 when it is
     closing now at g <= 0, inf when never): the quadratics in closed form (the root of the
     stable pair -(c1 + sign(c1) sqrt(D))/2 / c2, c0 / that), the others by their roots."""
+    if c3 is None or c4 is None or not (c3.any() or c4.any()):  # every gap a quadratic
+        return _quadratic_crossings(c0, c1, c2)
     s = np.full(len(c0), np.inf)
-    higher = np.zeros(len(c0), dtype=bool)
-    if c3 is not None and c4 is not None:
-        higher = (c3 != 0) | (c4 != 0)
+    higher = (c3 != 0) | (c4 != 0)
     low = ~higher
     s[low] = _quadratic_crossings(c0[low], c1[low], c2[low])
     for k in np.flatnonzero(higher):
-        assert c3 is not None and c4 is not None
         s[k] = _polynomial_crossing(np.array([c0[k], c1[k], c2[k], c3[k], c4[k]]))
     return s
 
@@ -275,27 +282,36 @@ class Calendar:
     ) -> tuple[float, int]:
         """The first contact (time, gap) of the flight from (t, q, v) with acceleration a,
         the ``excluded`` gaps (active contacts) aside; (inf, -1) for none."""
-        every = np.arange(len(self.times))
-        if self.origin is None or not np.array_equal(a, self.origin[3]):
-            stale = every
-        else:
-            qp, vp = self.state_at(t)
-            moved = np.flatnonzero((qp != q) | (vp != v))
-            if len(moved) > len(q) // 2:
-                stale = every
-            else:
-                parts = [self.incidence[i] for i in moved]
-                parts.append(np.flatnonzero(excluded != self.excluded))
-                stale = np.unique(np.concatenate(parts)) if parts else every[:0]
+        stale = self._stale(t, q, v, a, excluded)
         self.origin = (t, q.copy(), v.copy(), a.copy())
-        self.excluded = excluded.copy()
+        self.excluded = excluded  # a guard's, fixed with its mode
+        if stale is None:
+            stale = np.arange(len(self.times))
         if len(stale):
             coefficients = self.gaps.along(stale, q, v, a)
             self.times[stale] = t + first_crossings(*coefficients)
-        candidates = np.where(excluded, np.inf, self.times)
+        candidates = np.where(excluded, np.inf, self.times) if excluded.any() else self.times
         k = int(np.argmin(candidates))
         self.hit = (float(candidates[k]), k if np.isfinite(candidates[k]) else -1)
         return self.hit
+
+    def _stale(
+        self, t: float, q: np.ndarray, v: np.ndarray, a: np.ndarray, excluded: np.ndarray
+    ) -> np.ndarray | None:
+        """The gaps whose next contact must be found again for the flight from (t, q, v):
+        those of the coordinates that left the calendar's flight (a jump) and those whose
+        exclusion changed; None for every gap (a new acceleration, or most coordinates
+        moved)."""
+        if self.origin is None or not np.array_equal(a, self.origin[3]):
+            return None
+        qp, vp = self.state_at(t)
+        moved = np.flatnonzero((qp != q) | (vp != v))
+        if len(moved) > len(q) // 2:
+            return None
+        mark = excluded != self.excluded
+        for i in moved.tolist():
+            mark[self.incidence[i]] = True
+        return np.flatnonzero(mark)
 
 
 class FlightGuard(Protocol):
@@ -355,22 +371,24 @@ def _flight(
     n = len(x0) // 2
     calendar = guard.calendar
     t_hit, _ = calendar.next(t0, x0[:n], x0[n:], a, guard.excluded)
-    t_stop = min(t_hit, t1)
-    times = np.array([t0, t_stop]) if inputs.t_out is None else inputs.t_out
-    times = times[times <= t_stop]
     hit = t_hit <= t1
-    if hit and (len(times) == 0 or times[-1] < t_hit):
-        times = np.append(times, t_hit)
-    times = np.unique(np.maximum(times, t0))
-    q, v = calendar.state_at(times[:, None])  # type: ignore[arg-type]
+    t_stop = t_hit if hit else t1
+    if inputs.t_out is None:
+        times = np.array([t0, t_stop]) if t_stop > t0 else np.array([t0])
+    else:  # the output times in the flight, then its end at a contact
+        t_out = inputs.t_out  # sorted
+        times = t_out[np.searchsorted(t_out, t0) : np.searchsorted(t_out, t_stop, "right")]
+        if hit and (len(times) == 0 or times[-1] < t_hit):
+            times = np.append(times, t_hit)
+    q, v = calendar.state_at(np.append(times, t_stop)[:, None])  # type: ignore[arg-type]
     rows = np.hstack((q, v))
-    x_stop = np.concatenate(calendar.state_at(t_stop))
+    x_stop = rows[-1].copy()
     if progress is not None:
         progress(t_stop)
     events = ((guard.__name__, t_hit, x_stop),) if hit else ()
     return Integration(
         times,
-        rows,
+        rows[:-1],
         t_stop,
         x_stop,
         events=events,

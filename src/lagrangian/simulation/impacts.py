@@ -107,6 +107,11 @@ def _local_impulses(
     others pushing, each on a contact that would otherwise close): enumerated active sets for
     a few contacts, Lemke's method on the contacts' Schur complement for many."""
     contacts = len(wanted) - free
+    if contacts == 1 and not free and delassus[0, 0] > 0:
+        # one contact alone, Lambda = -(1 + e) g_dot- / (a M^-1 a^T): the enumeration's
+        # answer (no impulse when it does not close) without its checks
+        closing = wanted[0] > SIGN_TOLERANCE * scale
+        return wanted / delassus[0, 0] if closing else np.zeros(1)
     if contacts <= ENUMERATED_CONTACTS:
         for size in range(contacts + 1):
             for chosen in itertools.combinations(range(free, len(wanted)), size):

@@ -50,8 +50,13 @@ from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
 from lagrangian.model.constraints import Constraint, Holonomic, Unilateral, label, statement
+from lagrangian.numerics.compile import compile_equations
 from lagrangian.numerics.constrained import CompiledConstrained, compile_constrained
-from lagrangian.simulation.dynamics import INITIAL_TOLERANCE, MultiplierDynamics
+from lagrangian.simulation.dynamics import (
+    INITIAL_TOLERANCE,
+    MultiplierDynamics,
+    start_on_constraints,
+)
 from lagrangian.simulation.flight import Calendar, QuadraticGaps, quadratic_gaps
 from lagrangian.simulation.impacts import ImpactRecord, resolve
 from lagrangian.simulation.inputs import Inputs
@@ -158,13 +163,19 @@ class UnilateralDynamics:
         found = _MASSES.get(self.eom, lambda _: {})
         key = self.p.tobytes()
         if key not in found:
-            n = len(self.eom.coordinates)
-            zero = np.zeros(n)
-            mass = self.piece(set()).form.parts(zero, zero, 0.0, self.p).mass
+            zero = np.zeros(len(self.eom.coordinates))
+            # the equations' own M (compiled for the start's check), not the multiplier
+            # form's: that one, of thousands of contacts, compiles for minutes
+            mass = np.asarray(compile_equations(self.eom).mass_matrix(zero, 0.0, self.p))
             diagonal = np.count_nonzero(mass - np.diag(np.diagonal(mass))) == 0
             inverse = np.diag(1 / np.diagonal(mass)) if diagonal else np.linalg.inv(mass)
             found[key] = (mass, inverse)
         return found[key]
+
+    @functools.cached_property
+    def contact_guards(self) -> dict[frozenset[int], _Contacts]:
+        """The contact guard of each mode met in a run (with gaps), made once per mode."""
+        return {}
 
     @functools.cached_property
     def accelerations(self) -> dict[frozenset[int], np.ndarray]:
@@ -186,18 +197,33 @@ class UnilateralDynamics:
         if not self.flies(mode):
             return None
         if mode not in self.accelerations:
-            self.accelerations[mode] = piece.field(t, x)[len(x) // 2 :]
+            if mode:
+                self.accelerations[mode] = piece.field(t, x)[len(x) // 2 :]
+            else:  # no contact: M^-1 forcing, both constant
+                zero = np.zeros(len(x) // 2)
+                forcing = compile_equations(self.eom).forcing(zero, zero, 0.0, self.p)
+                self.accelerations[mode] = self.constant_mass[1] @ np.asarray(forcing, float)
         return self.accelerations[mode]
 
     def piece(self, active: set[int] | frozenset[int]) -> MultiplierDynamics:
         """The multiplier form of the ``active`` constraints (the unilateral ones as the
         holonomic constraints they act like), compiled once per set and equations."""
+        made = self.pieces.get(frozenset(active))
+        if made is not None:
+            return made
         order = tuple(sorted(active))
         forms = _FORMS.get(self.eom, lambda _: {})
         if order not in forms:
             chosen = [_bilateral(self.system.constraints[i]) for i in order]
             forms[order] = compile_constrained(constrained_equations(self.eom, chosen))
-        return MultiplierDynamics(self.system, forms[order], self.p, self.gains)
+        made = MultiplierDynamics(self.system, forms[order], self.p, self.gains)
+        self.pieces[frozenset(active)] = made
+        return made
+
+    @functools.cached_property
+    def pieces(self) -> dict[frozenset[int], MultiplierDynamics]:
+        """The multiplier form of each active set met in a run, made once per set."""
+        return {}
 
     def unpack(self, t: float, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         n = len(self.eom.coordinates)
@@ -214,8 +240,26 @@ class UnilateralDynamics:
         touching unilateral ones at g = 0, as the holonomic ones they act like)."""
         n, t0 = len(self.eom.coordinates), inputs.t_span[0]
         active = tuple(sorted(self.active_at(t0, inputs.x0[:n], inputs.x0[n:])))
+        if self.gaps is not None:  # the residuals of the active gaps, without compiling
+            coordinates = tuple(q.name for q in self.eom.coordinates)
+            return start_on_constraints(self.gap_residual(active), self.with_active(active),
+                                        coordinates, inputs, project_initial)  # fmt: skip
         piece = dataclasses.replace(self.piece(set(active)), system=self.with_active(active))
         return piece.start(inputs, project_initial)
+
+    def gap_residual(
+        self, active: tuple[int, ...]
+    ) -> Callable[[float, np.ndarray, np.ndarray], float]:
+        """The largest residual |g|, |g_dot| of the ``active`` gaps at (t, q, q_dot)."""
+        rows = np.array(active, dtype=np.intp)
+
+        def residual(t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
+            assert self.gaps is not None
+            h, gradients = self.gaps.values_and_gradients(rows, q)
+            c = gradients @ q_dot
+            return float(np.max(np.abs(np.concatenate((h, c))), initial=0.0))
+
+        return residual
 
     def with_active(self, active: tuple[int, ...]) -> System:
         """The System with the ``active`` constraints only, the unilateral ones as holonomic:
@@ -234,7 +278,8 @@ class UnilateralDynamics:
         active = {i for i in range(len(constraints)) if i not in self.unilateral}
         if self.gaps is not None:  # every gap at once
             every = np.arange(len(constraints))
-            hs, cs = self.gaps.values(every, q), self.gaps.gradients(every, q) @ q_dot
+            hs, gradients = self.gaps.values_and_gradients(every, q)
+            cs = gradients @ q_dot
             found = list(zip(every.tolist(), hs.tolist(), cs.tolist()))
         else:
             found = []
@@ -256,7 +301,9 @@ class UnilateralDynamics:
             if i in self.unilateral
         ]
         if self.gaps is not None:
-            return [*watched, _Contacts(self, mode)]
+            if mode not in self.contact_guards:
+                self.contact_guards[mode] = _Contacts(self, mode)
+            return [*watched, self.contact_guards[mode]]
         for i in self.one_sided:
             if i not in mode:
                 watched.append(_contact(f"contact {self.tag(i)}", i, self.piece({i}), self.p))
@@ -396,9 +443,8 @@ class UnilateralDynamics:
             every = np.arange(len(self.system.constraints))
             soon = np.flatnonzero(np.abs(self.gaps.values(every, q)) <= 2 * RECONTACT_TOLERANCE)
         rows = sorted({index, *mode, *soon.tolist()})
-        jacobian = self.gaps.gradients(np.array(rows), q)
+        h, jacobian = self.gaps.values_and_gradients(np.array(rows), q)
         mass, inverse = self.constant_mass
-        h = self.gaps.values(np.array(rows), q)
         return _Near(rows, mass, jacobian, jacobian @ v, h, inverse)
 
     def touching(self, mode: frozenset[int], index: int, near: _Near) -> list[int]:
@@ -416,11 +462,13 @@ class UnilateralDynamics:
         motion of ``mode`` (i released): g_dot^2 / (2 |g_ddot|), infinite when g_ddot >= 0
         (it does not come back).  g_ddot = a_i q_ddot - gamma_i (A q_ddot = gamma is the
         constraints' second derivative held at zero)."""
-        free = self.piece(set(mode) - {i})
-        x = np.concatenate((q, v))
         released = frozenset(mode - {i})
-        flying = self.flight_acceleration(released, free, t, x)
-        q_ddot = flying if flying is not None else free.field(t, x)[len(q) :]
+        q_ddot = self.accelerations.get(released)  # a flight's, found once per mode
+        if q_ddot is None:
+            free = self.piece(released)
+            x = np.concatenate((q, v))
+            flying = self.flight_acceleration(released, free, t, x)
+            q_ddot = flying if flying is not None else free.field(t, x)[len(q) :]
         if self.gaps is not None:  # g along q + v s + q_ddot s^2/2: g_dot = c1, g_ddot = 2 c2
             _, c1, c2, _, _ = self.gaps.along(np.array([i]), q, v, q_ddot)
             g_dot, g_ddot = float(c1[0]), float(2 * c2[0])

@@ -171,24 +171,26 @@ def integrate_piecewise(
         mine = {g.__name__ for g in guards}
         stop = run.events[-1] if guard is not None else None
         theirs = (*entered, *(e for e in run.events if e[0] not in mine))
-        run = hybrid.completed(mode, piece, dataclasses.replace(run, events=theirs))
+        run = hybrid.completed(mode, piece, run)
         if run.status != "success" or stop is None:
-            pieces.append(_on_output_times(run, current))
+            pieces.append(_on_output_times(run, current, events=theirs))
             break
         spent = budget.used_up()
         if spent is not None:  # the guard ended the piece on the budget's last step
             _, t_stop, x_stop = stop
-            ended = dataclasses.replace(run, failure=spent, t_reached=t_stop, x_reached=x_stop)
-            pieces.append(_on_output_times(ended, current))
+            ended = _on_output_times(run, current, events=theirs, failure=spent,
+                                     t_reached=t_stop, x_reached=x_stop)  # fmt: skip
+            pieces.append(ended)
             break
         _, t_jump, x_jump = stop
         jump = hybrid.transition(mode, guard, t_jump, x_jump)  # type: ignore[arg-type]
         if jump.failure is not None:  # the run ends at the guard, with its event
-            pieces.append(_on_output_times(_failed_at(run, stop, jump), current))
+            failed = _failed_at(dataclasses.replace(run, events=theirs), stop, jump)
+            pieces.append(_on_output_times(failed, current))
             break
         impacts = (*run.impacts, jump.impact) if jump.impact is not None else run.impacts
-        ended = dataclasses.replace(run, stopped_by=None, impacts=impacts)
-        pieces.append(_on_output_times(ended, current))
+        pieces.append(_on_output_times(run, current, events=theirs, stopped_by=None,
+                                       impacts=impacts))  # fmt: skip
         state = np.array(jump.state, dtype=float)
         names = [name for name in (jump.label, *jump.also) if name]
         records: list[Record] = [(name, t_jump, state) for name in names]
@@ -230,18 +232,25 @@ def _failed_at(run: Integration, stop: Record, jump: Jump) -> Integration:
     )
 
 
-def _on_output_times(run: Integration, inputs: Inputs) -> Integration:
+def _on_output_times(run: Integration, inputs: Inputs, **changes: Any) -> Integration:
     """A piece with, when output times are given, only their rows (not the row of the
-    transition that ends it): the joined run has exactly the rows asked for."""
-    if inputs.t_out is None:
-        return run
-    keep = np.isin(run.t, inputs.t_out)
+    transition that ends it): the joined run has exactly the rows asked for; ``changes``
+    replace fields of the piece besides."""
+    t_out = inputs.t_out
+    if t_out is None or len(run.t) == 0:
+        return dataclasses.replace(run, **changes) if changes else run
+    # the rows at output times (sorted): where each row's time is one of them
+    at = np.minimum(np.searchsorted(t_out, run.t), len(t_out) - 1)
+    keep = t_out[at] == run.t
+    if keep.all():
+        return dataclasses.replace(run, **changes) if changes else run
     return dataclasses.replace(
         run,
         t=run.t[keep],
         x=run.x[keep],
         multipliers=_rows(run.multipliers, keep),
         constraint_residual=_rows(run.constraint_residual, keep),
+        **changes,
     )
 
 
@@ -263,6 +272,9 @@ def joined(pieces: list[Integration]) -> Integration:
     for piece in pieces[1:]:
         last = keep[-1].t[-1] if len(keep[-1].t) else -np.inf
         later = piece.t > last
+        if later.all():  # no row repeated at the junction
+            keep.append(piece)
+            continue
         keep.append(
             dataclasses.replace(
                 piece,
