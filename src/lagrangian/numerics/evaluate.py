@@ -152,9 +152,13 @@ class NumericFunction:
         renamed = {se.sympify(s): se.Symbol(f"_arg{i}_") for i, s in enumerate(symbols)}
         expressions = self._compilable()
         try:
+            # one replacement over a column of every expression: per expression, the map
+            # of every argument was converted again (a 200 x 200 mass matrix took half a
+            # minute to rename, eight times the column's)
+            column = se.DenseMatrix(len(expressions), 1, [se.sympify(e) for e in expressions])
             return se.Lambdify(
                 list(renamed.values()),
-                [se.sympify(e).xreplace(renamed) for e in expressions],
+                list(column.xreplace(renamed)),
                 backend="llvm",
                 cse=True,
                 opt_level=3 if optimize else 0,
