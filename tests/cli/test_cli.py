@@ -414,3 +414,15 @@ def test_a_mistyped_option_gets_a_suggestion(capsys: pytest.CaptureFixture[str])
     with pytest.raises(SystemExit):
         main(["derive", "examples/simple_pendulum", "--zzzzzz"])
     assert "did you mean" not in capsys.readouterr().err  # nothing close: no guess
+
+
+def test_another_commands_option_is_named_as_such(capsys: pytest.CaptureFixture[str]) -> None:
+    # suggesting the option itself ("--format json — did you mean --format?") told nothing
+    with pytest.raises(SystemExit) as stopped:
+        main(["simulate", "examples/simple_pendulum", "--format", "json"])
+    assert stopped.value.code == 2
+    err = capsys.readouterr().err
+    assert "— simulate has no --format (derive, analyze do)" in err
+    with pytest.raises(SystemExit):
+        main(["--t-end", "3", "simulate", "examples/simple_pendulum"])
+    assert "— give --t-end after simulate" in capsys.readouterr().err

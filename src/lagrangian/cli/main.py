@@ -53,20 +53,46 @@ EPILOG = """examples:
 
 
 class _Parser(argparse.ArgumentParser):
+    def parse_args(self, args: Any = None, namespace: Any = None) -> Any:
+        # kept for the suggestion: the words say which command an unknown option was given to
+        self._words = list(sys.argv[1:] if args is None else args)
+        return super().parse_args(args, namespace)
+
     def error(self, message: str) -> NoReturn:  # argparse exits 2 on bad usage, as we do
         self.print_usage(sys.stderr)
         self.exit(BAD_INPUT, f"{self.prog}: error: {message}{self._suggestion(message)}\n")
 
     def _suggestion(self, message: str) -> str:
-        """`` — did you mean --t-end?`` for a mistyped option (argparse names none)."""
+        """`` — did you mean --t-end?`` for a mistyped option (argparse names none), or
+        `` — simulate has no --format (derive, export, analyze do)`` for another command's."""
         if not message.startswith("unrecognized arguments:"):
             return ""
-        known = _option_strings(self)
-        guesses = []
+        commands = _subcommands(self)
+        command = next((w for w in getattr(self, "_words", []) if w in commands), None)
+        known = _option_strings(commands[command] if command else self)
+        hints = []
         for token in message.split(":", 1)[1].split():
-            if token.startswith("--"):
-                guesses += difflib.get_close_matches(token.split("=", 1)[0], known, n=1)
-        return f" — did you mean {', '.join(dict.fromkeys(guesses))}?" if guesses else ""
+            if not token.startswith("--"):
+                continue
+            name = token.split("=", 1)[0]
+            owners = [c for c, sub in commands.items() if name in _option_strings(sub)]
+            if command in owners:  # given before the command's name
+                hints.append(f"give {name} after {command}")
+                continue
+            if command and owners:
+                verb = "does" if len(owners) == 1 else "do"
+                hints.append(f"{command} has no {name} ({', '.join(owners)} {verb})")
+                continue
+            hints += [f"did you mean {g}?" for g in difflib.get_close_matches(name, known, n=1)]
+        return f" — {'; '.join(dict.fromkeys(hints))}" if hints else ""
+
+
+def _subcommands(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    """The subcommands of ``parser`` by name (none for a subcommand's own parser)."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return dict(action.choices)
+    return {}
 
 
 def _option_strings(parser: argparse.ArgumentParser) -> list[str]:
