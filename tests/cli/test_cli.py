@@ -424,5 +424,5 @@ def test_another_commands_option_is_named_as_such(capsys: pytest.CaptureFixture[
     err = capsys.readouterr().err
     assert "— simulate has no --format (derive, analyze do)" in err
     with pytest.raises(SystemExit):
-        main(["--t-end", "3", "simulate", "examples/simple_pendulum"])
+        main(["--t-end=3", "simulate", "examples/simple_pendulum"])
     assert "— give --t-end after simulate" in capsys.readouterr().err
