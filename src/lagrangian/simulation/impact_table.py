@@ -7,6 +7,9 @@ table (one row an impact, beside the trajectory's own CSV) and JSON-ready record
 ...               ("floor",))
 >>> impacts_summary((hit, rest))
 '2 impacts (floor); at rest on floor from t = 4.06'
+>>> impacts_summary([Impact(0.1 * k, (f"wall{k}",), {f"wall{k}": 1.0}, {}, {}, 0.0)
+...                  for k in range(8)])
+'8 impacts (wall0, wall1, wall2, wall3, wall4, wall5 and 2 more constraints)'
 >>> impact_records((hit,))[0]["after"]
 {'y_dot': 3.54}
 """
@@ -22,6 +25,9 @@ from typing import Any, TextIO
 from lagrangian.simulation.files import written_atomically
 from lagrangian.simulation.trajectory import Impact
 
+#: The most constraint names the one-line summary lists.
+NAMES_SHOWN = 6
+
 
 def impacts_summary(impacts: Sequence[Impact]) -> str:
     """How many impacts and transitions (impacts without impulses: a reset of the state)
@@ -30,12 +36,20 @@ def impacts_summary(impacts: Sequence[Impact]) -> str:
     for noun, group in (("impact", [i for i in impacts if i.impulses]),
                         ("transition", [i for i in impacts if not i.impulses])):  # fmt: skip
         if group:
-            names = Counter(name for impact in group for name in impact.constraints)
+            names = list(Counter(name for impact in group for name in impact.constraints))
             plural = noun if len(group) == 1 else f"{noun}s"
-            parts.append(f"{len(group)} {plural} ({', '.join(names)})")
+            parts.append(f"{len(group)} {plural} ({_first_names(names)})")
     for impact in impacts:
         parts.extend(f"at rest on {name} from t = {impact.t:.6g}" for name in impact.rest)
     return "; ".join(parts)
+
+
+def _first_names(names: list[str]) -> str:
+    """The names, the first :data:`NAMES_SHOWN` of a long list and how many more (a gas's
+    hundreds of contacts in one line said nothing; the CSV table has every one)."""
+    if len(names) <= NAMES_SHOWN:
+        return ", ".join(names)
+    return f"{', '.join(names[:NAMES_SHOWN])} and {len(names) - NAMES_SHOWN} more constraints"
 
 
 def impact_records(impacts: Sequence[Impact]) -> list[dict[str, Any]]:
