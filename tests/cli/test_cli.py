@@ -426,3 +426,24 @@ def test_another_commands_option_is_named_as_such(capsys: pytest.CaptureFixture[
     with pytest.raises(SystemExit):
         main(["--t-end=3", "simulate", "examples/simple_pendulum"])
     assert "— give --t-end after simulate" in capsys.readouterr().err
+
+
+def test_a_unilateral_constraint_is_told_from_an_equality_in_every_format(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    # the bouncing ball's y >= 0: its multiplier form is the motion in contact only
+    main(["derive", "examples/bouncing_ball"])
+    text = capsys.readouterr().out
+    assert "  y >= 0\n  (while in contact: each unilateral constraint at 0" in text
+    main(["derive", "examples/bouncing_ball", "--format", "json"])
+    document = json.loads(capsys.readouterr().out)
+    assert document["constraints"] == ["y"] and document["constraint_kinds"] == ["unilateral"]
+    main(["derive", "examples/bouncing_ball", "--format", "latex"])
+    latex = capsys.readouterr().out
+    assert r"y &\geq 0" in latex and r"\text{while in contact" in latex
+    main(["derive", "examples/simple_pendulum", "--format", "json"])
+    assert "constraint_kinds" not in json.loads(capsys.readouterr().out)  # no constraints
+    main(["derive", "examples/rolling_disc", "--format", "json"])
+    assert json.loads(capsys.readouterr().out)["constraint_kinds"] == ["velocity", "velocity"]
+    main(["derive", "examples/dumbbell"])
+    assert "while in contact" not in capsys.readouterr().out  # equalities hold throughout

@@ -32,7 +32,7 @@ from lagrangian.numerics.export import export
 from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.analysis_text import analysis_text
-from lagrangian.render.constrained import constrained_mathml
+from lagrangian.render.constrained import IN_CONTACT, constrained_mathml, in_contact
 from lagrangian.render.mathml import matrix_form_mathml
 from lagrangian.render.values import values_in_force
 
@@ -168,6 +168,8 @@ def constrained_text(equations: ConstrainedEquations) -> str:
         f"  {c.expression} = 0" if c.kind != "unilateral" else f"  {c.expression} >= 0"
         for c in equations.constraints
     ]
+    if in_contact(equations):
+        lines.append(f"  ({IN_CONTACT}: the equations below)")
     lines += [f"{e} = 0" for e in equations.equations]
     forces = equations.constraint_forces
     lines.append("Constraint forces (each multiplier solved for the state):")

@@ -37,6 +37,18 @@ HEADING = (
 )
 
 
+#: Below the constraints when one is unilateral: what the equations that follow assume.
+IN_CONTACT = "while in contact: each unilateral constraint at 0, its multiplier >= 0"
+IN_CONTACT_LATEX = (
+    "&\\text{while in contact: each unilateral constraint at }0\\text{, its multiplier }\\geq 0"
+)
+
+
+def in_contact(equations: ConstrainedEquations) -> bool:
+    """Whether the equations hold only in contact (a constraint is unilateral)."""
+    return any(isinstance(c, Unilateral) for c in equations.constraints)
+
+
 #: The line above the multipliers solved for the state.
 FORCES_HEADING = "&\\text{constraint forces (each multiplier solved for the state)}"
 
@@ -52,6 +64,8 @@ def constrained_latex_lines(equations: ConstrainedEquations, matrix: bool = Fals
 
     lines = [HEADING]
     lines += [f"{tex(c.expression)} &{_relation(c)} 0" for c in equations.constraints]
+    if in_contact(equations):
+        lines.append(IN_CONTACT_LATEX)
     n = len(equations.coordinates)
     lines += [f"{tex(e)} &= 0" for e in list(equations.equations)[:n]]
     forces = equations.constraint_forces
@@ -90,6 +104,8 @@ def constrained_mathml_rows(
         relation = "&#8805;" if isinstance(c, Unilateral) else ""
         right = "<mn>0</mn>" if not relation else f"<mo>{relation}</mo><mn>0</mn>"
         rows.append((dotted(c.expression), right))
+    if in_contact(equations):
+        rows.append((f"<mtext>{IN_CONTACT.replace('>=', '&#8805;')}</mtext>", "<mtext></mtext>"))
     n = len(equations.coordinates)
     rows += [(dotted(e), "<mn>0</mn>") for e in list(equations.equations)[:n]]
     forces = equations.constraint_forces

@@ -92,13 +92,16 @@ def eom_document(eom: EquationsOfMotion, *, steps: bool = False) -> dict[str, An
 
 
 def constrained_document(equations: ConstrainedEquations) -> dict[str, Any]:
-    """What constraints add to the derive JSON (docs/architecture.md): ``multipliers`` (their
-    names), ``constraint_jacobian`` A, ``gamma`` (A q_ddot = gamma), the residuals with the
-    constraint forces, d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q - A^T lambda (each = 0), and the
-    augmented Lagrangian L + sum lambda_j h_j."""
+    """What constraints add to the derive JSON (docs/architecture.md): ``constraints`` (each
+    h, = 0, or >= 0 for a unilateral one), ``constraint_kinds`` (holonomic, velocity or
+    unilateral, in the same order), ``multipliers`` (their names), ``constraint_jacobian`` A,
+    ``gamma`` (A q_ddot = gamma), the residuals with the constraint forces,
+    d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q - A^T lambda (each = 0), and the augmented
+    Lagrangian L + sum lambda_j h_j."""
     text = _Writer()
     return {
         "constraints": [text(c.expression) for c in equations.constraints],
+        "constraint_kinds": [c.kind for c in equations.constraints],
         "multipliers": [lam.name for lam in equations.multipliers],
         "constraint_jacobian": _matrix(text, equations.constraint_jacobian),
         "gamma": _vector(text, equations.gamma),
