@@ -23,3 +23,11 @@ def test_an_elastic_ball_keeps_h_through_its_impacts_too() -> None:
 def test_a_system_without_impacts_has_no_such_note() -> None:
     report = lg.analyze(lg.examples.simple_pendulum())
     assert report.energy is not None and "between impacts" not in report.energy.reason
+
+
+def test_the_text_writes_a_unilateral_constraint_as_its_inequality() -> None:
+    from lagrangian.render.analysis_text import analysis_text
+
+    text = analysis_text(lg.analyze(lg.examples.bouncing_ball()))
+    assert "\n  y >= 0: unilateral: the inequality" in text
+    assert "y = 0:" not in text  # not an equation, nor its kind said twice

@@ -156,6 +156,20 @@ def values_line(report: AnalysisReport) -> str:
     return f"at {values_text(report.parameter_values)} (where the general case differs, it is said)"
 
 
+def _constraint_line(kind: str, expression: object, reason: str) -> str:
+    """``unilateral y >= 0: ...``: the constraint as declared, then its classification (the
+    declared kind said once where the classification begins with it).
+
+    >>> _constraint_line("unilateral", "y", "unilateral: the inequality ...")
+    'y >= 0: unilateral: the inequality ...'
+    >>> _constraint_line("velocity", "x_dot - r*phi_dot", "non-holonomic: ...")
+    'velocity x_dot - r*phi_dot = 0: non-holonomic: ...'
+    """
+    relation = ">=" if kind == "unilateral" else "="
+    declared = "" if reason.startswith(f"{kind}:") else f"{kind} "
+    return f"{declared}{expression} {relation} 0: {reason}"
+
+
 def analysis_text(report: AnalysisReport) -> str:
     """The report as plain text (see the module docstring)."""
     lines = [f"{report.name or 'system'}: {report.freedom or f'dof = {report.dof}'}"]
@@ -163,7 +177,7 @@ def analysis_text(report: AnalysisReport) -> str:
         lines.append(values_line(report))
     lines += _section(
         "Constraints",
-        (f"{c.kind} {c.expression} = 0: {c.reason}" for c in report.constraints),
+        (_constraint_line(c.kind, c.expression, c.reason) for c in report.constraints),
     )
     forces = report.constraint_forces
     if forces is not None:
