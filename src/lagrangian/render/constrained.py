@@ -28,7 +28,7 @@ from lagrangian.constraints import ConstrainedEquations
 from lagrangian.constraints.multipliers import UNSOLVED
 from lagrangian.model.constraints import Unilateral
 from lagrangian.render.latex import KeptLatexPrinter, block, symbol_names
-from lagrangian.render.mathml import Dotted, mathml_table
+from lagrangian.render.mathml import Dotted, TableRow, mathml_table
 
 #: The heading line (plain \\text, which KaTeX and MathJax both typeset; no \\intertext).
 HEADING = (
@@ -91,27 +91,27 @@ def constrained_latex(
 
 def constrained_mathml_rows(
     equations: ConstrainedEquations, matrix: bool = False
-) -> list[tuple[str, str]]:
-    """The (left, right) rows of the MathML table, as :func:`constrained_latex_lines`."""
+) -> list[TableRow]:
+    """The rows of the MathML table, as :func:`constrained_latex_lines` (headings and notes
+    without a relation, a unilateral constraint with its >=)."""
     # Dotted reads the coordinates, velocities and accelerations only
     dotted = Dotted(equations)  # type: ignore[arg-type]
     heading = (
         "<mtext>with the constraints (&#955;<sub>j</sub> &#8706;h<sub>j</sub>/&#8706;q is the "
         "force of constraint j)</mtext>"
     )
-    rows = [(heading, "<mtext></mtext>")]
+    rows: list[TableRow] = [(heading, "", "")]
     for c in equations.constraints:
-        relation = "&#8805;" if isinstance(c, Unilateral) else ""
-        right = "<mn>0</mn>" if not relation else f"<mo>{relation}</mo><mn>0</mn>"
-        rows.append((dotted(c.expression), right))
+        relation = "&#8805;" if isinstance(c, Unilateral) else "="
+        rows.append((dotted(c.expression), relation, "<mn>0</mn>"))
     if in_contact(equations):
-        rows.append((f"<mtext>{IN_CONTACT.replace('>=', '&#8805;')}</mtext>", "<mtext></mtext>"))
+        rows.append((f"<mtext>{IN_CONTACT.replace('>=', '&#8805;')}</mtext>", "", ""))
     n = len(equations.coordinates)
     rows += [(dotted(e), "<mn>0</mn>") for e in list(equations.equations)[:n]]
     forces = equations.constraint_forces
-    rows.append(("<mtext>constraint forces (each multiplier solved for the state)</mtext>", ""))
+    rows.append(("<mtext>constraint forces (each multiplier solved for the state)</mtext>", "", ""))
     if forces is None:
-        rows.append((f"<mtext>{UNSOLVED}</mtext>", "<mtext></mtext>"))
+        rows.append((f"<mtext>{UNSOLVED}</mtext>", "", ""))
     else:
         rows += [(dotted(lam), dotted(value)) for lam, value in forces.items()]
     if matrix:

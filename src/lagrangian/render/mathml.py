@@ -298,13 +298,29 @@ class Dotted:
         return done
 
 
-def mathml_table(rows: Iterable[tuple[str, str]]) -> str:
-    """One display-math table of ``left = right`` rows (MathML fragments)."""
-    body = "".join(
-        f'<mtr><mtd columnalign="right">{left}</mtd><mtd columnalign="left"><mo>=</mo>{right}'
-        "</mtd></mtr>"
-        for left, right in rows
-    )
+#: A row of :func:`mathml_table`: (left, right) is ``left = right``; (left, relation, right)
+#: gives the relation (``&#8805;``), or none ("": a heading, or a line of text).
+TableRow = tuple[str, str] | tuple[str, str, str]
+
+
+def mathml_table(rows: Iterable[TableRow]) -> str:
+    """One display-math table of ``left = right`` rows (MathML fragments).
+
+    >>> table = mathml_table([("<mi>y</mi>", "&#8805;", "<mn>0</mn>"), ("<mi>a</mi>", "", "")])
+    >>> '<mi>y</mi></mtd><mtd columnalign="left"><mo>&#8805;</mo><mn>0</mn>' in table
+    True
+    >>> '<mi>a</mi></mtd><mtd columnalign="left"></mtd>' in table
+    True
+    """
+    cells = []
+    for row in rows:
+        left, relation, right = row if len(row) == 3 else (row[0], "=", row[1])
+        sign = f"<mo>{relation}</mo>" if relation else ""
+        cells.append(
+            f'<mtr><mtd columnalign="right">{left}</mtd><mtd columnalign="left">{sign}{right}'
+            "</mtd></mtr>"
+        )
+    body = "".join(cells)
     return (
         f'<math xmlns="http://www.w3.org/1998/Math/MathML" display="block"><mtable>{body}'
         "</mtable></math>"
