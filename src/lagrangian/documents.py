@@ -29,7 +29,9 @@ from lagrangian.derivation import derive
 from lagrangian.errors import Fix, ModelError, Problem, Setting, Wording, raise_if_problems
 from lagrangian.model import System
 from lagrangian.render.constrained import constrained_latex
+from lagrangian.render.hybrid import has_jumps, hybrid_document, hybrid_latex_lines
 from lagrangian.render.json import constrained_document, eom_document
+from lagrangian.render.latex import block
 from lagrangian.symbolic.expressions import closest_name
 
 
@@ -42,6 +44,7 @@ def derivation_document(system: System, steps: bool) -> dict[str, Any]:
         document["units"] = dict(system.units)
     if system.constraints:
         document.update(constrained_document(constrained_equations(eom, system.constraints)))
+    document.update(hybrid_document(system))
     return document
 
 
@@ -54,6 +57,8 @@ def derivation_latex(system: System, steps: bool, matrix: bool) -> str:
     if system.constraints:
         equations = constrained_equations(eom, system.constraints)
         parts.append(constrained_latex(equations, matrix))
+    if has_jumps(system):
+        parts.append(block(hybrid_latex_lines(system)))
     return "\n".join(parts)
 
 

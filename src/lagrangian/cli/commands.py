@@ -33,7 +33,8 @@ from lagrangian.render.analysis_json import analysis_document
 from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.analysis_text import analysis_text
 from lagrangian.render.constrained import IN_CONTACT, constrained_mathml, in_contact
-from lagrangian.render.mathml import matrix_form_mathml
+from lagrangian.render.hybrid import has_jumps, hybrid_mathml_rows, hybrid_text
+from lagrangian.render.mathml import Dotted, mathml_table, matrix_form_mathml
 from lagrangian.render.values import values_in_force
 
 EXAMPLE_PREFIX = "examples/"
@@ -111,10 +112,14 @@ def derive_command(
             parts.append(matrix_form_mathml(eom))
         if constrained is not None:
             parts.append(constrained_mathml(constrained, matrix))
+        if has_jumps(system):
+            parts.append(mathml_table(hybrid_mathml_rows(system, Dotted(eom))))
         return "\n".join(parts)
     parts = [render.steps_text(eom) if steps else render.equations_text(eom)]
     if constrained is not None:
         parts.append(constrained_text(constrained))
+    if has_jumps(system):
+        parts.append(hybrid_text(system))
     if matrix:
         parts.append(render.matrix_form_text(eom))
         if constrained is not None:

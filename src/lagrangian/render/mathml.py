@@ -249,7 +249,8 @@ class Dotted:
         text = _PLACEHOLDER.sub(lambda m: self.markup.get(m.group(), m.group()), text)
         for entity, code in NAMED_ENTITIES.items():  # numeric, so the output is plain XML
             text = text.replace(entity, code)
-        return text
+        # SymPy writes the operator of theta < 0 bare, which no XML reader takes
+        return text.replace("<mo><</mo>", "<mo>&lt;</mo>")
 
     def _swap(self, expr: Any) -> Any:
         """``expr.xreplace(self.swap)``, each distinct subexpression replaced once (xreplace
