@@ -445,7 +445,7 @@ def test_a_unilateral_constraint_is_told_from_an_equality_in_every_format(
     mathml = capsys.readouterr().out
     # y >= 0, not "y = >= 0"; a heading or a note has no "=" after it
     assert '<mi>y</mi></mtd><mtd columnalign="left"><mo>&#8805;</mo><mn>0</mn>' in mathml
-    assert "force of constraint j)</mtext></mtd><mtd columnalign=\"left\"></mtd>" in mathml
+    assert 'force of constraint j)</mtext></mtd><mtd columnalign="left"></mtd>' in mathml
     main(["derive", "examples/simple_pendulum", "--format", "json"])
     assert "constraint_kinds" not in json.loads(capsys.readouterr().out)  # no constraints
     main(["derive", "examples/rolling_disc", "--format", "json"])
