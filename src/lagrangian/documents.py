@@ -22,6 +22,8 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
+import numpy as np
+
 from lagrangian import render
 from lagrangian.analysis import AnalysisReport, analyze
 from lagrangian.constraints import constrained_equations
@@ -32,6 +34,8 @@ from lagrangian.render.constrained import constrained_latex
 from lagrangian.render.hybrid import has_jumps, hybrid_document, hybrid_latex_lines
 from lagrangian.render.json import constrained_document, eom_document
 from lagrangian.render.latex import block
+from lagrangian.simulation import Trajectory
+from lagrangian.simulation.impact_table import impact_records, impacts_summary
 from lagrangian.symbolic.expressions import closest_name
 
 
@@ -60,6 +64,52 @@ def derivation_latex(system: System, steps: bool, matrix: bool) -> str:
     if has_jumps(system):
         parts.append(block(hybrid_latex_lines(system)))
     return "\n".join(parts)
+
+
+def run_document(trajectory: Trajectory, wording: Wording) -> dict[str, Any]:
+    """A run as JSON (``simulate --out FILE.json``, the web API's simulate answer):
+    ``columns`` (the CSV's, name -> values, None for NaN and infinities, which JSON has not)
+    and ``summary`` (:func:`simulation_summary`)."""
+    return {
+        "columns": {name: finite_list(values) for name, values in trajectory.columns().items()},
+        "summary": simulation_summary(trajectory, wording),
+    }
+
+
+def simulation_summary(trajectory: Trajectory, wording: Wording) -> dict[str, Any]:
+    """What ``lagrangian simulate`` says after the run: its status and message (in the words
+    of ``wording``), method, samples, parameters, drift and impacts."""
+    return {
+        "status": trajectory.status,
+        "message": trajectory.worded_message(wording),
+        "method": trajectory.method,
+        "samples": len(trajectory.t),
+        "parameters": dict(trajectory.parameters),
+        "drift": {key: _finite(value) for key, value in trajectory.drift().items()},
+        "drift_summary": trajectory.drift_summary(),
+        "impacts": impact_records(trajectory.impacts),
+        "impacts_summary": impacts_summary(trajectory.impacts),
+    }
+
+
+def _finite(value: Any) -> Any:
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def finite_list(values: np.ndarray) -> list[Any]:
+    """An array as nested lists, with None for NaN and infinities (JSON has neither).
+
+    >>> finite_list(np.array([1.0, np.nan]))
+    [1.0, None]
+    """
+    array = np.asarray(values, dtype=float)
+    if np.isfinite(array).all():
+        return list(array.tolist())
+    shown = array.astype(object)
+    shown[~np.isfinite(array)] = None
+    return list(shown.tolist())
 
 
 def analysis_of(

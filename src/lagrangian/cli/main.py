@@ -353,7 +353,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="the two columns of the section plot (default: the first coordinate the section "
         "does not involve and its velocity, y,y_dot for --poincare x)",
     )
-    simulate.add_argument("--out", default="-", help="CSV file, or - for standard output")
+    simulate.add_argument(
+        "--out",
+        default="-",
+        help="CSV file (FILE.json: the columns and the run's summary as JSON), or - for "
+        "standard output",
+    )
     simulate.add_argument(
         "--plot", help="write time series, phase portrait and energy (.png, .pdf or .svg)"
     )

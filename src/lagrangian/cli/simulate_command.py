@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 import io
+import json
 import math
 import sys
 from collections.abc import Callable, Sequence
@@ -17,7 +18,7 @@ from typing import Any, NoReturn
 from lagrangian.cli.commands import load_system
 from lagrangian.cli.outputs import file_problems
 from lagrangian.cli.wording import COMMAND_LINE
-from lagrangian.documents import apply_initial, apply_settings
+from lagrangian.documents import apply_initial, apply_settings, run_document
 from lagrangian.errors import (
     OutputError,
     Problem,
@@ -269,6 +270,9 @@ def write_simulation(
         buffer = io.StringIO()
         trajectory.to_csv(buffer)
         csv_text, where = buffer.getvalue(), "standard output"
+    elif as_json(out):
+        write_run_json(trajectory, out)
+        csv_text, where = "", out
     else:
         trajectory.to_csv(out)
         csv_text, where = "", out
@@ -334,6 +338,8 @@ def impacts_written(trajectory: Trajectory, out: str) -> list[str]:
     summary = impacts_summary(trajectory.impacts)
     if out == "-" or written_in_place(out):  # no table beside a device, in /dev
         return [summary]
+    if as_json(out):
+        return [f"{summary}; each in the summary's impacts in {out}"]
     table = beside(out, "impacts", ".csv")
     write_impacts_csv(trajectory.impacts, table)
     return [f"{summary}; each written to {table}"]
@@ -353,9 +359,24 @@ def section_written(section: PoincareSection | None, out: str) -> list[str]:
 
 def beside(path: str, kind: str, suffix: str) -> str:
     """A file beside ``path`` holding one ``kind`` of its results: ``run.csv`` ->
-    ``run.impacts.csv`` (``suffix`` when the path has none)."""
+    ``run.impacts.csv`` (``suffix`` when the path has none, or is a JSON run's: the table
+    is a CSV)."""
     named = Path(path)
-    return str(named.with_name(f"{named.stem}.{kind}{named.suffix or suffix}"))
+    own = "" if as_json(path) else named.suffix
+    return str(named.with_name(f"{named.stem}.{kind}{own or suffix}"))
+
+
+def as_json(out: str) -> bool:
+    """Whether ``--out`` asks for the run as JSON (FILE.json) rather than CSV."""
+    return out != "-" and Path(out).suffix.lower() == ".json"
+
+
+def write_run_json(trajectory: Trajectory, out: str) -> None:
+    """The run's columns and summary as one JSON document (:func:`run_document`), written
+    atomically as the CSV is."""
+    text = json.dumps(run_document(trajectory, COMMAND_LINE), allow_nan=False)
+    with written_atomically(out) as temporary:
+        temporary.write_text(text + "\n", encoding="utf-8")
 
 
 def _failed_pictures(system: System, trajectory: Trajectory, pictures: Pictures) -> list[str]:
