@@ -86,6 +86,50 @@ def test_the_disc_makes_two_no_slip_constraints_when_its_height_is_written_out()
     assert sp.expand(point[0] - (x - r * sp.sin(psi) * sp.sin(theta))) == 0
 
 
+def test_the_constraints_hold_the_systems_own_symbols_with_their_assumptions() -> None:
+    """A radius declared positive and a steered wheel (the root of its tilt in every term):
+    the constraints are made of the System's symbols (a plain symbol of the same name is
+    another symbol), and agree with the contact point's height and velocity written
+    out by hand."""
+    radius, mass = sp.Symbol("R", positive=True), sp.Symbol("M", positive=True)
+    steer = sp.Symbol("delta", real=True)
+    frames = [*FRAMES, Frame("fork", [("z", steer)], parent="lean")]
+    wheel = RigidBody(
+        "wheel", mass, shape("disc", radius=radius, axis="y"), (x, y, z), parent="fork"
+    )
+    system = System(
+        coordinates=[x, y, z, psi, theta, steer],
+        parameters={mass: 1.0, g: 9.81, radius: 0.3},
+        gravity=(0, 0, -g),
+        frames=frames,
+        rigid_bodies=[wheel],
+        rolling=[RollingDisc("wheel", radius)],
+    )
+    own = {*system.coordinates, *system.parameters, *system.velocities}
+    for constraint in system.constraints:
+        # a symbol equals another only with the same assumptions: no plain R in place of R
+        assert constraint.expression.free_symbols <= own, constraint.expression.free_symbols
+    # by hand: v_C = v_p + omega x (C - p), C - p = R (a a_z - e_z) / |a x e_z|
+    rotation = sp.rot_axis3(-psi) * sp.rot_axis1(-theta) * sp.rot_axis3(-steer)
+    axle = rotation[:, 1]
+    down = (axle * axle[2] - sp.Matrix([0, 0, 1])) / sp.sqrt(1 - axle[2] ** 2)
+    rates = dict(zip(system.coordinates, system.velocities))
+    omega = (
+        rates[psi] * sp.Matrix([0, 0, 1])
+        + rates[theta] * sp.rot_axis3(-psi)[:, 0]
+        + rates[steer] * rotation[:, 2]
+    )
+    slip = sp.Matrix([rates[x], rates[y], rates[z]]) + omega.cross(radius * down)
+    by_name = {c.name: c.expression for c in system.constraints}
+    height = by_name["wheel_contact height"]
+    assert sp.simplify(height - (z + radius * down[2])) == 0
+    rng = random.Random(7)
+    values = {s: rng.uniform(0.2, 1.2) for s in sorted(own, key=str)}
+    for name, expected in (("x", slip[0]), ("y", slip[1])):
+        made = by_name[f"wheel_contact slip {name}"]
+        assert abs(float((made - expected).subs(values))) < 1e-12
+
+
 def test_the_rolling_disc_is_nonholonomic_with_three_independent_velocities() -> None:
     report = classify(rolling_disc())
     assert [c.holonomic for c in report.constraints] == [False, False]

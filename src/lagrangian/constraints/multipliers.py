@@ -51,6 +51,7 @@ import sympy as sp
 from lagrangian.constraints.dependence import contact_dependence, dependence
 from lagrangian.constraints.pfaffian import acceleration_terms, pfaffian_form
 from lagrangian.derivation import EquationsOfMotion, derive, equations_of
+from lagrangian.derivation.backend import cycle_collection_paused
 from lagrangian.derivation.trig import combine_trig_sympy
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import System, Unilateral
@@ -193,7 +194,10 @@ def constrained_equations(
     except TypeError:  # an unhashable expression: let the System's validation name it
         return _multiplier_form(eom, chosen)
     if known is None:
-        known = forms[chosen] = _multiplier_form(eom, chosen)
+        # the redundancy check and gamma make expressions by the thousand and no cycle: the
+        # collector paused, as for the derivation (lagrangian.derivation.backend)
+        with cycle_collection_paused():
+            known = forms[chosen] = _multiplier_form(eom, chosen)
     return known
 
 

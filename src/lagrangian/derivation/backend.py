@@ -194,6 +194,10 @@ class _CollectorPause:
 
 
 _cycle_collection_paused = _CollectorPause()
+#: The same pause for a whole derivation and the multiplier form: a bicycle's derivation
+#: otherwise sets off a full collection (of everything SymPy made at import), a tenth of its
+#: time, that finds nothing to free.
+cycle_collection_paused = _cycle_collection_paused
 
 
 #: The backend entries each matrix a SympyView converted came from, row by row: numeric code

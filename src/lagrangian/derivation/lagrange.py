@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from lagrangian.derivation.backend import Backend
+from lagrangian.derivation.backend import Backend, cycle_collection_paused
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.derivation.terms import EulerLagrangeTerms, euler_lagrange_terms
 from lagrangian.errors import require
@@ -69,7 +69,7 @@ def derive(
 def _derive_within(
     system: System, seconds: float | None, operations: float | None
 ) -> EquationsOfMotion:
-    with limited_to(seconds, what="derive"), sized_to(operations):
+    with limited_to(seconds, what="derive"), sized_to(operations), cycle_collection_paused():
         return equations_of_motion(system)
 
 

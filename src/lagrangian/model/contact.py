@@ -267,13 +267,17 @@ def _constraints(
     turns.append([w.xreplace(at_rest) for w in omega])  # omega_t, of a rheonomic orientation
     variables = [to_symengine(x) for x in (*q, t)]
     slip = []
+    # each velocity's coefficient times the velocity, summed in SymEngine and converted
+    # once: SymPy's constructors give the same sum of the same products as converting the
+    # coefficients and multiplying and summing them there (no two terms share a velocity)
+    fast_rates = [*(to_symengine(v) for v in rates), se.Integer(1)]
     for k in (0, 1):  # the x and y components of omega_j x (C - p): rows of the cross product
         i, j = (k + 1) % 3, (k + 2) % 3
         terms = []
-        for rate, variable, w in zip([*rates, sp.Integer(1)], variables, turns):
+        for rate, variable, w in zip(fast_rates, variables, turns):
             part = se.diff(position[k], variable) + w[i] * offset[j] - w[j] * offset[i]
-            terms.append(back(geometry.rooted(_tidy(part, geometry.length))) * rate)
-        slip.append(sp.Add(*terms))
+            terms.append(geometry.rooted(_tidy(part, geometry.length)) * rate)
+        slip.append(back(se.Add(*terms)))
     name = disc.contact
     found: list[Any] = []
     if height != 0:
@@ -338,22 +342,16 @@ class _Sympy:
     def __call__(self, expr: Any) -> sp.Expr:
         result = self._converted(expr)
         parts = distinct_parts(result)  # one walk, each shared part once
-        if not all(isinstance(p, _PLAIN) and not isinstance(p, _PLAIN_NOT) for p in parts):
-            symbols, smooth = result.free_symbols, False
-        else:
-            symbols, smooth = [p for p in parts if isinstance(p, sp.Symbol)], True
-        swap = {
-            s: self.by_name[s.name]
-            for s in symbols
-            if s.name in self.by_name and self.by_name[s.name] is not s
-        }
-        result = result.xreplace(swap) if swap else result
-        return result if smooth else piecewise_smooth(result)
+        if all(isinstance(p, _PLAIN) and not isinstance(p, _PLAIN_NOT) for p in parts):
+            return result
+        return piecewise_smooth(result)
 
     def _converted(self, expr: Any) -> sp.Expr:
         """:func:`to_sympy` of ``expr`` by SymPy's own constructors, each distinct part once
         for all the constraints of the disc (the square root of a steered wheel's tilt is in
-        most of their terms)."""
+        most of their terms), the System's symbols put in as the parts are made: made with
+        SymPy's plain symbols and swapped afterwards, every sum and product would be made
+        twice (a bicycle's constraints: half the time of making them)."""
         known = self._memo.get(expr)
         if known is not None:
             return known
@@ -364,9 +362,20 @@ class _Sympy:
         elif expr.is_Pow:
             result = sp.Pow(*[self._converted(a) for a in expr.args])
         else:
-            result = to_sympy(expr)
+            result = self._own_symbols(to_sympy(expr))
         self._memo[expr] = result
         return result
+
+    def _own_symbols(self, part: sp.Expr) -> sp.Expr:
+        """A leaf (a symbol, a number, a function's value) with the System's symbols."""
+        if isinstance(part, sp.Symbol):
+            return self.by_name.get(part.name, part)
+        swap = {
+            s: self.by_name[s.name]
+            for s in part.free_symbols
+            if s.name in self.by_name and self.by_name[s.name] is not s
+        }
+        return part.xreplace(swap) if swap else part
 
 
 def add_rolling_constraints(values: dict[str, Any]) -> list[Problem]:

@@ -33,6 +33,7 @@ matrix that is not a rotation) is no factoring: None, and the caller differentia
 
 from __future__ import annotations
 
+import random
 from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
@@ -97,7 +98,7 @@ def factor_rotation(matrix: sp.MatrixBase, coordinates: Iterable[sp.Symbol]) -> 
         numeric = se.Lambdify(arguments, flat, backend="lambda")
     except (se.SympifyError, RuntimeError, TypeError, KeyError):
         return None
-    rng = np.random.default_rng(_SEED)
+    rng = _Uniform(_SEED)
     values = rng.uniform(0.3, 1.3, len(parameters))
     order = _search(numeric, len(alphas), values, rng)
     if order is None:
@@ -114,6 +115,19 @@ def factor_rotation(matrix: sp.MatrixBase, coordinates: Iterable[sp.Symbol]) -> 
     return found if _agrees(found, numeric, arguments, order, rng) else None
 
 
+class _Uniform:
+    """Uniform random numbers as arrays, from Python's generator: NumPy's ``random`` module
+    is a further import (10 ms of CPU, 20 of wall time), paid by the first derivation of a
+    process that factors a matrix (a tenth of deriving a rolling disc written with
+    quaternions)."""
+
+    def __init__(self, seed: int) -> None:
+        self._rng = random.Random(seed)
+
+    def uniform(self, low: float, high: float, size: int) -> np.ndarray:
+        return np.array([self._rng.uniform(low, high) for _ in range(size)])
+
+
 def _fresh(name: str, taken: set[str]) -> sp.Symbol:
     """A symbol for an angle, named apart from the matrix's own symbols (SymEngine's
     evaluation takes symbols, not dummies)."""
@@ -128,7 +142,7 @@ def _evaluated(numeric: Any, angles: np.ndarray, values: np.ndarray) -> list[np.
     return [flat[9 * k : 9 * k + 9].reshape(3, 3) for k in range(len(flat) // 9)]
 
 
-def _search(numeric: Any, count: int, values: np.ndarray, rng: np.random.Generator) -> list | None:
+def _search(numeric: Any, count: int, values: np.ndarray, rng: _Uniform) -> list | None:
     """The order of the factors' angles (indices), found on numbers: at each step the angle
     whose axis, seen from the factors found so far, is one constant unit vector."""
     samples = [rng.uniform(-3.0, 3.0, count) for _ in range(SEARCH_SAMPLES)]
@@ -167,7 +181,7 @@ def _agrees(
     numeric: Any,
     arguments: list[Any],
     order: list[tuple[int, sp.Rational]],
-    rng: np.random.Generator,
+    rng: _Uniform,
 ) -> bool:
     """The product of the factors equals R at random parameters and angles."""
     tail = sp.eye(3) if found.tail is None else found.tail
