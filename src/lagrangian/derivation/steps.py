@@ -116,6 +116,12 @@ def _show_steps(system: System) -> Steps:
     )
 
 
+def momenta(system: System) -> list[Backend]:
+    """dL/dq_dot_j of every coordinate of ``system`` in backend form, as the steps find it
+    (before it is tidied; computed once per System)."""
+    return [d.momentum for d in _DERIVATIVES.get(system, _differentiate_lagrangian)]
+
+
 def _differentiate_lagrangian(system: System) -> list[_Derivatives]:
     terms = euler_lagrange_terms(system)
     asm = terms.assembly

@@ -268,6 +268,16 @@ class EulerLagrangeTerms:
         """``expr`` tidied and in SymPy, with the System's own symbols."""
         return self.view(self.tidy(expr))
 
+    def sympy_expanded(self, expr: Backend) -> sp.Expr:
+        """``sympy.expand`` of ``expr`` in SymPy (its sums put back), expanded first in the
+        backend: the n^3 terms of a chain's expanded energy cost microseconds each there,
+        milliseconds in SymPy.  SymPy's expand is then run only when a term has what
+        SymEngine's leaves (functions of sums to expand, powers of sums, exponentials of
+        sums): on a sum of plain terms it would rebuild each to find it unchanged."""
+        converted = self.view(se.expand(self.expand_sums(expr)))
+        terms = converted.args if converted.is_Add else (converted,)
+        return converted if all(map(_plain_sympy_term, terms)) else sp.expand(converted)
+
     def sympy_vector(self, values: list[Backend]) -> sp.ImmutableMatrix:
         """Every entry tidied, as a SymPy column."""
         return self.view.vector([self.tidy(v) for v in values])
@@ -417,6 +427,32 @@ def _symbol_power(factor: Backend) -> bool:
         return False
     base, exponent = factor.args
     return bool(base.is_Symbol and exponent.is_Integer)
+
+
+def _plain_sympy_term(term: sp.Expr) -> bool:
+    """A SymPy product of numbers, symbols, symbols to integer powers and sines and cosines
+    of plain sums (symbols times numbers, numbers): ``sympy.expand`` leaves it as it is."""
+    for factor in term.args if term.is_Mul else (term,):
+        if factor.is_Number or factor.is_Symbol:
+            continue
+        if factor.is_Pow:
+            if not (factor.args[0].is_Symbol and factor.args[1].is_Integer):
+                return False
+        elif not (type(factor) in (sp.sin, sp.cos) and _plain_sympy_angle(factor.args[0])):
+            return False
+    return True
+
+
+def _plain_sympy_angle(angle: sp.Expr) -> bool:
+    """A symbol, a number times a symbol, or a sum of such and numbers."""
+    for term in angle.args if angle.is_Add else (angle,):
+        if term.is_Number or term.is_Symbol:
+            continue
+        if not (term.is_Mul and len(term.args) == 2 and term.args[0].is_Number):
+            return False
+        if not term.args[1].is_Symbol:
+            return False
+    return True
 
 
 def _at_most_one_plain_trig(term: Backend) -> bool:
