@@ -17,7 +17,7 @@ from lagrangian.derivation.terms import euler_lagrange_terms
 from lagrangian.symbolic.native import to_symengine
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
-from derive import rod_chain  # noqa: E402
+from derive import rod_chain
 
 
 def hand_energy(n: int) -> sp.Expr:

@@ -27,7 +27,7 @@ import symengine as se
 import sympy as sp
 from sympy.printing.codeprinter import CodePrinter, PrintMethodNotImplementedError
 
-from lagrangian.derivation.backend import SympyView, to_backend
+from lagrangian.derivation.backend import SympyView, backend_entries, to_backend
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.errors import ModelError
 from lagrangian.numerics.export.multiplier_form import HEADER as MULTIPLIER_HEADER
@@ -212,7 +212,7 @@ def plan_export(
         positional = ("mass_matrix", "gravity", "constraint_jacobian", "augmented_matrix")
         with_qd = routine_name not in positional or bool(matrix.free_symbols & velocities)
         arguments = ("q", "qd", "t", "p") if with_qd else ("q", "t", "p")
-        routines.append(_routine(routine_name, arguments, sp.Matrix(matrix), mapping))
+        routines.append(_routine(routine_name, arguments, matrix, mapping))
     title = " ".join(eom.name.split()) or "model"
     return ExportPlan(
         title=title,
@@ -226,7 +226,10 @@ def plan_export(
 
 
 def _routine(
-    name: str, arguments: tuple[str, ...], matrix: sp.Matrix, mapping: dict[sp.Basic, sp.Basic]
+    name: str,
+    arguments: tuple[str, ...],
+    matrix: sp.MatrixBase,
+    mapping: dict[sp.Basic, sp.Basic],
 ) -> Routine:
     # Constants other than pi and E have no spelling in every language: use their value.
     constants = {
@@ -246,7 +249,7 @@ def _routine(
 
 
 def _backend_cse(
-    matrix: sp.Matrix, mapping: dict[sp.Basic, sp.Basic]
+    matrix: sp.MatrixBase, mapping: dict[sp.Basic, sp.Basic]
 ) -> tuple[tuple[tuple[sp.Symbol, sp.Expr], ...], list[sp.Expr]]:
     """The common subexpressions of ``matrix``'s entries found by SymEngine's cse (in C++:
     SymPy's takes seconds per thousand entries, a 50-link chain's export 10 s of its 13),
@@ -256,7 +259,9 @@ def _backend_cse(
     The model's symbols are renamed first (``_a0``, ``_a1``, ...), so SymEngine's temporaries
     (``x0``, ``x1``, ...) cannot meet a model symbol of the same name; both are given their
     final form (array elements, ``s0``, ``s1``, ...) as they are converted back."""
-    entries = [to_backend(e) for e in matrix]
+    # the entries the derivation converted the matrix from, when it did (most pieces)
+    known = backend_entries(matrix)
+    entries = list(known) if known is not None else [to_backend(e) for e in matrix]
     originals = list(mapping)
     renamed = [se.Symbol(f"_a{i}") for i in range(len(originals))]
     # by name: a model symbol with assumptions converts to SymEngine by its name alone
