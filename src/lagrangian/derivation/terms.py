@@ -432,15 +432,7 @@ def _symbol_power(factor: Backend) -> bool:
 def _plain_sympy_term(term: sp.Expr) -> bool:
     """A SymPy product of numbers, symbols, symbols to integer powers and sines and cosines
     of plain sums (symbols times numbers, numbers): ``sympy.expand`` leaves it as it is."""
-    for factor in term.args if term.is_Mul else (term,):
-        if factor.is_Number or factor.is_Symbol:
-            continue
-        if factor.is_Pow:
-            if not (factor.args[0].is_Symbol and factor.args[1].is_Integer):
-                return False
-        elif not (type(factor) in (sp.sin, sp.cos) and _plain_sympy_angle(factor.args[0])):
-            return False
-    return True
+    return _plain_product(term, (sp.sin, sp.cos), _plain_sympy_angle, None)
 
 
 def _plain_sympy_angle(angle: sp.Expr) -> bool:
@@ -458,7 +450,16 @@ def _plain_sympy_angle(angle: sp.Expr) -> bool:
 def _at_most_one_plain_trig(term: Backend) -> bool:
     """A product of numbers, symbols, integer powers of symbols and at most one sine or
     cosine of a sum of symbols each with coefficient +-1."""
-    trig = 0
+    return _plain_product(term, (se.sin, se.cos), plain_angle, 1)
+
+
+def _plain_product(
+    term: Any, trig: tuple[type, ...], angle: Callable[[Any], bool], most: int | None
+) -> bool:
+    """A product (SymPy's or SymEngine's: both name their kinds alike) of numbers, symbols,
+    integer powers of symbols and sines and cosines (the types ``trig``) whose arguments
+    ``angle`` accepts, at most ``most`` of those (None: any number)."""
+    count = 0
     for factor in term.args if term.is_Mul else (term,):
         if factor.is_Number or factor.is_Symbol:
             continue
@@ -466,9 +467,9 @@ def _at_most_one_plain_trig(term: Backend) -> bool:
             base, exponent = factor.args
             if not (base.is_Symbol and exponent.is_Integer):
                 return False
-        elif isinstance(factor, (se.sin, se.cos)) and plain_angle(factor.args[0]):
-            trig += 1
-            if trig > 1:
+        elif isinstance(factor, trig) and angle(factor.args[0]):
+            count += 1
+            if most is not None and count > most:
                 return False
         else:
             return False
