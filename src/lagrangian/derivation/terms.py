@@ -454,7 +454,7 @@ def _at_most_one_plain_trig(term: Backend) -> bool:
 
 
 def _plain_product(
-    term: Any, trig: tuple[type, ...], angle: Callable[[Any], bool], most: int | None
+    term: Any, trig: tuple[Any, ...], angle: Callable[[Any], bool], most: int | None
 ) -> bool:
     """A product (SymPy's or SymEngine's: both name their kinds alike) of numbers, symbols,
     integer powers of symbols and sines and cosines (the types ``trig``) whose arguments
