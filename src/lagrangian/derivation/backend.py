@@ -67,8 +67,13 @@ class SympyView:
     :func:`sympy_product`); everything else goes through SymPy's own constructors.
     """
 
-    def __init__(self, symbols: Iterable[sp.Symbol]) -> None:
-        self.by_name = {s.name: s for s in symbols}
+    def __init__(
+        self, symbols: Iterable[sp.Symbol], names: dict[str, sp.Expr] | None = None
+    ) -> None:
+        """``symbols`` are the SymPy objects of the backend symbols of the same names;
+        ``names`` maps further names to any SymPy expression the symbol stands for."""
+        self.by_name: dict[str, sp.Expr] = {s.name: s for s in symbols}
+        self.by_name.update(names or {})
         self._memo: dict[Backend, sp.Expr] = {}
         self._order = CanonicalOrder()
         # id of a converted angle -> (the angle, its canonical difference or None, flipped)

@@ -17,7 +17,7 @@ import symengine as se
 import sympy as sp
 
 from lagrangian.derivation.backend import Backend
-from lagrangian.derivation.terms import euler_lagrange_terms
+from lagrangian.derivation.terms import EulerLagrangeTerms, euler_lagrange_terms
 from lagrangian.model import System
 from lagrangian.symbolic.caches import IdentityCache
 from lagrangian.symbolic.symbols import velocity
@@ -116,14 +116,42 @@ def _show_steps(system: System) -> Steps:
     )
 
 
+_MOMENTA: IdentityCache[System, list[Backend]] = IdentityCache()
+
+
+def momenta(system: System) -> list[Backend]:
+    """dL/dq_dot_j of every coordinate of ``system`` in backend form, as the steps find it
+    (before it is tidied; computed once per System): the steps' own when they are derived
+    already, else L differentiated by the velocities alone (the same sums: the gradient
+    adds each term's derivative by a symbol in the same order whichever other symbols it
+    is asked for), without the equations the steps tidy."""
+    derived = _DERIVATIVES.peek(system)
+    if derived is not None:
+        return [d.momentum for d in derived]
+    return _MOMENTA.get(system, _velocity_gradient)
+
+
+def _velocity_gradient(system: System) -> list[Backend]:
+    terms = euler_lagrange_terms(system)
+    return terms.gradient(_compressed_lagrangian(terms), list(terms.assembly.q_dot))
+
+
+def _compressed_lagrangian(terms: EulerLagrangeTerms) -> Backend:
+    """L = T - V - U with its sums of parameters compressed
+    (:meth:`~lagrangian.derivation.terms.EulerLagrangeTerms.compress`).
+
+    V expanded: a chain's V = -g sum_i m_i y_i has its y_i = -(l_1 cos theta_1 + ...) as
+    one factor, which every theta_k would otherwise differentiate whole."""
+    asm = terms.assembly
+    return terms.compress(
+        terms.kinetic.kinetic_energy - se.expand(asm.potential) - asm.velocity_potential
+    )
+
+
 def _differentiate_lagrangian(system: System) -> list[_Derivatives]:
     terms = euler_lagrange_terms(system)
     asm = terms.assembly
-    # V expanded: a chain's V = -g sum_i m_i y_i has its y_i = -(l_1 cos theta_1 + ...) as
-    # one factor, which every theta_k would otherwise differentiate whole
-    lagrangian = terms.compress(
-        terms.kinetic.kinetic_energy - se.expand(asm.potential) - asm.velocity_potential
-    )
+    lagrangian = _compressed_lagrangian(terms)
     n = len(asm.q)
     # every partial derivative of L in one pass over its terms, not one pass per coordinate
     slopes = terms.gradient(lagrangian, [*asm.q, *asm.q_dot])

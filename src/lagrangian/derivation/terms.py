@@ -268,6 +268,16 @@ class EulerLagrangeTerms:
         """``expr`` tidied and in SymPy, with the System's own symbols."""
         return self.view(self.tidy(expr))
 
+    def sympy_expanded(self, expr: Backend) -> sp.Expr:
+        """``sympy.expand`` of ``expr`` in SymPy (its sums put back), expanded first in the
+        backend: the n^3 terms of a chain's expanded energy cost microseconds each there,
+        milliseconds in SymPy.  SymPy's expand is then run only when a term has what
+        SymEngine's leaves (functions of sums to expand, powers of sums, exponentials of
+        sums): on a sum of plain terms it would rebuild each to find it unchanged."""
+        converted = self.view(se.expand(self.expand_sums(expr)))
+        terms = converted.args if converted.is_Add else (converted,)
+        return converted if all(map(_plain_sympy_term, terms)) else sp.expand(converted)
+
     def sympy_vector(self, values: list[Backend]) -> sp.ImmutableMatrix:
         """Every entry tidied, as a SymPy column."""
         return self.view.vector([self.tidy(v) for v in values])
@@ -419,10 +429,37 @@ def _symbol_power(factor: Backend) -> bool:
     return bool(base.is_Symbol and exponent.is_Integer)
 
 
+def _plain_sympy_term(term: sp.Expr) -> bool:
+    """A SymPy product of numbers, symbols, symbols to integer powers and sines and cosines
+    of plain sums (symbols times numbers, numbers): ``sympy.expand`` leaves it as it is."""
+    return _plain_product(term, (sp.sin, sp.cos), _plain_sympy_angle, None)
+
+
+def _plain_sympy_angle(angle: sp.Expr) -> bool:
+    """A symbol, a number times a symbol, or a sum of such and numbers."""
+    for term in angle.args if angle.is_Add else (angle,):
+        if term.is_Number or term.is_Symbol:
+            continue
+        if not (term.is_Mul and len(term.args) == 2 and term.args[0].is_Number):
+            return False
+        if not term.args[1].is_Symbol:
+            return False
+    return True
+
+
 def _at_most_one_plain_trig(term: Backend) -> bool:
     """A product of numbers, symbols, integer powers of symbols and at most one sine or
     cosine of a sum of symbols each with coefficient +-1."""
-    trig = 0
+    return _plain_product(term, (se.sin, se.cos), plain_angle, 1)
+
+
+def _plain_product(
+    term: Any, trig: tuple[Any, ...], angle: Callable[[Any], bool], most: int | None
+) -> bool:
+    """A product (SymPy's or SymEngine's: both name their kinds alike) of numbers, symbols,
+    integer powers of symbols and sines and cosines (the types ``trig``) whose arguments
+    ``angle`` accepts, at most ``most`` of those (None: any number)."""
+    count = 0
     for factor in term.args if term.is_Mul else (term,):
         if factor.is_Number or factor.is_Symbol:
             continue
@@ -430,9 +467,9 @@ def _at_most_one_plain_trig(term: Backend) -> bool:
             base, exponent = factor.args
             if not (base.is_Symbol and exponent.is_Integer):
                 return False
-        elif isinstance(factor, (se.sin, se.cos)) and plain_angle(factor.args[0]):
-            trig += 1
-            if trig > 1:
+        elif isinstance(factor, trig) and angle(factor.args[0]):
+            count += 1
+            if most is not None and count > most:
                 return False
         else:
             return False
