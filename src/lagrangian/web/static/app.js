@@ -763,6 +763,7 @@ async function loadExamples() {
     return;
   }
   const menu = $("examples");
+  for (const entry of examples) exampleEntries[entry.name] = entry;
   for (const { name, description, benchmark } of examples) {
     const option = document.createElement("option");
     option.value = name;
@@ -772,13 +773,36 @@ async function loadExamples() {
   }
 }
 
+// An example built to a size (the gas's disks, the pendulum's links) shows the size field:
+// its number of disks is its number of coordinates, which no slider can change, so a new
+// size is a new model, written by the server.
+const exampleEntries = {};
+function showSizeField(name) {
+  const bounds = (exampleEntries[name] || {}).size;
+  $("size-field").hidden = !bounds;
+  if (!bounds) return null;
+  const input = $("example-size");
+  $("size-counts").textContent = bounds.counts[0].toUpperCase() + bounds.counts.slice(1);
+  input.max = bounds.largest;
+  if (input.dataset.example !== name) input.value = bounds.default;
+  input.dataset.example = name;
+  $("size-help").textContent =
+    `${bounds.counts} of the example, 1 to ${bounds.largest} here; more with the command line`;
+  const asked = Math.round(Number(input.value));
+  const size = Math.min(bounds.largest, Math.max(1, isFinite(asked) ? asked : bounds.default));
+  input.value = size;
+  return size;
+}
+
 let examplePicked = 0;
 async function loadExample(name) {
+  const size = showSizeField(name);
   if (!name) return;
   const picked = ++examplePicked;
   let example;
   try {
-    const response = await fetch(`/api/examples/${encodeURIComponent(name)}`);
+    const query = size === null ? "" : `?size=${size}`;
+    const response = await fetch(`/api/examples/${encodeURIComponent(name)}${query}`);
     if (!response.ok) return;
     example = await response.json();
   } catch (error) {
@@ -826,6 +850,7 @@ $("plot-kind").addEventListener("change", () => {
   if (state.run) drawPlotCursor(state.run.answer.rows[state.frame]);
 });
 $("examples").addEventListener("change", (event) => loadExample(event.target.value));
+$("example-size").addEventListener("change", () => loadExample($("examples").value));
 $("derive").addEventListener("click", derive);
 $("analyze").addEventListener("click", analyze);
 $("simulate").addEventListener("click", refresh);
