@@ -408,7 +408,8 @@ async function simulate(rebuild = true) {
   if (rebuild || !$("sliders").children.length) buildSliders(answer);
   buildPlotMenu();
   const s = answer.summary;
-  $("summary").textContent = `${s.samples} samples, ${s.method}: ${s.drift_summary}`;
+  const impacts = s.impacts_summary ? `; ${s.impacts_summary}` : ""; // as the command line says
+  $("summary").textContent = `${s.samples} samples, ${s.method}: ${s.drift_summary}${impacts}`;
   drawPlot();
   startAnimation(rebuild);
   markStale();
@@ -811,6 +812,7 @@ async function loadExample(name) {
   }
   serverFound();
   if (picked !== examplePicked) return; // another example was picked meanwhile
+  $("example-size").dataset.loaded = size === null ? "" : `${name}:${size}`;
   editor.value = example.model;
   $("format").value = example.format;
   modelChanged();
@@ -850,7 +852,11 @@ $("plot-kind").addEventListener("change", () => {
   if (state.run) drawPlotCursor(state.run.answer.rows[state.frame]);
 });
 $("examples").addEventListener("change", (event) => loadExample(event.target.value));
-$("example-size").addEventListener("change", () => loadExample($("examples").value));
+$("example-size").addEventListener("change", () => {
+  const input = $("example-size");
+  const asked = `${$("examples").value}:${Math.round(Number(input.value))}`;
+  if (asked !== input.dataset.loaded) loadExample($("examples").value); // a new size only
+});
 $("derive").addEventListener("click", derive);
 $("analyze").addEventListener("click", analyze);
 $("simulate").addEventListener("click", refresh);
