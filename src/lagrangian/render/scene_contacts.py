@@ -81,8 +81,9 @@ def contacts_of(system: System) -> Contacts:
         touching = [name for name, used in uses.items() if used & involved]
         if len(touching) == 2 and uses[touching[0]] | uses[touching[1]] >= involved:
             distance = _kept_distance(g, positions[touching[0]], positions[touching[1]], values)
-            for name in touching if distance is not None else ():
-                radii[name] = min(radii.get(name, math.inf), distance / 2)
+            if distance is not None:  # two disks in contact at d: each of radius d / 2
+                for name in touching:
+                    radii[name] = min(radii.get(name, math.inf), distance / 2)
         elif len(touching) == 1 and uses[touching[0]] >= involved:
             affine.append((touching[0], g))
     walls = [_wall(g, positions[name], name, values) for name, g in affine]

@@ -214,7 +214,7 @@ def _wall_elements(stage: Stage, contacts: Contacts) -> list[Element]:
     centres = {name: stage.flat(stage.point(name)) for name in contacts.radii}
     for wall in contacts.walls:
         centres.setdefault(wall.particle, stage.flat(stage.point(wall.particle)))
-    made = []
+    made: list[Element] = []
     for wall, segment in wall_segments(contacts, centres):
         shape = Shape("line", {"points": segment}, style(STRUCTURE, 2.5))
         info = {"normal": list(wall.normal), "offset": wall.offset}
