@@ -165,13 +165,16 @@ def test_an_impact_flashes_the_frame_of_its_sample(client: Any) -> None:
     document = simulate(client, "bouncing_ball")
     impacts = document["summary"]["impacts"]
     flashed = document["scene"]["impacts"]
-    assert impacts and flashed and all(f["label"] == "impact: floor" for f in flashed)
+    assert impacts and flashed
     times = np.asarray(document["columns"]["t"])[document["rows"]]
     for flash in flashed:  # the first frame at or after an impact of the run
         k = flash["frame"]
         struck = [i["t"] for i in impacts if (k == 0 or times[k - 1] < i["t"]) and
                   i["t"] <= times[k] + 1e-9]  # fmt: skip
         assert struck, (k, times[k])
+        # the bounces near rest come several a frame: the label counts them
+        many = f"{len(struck)} impacts: floor"
+        assert flash["label"] == ("impact: floor" if len(struck) == 1 else many)
 
 
 @pytest.mark.parametrize("name", ["two_mesh_circuit", "series_rlc"])

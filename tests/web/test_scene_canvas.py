@@ -268,3 +268,72 @@ def test_a_scene_of_two_panels_stacks_them(browser: Any, live_server: str) -> No
     )
     assert not errors
     page.context.close()
+
+
+def test_the_gas_draws_its_disks_where_the_run_puts_them_inside_its_box(
+    browser: Any, live_server: str
+) -> None:
+    page, errors = open_page(browser, live_server + "/", "desktop")
+    page.select_option("[data-testid=examples]", "simple_pendulum")
+    settled(page, "simple_pendulum")
+    assert page.locator("[data-testid=size-field]").is_hidden()  # a model file of its own size
+    page.select_option("[data-testid=examples]", "hard_disk_gas")
+    settled(page, "hard_disk_gas")
+    assert page.input_value("[data-testid=example-size]") == "4"
+    page.fill("[data-testid=example-size]", "9")  # nine disks: a new model, written for it
+    page.dispatch_event("[data-testid=example-size]", "change")  # once more: loaded once
+    text = examples.model_text("hard_disk_gas", 9)
+    page.wait_for_function("(text) => document.getElementById('editor').value === text",
+                           arg=text, timeout=60_000)  # fmt: skip
+    page.wait_for_function(
+        """() => document.getElementById('simulation-panel').dataset.version ===
+                 document.body.dataset.version && !document.querySelector('.panel.stale')""",
+        timeout=120_000,
+    )
+    version = page.evaluate("document.body.dataset.version")
+    status, body = run("simulate", text, "yaml", {})
+    assert status == 200
+    document = json.loads(body)
+    scene, rows, columns = document["scene"], document["rows"], document["columns"]
+    assert page.evaluate("state.run.answer.rows") == rows
+    assert page.evaluate("document.body.dataset.version") == version
+    counted = document["summary"]["impacts_summary"].split(" (")[0]  # "31 impacts"
+    assert counted.endswith("impacts") and counted in page.inner_text("[data-testid=summary]")
+    k = len(rows) // 2
+    drawn = show_frame(page, k)
+    # the panel is the gas's: its walls and disks, none of the pendulum's
+    (panel,) = scene["panels"]
+    listed = [(e["kind"], e["name"]) for e in panel["elements"]]
+    assert [(e["kind"], e["name"]) for e in drawn["elements"]] == listed
+    assert [kind for kind, _ in listed].count("particle") == 9 and (
+        "rod",
+        "origin-bob",
+    ) not in listed
+    canvas = page.evaluate("[canvas.width, canvas.height]")
+    box = boxes(1, *canvas)[0]
+    side, radius = 1.0, 1.0 / 3 / 5  # the box L = 1, nine disks of a fifth of L / 3
+    for disk in range(1, 10):  # each centre and rim where the run's columns put them
+        x, y = columns[f"x{disk}"][rows[k]], columns[f"y{disk}"][rows[k]]
+        assert radius <= x <= side - radius and radius <= y <= side - radius
+        color = next(e for e in panel["elements"] if e["name"] == f"disk{disk}")["shapes"][1]
+        u, v = to_pixels(panel, box, [x, y])
+        centre = page.evaluate(PIXELS, [round(float(u)), round(float(v)), 1])
+        assert ink_of(centre, color["color"]) >= 0.9, disk
+        angles = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+        rim = to_pixels(panel, box, np.c_[x + radius * np.cos(angles), y + radius * np.sin(angles)])
+        inked = [ink_of(page.evaluate(PIXELS, [round(float(a)), round(float(b)), 1]),
+                        color["color"]) for a, b in rim]  # fmt: skip
+        assert sum(share >= 0.6 for share in inked) >= 6, (disk, inked)
+    for wall in ([0, 0.5], [side, 0.5], [0.5, 0], [0.5, side]):  # the box's sides, in grey
+        along = (
+            np.array([[0, 0.25], [0, 0.75]]) if wall[1] == 0.5 else np.array([[0.25, 0], [0.75, 0]])
+        )
+        points = to_pixels(panel, box, np.array(wall) + (along - along.mean(axis=0)))
+        shares = [ink_of(page.evaluate(PIXELS, [round(float(a)), round(float(b)), 1]), "#4d4d4d")
+                  for a, b in points]  # fmt: skip
+        assert max(shares) >= 0.9, (wall, shares)
+    page.locator("[data-testid=simulation-panel]").screenshot(
+        path=str(ARTIFACTS / "scene_hard_disk_gas.png")
+    )
+    assert not errors
+    page.context.close()

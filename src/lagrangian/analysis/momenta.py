@@ -22,9 +22,9 @@ import sympy as sp
 from lagrangian.analysis.arguments import Subject, Values, equations_of
 from lagrangian.analysis.evaluation import EvaluationContext, condition_text, evaluation_context
 from lagrangian.analysis.manifold.constraint_manifold import constraint_manifold
+from lagrangian.analysis.manifold.left_out import constraint_names
 from lagrangian.analysis.names import OutputNames
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.model.constraints import label
 from lagrangian.symbolic.probe import is_zero
 
 
@@ -82,8 +82,9 @@ def conjugate_momenta(subject: Subject) -> ConjugateMomenta:
 
 def _obstructions(eom: EquationsOfMotion, j: int) -> list[tuple[str, str, sp.Expr]]:
     """(kind, description, expression) of everything that changes p_j: the applied force
-    Q_j, the dissipative force -dF/dq_dot_j, and each constraint with a force along q_j
-    (a non-zero column j of its Jacobian)."""
+    Q_j, the dissipative force -dF/dq_dot_j, each kept constraint with a force along q_j (a
+    non-zero column j of its Jacobian), and the unilateral constraints whose g contains q_j,
+    said together (a disk of a gas touches its walls and every other disk)."""
     q = eom.coordinates[j]
     found = []
     if not is_zero(eom.generalized_forces[j]):
@@ -93,22 +94,25 @@ def _obstructions(eom: EquationsOfMotion, j: int) -> list[tuple[str, str, sp.Exp
         friction = eom.dissipation_forces[j]
         found.append(("dissipation", f"the dissipative force {friction}", friction))
     manifold = constraint_manifold(eom)
-    if manifold is not None:
-        for row, name in enumerate(manifold.labels):
-            column = manifold.jacobian[row, j]
-            if not is_zero(column):
-                found.append(
-                    ("constraint", f"the constraint {name} (a_{q.name} = {column})", column)
-                )
-    for i, c in enumerate(eom.system.constraints):
-        if c.kind == "unilateral" and not is_zero(c.expression.diff(q)):
-            found.append(
-                (
-                    "constraint",
-                    f"the unilateral {label(i, c)} while in contact",
-                    c.expression.diff(q),
-                )
-            )
+    if manifold is None:
+        return found
+    for row, name in enumerate(manifold.labels):
+        column = manifold.jacobian[row, j]
+        if not is_zero(column):
+            found.append(("constraint", f"the constraint {name} (a_{q.name} = {column})", column))
+    # dg/dq_j from the classification's Jacobian (a row per constraint), not differentiated
+    # again: a gas of n disks has n (n - 1) / 2 contacts, O(n) of them along each coordinate
+    gradients = manifold.classification.constraint_jacobian
+    touching = [
+        (i, c, gradients[i, j])
+        for i, c in enumerate(eom.system.constraints)
+        if c.kind == "unilateral" and not is_zero(gradients[i, j])
+    ]
+    if touching:
+        named = constraint_names([(i, c) for i, c, _ in touching])
+        several = " constraints" if len(touching) > 1 else ""
+        what = f"the unilateral{several} {named} while in contact"
+        found += [("constraint", what, slope) for _, _, slope in touching]
     return found
 
 
@@ -123,10 +127,15 @@ def _cyclic(context: EvaluationContext, j: int) -> CyclicCoordinate:
             f"so d/dt p_{q.name} = dL/d{q.name} = 0"
         )
         return CyclicCoordinate(q, step.dL_dvelocity, reason)
-    conditions = [context.vanishing_condition(expr) for _, _, expr in blocking]
     kinds = tuple(dict.fromkeys(kind for kind, _, _ in blocking))
-    causes = "; ".join(what for _, what, _ in blocking)
-    if all(c is not None for c in conditions):
+    causes = "; ".join(dict.fromkeys(what for _, what, _ in blocking))
+    conditions = []
+    for _, _, expr in blocking:  # the first that the values leave non-zero settles it
+        condition = context.vanishing_condition(expr)
+        if condition is None:
+            break
+        conditions.append(condition)
+    else:
         condition = sp.And(*conditions)
         reason = (
             f"{absent}; {causes} vanishes at the given parameter values "
@@ -134,8 +143,9 @@ def _cyclic(context: EvaluationContext, j: int) -> CyclicCoordinate:
             f"p_{q.name} is conserved there (for other values it changes p_{q.name})"
         )
         return CyclicCoordinate(q, step.dL_dvelocity, reason, True, kinds, condition)
+    changes = "change" if len(blocking) > 1 else "changes"
     reason = (
-        f"{absent}, so it is cyclic, but p_{q.name} is not conserved: {causes} changes it "
+        f"{absent}, so it is cyclic, but p_{q.name} is not conserved: {causes} {changes} it "
         f"(d/dt p_{q.name} = Q_{q.name} - dF/d{q.name}_dot + sum_j lambda_j a_j{q.name})"
     )
     return CyclicCoordinate(q, step.dL_dvelocity, reason, False, kinds, sp.false)

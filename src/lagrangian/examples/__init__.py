@@ -3,7 +3,8 @@
 the n-link pendulum, the gas of hard disks).
 
 :data:`CATALOG` maps every example name to a function returning its System, and
-``lagrangian.examples.NAME()`` works for each; :func:`model_text` gives the model file itself.
+``lagrangian.examples.NAME()`` works for each; :func:`model_text` gives the model file itself
+(a scalable example's written from the System it builds, at its default size or the one asked).
 :data:`BENCHMARKS` holds the field's benchmarks (the Whipple bicycle), reached the same way.
 
 >>> import lagrangian as lg
@@ -15,7 +16,8 @@ from __future__ import annotations
 
 import difflib
 from collections.abc import Callable
-from functools import cache
+from dataclasses import dataclass
+from functools import cache, lru_cache
 from importlib.resources import files
 from typing import Any
 
@@ -23,20 +25,67 @@ from lagrangian.errors import ModelError
 from lagrangian.examples.gas import hard_disk_gas
 from lagrangian.examples.scalable import n_link_pendulum
 from lagrangian.io import loads
+from lagrangian.io.dump import dumps
 from lagrangian.model import System
 
 MODELS = files("lagrangian.examples").joinpath("models")
 
 
-def model_text(name: str) -> str:
-    """The model file of example ``name`` (YAML, with its reference equations as comments)."""
+@dataclass(frozen=True)
+class Size:
+    """The size a scalable example takes: what it ``counts`` (links, disks), its ``default``
+    and the ``largest`` it is built with."""
+
+    counts: str
+    default: int
+    largest: int
+
+
+#: The examples built in Python to a size (``NAME:SIZE`` on the command line): a chain's
+#: links, a gas's disks (n disks have n (n - 1) / 2 contacts).
+SIZES: dict[str, Size] = {
+    "n_link_pendulum": Size("links", 3, 200),
+    "hard_disk_gas": Size("disks", 4, 100),
+}
+#: Scalable example -> its largest size.
+SCALABLE: dict[str, int] = {name: size.largest for name, size in SIZES.items()}
+
+
+def model_text(name: str, size: int | None = None) -> str:
+    """The model file of example ``name`` (YAML, with its reference equations as comments).
+
+    A scalable example (:data:`SIZES`) is written from the System it builds with ``size``
+    (its default when None), headed by its description and how to ask for another size.
+
+    >>> model_text("hard_disk_gas", 2).splitlines()[0]
+    '# Gas of n elastic hard disks in a square box: every wall and disk contact unilateral, e = 1.'
+    """
     get(name)  # a clear error for an unknown name
-    resource = MODELS.joinpath(f"{name}.yaml")
-    if not resource.is_file():
+    scalable = SIZES.get(name)
+    if scalable is None:
+        if size is not None:
+            raise ModelError(f"The example {name!r} has no size; {', '.join(SIZES)} take one.")
+        return MODELS.joinpath(f"{name}.yaml").read_text(encoding="utf-8")
+    chosen = scalable.default if size is None else size
+    if not 1 <= chosen <= scalable.largest:
         raise ModelError(
-            f"The example {name!r} is built in Python (it takes a size), so it has no model file."
+            f"{name}: {chosen} {scalable.counts}; give a whole number from 1 to {scalable.largest}."
         )
-    return resource.read_text(encoding="utf-8")
+    return _written(name, chosen)
+
+
+@lru_cache(maxsize=16)
+def _written(name: str, size: int) -> str:
+    """The model file of the scalable example ``name`` built with ``size``."""
+    counts = SIZES[name].counts
+    header = (
+        f"{describe(name)}\n"
+        f"This file is the example built in Python with {size} {counts}, written as a model\n"
+        f"file. Another number N of {counts}: {name}:N on the command line,\n"
+        f'lagrangian.examples.model_text("{name}", N) in Python, the field beside the\n'
+        "playground's example menu."
+    )
+    return dumps(CATALOG[name](size), header=header)
 
 
 def _header(text: str) -> str:
@@ -62,11 +111,6 @@ def _file_example(name: str) -> Callable[[], System]:
 #: The field's benchmarks: model files whose derivation takes minutes, so they are kept out
 #: of :data:`CATALOG` (which every example-wide check walks) and reached by name.
 BENCHMARK_NAMES = ("whipple_bicycle",)
-
-
-#: The examples built in Python to a size (``NAME:SIZE`` on the command line) -> the largest
-#: size: a chain's links, a gas's disks (n disks have n (n - 1) / 2 contacts).
-SCALABLE: dict[str, int] = {"n_link_pendulum": 200, "hard_disk_gas": 100}
 
 
 def _catalog(benchmarks: bool = False) -> dict[str, Callable[..., System]]:
@@ -116,4 +160,15 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'lagrangian.examples' has no attribute {name!r}")
 
 
-__all__ = ["BENCHMARKS", "CATALOG", "SCALABLE", "describe", "get", "model_text", "names", *CATALOG]
+__all__ = [
+    "BENCHMARKS",
+    "CATALOG",
+    "SCALABLE",
+    "SIZES",
+    "Size",
+    "describe",
+    "get",
+    "model_text",
+    "names",
+    *CATALOG,
+]

@@ -58,7 +58,7 @@ from lagrangian.simulation.trajectory import Trajectory
 KINDS = (
     "particle", "rod", "spring", "damper", "disc", "body", "body_axes", "wire", "ground",
     "pulley", "string", "resistor", "inductor", "capacitor", "source", "mutual", "wire_circuit",
-    "current", "coordinates",
+    "current", "coordinates", "wall",
 )  # fmt: skip
 
 #: Significant digits kept in the JSON (a pixel of a 1000-pixel picture is 3).

@@ -1,7 +1,9 @@
 """The mechanical panel of a scene: particles with their trails, rods (consecutive points at a
 fixed distance, found from the positions), springs as coils between their ends (the rest
 length kept), dampers as dashpots, then the bodies, wires, pulleys and ground
-(:mod:`~lagrangian.render.scene_bodies`, :mod:`~lagrangian.render.scene_wires`).
+(:mod:`~lagrangian.render.scene_bodies`, :mod:`~lagrangian.render.scene_wires`), and the disks
+and walls that unilateral constraints describe (:mod:`~lagrangian.render.scene_contacts`: a
+gas's disks at their radius in their box).
 
 A spring and a damper between the same two points are drawn side by side, as they are built.
 
@@ -18,7 +20,7 @@ from __future__ import annotations
 import dataclasses
 import random
 from collections import defaultdict
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from itertools import pairwise
 from typing import Any
 
@@ -27,6 +29,7 @@ import sympy as sp
 
 from lagrangian.model import System
 from lagrangian.render.scene import PALETTE, Element, Panel, Shape, style
+from lagrangian.render.scene_contacts import Contacts, contacts_of, wall_segments
 from lagrangian.render.scene_geometry import across, coil_line, dashpot_line
 from lagrangian.render.stage import Stage, stage_of
 from lagrangian.render.timing import FrameStates
@@ -38,8 +41,10 @@ TRAIL = 40
 #: The coil's turns, and its half-width and a dashpot's as fractions of the scene's half-width.
 TURNS = 8
 COIL_WIDTH = 0.035
-#: The grey of rods, wires and strings.
+#: The grey of rods, wires, strings and walls.
 STRUCTURE = "#4d4d4d"
+#: The opacity (hex, of 255) of a disk's fill in its particle's colour.
+DISK_FILL = "40"
 
 
 def _constant_distance(a: Sequence[Any], b: Sequence[Any], coordinates: set[sp.Symbol]) -> bool:
@@ -90,15 +95,17 @@ def mechanics_panel(system: System, states: FrameStates, projection: str) -> Pan
     held = {name for string in strings for name in string.info["masses"]}
     wires, beads = wire_elements(stage, exclude=held)
     bodies = body_elements(stage, hung)
+    contacts = Contacts({}, ()) if stage.three_d or stage.vertical else contacts_of(system)
     elements = [
         *ground_elements(stage),
+        *_wall_elements(stage, contacts),
         *wires,
         *strings,
         *_rod_elements(stage, exclude=beads),
         *_link_elements(stage),
         *pulleys,
         *bodies,
-        *_particle_elements(stage),
+        *_particle_elements(stage, contacts.radii),
     ]
     title = system.name or "system"
     if stage.three_d:
@@ -178,18 +185,40 @@ def _shifted(a: np.ndarray, b: np.ndarray, shift: float) -> tuple[np.ndarray, np
     return a + shift * normal, b + shift * normal
 
 
-def _particle_elements(stage: Stage) -> list[Element]:
-    """Each particle as a dot of its colour with a trail of its last :data:`TRAIL` frames."""
+def _particle_elements(stage: Stage, radii: Mapping[str, float]) -> list[Element]:
+    """Each particle as a dot of its colour with a trail of its last :data:`TRAIL` frames; one
+    with a radius (a hard disk) also as its disk, outlined and lightly filled."""
     particles = {p.name for p in stage.system.particles}
     made = []
     for name in stage.names:
         if name not in particles:
             continue  # a body's centre: drawn with the body
         mass = next(p.mass for p in stage.system.particles if p.name == name)
-        dot = Shape("dot", {"at": stage.flat(stage.point(name))},
-                    {"color": point_color(stage, name), "size": 9.0, "trail": TRAIL},
+        colour = point_color(stage, name)
+        centre = stage.flat(stage.point(name))
+        dot = Shape("dot", {"at": centre}, {"color": colour, "size": 9.0, "trail": TRAIL},
                     moving=True)  # fmt: skip
-        made.append(Element("particle", (dot,), name, {"mass": stage.number(mass)}))
+        info: dict[str, Any] = {"mass": stage.number(mass)}
+        shapes: tuple[Shape, ...] = (dot,)
+        if name in radii:
+            info["radius"] = radii[name]
+            disk = Shape("circle", {"centre": centre, "radius": radii[name]},
+                         style(colour, 1.5, fill=colour + DISK_FILL), moving=True)  # fmt: skip
+            shapes = (disk, dot)
+        made.append(Element("particle", shapes, name, info))
+    return made
+
+
+def _wall_elements(stage: Stage, contacts: Contacts) -> list[Element]:
+    """The walls the unilateral constraints put the particles behind, each drawn once."""
+    centres = {name: stage.flat(stage.point(name)) for name in contacts.radii}
+    for wall in contacts.walls:
+        centres.setdefault(wall.particle, stage.flat(stage.point(wall.particle)))
+    made: list[Element] = []
+    for wall, segment in wall_segments(contacts, centres):
+        shape = Shape("line", {"points": segment}, style(STRUCTURE, 2.5))
+        info = {"normal": list(wall.normal), "offset": wall.offset}
+        made.append(Element("wall", (shape,), f"wall {len(made) + 1}", info))
     return made
 
 

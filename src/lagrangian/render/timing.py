@@ -132,11 +132,29 @@ def _interpolated(times: np.ndarray, t: np.ndarray, values: Any) -> np.ndarray:
 
 def impact_frames(trajectory: Trajectory, states: FrameStates) -> tuple[tuple[int, str], ...]:
     """The first frame at or after each impact (or transition) of the run, with what struck:
-    ``((frame, "impact: floor"), ...)``; one entry per frame."""
-    found: dict[int, str] = {}
+    ``((frame, "impact: floor"), ...)``; one entry per frame, naming every constraint that
+    struck since the frame before (a gas has several impacts a frame), the first
+    :data:`NAMED_IMPACTS` of them and how many more."""
+    struck: dict[int, list[str]] = {}
+    count: dict[int, int] = {}
     times = states.t
     for impact in trajectory.impacts:
         frame = int(np.searchsorted(times, impact.t - 1e-12))
-        if frame < len(times) and frame not in found:
-            found[frame] = "impact: " + ", ".join(impact.constraints)
-    return tuple(sorted(found.items()))
+        if frame < len(times):
+            names = struck.setdefault(frame, [])
+            names += [name for name in impact.constraints if name not in names]
+            count[frame] = count.get(frame, 0) + 1
+    return tuple(
+        (frame, _impact_label(names, count[frame])) for frame, names in sorted(struck.items())
+    )
+
+
+#: The constraints an impact's label names before it counts the rest.
+NAMED_IMPACTS = 3
+
+
+def _impact_label(names: list[str], impacts: int) -> str:
+    """``impact: floor``; ``3 impacts: a, b, c and 2 more`` for several in one frame."""
+    more = len(names) - NAMED_IMPACTS
+    shown = ", ".join(names[:NAMED_IMPACTS]) + (f" and {more} more" if more > 0 else "")
+    return (f"{impacts} impacts: " if impacts > 1 else "impact: ") + shown

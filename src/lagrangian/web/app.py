@@ -8,9 +8,11 @@
   not sent within ``Limits.body_seconds`` 408, a request from a page of another site 403;
 - ``POST /api/export`` with ``{"options": {"language": "numpy|c|matlab|julia"}}``: the
   generated code as ``{"language", "files": {NAME: TEXT}}``;
-- ``GET /api/examples``: the built-in examples that have a model file (the Whipple bicycle
-  among them), with a line each;
-- ``GET /api/examples/NAME``: ``{"name", "description", "format", "model"}``;
+- ``GET /api/examples``: the built-in examples (the Whipple bicycle among them), with a line
+  each; those built in Python to a size (the gas of hard disks) with ``size``: what it
+  counts, its default and the largest the page offers;
+- ``GET /api/examples/NAME[?size=N]``: ``{"name", "description", "format", "model"}``, a
+  scalable example's model written at its default size or N;
 - ``GET /api/health``: the workers running and the requests admitted.
 
 The work runs in worker processes (:mod:`.pool`); the server itself only reads, checks and
@@ -199,22 +201,51 @@ async def answer_unless_gone(
             await gone
 
 
+#: The largest size the page offers of each example built to a size: its derivation,
+#: analysis and run each well inside the default CPU bound of a request (20 s).  Measured
+#: (CPU s, one core): the gas of 25 disks (400 contacts) derives in 7.4, analyzes in 3.8 and
+#: simulates in 1.9; the pendulum of 4 links analyzes in 4.1 (6 links: 11 s and 23 MB of
+#: answer).
+PAGE_LARGEST = {"hard_disk_gas": 25, "n_link_pendulum": 4}
+
+
 @cache
 def example_list() -> list[dict[str, Any]]:
-    """The examples that ship a model file, the field's benchmarks (large, last) among them:
-    name, one line, and whether it is a benchmark."""
+    """Every example, the field's benchmarks (large, last) among them: name, one line,
+    whether it is a benchmark, and for one built to a size (``size``) what the size counts,
+    its default and the largest the page offers."""
     from lagrangian import examples
 
-    listed = [*examples.names(), *examples.BENCHMARKS]
-    return [
-        {
+    listed = []
+    for name in [*examples.names(), *examples.BENCHMARKS]:
+        entry: dict[str, Any] = {
             "name": name,
             "description": examples.describe(name),
             "benchmark": name in examples.BENCHMARKS,
         }
-        for name in listed
-        if examples.MODELS.joinpath(f"{name}.yaml").is_file()
-    ]
+        if name in examples.SIZES:
+            size = examples.SIZES[name]
+            largest = min(size.largest, PAGE_LARGEST.get(name, size.default))
+            entry["size"] = {"counts": size.counts, "default": size.default, "largest": largest}
+        listed.append(entry)
+    return listed
+
+
+def requested_size(request: Request, entry: dict[str, Any]) -> int | Problem | None:
+    """The ``size`` asked in the query (None when not asked), or the problem with it."""
+    asked = request.query_params.get("size")
+    if asked is None:
+        return None
+    bounds = entry.get("size")
+    if bounds is None:
+        fix = "leave out ?size=: this example is a model file of its own size"
+        return Problem("size", f"the example {entry['name']!r} takes no size", fix)
+    if not asked.isdigit() or not 1 <= int(asked) <= bounds["largest"]:
+        fix = f"give a whole number of {bounds['counts']} from 1 to {bounds['largest']}"
+        if asked.isdigit() and int(asked) > bounds["largest"]:
+            fix += f" (more with the lagrangian command: {entry['name']}:{asked})"
+        return Problem("size", f"{asked!r} {bounds['counts']}", fix)
+    return int(asked)
 
 
 async def list_examples(request: Request) -> Response:
@@ -222,15 +253,18 @@ async def list_examples(request: Request) -> Response:
 
 
 async def example(request: Request) -> Response:
-    """``GET /api/examples/NAME``: the model file of one example."""
+    """``GET /api/examples/NAME[?size=N]``: the model file of one example."""
     name = request.path_params["name"]
     known = {entry["name"]: entry for entry in await asyncio.to_thread(example_list)}
     if name not in known:
         fix = "GET /api/examples lists them"
         return problems_response(404, [Problem("name", f"no example {name!r}", fix)])
+    size = requested_size(request, known[name])
+    if isinstance(size, Problem):
+        return problems_response(422, [size])
     from lagrangian import examples
 
-    text = examples.model_text(name)
+    text = await asyncio.to_thread(examples.model_text, name, size)
     return JSONResponse({**known[name], "format": "yaml", "model": text})
 
 

@@ -17,7 +17,7 @@ so lambda_j a_j is the force of constraint j and its power is lambda_j a_j . q_d
 
 Redundant constraints (a Jacobian row that is a combination of earlier ones) are left out, as
 their multipliers are not determined; unilateral constraints g >= 0 are taken as not in
-contact (released), and both are listed in ``left_out``.  The dimensions (Greenwood,
+contact (released), and both are said in ``left_out``, once per reason.  The dimensions (Greenwood,
 *Advanced Dynamics* §1.3; Bloch, *Nonholonomic Mechanics and Control* §1.2):
 
     configuration_dimension = n - rank(holonomic rows)       (the manifold of configurations)
@@ -38,6 +38,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagrangian.analysis.arguments import evaluate
+from lagrangian.analysis.manifold.left_out import REDUNDANT, UNILATERAL, LeftOut, statements
 from lagrangian.constraints import ConstraintReport, classify, multiplier_symbols
 from lagrangian.constraints.pfaffian import acceleration_terms, pfaffian_form
 from lagrangian.constraints.projection import Violation, project_state, violations
@@ -72,7 +73,7 @@ class ConstraintManifold:
     rates: sp.ImmutableMatrix
     gamma: sp.ImmutableMatrix
     multipliers: tuple[sp.Symbol, ...]
-    left_out: tuple[str, ...]
+    left_out: tuple[str, ...]  # one statement per reason (:mod:`.left_out`)
     classification: ConstraintReport
 
     @property
@@ -142,14 +143,14 @@ def _build(eom: EquationsOfMotion) -> ConstraintManifold | None:
     kept, left_out = [], []
     for i, constraint in enumerate(system.constraints):
         why = (
-            "unilateral: taken as released (g > 0)"
+            UNILATERAL
             if constraint.kind == "unilateral"
-            else "redundant: its Jacobian row is a combination of earlier ones"
+            else REDUNDANT
             if report.constraints[i].redundant
-            else ""
+            else None
         )
-        if why:
-            left_out.append(f"{label(i, constraint)} {why}")
+        if why is not None:
+            left_out.append(LeftOut(i, constraint, why))
         else:
             kept.append(i)
     forms = [pfaffian_form(system.constraints[i], coordinates) for i in kept]
@@ -170,7 +171,7 @@ def _build(eom: EquationsOfMotion) -> ConstraintManifold | None:
         rates=sp.ImmutableMatrix(len(forms), 1, [f.time_coefficient for f in forms]),
         gamma=sp.ImmutableMatrix(len(forms), 1, acceleration_terms(forms, coordinates)),
         multipliers=tuple(names[i] for i in kept),
-        left_out=tuple(left_out),
+        left_out=statements(left_out),
         classification=report,
     )
 

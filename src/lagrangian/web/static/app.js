@@ -408,7 +408,8 @@ async function simulate(rebuild = true) {
   if (rebuild || !$("sliders").children.length) buildSliders(answer);
   buildPlotMenu();
   const s = answer.summary;
-  $("summary").textContent = `${s.samples} samples, ${s.method}: ${s.drift_summary}`;
+  const impacts = s.impacts_summary ? `; ${s.impacts_summary}` : ""; // as the command line says
+  $("summary").textContent = `${s.samples} samples, ${s.method}: ${s.drift_summary}${impacts}`;
   drawPlot();
   startAnimation(rebuild);
   markStale();
@@ -763,6 +764,7 @@ async function loadExamples() {
     return;
   }
   const menu = $("examples");
+  for (const entry of examples) exampleEntries[entry.name] = entry;
   for (const { name, description, benchmark } of examples) {
     const option = document.createElement("option");
     option.value = name;
@@ -772,13 +774,36 @@ async function loadExamples() {
   }
 }
 
+// An example built to a size (the gas's disks, the pendulum's links) shows the size field:
+// its number of disks is its number of coordinates, which no slider can change, so a new
+// size is a new model, written by the server.
+const exampleEntries = {};
+function showSizeField(name) {
+  const bounds = (exampleEntries[name] || {}).size;
+  $("size-field").hidden = !bounds;
+  if (!bounds) return null;
+  const input = $("example-size");
+  $("size-counts").textContent = bounds.counts[0].toUpperCase() + bounds.counts.slice(1);
+  input.max = bounds.largest;
+  if (input.dataset.example !== name) input.value = bounds.default;
+  input.dataset.example = name;
+  $("size-help").textContent =
+    `${bounds.counts} of the example, 1 to ${bounds.largest} here; more with the command line`;
+  const asked = Math.round(Number(input.value));
+  const size = Math.min(bounds.largest, Math.max(1, isFinite(asked) ? asked : bounds.default));
+  input.value = size;
+  return size;
+}
+
 let examplePicked = 0;
 async function loadExample(name) {
+  const size = showSizeField(name);
   if (!name) return;
   const picked = ++examplePicked;
   let example;
   try {
-    const response = await fetch(`/api/examples/${encodeURIComponent(name)}`);
+    const query = size === null ? "" : `?size=${size}`;
+    const response = await fetch(`/api/examples/${encodeURIComponent(name)}${query}`);
     if (!response.ok) return;
     example = await response.json();
   } catch (error) {
@@ -787,6 +812,7 @@ async function loadExample(name) {
   }
   serverFound();
   if (picked !== examplePicked) return; // another example was picked meanwhile
+  $("example-size").dataset.loaded = size === null ? "" : `${name}:${size}`;
   editor.value = example.model;
   $("format").value = example.format;
   modelChanged();
@@ -826,6 +852,11 @@ $("plot-kind").addEventListener("change", () => {
   if (state.run) drawPlotCursor(state.run.answer.rows[state.frame]);
 });
 $("examples").addEventListener("change", (event) => loadExample(event.target.value));
+$("example-size").addEventListener("change", () => {
+  const input = $("example-size");
+  const asked = `${$("examples").value}:${Math.round(Number(input.value))}`;
+  if (asked !== input.dataset.loaded) loadExample($("examples").value); // a new size only
+});
 $("derive").addEventListener("click", derive);
 $("analyze").addEventListener("click", analyze);
 $("simulate").addEventListener("click", refresh);
