@@ -18,11 +18,8 @@ An error with the input is an answer too: HTTP 422 and ``{"problems": [{"field",
 from __future__ import annotations
 
 import json
-import math
 from collections.abc import Callable
 from typing import Any
-
-import numpy as np
 
 from lagrangian.documents import (
     analysis_of,
@@ -30,6 +27,7 @@ from lagrangian.documents import (
     apply_settings,
     derivation_document,
     derivation_latex,
+    run_document,
 )
 from lagrangian.errors import LagrangianError, Problem, SimulationError
 from lagrangian.io import loads
@@ -40,7 +38,6 @@ from lagrangian.render.analysis_latex import analysis_latex
 from lagrangian.render.scene import scene_of
 from lagrangian.render.timing import spread_rows
 from lagrangian.simulation import Trajectory, simulate
-from lagrangian.simulation.impact_table import impact_records, impacts_summary
 from lagrangian.size_limits import size_limit
 from lagrangian.web.limits import TimeLimitExceeded
 from lagrangian.web.wording import WEB, problem_document
@@ -114,26 +111,7 @@ def simulate_document(
         rows = len(trajectory.t)
         where = f" ({rows} rows, up to t = {trajectory.t[-1]:.6g})" if rows else ""
         raise SimulationError(f"{trajectory.worded_message(WEB)}{where}")
-    return {
-        "columns": {name: finite_list(values) for name, values in trajectory.columns().items()},
-        "summary": simulation_summary(trajectory),
-        **scene_document(system, trajectory),
-    }
-
-
-def simulation_summary(trajectory: Trajectory) -> dict[str, Any]:
-    """What ``lagrangian simulate`` says after the run: samples, method, drift."""
-    return {
-        "status": trajectory.status,
-        "message": trajectory.worded_message(WEB),
-        "method": trajectory.method,
-        "samples": len(trajectory.t),
-        "parameters": dict(trajectory.parameters),
-        "drift": {key: _finite(value) for key, value in trajectory.drift().items()},
-        "drift_summary": trajectory.drift_summary(),
-        "impacts": impact_records(trajectory.impacts),
-        "impacts_summary": impacts_summary(trajectory.impacts),
-    }
+    return {**run_document(trajectory, WEB), **scene_document(system, trajectory)}
 
 
 def scene_document(system: System, trajectory: Trajectory) -> dict[str, Any]:
@@ -143,22 +121,6 @@ def scene_document(system: System, trajectory: Trajectory) -> dict[str, Any]:
     slider, its plot cursor and its drawing show the same sample."""
     rows = spread_rows(len(trajectory.t))
     return {"scene": scene_of(system, trajectory, rows=rows).to_dict(), "rows": rows.tolist()}
-
-
-def _finite(value: Any) -> Any:
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
-
-
-def finite_list(values: np.ndarray) -> list[Any]:
-    """An array as nested lists, with None for NaN and infinities (JSON has neither)."""
-    array = np.asarray(values, dtype=float)
-    if np.isfinite(array).all():
-        return list(array.tolist())
-    shown = array.astype(object)
-    shown[~np.isfinite(array)] = None
-    return list(shown.tolist())
 
 
 def error_document(message: str, problems: tuple[Problem, ...] = (), fix: str = "") -> bytes:
