@@ -30,12 +30,12 @@ pytestmark = pytest.mark.slow
 
 
 @pytest.fixture
-def page(browser: Any, live_server: str) -> Iterator[Any]:
+def page(browser: Any, page_server: str) -> Iterator[Any]:
     context = browser.new_context(viewport={"width": 1400, "height": 1000})
     opened = context.new_page()
     failures: list[str] = []
     opened.on("requestfailed", lambda request: failures.append(request.url))
-    opened.goto(live_server + "/")
+    opened.goto(page_server + "/")
     opened.wait_for_selector("body[data-ready=true]", timeout=90_000)
     yield opened
     context.close()

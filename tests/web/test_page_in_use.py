@@ -89,8 +89,8 @@ def test_the_server_outlives_a_3_s_limit_and_the_page_says_when_it_is_gone(
 
 
 @pytest.mark.parametrize("size", list(SIZES))
-def test_no_panel_shows_another_model(browser: Any, live_server: str, size: str) -> None:
-    page = _open(browser, live_server + "/", size)
+def test_no_panel_shows_another_model(browser: Any, page_server: str, size: str) -> None:
+    page = _open(browser, page_server + "/", size)
     menu = page.locator("[data-testid=examples]")
     menu.focus()
     for _ in range(4):  # arrowing through the menu: each step picks an example
@@ -171,11 +171,11 @@ def _analysis_latex(name: str) -> str:
 
 @pytest.mark.parametrize("size", list(SIZES))
 def test_every_analysis_of_every_example_fits_its_box(
-    browser: Any, live_server: str, size: str
+    browser: Any, page_server: str, size: str
 ) -> None:
     """The analysis panel's rows (momenta, energy, equilibria, modes...) of every example in
     the menu fit their box as the derivation's do."""
-    page = _open(browser, live_server + "/", size)
+    page = _open(browser, page_server + "/", size)
     listed = page.eval_on_selector_all(
         "[data-testid=examples] option", "(os) => os.map((o) => o.value).filter(Boolean)"
     )
@@ -200,9 +200,9 @@ PICTURED = ("double_pendulum", "asymmetric_body", "physical_pendulum_3d", "rolli
 
 @pytest.mark.parametrize("size", list(SIZES))
 def test_every_equation_of_every_example_fits_its_box(
-    browser: Any, live_server: str, size: str
+    browser: Any, page_server: str, size: str
 ) -> None:
-    page = _open(browser, live_server + "/", size)
+    page = _open(browser, page_server + "/", size)
     listed = page.eval_on_selector_all(
         "[data-testid=examples] option", "(os) => os.map((o) => o.value).filter(Boolean)"
     )
@@ -237,10 +237,10 @@ def test_every_equation_of_every_example_fits_its_box(
     assert not misfits, json.dumps(misfits, indent=1)
 
 
-def test_equations_are_set_again_when_the_window_narrows(browser: Any, live_server: str) -> None:
+def test_equations_are_set_again_when_the_window_narrows(browser: Any, page_server: str) -> None:
     """Rows set for a desktop's width are set again for a phone's when the window narrows
     (a phone turned, a window resized): none is left wider than its new box."""
-    page = _open(browser, live_server + "/")
+    page = _open(browser, page_server + "/")
     status, body = run("derive", examples.model_text("asymmetric_body"), "yaml", {})
     assert status == 200
     latex = json.loads(body)["latex"]
@@ -273,8 +273,8 @@ CONTROLS = "button:not([hidden]), select, input, textarea, a[href]"
 
 
 @pytest.mark.parametrize("size", list(SIZES))
-def test_a_keyboard_reaches_every_control(browser: Any, live_server: str, size: str) -> None:
-    page = _open(browser, live_server + "/", size)
+def test_a_keyboard_reaches_every_control(browser: Any, page_server: str, size: str) -> None:
+    page = _open(browser, page_server + "/", size)
     _settled(page)
     expected = page.eval_on_selector_all(
         CONTROLS,
@@ -319,9 +319,9 @@ def _contrast(color: str) -> float:
 
 
 def test_sliders_are_exact_signed_reset_and_kept_in_the_link(
-    browser: Any, live_server: str
+    browser: Any, page_server: str
 ) -> None:
-    page = _open(browser, live_server + "/")
+    page = _open(browser, page_server + "/")
     page.select_option("[data-testid=examples]", "simple_pendulum")
     page.wait_for_selector("#sliders input[type=number][data-name=g]", timeout=60_000)
     _settled(page)
@@ -354,9 +354,9 @@ def test_sliders_are_exact_signed_reset_and_kept_in_the_link(
 
 
 def test_the_animation_pauses_steps_and_runs_at_the_motions_pace(
-    browser: Any, live_server: str
+    browser: Any, page_server: str
 ) -> None:
-    page = _open(browser, live_server + "/")
+    page = _open(browser, page_server + "/")
     page.select_option("[data-testid=examples]", "series_rlc")
     page.wait_for_function("() => document.getElementById('editor').value.includes('RLC')")
     _settled(page)

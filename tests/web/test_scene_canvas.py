@@ -179,9 +179,9 @@ def first(scene: dict[str, Any], kind: str, shape_type: str) -> tuple[int, int, 
 
 @pytest.mark.parametrize("size", list(SIZES))
 def test_the_canvas_draws_the_scene_at_the_sliders_frame(
-    browser: Any, live_server: str, size: str
+    browser: Any, page_server: str, size: str
 ) -> None:
-    page, errors = open_page(browser, live_server + "/", size)
+    page, errors = open_page(browser, page_server + "/", size)
     ARTIFACTS.mkdir(exist_ok=True)
     for name, share in SHOWN.items():
         page.select_option("[data-testid=examples]", name)
@@ -230,8 +230,8 @@ def test_the_canvas_draws_the_scene_at_the_sliders_frame(
     page.context.close()
 
 
-def test_an_impact_flashes_its_frame(browser: Any, live_server: str) -> None:
-    page, errors = open_page(browser, live_server + "/", "desktop")
+def test_an_impact_flashes_its_frame(browser: Any, page_server: str) -> None:
+    page, errors = open_page(browser, page_server + "/", "desktop")
     page.select_option("[data-testid=examples]", "bouncing_ball")
     settled(page, "bouncing_ball")
     scene = page.evaluate("state.run.answer.scene")
@@ -250,8 +250,8 @@ def test_an_impact_flashes_its_frame(browser: Any, live_server: str) -> None:
     page.context.close()
 
 
-def test_a_scene_of_two_panels_stacks_them(browser: Any, live_server: str) -> None:
-    page, errors = open_page(browser, live_server + "/", "phone")
+def test_a_scene_of_two_panels_stacks_them(browser: Any, page_server: str) -> None:
+    page, errors = open_page(browser, page_server + "/", "phone")
     page.select_option("[data-testid=examples]", "servo_system")  # a circuit and a rotor
     settled(page, "servo_system")
     scene, rows = page.evaluate("[state.run.answer.scene, state.run.answer.rows]")
@@ -271,9 +271,9 @@ def test_a_scene_of_two_panels_stacks_them(browser: Any, live_server: str) -> No
 
 
 def test_the_gas_draws_its_disks_where_the_run_puts_them_inside_its_box(
-    browser: Any, live_server: str
+    browser: Any, page_server: str
 ) -> None:
-    page, errors = open_page(browser, live_server + "/", "desktop")
+    page, errors = open_page(browser, page_server + "/", "desktop")
     page.select_option("[data-testid=examples]", "simple_pendulum")
     settled(page, "simple_pendulum")
     assert page.locator("[data-testid=size-field]").is_hidden()  # a model file of its own size
