@@ -108,3 +108,22 @@ def test_impacts_are_marked_where_the_ball_hits_the_floor() -> None:
         assert marks[0].get_label() == "impacts"
     free = overview(simulate(lg.examples.simple_pendulum(), t_span=1.0, samples=20))
     assert not [line for a in free.axes for line in a.get_lines() if line.get_label() == "impacts"]
+
+
+def test_contacts_that_never_close_get_no_curve() -> None:
+    """Newton's cradle from rest with the first ball moving: its two contacts only strike
+    (impulses, no lasting force), so their multipliers are never finite; a gas's dozens of
+    idle contacts likewise add no panel and no legend of NaN lines."""
+    from lagrangian.render.plots import overview
+
+    cradle = lg.examples.newtons_cradle()
+    run = simulate(cradle, t_span=1.0, samples=50)
+    assert run.multipliers is not None and not np.isfinite(run.multipliers).any()
+    figure = overview(run, system=cradle)
+    assert not [ax for ax in figure.axes if ax.get_title().startswith("Constraint forces")]
+    # a ball at rest on the floor: its contact acts, the panel shows that one curve only
+    ball = lg.examples.bouncing_ball()
+    resting = overview(simulate(ball, t_span=6.0, samples=300), system=ball)
+    (panel,) = [ax for ax in resting.axes if ax.get_title().startswith("Constraint forces")]
+    (line,) = panel.get_lines()
+    assert np.nanmax(line.get_ydata()) == pytest.approx(9.81, rel=1e-6)  # m g at rest

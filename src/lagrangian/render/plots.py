@@ -168,23 +168,41 @@ def plot_energy_drift(
     return ax
 
 
+#: The most multipliers a legend names (a gas's dozens of contacts would bury the curves).
+LEGEND_ENTRIES = 10
+
+
+def acting_multipliers(trajectory: Trajectory) -> list[int]:
+    """The multipliers that act somewhere in the run: a unilateral contact that never
+    closes has no force (NaN throughout) and no curve."""
+    if trajectory.multipliers is None:
+        return []
+    finite = np.isfinite(trajectory.multipliers)
+    return [j for j in range(len(trajectory.multiplier_names)) if finite[:, j].any()]
+
+
 def plot_constraint_forces(
     trajectory: Trajectory,
     ax: Axes | None = None,
     *,
     units: Mapping[str, str] | None = None,
 ) -> Axes:
-    """Each Lagrange multiplier against t: the force of its constraint (lambda_j dh_j/dq)."""
+    """Each Lagrange multiplier that acts against t: the force of its constraint
+    (lambda_j dh_j/dq); the title counts the contacts that never closed."""
     ax = ax if ax is not None else _new_axes()
     assert trajectory.multipliers is not None, "a trajectory of a constrained system"
-    for j, name in enumerate(trajectory.multiplier_names):
+    acting = acting_multipliers(trajectory)
+    for j in acting:
+        name = trajectory.multiplier_names[j]
         ax.plot(trajectory.t, trajectory.multipliers[:, j], label=label(sp.Symbol(name)))
     if len(trajectory.t):  # a contact that closes late still spans the run's time axis
         ax.set_xlim(trajectory.t[0], trajectory.t[-1])
     ax.set_xlabel(time_label(units))
     ax.set_ylabel("multiplier")
-    ax.set_title("Constraint forces")
-    ax.legend(loc="best")
+    idle = len(trajectory.multiplier_names) - len(acting)
+    ax.set_title("Constraint forces" + (f" ({idle} never in contact)" if idle else ""))
+    if 0 < len(acting) <= LEGEND_ENTRIES:
+        ax.legend(loc="best")
     ax.grid(True, alpha=0.3)
     return ax
 
@@ -200,7 +218,7 @@ def overview(
 
     units = dict(system.units) if system is not None else dict(trajectory.units) or None
     groups = scale_groups(trajectory)
-    forces = trajectory.multipliers is not None and len(trajectory.multiplier_names) > 0
+    forces = bool(acting_multipliers(trajectory))  # a gas whose contacts never hold: none
     rows = len(groups) + forces
     figure = Figure(figsize=(15, 4.5 if rows == 1 else 2.6 * rows), layout="constrained")
     grid = figure.add_gridspec(rows, 3)
