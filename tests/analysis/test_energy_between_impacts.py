@@ -31,3 +31,14 @@ def test_the_text_writes_a_unilateral_constraint_as_its_inequality() -> None:
     text = analysis_text(lg.analyze(lg.examples.bouncing_ball()))
     assert "\n  y >= 0: unilateral: the inequality" in text
     assert "y = 0:" not in text  # not an equation, nor its kind said twice
+
+
+def test_impacts_of_one_coefficient_are_said_once_for_all_their_constraints() -> None:
+    # the default gas: 4 disks, 16 walls and 6 pairs, all elastic
+    report = lg.analyze(lg.examples.hard_disk_gas())
+    assert report.energy is not None
+    assert (
+        report.energy.reason.count("impacts on") == 1 and "an impact on" not in report.energy.reason
+    )
+    assert "impacts on the 22 constraints 'left1' (constraints[0]), " in report.energy.reason
+    assert "and 16 more (e = 1) keep it too" in report.energy.reason
