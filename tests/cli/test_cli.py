@@ -236,6 +236,11 @@ def test_a_bad_model_file_names_file_field_line_and_column(
 def test_examples_prints_the_model_file(capsys: pytest.CaptureFixture[str]) -> None:
     code, out, _ = run(capsys, "examples", "double_pendulum")
     assert code == 0 and "particles:" in out and out.startswith("# Double pendulum")
+    # a scalable example at the size asked, as every other command reads NAME:N
+    code, out, _ = run(capsys, "examples", "hard_disk_gas:3")
+    assert code == 0 and "coordinates: [x1, x2, x3, y1, y2, y3]" in out
+    code, _, err = run(capsys, "examples", "hard_disk_gas:101")
+    assert code == 2 and "from 1 to 100" in err
 
 
 @pytest.mark.parametrize("name", lg.examples.names())

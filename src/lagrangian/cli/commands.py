@@ -270,9 +270,11 @@ def examples_command(name: str | None) -> str:
         listed = [*examples.names(), *examples.BENCHMARKS]
         width = max(len(n) for n in listed)
         return "\n".join(f"{n:<{width}}  {examples.describe(n)}" for n in listed)
-    name = name.removeprefix(EXAMPLE_PREFIX)
+    name, _, size = name.removeprefix(EXAMPLE_PREFIX).partition(":")
     builder = examples.get(name)
+    if size:
+        _example(name, size)  # the size checked as every command checks it
     try:
-        return examples.model_text(name)
+        return examples.model_text(name, int(size) if size else None)
     except ModelError:  # built in Python (it takes a size): describe it instead
         return f"{name}\n\n{(builder.__doc__ or '').strip()}"
