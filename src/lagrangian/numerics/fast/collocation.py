@@ -6,7 +6,15 @@ The stage equations and their Newton iteration are those of
 scaled multipliers h Lambda_1..h Lambda_{s-1}; the momenta at every stage and the
 constraints at stages 2..s divided by h), the march that of
 :mod:`lagrangian.simulation.variational.collocation_march`; the tableau arrives as arrays
-``(a, a_hat, b, c)``.  This module is imported only when numba is installed.
+``(a, a_hat, b, c)``.
+
+Where the time of a step goes (a double pendulum, three stages): the system's terms are a
+sixth of it; the Jacobian of the stage equations and its solve, twice a step, most of the
+rest.  So the iteration stops at its second evaluation of the stages (the forces at the last
+correction from their Jacobian), the stage Jacobian and its solve are compiled as a function
+of their own (:func:`newton_correction`) with the solve unrolled for 4 and 6 unknowns, and the
+extrapolation of the stage velocities is made once per size of step, not at every step.
+This module is imported only when numba is installed.
 """
 
 from __future__ import annotations
@@ -104,13 +112,24 @@ def stage_residual(tableau, p0, dt, lam, stages, forces, rhs):
     return size
 
 
+@njit(cache=False, nogil=True, error_model="numpy")
+def newton_correction(a, a_hat, weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix, rhs):
+    """rhs <- J^-1 rhs, J the Jacobian of the stage equations (:func:`stage_jacobian`, into
+    ``matrix``); False when J is singular.
+
+    A function of its own, called with the arrays one by one (views without owners, so the
+    call costs a few words): compiled apart from the march, its loops keep their values in
+    registers, where inlined into the march they spilled to the stack (a third of a step)."""
+    stage_jacobian(a, a_hat, weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix)
+    return solve_stages(matrix, rhs)
+
+
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
-def stage_jacobian(tableau, weights, dt, lam, stages, matrix):
+def stage_jacobian(a, a_hat, weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix):
     """The Jacobian of the stage equations in (V, dt Lambda) (see
     :mod:`lagrangian.simulation.variational.collocation_step`; ``weights`` of
-    :func:`couplings`); adds the constraint Hessians to K."""
-    a, a_hat = tableau[0], tableau[1]
-    L_qv, F_v, L_vv, K, A, H = stages[3], stages[4], stages[5], stages[6], stages[8], stages[9]
+    :func:`couplings`, the stage terms of :func:`evaluate_stages`); adds the constraint
+    Hessians to K."""
     s, n = L_vv.shape[0], L_vv.shape[1]
     r, m = lam.shape
     for j in range(r):
@@ -171,12 +190,16 @@ def stage_step(system, tableau, weights, q0, p0, t0, dt, V, lam, found, work):
         size = stage_residual(tableau, p0, dt, lam, stages, forces, rhs)
         converging = within(largest(rhs[: s * n]), size, RESIDUAL_GUARD)
         converging = converging and stages_hold(stages, q0, r)
-        stage_jacobian(tableau, weights, dt, lam, stages, matrix)
         reach = 0.0
         for i in range(s):
             for x in range(n):
                 reach = max(reach, abs(stages[0][i, x]), abs(stages[0][i, x] - q0[x]))
-        if not solve_stages(matrix, rhs):
+        L_qv, F_v, L_vv, K, A, H = (
+            stages[3], stages[4], stages[5], stages[6], stages[8], stages[9]
+        )  # fmt: skip
+        if not newton_correction(
+            tableau[0], tableau[1], weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix, rhs
+        ):
             return POSITION_SINGULAR, (iteration + 1) * s
         for i in range(s):
             for x in range(n):

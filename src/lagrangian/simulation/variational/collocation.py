@@ -47,7 +47,6 @@ import numpy as np
 from numpy.polynomial import Polynomial
 from numpy.polynomial import legendre as legendre_series
 
-
 #: Steps whose ratio is within this of 1 are equal (the compiled march,
 #: :mod:`lagrangian.numerics.fast.collocation`, takes the same tolerance).
 EQUAL_STEPS = 1e-9
