@@ -12,7 +12,7 @@ Where the time of a step goes (a double pendulum, three stages): the system's te
 sixth of it; the Jacobian of the stage equations and its solve, twice a step, most of the
 rest.  So the iteration stops at its second evaluation of the stages (the forces at the last
 correction from their Jacobian), the stage Jacobian and its solve are compiled as a function
-of their own (:func:`newton_correction`) with the solve unrolled for 4 and 6 unknowns, and the
+of their own (:func:`newton_correction`), and the
 extrapolation of the stage velocities is made once per size of step, not at every step.
 This module is imported only when numba is installed.
 """
@@ -45,7 +45,7 @@ from lagrangian.numerics.fast.newton import (
     evaluate_constraints,
     hold,
     largest,
-    solve_stages,
+    solve,
     unowned,
     unowned_system,
     velocity_step,
@@ -121,7 +121,7 @@ def newton_correction(a, a_hat, weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matr
     call costs a few words): compiled apart from the march, its loops keep their values in
     registers, where inlined into the march they spilled to the stack (a third of a step)."""
     stage_jacobian(a, a_hat, weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix)
-    return solve_stages(matrix, rhs)
+    return solve(matrix, rhs)
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")

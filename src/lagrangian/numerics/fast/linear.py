@@ -3,11 +3,10 @@
     matrix z = vector   ->   vector <- z           (Golub & Van Loan, Matrix Computations, 3.4)
 
 The systems are small (one row per coordinate, or per coordinate and stage), so a loop without
-allocation beats a call into LAPACK.  :func:`solve_small` runs the same elimination with the
-size known to the compiler for the sizes of the stage systems of small systems (4: two stages
-of two coordinates, 6: three stages of two, or two of three): LLVM unrolls the loops of a
-known trip count, which halves the time of a 6 x 6 solve.  Both return False, leaving the
-arrays changed, when a pivot is exactly zero.  This module is imported only when numba is
+allocation beats a call into LAPACK.  (Copies of the elimination with the size known to the
+compiler, which LLVM unrolls, halve the time of a 6 x 6 solve but add a fifth to the one-time
+compile of the marches: not taken.)  Returns False, leaving the arrays changed, when a pivot
+is exactly zero.  This module is imported only when numba is
 installed.
 """
 
@@ -20,17 +19,6 @@ from numba import njit
 def solve_linear(matrix, vector) -> bool:
     """Overwrite ``vector`` with matrix^-1 vector; False when the matrix is singular."""
     return eliminate(matrix, vector, vector.size)
-
-
-@njit(cache=False, nogil=True, error_model="numpy", inline="always")
-def solve_small(matrix, vector) -> bool:
-    """:func:`solve_linear`, with the loops unrolled for the sizes 4 and 6."""
-    n = vector.size
-    if n == 4:
-        return eliminate(matrix, vector, 4)
-    if n == 6:
-        return eliminate(matrix, vector, 6)
-    return eliminate(matrix, vector, n)
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")

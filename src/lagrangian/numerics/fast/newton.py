@@ -35,7 +35,7 @@ from lagrangian.numerics.discrete_lagrangian import (
     RESIDUAL_GUARD,
     SMALL_CORRECTION,
 )
-from lagrangian.numerics.fast.linear import solve_linear, solve_small
+from lagrangian.numerics.fast.linear import solve_linear
 
 #: Statuses of a step, and of a chunk of steps (RUNNING: done, the end not reached yet).
 OK = RUNNING = 0
@@ -185,13 +185,6 @@ def constraints_hold(h, jacobian, q1, q0) -> bool:
 def solve(matrix, rhs) -> bool:
     """rhs <- matrix^-1 rhs; False when the matrix is singular or the solution not finite."""
     return solve_linear(matrix, rhs) and finite(rhs)
-
-
-@njit(cache=False, nogil=True, error_model="numpy", inline="always")
-def solve_stages(matrix, rhs) -> bool:
-    """:func:`solve` for the stage systems of the collocation methods (the loops unrolled
-    for their common sizes, :func:`lagrangian.numerics.fast.linear.solve_small`)."""
-    return solve_small(matrix, rhs) and finite(rhs)
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
