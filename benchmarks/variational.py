@@ -12,7 +12,11 @@ What is measured
             largest relative energy error at the outputs.  With ``--baseline SRC`` the same
             measurement runs on another checkout's ``src`` (for example a worktree of the
             commit before) in the same run, the two alternating call by call; the table gives
-            both and their ratio.  Every measurement is a fresh process.
+            both and their ratio.  Every measurement is a fresh process.  ``--heading-note``
+            adds words to the block's title (a new block beside the earlier ones).
+    compile The one-time compile of the two compiled marches (midpoint rule, collocation):
+            CPU seconds of a fresh process compiling both into an empty numba cache
+            (``NUMBA_CACHE_DIR`` a new temporary folder), this checkout and ``--baseline``.
     drift   The double pendulum of ``lg.examples.double_pendulum`` (unit masses and rods,
             g = 9.81, released at rest at theta = 1, phi = 0.5: chaotic motion) integrated by
             ``simulate(..., method="variational", dt=0.01)`` for 10^6 steps (t = 10^4 s), every
@@ -48,6 +52,7 @@ Usage
     python benchmarks/variational.py                      # every part, 10^6 drift steps
     python benchmarks/variational.py --part speed --baseline ../before/src --record
     python benchmarks/variational.py --part speed --speed-steps 10000000 --speed-samples 101
+    python benchmarks/variational.py --part compile --baseline ../before/src
     python benchmarks/variational.py --steps 100000       # a shorter drift run
     python benchmarks/variational.py --part work --periods 100 --per-period 40 80
     python benchmarks/variational.py --record             # write its section of RESULTS.md
@@ -99,12 +104,47 @@ DRIFT_FACTOR = 1.5  # allowed growth of the max energy error from decade 3 to th
 SPEED_METHODS = ("variational", "gauss4", "gauss6")
 
 
-def speed_title(steps: int, samples: int) -> str:
+def speed_title(steps: int, samples: int, note: str = "") -> str:
     """The heading of a speed block: the steps per second through lg.simulate over ``steps``
-    steps, every step an output (``samples`` 0, the block of earlier records) or ``samples``."""
-    if not samples:
-        return "### Steps per second through lg.simulate\n\n"
-    return f"### Steps per second through lg.simulate, {steps:,} steps, {samples} samples\n\n"
+    steps, every step an output (``samples`` 0, the block of earlier records) or ``samples``,
+    with the words of ``note`` after them."""
+    title = "### Steps per second through lg.simulate"
+    if samples:
+        title += f", {steps:,} steps, {samples} samples"
+    return f"{title}{f', {note}' if note else ''}\n\n"
+
+
+def compile_seconds() -> float:
+    """CPU seconds to compile both compiled marches in this process (an empty cache)."""
+    from lagrangian.numerics.fast.discrete_loops import discrete_march
+
+    cpu = time.process_time()
+    for kind in ("midpoint", "collocation"):
+        discrete_march(kind)
+    return time.process_time() - cpu
+
+
+def run_compile(baseline: str | None) -> str:
+    """The compile block: CPU seconds of the one-time compile of the marches, each checkout
+    in a fresh process with an empty numba cache."""
+    import tempfile
+
+    sources = {"this checkout": SOURCE} | ({"baseline": baseline} if baseline else {})
+    lines = ["| package | compile CPU s |", "|---|---:|"]
+    for name, source in sources.items():
+        with tempfile.TemporaryDirectory() as cache:
+            command = [sys.executable, str(HERE), "--source", source, "--compile-worker"]
+            environment = {**os.environ, "NUMBA_CACHE_DIR": cache}
+            done = subprocess.run(
+                command, capture_output=True, text=True, check=True, env=environment
+            )
+        lines.append(f"| {name} | {float(done.stdout.strip().splitlines()[-1]):.1f} |")
+    header = (
+        "Both compiled marches (midpoint rule, collocation) compiled once into an empty numba "
+        f"cache, each checkout in a fresh process; 1-minute load average at the end: "
+        f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores."
+    )
+    return "\n".join([header, "", *lines])
 
 
 def measure_speed(method: str, steps: int, samples: int = 0) -> dict[str, float]:
@@ -523,7 +563,11 @@ def record(parts: list[str], command: str) -> None:
 
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--part", choices=("speed", "drift", "work", "both"), default="both")
+    parser.add_argument(
+        "--part", choices=("speed", "compile", "drift", "work", "both"), default="both"
+    )
+    parser.add_argument("--heading-note", default="", help="speed: words added to the title")
+    parser.add_argument("--compile-worker", action="store_true", help=argparse.SUPPRESS)
     parser.add_argument("--speed-steps", type=int, default=10**6, help="speed: steps (10^6)")
     parser.add_argument(
         "--speed-samples", type=int, default=0, help="speed: output samples (0: every step)"
@@ -549,13 +593,19 @@ def main(argv: list[str] | None = None) -> int:
     if args.speed_worker:
         print(json.dumps(measure_speed(args.speed_worker, args.speed_steps, args.speed_samples)))
         return 0
+    if args.compile_worker:
+        print(compile_seconds())
+        return 0
     parts = []
     if args.part in ("speed", "both"):
         print("speed ...", file=sys.stderr)
         parts.append(
-            speed_title(args.speed_steps, args.speed_samples)
+            speed_title(args.speed_steps, args.speed_samples, args.heading_note)
             + run_speed(args.speed_steps, args.repeat, args.baseline, args.speed_samples)
         )
+    if args.part == "compile":
+        print("compile ...", file=sys.stderr)
+        parts.append("### One-time compile of the marches\n\n" + run_compile(args.baseline))
     if args.part in ("drift", "both"):
         print("drift ...", file=sys.stderr)
         parts.append(

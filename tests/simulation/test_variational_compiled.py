@@ -2,20 +2,25 @@
 functions) give the NumPy marches' trajectories to rounding, on free, forced and damped, and
 constrained systems; the midpoint rule keeps its energy error bounded over 10^5 steps; the
 compiled march reports progress, stops on Ctrl-C keeping its rows, fails with the NumPy
-march's message, and gives way to the NumPy march where numba is missing."""
+march's message, and gives way to the NumPy march where numba is missing.  The collocation
+steps' Newton iteration (stopped at a small correction, the forces at it from their Jacobian)
+solves its stage equations to rounding: against the equations evaluated afresh, SciPy's root
+finder and the constraints, in two evaluations of every stage a step."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 import sympy as sp
+from scipy.optimize import root
 
 import lagrangian as lg
-from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics
+from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics, compile_discrete_mechanics
 from lagrangian.simulation import simulate
 from lagrangian.simulation.variational import midpoint as variational
-from lagrangian.simulation.variational.collocation import gauss, lobatto
+from lagrangian.simulation.variational.collocation import Tableau, gauss, lobatto
 from lagrangian.simulation.variational.collocation_march import collocation_march
+from lagrangian.simulation.variational.collocation_step import stage_step
 from lagrangian.simulation.variational.march import march
 
 pytest.importorskip("numba")
@@ -187,3 +192,95 @@ def test_terms_without_a_compiled_form_fall_back_to_numpy(monkeypatch: pytest.Mo
     )
     assert run.success
     assert run.q[-1, 0] == pytest.approx(numpy_run.q[-1, 0], abs=1e-12)
+
+
+# ------------------------------------------------------------------ the stage Newton iteration
+
+DT = 0.01
+
+
+def setup(system: lg.System) -> tuple[DiscreteMechanics, np.ndarray]:
+    eom = lg.derive(system)
+    mechanics = compile_discrete_mechanics(eom, [c.expression for c in system.constraints])
+    return mechanics, np.array([float(eom.system.parameters[s]) for s in eom.parameters])
+
+
+def stage_residual(
+    mechanics: DiscreteMechanics,
+    tableau: Tableau,
+    q0: np.ndarray,
+    p0: np.ndarray,
+    t0: float,
+    p: np.ndarray,
+    V: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The stage equations L_v(Q_i, V_i) - p0 - dt sum_j a_ij F_j (no constraints) evaluated
+    afresh at V, and the momentum p0 + dt sum_i b_i F_i."""
+    Q = q0 + DT * tableau.a @ V
+    terms = [mechanics.midpoint(Qi, Vi, t0 + ci * DT, p) for Qi, Vi, ci in zip(Q, V, tableau.c)]
+    F = np.array([L_q + Q_f for L_q, _, Q_f, *_ in terms])
+    L_v = np.array([term[1] for term in terms])
+    return L_v - p0 - DT * tableau.a @ F, p0 + DT * tableau.b @ F
+
+
+@pytest.mark.parametrize("tableau", [gauss(2), gauss(3)], ids=lambda t: t.name)
+def test_a_gauss_step_solves_its_stage_equations_to_rounding(tableau: Tableau) -> None:
+    mechanics, p = setup(forced_double_pendulum())
+    q0, v0, t0 = np.array([1.0, 0.5]), np.array([0.7, -1.3]), 0.4
+    p0 = np.array(mechanics.legendre(q0, v0, t0, p)[0], dtype=float)
+    guess = np.tile(v0, (tableau.stages, 1))
+    step = stage_step(mechanics, tableau, q0, p0, t0, DT, p, guess, np.zeros((0, 0)))
+    rows, momentum = stage_residual(mechanics, tableau, q0, p0, t0, p, step.V)
+    # the equations hold at the returned stages to rounding of their terms (about 10)
+    assert np.abs(rows).max() < 1e-13
+    # the momentum taken from the Jacobian is the one evaluated at the stages
+    np.testing.assert_allclose(step.momentum, momentum, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(step.q, q0 + DT * tableau.b @ step.V, rtol=0, atol=1e-15)
+    # SciPy's root finder on the same equations (no Jacobian given), at a tight tolerance
+    found = root(
+        lambda x: stage_residual(mechanics, tableau, q0, p0, t0, p, x.reshape(-1, 2))[0].ravel(),
+        guess.ravel(),
+        method="hybr",
+        options={"xtol": 1e-13},
+    )
+    assert found.success and np.abs(found.fun).max() < 1e-12
+    np.testing.assert_allclose(step.V.ravel(), found.x, rtol=0, atol=1e-11)
+    # a guess this far off takes more corrections; every one is counted
+    assert step.evaluations % tableau.stages == 0 and step.evaluations >= 2 * tableau.stages
+
+
+@pytest.mark.parametrize("tableau", [lobatto(3), lobatto(4)], ids=lambda t: t.name)
+def test_a_lobatto_step_ends_on_the_constraints_with_their_values_there(tableau: Tableau) -> None:
+    mechanics, p = setup(cartesian_double_pendulum())
+    start = cartesian_start()
+    names = ("x1", "y1", "x2", "y2")
+    q0 = np.array([start[name] for name in names])
+    x1, y1, x2, y2 = q0
+    v0 = 1.1 * np.array([-y1, x1, -y2, x2])  # turning rigidly about the pivot: on both rods
+    p0 = np.array(mechanics.legendre(q0, v0, 0.0, p)[0], dtype=float)
+    guess = np.tile(v0, (tableau.stages, 1))
+    multipliers = np.zeros((tableau.stages - 1, 2))
+    step = stage_step(mechanics, tableau, q0, p0, 0.0, DT, p, guess, multipliers)
+    # every stage after the first on both rods, q1 among them
+    Q = q0 + DT * tableau.a @ step.V
+    upper = Q[1:, 0] ** 2 + Q[1:, 1] ** 2 - 1
+    lower = (Q[1:, 2] - Q[1:, 0]) ** 2 + (Q[1:, 3] - Q[1:, 1]) ** 2 - 1
+    assert max(np.abs(upper).max(), np.abs(lower).max()) < 1e-14
+    np.testing.assert_allclose(step.q, Q[-1], rtol=0, atol=1e-15)
+    # h, A and dh/dt returned are those at the corrected q1
+    fresh = mechanics.constraints(step.q, DT, p)
+    for returned, expected in zip((step.h, step.jacobian, step.rate), fresh):
+        np.testing.assert_allclose(returned, expected, rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("tableau", [gauss(2), gauss(3)], ids=lambda t: t.name)
+def test_a_smooth_motion_evaluates_each_stage_about_twice_a_step(tableau: Tableau) -> None:
+    # the extrapolated guess is corrected once, the correction after it is small: two
+    # evaluations of every stage (the first steps, started from v0 at every stage, take more)
+    mechanics, p = setup(lg.examples.double_pendulum())
+    x0, steps = np.array([1.0, 0.5, 0.0, 0.0]), 1000
+    grid = np.linspace(0.0, steps * DT, steps + 1)
+    run = collocation_march(mechanics, tableau, x0, p, grid, np.array([0, steps]))
+    assert run.failure is None
+    per_step = (run.evaluations - 2) / steps / tableau.stages  # less the Legendre maps
+    assert 2.0 <= per_step < 2.3, per_step

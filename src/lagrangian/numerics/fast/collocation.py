@@ -6,7 +6,15 @@ The stage equations and their Newton iteration are those of
 scaled multipliers h Lambda_1..h Lambda_{s-1}; the momenta at every stage and the
 constraints at stages 2..s divided by h), the march that of
 :mod:`lagrangian.simulation.variational.collocation_march`; the tableau arrives as arrays
-``(a, a_hat, b, c)``.  This module is imported only when numba is installed.
+``(a, a_hat, b, c)``.
+
+Where the time of a step goes (a double pendulum, three stages): the system's terms are a
+sixth of it; the Jacobian of the stage equations and its solve, twice a step, most of the
+rest.  So the iteration stops at its second evaluation of the stages (the forces at the last
+correction from their Jacobian), the stage Jacobian and its solve are compiled as a function
+of their own (:func:`newton_correction`), and the
+extrapolation of the stage velocities is made once per size of step, not at every step.
+This module is imported only when numba is installed.
 """
 
 from __future__ import annotations
@@ -65,12 +73,13 @@ def evaluate_stages(system, tableau, q0, t0, dt, V, stages):
             F[i, b] = values[b] + values[2 * n + b]
             L_v[i, b] = values[n + b]
         base = 3 * n
-        for e in range(size):
-            row, col = e // n, e % n
-            K[i, row, col] = values[base + e] + values[base + 3 * size + e]
-            L_qv[i, row, col] = values[base + size + e]
-            F_v[i, row, col] = values[base + size + e] + values[base + 4 * size + e]
-            L_vv[i, row, col] = values[base + 2 * size + e]
+        for row in range(n):  # nested loops: an integer division per entry costs more
+            for col in range(n):
+                e = base + row * n + col
+                K[i, row, col] = values[e] + values[e + 3 * size]
+                L_qv[i, row, col] = values[e + size]
+                F_v[i, row, col] = values[e + size] + values[e + 4 * size]
+                L_vv[i, row, col] = values[e + 2 * size]
         evaluate_constraints(system, Q[i], t, h[i], A[i], rate[i], H[i])
 
 
@@ -103,31 +112,43 @@ def stage_residual(tableau, p0, dt, lam, stages, forces, rhs):
     return size
 
 
+@njit(cache=False, nogil=True, error_model="numpy")
+def newton_correction(a, a_hat, weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix, rhs):
+    """rhs <- J^-1 rhs, J the Jacobian of the stage equations (:func:`stage_jacobian`, into
+    ``matrix``); False when J is singular.
+
+    A function of its own, called with the arrays one by one (views without owners, so the
+    call costs a few words): compiled apart from the march, its loops keep their values in
+    registers, where inlined into the march they spilled to the stack (a third of a step)."""
+    stage_jacobian(a, a_hat, weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix)
+    return solve(matrix, rhs)
+
+
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
-def stage_jacobian(tableau, dt, lam, stages, matrix):
+def stage_jacobian(a, a_hat, weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix):
     """The Jacobian of the stage equations in (V, dt Lambda) (see
-    :mod:`lagrangian.simulation.variational.collocation_step`); adds the constraint Hessians to
-    K."""
-    a, a_hat = tableau[0], tableau[1]
-    L_qv, F_v, L_vv, K, A, H = stages[3], stages[4], stages[5], stages[6], stages[8], stages[9]
+    :mod:`lagrangian.simulation.variational.collocation_step`; ``weights`` of
+    :func:`couplings`, the stage terms of :func:`evaluate_stages`); adds the constraint
+    Hessians to K."""
     s, n = L_vv.shape[0], L_vv.shape[1]
     r, m = lam.shape
     for j in range(r):
         for l in range(m):
-            for e in range(n * n):
-                K[j, e // n, e % n] += lam[j, l] * H[j, l, e // n, e % n]
+            for x in range(n):
+                for y in range(n):
+                    K[j, x, y] += lam[j, l] * H[j, l, x, y]
     for i in range(s):
         for k in range(s):
-            for e in range(n * n):
-                x, y = e // n, e % n
-                coupling = 0.0
-                for j in range(s):
-                    coupling += a_hat[i, j] * a[j, k] * K[j, x, y]
-                value = dt * a[i, k] * L_qv[i, y, x] - dt * a_hat[i, k] * F_v[k, x, y]
-                value -= dt * dt * coupling
-                if i == k:
-                    value += L_vv[i, x, y]
-                matrix[i * n + x, k * n + y] = value
+            drift, push = dt * a[i, k], dt * a_hat[i, k]
+            for x in range(n):
+                for y in range(n):
+                    coupling = 0.0
+                    for j in range(s):
+                        coupling += weights[i, k, j] * K[j, x, y]
+                    value = drift * L_qv[i, y, x] - push * F_v[k, x, y] - dt * dt * coupling
+                    if i == k:
+                        value += L_vv[i, x, y]
+                    matrix[i * n + x, k * n + y] = value
         for k in range(r):
             for x in range(n):
                 for l in range(m):
@@ -155,31 +176,30 @@ def stages_hold(stages, q0, r) -> bool:
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
-def stage_step(system, tableau, q0, p0, t0, dt, V, lam, found, work):
+def stage_step(system, tableau, weights, q0, p0, t0, dt, V, lam, found, work):
     """Solve the stage equations for V (s, n) and Lambda (r, m) in place from their guesses;
     ``found`` = (q1, momentum before the impulse of Lambda_s).  Returns (status, stage
     evaluations)."""
-    b, lobatto = tableau[2], tableau[4]
+    b = tableau[2]
     stages, forces, matrix, rhs = work
     q1, momentum = found
     s, n = V.shape
     r, m = lam.shape
-    small = False
     for iteration in range(MAX_ITERATIONS + 1):
         evaluate_stages(system, tableau, q0, t0, dt, V, stages)
         size = stage_residual(tableau, p0, dt, lam, stages, forces, rhs)
-        accept = small and within(largest(rhs[: s * n]), size, RESIDUAL_GUARD)
-        if accept and stages_hold(stages, q0, r):
-            for x in range(n):
-                q1[x] = stages[0][s - 1, x] if lobatto else q0[x] + dt * weighted(b, V, x)
-                momentum[x] = p0[x] + dt * weighted(b, forces, x)
-            return OK, (iteration + 1) * s
-        stage_jacobian(tableau, dt, lam, stages, matrix)
+        converging = within(largest(rhs[: s * n]), size, RESIDUAL_GUARD)
+        converging = converging and stages_hold(stages, q0, r)
         reach = 0.0
         for i in range(s):
             for x in range(n):
                 reach = max(reach, abs(stages[0][i, x]), abs(stages[0][i, x] - q0[x]))
-        if not solve(matrix, rhs):
+        L_qv, F_v, L_vv, K, A, H = (
+            stages[3], stages[4], stages[5], stages[6], stages[8], stages[9]
+        )  # fmt: skip
+        if not newton_correction(
+            tableau[0], tableau[1], weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix, rhs
+        ):
             return POSITION_SINGULAR, (iteration + 1) * s
         for i in range(s):
             for x in range(n):
@@ -187,8 +207,37 @@ def stage_step(system, tableau, q0, p0, t0, dt, V, lam, found, work):
         for i in range(r):
             for l in range(m):
                 lam[i, l] -= rhs[s * n + i * m + l] / dt
-        small = within(dt * largest(rhs[: s * n]), reach, SMALL_CORRECTION)
+        if converging and within(dt * largest(rhs[: s * n]), reach, SMALL_CORRECTION):
+            corrected_forces(tableau, dt, lam, stages, rhs, forces)
+            for x in range(n):
+                q1[x] = q0[x] + dt * weighted(b, V, x)  # the last stage of Lobatto (a_s = b)
+                momentum[x] = p0[x] + dt * weighted(b, forces, x)
+            return OK, (iteration + 1) * s
     return POSITION_DIVERGED, (MAX_ITERATIONS + 1) * s
+
+
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
+def corrected_forces(tableau, dt, lam, stages, correction, forces):
+    """forces_j <- F_j + A_j^T Lambda_j at the corrected stages, from their values before the
+    correction by its Jacobian: F_j - sum_k (delta_jk F_v(j) + dt a_jk K_j) dV_k +
+    A_j^T Lambda_j (Lambda corrected already; K_j holds the multipliers' Hessians)."""
+    a = tableau[0]
+    F, F_v, K, A = stages[1], stages[4], stages[6], stages[8]
+    s, n = F.shape
+    r, m = lam.shape
+    for j in range(s):
+        for x in range(n):
+            total = F[j, x]
+            for y in range(n):
+                total -= F_v[j, x, y] * correction[j * n + y]
+                along = 0.0
+                for k in range(s):
+                    along += a[j, k] * correction[k * n + y]
+                total -= dt * K[j, x, y] * along
+            if j < r:
+                for l in range(m):
+                    total += A[j, l, x] * lam[j, l]
+            forces[j, x] = total
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
@@ -201,21 +250,55 @@ def weighted(b, rows, x) -> float:
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
-def extrapolate(c, ratio, V, scratch):
-    """V_i <- sum_j l_j(1 + ratio c_i) V_j (l_j the Lagrange polynomials of the nodes c)."""
-    s, n = V.shape
+def extrapolation(c, ratio, E):
+    """E_ij <- l_j(1 + ratio c_i) (l_j the Lagrange polynomials of the nodes c)."""
+    s = c.size
     for i in range(s):
         x = 1.0 + ratio * c[i]
-        for y in range(n):
-            scratch[i, y] = 0.0
         for j in range(s):
             basis = 1.0
             for k in range(s):
                 if k != j:
                     basis *= (x - c[k]) / (c[j] - c[k])
-            for y in range(n):
-                scratch[i, y] += basis * V[j, y]
+            E[i, j] = basis
+
+
+#: Steps whose ratio is within this of 1 are equal (their nodes t0 + k dt differ by rounding):
+#: the extrapolation of :meth:`lagrangian.simulation.variational.collocation.Tableau.extrapolation`,
+#: which takes the same tolerance, is made once for them.
+EQUAL_STEPS = 1e-9
+
+
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
+def step_ratio(dt, previous) -> float:
+    """dt / previous, 1 when the steps are equal to rounding (as
+    :func:`lagrangian.simulation.variational.collocation.step_ratio`)."""
+    ratio = dt / previous
+    return 1.0 if abs(ratio - 1.0) <= EQUAL_STEPS else ratio
+
+
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
+def extrapolate(E, V, scratch):
+    """V <- E V: the stage velocities of the step before extrapolated to this step's nodes."""
+    s, n = V.shape
+    for i in range(s):
+        for y in range(n):
+            total = 0.0
+            for j in range(s):
+                total += E[i, j] * V[j, y]
+            scratch[i, y] = total
     V[:] = scratch
+
+
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
+def couplings(tableau, weights):
+    """weights[i, k, j] <- a_hat_ij a_jk, the weights of the stage Hessians in the Jacobian."""
+    a, a_hat = tableau[0], tableau[1]
+    s = a.shape[0]
+    for i in range(s):
+        for k in range(s):
+            for j in range(s):
+                weights[i, k, j] = a_hat[i, j] * a[j, k]
 
 
 def march_collocation(
@@ -240,7 +323,7 @@ def march_collocation(
     owners = (
         vectors, matrices, rows, np.empty((s, n)), np.empty((size, size)), np.empty(size),
         np.empty((4, n)), np.empty(m), np.empty((s, n)), np.empty((n + m, n + m)),
-        np.empty(n + m),
+        np.empty(n + m), np.empty((s, s)), np.empty((s, s, s)),
     )  # fmt: skip
     stages = (
         unowned(vectors[0]), unowned(vectors[1]), unowned(vectors[2]),
@@ -248,7 +331,10 @@ def march_collocation(
         unowned(rows[0]), unowned(rows[1]), unowned(rows[2]), unowned(rows[3]),
     )  # fmt: skip
     work = (stages, unowned(owners[3]), unowned(owners[4]), unowned(owners[5]))
-    spare = (unowned(owners[6]), unowned(owners[7]), unowned(owners[8]))
+    spare = (
+        unowned(owners[6]), unowned(owners[7]), unowned(owners[8]), unowned(owners[11]),
+        unowned(owners[12]),
+    )  # fmt: skip
     velocity_work = (unowned(owners[9]), unowned(owners[10]))
     tableau_views = (
         unowned(tableau[0]), unowned(tableau[1]), unowned(tableau[2]), unowned(tableau[3]),
@@ -280,7 +366,9 @@ def collocation_steps(
     q, v, momentum, h, jacobian, rate, V, lam, previous = state
     s, m = V.shape[0], h.size
     stages = work[0]
-    vectors, mu, scratch = spare
+    vectors, mu, scratch, E, weights = spare
+    couplings(tableau, weights)
+    ratio = np.nan  # that of the extrapolation E
     q1, momentum1, v_old = vectors[0], vectors[1], vectors[2]
     matrix, rhs = velocity_work
     solver = (matrix, rhs, v_old)
@@ -291,9 +379,12 @@ def collocation_steps(
             return FINISHED
         dt = t1 - t0
         if previous[0] > 0.0:
-            extrapolate(tableau[3], dt / previous[0], V, scratch)
+            if step_ratio(dt, previous[0]) != ratio:  # only at a step of another size
+                ratio = step_ratio(dt, previous[0])
+                extrapolation(tableau[3], ratio, E)
+            extrapolate(E, V, scratch)
         status, evaluations = stage_step(
-            system, tableau, q, momentum, t0, dt, V, lam, (q1, momentum1), work
+            system, tableau, weights, q, momentum, t0, dt, V, lam, (q1, momentum1), work
         )
         cursor[EVALUATIONS] += evaluations
         if status != OK:
@@ -301,9 +392,8 @@ def collocation_steps(
         momentum[:] = momentum1
         t2 = next_node(schedule, cursor, clock)
         if m > 0 or wants_output(schedule, cursor, t1, t2 == np.inf):
-            h[:] = stages[7][s - 1]
-            jacobian[:] = stages[8][s - 1]
-            rate[:] = stages[10][s - 1]
+            # the constraints at the corrected q1 (the last stage's Hessians as scratch)
+            evaluate_constraints(system, q1, t1, h, jacobian, rate, stages[9][s - 1])
             v[:] = V[s - 1]
             weight = dt * tableau[2][s - 1]
             status, evaluations = velocity_step(

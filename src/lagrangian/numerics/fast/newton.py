@@ -184,9 +184,13 @@ def constraints_hold(h, jacobian, q1, q0) -> bool:
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def solve(matrix, rhs) -> bool:
     """rhs <- matrix^-1 rhs; False when the matrix is singular or the solution not finite."""
-    if not solve_linear(matrix, rhs):
-        return False
-    for value in rhs:  # noqa: SIM110 (a loop numba compiles without allocating)
+    return solve_linear(matrix, rhs) and finite(rhs)
+
+
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
+def finite(values) -> bool:
+    """Whether every entry of ``values`` is finite."""
+    for value in values:  # noqa: SIM110 (a loop numba compiles without allocating)
         if not np.isfinite(value):
             return False
     return True

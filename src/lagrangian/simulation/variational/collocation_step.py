@@ -17,8 +17,14 @@ With K_j = L_qq + Q_q + sum_l Lambda_jl d2h_l/dq2 at stage j, the Jacobian is
 
 ((L_qv)_ab = d2L/dq_a dv_b).  The scaling keeps both blocks of size 1 as h shrinks.  The
 iteration stops as the midpoint rule's does (:mod:`lagrangian.simulation.variational.step`):
-a correction of the stage positions below SMALL_CORRECTION of their size, then a residual
-small against its terms at the new stages.
+with a correction of the stage positions below SMALL_CORRECTION of their size whose residual
+was within RESIDUAL_GUARD of its terms (and the constraints within it of |A| |Q|).  The
+corrected stages are then exact to rounding (their error is of the correction's square), and
+so are the forces at them, moved from the last evaluation by their Jacobian,
+
+    F_j + A_j^T Lambda_j  <-  F_j - (L_qv + Q_v)(j) dV_j - h K_j sum_k a_jk dV_k + A_j^T Lambda_j
+
+(Lambda corrected): a step of a smooth motion evaluates the stages twice, not three times.
 
 >>> import numpy as np, lagrangian as lg
 >>> from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics
@@ -98,7 +104,6 @@ def stage_step(
     s, n, m = tableau.stages, len(q0), mechanics.constraint_count
     r = s - 1 if tableau.lobatto and m else 0
     V, lam = V.astype(float), multipliers.astype(float).reshape(r, m)
-    small = False
     for iteration in range(MAX_ITERATIONS + 1):
         stages = _evaluate(mechanics, tableau, q0, t0, dt, parameters, V)
         forces = stages.F.copy()
@@ -106,17 +111,23 @@ def stage_step(
         pushed = dt * tableau.a_hat @ forces
         rows = stages.L_v - p0 - pushed
         g = stages.h[1 : r + 1] / dt
-        if small and _acceptable(rows, (stages.L_v, p0, pushed), g, stages, q0, r):
-            q1 = stages.Q[-1] if tableau.lobatto else q0 + dt * tableau.b @ V
-            momentum = p0 + dt * tableau.b @ forces
-            last = (stages.h[-1], stages.A[-1], stages.rate[-1])
-            return StageSolution(V, lam, q1, momentum, *last, (iteration + 1) * s)
-        matrix = _jacobian(tableau, dt, stages, lam, r)
+        converging = _acceptable(rows, (stages.L_v, p0, pushed), g, stages, q0, r)
+        K = _hessians(stages, lam, r)
+        matrix = _jacobian(tableau, dt, stages, K, lam, r)
         correction = solve_correction(matrix, np.concatenate((rows.ravel(), g.ravel())), "position")
         size = max(np.abs(stages.Q).max(), np.abs(stages.Q - q0).max())
-        V = V - correction[: s * n].reshape(s, n)
+        dV = correction[: s * n].reshape(s, n)
+        V = V - dV
         lam = lam - correction[s * n :].reshape(r, m) / dt
-        small = bool(dt * np.abs(correction[: s * n]).max() <= SMALL_CORRECTION * (size or 1.0))
+        if converging and dt * np.abs(dV).max() <= SMALL_CORRECTION * (size or 1.0):
+            # the forces at the corrected stages from their Jacobian: exact to rounding
+            forces = stages.F - np.einsum("jab,jb->ja", stages.F_v, dV)
+            forces -= dt * np.einsum("jab,jb->ja", K, tableau.a @ dV)
+            forces[:r] += np.einsum("jmn,jm->jn", stages.A[:r], lam)
+            q1 = q0 + dt * tableau.b @ V  # the last stage of the Lobatto pair (a_s = b)
+            momentum = p0 + dt * tableau.b @ forces
+            last = mechanics.constraints(q1, t0 + dt, parameters)
+            return StageSolution(V, lam, q1, momentum, *last, (iteration + 1) * s)
     raise SimulationError(not_converged("position", t0))
 
 
@@ -140,13 +151,21 @@ def _evaluate(
     return _Stages(Q, L_q + Q_f, L_v, L_qv, L_qv + Q_v, L_vv, L_qq + Q_q, h, A, H, rate)
 
 
-def _jacobian(tableau: Tableau, dt: float, stages: _Stages, lam: np.ndarray, r: int) -> np.ndarray:
-    """The Jacobian of the stage equations in (V, dt Lambda) (module docstring)."""
+def _hessians(stages: _Stages, lam: np.ndarray, r: int) -> np.ndarray:
+    """K_j = L_qq + Q_q + sum_l Lambda_jl d2h_l/dq2 at every stage j."""
+    K = stages.F_q.copy()
+    K[:r] += np.einsum("jm,jmab->jab", lam, stages.H[:r])
+    return K
+
+
+def _jacobian(
+    tableau: Tableau, dt: float, stages: _Stages, K: np.ndarray, lam: np.ndarray, r: int
+) -> np.ndarray:
+    """The Jacobian of the stage equations in (V, dt Lambda) (module docstring), K of
+    :func:`_hessians`."""
     a, a_hat = tableau.a, tableau.a_hat
     s, n = stages.Q.shape
     m = lam.shape[1]
-    K = stages.F_q.copy()
-    K[:r] += np.einsum("jm,jmab->jab", lam, stages.H[:r])
     velocity = (
         np.einsum("ik,iab->ikab", np.eye(s), stages.L_vv)
         + dt * np.einsum("ik,iba->ikab", a, stages.L_qv)
