@@ -26,6 +26,7 @@ from lagrangian.analysis.evaluation import (
     EvaluationContext,
     condition_text,
     evaluation_context,
+    names_text,
     vanishes,
 )
 from lagrangian.analysis.manifold.constraint_manifold import (
@@ -221,10 +222,6 @@ def _jumps(context: EvaluationContext) -> str:
     return f"; between impacts and transitions only: {'; '.join(notes)}" if notes else ""
 
 
-#: The most constraints a note on impacts names (a gas has thousands of contacts).
-NAMES_SHOWN = 6
-
-
 def _impacts_note(labels: list[str], e: str) -> str:
     """What impacts with coefficient ``e`` do to h, said once for all the constraints that
     have it: ``an impact on 'floor' (constraints[0]) (e = 0.8) loses energy``, or ``impacts
@@ -232,9 +229,7 @@ def _impacts_note(labels: list[str], e: str) -> str:
     if len(labels) == 1:
         verdict = "keeps it too" if e == "1" else "loses energy"
         return f"an impact on {labels[0]} (e = {e}) {verdict}"
-    shown = ", ".join(labels[:NAMES_SHOWN])
-    if len(labels) > NAMES_SHOWN:
-        shown += f" and {len(labels) - NAMES_SHOWN} more"
+    shown = names_text(labels)
     verdict = "keep it too" if e == "1" else "lose energy"
     return f"impacts on the {len(labels)} constraints {shown} (e = {e}) {verdict}"
 

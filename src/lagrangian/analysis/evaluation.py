@@ -23,7 +23,7 @@ Eq(F, 0)
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -163,6 +163,20 @@ def number_text(value: Any) -> str:
     if isinstance(value, sp.Basic) and not isinstance(value, sp.Float):
         return str(value)
     return f"{float(value):g}"
+
+
+#: The most names a one-line statement lists (a gas has thousands of contacts).
+NAMES_SHOWN = 6
+
+
+def names_text(names: Sequence[str], more: str = "more") -> str:
+    """The names, the first :data:`NAMES_SHOWN` of a long list and how many ``more``.
+
+    >>> names_text([f"c{i}" for i in range(8)], "more constraints")
+    'c0, c1, c2, c3, c4, c5 and 2 more constraints'
+    """
+    shown = ", ".join(names[:NAMES_SHOWN])
+    return shown if len(names) <= NAMES_SHOWN else f"{shown} and {len(names) - NAMES_SHOWN} {more}"
 
 
 def otherwise_text(condition: sp.Basic) -> str:

@@ -22,11 +22,9 @@ from collections import Counter
 from collections.abc import Sequence
 from typing import Any, TextIO
 
+from lagrangian.analysis.evaluation import names_text
 from lagrangian.simulation.files import written_atomically
 from lagrangian.simulation.trajectory import Impact
-
-#: The most constraint names the one-line summary lists.
-NAMES_SHOWN = 6
 
 
 def impacts_summary(impacts: Sequence[Impact]) -> str:
@@ -38,18 +36,10 @@ def impacts_summary(impacts: Sequence[Impact]) -> str:
         if group:
             names = list(Counter(name for impact in group for name in impact.constraints))
             plural = noun if len(group) == 1 else f"{noun}s"
-            parts.append(f"{len(group)} {plural} ({_first_names(names)})")
+            parts.append(f"{len(group)} {plural} ({names_text(names, 'more constraints')})")
     for impact in impacts:
         parts.extend(f"at rest on {name} from t = {impact.t:.6g}" for name in impact.rest)
     return "; ".join(parts)
-
-
-def _first_names(names: list[str]) -> str:
-    """The names, the first :data:`NAMES_SHOWN` of a long list and how many more (a gas's
-    hundreds of contacts in one line said nothing; the CSV table has every one)."""
-    if len(names) <= NAMES_SHOWN:
-        return ", ".join(names)
-    return f"{', '.join(names[:NAMES_SHOWN])} and {len(names) - NAMES_SHOWN} more constraints"
 
 
 def impact_records(impacts: Sequence[Impact]) -> list[dict[str, Any]]:
