@@ -154,7 +154,7 @@ class Budget:
         solver = getattr(stepper, "solver", None)
         if solver is not None and len(moved) == 1:
             t_old, y_old = stepper.t_old, stepper.y_old  # type: ignore[attr-defined]
-            reason = self.spend(solver, t_old, y_old, stepper.t_bound)
+            reason = self.spend(solver, float(t_old[0]), y_old, stepper.t_bound)
             return (moved if reason is not None else moved[:0]), reason
         if self.lane_steps is None:
             self.lane_steps = np.zeros(len(stepper.t), dtype=np.int64)

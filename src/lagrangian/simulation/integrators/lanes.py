@@ -153,8 +153,8 @@ class OneLane:
         self.t_bound = solver.t_bound
         self.t = np.array([float(solver.t)])
         self.y = np.array(solver.y, dtype=float)[None, :]
-        #: The time and state before the last step (the budget's stiffness test reads them).
-        self.t_old, self.y_old = self.t[0], self.y[0]
+        #: The time (1,) and state before the last step (the budget's stiffness test).
+        self.t_old, self.y_old = self.t.copy(), self.y[0]
         self._project: Projection | None = None
 
     def begin(self) -> Taken:
@@ -168,15 +168,16 @@ class OneLane:
                 f"The equations of motion are not finite numbers at t = {solver.t:.6g}: "
                 "no step size can be chosen (an overflow or a division by zero there)."
             )
-        self.t_old, self.y_old = float(solver.t), np.array(solver.y, dtype=float)
+        self.t_old, self.y_old = self.t.copy(), solver.y.copy()
         message = solver.step()
         if solver.status == "failed":
             return self._failed(message or "the solver failed")
         if not np.isfinite(solver.y).all():
             return self._failed(BLEW_UP)
         self.t[0] = solver.t
-        self.y = np.array(solver.y, dtype=float)[None, :]
-        return Taken(lanes, np.array([solver.status == "finished"]), np.array([self.t_old]))
+        self.y = solver.y[None, :]  # a view: SciPy's steps make a new state, not change it
+        finished = _DONE if solver.status == "finished" else _GOING
+        return Taken(lanes, finished, self.t_old)
 
     def _failed(self, message: str | Fix) -> Taken:
         return Taken(NOWHERE, NOWHERE, NOWHERE, np.zeros(1, dtype=np.intp), _FAILED, (message,))
@@ -186,7 +187,7 @@ class OneLane:
         solver.y = project(solver.t, solver.y)
         # explicit Runge–Kutta solvers only (Method.explicit): SciPy's, with f and fun
         solver.f = solver.fun(solver.t, solver.y)  # type: ignore[attr-defined]
-        self.y = np.array(solver.y, dtype=float)[None, :]
+        self.y = solver.y[None, :]
         self._project = project
 
     def dense_output(self, lanes: np.ndarray) -> LaneDense:
@@ -194,6 +195,7 @@ class OneLane:
 
 
 _FAILED = np.array([Status.FAILED])
+_DONE, _GOING = np.ones(1, dtype=bool), np.zeros(1, dtype=bool)
 
 
 class _SolverDense:

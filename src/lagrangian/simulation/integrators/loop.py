@@ -32,6 +32,7 @@ from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.events import EventWatch
 from lagrangian.simulation.integrators.lanes import (
     EachLane,
+    Found,
     LaneDense,
     LaneStepper,
     LaneWatch,
@@ -170,6 +171,7 @@ def run_lanes(
         [[] for _ in range(k)],
     )
     running = np.arange(k)
+    stepper: LaneStepper | None = None
     try:
         stepper = start()
         _failed(run, stepper.begin())
@@ -181,20 +183,24 @@ def run_lanes(
             running = np.flatnonzero(run.status == RUNNING)
         while len(running):
             taken = stepper.step(running)
-            _failed(run, taken)
+            ended = len(taken.failed) > 0
+            if ended:
+                _failed(run, taken)
             moved = taken.moved
             if len(moved):
-                _advance(run, stepper, taken, watch, project, budget)
-            running = running[run.status[running] == RUNNING]
+                ended |= _advance(run, stepper, taken, watch, project, budget)
+            if ended:
+                running = running[run.status[running] == RUNNING]
             if progress is not None and len(moved):
-                reached = run.t_final[moved]
-                progress(float(np.min(stepper.t[running]) if len(running) else np.max(reached)))
+                progress(_earliest(run, stepper, running, moved))
     except FAILURES as error:
         for lane in running[run.status[running] == RUNNING]:
             run.status[lane], run.messages[lane] = Status.FAILED, str(error)
     except KeyboardInterrupt:  # Ctrl-C: keep what was computed, the caller decides
         run.interrupted = True
         run.status[run.status == RUNNING] = Status.INTERRUPTED
+    if stepper is not None:  # a lane's state changes only with its accepted steps
+        run.t_reached[:], run.x_reached[:] = stepper.t, stepper.y
     return run
 
 
@@ -205,48 +211,67 @@ def _advance(
     watch: LaneWatch | None,
     project: Callable[[float, np.ndarray], np.ndarray] | None,
     budget: Budget,
-) -> None:
+) -> bool:
     """After a step of the lanes ``taken.moved``: budget, projection, watch, output rows,
-    and the lanes that end (a stop first, then a spent budget, then the end of the span)."""
+    and the lanes that end (a stop first, then a spent budget, then the end of the span);
+    whether any ended."""
     moved = taken.moved
     over, reason = budget.spend_lanes(stepper, moved)
     if project is not None:
         stepper.project(moved, project)
-    t_new, y_new = stepper.t[moved], stepper.y[moved]
-    run.t_reached[moved], run.x_reached[moved] = t_new, y_new
-    t_end, x_end = t_new.copy(), y_new
-    rows = run.rows
-    needed = rows.pending(moved, t_new)
+    t_end, x_end = stepper.t[moved], stepper.y[moved]  # copies: a stop replaces its lane's
+    stopped = False
     crossed = watch.crossed(stepper, moved) if watch is not None else None
+    needed = run.rows.pending(moved, t_end)
     if crossed is not None:
-        needed |= crossed
+        needed = crossed if needed is None else needed | crossed
     dense: LaneDense | None = None
-    which = np.full(len(moved), -1, dtype=np.intp)
-    stopped = moved[:0]
-    if needed.any():
+    which = moved
+    if needed is not None and needed.any():
+        # the interpolants of the lanes with output rows or zeros in their steps, built once
         local = np.flatnonzero(needed)
         dense = stepper.dense_output(moved[local])
+        which = np.full(len(moved), -1, dtype=np.intp)
         which[local] = np.arange(len(local))
-        if crossed is not None and watch is not None and crossed.any():
+        if watch is not None and crossed is not None and crossed.any():
             on = np.flatnonzero(crossed)
             found = watch.locate(stepper, moved[on], taken.t_old[on], dense, which[on])
-            for lane, name, t, x in found.events:
-                run.events[lane].append((name, t, x))
-            if len(found.stopped):
-                stopped = found.stopped
-                position = np.searchsorted(moved, stopped) if len(moved) > 1 else np.zeros(1, int)
-                x_end = y_new.copy()
-                t_end[position], x_end[position] = found.t_stop, found.x_stop
-                run.t_stop[stopped], run.x_stop[stopped] = found.t_stop, found.x_stop
-                for lane, name in zip(stopped.tolist(), found.names):
-                    run.stopped_by[lane] = name
-    rows.reach(moved, t_end, x_end, dense, which)
-    _end(run, stopped, Status.STOPPED)
+            _found(run, found, np.searchsorted(moved, found.stopped), t_end, x_end)
+            stopped = len(found.stopped) > 0
+    run.rows.reach(moved, t_end, x_end, dense, which)
     if len(over):
         for lane in over[run.status[over] == RUNNING]:
             run.status[lane] = budget.ended if budget.ended is not None else Status.FAILED
             run.messages[lane] = reason
-    _end(run, moved[taken.finished], Status.FINISHED)
+    finished = bool(taken.finished.any())
+    if finished:
+        _end(run, moved[taken.finished], Status.FINISHED)
+    return stopped or finished or len(over) > 0
+
+
+def _found(
+    run: LaneRun, found: Found, at: np.ndarray, t_end: np.ndarray, x_end: np.ndarray
+) -> None:
+    """Record a watch's events; the lanes it stopped (entries ``at`` of the step's t_end
+    and x_end) end there, their output up to the stop."""
+    for lane, name, t, x in found.events:
+        run.events[lane].append((name, t, x))
+    stopped = found.stopped
+    if len(stopped):
+        t_end[at], x_end[at] = found.t_stop, found.x_stop
+        run.t_stop[stopped], run.x_stop[stopped] = found.t_stop, found.x_stop
+        for lane, name in zip(stopped.tolist(), found.names):
+            run.stopped_by[lane] = name
+        _end(run, stopped, Status.STOPPED)
+
+
+def _earliest(run: LaneRun, stepper: LaneStepper, running: np.ndarray, moved: np.ndarray) -> float:
+    """The progress of the lanes: the earliest time of those still running, else the
+    latest where the lanes that just moved ended."""
+    if len(running):
+        return float(np.min(stepper.t[running]))
+    stopped = run.status[moved] == Status.STOPPED
+    return float(np.max(np.where(stopped, run.t_stop[moved], stepper.t[moved])))
 
 
 def _failed(run: LaneRun, taken: Taken) -> None:

@@ -7,8 +7,8 @@ run keeping every step) each lane keeps the time and state of every step.
 
 >>> import numpy as np
 >>> rows = Rows(np.array([0.0, 0.5, 1.0]), 0.0, np.zeros((2, 1)))
->>> rows.filled.tolist(), rows.pending(np.array([0, 1]), np.array([0.7, 0.2])).tolist()
-([1, 1], [True, False])
+>>> rows.filled.tolist(), rows.pending(np.array([0, 1]), np.array([0.7, 0.2]))
+([1, 1], array([ True, False]))
 """
 
 from __future__ import annotations
@@ -16,6 +16,8 @@ from __future__ import annotations
 import numpy as np
 
 from lagrangian.simulation.integrators.lanes import LaneDense
+
+_ONE = np.ones(1, dtype=bool)
 
 
 class Rows:
@@ -34,15 +36,20 @@ class Rows:
         self.x[:, :first] = X0[:, None, :]
         self.filled = np.full(k, first, dtype=np.intp)
 
-    def pending(self, lanes: np.ndarray, t: np.ndarray) -> np.ndarray:
+    def pending(self, lanes: np.ndarray, t: np.ndarray) -> np.ndarray | None:
         """Whether each of ``lanes`` has an output time at or before its t (its step needs
-        the interpolant); never without output times (a step's end is its row)."""
+        the interpolant); None when none has (and always without output times: a step's
+        end is its row)."""
         times = self.times
         if times is None:
-            return np.zeros(len(lanes), dtype=bool)
+            return None
         row = self.filled[lanes]
+        if len(lanes) == 1:  # a single run: most steps of a fine output hold no time
+            r = int(row[0])
+            return _ONE if r < len(times) and times[r] <= t[0] else None
         inside = row < len(times)
-        return inside & (times[np.where(inside, row, 0)] <= t)
+        pending = inside & (times[np.where(inside, row, 0)] <= t)
+        return pending if pending.any() else None
 
     def reach(
         self,
@@ -60,7 +67,15 @@ class Rows:
                 self.steps_x[lane].append(state)
                 self.steps_t[lane].append(s)
             return
-        if dense is None or not len(lanes):
+        if dense is None:
+            return
+        if len(lanes) == 1:  # a single run: its block of rows in one call
+            first, lane = int(self.filled[lanes[0]]), int(lanes[0])
+            last = int(np.searchsorted(self.times, t[0], side="right"))
+            if last > first:
+                block = self.times[first:last]
+                self.x[lane, first:last] = dense.value(block, np.full(len(block), which[0]))
+                self.filled[lane] = last
             return
         start = self.filled[lanes]
         end = np.searchsorted(self.times, t, side="right")
