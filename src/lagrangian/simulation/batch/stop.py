@@ -25,7 +25,7 @@ import numpy as np
 
 from lagrangian.simulation.batch.dense import Dense, locate_stops
 from lagrangian.simulation.integrators.events import EventFunction
-from lagrangian.simulation.integrators.lanes import Found
+from lagrangian.simulation.integrators.lanes import Found, LaneDense
 
 #: The name of the terminal event a stop condition becomes.
 STOP_EVENT = "stop_when"
@@ -83,8 +83,14 @@ class StopWatch:
         return ~(g_new >= 0)
 
     def locate(
-        self, stepper: Any, lanes: np.ndarray, t_old: np.ndarray, dense: Dense, which: np.ndarray
+        self,
+        stepper: Any,
+        lanes: np.ndarray,
+        t_old: np.ndarray,
+        dense: LaneDense,
+        which: np.ndarray,
     ) -> Found:
+        assert isinstance(dense, Dense)  # the interpolants of the batch's stepper
         at = np.searchsorted(self.moved, lanes)
         lane_of = np.zeros(int(which.max(initial=0)) + 1, dtype=np.intp)
         lane_of[which] = lanes

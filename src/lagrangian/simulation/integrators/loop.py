@@ -1,13 +1,15 @@
-"""integrate: the one Python loop, driving a stepper step by step, keeping everything up to a
+"""The one Python loop, driving k lanes of a stepper step by step, keeping everything up to a
 failure.
 
 Every method stepped in Python runs through it — SciPy's solvers, RK4, the variational and
-collocation steps — since each is a :class:`~lagrangian.simulation.integrators.protocol.Stepper`
-(the shape of SciPy's ``OdeSolver``).  The loop is solve_ivp's (step; locate events on the
-step's dense output; sample the output times the step covered), written out so that a
-failure — a step size underflow, a singular mass matrix raised from the right-hand side, a
-state that is no longer finite — or Ctrl-C ends the run with what was computed so far instead
-of losing it.
+collocation steps, each a :class:`~lagrangian.simulation.integrators.protocol.Stepper` (the
+shape of SciPy's ``OdeSolver``) run as one lane (:func:`integrate`), and the members of a
+batch without the C loop, the lanes of one vectorized Runge–Kutta stepper
+(:mod:`lagrangian.simulation.batch.vectorized`).  The loop is solve_ivp's (step; locate
+events on the step's dense output; sample the output times the step covered) over arrays of
+lanes (:func:`run_lanes`), written out so that a failure — a step size underflow, a singular
+mass matrix raised from the right-hand side, a state that is no longer finite — or Ctrl-C
+ends a run with what was computed so far instead of losing it.
 
 >>> import numpy as np
 >>> from scipy.integrate import RK45
