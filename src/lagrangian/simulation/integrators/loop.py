@@ -98,6 +98,10 @@ def solver_starter(
     )
 
 
+#: The code of a lane still running.
+RUNNING = -1
+
+
 @dataclass
 class LaneRun:
     """What the loop computed for k lanes: the output rows (:class:`Rows`), and per lane
@@ -118,6 +122,22 @@ class LaneRun:
     events: list[list[tuple[str, float, np.ndarray]]]
     interrupted: bool = False
 
+    @classmethod
+    def begun(cls, rows: Rows, t0: float, X0: np.ndarray) -> LaneRun:
+        """Every lane running from (t0, X0)."""
+        k, n = X0.shape
+        return cls(
+            rows,
+            np.full(k, RUNNING, dtype=np.intp),
+            [None] * k,
+            np.full(k, float(t0)),
+            np.array(X0, dtype=float),
+            np.full(k, np.nan),
+            np.full((k, n), np.nan),
+            [None] * k,
+            [[] for _ in range(k)],
+        )
+
     @property
     def t_final(self) -> np.ndarray:
         """Where each lane ended: its stop, else its last accepted step."""
@@ -130,8 +150,19 @@ class LaneRun:
         return np.where(stopped, self.x_stop, self.x_reached)
 
 
-#: The code of a lane still running.
-RUNNING = -1
+def _started(
+    run: LaneRun, stepper: LaneStepper, watch: LaneWatch | None, t0: float, X0: np.ndarray
+) -> np.ndarray:
+    """The lanes that start: not those that fail at their first rates, nor those the watch
+    stops where they begin (their stop is their start)."""
+    _failed(run, stepper.begin())
+    running = np.flatnonzero(run.status == RUNNING)
+    if watch is not None:
+        stopped = watch.start(stepper, running)
+        _end(run, stopped, Status.STOPPED)
+        run.t_stop[stopped], run.x_stop[stopped] = t0, X0[stopped]
+        running = np.flatnonzero(run.status == RUNNING)
+    return running
 
 
 def run_lanes(
@@ -158,31 +189,13 @@ def run_lanes(
     Integration IV.4).  ``progress`` gets the earliest time of the lanes still running (the
     latest reached once none is) after every round.
     """
-    k, n = X0.shape
     budget = budget if budget is not None else Budget("", start=t0)
-    rows = Rows(times, t0, X0)
-    run = LaneRun(
-        rows,
-        np.full(k, RUNNING, dtype=np.intp),
-        [None] * k,
-        np.full(k, float(t0)),
-        np.array(X0, dtype=float),
-        np.full(k, np.nan),
-        np.full((k, n), np.nan),
-        [None] * k,
-        [[] for _ in range(k)],
-    )
-    running = np.arange(k)
+    run = LaneRun.begun(Rows(times, t0, X0), t0, X0)
+    running = np.arange(len(X0))
     stepper: LaneStepper | None = None
     try:
         stepper = start()
-        _failed(run, stepper.begin())
-        running = np.flatnonzero(run.status == RUNNING)
-        if watch is not None:
-            _end(run, watch.start(stepper, running), Status.STOPPED)
-            run.t_stop[run.status == Status.STOPPED] = t0
-            run.x_stop[run.status == Status.STOPPED] = X0[run.status == Status.STOPPED]
-            running = np.flatnonzero(run.status == RUNNING)
+        running = _started(run, stepper, watch, t0, X0)
         while len(running):
             taken = stepper.step(running)
             ended = len(taken.failed) > 0
