@@ -2,25 +2,28 @@
 
 What is measured
     Every row runs with no C compiler found (the path of a machine without one), in a fresh
-    process per measurement, alternating the two checkouts round by round so that a load that
-    comes and goes on a shared machine falls on both alike:
+    process per checkout and round, alternating the two checkouts round by round so that a
+    load that comes and goes on a shared machine falls on both alike.  Times are CPU seconds
+    of the process (``time.process_time``, best of the calls in the process): on a machine
+    shared by several workers the wall time measures the neighbours as much as the code.
 
-    pendulum    ``simulate.py``'s worker "SciPy solvers": the 10-link pendulum over 10 s,
-                DOP853, rtol = atol = 1e-9, every step kept, best of 5 ``lagrangian.simulate``
-                calls (wall seconds);
-    batch       ``simulate.py``'s batch worker "vectorized": ``--batch`` double pendulums over
-                10 s, DOP853, rtol = atol = 1e-9, the two ends kept (wall seconds);
+    pendulum    the case of ``simulate.py``'s row "SciPy solvers": the 10-link pendulum
+                over 10 s, DOP853, rtol = atol = 1e-9, every step kept, best of 5
+                ``lagrangian.simulate`` calls;
+    batch       the case of ``simulate.py``'s batch row "vectorized": ``--batch`` double
+                pendulums over 10 s, DOP853, rtol = atol = 1e-9, the two ends kept, best of 2
+                ``lagrangian.simulate_batch`` calls;
     events      the double pendulum over 30 s, DOP853, rtol = atol = 1e-9, two events
-                (theta = 0, phi_dot rising through 0), best of 3 (CPU seconds);
-    rk4         the double pendulum over 10 s by RK4, dt = 1e-3, best of 3 (CPU seconds);
+                (theta = 0, phi_dot rising through 0), best of 3;
+    rk4         the double pendulum over 10 s by RK4, dt = 1e-3, best of 3;
     rk45 rows   the double pendulum over 30 s, RK45, rtol = atol = 1e-9, 3000 output times,
-                best of 3 (CPU seconds);
+                best of 3;
     bare loop   x' = A x (2 states), RK45, rtol = atol = 1e-10 over 200, every step, through
-                the loop's entry ``integrators.loop.integrate`` alone, best of 9 (CPU
-                seconds): the loop's own cost per step with a right-hand side that costs
-                nothing, beside SciPy's stepping alone on the same problem.
+                the loop's entry ``integrators.loop.integrate`` alone, best of 9: the loop's
+                own cost with a right-hand side that costs nothing, beside SciPy alone
+                (the same solver stepped by a bare ``while``), best of 9.
 
-    Reported per row: the median and range of each checkout, and after / before.
+    Reported per row: the median and range of each checkout's rounds, and after / before.
 
 Usage
     python benchmarks/python_loop.py --before ../old-checkout           # 3 rounds, 1000 pendulums
@@ -42,8 +45,8 @@ HERE = Path(__file__).resolve().parent
 ROWS = ("pendulum", "batch", "events", "rk4", "rk45 rows", "bare loop", "SciPy alone")
 
 
-def features(src: str) -> dict:
-    """The events, rk4, rk45 rows and bare loop rows in this process (CPU seconds)."""
+def features(src: str, batch: int) -> dict:
+    """Every row in this process (CPU seconds), from the checkout's ``src``."""
     sys.path.insert(0, src)
     import numpy as np
     from scipy.integrate import RK45
@@ -54,7 +57,12 @@ def features(src: str) -> dict:
     from lagrangian.simulation.integrators.loop import integrate
 
     c_build.find_compiler = lambda: None
+    links = lg.derive(lg.examples.n_link_pendulum(10))
+    names = [f"theta{i}" for i in range(1, 11)]
+    leaning = {**{name: 0.5 for name in names}, **{name + "_dot": 0.0 for name in names}}
     double = lg.derive(lg.examples.double_pendulum())
+    angles = np.random.default_rng(0).uniform(-1.0, 1.0, size=(batch, 2))
+    members = {"theta": angles[:, 0], "phi": angles[:, 1], "theta_dot": 0.0, "phi_dot": 0.0}
     start = {"theta": 1.0, "phi": 0.5, "theta_dot": 0.0, "phi_dot": 0.0}
 
     def crossing(t, q, q_dot):
@@ -66,6 +74,10 @@ def features(src: str) -> dict:
     rising.direction = 1  # type: ignore[attr-defined]
     tight = {"rtol": 1e-9, "atol": 1e-9}
     cases = {
+        "pendulum": lambda: lg.simulate(links, leaning, 10.0, method="DOP853", **tight),
+        "batch": lambda: lg.simulate_batch(
+            double, members, 10.0, method="DOP853", samples=2, **tight
+        ),
         "events": lambda: lg.simulate(
             double, start, 30.0, method="DOP853", events=[crossing, rising], **tight
         ),
@@ -87,9 +99,12 @@ def features(src: str) -> dict:
     )
     cases["SciPy alone"] = alone
     result = {}
+    calls = {"bare loop": 9, "SciPy alone": 9, "pendulum": 5, "batch": 2}
+    lg.simulate(links, leaning, 0.1, method="DOP853", **tight)  # compiled before the clock
+    lg.simulate_batch(double, {**members, "theta": 0.1, "phi": 0.1}, 0.1, samples=2)
     for name, case in cases.items():
         runs = []
-        for _ in range(9 if name in ("bare loop", "SciPy alone") else 3):
+        for _ in range(calls.get(name, 3)):
             clock = time.process_time()
             case()
             runs.append(time.process_time() - clock)
@@ -107,12 +122,9 @@ def run(command: list[str]) -> dict:
 
 
 def measure(checkout: Path, batch: int) -> dict:
-    """Every row once from ``checkout`` (its own src and benchmarks)."""
-    simulate = str(checkout / "benchmarks" / "simulate.py")
-    pendulum = run([sys.executable, simulate, "--worker", "pendulum", "scipy", "0"])
-    members = run([sys.executable, simulate, "--worker", "batch", "vectorized", str(batch)])
-    rows = run([sys.executable, str(HERE / "python_loop.py"), "--worker", str(checkout / "src")])
-    return {"pendulum": pendulum["simulate"], "batch": members["seconds"], **rows}
+    """Every row once from ``checkout`` (its own src)."""
+    script = str(HERE / "python_loop.py")
+    return run([sys.executable, script, "--worker", str(checkout / "src"), "--batch", str(batch)])
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -123,9 +135,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.worker:
-        print(json.dumps(features(args.worker)), flush=True)
+        print(json.dumps(features(args.worker, args.batch)), flush=True)
         return 0
     checkouts = {"before": args.before.resolve(), "after": HERE.parent}
+    print(f"python benchmarks/python_loop.py --repeat {args.repeat} --batch {args.batch}")
     results: dict[str, list[dict]] = {"before": [], "after": []}
     for r in range(args.repeat):
         for label, checkout in checkouts.items():

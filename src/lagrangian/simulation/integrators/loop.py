@@ -234,7 +234,8 @@ def _advance(
     over, reason = budget.spend_lanes(stepper, moved)
     if project is not None:
         stepper.project(moved, project)
-    t_end, x_end = stepper.t[moved], stepper.y[moved]  # copies: a stop replaces its lane's
+    t_end = stepper.t[moved]  # a copy: a stop replaces its lane's time
+    x_end = stepper.y[moved] if run.rows.times is None else None  # read where needed
     stopped = False
     crossed = watch.crossed(stepper, moved) if watch is not None else None
     needed = run.rows.pending(moved, t_end)
@@ -243,14 +244,12 @@ def _advance(
     dense: LaneDense | None = None
     which = moved
     if needed is not None and needed.any():
-        # the interpolants of the lanes with output rows or zeros in their steps, built once
-        local = np.flatnonzero(needed)
-        dense = stepper.dense_output(moved[local])
-        which = np.full(len(moved), -1, dtype=np.intp)
-        which[local] = np.arange(len(local))
+        dense, which = _interpolants(stepper, moved, needed)
         if watch is not None and crossed is not None and crossed.any():
             on = np.flatnonzero(crossed)
             found = watch.locate(stepper, moved[on], taken.t_old[on], dense, which[on])
+            if x_end is None and len(found.stopped):
+                x_end = stepper.y[moved]
             _found(run, found, np.searchsorted(moved, found.stopped), t_end, x_end)
             stopped = len(found.stopped) > 0
     run.rows.reach(moved, t_end, x_end, dense, which)
@@ -264,8 +263,21 @@ def _advance(
     return stopped or finished or len(over) > 0
 
 
+def _interpolants(
+    stepper: LaneStepper, moved: np.ndarray, needed: np.ndarray
+) -> tuple[LaneDense, np.ndarray]:
+    """The interpolants of the lanes of ``moved`` that need one (``needed``), built in one
+    call, and each moved lane's entry in them (-1: none)."""
+    if needed.all():
+        return stepper.dense_output(moved), np.arange(len(moved))
+    local = np.flatnonzero(needed)
+    which = np.full(len(moved), -1, dtype=np.intp)
+    which[local] = np.arange(len(local))
+    return stepper.dense_output(moved[local]), which
+
+
 def _found(
-    run: LaneRun, found: Found, at: np.ndarray, t_end: np.ndarray, x_end: np.ndarray
+    run: LaneRun, found: Found, at: np.ndarray, t_end: np.ndarray, x_end: np.ndarray | None
 ) -> None:
     """Record a watch's events; the lanes it stopped (entries ``at`` of the step's t_end
     and x_end) end there, their output up to the stop."""
@@ -273,6 +285,7 @@ def _found(
         run.events[lane].append((name, t, x))
     stopped = found.stopped
     if len(stopped):
+        assert x_end is not None  # read for the stopped lanes
         t_end[at], x_end[at] = found.t_stop, found.x_stop
         run.t_stop[stopped], run.x_stop[stopped] = found.t_stop, found.x_stop
         for lane, name in zip(stopped.tolist(), found.names):

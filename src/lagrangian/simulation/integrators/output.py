@@ -43,10 +43,10 @@ class Rows:
         times = self.times
         if times is None:
             return None
-        row = self.filled[lanes]
         if len(lanes) == 1:  # a single run: most steps of a fine output hold no time
-            r = int(row[0])
+            r = self.filled[lanes[0]]
             return _ONE if r < len(times) and times[r] <= t[0] else None
+        row = self.filled[lanes]
         inside = row < len(times)
         pending = inside & (times[np.where(inside, row, 0)] <= t)
         return pending if pending.any() else None
@@ -55,13 +55,15 @@ class Rows:
         self,
         lanes: np.ndarray,
         t: np.ndarray,
-        x: np.ndarray,
+        x: np.ndarray | None,
         dense: LaneDense | None,
         which: np.ndarray,
     ) -> None:
-        """Record the output of ``lanes`` up to their times t (states x at t): the rows at
-        the output times in their step, read on ``dense`` (entry ``which[j]`` for lane j)."""
+        """Record the output of ``lanes`` up to their times t (states x at t, needed when
+        every step is kept): the rows at the output times in their step, read on ``dense``
+        (entry ``which[j]`` for lane j)."""
         if self.times is None:
+            assert x is not None  # the loop reads the states when every step is kept
             for lane, s, state in zip(lanes.tolist(), t.tolist(), x):
                 # the state is kept before its time: a Ctrl-C in between leaves no time alone
                 self.steps_x[lane].append(state)
@@ -70,7 +72,8 @@ class Rows:
         if dense is None:
             return
         if len(lanes) == 1:  # a single run: its block of rows in one call
-            first, lane = int(self.filled[lanes[0]]), int(lanes[0])
+            lane = lanes[0]
+            first = self.filled[lane]
             last = int(np.searchsorted(self.times, t[0], side="right"))
             if last > first:
                 block = self.times[first:last]
