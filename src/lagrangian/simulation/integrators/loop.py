@@ -257,7 +257,8 @@ def _advance(
         for lane in over[run.status[over] == RUNNING]:
             run.status[lane] = budget.ended if budget.ended is not None else Status.FAILED
             run.messages[lane] = reason
-    finished = bool(taken.finished.any())
+    # (one lane read as a number: the reduction costs more than the lane)
+    finished = bool(taken.finished[0] if len(moved) == 1 else taken.finished.any())
     if finished:
         _end(run, moved[taken.finished], Status.FINISHED)
     return stopped or finished or len(over) > 0

@@ -64,6 +64,10 @@ class Rows:
         (entry ``which[j]`` for lane j)."""
         if self.times is None:
             assert x is not None  # the loop reads the states when every step is kept
+            if len(lanes) == 1:
+                self.steps_x[lanes[0]].append(x[0])
+                self.steps_t[lanes[0]].append(float(t[0]))
+                return
             for lane, s, state in zip(lanes.tolist(), t.tolist(), x):
                 # the state is kept before its time: a Ctrl-C in between leaves no time alone
                 self.steps_x[lane].append(state)
