@@ -57,7 +57,7 @@ from lagrangian.simulation.dynamics import (
     MultiplierDynamics,
     start_on_constraints,
 )
-from lagrangian.simulation.flight import Calendar, QuadraticGaps, quadratic_gaps
+from lagrangian.simulation.flight import Calendar, LoneImpacts, QuadraticGaps, quadratic_gaps
 from lagrangian.simulation.impacts import ImpactRecord, resolve
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.piecewise import Guard, Jump, Record
@@ -171,6 +171,20 @@ class UnilateralDynamics:
             inverse = np.diag(1 / np.diagonal(mass)) if diagonal else np.linalg.inv(mass)
             found[key] = (mass, inverse)
         return found[key]
+
+    @functools.cached_property
+    def lone_impacts(self) -> LoneImpacts | None:
+        """What a flight needs to resolve a lone contact's impact itself (gaps only): M^-1,
+        every contact's restitution and name; None when a restitution is out of range (the
+        impact that meets it says so)."""
+        try:
+            found = self.restitutions
+        except SimulationInputError:
+            return None
+        restitution = np.array([np.nan if e is None else e for e in found], dtype=float)
+        labels = tuple(self.tag(i) for i in range(len(found)))
+        inverse = self.constant_mass[1]
+        return LoneImpacts(inverse, restitution, labels, SIMULTANEOUS, RECONTACT_TOLERANCE)
 
     @functools.cached_property
     def contact_guards(self) -> dict[frozenset[int], _Contacts]:
@@ -522,6 +536,8 @@ class _Contacts:
         self.excluded = np.zeros(len(dynamics.system.constraints), dtype=bool)
         self.excluded[list(mode)] = True
         self.open = np.flatnonzero(~self.excluded)
+        # without active contacts a flight resolves the lone impacts itself (flight.py)
+        self.lone_impacts = None if mode else dynamics.lone_impacts
 
     def __call__(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
         values = self.gaps.values(self.open, q)
