@@ -39,7 +39,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#define LG_FLIGHT_ABI 1
+#define LG_FLIGHT_ABI 2
 #define LG_FLIGHT_END 0
 #define LG_FLIGHT_CONTACT 1
 
@@ -138,36 +138,48 @@ typedef struct {
     const double *inverse_mass;    /* n x n */
     const double *restitution;     /* m, NaN for none */
     const double *a;               /* n */
+    int64_t accelerated;           /* whether a has a nonzero entry */
+    const int64_t *pattern_start;  /* m + 1 */
+    const int64_t *pattern;        /* gap k's nonzero entries of K (row-major positions):
+                                      [pattern_start[k], pattern_start[k + 1]) */
 } lg_gaps;
 
-/* The coefficients c0..c4 of g_k(q + v s + a s^2/2) (QuadraticGaps.along). */
+/* The coefficients c0..c4 of g_k(q + v s + a s^2/2) (QuadraticGaps.along): with the
+ * columns x_0 = (q, 1), x_1 = (v, 0), x_2 = (a, 0) at the gap's coordinates, f_rs = x_r . K x_s,
+ * c0 = f_00, c1 = 2 f_01, c2 = f_11 + f_02, c3 = f_12, c4 = f_22 / 4.  K x_s is summed over
+ * the nonzero entries of K only, row by row in the order of the dense product (the skipped
+ * terms are zeros: the same sums); without acceleration the terms of x_2 are zeros too. */
 static void along(const lg_gaps *g, int64_t k, const double *q, const double *v, double *c) {
     int64_t w = g->width + 1, n = g->n;
     const int64_t *index = g->index + k * w;
     const double *K = g->forms + k * w * w;
+    int accelerated = g->accelerated;
     double x[3][9], kx[3][9];
     for (int64_t i = 0; i < w; i++) {
         int64_t j = index[i];
         x[0][i] = j < n ? q[j] : (j == n + 1 ? 1.0 : 0.0);
         x[1][i] = j < n ? v[j] : 0.0;
         x[2][i] = j < n ? g->a[j] : 0.0;
+        kx[0][i] = kx[1][i] = kx[2][i] = 0.0;
     }
-    for (int r = 0; r < 3; r++)
-        for (int64_t i = 0; i < w; i++) {
-            double sum = 0.0;
-            for (int64_t j = 0; j < w; j++) sum += K[i * w + j] * x[r][j];
-            kx[r][i] = sum;
-        }
-    double f[3][3];
+    for (int64_t p = g->pattern_start[k]; p < g->pattern_start[k + 1]; p++) {
+        int64_t entry = g->pattern[p], i = entry / w, j = entry % w;
+        double value = K[entry];
+        kx[0][i] += value * x[0][j];
+        kx[1][i] += value * x[1][j];
+        if (accelerated) kx[2][i] += value * x[2][j];
+    }
+    double f[3][3] = {{0.0}};
     for (int r = 0; r < 3; r++)
         for (int s = r; s < 3; s++) {
+            if (!accelerated && s == 2) continue;
             double sum = 0.0;
             for (int64_t i = 0; i < w; i++) sum += x[r][i] * kx[s][i];
             f[r][s] = sum;
         }
     c[0] = f[0][0];
     c[1] = 2 * f[0][1];
-    c[2] = f[1][1] + f[0][2];
+    c[2] = accelerated ? f[1][1] + f[0][2] : f[1][1];
     c[3] = f[1][2];
     c[4] = f[2][2] / 4;
 }
@@ -193,9 +205,14 @@ int64_t lg_fly(
     for (;;) {
         /* 1. the earliest contact, and whether another is as soon */
         int64_t first = -1;
-        double t_hit = INFINITY;
-        for (int64_t k = 0; k < m; k++)
-            if (times[k] < t_hit) { t_hit = times[k]; first = k; }
+        double t_hit = INFINITY, t_next = INFINITY;
+        for (int64_t k = 0; k < m; k++) {
+            double time = times[k];
+            if (time < t_next) {
+                if (time < t_hit) { t_next = t_hit; t_hit = time; first = k; }
+                else t_next = time;
+            }
+        }
         double t_stop = t_hit <= t_end ? t_hit : t_end;
         /* 2. the rows on the way, then every coordinate at t_stop */
         while (out < n_out && t_out[out] <= t_stop) {
@@ -217,10 +234,8 @@ int64_t lg_fly(
         code = LG_FLIGHT_CONTACT;
         if (done >= max_impacts) break;
         double window = t_hit + simultaneous * (1 + fabs(t_hit));
-        int64_t soon = 0;
-        for (int64_t k = 0; k < m && soon < 2; k++) soon += times[k] <= window;
         double e = g->restitution[first];
-        if (soon > 1 || e != e || e <= 0) break;
+        if (t_next <= window || e != e || e <= 0) break;  /* another contact as soon */
         /* 3. the lone contact's impulse: its gradient a = 2 (K (q, 1))[:w-1] */
         const int64_t *index = g->index + first * w;
         const double *K = g->forms + first * w * w;

@@ -35,7 +35,7 @@ from lagrangian.numerics.fast.c_build import compiled_library
 #: The C source of the flights.
 SOURCE = Path(__file__).with_name("c_flight.c")
 #: LG_FLIGHT_ABI of the source: a library answering another number is compiled again.
-ABI_VERSION = 1
+ABI_VERSION = 2
 #: How a call ends: at t_end, or at a contact left to Python.
 END, CONTACT = 0, 1
 
@@ -55,6 +55,9 @@ class _Gaps(ctypes.Structure):
         ("inverse_mass", _DOUBLE),
         ("restitution", _DOUBLE),
         ("a", _DOUBLE),
+        ("accelerated", ctypes.c_int64),
+        ("pattern_start", _INT),
+        ("pattern", _INT),
     ]
 
 
@@ -106,12 +109,18 @@ class FlightModel:
         self.inverse_mass = np.ascontiguousarray(inverse_mass, dtype=float)
         self.restitution = np.ascontiguousarray(restitution, dtype=float)
         self.a = np.ascontiguousarray(a, dtype=float)
+        # each gap's nonzero entries of K, row-major (the products over its zeros skipped)
+        gap, entry = np.nonzero(self.forms.reshape(self.m, -1))
+        self.pattern = np.ascontiguousarray(entry, dtype=np.int64)
+        found = np.searchsorted(gap, np.arange(self.m + 1))
+        self.pattern_start = np.ascontiguousarray(found, dtype=np.int64)
         self.struct = _Gaps(
             n, self.m, self.index.shape[1] - 1,
             _pointer(self.index, _INT), _pointer(self.forms, _DOUBLE),
             _pointer(self.start, _INT), _pointer(self.incidence, _INT),
             _pointer(self.inverse_mass, _DOUBLE), _pointer(self.restitution, _DOUBLE),
-            _pointer(self.a, _DOUBLE),
+            _pointer(self.a, _DOUBLE), int(np.any(self.a != 0)),
+            _pointer(self.pattern_start, _INT), _pointer(self.pattern, _INT),
         )  # fmt: skip
 
 
