@@ -13,9 +13,9 @@ import sympy as sp
 
 import lagrangian as lg
 from lagrangian.examples.gas import hard_disk_gas
-from lagrangian.numerics.fast import c_flight
+from lagrangian.numerics.fast import c_build, c_flight
 
-pytestmark = pytest.mark.skipif(not c_flight.available(), reason="no C compiler")
+needs_compiler = pytest.mark.skipif(not c_flight.available(), reason="no C compiler")
 
 
 def both(run: functools.partial[lg.Trajectory], monkeypatch: pytest.MonkeyPatch) -> tuple:
@@ -50,6 +50,7 @@ def reference_crossing(c: np.ndarray) -> float:
     return np.inf
 
 
+@needs_compiler
 def test_first_crossings_of_quadratics_cubics_and_quartics_are_their_roots() -> None:
     rng = np.random.default_rng(7)
     for degree in (2, 3, 4):
@@ -67,6 +68,7 @@ def test_first_crossings_of_quadratics_cubics_and_quartics_are_their_roots() -> 
                 assert p(s * (1 - 1e-6), row) > 0 > p(s * (1 + 1e-6), row)
 
 
+@needs_compiler
 def test_a_double_root_touching_zero_is_no_crossing() -> None:
     # (s - 1)^2 (s + 2): touches 0 at s = 1 without turning negative for s > 0
     touching = np.polynomial.polynomial.polyfromroots([1.0, 1.0, -2.0])
@@ -104,6 +106,7 @@ def test_the_gas_meets_the_same_impacts_compiled_and_in_numpy(
     assert compiled.t.tolist() == plain.t.tolist()
 
 
+@needs_compiler
 def test_rows_and_end_state_are_the_numpy_path_s_over_a_few_collisions(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
@@ -129,6 +132,7 @@ def bouncing_ball(e: float) -> lg.System:
     )
 
 
+@needs_compiler
 def test_a_bounce_coming_to_rest_is_handed_back_and_rests_as_in_numpy(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
@@ -146,6 +150,7 @@ def test_a_bounce_coming_to_rest_is_handed_back_and_rests_as_in_numpy(
         assert impact.t == pytest.approx(expected, abs=1e-12)
 
 
+@needs_compiler
 def test_contacts_meeting_at_once_are_resolved_together_as_in_numpy(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
@@ -162,8 +167,7 @@ def test_contacts_meeting_at_once_are_resolved_together_as_in_numpy(
             lg.Unilateral(x[0] + 3, name="wall_left", restitution=1),
             lg.Unilateral(3 - x[2], name="wall_right", restitution=1),
         ],
-        initial={"x1": -1.0, "x2": 0.0, "x3": 1.0, "x1_dot": 1.0, "x2_dot": 0.0,
-                 "x3_dot": -1.0},  # fmt: skip
+        initial={"x1": -1.0, "x2": 0.0, "x3": 1.0, "x1_dot": 1.0, "x2_dot": 0.0, "x3_dot": -1.0},
     )
     run = functools.partial(lg.simulate, system, t_span=6.0, samples=13)
     compiled, plain, calls = both(run, monkeypatch)
@@ -176,6 +180,7 @@ def test_contacts_meeting_at_once_are_resolved_together_as_in_numpy(
     assert np.allclose((compiled.q_dot**2).sum(axis=1) / 2, 1.0, atol=1e-12)
 
 
+@needs_compiler
 def test_the_step_budget_ends_the_gas_at_the_same_impact(monkeypatch: pytest.MonkeyPatch) -> None:
     system, eom = gas()
     run = functools.partial(lg.simulate, eom, dict(system.initial), 5.0, samples=11,
@@ -185,3 +190,20 @@ def test_the_step_budget_ends_the_gas_at_the_same_impact(monkeypatch: pytest.Mon
     assert compiled.message == plain.message and "max_steps" in compiled.message
     assert len(compiled.impacts) == len(plain.impacts) == 24
     assert compiled.impacts[-1].t == pytest.approx(plain.impacts[-1].t, abs=1e-12)
+
+
+def test_without_a_c_compiler_the_gas_flies_in_numpy(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(c_build, "find_compiler", lambda: None)
+    c_flight.flight_library.cache_clear()
+    try:
+        assert not c_flight.available()
+        with pytest.raises(RuntimeError, match="no C compiler"):
+            c_flight.crossings(np.zeros((1, 5)))
+        system, eom = gas()
+        run = lg.simulate(eom, dict(system.initial), 0.5, samples=3)
+        assert run.success and len(run.impacts) >= 5
+        energy = sum(v * v for v in run.impacts[0].before.values()) / 2
+        assert all(abs(i.energy_lost) <= 1e-13 * energy for i in run.impacts)
+    finally:
+        monkeypatch.undo()
+        c_flight.flight_library.cache_clear()

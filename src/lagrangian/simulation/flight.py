@@ -25,6 +25,14 @@ those of the gaps whose coordinates moved: the bookkeeping of event-driven molec
 Dynamics Simulation*, 2nd ed., 2004, ch. 14), here for any model whose contacts are such
 polynomials.
 
+Where the mode has no active contact and a C compiler is at hand, the flights and the lone
+impacts between them run in one compiled step (:mod:`lagrangian.numerics.fast.c_flight`,
+:func:`_flights`): the same calendar, the same roots, the impulse of a lone contact in the
+closed form of :mod:`lagrangian.simulation.impacts`, from the model's own numbers (each gap's
+form matrix, its coordinates, M^-1, each contact's restitution), impact after impact; a
+contact that needs more (several at once, one without restitution, one coming to rest) goes
+back to the piecewise loop, which resolves it as it resolves every impact without a compiler.
+
 >>> import numpy as np
 >>> first_crossings(np.array([1.0]), np.array([-2.0]), np.array([0.5]))  # (s - 2)^2/2 - 1
 array([0.58578644])
@@ -375,9 +383,10 @@ class FlightIntegrator:
             return self.stepping.run(dynamics, inputs, watch, progress, budget)
         guard = guards[0]
         lone = guard.lone_impacts
-        if lone is not None and inputs.t_out is not None and not guard.excluded.any():
-            if c_flight.available():
-                return _flights(guard, lone, a, inputs, progress, budget)
+        alone = lone is not None and not guard.excluded.any()  # no active contact
+        if alone and inputs.t_out is not None and c_flight.available():
+            assert lone is not None
+            return _flights(guard, lone, a, inputs, progress, budget)
         if budget is not None:
             budget.steps += 1
         return _flight(guard, a, inputs, progress)

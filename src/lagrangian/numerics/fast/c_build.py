@@ -18,6 +18,8 @@ with ctypes in a fraction of a millisecond.
   use SciPy's solvers instead (:mod:`lagrangian.simulation.integrators.compiled`).
 
 Compiling takes about a second; loading, under a millisecond (and the check of the digest).
+The compiled flights of polynomial motion (``c_flight.c``, :mod:`~lagrangian.numerics.fast.
+c_flight`) are built and kept the same way (:func:`compiled_library`), a library of their own.
 
 >>> library = loop_library()
 >>> library is None or library.lg_abi() == ABI_VERSION

@@ -62,7 +62,9 @@ class _Gaps(ctypes.Structure):
 
 
 @cache
-def _library() -> ctypes.CDLL | None:
+def flight_library() -> ctypes.CDLL | None:
+    """The loaded library of ``c_flight.c``, compiled on the first call on this machine;
+    None without a C compiler or when it cannot be built."""
     library = compiled_library(SOURCE, "lg_flight_abi", ABI_VERSION)
     if library is None:
         return None
@@ -80,7 +82,7 @@ def _library() -> ctypes.CDLL | None:
 
 def available() -> bool:
     """Whether the compiled flights can run here (a C compiler, or the library built)."""
-    return _library() is not None
+    return flight_library() is not None
 
 
 class FlightModel:
@@ -157,7 +159,7 @@ def fly(
     times ``t_out`` up to where it stops.  ``tolerances``: (SIMULTANEOUS, the impulse's sign
     tolerance, the contact tolerance) of :mod:`lagrangian.simulation.unilateral` and
     :mod:`lagrangian.simulation.impacts`.  RuntimeError when the library is not available."""
-    library = _library()
+    library = flight_library()
     if library is None:
         raise RuntimeError("the compiled flights are not available (no C compiler)")
     n = model.n
@@ -190,7 +192,7 @@ def fly(
 def crossings(coefficients: np.ndarray) -> np.ndarray:
     """Per row (c0, ..., c4), the first s > 0 where c0 + c1 s + ... + c4 s^4 turns negative,
     as the compiled flights find it (0 when closing now at g <= 0, inf when never)."""
-    library = _library()
+    library = flight_library()
     if library is None:
         raise RuntimeError("the compiled flights are not available (no C compiler)")
     rows = np.ascontiguousarray(coefficients, dtype=float).reshape(-1, 5)
