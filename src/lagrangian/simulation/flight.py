@@ -486,11 +486,12 @@ def _impacts(
 ) -> tuple[tuple[ImpactRecord, ...], list[tuple[str, float, np.ndarray]]]:
     """The impacts of a compiled flight as the piecewise loop records them: each an
     ImpactRecord and its event ``impact NAME`` at the state after it."""
-    records, events = [], []
-    for t, gap, impulse, (before, after) in zip(
-        flown.impact_t.tolist(), flown.impact_gap.tolist(), flown.impulses.tolist(), flown.states
-    ):
-        name = labels[gap]
-        records.append(ImpactRecord(t, (name,), (impulse,), before, after))
-        events.append((f"impact {name}", t, after))
+    names = [labels[gap] for gap in flown.impact_gap.tolist()]
+    befores, afters = list(flown.states[:, 0]), list(flown.states[:, 1])
+    times, impulses = flown.impact_t.tolist(), flown.impulses.tolist()
+    records = [
+        ImpactRecord(t, (name,), (impulse,), before, after)
+        for t, name, impulse, before, after in zip(times, names, impulses, befores, afters)
+    ]
+    events = [(f"impact {name}", t, after) for t, name, after in zip(times, names, afters)]
     return tuple(records), events
