@@ -56,12 +56,16 @@ from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.events import EventWatch
 from lagrangian.simulation.integrators.loop import SolverIntegrator
 from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Progress
+from lagrangian.symbolic.caches import IdentityCache
 
 #: Most coordinates one gap may involve (its polynomial is kept as a dense block that size).
 MOST_COORDINATES = 8
 #: Most lone impacts one compiled step resolves before it hands a contact to the piecewise
 #: loop (a return to Python for the budget's wall time, progress and Ctrl-C).
 IMPACTS_PER_CALL = 4096
+
+#: The compiled flights' numbers of each run's lone impacts, per mode acceleration.
+_MODELS: IdentityCache[LoneImpacts, dict[bytes, c_flight.FlightModel]] = IdentityCache()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -448,8 +452,12 @@ def _flights(
     n = len(x0) // 2
     calendar, gaps = guard.calendar, guard.calendar.gaps
     calendar.next(t0, x0[:n], x0[n:], a, guard.excluded)
-    model = c_flight.FlightModel(gaps.augmented_index, gaps.forms, calendar.incidence,
-                                 lone.inverse_mass, lone.restitution, a)  # fmt: skip
+    models = _MODELS.get(lone, lambda _: {})
+    model = models.get(a.tobytes())
+    if model is None:  # once per run and mode (a gas of a hundred disks: milliseconds)
+        model = c_flight.FlightModel(gaps.augmented_index, gaps.forms, calendar.incidence,
+                                     lone.inverse_mass, lone.restitution, a)  # fmt: skip
+        models[a.tobytes()] = model
     room = max(64, min(IMPACTS_PER_CALL, 2**21 // (4 * n)))
     if budget is not None:  # the last flight, to the contact left to the loop, is a step
         room = min(room, budget.max_steps - budget.steps - 1)
