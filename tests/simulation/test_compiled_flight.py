@@ -207,3 +207,67 @@ def test_without_a_c_compiler_the_gas_flies_in_numpy(monkeypatch: pytest.MonkeyP
     finally:
         monkeypatch.undo()
         c_flight.flight_library.cache_clear()
+
+
+@needs_compiler
+def test_a_ball_in_a_bowl_under_gravity_meets_quartic_contacts_as_in_numpy(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # along a parabola the gap R^2 - x^2 - y^2 is a quartic in t: the compiled step's
+    # bisection against NumPy's eigenvalue roots, impact after impact
+    bowl = lg.loads(
+        """
+        coordinates: [x, y]
+        parameters: {g: 9.81, R: 1.0}
+        kinetic: (x_dot**2 + y_dot**2)/2
+        potential: g*y
+        constraints:
+          - {name: bowl, unilateral: R**2 - x**2 - y**2, restitution: 1}
+        initial: {x: 0.1, y: 0.2, x_dot: 1.5, y_dot: 2.0}
+        """
+    )
+    run = functools.partial(lg.simulate, bowl, t_span=3.0, samples=31)
+    compiled, plain, calls = both(run, monkeypatch)
+    assert sum(calls) >= 5
+    assert len(compiled.impacts) == len(plain.impacts)
+    for ours, theirs in zip(compiled.impacts, plain.impacts, strict=True):
+        assert ours.t == pytest.approx(theirs.t, abs=1e-9)
+    energy = compiled["energy"]
+    assert np.allclose(energy, energy[0], rtol=1e-9)
+    assert np.all(compiled["x"] ** 2 + compiled["y"] ** 2 <= 1 + 1e-9)
+
+
+@needs_compiler
+def test_a_mass_matrix_coupling_the_coordinates_jumps_as_in_numpy(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # two carts whose kinetic energy couples them (M not diagonal): an impulse on one
+    # contact moves both velocities, M^-1 a^T dense; walls at both ends, e = 0.9 between
+    x1, x2 = sp.symbols("x1 x2")
+    v1, v2 = sp.symbols("x1_dot x2_dot")
+    system = lg.System(
+        coordinates=[x1, x2],
+        parameters={},
+        kinetic=(2 * v1**2 + v2**2 + v1 * v2) / 2,
+        constraints=[
+            lg.Unilateral(x2 - x1, name="between", restitution=sp.Rational(9, 10)),
+            lg.Unilateral(x1 + 1, name="left", restitution=1),
+            lg.Unilateral(1 - x2, name="right", restitution=1),
+        ],
+        initial={"x1": -0.5, "x2": 0.5, "x1_dot": 1.0, "x2_dot": -0.3},
+    )
+    run = functools.partial(lg.simulate, system, t_span=4.0, samples=41)
+    compiled, plain, calls = both(run, monkeypatch)
+    assert sum(calls) >= 5
+    assert [i.constraints for i in compiled.impacts] == [i.constraints for i in plain.impacts]
+    for ours, theirs in zip(compiled.impacts, plain.impacts, strict=True):
+        assert ours.t == pytest.approx(theirs.t, abs=1e-12)
+        for velocity, value in theirs.after.items():
+            assert ours.after[velocity] == pytest.approx(value, abs=1e-12)
+        # Newton's law on the contact: its rate after is -e times its rate before
+        (name,) = ours.constraints
+        sign = {"between": (-1, 1), "left": (1, 0), "right": (0, -1)}[name]
+        e = {"between": 0.9, "left": 1.0, "right": 1.0}[name]
+        rate = [sum(s * side[f"x{k + 1}_dot"] for k, s in enumerate(sign))
+                for side in (ours.before, ours.after)]  # fmt: skip
+        assert rate[1] == pytest.approx(-e * rate[0], abs=1e-12)
