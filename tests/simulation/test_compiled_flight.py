@@ -215,16 +215,14 @@ def test_a_ball_in_a_bowl_under_gravity_meets_quartic_contacts_as_in_numpy(
 ) -> None:
     # along a parabola the gap R^2 - x^2 - y^2 is a quartic in t: the compiled step's
     # bisection against NumPy's eigenvalue roots, impact after impact
-    bowl = lg.loads(
-        """
-        coordinates: [x, y]
-        parameters: {g: 9.81, R: 1.0}
-        kinetic: (x_dot**2 + y_dot**2)/2
-        potential: g*y
-        constraints:
-          - {name: bowl, unilateral: R**2 - x**2 - y**2, restitution: 1}
-        initial: {x: 0.1, y: 0.2, x_dot: 1.5, y_dot: 2.0}
-        """
+    x, y = sp.symbols("x y")
+    bowl = lg.System(
+        coordinates=[x, y],
+        parameters={"g": 9.81},
+        kinetic=(sp.Symbol("x_dot") ** 2 + sp.Symbol("y_dot") ** 2) / 2,
+        potential=sp.Symbol("g") * y,
+        constraints=[lg.Unilateral(1 - x**2 - y**2, name="bowl", restitution=1)],
+        initial={"x": -0.3, "y": 0.1, "x_dot": 2.0, "y_dot": 1.0},
     )
     run = functools.partial(lg.simulate, bowl, t_span=3.0, samples=31)
     compiled, plain, calls = both(run, monkeypatch)
