@@ -289,12 +289,13 @@ class UnilateralDynamics:
         """The constraints active at a start: the bilateral ones, and each unilateral one
         touching (g ~ 0, dg/dt ~ 0); SimulationInputError when one is violated or hit."""
         constraints = self.system.constraints
-        active = {i for i in range(len(constraints)) if i not in self.unilateral}
-        if self.gaps is not None:  # every gap at once
-            every = np.arange(len(constraints))
-            hs, gradients = self.gaps.values_and_gradients(every, q)
+        active = set(self.bilateral)
+        if self.gaps is not None:  # every gap at once; only those within the band are looked at
+            hs, _ = self.gaps.values_and_gradients(np.arange(len(constraints)), q, rows=False)
+            near = np.flatnonzero(hs <= INITIAL_TOLERANCE)
+            _, gradients = self.gaps.values_and_gradients(near, q)
             cs = gradients @ q_dot
-            found = list(zip(every.tolist(), hs.tolist(), cs.tolist()))
+            found = list(zip(near.tolist(), hs[near].tolist(), cs.tolist()))
         else:
             found = []
             for i in self.one_sided:
