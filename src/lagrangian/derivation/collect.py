@@ -138,20 +138,29 @@ def collect_state_with(
     factors: dict[Any, Any],
 ) -> Any | None:
     """:func:`collect_state` (with ``sums``) of ``expr`` plus sum(c m for (m, c) in
-    ``monomials``), whose terms come grouped already: each m a state monomial, each c its
-    coefficient, expanded and free of the state.  None when an m is a monomial of ``expr``
-    too (its terms would join the group of ``expr``'s); the caller makes sure no two m are
-    equal.  A chain's C q_dot has n^2 such terms, known by monomial when they are made
-    (:mod:`lagrangian.derivation.coriolis`): grouping them again would walk every factor.
-    A coefficient that is a sum (which the sharing of :func:`_sum_by_coefficient` could write
-    as either sign, by the order the monomials come in) also gives None."""
+    ``monomials``), whose terms come collected already: each m a state monomial, each c its
+    coefficient as :func:`collect_state` makes it (:func:`collected_coefficient`).  None when
+    an m is a monomial of ``expr`` too (its terms would join the group of ``expr``'s); the
+    caller makes sure no two m are equal.  A chain's C q_dot has n^2 such terms, known by
+    monomial when they are made (:mod:`lagrangian.derivation.coriolis`): grouping them again
+    would walk every factor.  A coefficient that is a sum (which the sharing of
+    :func:`_sum_by_coefficient` could write as either sign, by the order the monomials come
+    in) also gives None."""
     terms = expr.args if expr.is_Add else (expr,)
     groups = _groups(terms, state, sums, factors)
-    for monomial, coefficient in monomials:
-        if monomial in groups:
-            return None
-        groups[monomial] = _coefficient_group(coefficient, state, sums, factors)
-    return _collected_with_sums(groups, sums, refuse_sums=True)
+    if any(monomial in groups for monomial, _ in monomials):
+        return None
+    return _collected_with_sums(groups, sums, monomials)
+
+
+def collected_coefficient(
+    coefficient: Any, state: set[Any], sums: Mapping[Any, tuple[Any, Any]], sorts: dict[Any, Any]
+) -> Any:
+    """The coefficient :func:`collect_state` (with ``sums``, remembering factors in ``sorts``)
+    gives a monomial whose terms' coefficients are the terms of ``coefficient`` (expanded,
+    free of the state, its sums of ``sums`` written as their symbols)."""
+    products, holds, factored = _coefficient_group(coefficient, state, sums, sorts)
+    return _with_sums(products, sums, holds, factored)
 
 
 def _coefficient_group(
@@ -183,16 +192,21 @@ def _coefficient_group(
 
 
 def _collected_with_sums(
-    groups: dict[Any, Group], sums: Mapping[Any, tuple[Any, Any]], refuse_sums: bool = False
+    groups: dict[Any, Group],
+    sums: Mapping[Any, tuple[Any, Any]],
+    collected: list[tuple[Any, Any]] | None = None,
 ) -> Any:
-    """The collected sum of ``groups`` (:func:`collect_state` with ``sums``); with
-    ``refuse_sums``, None when a coefficient is a sum."""
+    """The collected sum of ``groups`` (:func:`collect_state` with ``sums``) and of the
+    monomials ``collected`` with their coefficients; with ``collected``, None when a
+    coefficient is a sum."""
     pairs = [
         (key, _with_sums(products, sums, holds, factored))
         for key, (products, holds, factored) in groups.items()
     ]
-    if refuse_sums and any(coefficient.is_Add for _, coefficient in pairs):
-        return None
+    if collected is not None:
+        pairs += collected
+        if any(coefficient.is_Add for _, coefficient in pairs):
+            return None
     if len(pairs) < SHARED:
         return se.Add(*[key * coefficient for key, coefficient in pairs])
     return _sum_by_coefficient(pairs, None)

@@ -29,7 +29,12 @@ import sympy as sp
 
 from lagrangian.derivation.assemble import Assembly, assemble
 from lagrangian.derivation.backend import Backend, SympyView
-from lagrangian.derivation.collect import collect_state, collect_state_with, factor_common
+from lagrangian.derivation.collect import (
+    collect_state,
+    collect_state_with,
+    collected_coefficient,
+    factor_common,
+)
 from lagrangian.derivation.coriolis import VelocityProduct
 from lagrangian.derivation.kinetic import KineticForm, kinetic_form
 from lagrangian.derivation.trig import (
@@ -85,6 +90,7 @@ class EulerLagrangeTerms:
         self._sums: dict[Backend, tuple[Backend, Backend]] = {}  # symbol -> (sum, factored)
         self._compressed: dict[Backend, Backend] = {}
         self._factors: dict[Backend, Backend] = {}  # collect_state's sorting of factors
+        self._coefficients: dict[Backend, tuple[int, Backend | None]] = {}  # of C q_dot's terms
         self.velocity_potential_forces = self._velocity_potential_forces()
         self.mass = self._mass_matrix()
         self.gravity = self.potential_gradient(asm.potential)
@@ -112,21 +118,16 @@ class EulerLagrangeTerms:
     def _tidy_with(self, rest: Backend, coriolis: tuple[VelocityProduct, ...]) -> Backend | None:
         """:meth:`tidy` of rest - C q_dot for the terms of C q_dot known by monomial
         (:func:`lagrangian.derivation.coriolis.coriolis_products`): the same expression,
-        with the n terms of a chain's row taken as they are made (compressed, expanded and
-        grouped one by one) instead of expanded and collected with the rest; None when
-        :meth:`tidy` would not expand the whole (a factor it cannot vouch for, or too many
-        terms), or a monomial of C q_dot is also one of ``rest``'s."""
+        with the n terms of a chain's row taken as they are made (each coefficient collected
+        once, :meth:`_collected_coefficient`) instead of expanded and collected with the
+        rest; None when :meth:`tidy` would not expand the whole (a factor it cannot vouch
+        for, or too many terms), or a monomial of C q_dot is also one of ``rest``'s."""
         monomials = []
         bound = 0
         for product in coriolis:
-            coefficient = self.compress(-product.number * product.coefficient)
-            count = 1
-            for factor in coefficient.args if coefficient.is_Mul else (coefficient,):
-                if factor.is_Add:  # a short sum of parameters, expanded with the rest
-                    count *= len(factor.args)
+            count, coefficient = self._collected_coefficient(-product.number, product.coefficient)
             bound += count
-            expanded = se.expand(coefficient) if count > 1 else coefficient
-            monomials.append((product.monomial, expanded))
+            monomials.append((product.monomial, coefficient))
         compact = self.compress(rest)
         if not self._sums:
             return None
@@ -136,6 +137,30 @@ class EulerLagrangeTerms:
         return collect_state_with(
             se.expand(compact), monomials, self.state, self._sums, self._factors
         )
+
+    def _collected_coefficient(self, number: Backend, coefficient: Backend) -> tuple[int, Backend]:
+        """(the terms of the expansion of number * ``coefficient`` with its long sums kept
+        whole, counted as :func:`_plain_bound` counts them; the coefficient collect_state
+        makes of those terms).  A product with no short sum to expand collects to number
+        times what the product collects to, found once per coefficient (a chain's w_jk is in
+        two rows of C q_dot)."""
+        known = self._coefficients.get(coefficient)
+        if known is None:
+            compact = self.compress(coefficient)
+            count = 1
+            for factor in compact.args if compact.is_Mul else (compact,):
+                if factor.is_Add:  # a short sum of parameters, expanded with the rest
+                    count *= len(factor.args)
+            plain = count == 1 and not compact.is_Add
+            collected = self._collected(compact) if plain else None
+            known = self._coefficients[coefficient] = (count, collected)
+        count, collected = known
+        if collected is not None:
+            return count, number * collected
+        return count, self._collected(se.expand(self.compress(number * coefficient)))
+
+    def _collected(self, coefficient: Backend) -> Backend:
+        return collected_coefficient(coefficient, self.state, self._sums, self._factors)
 
     def _velocity_potential_forces(self) -> list[Backend]:
         """d/dt dU/dq_dot - dU/dq of each coordinate, without its q_ddot part; each 0 when U
