@@ -395,22 +395,33 @@ def _product(flat: list[sp.Expr], factors: list[sp.Expr], order: CanonicalOrder 
         coefficient is not sp.S.One and len(parts) == 1 and parts[0].is_Add
     ):
         return sp.Mul(*factors)
-    _sort(parts, order)
+    keys = _sort(parts, order)
     if coefficient is not sp.S.One:
         parts.insert(0, coefficient)
-    return sp.Mul._from_args(parts, True)  # what sp.Mul does with the flattened factors
+    product = sp.Mul._from_args(parts, True)  # what sp.Mul does with the flattened factors
+    if keys is not None and order is not None:
+        # its key from its factors' (a sum of such products sorts them by it next)
+        if coefficient is not sp.S.One:
+            keys.insert(0, order(coefficient))
+        order.remember(product, keys)
+    return product
 
 
-def _sort(parts: list[sp.Expr], order: CanonicalOrder | None) -> None:
+def _sort(parts: list[sp.Expr], order: CanonicalOrder | None) -> list[tuple[Any, ...]] | None:
     """Sort ``parts`` in SymPy's canonical order, by the keys of ``order`` where it has them
-    (keys of unlike content, which no canonical expression has, cannot be compared)."""
+    (keys of unlike content, which no canonical expression has, cannot be compared); the
+    keys in the sorted order when they were used."""
     if order is not None and len(parts) > 1:
         try:
-            parts.sort(key=order)
-            return
+            keys = [order(part) for part in parts]
+            ranks = sorted(range(len(parts)), key=keys.__getitem__)
         except (Unorderable, TypeError):
             pass
+        else:
+            parts[:] = [parts[i] for i in ranks]
+            return [keys[i] for i in ranks]
     parts.sort(key=_CANONICAL_ORDER)
+    return None
 
 
 class Unorderable(Exception):
@@ -420,6 +431,7 @@ class Unorderable(Exception):
 #: Where a class's name stands in SymPy's order of classes; the rest come after, by name.
 _CLASS_RANK = {name: i for i, name in enumerate(ordering_of_classes)}
 _UNRANKED = len(ordering_of_classes) + 1
+_MUL_RANK = _CLASS_RANK.get("Mul", _UNRANKED)
 #: How SymPy's classes give the content that ``Basic.compare`` compares after the class.
 _ARGS_CONTENT = (sp.Basic._hashable_content, sp.Expr._hashable_content)
 _NAMED = (sp.Symbol, sp.Dummy)
@@ -463,6 +475,11 @@ class CanonicalOrder:
         key = (_CLASS_RANK.get(name, _UNRANKED), name, len(content), *content)
         self._keys[id(expr)] = (expr, key)
         return key
+
+    def remember(self, product: sp.Mul, keys: list[tuple[Any, ...]]) -> None:
+        """Remember the key of ``product`` from the keys of its arguments (in their order),
+        the key :meth:`__call__` would make of them."""
+        self._keys[id(product)] = (product, (_MUL_RANK, "Mul", len(keys), *keys))
 
 
 def _flat(items: list[sp.Expr], kind: type) -> list[sp.Expr]:
