@@ -159,7 +159,7 @@ def _number_times_trig(change: Backend) -> tuple[Backend, Backend] | None:
     """(c, g) for a derivative c g, c a number and g a sine or cosine; else None."""
     if isinstance(change, _TRIG):
         return se.Integer(1), change
-    args = change.args if change.is_Mul else ()
+    args: tuple[Backend, ...] = change.args if change.is_Mul else ()
     if len(args) == 2 and args[0].is_Number and isinstance(args[1], _TRIG):
         return args[0], args[1]
     return None
