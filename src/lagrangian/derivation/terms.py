@@ -513,14 +513,20 @@ def _plain_product(
 ) -> bool:
     """A product (SymPy's or SymEngine's: both name their kinds alike) of numbers, symbols,
     integer powers of symbols and sines and cosines (the types ``trig``) whose arguments
-    ``angle`` accepts, at most ``most`` of those (None: any number)."""
+    ``angle`` accepts, at most ``most`` of those (None: any number, and integer powers of
+    them too)."""
     count = 0
     for factor in term.args if term.is_Mul else (term,):
         if factor.is_Number or factor.is_Symbol:
             continue
         if factor.is_Pow:
             base, exponent = factor.args
-            if not (base.is_Symbol and exponent.is_Integer):
+            if not exponent.is_Integer:
+                return False
+            # a power of a sine or cosine (cos(pitch)**2 of a body's inertia) is left as it
+            # is by expand too, when the trigonometric factors are not counted
+            trig_power = most is None and isinstance(base, trig) and angle(base.args[0])
+            if not (base.is_Symbol or trig_power):
                 return False
         elif isinstance(factor, trig) and angle(factor.args[0]):
             count += 1
