@@ -182,6 +182,12 @@ def _relations(condition: sp.Basic) -> dict[sp.Basic, sp.Basic]:
     return relations
 
 
+def _unknowns(eom: EquationsOfMotion, static: sp.MatrixBase) -> list[sp.Symbol]:
+    """The coordinates the static forces hold (their symbols read once, not per coordinate)."""
+    held = static.free_symbols
+    return [q for q in eom.coordinates if q in held]
+
+
 def _at_values(context: EvaluationContext, static: sp.ImmutableMatrix) -> _Specialized | str:
     """The static forces to solve (:class:`_Specialized`), or why there is no rest at the
     values given either.
@@ -191,7 +197,7 @@ def _at_values(context: EvaluationContext, static: sp.ImmutableMatrix) -> _Speci
     depends on q and vanishes for every q at the values (F_theta r) leaves every q at rest
     along it there; in general it does not ("for F_theta ≠ 0: ... the equilibria differ")."""
     eom, subs = context.eom, dict(context.substitutions)
-    unknowns = [q for q in eom.coordinates if depends_on(static, [q])]
+    unknowns = _unknowns(eom, static)
     forces = [e for e in static if not is_zero(e)]
     constant = [e for e in forces if not depends_on(e, unknowns)]
     vanishing = {e: context.vanishing_condition(e) for e in forces}
@@ -266,7 +272,7 @@ def _free_equilibria(context: EvaluationContext) -> Equilibria:
         everywhere = (build_equilibrium(eom, {}, numbers, True, test),)
         resting = Equilibria(everywhere, static, potential, "symbolic", "the static forces vanish")
         return _said_at_values(resting, special)
-    unknowns = [q for q in eom.coordinates if depends_on(static, [q])]
+    unknowns = _unknowns(eom, static)
     if len(unknowns) > SOLVED_WHOLE:
         separated = separate_roots(static, unknowns, numbers)
         if separated is not None:

@@ -155,7 +155,6 @@ def _legendre_quadratic(eom: EquationsOfMotion, w: sp.MatrixBase, p: tuple[sp.Sy
     shifted = sp.Matrix(
         [pj - expression_at_rest(s.dL_dvelocity, free) for pj, s in zip(p, eom.steps)]
     )
-    l0 = lagrangian_at_rest(eom)
     n = w.rows
     if _diagonal(w):
         velocities = [shifted[j] / w[j, j] for j in range(n)]
@@ -170,7 +169,8 @@ def _legendre_quadratic(eom: EquationsOfMotion, w: sp.MatrixBase, p: tuple[sp.Sy
         solved = w.LUsolve(shifted)
         velocities = list(solved)
         kinetic = (shifted.T * solved)[0, 0] / 2
-    return kinetic - l0, dict(zip(eom.velocities, velocities))
+    # L0 last: a W^-1 too long to write out is refused before anything else is built
+    return kinetic - lagrangian_at_rest(eom), dict(zip(eom.velocities, velocities))
 
 
 def elimination_sizes(w: sp.MatrixBase, rhs: sp.MatrixBase) -> list[int]:

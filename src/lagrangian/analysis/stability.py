@@ -71,7 +71,7 @@ def stability_of(
             + "), so a push moves it off at constant speed"
         )
     scale = _scale(stiffness)
-    if _skew(stiffness, scale):
+    if not stiffness.is_diagonal() and _skew(stiffness, scale):
         return None, (
             "K is not symmetric (positional forces not from a potential): the Hessian test "
             "does not apply; see the linearization's eigenvalues"
