@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagrangian.analysis.arguments import Subject, Values, equations_of
+from lagrangian.analysis.at_rest import VelocityFree, expression_at_rest
 from lagrangian.analysis.evaluation import EvaluationContext, condition_text, evaluation_context
 from lagrangian.analysis.manifold.constraint_manifold import constraint_manifold
 from lagrangian.analysis.manifold.left_out import constraint_names
@@ -151,6 +152,14 @@ def _cyclic(context: EvaluationContext, j: int) -> CyclicCoordinate:
     return CyclicCoordinate(q, step.dL_dvelocity, reason, False, kinds, sp.false)
 
 
+def _vanishes(expr: sp.Expr, velocities: VelocityFree) -> bool:
+    """``expr`` = 0 identically: not when its part at rest (a few terms, -dV/dq for a
+    natural system) is not, found without evaluating all of it; else by probing all."""
+    if not is_zero(expression_at_rest(expr, velocities)):
+        return False
+    return is_zero(expr)
+
+
 def cyclic_coordinates(
     subject: Subject, parameters: Values | None = None
 ) -> tuple[CyclicCoordinate, ...]:
@@ -171,11 +180,17 @@ def cyclic_at_values(context: EvaluationContext) -> tuple[CyclicCoordinate, ...]
     """:func:`cyclic_coordinates` with the parameter values of ``context``."""
     eom = context.eom
     dissipation = eom.dissipation_function
+    # the symbols of L = T - V - U and of F once, not once per coordinate (a chain's L has
+    # n^2 terms); a symbol of T that L has lost to a cancellation is tested by dL/dq = 0
+    pieces = (eom.kinetic_energy, eom.potential_energy, eom.velocity_potential)
+    in_lagrangian = set().union(*(piece.free_symbols for piece in pieces))
+    in_dissipation = dissipation.free_symbols
+    velocities = VelocityFree(frozenset(eom.velocities))
     found = []
-    for j, (q, step) in enumerate(zip(eom.coordinates, eom.steps)):
-        if q in eom.lagrangian.free_symbols and not is_zero(step.dL_dcoordinate):
+    for j, q in enumerate(eom.coordinates):
+        if q in in_lagrangian and not _vanishes(eom.steps[j].dL_dcoordinate, velocities):
             continue
-        if q in dissipation.free_symbols and not is_zero(dissipation.diff(q)):
+        if q in in_dissipation and not is_zero(dissipation.diff(q)):
             continue
         found.append(_cyclic(context, j))
     return tuple(found)
