@@ -125,3 +125,29 @@ def test_large_pencils_in_double_precision_agree_with_30_digits(monkeypatch) -> 
         assert float(w2) == pytest.approx(r2, rel=1e-9)
     for ours, (_, shape) in zip(report.shapes, reference):
         assert [float(x) for x in ours] == pytest.approx([float(x) for x in shape], abs=1e-8)
+
+
+def test_every_output_says_how_many_equilibria_a_long_chain_has() -> None:
+    """Only the minimum and the maximum of 2^7 = 128 are listed: text, LaTeX and JSON each
+    say that there are 128 and how they were found (a user reading two would think that is
+    all)."""
+    from lagrangian.render.analysis_json import analysis_document
+    from lagrangian.render.analysis_latex import analysis_latex
+    from lagrangian.render.analysis_text import analysis_text
+
+    report = lg.analyze(lg.examples.n_link_pendulum(7), search_seconds=0.5)
+    assert len(report.equilibria.equilibria) == 2 and report.equilibria.count == 128
+    document = analysis_document(report)
+    assert document["equilibria_count"] == 128 and len(document["equilibria"]) == 2
+    assert "128 equilibria" in document["equilibria_reason"]
+    text = analysis_text(report)
+    listed = text.split("Equilibria:")[1].split("\n\n")[0]
+    assert "128 equilibria" in listed and "saddle" in listed
+    assert "128 equilibria" in analysis_latex(report)
+
+
+def test_a_short_chain_counts_what_it_lists() -> None:
+    from lagrangian.render.analysis_json import analysis_document
+
+    document = analysis_document(lg.analyze(lg.examples.n_link_pendulum(2), search_seconds=0.5))
+    assert document["equilibria_count"] == len(document["equilibria"]) == 4
