@@ -223,6 +223,27 @@ def stage_residual(
     return L_v - p0 - DT * tableau.a @ F, p0 + DT * tableau.b @ F
 
 
+def assert_as_scipy_root(
+    mechanics: DiscreteMechanics,
+    tableau: Tableau,
+    start: tuple[np.ndarray, np.ndarray, float],
+    p: np.ndarray,
+    guess: np.ndarray,
+    V: np.ndarray,
+) -> None:
+    """The stages V are those SciPy's root finder finds from ``guess`` on the same
+    equations (no Jacobian given) from ``start`` = (q0, p0, t0), at a tight tolerance."""
+    q0, p0, t0 = start
+    found = root(
+        lambda x: stage_residual(mechanics, tableau, q0, p0, t0, p, x.reshape(-1, 2))[0].ravel(),
+        guess.ravel(),
+        method="hybr",
+        options={"xtol": 1e-13},
+    )
+    assert found.success and np.abs(found.fun).max() < 1e-12
+    np.testing.assert_allclose(V.ravel(), found.x, rtol=0, atol=1e-11)
+
+
 @pytest.mark.parametrize("tableau", [gauss(2), gauss(3)], ids=lambda t: t.name)
 def test_a_gauss_step_solves_its_stage_equations_to_rounding(tableau: Tableau) -> None:
     mechanics, p = setup(forced_double_pendulum())
@@ -236,15 +257,7 @@ def test_a_gauss_step_solves_its_stage_equations_to_rounding(tableau: Tableau) -
     # the momentum taken from the Jacobian is the one evaluated at the stages
     np.testing.assert_allclose(step.momentum, momentum, rtol=0, atol=1e-13)
     np.testing.assert_allclose(step.q, q0 + DT * tableau.b @ step.V, rtol=0, atol=1e-15)
-    # SciPy's root finder on the same equations (no Jacobian given), at a tight tolerance
-    found = root(
-        lambda x: stage_residual(mechanics, tableau, q0, p0, t0, p, x.reshape(-1, 2))[0].ravel(),
-        guess.ravel(),
-        method="hybr",
-        options={"xtol": 1e-13},
-    )
-    assert found.success and np.abs(found.fun).max() < 1e-12
-    np.testing.assert_allclose(step.V.ravel(), found.x, rtol=0, atol=1e-11)
+    assert_as_scipy_root(mechanics, tableau, (q0, p0, t0), p, guess, step.V)
     # a guess this far off takes more corrections; every one is counted
     assert step.evaluations % tableau.stages == 0 and step.evaluations >= 2 * tableau.stages
 
@@ -308,12 +321,5 @@ def test_a_step_from_the_extrapolated_stages_solves_them_to_rounding(tableau: Ta
     rows, momentum = stage_residual(mechanics, tableau, q1, p1, t1, p, step.V)
     assert np.abs(rows).max() < 1e-13
     np.testing.assert_allclose(step.momentum, momentum, rtol=0, atol=1e-13)
-    found = root(
-        lambda x: stage_residual(mechanics, tableau, q1, p1, t1, p, x.reshape(-1, 2))[0].ravel(),
-        guess.ravel(),
-        method="hybr",
-        options={"xtol": 1e-13},
-    )
-    assert found.success and np.abs(found.fun).max() < 1e-12
-    np.testing.assert_allclose(step.V.ravel(), found.x, rtol=0, atol=1e-11)
+    assert_as_scipy_root(mechanics, tableau, (q1, p1, t1), p, guess, step.V)
     assert step.evaluations <= 3 * tableau.stages

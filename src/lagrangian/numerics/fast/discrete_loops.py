@@ -104,13 +104,14 @@ def scalar_loops() -> Iterator[None]:
     each was preceded by run-time checks that its arrays do not overlap, pairwise over the
     arrays it touches, and the checks took longer than the loops (a gauss6 step of a double
     pendulum a quarter faster without them)."""
+    # numba sets its configuration at run time: mypy does not see the attribute
     with global_compiler_lock:
-        vectorize = numba_config.LOOP_VECTORIZE
-        numba_config.LOOP_VECTORIZE = False
+        vectorize = numba_config.LOOP_VECTORIZE  # type: ignore[attr-defined]
+        numba_config.LOOP_VECTORIZE = False  # type: ignore[attr-defined]
         try:
             yield
         finally:
-            numba_config.LOOP_VECTORIZE = vectorize
+            numba_config.LOOP_VECTORIZE = vectorize  # type: ignore[attr-defined]
 
 
 def system_arguments(native: NativeMechanics) -> tuple[tuple[Any, ...], tuple[int, ...]]:
