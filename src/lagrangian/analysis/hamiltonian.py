@@ -43,6 +43,7 @@ from lagrangian.analysis.at_rest import (
 from lagrangian.analysis.momenta import momentum_symbols
 from lagrangian.analysis.simplification import QUICK, simplify_small
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.derivation.steps import step_momenta, step_slopes
 from lagrangian.errors import AnalysisError, SizeLimitError
 from lagrangian.size_limits import active_operations, check_size, operations
 from lagrangian.symbolic.probe import (
@@ -90,8 +91,7 @@ def velocity_hessian(eom: EquationsOfMotion) -> sp.ImmutableMatrix:
     free = VelocityFree(frozenset(eom.velocities))
     column = {v: j for j, v in enumerate(eom.velocities)}
     rows = []
-    for step in eom.steps:
-        momentum = step.dL_dvelocity
+    for momentum in step_momenta(eom.system):
         row = _linear_row(momentum, free, column)
         if row is None:
             free = momentum.free_symbols
@@ -153,7 +153,7 @@ def _legendre_quadratic(eom: EquationsOfMotion, w: sp.MatrixBase, p: tuple[sp.Sy
     sum (p_j - b_j)^2/(2 W_jj) for a diagonal W and with W^-1 = adj(W)/det(W) otherwise."""
     free = VelocityFree(frozenset(eom.velocities))
     shifted = sp.Matrix(
-        [pj - expression_at_rest(s.dL_dvelocity, free) for pj, s in zip(p, eom.steps)]
+        [pj - expression_at_rest(m, free) for pj, m in zip(p, step_momenta(eom.system))]
     )
     n = w.rows
     if _diagonal(w):
@@ -239,7 +239,7 @@ def _sample_point(symbols: set[sp.Symbol]) -> dict[sp.Symbol, sp.Float]:
 def _general(eom: EquationsOfMotion, p: tuple[sp.Symbol, ...]):
     """Solve p = dL/dq_dot with sympy.solve; of several branches, keep the one that inverts
     the map at a sample point (the real one, near positive velocities)."""
-    momenta = [s.dL_dvelocity for s in eom.steps]
+    momenta = list(step_momenta(eom.system))
     equations = [pj - mj for pj, mj in zip(p, momenta)]
     try:
         branches = sp.solve(equations, list(eom.velocities), dict=True)
@@ -315,7 +315,8 @@ def hamilton_equations(subject: Subject, legendre: Hamiltonian | None = None) ->
         p_rates = [simplify_small(-h.diff(q) + f, QUICK) for q, f in zip(eom.coordinates, forces)]
     else:  # dH/dp = q_dot(q, p) and dH/dq = -dL/dq there: a fraction of the size of dH/dq
         rates = [velocities[v] for v in eom.velocities]
-        p_rates = [s.dL_dcoordinate.xreplace(velocities) + f for s, f in zip(eom.steps, forces)]
+        slopes = step_slopes(eom.system)
+        p_rates = [s.xreplace(velocities) + f for s, f in zip(slopes, forces)]
     for p_j, rate in zip(legendre.momenta, p_rates):
         check_size(rate, f"analyze: Hamilton's equation for d{p_j}/dt")
     return HamiltonEquations(
