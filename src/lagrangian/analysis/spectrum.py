@@ -19,7 +19,6 @@ from collections.abc import Iterable
 
 import mpmath
 import numpy as np
-import scipy.linalg
 import sympy as sp
 
 DIGITS = 30
@@ -80,6 +79,8 @@ def symmetric_eigenvalues(matrix: sp.MatrixBase) -> tuple[float, ...]:
     if matrix.rows == 0:
         return ()
     if matrix.rows > EXTENDED_PRECISION_SIZE:
+        import scipy.linalg  # only for large matrices: deriving loads no SciPy
+
         return tuple(float(v) for v in scipy.linalg.eigvalsh(_doubles(matrix)))
     with mpmath.workdps(DIGITS):
         values = mpmath.eigsy(_mp_matrix(matrix).apply(mpmath.re), eigvals_only=True)
@@ -113,6 +114,8 @@ def _double_modes(
     stiffness: sp.MatrixBase, mass: sp.MatrixBase
 ) -> list[tuple[float, sp.ImmutableMatrix]]:
     """:func:`generalized_modes` in double precision (LAPACK's symmetric-definite solver)."""
+    import scipy.linalg  # only for large pencils: deriving loads no SciPy
+
     values, vectors = scipy.linalg.eigh(_doubles(stiffness), _doubles(mass))
     result = []
     for i, value in enumerate(values):
