@@ -68,6 +68,7 @@ def measure(before: Path, repeat: int, cap: float) -> dict:
                 times.setdefault((side, label), []).append(outcome["seconds"])
                 cpu = outcome.get("cpu_seconds", math.nan)
                 times.setdefault((side, "cpu", label), []).append(cpu)
+                _count_switches(times, (side, label), outcome)
                 note = f" ({outcome['error'][-120:]})" if "error" in outcome else ""
                 print(f"  {side:<6} {label}: {outcome['seconds']:.3g} s{note}", file=sys.stderr)
         for key, (script, arguments) in KANE.items():
@@ -75,9 +76,39 @@ def measure(before: Path, repeat: int, cap: float) -> dict:
             times.setdefault(("kane", key), []).append(outcome["seconds"])
             cpu = outcome.get("cpu_seconds", math.nan)
             times.setdefault(("kane", "cpu", key), []).append(cpu)
+            _count_switches(times, ("kane", key), outcome)
             print(f"  kane   {key}: {outcome['seconds']:.3g} s", file=sys.stderr)
         print(f"round {r + 1} of {repeat} done", file=sys.stderr)
     return times
+
+
+def _count_switches(times: dict, key: tuple[str, str], outcome: dict) -> None:
+    """The run's wall time beyond its CPU time and its context switches (the workers'
+    ``multibody.Stopwatch``), kept under ("waits", *key)."""
+    waited = outcome["seconds"] - outcome.get("cpu_seconds", math.nan)
+    switches = [outcome.get(f"{kind}_switches", math.nan) for kind in ("voluntary", "involuntary")]
+    times.setdefault(("waits", *key), []).append((waited, *switches))
+
+
+def waits_table(times: dict) -> list[str]:
+    """Why the wall time exceeds the CPU time: per formulation (after) and per KanesMethod
+    job, the medians of the seconds waited, the voluntary context switches (the process
+    waiting for something of its own: I/O, a lock, a sleep) and the involuntary ones (the
+    scheduler giving its core to another process)."""
+    lines = [
+        "| run | wall - CPU s | voluntary switches | involuntary switches |",
+        "|---|---:|---:|---:|",
+    ]
+    keys = [("after", label) for label, *_ in JOBS] + [("kane", key) for key in KANE]
+    for key in keys:
+        runs = times.get(("waits", *key), [])
+        if not runs:
+            continue
+        columns = [_median([run[i] for run in runs]) for i in range(3)]
+        lines.append(
+            f"| {key[1]} ({key[0]}) | {columns[0]:.3g} | {columns[1]:.0f} | {columns[2]:.0f} |"
+        )
+    return lines
 
 
 def _cell(values: list[float]) -> str:
@@ -117,6 +148,12 @@ def report(times: dict, repeat: int, before: Path) -> str:
                 f"| {label} | {_cell(old)} | {_cell(new)} | {m_new / m_old:.2f} "
                 f"| {_cell(kane)} | {m_kane / m_old:.2f} | {m_kane / m_new:.2f} |"
             )
+    lines += [
+        "",
+        "Why the wall time exceeds the CPU time (medians per run):",
+        "",
+        *waits_table(times),
+    ]
     return "\n".join(lines)
 
 

@@ -454,14 +454,13 @@ def kane_accelerations(found) -> list[float]:
 def worker(method: str, verify: bool) -> int:
     """Time one derivation in this fresh process; print one JSON line."""
     multibody.warm_up()
-    start, cpu = time.perf_counter(), time.process_time()
+    clock = multibody.Stopwatch()
     phases: dict = {}
     if method == "kane":
         found = derive_kane()
     else:
         found = derive_lagrangian(phases, by_hand=(method == "hand"))
-    outcome: dict = {"seconds": time.perf_counter() - start, "phases": phases}
-    outcome["cpu_seconds"] = time.process_time() - cpu
+    outcome: dict = {**clock.read(), "phases": phases}
     if verify:
         check = kane_accelerations if method == "kane" else lagrangian_accelerations
         outcome["accelerations"] = check(found)

@@ -10,8 +10,9 @@ What is measured
                     unilateral constraints, each piece in closed form (free flight), every
                     contact found as the root of its gap's polynomial by the calendar of
                     ``simulation/flight.py``, every impact resolved by the impulsive Lagrange
-                    equations (``simulation/impacts.py``), the Trajectory built with its
-                    impacts;
+                    equations (``simulation/impacts.py``; a lone contact's flight, impulse
+                    and calendar update in the compiled step ``numerics/fast/c_flight.c``
+                    where there is a C compiler), the Trajectory built with its impacts;
         reference   an event-driven simulation in NumPy written below: a priority queue
                     (heapq) of the wall and pair collision times, each disk's times found
                     again against all others after its collisions, stale entries skipped by

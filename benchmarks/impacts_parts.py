@@ -10,7 +10,10 @@ What is measured, for ``--disks`` hard disks of radius 0.02 (``hard_disk_gas(n, 
     flight      ``quadratic_gaps`` of every contact (once per run's setup), then
                 ``QuadraticGaps.along`` on 1 gap (an impact's bounce check) and on the ~4 n
                 gaps of two disks (the calendar after a collision), their
-                ``first_crossings``, and ``resolve`` of a lone contact (its closed form).
+                ``first_crossings``, and ``resolve`` of a lone contact (its closed form);
+    compiled    the compiled step alone (``numerics/fast/c_flight.py``'s ``fly``): flights,
+                lone impacts and calendar updates of the gas from its start over ``--t-end``,
+                per impact (where there is a C compiler).
 
 Usage
     python benchmarks/impacts_parts.py --disks 40
@@ -28,17 +31,21 @@ import sympy as sp
 
 import lagrangian as lg
 from lagrangian.examples.gas import hard_disk_gas
+from lagrangian.numerics.fast import c_flight
 from lagrangian.simulation.conserved import conserved_expressions, momentum_obstructions
-from lagrangian.simulation.flight import first_crossings, quadratic_gaps
+from lagrangian.simulation.flight import Calendar, first_crossings, quadratic_gaps
 from lagrangian.simulation.impacts import resolve
 
 
-def best(work: Callable[[], object], repeat: int = 5) -> float:
+def best(
+    work: Callable[[], object], repeat: int = 5, clock: Callable[[], float] = time.perf_counter
+) -> float:
+    """The least time of ``repeat`` calls of ``work`` on ``clock``."""
     times = []
     for _ in range(repeat):
-        started = time.perf_counter()
+        started = clock()
         work()
-        times.append(time.perf_counter() - started)
+        times.append(clock() - started)
     return min(times)
 
 
@@ -104,10 +111,49 @@ def flight_part(disks: int) -> tuple[float, float, float, float, float]:
     )
 
 
+def compiled_part(disks: int, t_end: float) -> tuple[int, float, float] | None:
+    """(impacts, seconds per impact, CPU seconds per impact) of the compiled step flying the
+    gas from its start (every disk of mass 1, e = 1, no field), None without a C compiler
+    (CPU time: on a shared machine the wall time carries the waits for a core)."""
+    if not c_flight.available():
+        return None
+    gas = hard_disk_gas(disks, radius=0.02)
+    values = {s: sp.Float(v) for s, v in gas.parameters.items()}
+    expressions = [c.expression for c in gas.constraints]
+    gaps = quadratic_gaps(expressions, range(len(expressions)), gas.coordinates, values)
+    assert gaps is not None
+    n = len(gas.coordinates)
+    by_name = {str(key): value for key, value in gas.initial.items()}
+    x0 = np.array([by_name[q.name] for q in gas.coordinates]
+                  + [by_name[f"{q.name}_dot"] for q in gas.coordinates])  # fmt: skip
+    a = np.zeros(n)
+    model = c_flight.FlightModel(gaps.augmented_index, gaps.forms, gaps.incidence, np.eye(n),
+                                 np.ones(len(expressions)), a)  # fmt: skip
+    calendar = Calendar(gaps)
+    calendar.next(0.0, x0[:n], x0[n:], a, np.zeros(len(expressions), dtype=bool))
+    impacts = []
+
+    def flights() -> None:
+        times = calendar.times.copy()
+        flown = c_flight.fly(model, times, 0.0, x0, t_end, np.zeros(0), 4096,
+                             (1e-12, 1e-10, 1e-8))  # fmt: skip
+        impacts.append(len(flown.impact_t))
+
+    seconds, cpu = best(flights), best(flights, clock=time.process_time)
+    return impacts[-1], seconds / max(impacts[-1], 1), cpu / max(impacts[-1], 1)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--disks", type=int, default=40)
+    parser.add_argument("--t-end", type=float, default=2.0, help="of the compiled step")
     args = parser.parse_args()
+    compiled = compiled_part(args.disks, args.t_end)
+    if compiled is not None:
+        print(
+            f"the compiled step alone: {compiled[0]} impacts over t_end = {args.t_end:g}, "
+            f"{compiled[1] * 1e6:.3g} us per impact ({compiled[2] * 1e6:.3g} us of CPU)"
+        )
     first, again = conserved_part(args.disks)
     print(f"conserved momenta, {args.disks} disks without a field: first {first:.3g} s, "
           f"again {again:.3g} s")  # fmt: skip

@@ -61,6 +61,7 @@ import json
 import math
 import os
 import platform
+import resource
 import statistics
 import subprocess
 import sys
@@ -548,13 +549,34 @@ def warm_up() -> None:
     _ = (warm_a * sp.sin(warm_b) + warm_b * sp.cos(warm_a)) ** 2  # SymPy's lazy imports
 
 
+class Stopwatch:
+    """The wall and CPU time of a worker's timed part, and why the two differ: the process's
+    context switches meanwhile (``getrusage``).  Voluntary ones are waits of its own (I/O, a
+    lock, a sleep, a thread joined); involuntary ones are the scheduler handing its core to
+    another process (the load of a shared machine).  The CPU time counts every thread."""
+
+    def __init__(self) -> None:
+        self._usage = resource.getrusage(resource.RUSAGE_SELF)
+        self._wall, self._cpu = time.perf_counter(), time.process_time()
+
+    def read(self) -> dict:
+        """{"seconds", "cpu_seconds", "voluntary_switches", "involuntary_switches"} so far."""
+        wall, cpu = time.perf_counter() - self._wall, time.process_time() - self._cpu
+        usage = resource.getrusage(resource.RUSAGE_SELF)
+        return {
+            "seconds": wall,
+            "cpu_seconds": cpu,
+            "voluntary_switches": usage.ru_nvcsw - self._usage.ru_nvcsw,
+            "involuntary_switches": usage.ru_nivcsw - self._usage.ru_nivcsw,
+        }
+
+
 def worker(method: str, n: int, verify: bool) -> int:
     """Time one derivation in this fresh process; print one JSON line."""
     warm_up()
-    start, cpu = time.perf_counter(), time.process_time()
+    clock = Stopwatch()
     result = DERIVERS[method](n)
-    seconds = time.perf_counter() - start
-    outcome: dict = {"seconds": seconds, "cpu_seconds": time.process_time() - cpu}
+    outcome: dict = clock.read()
     if verify and not method.startswith("kane") and n <= CHECK_MAX_N:
         outcome["check"] = check(method, n, result)
     print(json.dumps(outcome), flush=True)

@@ -14,6 +14,12 @@ What is measured
             commit before) in the same run, the two alternating call by call; the table gives
             both and their ratio.  Every measurement is a fresh process.  ``--heading-note``
             adds words to the block's title (a new block beside the earlier ones).
+    alternate
+            The CPU time of the march alone of every method over ``--speed-steps`` steps (101
+            outputs), this checkout and ``--baseline`` each in one process kept alive, the two
+            alternating call by call for ``--rounds`` rounds: the best and the median.  Short
+            calls side by side read a loaded machine better than whole runs: a burst of load
+            costs one call of either side, and the best of many is near the quiet machine's.
     compile The one-time compile of the two compiled marches (midpoint rule, collocation):
             CPU seconds of a fresh process compiling both into an empty numba cache
             (``NUMBA_CACHE_DIR`` a new temporary folder), this checkout and ``--baseline``.
@@ -52,6 +58,8 @@ Usage
     python benchmarks/variational.py                      # every part, 10^6 drift steps
     python benchmarks/variational.py --part speed --baseline ../before/src --record
     python benchmarks/variational.py --part speed --speed-steps 10000000 --speed-samples 101
+    python benchmarks/variational.py --part alternate --speed-steps 100000 --rounds 10 \\
+        --baseline ../before/src
     python benchmarks/variational.py --part compile --baseline ../before/src
     python benchmarks/variational.py --steps 100000       # a shorter drift run
     python benchmarks/variational.py --part work --periods 100 --per-period 40 80
@@ -235,6 +243,70 @@ def run_speed(steps: int, repeat: int, baseline: str | None, samples: int = 0) -
         f"lg.simulate; best of {repeat} calls, each in a fresh "
         f"process; 1-minute load average at the end: {os.getloadavg()[0]:.1f} on "
         f"{os.cpu_count()} cores (on a shared machine the CPU time is the figure to read)."
+    )
+    return "\n".join([header, "", *lines, *([""] if ratios else []), *ratios])
+
+
+def alternate_worker() -> None:
+    """Answer each line ``METHOD STEPS`` of standard input with the CPU seconds of the march
+    alone of ``METHOD`` over ``STEPS`` steps (101 outputs), after "ready"."""
+    eom = lg.derive(lg.examples.double_pendulum())
+    for method in SPEED_METHODS:
+        march_alone(eom, method, 1000, None)  # compile, warm up
+    print("ready", flush=True)
+    for line in sys.stdin:
+        method, count = line.split()
+        steps = int(count)
+        t_out = np.linspace(0.0, steps * DRIFT_DT, 101)
+        print(march_alone(eom, method, steps, t_out), flush=True)
+
+
+def run_alternate(steps: int, rounds: int, baseline: str | None) -> str:
+    """The march alone of every method, this checkout and the ``baseline`` in two processes
+    kept alive, alternating call by call: best and median CPU steps per second."""
+    sources = {"this checkout": SOURCE} | ({"baseline": baseline} if baseline else {})
+    workers = {
+        name: subprocess.Popen(
+            [sys.executable, str(HERE), "--source", source, "--alternate-worker"],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            text=True,
+        )
+        for name, source in sources.items()
+    }
+    for worker in workers.values():
+        while worker.stdout and worker.stdout.readline().strip() != "ready":
+            pass
+    seconds: dict[tuple[str, str], list[float]] = {}
+    for _ in range(rounds):
+        for method in SPEED_METHODS:
+            for name, worker in workers.items():
+                assert worker.stdin and worker.stdout
+                worker.stdin.write(f"{method} {steps}\n")
+                worker.stdin.flush()
+                seconds.setdefault((method, name), []).append(float(worker.stdout.readline()))
+    for worker in workers.values():
+        assert worker.stdin
+        worker.stdin.close()
+        worker.wait()
+    lines = [
+        "| method | package | best steps/s (CPU) | median steps/s (CPU) |",
+        "|---|---|---:|---:|",
+    ]
+    ratios = []
+    for method in SPEED_METHODS:
+        for name in sources:
+            ordered = sorted(seconds[(method, name)])
+            best, median = steps / ordered[0], steps / ordered[len(ordered) // 2]
+            lines.append(f"| {method} | {name} | {best:,.0f} | {median:,.0f} |")
+        if baseline:
+            ours, theirs = (min(seconds[(method, name)]) for name in sources)
+            ratios.append(f"- {method}: {theirs / ours:.2f}x the baseline's best")
+    header = (
+        f"Double pendulum (theta = 1, phi = 0.5 at rest), dt = {DRIFT_DT:g}, the march alone "
+        f"(101 outputs) over {steps:,} steps, {rounds} rounds, each checkout in one process "
+        f"kept alive, the two alternating call by call; 1-minute load average at the end: "
+        f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores."
     )
     return "\n".join([header, "", *lines, *([""] if ratios else []), *ratios])
 
@@ -564,7 +636,9 @@ def record(parts: list[str], command: str) -> None:
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument(
-        "--part", choices=("speed", "compile", "drift", "work", "both"), default="both"
+        "--part",
+        choices=("speed", "alternate", "compile", "drift", "work", "both"),
+        default="both",
     )
     parser.add_argument("--heading-note", default="", help="speed: words added to the title")
     parser.add_argument("--compile-worker", action="store_true", help=argparse.SUPPRESS)
@@ -576,6 +650,8 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument("--baseline", help="speed: another checkout's src to measure alongside")
     parser.add_argument("--source", help=argparse.SUPPRESS)  # read before the imports
     parser.add_argument("--speed-worker", help=argparse.SUPPRESS)
+    parser.add_argument("--alternate-worker", action="store_true", help=argparse.SUPPRESS)
+    parser.add_argument("--rounds", type=int, default=10, help="alternate: rounds (10)")
     parser.add_argument("--steps", type=int, default=10**6, help="drift steps (10^6)")
     parser.add_argument("--no-rk4", action="store_true", help="drift: skip the RK4 contrast")
     parser.add_argument("--periods", type=int, default=1000, help="work: periods (1000)")
@@ -596,6 +672,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.compile_worker:
         print(compile_seconds())
         return 0
+    if args.alternate_worker:
+        alternate_worker()
+        return 0
     parts = []
     if args.part in ("speed", "both"):
         print("speed ...", file=sys.stderr)
@@ -603,6 +682,13 @@ def main(argv: list[str] | None = None) -> int:
             speed_title(args.speed_steps, args.speed_samples, args.heading_note)
             + run_speed(args.speed_steps, args.repeat, args.baseline, args.speed_samples)
         )
+    if args.part == "alternate":
+        print("alternate ...", file=sys.stderr)
+        title = (
+            f"### March alone, two live processes alternating, {args.speed_steps:,} steps x "
+            f"{args.rounds}{f', {args.heading_note}' if args.heading_note else ''}\n\n"
+        )
+        parts.append(title + run_alternate(args.speed_steps, args.rounds, args.baseline))
     if args.part == "compile":
         print("compile ...", file=sys.stderr)
         parts.append("### One-time compile of the marches\n\n" + run_compile(args.baseline))

@@ -223,6 +223,27 @@ def stage_residual(
     return L_v - p0 - DT * tableau.a @ F, p0 + DT * tableau.b @ F
 
 
+def assert_as_scipy_root(
+    mechanics: DiscreteMechanics,
+    tableau: Tableau,
+    start: tuple[np.ndarray, np.ndarray, float],
+    p: np.ndarray,
+    guess: np.ndarray,
+    V: np.ndarray,
+) -> None:
+    """The stages V are those SciPy's root finder finds from ``guess`` on the same
+    equations (no Jacobian given) from ``start`` = (q0, p0, t0), at a tight tolerance."""
+    q0, p0, t0 = start
+    found = root(
+        lambda x: stage_residual(mechanics, tableau, q0, p0, t0, p, x.reshape(-1, 2))[0].ravel(),
+        guess.ravel(),
+        method="hybr",
+        options={"xtol": 1e-13},
+    )
+    assert found.success and np.abs(found.fun).max() < 1e-12
+    np.testing.assert_allclose(V.ravel(), found.x, rtol=0, atol=1e-11)
+
+
 @pytest.mark.parametrize("tableau", [gauss(2), gauss(3)], ids=lambda t: t.name)
 def test_a_gauss_step_solves_its_stage_equations_to_rounding(tableau: Tableau) -> None:
     mechanics, p = setup(forced_double_pendulum())
@@ -236,15 +257,7 @@ def test_a_gauss_step_solves_its_stage_equations_to_rounding(tableau: Tableau) -
     # the momentum taken from the Jacobian is the one evaluated at the stages
     np.testing.assert_allclose(step.momentum, momentum, rtol=0, atol=1e-13)
     np.testing.assert_allclose(step.q, q0 + DT * tableau.b @ step.V, rtol=0, atol=1e-15)
-    # SciPy's root finder on the same equations (no Jacobian given), at a tight tolerance
-    found = root(
-        lambda x: stage_residual(mechanics, tableau, q0, p0, t0, p, x.reshape(-1, 2))[0].ravel(),
-        guess.ravel(),
-        method="hybr",
-        options={"xtol": 1e-13},
-    )
-    assert found.success and np.abs(found.fun).max() < 1e-12
-    np.testing.assert_allclose(step.V.ravel(), found.x, rtol=0, atol=1e-11)
+    assert_as_scipy_root(mechanics, tableau, (q0, p0, t0), p, guess, step.V)
     # a guess this far off takes more corrections; every one is counted
     assert step.evaluations % tableau.stages == 0 and step.evaluations >= 2 * tableau.stages
 
@@ -273,14 +286,40 @@ def test_a_lobatto_step_ends_on_the_constraints_with_their_values_there(tableau:
         np.testing.assert_allclose(returned, expected, rtol=0, atol=1e-15)
 
 
-@pytest.mark.parametrize("tableau", [gauss(2), gauss(3)], ids=lambda t: t.name)
-def test_a_smooth_motion_evaluates_each_stage_about_twice_a_step(tableau: Tableau) -> None:
-    # the extrapolated guess is corrected once, the correction after it is small: two
-    # evaluations of every stage (the first steps, started from v0 at every stage, take more)
+@pytest.mark.parametrize(
+    ("tableau", "bound"), [(gauss(2), 2.7), (gauss(3), 2.1)], ids=["gauss4", "gauss6"]
+)
+def test_a_smooth_motion_evaluates_each_stage_about_twice_a_step(
+    tableau: Tableau, bound: float
+) -> None:
+    # the extrapolated guess is corrected once by Newton's step, once more with the same
+    # factored Jacobian: two evaluations of every stage, a third where the error that
+    # Jacobian leaves is above rounding (more often for gauss4, whose extrapolation is of
+    # lower order); the first steps, started from v0 at every stage, take more
     mechanics, p = setup(lg.examples.double_pendulum())
     x0, steps = np.array([1.0, 0.5, 0.0, 0.0]), 1000
     grid = np.linspace(0.0, steps * DT, steps + 1)
     run = collocation_march(mechanics, tableau, x0, p, grid, np.array([0, steps]))
     assert run.failure is None
     per_step = (run.evaluations - 2) / steps / tableau.stages  # less the Legendre maps
-    assert 2.0 <= per_step < 2.3, per_step
+    assert 2.0 <= per_step < bound, per_step
+
+
+@pytest.mark.parametrize("tableau", [gauss(2), gauss(3)], ids=lambda t: t.name)
+def test_a_step_from_the_extrapolated_stages_solves_them_to_rounding(tableau: Tableau) -> None:
+    # the second step of a march starts from the first one's stages extrapolated: its
+    # Jacobian, factored once at that guess, is reused by the corrections after it; the
+    # stages it returns are those of Newton's method run to convergence (SciPy's root)
+    mechanics, p = setup(forced_double_pendulum())
+    q0, v0, t0 = np.array([1.0, 0.5]), np.array([0.7, -1.3]), 0.4
+    p0 = np.array(mechanics.legendre(q0, v0, t0, p)[0], dtype=float)
+    first = stage_step(mechanics, tableau, q0, p0, t0, DT, p, np.tile(v0, (tableau.stages, 1)),
+                       np.zeros((0, 0)))  # fmt: skip
+    guess = tableau.extrapolation(1.0) @ first.V
+    q1, p1, t1 = first.q, first.momentum, t0 + DT
+    step = stage_step(mechanics, tableau, q1, p1, t1, DT, p, guess, np.zeros((0, 0)))
+    rows, momentum = stage_residual(mechanics, tableau, q1, p1, t1, p, step.V)
+    assert np.abs(rows).max() < 1e-13
+    np.testing.assert_allclose(step.momentum, momentum, rtol=0, atol=1e-13)
+    assert_as_scipy_root(mechanics, tableau, (q1, p1, t1), p, guess, step.V)
+    assert step.evaluations <= 3 * tableau.stages

@@ -9,7 +9,7 @@ import sympy as sp
 from symengine.lib.symengine_wrapper import PyFunction
 
 import lagrangian as lg
-from lagrangian.symbolic.native import restore_functions, to_symengine
+from lagrangian.symbolic.native import restore_functions, to_symengine, to_symengine_sharing
 from lagrangian.symbolic.objects import sympy_object
 
 x, y = sp.symbols("x y")
@@ -45,3 +45,18 @@ def test_a_step_of_a_high_power_derives_at_once():
     )
     eom = lg.derive(system, time_limit=20)
     assert eom.forcing[0] == -2 * x * sp.Heaviside(x - 1)
+
+
+def test_a_product_multiplied_out_converts_as_a_whole_does_each_part_once():
+    a, b, c = sp.symbols("a b c")
+    rz = sp.Matrix([[sp.cos(a), -sp.sin(a), 0], [sp.sin(a), sp.cos(a), 0], [0, 0, 1]])
+    rx = sp.Matrix([[1, 0, 0], [0, sp.cos(b), -sp.sin(b)], [0, sp.sin(b), sp.cos(b)]])
+    entries = [*(rz * rx * rz.subs(a, c)), sp.Heaviside(x**3, evaluate=False) * (x + y) ** 2]
+    memo: dict = {}
+    shared = [to_symengine_sharing(e, memo) for e in entries]
+    assert shared == [to_symengine(e) for e in entries]  # the same SymEngine expressions
+    assert not shared[-1].atoms(PyFunction)  # a SymPy-only function as its stand-in
+    # each distinct part converted once: the memo holds the distinct subexpressions only
+    distinct = set().union(*(sp.preorder_traversal(e) for e in entries))
+    assert len(memo) <= len(distinct)
+    assert to_symengine_sharing(entries[0], memo) is shared[0]  # remembered, not made again

@@ -141,7 +141,10 @@ class EnergyConservation:
 def _power_terms(eom: EquationsOfMotion) -> tuple[sp.Expr, list[str]]:
     """dh/dt and, for every contribution that does not vanish, why."""
     reasons = []
-    explicit = eom.lagrangian.diff(eom.time)
+    pieces = (eom.kinetic_energy, eom.potential_energy, eom.velocity_potential)
+    # L = T - V - U is rebuilt on every request (n^2 terms for a chain): asked only when t is in it
+    in_time = any(eom.time in piece.free_symbols for piece in pieces)
+    explicit = eom.lagrangian.diff(eom.time) if in_time else sp.Integer(0)
     if not is_zero(explicit):
         reasons.append(f"L depends explicitly on t (dL/dt|explicit = {simplify_small(explicit)})")
     friction = sum((-v * f for v, f in zip(eom.velocities, eom.dissipation_forces)), sp.Integer(0))

@@ -25,6 +25,11 @@ from dataclasses import dataclass, replace
 import sympy as sp
 
 from lagrangian.analysis.arguments import Subject, Values, evaluate
+from lagrangian.analysis.at_rest import (
+    forcing_at_rest,
+    lagrangian_at_rest,
+    velocity_jacobian_at_rest,
+)
 from lagrangian.analysis.evaluation import (
     EvaluationContext,
     condition_text,
@@ -42,19 +47,28 @@ from lagrangian.analysis.rest import (
     solve_static,
 )
 from lagrangian.analysis.roots import normalize_angles, periodic_coordinates
+from lagrangian.analysis.separable import (
+    CoordinateRoots,
+    equilibrium_count,
+    listed_solutions,
+    separable_reason,
+    separate_roots,
+)
 from lagrangian.analysis.simplification import simplify_small_matrix
 from lagrangian.analysis.stability import stability_of, stiffness_matrix
 from lagrangian.derivation import EquationsOfMotion
-from lagrangian.symbolic.nonsmooth import jacobian
 from lagrangian.symbolic.probe import depends_on, is_zero
 
 
 def static_forces(eom: EquationsOfMotion, subs: Mapping[sp.Symbol, sp.Expr]) -> sp.ImmutableMatrix:
     """forcing(q, 0, t) with the parameter substitutions: zero at an equilibrium."""
-    at_rest = {v: 0 for v in eom.velocities}
-    return sp.ImmutableMatrix([f.xreplace(at_rest).xreplace(dict(subs)) for f in eom.forcing])
+    static = forcing_at_rest(eom)
+    return static.xreplace(dict(subs)) if subs else static
 
 
+#: Unknowns up to which the static equations are solved whole by sympy.solve, also when they
+#: separate (beyond, each coordinate's own equation is solved alone).
+SOLVED_WHOLE = 3
 #: Coordinates up to which the stiffness at each equilibrium is simplified entry by entry
 #: (a chain of twenty links has 400 entries at each of its many equilibria).
 SIMPLIFIED_COORDINATES = 6
@@ -62,8 +76,8 @@ SIMPLIFIED_COORDINATES = 6
 
 @dataclass(frozen=True)
 class _RestJacobians:
-    """K(q) = -d forcing/dq at rest and d forcing/dq_dot, with the parameter substitutions:
-    found once, then taken at each equilibrium."""
+    """K(q) = -d forcing/dq at rest and d forcing/dq_dot at rest, with the parameter
+    substitutions: found once, then taken at each equilibrium."""
 
     stiffness: sp.Matrix
     velocity_jacobian: sp.Matrix
@@ -71,9 +85,10 @@ class _RestJacobians:
 
 def _rest_jacobians(eom: EquationsOfMotion, subs: Mapping[sp.Symbol, sp.Expr]) -> _RestJacobians:
     static = static_forces(eom, subs)
-    forcing = sp.Matrix(eom.forcing).xreplace(dict(subs))
+    at_rest = velocity_jacobian_at_rest(eom.forcing, eom.velocities)
     return _RestJacobians(
-        stiffness_matrix(static, eom.coordinates), jacobian(forcing, eom.velocities)
+        stiffness_matrix(static, eom.coordinates),
+        sp.Matrix(at_rest.xreplace(dict(subs)) if subs else at_rest),
     )
 
 
@@ -106,13 +121,15 @@ def _stability(
     return stable, reason, stiffness, condition
 
 
-def _free_stability(eom: EquationsOfMotion, numbers, subs) -> StabilityTest:
+def _free_stability(
+    eom: EquationsOfMotion, numbers, subs, jacobians: _RestJacobians | None = None
+) -> StabilityTest:
     """Stability from K = -d forcing/dq at rest, for a system without constraints."""
 
-    found: list[_RestJacobians] = []  # the first equilibrium's test finds them
+    found: list[_RestJacobians] = [] if jacobians is None else [jacobians]
 
     def test(state, free, multipliers, exact):
-        if not found:
+        if not found:  # the first equilibrium's test finds them
             found.append(_rest_jacobians(eom, subs))
         return (*_stability(eom, state, free, numbers, found[0], exact), ())
 
@@ -165,6 +182,12 @@ def _relations(condition: sp.Basic) -> dict[sp.Basic, sp.Basic]:
     return relations
 
 
+def _unknowns(eom: EquationsOfMotion, static: sp.MatrixBase) -> list[sp.Symbol]:
+    """The coordinates the static forces hold (their symbols read once, not per coordinate)."""
+    held = static.free_symbols
+    return [q for q in eom.coordinates if q in held]
+
+
 def _at_values(context: EvaluationContext, static: sp.ImmutableMatrix) -> _Specialized | str:
     """The static forces to solve (:class:`_Specialized`), or why there is no rest at the
     values given either.
@@ -174,7 +197,7 @@ def _at_values(context: EvaluationContext, static: sp.ImmutableMatrix) -> _Speci
     depends on q and vanishes for every q at the values (F_theta r) leaves every q at rest
     along it there; in general it does not ("for F_theta ≠ 0: ... the equilibria differ")."""
     eom, subs = context.eom, dict(context.substitutions)
-    unknowns = [q for q in eom.coordinates if depends_on(static, [q])]
+    unknowns = _unknowns(eom, static)
     forces = [e for e in static if not is_zero(e)]
     constant = [e for e in forces if not depends_on(e, unknowns)]
     vanishing = {e: context.vanishing_condition(e) for e in forces}
@@ -215,6 +238,24 @@ def _said_at_values(found: Equilibria, special: _Specialized) -> Equilibria:
     )
 
 
+def _separable(
+    eom: EquationsOfMotion,
+    separated: list[CoordinateRoots],
+    numbers: Mapping[sp.Symbol, sp.Expr],
+    subs: Mapping[sp.Symbol, sp.Expr],
+) -> Equilibria:
+    """The equilibria of static equations that separate (:mod:`~lagrangian.analysis.separable`):
+    the combinations of roots listed, each tested, and how many there are."""
+    jacobians = _rest_jacobians(eom, subs)
+    test = _free_stability(eom, numbers, subs, jacobians)
+    solutions, listed = listed_solutions(separated)
+    found = tuple(build_equilibrium(eom, s, numbers, True, test) for s in solutions)
+    gyroscopic = any(e != 0 for e in jacobians.velocity_jacobian)
+    reason = separable_reason(separated, listed, gyroscopic)
+    count = None if listed == "all" else equilibrium_count(separated)
+    return Equilibria(found, sp.ImmutableMatrix(), None, "symbolic", reason, count=count)
+
+
 def _free_equilibria(context: EvaluationContext) -> Equilibria:
     """The equilibria of a system without constraints: forcing(q, 0, t) = 0."""
     eom, numbers = context.eom, context.values
@@ -225,14 +266,19 @@ def _free_equilibria(context: EvaluationContext) -> Equilibria:
     if isinstance(special, str):
         return no_rest(static, special)
     static, subs = special.static, special.substitutions
-    at_rest = {v: 0 for v in eom.velocities}
-    potential = sp.expand(-eom.lagrangian.xreplace(at_rest).xreplace(dict(subs)))
+    potential = sp.expand(-lagrangian_at_rest(eom).xreplace(dict(subs)))
     test = _free_stability(eom, numbers, subs)
     if all(is_zero(e) for e in static):
         everywhere = (build_equilibrium(eom, {}, numbers, True, test),)
         resting = Equilibria(everywhere, static, potential, "symbolic", "the static forces vanish")
         return _said_at_values(resting, special)
-    unknowns = [q for q in eom.coordinates if depends_on(static, [q])]
+    unknowns = _unknowns(eom, static)
+    if len(unknowns) > SOLVED_WHOLE:
+        separated = separate_roots(static, unknowns, numbers)
+        if separated is not None:
+            each = _separable(eom, separated, numbers, subs)
+            resting = replace(each, static_equations=static, effective_potential=potential)
+            return _said_at_values(resting, special)
     solutions, method, reason = solve_static(static, unknowns, numbers)
     if solutions is None:
         return _said_at_values(no_rest(static, reason), special)

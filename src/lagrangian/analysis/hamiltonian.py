@@ -34,9 +34,16 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagrangian.analysis.arguments import Subject, equations_of, frozen
+from lagrangian.analysis.at_rest import (
+    VelocityFree,
+    expression_at_rest,
+    lagrangian_at_rest,
+    velocity_monomial,
+)
 from lagrangian.analysis.momenta import momentum_symbols
 from lagrangian.analysis.simplification import QUICK, simplify_small
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.derivation.steps import step_momenta, step_slopes
 from lagrangian.errors import AnalysisError, SizeLimitError
 from lagrangian.size_limits import active_operations, check_size, operations
 from lagrangian.symbolic.probe import (
@@ -81,17 +88,40 @@ def velocity_hessian(eom: EquationsOfMotion) -> sp.ImmutableMatrix:
     """W = d2L/dq_dot dq_dot^T, row j the gradient of p_j = dL/dq_dot_j (the derivation's
     first step) in the velocities it contains: n^2 second derivatives of L would be taken
     otherwise, where a gas of n/2 disks has n non-zero entries."""
+    free = VelocityFree(frozenset(eom.velocities))
+    column = {v: j for j, v in enumerate(eom.velocities)}
     rows = []
-    for step in eom.steps:
-        momentum = step.dL_dvelocity
-        free = momentum.free_symbols
-        rows.append([momentum.diff(v) if v in free else sp.Integer(0) for v in eom.velocities])
+    for momentum in step_momenta(eom.system):
+        row = _linear_row(momentum, free, column)
+        if row is None:
+            free = momentum.free_symbols
+            row = [momentum.diff(v) if v in free else sp.Integer(0) for v in eom.velocities]
+        rows.append(row)
     return sp.ImmutableMatrix(rows)
+
+
+def _linear_row(
+    momentum: sp.Expr, free: VelocityFree, column: Mapping[sp.Symbol, int]
+) -> list[sp.Expr] | None:
+    """dp/dq_dot read off the terms of p when each is a coefficient free of the velocities,
+    or such a coefficient times one velocity (the momenta of every T quadratic in the
+    velocities): one pass over p instead of a derivative of all of p by each velocity
+    (n^3 for a chain).  None for any other p (differentiated then)."""
+    terms: list[list[sp.Expr]] = [[] for _ in column]
+    for term in sp.Add.make_args(momentum):
+        monomial = velocity_monomial(term, free)
+        if monomial is None or monomial[0] > 1:
+            return None
+        if monomial[0] == 1:
+            terms[column[monomial[2]]].append(sp.Mul(*monomial[1]))
+    return [sp.Add(*t) for t in terms]
 
 
 def _refuse_singular(eom: EquationsOfMotion, hessian: sp.MatrixBase) -> None:
     n = len(eom.coordinates)
-    rank = generic_rank(hessian)
+    # W is derive's M for a Lagrangian quadratic in the velocities: its rank is known then
+    known = hessian == eom.mass_matrix and eom.mass_matrix_is_regular
+    rank = n if known else generic_rank(hessian)
     if rank == n:
         return
     idle = [q.name for j, q in enumerate(eom.coordinates) if all(e == 0 for e in hessian.row(j))]
@@ -107,14 +137,26 @@ def _refuse_singular(eom: EquationsOfMotion, hessian: sp.MatrixBase) -> None:
     )
 
 
+def _diagonal(w: sp.MatrixBase) -> bool:
+    """``Matrix.is_diagonal`` (every entry off the diagonal zero), stopping at the first
+    that is not: a chain's dense W would have each of its n^2 entries asked."""
+    return not any(
+        w[i, j] != 0 and w[i, j].is_zero is not True
+        for i in range(w.rows)
+        for j in range(w.cols)
+        if i != j
+    )
+
+
 def _legendre_quadratic(eom: EquationsOfMotion, w: sp.MatrixBase, p: tuple[sp.Symbol, ...]):
     """H = 1/2 (p - b)^T W^-1 (p - b) - L0 and q_dot = W^-1 (p - b), written as
     sum (p_j - b_j)^2/(2 W_jj) for a diagonal W and with W^-1 = adj(W)/det(W) otherwise."""
-    at_rest = {v: 0 for v in eom.velocities}
-    shifted = sp.Matrix([pj - s.dL_dvelocity.xreplace(at_rest) for pj, s in zip(p, eom.steps)])
-    l0 = sp.expand(eom.lagrangian.xreplace(at_rest))
+    free = VelocityFree(frozenset(eom.velocities))
+    shifted = sp.Matrix(
+        [pj - expression_at_rest(m, free) for pj, m in zip(p, step_momenta(eom.system))]
+    )
     n = w.rows
-    if w.is_diagonal():
+    if _diagonal(w):
         velocities = [shifted[j] / w[j, j] for j in range(n)]
         kinetic = sp.Add(*[shifted[j] ** 2 / (2 * w[j, j]) for j in range(n)])
     elif n <= 3:
@@ -127,7 +169,8 @@ def _legendre_quadratic(eom: EquationsOfMotion, w: sp.MatrixBase, p: tuple[sp.Sy
         solved = w.LUsolve(shifted)
         velocities = list(solved)
         kinetic = (shifted.T * solved)[0, 0] / 2
-    return kinetic - l0, dict(zip(eom.velocities, velocities))
+    # L0 last: a W^-1 too long to write out is refused before anything else is built
+    return kinetic - lagrangian_at_rest(eom), dict(zip(eom.velocities, velocities))
 
 
 def elimination_sizes(w: sp.MatrixBase, rhs: sp.MatrixBase) -> list[int]:
@@ -196,7 +239,7 @@ def _sample_point(symbols: set[sp.Symbol]) -> dict[sp.Symbol, sp.Float]:
 def _general(eom: EquationsOfMotion, p: tuple[sp.Symbol, ...]):
     """Solve p = dL/dq_dot with sympy.solve; of several branches, keep the one that inverts
     the map at a sample point (the real one, near positive velocities)."""
-    momenta = [s.dL_dvelocity for s in eom.steps]
+    momenta = list(step_momenta(eom.system))
     equations = [pj - mj for pj, mj in zip(p, momenta)]
     try:
         branches = sp.solve(equations, list(eom.velocities), dict=True)
@@ -272,7 +315,8 @@ def hamilton_equations(subject: Subject, legendre: Hamiltonian | None = None) ->
         p_rates = [simplify_small(-h.diff(q) + f, QUICK) for q, f in zip(eom.coordinates, forces)]
     else:  # dH/dp = q_dot(q, p) and dH/dq = -dL/dq there: a fraction of the size of dH/dq
         rates = [velocities[v] for v in eom.velocities]
-        p_rates = [s.dL_dcoordinate.xreplace(velocities) + f for s, f in zip(eom.steps, forces)]
+        slopes = step_slopes(eom.system)
+        p_rates = [s.xreplace(velocities) + f for s, f in zip(slopes, forces)]
     for p_j, rate in zip(legendre.momenta, p_rates):
         check_size(rate, f"analyze: Hamilton's equation for d{p_j}/dt")
     return HamiltonEquations(

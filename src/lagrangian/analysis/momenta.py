@@ -20,11 +20,13 @@ from dataclasses import dataclass
 import sympy as sp
 
 from lagrangian.analysis.arguments import Subject, Values, equations_of
+from lagrangian.analysis.at_rest import VelocityFree, expression_at_rest
 from lagrangian.analysis.evaluation import EvaluationContext, condition_text, evaluation_context
 from lagrangian.analysis.manifold.constraint_manifold import constraint_manifold
 from lagrangian.analysis.manifold.left_out import constraint_names
 from lagrangian.analysis.names import OutputNames
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.derivation.steps import step_momenta, step_slopes
 from lagrangian.symbolic.probe import is_zero
 
 
@@ -76,7 +78,7 @@ def conjugate_momenta(subject: Subject) -> ConjugateMomenta:
     eom = equations_of(subject)
     return ConjugateMomenta(
         coordinates=tuple(eom.coordinates),
-        momenta=sp.ImmutableMatrix([s.dL_dvelocity for s in eom.steps]),
+        momenta=sp.ImmutableMatrix(step_momenta(eom.system)),
     )
 
 
@@ -118,7 +120,7 @@ def _obstructions(eom: EquationsOfMotion, j: int) -> list[tuple[str, str, sp.Exp
 
 def _cyclic(context: EvaluationContext, j: int) -> CyclicCoordinate:
     eom = context.eom
-    q, step = eom.coordinates[j], eom.steps[j]
+    q, momentum = eom.coordinates[j], step_momenta(eom.system)[j]
     absent = f"{q.name} does not appear in L (nor in the dissipation function F)"
     blocking = _obstructions(eom, j)
     if not blocking:
@@ -126,7 +128,7 @@ def _cyclic(context: EvaluationContext, j: int) -> CyclicCoordinate:
             f"{q.name} does not appear in L and no applied or dissipative force acts on it, "
             f"so d/dt p_{q.name} = dL/d{q.name} = 0"
         )
-        return CyclicCoordinate(q, step.dL_dvelocity, reason)
+        return CyclicCoordinate(q, momentum, reason)
     kinds = tuple(dict.fromkeys(kind for kind, _, _ in blocking))
     causes = "; ".join(dict.fromkeys(what for _, what, _ in blocking))
     conditions = []
@@ -142,13 +144,21 @@ def _cyclic(context: EvaluationContext, j: int) -> CyclicCoordinate:
             f"({condition_text(condition)}), so "
             f"p_{q.name} is conserved there (for other values it changes p_{q.name})"
         )
-        return CyclicCoordinate(q, step.dL_dvelocity, reason, True, kinds, condition)
+        return CyclicCoordinate(q, momentum, reason, True, kinds, condition)
     changes = "change" if len(blocking) > 1 else "changes"
     reason = (
         f"{absent}, so it is cyclic, but p_{q.name} is not conserved: {causes} {changes} it "
         f"(d/dt p_{q.name} = Q_{q.name} - dF/d{q.name}_dot + sum_j lambda_j a_j{q.name})"
     )
-    return CyclicCoordinate(q, step.dL_dvelocity, reason, False, kinds, sp.false)
+    return CyclicCoordinate(q, momentum, reason, False, kinds, sp.false)
+
+
+def _vanishes(expr: sp.Expr, velocities: VelocityFree) -> bool:
+    """``expr`` = 0 identically: not when its part at rest (a few terms, -dV/dq for a
+    natural system) is not, found without evaluating all of it; else by probing all."""
+    if not is_zero(expression_at_rest(expr, velocities)):
+        return False
+    return is_zero(expr)
 
 
 def cyclic_coordinates(
@@ -171,11 +181,17 @@ def cyclic_at_values(context: EvaluationContext) -> tuple[CyclicCoordinate, ...]
     """:func:`cyclic_coordinates` with the parameter values of ``context``."""
     eom = context.eom
     dissipation = eom.dissipation_function
+    # the symbols of L = T - V - U and of F once, not once per coordinate (a chain's L has
+    # n^2 terms); a symbol of T that L has lost to a cancellation is tested by dL/dq = 0
+    pieces = (eom.kinetic_energy, eom.potential_energy, eom.velocity_potential)
+    in_lagrangian = set().union(*(piece.free_symbols for piece in pieces))
+    in_dissipation = dissipation.free_symbols
+    velocities = VelocityFree(frozenset(eom.velocities))
     found = []
-    for j, (q, step) in enumerate(zip(eom.coordinates, eom.steps)):
-        if q in eom.lagrangian.free_symbols and not is_zero(step.dL_dcoordinate):
+    for j, q in enumerate(eom.coordinates):
+        if q in in_lagrangian and not _vanishes(step_slopes(eom.system)[j], velocities):
             continue
-        if q in dissipation.free_symbols and not is_zero(dissipation.diff(q)):
+        if q in in_dissipation and not is_zero(dissipation.diff(q)):
             continue
         found.append(_cyclic(context, j))
     return tuple(found)

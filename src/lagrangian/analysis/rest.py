@@ -61,7 +61,9 @@ class Equilibria:
     """Every equilibrium found, the static equations (each = 0), the effective potential
     when there is one, and how they were found ("symbolic", "numeric" or "none");
     ``general`` says what holds for other parameter values where that differs from the
-    values given ("for F ≠ 0: no rest"), empty otherwise."""
+    values given ("for F ≠ 0: no rest"), empty otherwise; ``count`` is the number of
+    equilibria when it is known and more than those listed (the 2^n of an n-link chain,
+    whose static equations separate: the reason says which are listed), else None."""
 
     equilibria: tuple[Equilibrium, ...]
     static_equations: sp.ImmutableMatrix
@@ -69,6 +71,7 @@ class Equilibria:
     method: str
     reason: str
     general: str = ""
+    count: int | None = None
 
     def __iter__(self):
         return iter(self.equilibria)
@@ -80,7 +83,11 @@ class Equilibria:
         return tuple(e for e in self.equilibria if e.stable)
 
 
-def _symbolic(static: sp.MatrixBase, unknowns: list[sp.Symbol], most: int = 3) -> list[dict] | None:
+def symbolic_solutions(
+    static: sp.MatrixBase, unknowns: list[sp.Symbol], most: int = 3
+) -> list[dict] | None:
+    """Every branch sympy.solve finds for static = 0 (factored first), or None when the
+    system is too large or of a kind it takes too long on (then solved numerically)."""
     equations = [e for e in static if e != 0]
     if len(unknowns) > most or sum(sp.count_ops(e) for e in equations) > SYMBOLIC_LIMIT:
         return None
@@ -198,7 +205,7 @@ def solve_static(
     ``most`` unknowns and the equations are short, else sympy.nsolve at the parameter
     values from several starts (``starts()`` when given, else random; square systems
     only)."""
-    solutions = _symbolic(static, unknowns, most)
+    solutions = symbolic_solutions(static, unknowns, most)
     if solutions == []:
         return [], "symbolic", "sympy.solve finds no solution of the static equations"
     if solutions is not None:

@@ -19,15 +19,15 @@ from collections.abc import Sequence
 
 import sympy as sp
 
+from lagrangian.analysis.at_rest import sparse_jacobian
 from lagrangian.analysis.spectrum import symmetric_eigenvalues
-from lagrangian.symbolic.nonsmooth import jacobian
 
 TOLERANCE = 1e-10
 
 
 def stiffness_matrix(static: sp.MatrixBase, coordinates: Sequence[sp.Symbol]) -> sp.Matrix:
-    """K = -d(static forces)/dq."""
-    return -jacobian(static, coordinates)  # d|u| = sign(u) du, as by hand
+    """K = -d(static forces)/dq, each force differentiated by the coordinates it holds."""
+    return -sparse_jacobian(static, coordinates)  # d|u| = sign(u) du, as by hand
 
 
 def sylvester_condition(stiffness: sp.MatrixBase) -> sp.Basic:
@@ -47,6 +47,15 @@ def _skew(matrix: sp.MatrixBase, scale: float | None = None) -> bool:
     return any(abs(complex(e)) > tiny for e in matrix - matrix.T)
 
 
+def _eigenvalues(stiffness: sp.MatrixBase) -> tuple[float, ...]:
+    """The eigenvalues of a symmetric numeric K, ascending: its diagonal when it is diagonal
+    (the static forces of a chain each depend on their own coordinate alone), where the
+    eigensolver would spend n^3 operations to return the same numbers."""
+    if stiffness.is_diagonal():
+        return tuple(sorted(float(sp.re(stiffness[i, i])) for i in range(stiffness.rows)))
+    return symmetric_eigenvalues(stiffness)
+
+
 def stability_of(
     stiffness: sp.MatrixBase,
     gyroscopic: sp.MatrixBase | None = None,
@@ -62,12 +71,12 @@ def stability_of(
             + "), so a push moves it off at constant speed"
         )
     scale = _scale(stiffness)
-    if _skew(stiffness, scale):
+    if not stiffness.is_diagonal() and _skew(stiffness, scale):
         return None, (
             "K is not symmetric (positional forces not from a potential): the Hessian test "
             "does not apply; see the linearization's eigenvalues"
         )
-    values = symmetric_eigenvalues(stiffness)
+    values = _eigenvalues(stiffness)
     tiny = TOLERANCE * scale
     negative = sum(1 for v in values if v < -tiny)
     if negative == 0 and all(v > tiny for v in values):

@@ -29,6 +29,7 @@ from lagrangian.constraints.forces import particle_constraint_forces
 from lagrangian.constraints.multipliers import (
     ConstrainedEquations,
     constrained_equations,
+    multiplier_names,
     multiplier_symbols,
 )
 from lagrangian.constraints.projection import project_state
@@ -43,6 +44,7 @@ __all__ = [
     "classify",
     "constrained_equations",
     "eliminate",
+    "multiplier_names",
     "multiplier_symbols",
     "particle_constraint_forces",
     "project_state",

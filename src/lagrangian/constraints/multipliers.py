@@ -155,9 +155,15 @@ class ConstrainedEquations:
         return sp.ImmutableMatrix(self.augmented_matrix * unknowns - self.augmented_rhs)
 
 
-def multiplier_symbols(count: int) -> tuple[sp.Symbol, ...]:
+def multiplier_names(count: int) -> tuple[str, ...]:
     """lambda_1, ..., lambda_count (the names of the output contracts)."""
-    return tuple(sp.Symbol(f"lambda_{j + 1}") for j in range(count))
+    return tuple(f"lambda_{j + 1}" for j in range(count))
+
+
+def multiplier_symbols(count: int) -> tuple[sp.Symbol, ...]:
+    """The symbols of :func:`multiplier_names` (a gas's thousands of contacts name their
+    multipliers without making a symbol each)."""
+    return tuple(map(sp.Symbol, multiplier_names(count)))
 
 
 #: Per EquationsOfMotion object: constraints -> their multiplier form.

@@ -43,6 +43,7 @@ from lagrangian.model.constraints import Constraint
 from lagrangian.size_limits import check_size
 from lagrangian.symbolic.caches import remembered
 from lagrangian.symbolic.expressions import free_symbols
+from lagrangian.symbolic.native import to_symengine_sharing
 
 TIDY_OPS = 1000  # partial derivatives of a constraint's rate beyond this are not expanded
 CACHED = 512  # constraint expressions whose form and SymEngine image are kept
@@ -104,26 +105,10 @@ def backend(expr: Any) -> Backend:
 
 @remembered(maxsize=CACHED)
 def _cached_backend(expr: Any) -> Backend:
-    return _converted(expr, {})
-
-
-def _converted(expr: Any, memo: dict[Any, Backend]) -> Backend:
-    """:func:`to_backend` of ``expr`` with each distinct subexpression converted once: a
-    rolling contact's constraint has the square root of its axle's tilt in most of its terms
-    (a bicycle's front wheel: 3165 nodes, 188 of them distinct; a tenth of the time)."""
-    known = memo.get(expr)
-    if known is not None:
-        return known
-    if isinstance(expr, sp.Add):
-        result = se.Add(*[_converted(a, memo) for a in expr.args])
-    elif isinstance(expr, sp.Mul):
-        result = se.Mul(*[_converted(a, memo) for a in expr.args])
-    elif isinstance(expr, sp.Pow):
-        result = se.Pow(_converted(expr.base, memo), _converted(expr.exp, memo))
-    else:
-        result = to_backend(expr)
-    memo[expr] = result
-    return result
+    # each distinct subexpression converted once: a rolling contact's constraint has the
+    # square root of its axle's tilt in most of its terms (a bicycle's front wheel: 3165
+    # nodes, 188 of them distinct; a tenth of the time)
+    return to_symengine_sharing(expr, {})
 
 
 def acceleration_terms(

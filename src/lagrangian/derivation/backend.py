@@ -76,8 +76,9 @@ class SympyView:
         self.by_name.update(names or {})
         self._memo: dict[Backend, sp.Expr] = {}
         self._order = CanonicalOrder()
-        # id of a converted angle -> (the angle, its canonical difference or None, flipped)
-        self._angles: dict[int, tuple[sp.Expr, sp.Expr | None, bool]] = {}
+        # a backend angle -> (the angle converted, its canonical difference or None, flipped)
+        self._angles: dict[Backend, tuple[sp.Expr, sp.Expr | None, bool]] = {}
+        self._negatives: dict[sp.Symbol, sp.Expr] = {}  # symbol -> -symbol
 
     def __call__(self, expr: Backend) -> sp.Expr:
         known = self._memo.get(expr)
@@ -93,7 +94,7 @@ class SympyView:
             base, exponent = expr.args
             result = sp.Pow(self(base), self(exponent))
         elif type(expr) in _TRIG:
-            result = self._trig(_TRIG[type(expr)], self(expr.args[0]))
+            result = self._trig(_TRIG[type(expr)], expr.args[0])
         elif expr.is_Number:
             result = to_sympy(expr)
         else:
@@ -126,22 +127,34 @@ class SympyView:
         }
         return result.xreplace(swap) if swap else result
 
-    def _trig(self, function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.Expr:
-        known = self._angles.get(id(argument))  # the sine and the cosine of an angle share it
+    def _trig(self, function: Callable[..., sp.Expr], angle: Backend) -> sp.Expr:
+        """``function`` of the backend ``angle``; a difference of two symbols in SymPy's
+        canonical order (the first symbol positive), made from the two symbols directly: the
+        angle as SymEngine orders it is then never converted (an n-link chain has n^2/2 such
+        angles, each in a cosine of M and a sine of the forcing)."""
+        known = self._angles.get(angle)  # the sine and the cosine of an angle share it
         if known is None:
-            difference = _symbol_difference(argument)
-            if difference is None:
-                known = (argument, None, False)
+            pair = _backend_difference(angle)
+            x, y = (None, None) if pair is None else (self(pair[0]), self(pair[1]))
+            if not (x is not None and x.is_Symbol and y is not None and y.is_Symbol):
+                known = (self(angle), None, False)
             else:
-                first, second, flipped = difference
-                canonical = sympy_sum([first, -second], self._order) if flipped else argument
-                known = (argument, canonical, flipped)
-            self._angles[id(argument)] = known
-        _, canonical, flipped = known
+                first, second, flipped = _ordered(x, y)
+                canonical = sympy_sum([first, self._negative(second)], self._order)
+                known = (canonical, canonical, flipped)
+            self._angles[angle] = known
+        argument, canonical, flipped = known
         if canonical is None:
             return function(argument)
         value = unevaluated_trig(function, canonical)
         return sympy_product([sp.S.NegativeOne, value]) if flipped and function is sp.sin else value
+
+    def _negative(self, symbol: sp.Symbol) -> sp.Expr:
+        """-symbol, made once per symbol."""
+        known = self._negatives.get(symbol)
+        if known is None:
+            known = self._negatives[symbol] = -symbol
+        return known
 
     def vector(self, values: Iterable[Backend]) -> sp.ImmutableMatrix:
         entries = list(values)
@@ -248,21 +261,26 @@ def unevaluated_trig(function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.
     return value
 
 
-def _symbol_difference(argument: sp.Expr) -> tuple[sp.Symbol, sp.Symbol, bool] | None:
-    """For a +- (x - y) with x, y symbols: (first, second, flipped) with first before second
-    in SymPy's order, ``flipped`` when the argument is second - first; else None."""
-    if not (argument.is_Add and len(argument.args) == 2):
+def _backend_difference(angle: Backend) -> tuple[Backend, Backend] | None:
+    """(x, y) for a backend angle x - y with x, y symbols; else None."""
+    if not (angle.is_Add and len(angle.args) == 2):
         return None
-    a, b = argument.args
-    positive = [term for term in (a, b) if term.is_Symbol]
-    negative = [
-        -term
-        for term in (a, b)
-        if term.is_Mul and term.args[0] == -1 and len(term.args) == 2 and term.args[1].is_Symbol
-    ]
-    if len(positive) != 1 or len(negative) != 1:
+    positive, negative = None, None
+    for term in angle.args:
+        if term.is_Symbol:
+            positive = term
+        elif term.is_Mul:
+            args = term.args
+            if len(args) == 2 and args[0] == -1 and args[1].is_Symbol:
+                negative = args[1]
+    if positive is None or negative is None:
         return None
-    x, y = positive[0], negative[0]
+    return positive, negative
+
+
+def _ordered(x: sp.Symbol, y: sp.Symbol) -> tuple[sp.Symbol, sp.Symbol, bool]:
+    """(first, second, flipped) for the angle x - y: first before second in SymPy's order,
+    ``flipped`` when the angle is second - first."""
     if type(x) is sp.Symbol and type(y) is sp.Symbol:  # SymPy orders plain symbols by name
         first, second = (x, y) if x.name <= y.name else (y, x)
     else:
@@ -341,7 +359,8 @@ def sympy_product(factors: list[sp.Expr], order: CanonicalOrder | None = None) -
         and any(type(f) in (sp.Add, sp.Mul) for f in factors)
     ):
         return sp.Mul(*factors)  # SymPy's two-argument rules (a number times a sum)
-    return _product(factors, factors, order)
+    # a product among the factors (a flipped sine) flattened at once, not met midway
+    return _product(_flat(factors, sp.Mul), factors, order)
 
 
 def _product(flat: list[sp.Expr], factors: list[sp.Expr], order: CanonicalOrder | None) -> sp.Expr:
@@ -376,22 +395,33 @@ def _product(flat: list[sp.Expr], factors: list[sp.Expr], order: CanonicalOrder 
         coefficient is not sp.S.One and len(parts) == 1 and parts[0].is_Add
     ):
         return sp.Mul(*factors)
-    _sort(parts, order)
+    keys = _sort(parts, order)
     if coefficient is not sp.S.One:
         parts.insert(0, coefficient)
-    return sp.Mul._from_args(parts, True)  # what sp.Mul does with the flattened factors
+    product = sp.Mul._from_args(parts, True)  # what sp.Mul does with the flattened factors
+    if keys is not None and order is not None:
+        # its key from its factors' (a sum of such products sorts them by it next)
+        if coefficient is not sp.S.One:
+            keys.insert(0, order(coefficient))
+        order.remember(product, keys)
+    return product
 
 
-def _sort(parts: list[sp.Expr], order: CanonicalOrder | None) -> None:
+def _sort(parts: list[sp.Expr], order: CanonicalOrder | None) -> list[tuple[Any, ...]] | None:
     """Sort ``parts`` in SymPy's canonical order, by the keys of ``order`` where it has them
-    (keys of unlike content, which no canonical expression has, cannot be compared)."""
+    (keys of unlike content, which no canonical expression has, cannot be compared); the
+    keys in the sorted order when they were used."""
     if order is not None and len(parts) > 1:
         try:
-            parts.sort(key=order)
-            return
+            keys = [order(part) for part in parts]
+            ranks = sorted(range(len(parts)), key=keys.__getitem__)
         except (Unorderable, TypeError):
             pass
+        else:
+            parts[:] = [parts[i] for i in ranks]
+            return [keys[i] for i in ranks]
     parts.sort(key=_CANONICAL_ORDER)
+    return None
 
 
 class Unorderable(Exception):
@@ -401,6 +431,7 @@ class Unorderable(Exception):
 #: Where a class's name stands in SymPy's order of classes; the rest come after, by name.
 _CLASS_RANK = {name: i for i, name in enumerate(ordering_of_classes)}
 _UNRANKED = len(ordering_of_classes) + 1
+_MUL_RANK = _CLASS_RANK.get("Mul", _UNRANKED)
 #: How SymPy's classes give the content that ``Basic.compare`` compares after the class.
 _ARGS_CONTENT = (sp.Basic._hashable_content, sp.Expr._hashable_content)
 _NAMED = (sp.Symbol, sp.Dummy)
@@ -444,6 +475,11 @@ class CanonicalOrder:
         key = (_CLASS_RANK.get(name, _UNRANKED), name, len(content), *content)
         self._keys[id(expr)] = (expr, key)
         return key
+
+    def remember(self, product: sp.Mul, keys: list[tuple[Any, ...]]) -> None:
+        """Remember the key of ``product`` from the keys of its arguments (in their order),
+        the key :meth:`__call__` would make of them."""
+        self._keys[id(product)] = (product, (_MUL_RANK, "Mul", len(keys), *keys))
 
 
 def _flat(items: list[sp.Expr], kind: type) -> list[sp.Expr]:

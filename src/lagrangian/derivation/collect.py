@@ -120,13 +120,7 @@ def collect_state(
     terms = expr.args if expr.is_Add else (expr,)
     groups = _groups(terms, set(state), sums or {}, {} if factors is None else factors)
     if sums:
-        pairs = [
-            (key, _with_sums(products, sums, holds, factored))
-            for key, (products, holds, factored) in groups.items()
-        ]
-        if len(pairs) < SHARED:
-            return se.Add(*[key * coefficient for key, coefficient in pairs])
-        return _sum_by_coefficient(pairs, None)
+        return _collected_with_sums(groups, sums)
     if len(groups) < SHARED and all(len(v[0]) == 1 for v in groups.values()):
         return expr
     pairs = [(key, _factor_common(group[0])) for key, group in groups.items()]
@@ -134,6 +128,88 @@ def collect_state(
         return se.Add(*[key * coefficient for key, coefficient in pairs])
     single = all(len(group[0]) == 1 for group in groups.values())
     return _sum_by_coefficient(pairs, expr if single else None)
+
+
+def collect_state_with(
+    expr: Any,
+    monomials: list[tuple[Any, Any]],
+    state: set[Any],
+    sums: Mapping[Any, tuple[Any, Any]],
+    factors: dict[Any, Any],
+) -> Any | None:
+    """:func:`collect_state` (with ``sums``) of ``expr`` plus sum(c m for (m, c) in
+    ``monomials``), whose terms come collected already: each m a state monomial, each c its
+    coefficient as :func:`collect_state` makes it (:func:`collected_coefficient`).  None when
+    an m is a monomial of ``expr`` too (its terms would join the group of ``expr``'s); the
+    caller makes sure no two m are equal.  A chain's C q_dot has n^2 such terms, known by
+    monomial when they are made (:mod:`lagrangian.derivation.coriolis`): grouping them again
+    would walk every factor.  A coefficient that is a sum (which the sharing of
+    :func:`_sum_by_coefficient` could write as either sign, by the order the monomials come
+    in) also gives None."""
+    terms = expr.args if expr.is_Add else (expr,)
+    groups = _groups(terms, state, sums, factors)
+    if any(monomial in groups for monomial, _ in monomials):
+        return None
+    return _collected_with_sums(groups, sums, monomials)
+
+
+def collected_coefficient(
+    coefficient: Any, state: set[Any], sums: Mapping[Any, tuple[Any, Any]], sorts: dict[Any, Any]
+) -> Any:
+    """The coefficient :func:`collect_state` (with ``sums``, remembering factors in ``sorts``)
+    gives a monomial whose terms' coefficients are the terms of ``coefficient`` (expanded,
+    free of the state, its sums of ``sums`` written as their symbols)."""
+    products, holds, factored = _coefficient_group(coefficient, state, sums, sorts)
+    return _with_sums(products, sums, holds, factored)
+
+
+def _coefficient_group(
+    coefficient: Any, state: set[Any], sums: Mapping[Any, tuple[Any, Any]], sorts: dict[Any, Any]
+) -> Group:
+    """The :data:`Group` :func:`_grouped` makes of the terms of ``coefficient`` (expanded,
+    free of the state) times one monomial."""
+    products: list[list[Any]] = []
+    holds = False
+    factored: list[Any] | None = None
+    for term in coefficient.args if coefficient.is_Add else (coefficient,):
+        product: list[Any] = []
+        first: list[Any] = []
+        for factor in term.args if term.is_Mul else (term,):
+            sort = sorts.get(factor)
+            if sort is None:
+                sort = sorts[factor] = _sort(factor, state, sums)
+            product.append(factor)
+            back = sort[1]
+            if back is None:
+                first.append(factor)
+            else:
+                first.append(back)
+                holds = True
+        products.append(product)
+        if factored is None:
+            factored = first
+    return products, holds, factored or []
+
+
+def _collected_with_sums(
+    groups: dict[Any, Group],
+    sums: Mapping[Any, tuple[Any, Any]],
+    collected: list[tuple[Any, Any]] | None = None,
+) -> Any:
+    """The collected sum of ``groups`` (:func:`collect_state` with ``sums``) and of the
+    monomials ``collected`` with their coefficients; with ``collected``, None when a
+    coefficient is a sum."""
+    pairs = [
+        (key, _with_sums(products, sums, holds, factored))
+        for key, (products, holds, factored) in groups.items()
+    ]
+    if collected is not None:
+        pairs += collected
+        if any(coefficient.is_Add for _, coefficient in pairs):
+            return None
+    if len(pairs) < SHARED:
+        return se.Add(*[key * coefficient for key, coefficient in pairs])
+    return _sum_by_coefficient(pairs, None)
 
 
 def _sort(factor: Any, state: set[Any], sums: Mapping[Any, tuple[Any, Any]]) -> tuple[Any, Any]:

@@ -27,6 +27,9 @@ from lagrangian.derivation.steps import Steps, coordinate_steps, equation_residu
 from lagrangian.derivation.terms import coriolis_matrix, matrix_piece
 from lagrangian.errors import DerivationError
 from lagrangian.model import System
+from lagrangian.symbolic.caches import IdentityCache
+
+_LAGRANGIANS: IdentityCache[System, sp.Expr] = IdentityCache()
 
 
 @dataclass(frozen=True)
@@ -139,7 +142,10 @@ class EquationsOfMotion:
 
     @property
     def lagrangian(self) -> sp.Expr:
-        """L = T - V - U."""
+        """L = T - V - U (made once per System: a long chain's has n^2 terms)."""
+        return _LAGRANGIANS.get(self.system, lambda _: self._lagrangian())
+
+    def _lagrangian(self) -> sp.Expr:
         return self.kinetic_energy - self.potential_energy - self.velocity_potential
 
     @property

@@ -24,6 +24,7 @@ import symengine as se
 from lagrangian.derivation.assemble import Assembly, Rotation
 from lagrangian.derivation.backend import Backend
 from lagrangian.derivation.collect import collect_state, is_negative_number, product_powers
+from lagrangian.derivation.coriolis import VelocityProduct, coriolis_products
 from lagrangian.derivation.trig import combine_trig, plain_angle
 from lagrangian.derivation.trig_polynomial import (
     ONE,
@@ -53,6 +54,9 @@ class KineticForm:
     #: (3-D bodies): :func:`lagrangian.derivation.trig.combine_and_collect` tidies what is
     #: made of them at once (it knows their monomials, or that they stay nested).
     grouped: bool = False
+    #: The terms of each row of C q_dot, each monomial once, when M is a planar chain's
+    #: (:func:`lagrangian.derivation.coriolis.coriolis_products`); else None.
+    coriolis_products: tuple[tuple[VelocityProduct, ...], ...] | None = None
 
 
 def _hessian(expr: Backend, symbols: tuple[Backend, ...]) -> Matrix:
@@ -580,7 +584,15 @@ def kinetic_form(asm: Assembly) -> KineticForm:
             else se.Integer(0)
         )
         time_terms.append(se.expand(explicit_time + low_terms))
-    return KineticForm(mass, _coriolis(mass, asm), time_terms, quadratic_t + low, True)
+    products = coriolis_products(mass, asm)
+    coriolis = (
+        _coriolis(mass, asm)
+        if products is None
+        else [se.Add(*[product.term for product in row]) for row in products]
+    )
+    return KineticForm(
+        mass, coriolis, time_terms, quadratic_t + low, True, coriolis_products=products
+    )
 
 
 def _made_with_time(asm: Assembly) -> bool:

@@ -114,34 +114,48 @@ def equations_of_motion(system: System) -> EquationsOfMotion:
 def _check_sizes(terms: EulerLagrangeTerms) -> None:
     """Every entry of M and the forcing within the size limit (SizeLimitError naming the
     entry), before they are converted for the user: converting, printing and compiling an
-    expression cost far more time and memory than computing it."""
-    if math.isinf(active_operations()):
+    expression cost far more time and memory than computing it.  The message naming an
+    entry is written only for an entry over the limit (a 200-link chain has 20,300 entries,
+    and writing each name costs more than counting the entry)."""
+    limit = active_operations()
+    if math.isinf(limit):
         return
     q, counted = terms.coordinates, TreeOperations()
     for j, row in enumerate(terms.mass):
         for k in range(j, len(row)):
-            check_operations(counted(row[k]), f"derive: the mass matrix entry M[{q[j]}, {q[k]}]")
+            count = counted(row[k])
+            if count > limit:
+                check_operations(count, f"derive: the mass matrix entry M[{q[j]}, {q[k]}]")
     for j, entry in enumerate(terms.forcing):
-        check_operations(counted(entry), f"derive: the forcing of the equation of {q[j]}")
+        count = counted(entry)
+        if count > limit:
+            check_operations(count, f"derive: the forcing of the equation of {q[j]}")
 
 
 class TreeOperations:
     """The operations of SymEngine expressions counted over their trees as SymEngine's
     ``count_ops`` counts them (n - 1 for a sum or product of n arguments, one for a power or
     a function, none for an atom), each distinct subexpression counted once across calls and
-    its count remembered: a chain's mass sums m_k + ... + m_n recur in n entries of M each,
-    and counting every entry afresh would walk n^3/6 masses."""
+    its count remembered (atoms too: a chain's lengths and velocities recur in every term):
+    a chain's mass sums m_k + ... + m_n recur in n entries of M each, and counting every
+    entry afresh would walk n^3/6 masses."""
 
     def __init__(self) -> None:
         self._known: dict[Backend, int] = {}
 
     def __call__(self, expr: Backend) -> int:
-        known = self._known.get(expr)
-        if known is not None:
-            return known
+        known = self._known
+        count = known.get(expr)
+        if count is not None:
+            return count
         args = expr.args
         if not args:
+            known[expr] = 0
             return 0
-        own = len(args) - 1 if (expr.is_Add or expr.is_Mul) else 1
-        count = self._known[expr] = own + sum(map(self, args))
+        count = len(args) - 1 if (expr.is_Add or expr.is_Mul) else 1
+        get = known.get
+        for arg in args:
+            inner = get(arg)
+            count += self(arg) if inner is None else inner
+        known[expr] = count
         return count

@@ -97,17 +97,45 @@ def _convert_residuals(system: System) -> sp.ImmutableMatrix:
     return view.vector([d.equation for d in _DERIVATIVES.get(system, _differentiate_lagrangian)])
 
 
+_SHOWN_MOMENTA: IdentityCache[System, tuple[sp.Expr, ...]] = IdentityCache()
+_SHOWN_SLOPES: IdentityCache[System, tuple[sp.Expr, ...]] = IdentityCache()
+
+
+def step_momenta(system: System) -> tuple[sp.Expr, ...]:
+    """dL/dq_dot_j of every coordinate as the steps show it (the first step), converted
+    without the other steps: the analysis reads the momenta and dL/dq alone, and a long
+    chain's d/dt dL/dq_dot has n^2 terms per coordinate to convert (once per System).
+
+    >>> import lagrangian as lg
+    >>> step_momenta(lg.examples.simple_pendulum())
+    (l**2*m*theta_dot,)
+    """
+    return _SHOWN_MOMENTA.get(system, lambda s: _shown(s, "momentum"))
+
+
+def step_slopes(system: System) -> tuple[sp.Expr, ...]:
+    """dL/dq_j of every coordinate as the steps show it (see :func:`step_momenta`)."""
+    return _SHOWN_SLOPES.get(system, lambda s: _shown(s, "slope"))
+
+
+def _shown(system: System, step: str) -> tuple[sp.Expr, ...]:
+    sympy = euler_lagrange_terms(system).sympy
+    derivatives = _DERIVATIVES.get(system, _differentiate_lagrangian)
+    return tuple(sympy(getattr(d, step)) for d in derivatives)
+
+
 def _show_steps(system: System) -> Steps:
     terms = euler_lagrange_terms(system)
     derivatives = _DERIVATIVES.get(system, _differentiate_lagrangian)
     sympy, applied = terms.sympy, terms.assembly.applied
+    shown_momenta, shown_slopes = step_momenta(system), step_slopes(system)
     return Steps(
         CoordinateSteps(
             coordinate=coordinate,
             velocity=velocity(coordinate),
-            dL_dvelocity=sympy(d.momentum),
+            dL_dvelocity=shown_momenta[j],
             ddt_dL_dvelocity=sympy(d.rate),
-            dL_dcoordinate=sympy(d.slope),
+            dL_dcoordinate=shown_slopes[j],
             dF_dvelocity=sympy(d.friction),
             generalized_force=terms.view(applied[j]),
             equation=terms.view(d.equation),

@@ -29,7 +29,13 @@ import sympy as sp
 
 from lagrangian.derivation.assemble import Assembly, assemble
 from lagrangian.derivation.backend import Backend, SympyView
-from lagrangian.derivation.collect import collect_state, factor_common
+from lagrangian.derivation.collect import (
+    collect_state,
+    collect_state_with,
+    collected_coefficient,
+    factor_common,
+)
+from lagrangian.derivation.coriolis import VelocityProduct
 from lagrangian.derivation.kinetic import KineticForm, kinetic_form
 from lagrangian.derivation.trig import (
     NESTED_CHECK_OPS,
@@ -84,6 +90,7 @@ class EulerLagrangeTerms:
         self._sums: dict[Backend, tuple[Backend, Backend]] = {}  # symbol -> (sum, factored)
         self._compressed: dict[Backend, Backend] = {}
         self._factors: dict[Backend, Backend] = {}  # collect_state's sorting of factors
+        self._coefficients: dict[Backend, tuple[int, Backend | None]] = {}  # of C q_dot's terms
         self.velocity_potential_forces = self._velocity_potential_forces()
         self.mass = self._mass_matrix()
         self.gravity = self.potential_gradient(asm.potential)
@@ -94,18 +101,66 @@ class EulerLagrangeTerms:
             f.is_Add for row in self.kinetic.mass_matrix for e in row if e.is_Mul for f in e.args
         )
         tidy = self.tidy if kept else self._tidy_expanded
-        self.forcing = [
-            tidy(
+        products = self.kinetic.coriolis_products if kept else None
+        self.forcing = []
+        for j in range(len(asm.q)):
+            rest = (
                 asm.applied[j]
                 + self.dissipation_forces[j]
                 + self.velocity_potential_forces[j]
-                - self.kinetic.coriolis[j]
                 - self.kinetic.time_terms[j]
                 - self.gravity[j]
             )
-            for j in range(len(asm.q))
-        ]
+            tidied = None if products is None else self._tidy_with(rest, products[j])
+            self.forcing.append(tidy(rest - self.kinetic.coriolis[j]) if tidied is None else tidied)
         self.orders = self._orders()
+
+    def _tidy_with(self, rest: Backend, coriolis: tuple[VelocityProduct, ...]) -> Backend | None:
+        """:meth:`tidy` of rest - C q_dot for the terms of C q_dot known by monomial
+        (:func:`lagrangian.derivation.coriolis.coriolis_products`): the same expression,
+        with the n terms of a chain's row taken as they are made (each coefficient collected
+        once, :meth:`_collected_coefficient`) instead of expanded and collected with the
+        rest; None when :meth:`tidy` would not expand the whole (a factor it cannot vouch
+        for, or too many terms), or a monomial of C q_dot is also one of ``rest``'s."""
+        monomials = []
+        bound = 0
+        for product in coriolis:
+            count, coefficient = self._collected_coefficient(-product.number, product.coefficient)
+            bound += count
+            monomials.append((product.monomial, coefficient))
+        compact = self.compress(rest)
+        if not self._sums:
+            return None
+        rest_bound = _plain_bound(compact, NESTED_TERMS)
+        if rest_bound is None or rest_bound + bound >= NESTED_TERMS:
+            return None
+        return collect_state_with(
+            se.expand(compact), monomials, self.state, self._sums, self._factors
+        )
+
+    def _collected_coefficient(self, number: Backend, coefficient: Backend) -> tuple[int, Backend]:
+        """(the terms of the expansion of number * ``coefficient`` with its long sums kept
+        whole, counted as :func:`_plain_bound` counts them; the coefficient collect_state
+        makes of those terms).  A product with no short sum to expand collects to number
+        times what the product collects to, found once per coefficient (a chain's w_jk is in
+        two rows of C q_dot)."""
+        known = self._coefficients.get(coefficient)
+        if known is None:
+            compact = self.compress(coefficient)
+            count = 1
+            for factor in compact.args if compact.is_Mul else (compact,):
+                if factor.is_Add:  # a short sum of parameters, expanded with the rest
+                    count *= len(factor.args)
+            plain = count == 1 and not compact.is_Add
+            collected = self._collected(compact) if plain else None
+            known = self._coefficients[coefficient] = (count, collected)
+        count, collected = known
+        if collected is not None:
+            return count, number * collected
+        return count, self._collected(se.expand(self.compress(number * coefficient)))
+
+    def _collected(self, coefficient: Backend) -> Backend:
+        return collected_coefficient(coefficient, self.state, self._sums, self._factors)
 
     def _velocity_potential_forces(self) -> list[Backend]:
         """d/dt dU/dq_dot - dU/dq of each coordinate, without its q_ddot part; each 0 when U
@@ -458,14 +513,20 @@ def _plain_product(
 ) -> bool:
     """A product (SymPy's or SymEngine's: both name their kinds alike) of numbers, symbols,
     integer powers of symbols and sines and cosines (the types ``trig``) whose arguments
-    ``angle`` accepts, at most ``most`` of those (None: any number)."""
+    ``angle`` accepts, at most ``most`` of those (None: any number, and integer powers of
+    them too)."""
     count = 0
     for factor in term.args if term.is_Mul else (term,):
         if factor.is_Number or factor.is_Symbol:
             continue
         if factor.is_Pow:
             base, exponent = factor.args
-            if not (base.is_Symbol and exponent.is_Integer):
+            if not exponent.is_Integer:
+                return False
+            # a power of a sine or cosine (cos(pitch)**2 of a body's inertia) is left as it
+            # is by expand too, when the trigonometric factors are not counted
+            trig_power = most is None and isinstance(base, trig) and angle(base.args[0])
+            if not (base.is_Symbol or trig_power):
                 return False
         elif isinstance(factor, trig) and angle(factor.args[0]):
             count += 1

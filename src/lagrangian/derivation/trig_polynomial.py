@@ -200,7 +200,7 @@ class TrigAlgebra:
 
     def _convert(self, expr: Backend) -> Poly:
         if expr.is_Number:
-            return {ONE: expr} if expr != 0 else {}
+            return {ONE: expr} if expr != _ZERO else {}
         if isinstance(expr, se.Symbol):
             return self._monomial(expr) if expr in self.state else {ONE: expr}
         if isinstance(expr, (se.sin, se.cos)):
@@ -425,7 +425,7 @@ class TrigAlgebra:
         result = {}
         for k, c in p.items():
             value = se.expand(c)
-            if value != 0:
+            if value != _ZERO:  # a SymEngine zero: comparing with 0 converts it each time
                 result[k] = value
         return result
 
@@ -447,7 +447,7 @@ class TrigAlgebra:
         for k, v in parts.items():
             # a single coefficient kept as it is is expanded already
             value = v[0] if len(v) == 1 and p.get(k) is v[0] else se.expand(se.Add(*v))
-            if value != 0:
+            if value != _ZERO:
                 result[k] = value
         return result
 

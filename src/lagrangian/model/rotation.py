@@ -41,7 +41,7 @@ from lagrangian.errors import ModelError, Problem
 from lagrangian.model.rotation_factors import Factoring, factor_rotation, pythagorean_reduced
 from lagrangian.symbolic.caches import remembered
 from lagrangian.symbolic.conversion import to_sympy
-from lagrangian.symbolic.native import to_symengine
+from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
 from lagrangian.symbolic.symbols import t, time_derivative, velocity
 
 #: The 12 Euler-angle sequences: 6 Tait–Bryan (three different axes), 6 proper Euler.
@@ -712,8 +712,9 @@ def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) ->
 
 
 def _in_backend(matrix: sp.MatrixBase) -> list[Any] | None:
+    memo: dict[Any, Any] = {}  # a product of rotations multiplied out repeats its parts
     try:
-        return [to_symengine(e) for e in matrix]
+        return [to_symengine_sharing(e, memo) for e in matrix]
     except (se.SympifyError, TypeError, ValueError):
         return None
 

@@ -43,7 +43,7 @@ import symengine as se
 import sympy as sp
 
 from lagrangian.symbolic.conversion import to_sympy
-from lagrangian.symbolic.native import to_symengine
+from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
 from lagrangian.symbolic.symbols import t
 
 #: Random angle samples the search compares the axes at, and the check's samples.
@@ -73,8 +73,8 @@ def factor_rotation(matrix: sp.MatrixBase, coordinates: Iterable[sp.Symbol]) -> 
     angles = list(dict.fromkeys(f.args[0] for f in trig if f.args[0].free_symbols & moving))
     if not angles:
         return None
-    taken = {s.name for s in matrix.free_symbols}
-    alphas = [_fresh(f"alpha{k}", taken) for k in range(len(angles))]
+    by_name = {s.name: s for s in matrix.free_symbols}
+    alphas = [_fresh(f"alpha{k}", set(by_name)) for k in range(len(angles))]
     # the angles put in and the entries differentiated and evaluated in SymEngine: SymPy's
     # substitution into nested products, diff and lambdify cost seconds
     try:
@@ -84,11 +84,11 @@ def factor_rotation(matrix: sp.MatrixBase, coordinates: Iterable[sp.Symbol]) -> 
             for f in trig
             if f.args[0] in angles
         }
-        entries = [to_symengine(e).xreplace(swap) for e in matrix]
+        memo: dict[Any, Any] = {}  # a product multiplied out repeats its parts
+        entries = [to_symengine_sharing(e, memo).xreplace(swap) for e in matrix]
         symbols = set().union(*(e.free_symbols for e in entries))
         if symbols & {to_symengine(s) for s in moving}:
             return None  # a moving symbol outside the sines and cosines
-        by_name = {s.name: s for s in matrix.free_symbols}
         parameters = sorted(
             (by_name[str(s)] for s in symbols - set(angle_symbols)), key=sp.default_sort_key
         )
@@ -204,8 +204,10 @@ def _agrees(
 def _tidy(value: sp.MatrixBase) -> sp.ImmutableMatrix:
     """Entries in the sines and cosines of constants, expanded and reduced modulo
     sin^2 + cos^2 = 1 (cos^2 x written 1 - sin^2 x: exact, and canonical for such
-    polynomials, so a unit axis comes out as (sin(lam), 0, -cos(lam)), not as products)."""
-    return sp.ImmutableMatrix(sp.Matrix(value).applyfunc(pythagorean_reduced))
+    polynomials, so a unit axis comes out as (sin(lam), 0, -cos(lam)), not as products);
+    numbers (most axes' entries) as they are."""
+    entries = [e if e.is_Number else pythagorean_reduced(e) for e in value]
+    return sp.ImmutableMatrix(value.rows, value.cols, entries)
 
 
 def pythagorean_reduced(expr: sp.Expr) -> sp.Expr:

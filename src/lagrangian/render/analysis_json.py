@@ -13,6 +13,9 @@ the parameter values given; ``conserved_quantities`` all of them with their reas
 ``conditions`` (relations between parameters such as ``Eq(k1, k2)``, empty when always
 conserved) and ``holds`` (whether the values given meet the conditions)), ``energy_function``,
 ``energy_conserved``, ``hamiltonian``, ``equilibria`` (each with ``state`` and ``stable``),
+``equilibria_count`` (how many there are: more than listed when static equations that
+separate have too many combinations of roots to list) and ``equilibria_reason`` (how they
+were found),
 ``normal_modes`` (frequencies and shapes about a stable equilibrium), ``steady_motions`` (for
 constraints that move by a symmetry: each configuration at t = 0 with its velocities and its
 stability relative to them) and, when the report
@@ -223,6 +226,10 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
         "equilibria": None
         if report.equilibria is None
         else [_equilibrium(e) for e in report.equilibria],
+        "equilibria_count": None
+        if report.equilibria is None
+        else (report.equilibria.count or len(report.equilibria.equilibria)),
+        "equilibria_reason": None if report.equilibria is None else report.equilibria.reason,
         "normal_modes": None if report.normal_modes is None else _modes(report.normal_modes),
         "steady_motions": None if report.steady_motions is None else _steady(report.steady_motions),
         "first_integral_search": list(report.searched),

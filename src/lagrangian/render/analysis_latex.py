@@ -107,6 +107,8 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
             lines.append(rf"&{_text('no equilibrium: ' + report.equilibria.reason)}")
         elif report.equilibria.general:  # what holds for other parameter values
             lines.append(rf"&{_text(report.equilibria.general)}")
+        if report.equilibria.equilibria and report.equilibria.count is not None:
+            lines.append(rf"&{_text(report.equilibria.reason)}")  # only some listed
     if report.steady_motions is not None:
         for e in report.steady_motions.motions:
             if e.exists is False:

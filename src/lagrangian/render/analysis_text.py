@@ -208,7 +208,13 @@ def analysis_text(report: AnalysisReport) -> str:
     lines += _section("Hamiltonian", _hamiltonian_lines(report))
     if report.equilibria is not None:
         found = [_equilibrium_line(e) for e in report.equilibria]
-        if report.equilibria.method == "numeric" or not found or report.equilibria.general:
+        partial = report.equilibria.count is not None  # only some of them listed: say so
+        if (
+            report.equilibria.method == "numeric"
+            or not found
+            or report.equilibria.general
+            or partial
+        ):
             found.append(f"({report.equilibria.reason})")  # how far the search went
         lines += _section("Equilibria", found)
     if report.steady_motions is not None:

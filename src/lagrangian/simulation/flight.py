@@ -25,6 +25,14 @@ those of the gaps whose coordinates moved: the bookkeeping of event-driven molec
 Dynamics Simulation*, 2nd ed., 2004, ch. 14), here for any model whose contacts are such
 polynomials.
 
+Where the mode has no active contact and a C compiler is at hand, the flights and the lone
+impacts between them run in one compiled step (:mod:`lagrangian.numerics.fast.c_flight`,
+:func:`_flights`): the same calendar, the same roots, the impulse of a lone contact in the
+closed form of :mod:`lagrangian.simulation.impacts`, from the model's own numbers (each gap's
+form matrix, its coordinates, M^-1, each contact's restitution), impact after impact; a
+contact that needs more (several at once, one without restitution, one coming to rest) goes
+back to the piecewise loop, which resolves it as it resolves every impact without a compiler.
+
 >>> import numpy as np
 >>> first_crossings(np.array([1.0]), np.array([-2.0]), np.array([0.5]))  # (s - 2)^2/2 - 1
 array([0.58578644])
@@ -41,14 +49,23 @@ import numpy as np
 import symengine as se
 import sympy as sp
 
+from lagrangian.numerics.fast import c_flight
+from lagrangian.simulation.impacts import SIGN_TOLERANCE, ImpactRecord
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.events import EventWatch
 from lagrangian.simulation.integrators.loop import SolverIntegrator
 from lagrangian.simulation.integrators.protocol import Dynamics, Integration, Progress
+from lagrangian.symbolic.caches import IdentityCache
 
 #: Most coordinates one gap may involve (its polynomial is kept as a dense block that size).
 MOST_COORDINATES = 8
+#: Most lone impacts one compiled step resolves before it hands a contact to the piecewise
+#: loop (a return to Python for the budget's wall time, progress and Ctrl-C).
+IMPACTS_PER_CALL = 4096
+
+#: The compiled flights' numbers of each run's lone impacts, per mode acceleration.
+_MODELS: IdentityCache[LoneImpacts, dict[bytes, c_flight.FlightModel]] = IdentityCache()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -314,14 +331,30 @@ class Calendar:
         return np.flatnonzero(mark)
 
 
+@dataclasses.dataclass(frozen=True)
+class LoneImpacts:
+    """What a flight needs to resolve a lone contact's impact itself (:func:`_flights`): M^-1
+    (constant), each gap's coefficient of restitution (NaN: none) and ``labels`` (its name),
+    and the tolerances of the impact rule: contacts within ``simultaneous`` (relative to
+    1 + |t|) of another meet it together, a bounce lower than ``contact_tolerance`` rests."""
+
+    inverse_mass: np.ndarray
+    restitution: np.ndarray
+    labels: tuple[str, ...]
+    simultaneous: float
+    contact_tolerance: float
+
+
 class FlightGuard(Protocol):
     """The contact guard of a mode that may move in closed form: its calendar, the gaps its
-    mode leaves aside (the active contacts), and the mode's constant acceleration at a piece's
-    start (None when the mode's motion is not polynomial in t)."""
+    mode leaves aside (the active contacts), the mode's constant acceleration at a piece's
+    start (None when the mode's motion is not polynomial in t), and what resolves a lone
+    impact (None: every impact goes back to the piecewise loop)."""
 
     __name__: str
     calendar: Calendar
     excluded: np.ndarray
+    lone_impacts: LoneImpacts | None
 
     def acceleration(self, piece: Dynamics, t: float, x: np.ndarray) -> np.ndarray | None: ...
 
@@ -352,9 +385,15 @@ class FlightIntegrator:
         a = guards[0].acceleration(dynamics, t0, x0) if len(guards) == 1 and not rest else None
         if a is None:
             return self.stepping.run(dynamics, inputs, watch, progress, budget)
+        guard = guards[0]
+        lone = guard.lone_impacts
+        alone = lone is not None and not guard.excluded.any()  # no active contact
+        if alone and inputs.t_out is not None and c_flight.available():
+            assert lone is not None
+            return _flights(guard, lone, a, inputs, progress, budget)
         if budget is not None:
             budget.steps += 1
-        return _flight(guards[0], a, inputs, progress)
+        return _flight(guard, a, inputs, progress)
 
 
 def _constant_in_flight(function: Any) -> bool:
@@ -394,3 +433,73 @@ def _flight(
         events=events,
         stopped_by=guard.__name__ if hit else None,
     )
+
+
+def _flights(
+    guard: FlightGuard,
+    lone: LoneImpacts,
+    a: np.ndarray,
+    inputs: Inputs,
+    progress: Progress | None,
+    budget: Budget | None,
+) -> Integration:
+    """Flights and the lone impacts between them in one compiled step
+    (:mod:`lagrangian.numerics.fast.c_flight`), from ``inputs``' start to the span's end or
+    the first contact that the piecewise loop resolves (several contacts at once, one without
+    restitution or coming to rest, and every ``IMPACTS_PER_CALL``-th): the impacts that
+    :func:`_flight` and the piecewise loop would make, one flight a step of the ``budget``."""
+    (t0, t1), x0 = inputs.t_span, inputs.x0
+    n = len(x0) // 2
+    calendar, gaps = guard.calendar, guard.calendar.gaps
+    calendar.next(t0, x0[:n], x0[n:], a, guard.excluded)
+    models = _MODELS.get(lone, lambda _: {})
+    model = models.get(a.tobytes())
+    if model is None:  # once per run and mode (a gas of a hundred disks: milliseconds)
+        model = c_flight.FlightModel(gaps.augmented_index, gaps.forms, calendar.incidence,
+                                     lone.inverse_mass, lone.restitution, a)  # fmt: skip
+        models[a.tobytes()] = model
+    room = max(64, min(IMPACTS_PER_CALL, 2**21 // (4 * n)))
+    if budget is not None:  # the last flight, to the contact left to the loop, is a step
+        room = min(room, budget.max_steps - budget.steps - 1)
+    t_out = inputs.t_out
+    assert t_out is not None
+    t_out = t_out[np.searchsorted(t_out, t0) : np.searchsorted(t_out, t1, "right")]
+    tolerances = (lone.simultaneous, SIGN_TOLERANCE, lone.contact_tolerance)
+    flown = c_flight.fly(model, calendar.times, t0, x0, t1, t_out, room, tolerances)
+    if budget is not None:
+        budget.steps += len(flown.impact_t) + 1
+    hit = flown.code == c_flight.CONTACT
+    q, v = flown.x[:n], flown.x[n:]
+    calendar.origin = (flown.t, q.copy(), v.copy(), a.copy())
+    k = int(np.argmin(calendar.times))
+    calendar.hit = (flown.t, flown.hit) if hit else (float(calendar.times[k]), k)
+    impacts, events = _impacts(lone.labels, flown)
+    if hit:
+        events.append((guard.__name__, flown.t, flown.x.copy()))
+    if progress is not None:
+        progress(flown.t)
+    return Integration(
+        t_out[: len(flown.rows)],
+        flown.rows,
+        flown.t,
+        flown.x,
+        events=tuple(events),
+        stopped_by=guard.__name__ if hit else None,
+        impacts=impacts,
+    )
+
+
+def _impacts(
+    labels: tuple[str, ...], flown: c_flight.Flown
+) -> tuple[tuple[ImpactRecord, ...], list[tuple[str, float, np.ndarray]]]:
+    """The impacts of a compiled flight as the piecewise loop records them: each an
+    ImpactRecord and its event ``impact NAME`` at the state after it."""
+    names = [labels[gap] for gap in flown.impact_gap.tolist()]
+    befores, afters = list(flown.states[:, 0]), list(flown.states[:, 1])
+    times, impulses = flown.impact_t.tolist(), flown.impulses.tolist()
+    records = [
+        ImpactRecord(t, (name,), (impulse,), before, after)
+        for t, name, impulse, before, after in zip(times, names, impulses, befores, afters)
+    ]
+    events = [(f"impact {name}", t, after) for t, name, after in zip(times, names, afters)]
+    return tuple(records), events

@@ -18,7 +18,7 @@ Without it the Trajectory is returned, with status ``"failed"`` or ``"interrupte
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
@@ -39,6 +39,7 @@ from lagrangian.simulation.trajectory import (
     Event,
     Impact,
     Rows,
+    StateRow,
     Trajectory,
     trajectory_of_rows,
 )
@@ -168,19 +169,19 @@ def impacts_of(
     before = compiled.velocities(t, states[:, 0], p)
     after = compiled.velocities(t, states[:, 1], p)
     lost = compiled.energy(q, before, t, p) - compiled.energy(q, after, t, p)
-    names = [f"{name}_dot" for name in compiled.coordinates]
+    index = {f"{name}_dot": i for i, name in enumerate(compiled.coordinates)}
     return tuple(
         Impact(
             record.t,
             record.constraints,
             dict(zip(record.constraints, record.impulses)),
-            dict(zip(names, jump_before)),
-            dict(zip(names, jump_after)),
+            StateRow(index, jump_before),
+            StateRow(index, jump_after),
             lost_here,
             record.rest,
         )
         for record, jump_before, jump_after, lost_here in zip(
-            records, before.tolist(), after.tolist(), np.atleast_1d(lost).tolist()
+            records, before, after, np.atleast_1d(lost).tolist()
         )
     )
 
@@ -195,14 +196,12 @@ def events_of(
     n = len(compiled.coordinates)
     t = np.array([time for _, time, _ in recorded])
     x = np.array([state for _, _, state in recorded], dtype=float)
-    q_dot = compiled.velocities(t, x, p).tolist()
-    names = [f"{name}_dot" for name in compiled.coordinates]
-    found = []
-    for (name, time, _), q, rates in zip(recorded, x[:, :n].tolist(), q_dot):
-        state = dict(zip(compiled.coordinates, q))
-        state.update(zip(names, rates))
-        found.append(Event(name, time, state))
-    return tuple(found)
+    states = np.concatenate([x[:, :n], compiled.velocities(t, x, p)], axis=1)
+    names = [*compiled.coordinates, *(f"{name}_dot" for name in compiled.coordinates)]
+    index = {name: i for i, name in enumerate(names)}
+    return tuple(
+        Event(name, time, StateRow(index, row)) for (name, time, _), row in zip(recorded, states)
+    )
 
 
 #: An impact that loses more than this share of the energy scale makes E not conserved.
@@ -215,7 +214,7 @@ def with_impacts(
     """The reasons a column is not conserved, with the ``impacts`` that changed the energy
     added to the energy's (and to h's, when it is a column): ``impacts (e < 1)`` (a coefficient
     of restitution below 1), ``transitions`` (a reset of the state)."""
-    scale = max((abs(v) for i in impacts for v in i.before.values()), default=0.0) ** 2
+    scale = max((_largest(i.before) for i in impacts), default=0.0) ** 2
     changed = [i for i in impacts if abs(i.energy_lost) > LOSS_TOLERANCE * max(scale, 1e-300)]
     causes = [cause for cause, kind in (("impacts (e < 1)", True), ("transitions", False))
               if any(bool(i.impulses) == kind for i in changed)]  # fmt: skip
@@ -225,6 +224,12 @@ def with_impacts(
     for column in ("energy", "energy_function")[: 1 + has_energy_function]:
         found[column] = ", ".join([*filter(None, [reasons.get(column)]), *causes])
     return found
+
+
+def _largest(values: Mapping[str, float]) -> float:
+    if isinstance(values, StateRow):
+        return values.largest
+    return max(map(abs, values.values()), default=0.0)
 
 
 def _with_note(sentence: str | Fix, note: str) -> str | Fix:

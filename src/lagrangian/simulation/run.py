@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from lagrangian.constraints import constrained_equations, multiplier_symbols
+from lagrangian.constraints import constrained_equations, multiplier_names
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.errors import Fix, Problem, Setting, SimulationInputError
 from lagrangian.model import System
@@ -230,7 +230,7 @@ def formulation(setup: RunSetup) -> tuple[Motion, Integrator[Any]]:
     """The dynamics of the system's formulation and the integrator of the method."""
     options, eom, p = setup.options, setup.eom, setup.inputs.p
     constraints = setup.system.constraints
-    names = tuple(s.name for s in multiplier_symbols(len(constraints)))
+    names = multiplier_names(len(constraints))
     if options.spec.variational:
         expressions = [c.expression for c in constraints]
         mechanics = compile_discrete_mechanics(eom, expressions)

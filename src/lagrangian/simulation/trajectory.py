@@ -39,6 +39,44 @@ from lagrangian.simulation.trajectory_csv import DOT, read_columns
 from lagrangian.symbolic.expressions import closest_name
 
 
+class StateRow(Mapping[str, float]):
+    """One row of an array read by name, read-only: an event's state, an impact's velocities.
+
+    A gas's run records thousands of impacts of hundreds of velocities each; a row keeps its
+    numbers in one array and shares the names' index with every other row, so recording it
+    costs no dictionary.  It compares, iterates and converts (``dict(row)``) as a dict does.
+
+    >>> row = StateRow({"x": 0, "x_dot": 1}, np.array([0.5, -1.0]))
+    >>> row["x_dot"], dict(row), row == {"x": 0.5, "x_dot": -1.0}
+    (-1.0, {'x': 0.5, 'x_dot': -1.0}, True)
+    """
+
+    __slots__ = ("_index", "_values")
+
+    def __init__(self, index: Mapping[str, int], values: np.ndarray) -> None:
+        self._index, self._values = index, values
+
+    def __getitem__(self, name: str) -> float:
+        return float(self._values[self._index[name]])
+
+    def __iter__(self) -> Any:
+        return iter(self._index)
+
+    def __len__(self) -> int:
+        return len(self._index)
+
+    def __repr__(self) -> str:
+        return repr(dict(self))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (StateRow, (dict(self._index), np.array(self._values)))
+
+    @property
+    def largest(self) -> float:
+        """max |value| (0 for no value)."""
+        return float(np.max(np.abs(self._values), initial=0.0))
+
+
 class Event(NamedTuple):
     """An event found during a simulation: its name, time and the state then."""
 

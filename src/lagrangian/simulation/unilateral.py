@@ -57,7 +57,7 @@ from lagrangian.simulation.dynamics import (
     MultiplierDynamics,
     start_on_constraints,
 )
-from lagrangian.simulation.flight import Calendar, QuadraticGaps, quadratic_gaps
+from lagrangian.simulation.flight import Calendar, LoneImpacts, QuadraticGaps, quadratic_gaps
 from lagrangian.simulation.impacts import ImpactRecord, resolve
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.piecewise import Guard, Jump, Record
@@ -173,6 +173,20 @@ class UnilateralDynamics:
         return found[key]
 
     @functools.cached_property
+    def lone_impacts(self) -> LoneImpacts | None:
+        """What a flight needs to resolve a lone contact's impact itself (gaps only): M^-1,
+        every contact's restitution and name; None when a restitution is out of range (the
+        impact that meets it says so)."""
+        try:
+            found = self.restitutions
+        except SimulationInputError:
+            return None
+        restitution = np.array([np.nan if e is None else e for e in found], dtype=float)
+        labels = tuple(self.tag(i) for i in range(len(found)))
+        inverse = self.constant_mass[1]
+        return LoneImpacts(inverse, restitution, labels, SIMULTANEOUS, RECONTACT_TOLERANCE)
+
+    @functools.cached_property
     def contact_guards(self) -> dict[frozenset[int], _Contacts]:
         """The contact guard of each mode met in a run (with gaps), made once per mode."""
         return {}
@@ -275,12 +289,13 @@ class UnilateralDynamics:
         """The constraints active at a start: the bilateral ones, and each unilateral one
         touching (g ~ 0, dg/dt ~ 0); SimulationInputError when one is violated or hit."""
         constraints = self.system.constraints
-        active = {i for i in range(len(constraints)) if i not in self.unilateral}
-        if self.gaps is not None:  # every gap at once
-            every = np.arange(len(constraints))
-            hs, gradients = self.gaps.values_and_gradients(every, q)
+        active = set(self.bilateral)
+        if self.gaps is not None:  # every gap at once; only those within the band are looked at
+            hs, _ = self.gaps.values_and_gradients(np.arange(len(constraints)), q, rows=False)
+            near = np.flatnonzero(hs <= INITIAL_TOLERANCE)
+            _, gradients = self.gaps.values_and_gradients(near, q)
             cs = gradients @ q_dot
-            found = list(zip(every.tolist(), hs.tolist(), cs.tolist()))
+            found = list(zip(near.tolist(), hs[near].tolist(), cs.tolist()))
         else:
             found = []
             for i in self.one_sided:
@@ -522,6 +537,8 @@ class _Contacts:
         self.excluded = np.zeros(len(dynamics.system.constraints), dtype=bool)
         self.excluded[list(mode)] = True
         self.open = np.flatnonzero(~self.excluded)
+        # without active contacts a flight resolves the lone impacts itself (flight.py)
+        self.lone_impacts = None if mode else dynamics.lone_impacts
 
     def __call__(self, t: float, q: np.ndarray, q_dot: np.ndarray) -> float:
         values = self.gaps.values(self.open, q)

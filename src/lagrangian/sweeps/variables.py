@@ -26,7 +26,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from lagrangian.constraints import multiplier_symbols
+from lagrangian.constraints import multiplier_names
 from lagrangian.derivation import derive
 from lagrangian.model import System
 from lagrangian.numerics.compile import compile_equations
@@ -74,7 +74,7 @@ def sweep_variables(system: System) -> SweepVariables:
     constraints = system.constraints
     return SweepVariables(
         coordinates=tuple(q.name for q in system.coordinates),
-        multipliers=tuple(s.name for s in multiplier_symbols(len(constraints))),
+        multipliers=multiplier_names(len(constraints)),
         momenta=tuple(conserved_expressions(eom, system, {})),
         energy_function=compile_equations(eom).energy_function_differs,
         # blocks of constrained members are kept small: one the batch refuses runs member

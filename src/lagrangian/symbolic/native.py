@@ -77,3 +77,23 @@ def restore_functions(expr: Any) -> Any:
     if not any(stands_in(e) for e in expr.atoms(AppliedUndef)):
         return expr
     return expr.replace(stands_in, lambda e: _CLASSES[e.func.__name__](*e.args, evaluate=False))
+
+
+def to_symengine_sharing(expr: Any, memo: dict[Any, Any]) -> Any:
+    """:func:`to_symengine` of ``expr`` with each distinct subexpression converted once for
+    all the calls that share ``memo``: an expression built by multiplying matrices out (a
+    rotation matrix given whole, a rolling contact's constraint) repeats its parts many
+    times over, and converting the tree would convert every copy."""
+    known = memo.get(expr)
+    if known is not None:
+        return known
+    if isinstance(expr, sp.Add):
+        result = se.Add(*[to_symengine_sharing(a, memo) for a in expr.args])
+    elif isinstance(expr, sp.Mul):
+        result = se.Mul(*[to_symengine_sharing(a, memo) for a in expr.args])
+    elif isinstance(expr, sp.Pow):
+        result = se.Pow(to_symengine_sharing(expr.base, memo), to_symengine_sharing(expr.exp, memo))
+    else:
+        result = to_symengine(expr)
+    memo[expr] = result
+    return result

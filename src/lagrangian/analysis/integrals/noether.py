@@ -30,6 +30,7 @@ import sympy as sp
 
 from lagrangian.analysis.arguments import Subject, Values, equations_of, substitute, substitutions
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.derivation.steps import step_momenta
 from lagrangian.errors import AnalysisError
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.nonsmooth import derivative
@@ -211,7 +212,7 @@ def point_symmetries(
         if not _vanishes(sum((c * e for c, e in zip(flat, columns)), sp.Integer(0))):
             continue
         xi = a * sp.Matrix(q) + b
-        momenta = [substitute(s.dL_dvelocity, values) for s in eom.steps]
+        momenta = [substitute(m, values) for m in step_momenta(eom.system)]
         charge = sp.simplify(sum((p * x for p, x in zip(momenta, xi)), sp.Integer(0)))
         found.append(Symmetry(sp.ImmutableMatrix(xi), charge, _describe(a, b, q, xi)))
     return tuple(found)

@@ -18,6 +18,8 @@ with ctypes in a fraction of a millisecond.
   use SciPy's solvers instead (:mod:`lagrangian.simulation.integrators.compiled`).
 
 Compiling takes about a second; loading, under a millisecond (and the check of the digest).
+The compiled flights of polynomial motion (``c_flight.c``, :mod:`~lagrangian.numerics.fast.
+c_flight`) are built and kept the same way (:func:`compiled_library`), a library of their own.
 
 >>> library = loop_library()
 >>> library is None or library.lg_abi() == ABI_VERSION
@@ -77,12 +79,12 @@ def cache_folder() -> Path | None:
     return Path(base) / "lagrangian"
 
 
-def library_name(compiler: str) -> str:
-    """The file name of the library for this source, compiler and platform."""
+def library_name(compiler: str, source: Path = SOURCE) -> str:
+    """The file name of the library of ``source`` for this compiler and platform."""
     status = os.stat(compiler)
     key = hashlib.sha256()
     for part in (
-        SOURCE.read_bytes(),
+        source.read_bytes(),
         os.path.realpath(compiler).encode(),
         f"{status.st_size} {status.st_mtime_ns}".encode(),
         " ".join(FLAGS).encode(),
@@ -91,31 +93,38 @@ def library_name(compiler: str) -> str:
         key.update(part)
         key.update(b"\0")
     suffix = ".dll" if sys.platform == "win32" else ".so"
-    return f"c_loop-{key.hexdigest()[:20]}{suffix}"
+    return f"{source.stem}-{key.hexdigest()[:20]}{suffix}"
 
 
 @cache
 def loop_library() -> ctypes.CDLL | None:
     """The loaded library of ``c_loop.c`` (module docstring), compiled on the first call on
     this machine; None without a C compiler or when it cannot be built."""
+    return compiled_library(SOURCE, "lg_abi", ABI_VERSION)
+
+
+def compiled_library(source: Path, abi: str, version: int) -> ctypes.CDLL | None:
+    """The loaded library of the C ``source`` beside this file, compiled on the first call
+    on this machine and kept as ``c_loop.c``'s is (module docstring); its function ``abi``
+    must answer ``version``.  None without a C compiler or when it cannot be built."""
     compiler = find_compiler()
     if compiler is None:
         return None
     try:
-        name = library_name(compiler)
+        name = library_name(compiler, source)
     except OSError:
         return None
     for folder in _folders():
         path = folder / name
-        library = _open(path)
+        library = _open(path, abi, version)
         if library is not None:
             return library
         try:
-            if not _build(compiler, path):
+            if not _build(compiler, path, source):
                 return None  # the compiler fails: it would fail in every folder
         except OSError:  # the folder cannot be written: the next one
             continue
-        library = _open(path)
+        library = _open(path, abi, version)
         if library is not None:  # else a folder that cannot run code (noexec): the next one
             return library
     return None
@@ -153,9 +162,9 @@ def _private_temporary() -> Path | None:
     return folder if private and not status.st_mode & 0o077 else None
 
 
-def _open(path: Path) -> ctypes.CDLL | None:
-    """The library at ``path`` when it is whole (its digest matches) and answers this
-    layout; None otherwise."""
+def _open(path: Path, abi: str, version: int) -> ctypes.CDLL | None:
+    """The library at ``path`` when it is whole (its digest matches) and its function
+    ``abi`` answers ``version`` (this layout); None otherwise."""
     try:
         expected = path.with_name(path.name + ".sha256").read_text().strip()
         content = path.read_bytes()
@@ -165,22 +174,23 @@ def _open(path: Path) -> ctypes.CDLL | None:
         return None
     try:
         library = ctypes.CDLL(str(path))
-        library.lg_abi.restype = ctypes.c_int64
-        if library.lg_abi() != ABI_VERSION:
+        answer = getattr(library, abi)
+        answer.restype = ctypes.c_int64
+        if answer() != version:
             return None
     except (OSError, AttributeError):
         return None
     return library
 
 
-def _build(compiler: str, path: Path) -> bool:
-    """Compile the source into ``path`` atomically, with its digest beside it; False when
+def _build(compiler: str, path: Path, source: Path) -> bool:
+    """Compile ``source`` into ``path`` atomically, with its digest beside it; False when
     the compiler fails, OSError when the folder cannot be written."""
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
     os.close(handle)
     try:
-        command = [compiler, *FLAGS, "-o", temporary, str(SOURCE), "-lm"]
+        command = [compiler, *FLAGS, "-o", temporary, str(source), "-lm"]
         try:
             done = subprocess.run(command, capture_output=True, timeout=COMPILE_TIMEOUT)
         except (OSError, subprocess.SubprocessError):

@@ -9,11 +9,13 @@ constraints at stages 2..s divided by h), the march that of
 ``(a, a_hat, b, c)``.
 
 Where the time of a step goes (a double pendulum, three stages): the system's terms are a
-sixth of it; the Jacobian of the stage equations and its solve, twice a step, most of the
-rest.  So the iteration stops at its second evaluation of the stages (the forces at the last
-correction from their Jacobian), the stage Jacobian and its solve are compiled as a function
-of their own (:func:`newton_correction`), and the
-extrapolation of the stage velocities is made once per size of step, not at every step.
+quarter of it; the Jacobian of the stage equations and its factors, the stage bookkeeping
+the rest.  So the iteration stops at its second evaluation of the stages (the forces at the
+last correction from their Jacobian), the Jacobian is assembled and factored once a step,
+at the first iterate, and reused by the corrections after it (simplified Newton,
+:mod:`lagrangian.numerics.stage_newton`), in a function of its own
+(:func:`factor_stage_jacobian`), and the extrapolation of the stage velocities is made once
+per size of step, not at every step.
 This module is imported only when numba is installed.
 """
 
@@ -43,14 +45,19 @@ from lagrangian.numerics.fast.newton import (
     bind,
     call,
     evaluate_constraints,
+    factor,
     hold,
     largest,
-    solve,
+    substitute,
     unowned,
     unowned_system,
     velocity_step,
     within,
 )
+from lagrangian.numerics.stage_newton import REFRESH_RATE, settled
+
+#: :func:`lagrangian.numerics.stage_newton.settled`, compiled into the march.
+compiled_settled = njit(cache=False, nogil=True, error_model="numpy", inline="always")(settled)
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
@@ -113,30 +120,37 @@ def stage_residual(tableau, p0, dt, lam, stages, forces, rhs):
 
 
 @njit(cache=False, nogil=True, error_model="numpy")
-def newton_correction(a, a_hat, weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix, rhs):
-    """rhs <- J^-1 rhs, J the Jacobian of the stage equations (:func:`stage_jacobian`, into
-    ``matrix``); False when J is singular.
+def factor_stage_jacobian(a, a_hat, weights, dt, r, L_qv, F_v, L_vv, K, A, matrix, pivots):
+    """The Jacobian of the stage equations (:func:`stage_jacobian`) into ``matrix``, factored
+    there (:func:`lagrangian.numerics.fast.newton.factor`); False when it is singular.
 
     A function of its own, called with the arrays one by one (views without owners, so the
     call costs a few words): compiled apart from the march, its loops keep their values in
     registers, where inlined into the march they spilled to the stack (a third of a step)."""
-    stage_jacobian(a, a_hat, weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix)
-    return solve(matrix, rhs)
+    stage_jacobian(a, a_hat, weights, dt, r, L_qv, F_v, L_vv, K, A, matrix)
+    return factor(matrix, pivots)
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
-def stage_jacobian(a, a_hat, weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix):
-    """The Jacobian of the stage equations in (V, dt Lambda) (see
-    :mod:`lagrangian.simulation.variational.collocation_step`; ``weights`` of
-    :func:`couplings`, the stage terms of :func:`evaluate_stages`); adds the constraint
-    Hessians to K."""
-    s, n = L_vv.shape[0], L_vv.shape[1]
+def add_constraint_hessians(lam, H, K):
+    """K_j += sum_l Lambda_jl d2h_l/dq2 at the stages j with multipliers."""
     r, m = lam.shape
+    n = K.shape[1]
     for j in range(r):
         for l in range(m):
             for x in range(n):
                 for y in range(n):
                     K[j, x, y] += lam[j, l] * H[j, l, x, y]
+
+
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
+def stage_jacobian(a, a_hat, weights, dt, r, L_qv, F_v, L_vv, K, A, matrix):
+    """The Jacobian of the stage equations in (V, dt Lambda) (see
+    :mod:`lagrangian.simulation.variational.collocation_step`; ``weights`` of
+    :func:`couplings`, the stage terms of :func:`evaluate_stages`, K with the constraint
+    Hessians of :func:`add_constraint_hessians`, r the stages with multipliers)."""
+    s, n = L_vv.shape[0], L_vv.shape[1]
+    m = A.shape[1]
     for i in range(s):
         for k in range(s):
             drift, push = dt * a[i, k], dt * a_hat[i, k]
@@ -177,14 +191,15 @@ def stages_hold(stages, q0, r) -> bool:
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def stage_step(system, tableau, weights, q0, p0, t0, dt, V, lam, found, work):
-    """Solve the stage equations for V (s, n) and Lambda (r, m) in place from their guesses;
-    ``found`` = (q1, momentum before the impulse of Lambda_s).  Returns (status, stage
-    evaluations)."""
+    """Solve the stage equations for V (s, n) and Lambda (r, m) in place from their guesses
+    by simplified Newton iterations (:mod:`lagrangian.numerics.stage_newton`); ``found`` =
+    (q1, momentum before the impulse of Lambda_s).  Returns (status, stage evaluations)."""
     b = tableau[2]
-    stages, forces, matrix, rhs = work
+    stages, forces, matrix, rhs, pivots = work
     q1, momentum = found
     s, n = V.shape
     r, m = lam.shape
+    fresh, last = True, 0.0  # the Jacobian is factored at the first iterate
     for iteration in range(MAX_ITERATIONS + 1):
         evaluate_stages(system, tableau, q0, t0, dt, V, stages)
         size = stage_residual(tableau, p0, dt, lam, stages, forces, rhs)
@@ -194,12 +209,13 @@ def stage_step(system, tableau, weights, q0, p0, t0, dt, V, lam, found, work):
         for i in range(s):
             for x in range(n):
                 reach = max(reach, abs(stages[0][i, x]), abs(stages[0][i, x] - q0[x]))
-        L_qv, F_v, L_vv, K, A, H = (
-            stages[3], stages[4], stages[5], stages[6], stages[8], stages[9]
-        )  # fmt: skip
-        if not newton_correction(
-            tableau[0], tableau[1], weights, dt, lam, L_qv, F_v, L_vv, K, A, H, matrix, rhs
+        L_qv, F_v, L_vv, K, A = stages[3], stages[4], stages[5], stages[6], stages[8]
+        add_constraint_hessians(lam, stages[9], K)
+        if fresh and not factor_stage_jacobian(
+            tableau[0], tableau[1], weights, dt, r, L_qv, F_v, L_vv, K, A, matrix, pivots
         ):
+            return POSITION_SINGULAR, (iteration + 1) * s
+        if not substitute(matrix, pivots, rhs):
             return POSITION_SINGULAR, (iteration + 1) * s
         for i in range(s):
             for x in range(n):
@@ -207,12 +223,20 @@ def stage_step(system, tableau, weights, q0, p0, t0, dt, V, lam, found, work):
         for i in range(r):
             for l in range(m):
                 lam[i, l] -= rhs[s * n + i * m + l] / dt
-        if converging and within(dt * largest(rhs[: s * n]), reach, SMALL_CORRECTION):
+        change = dt * largest(rhs[: s * n])
+        rate = 0.0 if fresh or last == 0.0 else change / last
+        if (
+            converging
+            and within(change, reach, SMALL_CORRECTION)
+            and compiled_settled(rate, change, reach)
+        ):
             corrected_forces(tableau, dt, lam, stages, rhs, forces)
             for x in range(n):
                 q1[x] = q0[x] + dt * weighted(b, V, x)  # the last stage of Lobatto (a_s = b)
                 momentum[x] = p0[x] + dt * weighted(b, forces, x)
             return OK, (iteration + 1) * s
+        fresh = not rate <= REFRESH_RATE  # Newton's rate lost: a new Jacobian next
+        last = change
     return POSITION_DIVERGED, (MAX_ITERATIONS + 1) * s
 
 
@@ -323,14 +347,16 @@ def march_collocation(
     owners = (
         vectors, matrices, rows, np.empty((s, n)), np.empty((size, size)), np.empty(size),
         np.empty((4, n)), np.empty(m), np.empty((s, n)), np.empty((n + m, n + m)),
-        np.empty(n + m), np.empty((s, s)), np.empty((s, s, s)),
+        np.empty(n + m), np.empty((s, s)), np.empty((s, s, s)), np.empty(size, np.int64),
     )  # fmt: skip
     stages = (
         unowned(vectors[0]), unowned(vectors[1]), unowned(vectors[2]),
         unowned(matrices[0]), unowned(matrices[1]), unowned(matrices[2]), unowned(matrices[3]),
         unowned(rows[0]), unowned(rows[1]), unowned(rows[2]), unowned(rows[3]),
     )  # fmt: skip
-    work = (stages, unowned(owners[3]), unowned(owners[4]), unowned(owners[5]))
+    work = (
+        stages, unowned(owners[3]), unowned(owners[4]), unowned(owners[5]), unowned(owners[13])
+    )  # fmt: skip
     spare = (
         unowned(owners[6]), unowned(owners[7]), unowned(owners[8]), unowned(owners[11]),
         unowned(owners[12]),

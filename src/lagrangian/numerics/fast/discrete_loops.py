@@ -19,12 +19,15 @@ is installed.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from functools import cache
 from typing import Any
 
 import numpy as np
 from numba import types
+from numba.core import config as numba_config
+from numba.core.compiler_lock import global_compiler_lock
 
 from lagrangian.numerics.fast.collocation import march_collocation
 from lagrangian.numerics.fast.discrete import NativeMechanics
@@ -85,8 +88,30 @@ _MARCHES = {"midpoint": march_midpoint, "collocation": march_collocation}
 
 @cache
 def discrete_march(kind: str) -> Any:
-    """The compiled march of ``kind`` (``"midpoint"`` or ``"collocation"``)."""
-    return compile_cached(_SIGNATURES[kind], _MARCHES[kind])
+    """The compiled march of ``kind`` (``"midpoint"`` or ``"collocation"``), its loops left
+    scalar (:func:`scalar_loops`)."""
+    with scalar_loops():
+        return compile_cached(_SIGNATURES[kind], _MARCHES[kind])
+
+
+@contextmanager
+def scalar_loops() -> Iterator[None]:
+    """Compile without LLVM's loop vectorizer (numba's ``LOOP_VECTORIZE``, read when a
+    library is optimized), under numba's compiler lock so that nothing else compiles
+    meanwhile.
+
+    The marches' loops run over a handful of entries (a coordinate, a stage): vectorized,
+    each was preceded by run-time checks that its arrays do not overlap, pairwise over the
+    arrays it touches, and the checks took longer than the loops (a gauss6 step of a double
+    pendulum a quarter faster without them)."""
+    # numba sets its configuration at run time: mypy does not see the attribute
+    with global_compiler_lock:
+        vectorize = numba_config.LOOP_VECTORIZE  # type: ignore[attr-defined]
+        numba_config.LOOP_VECTORIZE = False  # type: ignore[attr-defined]
+        try:
+            yield
+        finally:
+            numba_config.LOOP_VECTORIZE = vectorize  # type: ignore[attr-defined]
 
 
 def system_arguments(native: NativeMechanics) -> tuple[tuple[Any, ...], tuple[int, ...]]:

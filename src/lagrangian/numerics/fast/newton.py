@@ -188,6 +188,54 @@ def solve(matrix, rhs) -> bool:
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
+def factor(matrix, pivots) -> bool:
+    """LU factors of ``matrix`` with partial pivoting, in place, for :func:`substitute`
+    (Golub & Van Loan, Matrix Computations, 3.4): the multipliers of the elimination below
+    the diagonal (each in the row it was made for), the upper factor above it, the
+    reciprocals of its pivots on it; ``pivots[k]`` the row swapped with row k at step k.
+    False at an exactly zero pivot (singular)."""
+    n = pivots.size
+    for k in range(n):
+        pivot, size = k, abs(matrix[k, k])
+        for i in range(k + 1, n):
+            if abs(matrix[i, k]) > size:
+                pivot, size = i, abs(matrix[i, k])
+        pivots[k] = pivot
+        if size == 0.0:
+            return False
+        if pivot != k:  # the rows' multipliers stay: substitute swaps as it eliminates
+            for j in range(k, n):
+                matrix[k, j], matrix[pivot, j] = matrix[pivot, j], matrix[k, j]
+        inverse = 1.0 / matrix[k, k]
+        matrix[k, k] = inverse
+        for i in range(k + 1, n):
+            factor = matrix[i, k] * inverse
+            matrix[i, k] = factor
+            for j in range(k + 1, n):
+                matrix[i, j] -= factor * matrix[k, j]
+    return True
+
+
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
+def substitute(matrix, pivots, vector) -> bool:
+    """vector <- M^-1 vector from the factors of M by :func:`factor`; False when the
+    solution is not finite."""
+    n = pivots.size
+    for k in range(n):
+        pivot = pivots[k]
+        if pivot != k:
+            vector[k], vector[pivot] = vector[pivot], vector[k]
+        for i in range(k + 1, n):
+            vector[i] -= matrix[i, k] * vector[k]
+    for i in range(n - 1, -1, -1):
+        total = vector[i]
+        for j in range(i + 1, n):
+            total -= matrix[i, j] * vector[j]
+        vector[i] = total * matrix[i, i]
+    return finite(vector)
+
+
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def finite(values) -> bool:
     """Whether every entry of ``values`` is finite."""
     for value in values:  # noqa: SIM110 (a loop numba compiles without allocating)

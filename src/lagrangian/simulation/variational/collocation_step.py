@@ -1,6 +1,7 @@
 """One step of the collocation integrators in NumPy: the stage equations of
-:mod:`lagrangian.simulation.variational.collocation` solved by Newton's method with their exact
-Jacobian.
+:mod:`lagrangian.simulation.variational.collocation` solved by simplified Newton iterations,
+their exact Jacobian factored at the first iterate and kept while the iteration contracts as
+Newton's does (:mod:`lagrangian.numerics.stage_newton`).
 
 The unknowns are the stage velocities V_1..V_s and, with constraints (the Lobatto pair), the
 scaled multipliers h Lambda_1..h Lambda_{s-1}; the equations are the momenta at every stage
@@ -18,9 +19,10 @@ With K_j = L_qq + Q_q + sum_l Lambda_jl d2h_l/dq2 at stage j, the Jacobian is
 ((L_qv)_ab = d2L/dq_a dv_b).  The scaling keeps both blocks of size 1 as h shrinks.  The
 iteration stops as the midpoint rule's does (:mod:`lagrangian.simulation.variational.step`):
 with a correction of the stage positions below SMALL_CORRECTION of their size whose residual
-was within RESIDUAL_GUARD of its terms (and the constraints within it of |A| |Q|).  The
-corrected stages are then exact to rounding (their error is of the correction's square), and
-so are the forces at them, moved from the last evaluation by their Jacobian,
+was within RESIDUAL_GUARD of its terms (and the constraints within it of |A| |Q|), and, after
+a reused Jacobian, with the error its rate of contraction leaves below rounding
+(:func:`lagrangian.numerics.stage_newton.settled`).  The corrected stages are then exact to
+rounding, and so are the forces at them, moved from the last evaluation by their Jacobian,
 
     F_j + A_j^T Lambda_j  <-  F_j - (L_qv + Q_v)(j) dV_j - h K_j sum_k a_jk dV_k + A_j^T Lambda_j
 
@@ -50,8 +52,9 @@ from lagrangian.numerics.discrete_lagrangian import (
     SMALL_CORRECTION,
     DiscreteMechanics,
 )
+from lagrangian.numerics.stage_newton import REFRESH_RATE, settled
 from lagrangian.simulation.variational.collocation import Tableau
-from lagrangian.simulation.variational.step import not_converged, solve_correction
+from lagrangian.simulation.variational.step import factor_correction, not_converged, solve_factored
 
 
 class StageSolution(NamedTuple):
@@ -104,6 +107,7 @@ def stage_step(
     s, n, m = tableau.stages, len(q0), mechanics.constraint_count
     r = s - 1 if tableau.lobatto and m else 0
     V, lam = V.astype(float), multipliers.astype(float).reshape(r, m)
+    factors, rate, last = None, 0.0, 0.0  # the Jacobian's LU, made at the first iterate
     for iteration in range(MAX_ITERATIONS + 1):
         stages = _evaluate(mechanics, tableau, q0, t0, dt, parameters, V)
         forces = stages.F.copy()
@@ -113,21 +117,33 @@ def stage_step(
         g = stages.h[1 : r + 1] / dt
         converging = _acceptable(rows, (stages.L_v, p0, pushed), g, stages, q0, r)
         K = _hessians(stages, lam, r)
-        matrix = _jacobian(tableau, dt, stages, K, lam, r)
-        correction = solve_correction(matrix, np.concatenate((rows.ravel(), g.ravel())), "position")
+        fresh = factors is None
+        if factors is None:
+            factors = factor_correction(_jacobian(tableau, dt, stages, K, lam, r), "position")
+        residual = np.concatenate((rows.ravel(), g.ravel()))
+        correction = solve_factored(factors, residual, "position")
         size = max(np.abs(stages.Q).max(), np.abs(stages.Q - q0).max())
         dV = correction[: s * n].reshape(s, n)
         V = V - dV
         lam = lam - correction[s * n :].reshape(r, m) / dt
-        if converging and dt * np.abs(dV).max() <= SMALL_CORRECTION * (size or 1.0):
+        change = dt * float(np.abs(dV).max())
+        rate = 0.0 if fresh else change / last if last else 0.0
+        if (
+            converging
+            and change <= SMALL_CORRECTION * (size or 1.0)
+            and settled(rate, change, size)
+        ):
             # the forces at the corrected stages from their Jacobian: exact to rounding
             forces = stages.F - np.einsum("jab,jb->ja", stages.F_v, dV)
             forces -= dt * np.einsum("jab,jb->ja", K, tableau.a @ dV)
             forces[:r] += np.einsum("jmn,jm->jn", stages.A[:r], lam)
             q1 = q0 + dt * tableau.b @ V  # the last stage of the Lobatto pair (a_s = b)
             momentum = p0 + dt * tableau.b @ forces
-            last = mechanics.constraints(q1, t0 + dt, parameters)
-            return StageSolution(V, lam, q1, momentum, *last, (iteration + 1) * s)
+            last_constraints = mechanics.constraints(q1, t0 + dt, parameters)
+            return StageSolution(V, lam, q1, momentum, *last_constraints, (iteration + 1) * s)
+        if not rate <= REFRESH_RATE:  # Newton's rate lost: a new Jacobian at the next iterate
+            factors = None
+        last = change
     raise SimulationError(not_converged("position", t0))
 
 

@@ -51,7 +51,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from scipy.linalg.lapack import dgesv
+from scipy.linalg.lapack import dgesv, dgetrf, dgetrs
 
 from lagrangian.errors import SimulationError
 from lagrangian.numerics.discrete_lagrangian import (
@@ -197,6 +197,26 @@ def solve_correction(matrix: np.ndarray, residual: np.ndarray, which: str) -> np
     """matrix^-1 residual by LAPACK's dgesv (a fifth of numpy.linalg.solve's overhead);
     SimulationError (:func:`singular`) when the matrix is singular."""
     *_, solution, info = dgesv(matrix, residual)
+    if info != 0 or not np.isfinite(solution).all():
+        raise SimulationError(singular(which))
+    return solution
+
+
+def factor_correction(matrix: np.ndarray, which: str) -> tuple[np.ndarray, np.ndarray]:
+    """The LU factors of ``matrix`` with partial pivoting (LAPACK's dgetrf), for
+    :func:`solve_factored`; SimulationError (:func:`singular`) when the matrix is singular."""
+    lu, pivots, info = dgetrf(matrix)
+    if info != 0:
+        raise SimulationError(singular(which))
+    return lu, pivots
+
+
+def solve_factored(
+    factors: tuple[np.ndarray, np.ndarray], residual: np.ndarray, which: str
+) -> np.ndarray:
+    """matrix^-1 residual from the ``factors`` of :func:`factor_correction` (LAPACK's
+    dgetrs); SimulationError (:func:`singular`) when the solution is not finite."""
+    solution, info = dgetrs(*factors, residual)
     if info != 0 or not np.isfinite(solution).all():
         raise SimulationError(singular(which))
     return solution

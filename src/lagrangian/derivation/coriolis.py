@@ -1,0 +1,165 @@
+"""C(q, q_dot) q_dot of a planar chain read off its mass matrix, one product per monomial.
+
+    (C q_dot)_j = sum_kl (dM_jk/dq_l - 1/2 dM_kl/dq_j) q_dot_k q_dot_l
+
+(the Christoffel form, :mod:`lagrangian.derivation.kinetic`).  When every entry of M is a
+product w_jk f_jk of parameters w_jk (symbols, numbers, their powers and sums of their
+products) and at most one sine or cosine f_jk of a plain angle (a chain of links:
+M_jk = l_j l_k (m_k + ... + m_n) cos(theta_j - theta_k)), each term of the sum is a number
+times w_jk times a monomial f_jk' q_dot_a q_dot_b.  The terms that cancel (for a chain
+every q_dot_j q_dot_k term of M_jk's derivatives) cancel here by their numbers, before any
+expression is built, and what is left is (C q_dot)_j = sum_k w_jk sin(theta_j - theta_k)
+q_dot_k^2: its monomials and their coefficients, which the tidying of the forcing takes
+as they are instead of expanding and collecting the sum (:mod:`lagrangian.derivation.terms`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import symengine as se
+
+from lagrangian.derivation.assemble import Assembly
+from lagrangian.derivation.backend import Backend
+from lagrangian.derivation.trig import plain_angle
+
+_TRIG = (se.sin, se.cos)
+
+
+@dataclass(frozen=True)
+class VelocityProduct:
+    """One term of (C q_dot)_j: ``number * coefficient * monomial``, the coefficient free of
+    the state (an entry's w_jk), the monomial a sine or cosine times two velocities."""
+
+    monomial: Backend
+    coefficient: Backend
+    number: Backend
+
+    @property
+    def term(self) -> Backend:
+        return self.number * self.coefficient * self.monomial
+
+
+def coriolis_products(
+    mass: list[list[Backend]], asm: Assembly
+) -> tuple[tuple[VelocityProduct, ...], ...] | None:
+    """The terms of (C q_dot)_j for each j, each monomial once; None unless every entry of
+    the upper triangle of ``mass`` is a parameter product times at most one sine or cosine
+    of a plain angle of the coordinates, and the terms of each monomial of a row come from
+    one entry (then the general Christoffel sum, which adds them as expressions, is used)."""
+    n = len(asm.q)
+    index = {q: i for i, q in enumerate(asm.q)}
+    state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
+    parameters: dict[Backend, bool] = {}  # factor -> whether it is a parameter factor
+    # row -> (sine or cosine, a, b) -> [coefficient, number]: the monomial f q_dot_a q_dot_b
+    rows: list[dict[tuple[Backend, int, int], list[Backend]]] = [{} for _ in range(n)]
+    half = se.Rational(1, 2)
+    for j in range(n):
+        for k in range(j, n):
+            split = _parameters_times_trig(mass[j][k], state, parameters)
+            if split is None:
+                return None
+            coefficient, trig = split
+            if trig is None:  # constant: no derivative
+                continue
+            for q in trig.args[0].free_symbols:
+                ell = index.get(q)
+                if ell is None:
+                    continue
+                change = _number_times_trig(trig.diff(q))
+                if change is None:
+                    return None
+                number, turned = change
+                within = (
+                    _add(rows[j], turned, k, ell, coefficient, number)
+                    and (j == k or _add(rows[k], turned, j, ell, coefficient, number))
+                    and _add(
+                        rows[ell], turned, j, k, coefficient, -number if j != k else -number * half
+                    )
+                )
+                if not within:
+                    return None
+    v = asm.q_dot
+    return tuple(
+        tuple(
+            VelocityProduct(turned * v[a] * v[b], coefficient, number)
+            for (turned, a, b), (coefficient, number) in row.items()
+            if not number.is_zero
+        )
+        for row in rows
+    )
+
+
+def _add(
+    row: dict[tuple[Backend, int, int], list[Backend]],
+    turned: Backend,
+    a: int,
+    b: int,
+    coefficient: Backend,
+    number: Backend,
+) -> bool:
+    """Add number * coefficient to the monomial turned q_dot_a q_dot_b of ``row``; False when
+    the monomial has another coefficient already."""
+    key = (turned, min(a, b), max(a, b))
+    known = row.get(key)
+    if known is None:
+        row[key] = [coefficient, number]
+        return True
+    if known[0] is not coefficient and known[0] != coefficient:
+        return False
+    known[1] = known[1] + number
+    return True
+
+
+def _parameters_times_trig(
+    entry: Backend, state: set[Backend], parameters: dict[Backend, bool]
+) -> tuple[Backend, Backend | None] | None:
+    """(w, f) for an entry w f, f a sine or cosine of a plain angle of the state (None for
+    an entry free of the state), w a product of parameter factors; else None."""
+    trig = None
+    rest = []
+    for factor in entry.args if entry.is_Mul else (entry,):
+        if isinstance(factor, _TRIG) and trig is None:
+            angle = factor.args[0]
+            if not plain_angle(angle) or state.isdisjoint(angle.free_symbols):
+                return None
+            trig = factor
+            continue
+        plain = parameters.get(factor)
+        if plain is None:
+            plain = parameters[factor] = _parameter_factor(factor, state)
+        if not plain:
+            return None
+        rest.append(factor)
+    if trig is None:
+        return entry, None
+    return (rest[0] if len(rest) == 1 else se.Mul(*rest)), trig
+
+
+def _parameter_factor(factor: Backend, state: set[Backend]) -> bool:
+    """A number, a parameter, its integer power, or a sum of products of those."""
+    if factor.is_Add:
+        return all(
+            all(_plain(f, state) for f in (term.args if term.is_Mul else (term,)))
+            for term in factor.args
+        )
+    return _plain(factor, state)
+
+
+def _plain(factor: Backend, state: set[Backend]) -> bool:
+    if factor.is_Number:
+        return True
+    if factor.is_Pow:
+        base, exponent = factor.args
+        return bool(base.is_Symbol and exponent.is_Integer and base not in state)
+    return bool(factor.is_Symbol and factor not in state)
+
+
+def _number_times_trig(change: Backend) -> tuple[Backend, Backend] | None:
+    """(c, g) for a derivative c g, c a number and g a sine or cosine; else None."""
+    if isinstance(change, _TRIG):
+        return se.Integer(1), change
+    args: tuple[Backend, ...] = change.args if change.is_Mul else ()
+    if len(args) == 2 and args[0].is_Number and isinstance(args[1], _TRIG):
+        return args[0], args[1]
+    return None
