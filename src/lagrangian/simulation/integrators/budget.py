@@ -32,6 +32,7 @@ change, keeping the rows computed so far:
 
 from __future__ import annotations
 
+import math
 import time
 from collections import deque
 from dataclasses import dataclass, field
@@ -122,6 +123,7 @@ class Budget:
     #: The steps of each lane of a run of several lanes (None until they step).
     lane_steps: np.ndarray | None = None
     _recent: deque[bool] = field(default_factory=lambda: deque(maxlen=WINDOW))
+    _near: int = 0  # how many of _recent are True (kept as they come and go)
     _times: deque[float] = field(default_factory=lambda: deque(maxlen=COLLAPSE_STEPS))
 
     @classmethod
@@ -197,9 +199,27 @@ class Budget:
         h_lambda = step_eigenvalue(solver, t_old, y_old)
         if h_lambda is None:
             return
-        self._recent.append(h_lambda > NEAR * edge)
-        if len(self._recent) == WINDOW and sum(self._recent) >= SHARE * WINDOW:
+        recent, near = self._recent, h_lambda > NEAR * edge
+        if len(recent) == WINDOW:
+            self._near -= recent[0]  # the oldest leaves the window as this one comes
+        recent.append(near)
+        self._near += near
+        if len(recent) == WINDOW and self._near >= SHARE * WINDOW:
             self.stiff_since = float(solver.t)
+
+
+#: The stage with c_j = 1 of each solver class's tableau (None: it has none).
+_END_STAGE: dict[type, int | None] = {}
+
+
+def _end_stage(solver: Any, c: np.ndarray) -> int | None:
+    """The first stage j > 0 with c_j = 1 (the step's end), found once per solver class
+    (SciPy's tableaus are class attributes)."""
+    kind = type(solver)
+    if kind not in _END_STAGE:
+        ends = [j for j in range(1, len(c)) if c[j] == 1.0]
+        _END_STAGE[kind] = ends[0] if ends else None
+    return _END_STAGE[kind]
 
 
 def step_eigenvalue(solver: Any, t_old: float, y_old: np.ndarray) -> float | None:
@@ -209,12 +229,13 @@ def step_eigenvalue(solver: Any, t_old: float, y_old: np.ndarray) -> float | Non
     stages = getattr(solver, "K", None)
     if c is None or stages is None:
         return None
-    ends = [j for j in range(1, len(c)) if c[j] == 1.0]
-    if not ends:
+    j = _end_stage(solver, c)
+    if j is None:
         return None
-    j, h = ends[0], solver.t - t_old
-    y_j = y_old + h * (solver.A[j, :j] @ stages[:j])
-    distance = float(np.linalg.norm(solver.y - y_j))
-    if distance == 0.0 or not np.isfinite(distance):
+    h = solver.t - t_old
+    apart = solver.y - (y_old + h * (solver.A[j, :j] @ stages[:j]))
+    squared = float(apart @ apart)  # the norms by dot products: np.linalg.norm costs more
+    if squared == 0.0 or not math.isfinite(squared):
         return None
-    return abs(h) * float(np.linalg.norm(stages[-1] - stages[j])) / distance
+    change = stages[-1] - stages[j]
+    return abs(h) * math.sqrt(float(change @ change) / squared)

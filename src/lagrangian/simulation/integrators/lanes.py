@@ -115,6 +115,10 @@ class Found(NamedTuple):
     names: Sequence[str]
 
 
+#: A watch's answer for steps where nothing happened.
+NOT_FOUND = Found([], NOWHERE, np.zeros(0), np.zeros((0, 0)), ())
+
+
 class LaneWatch(Protocol):
     """Zeros watched along the lanes: events, a stop condition."""
 
@@ -156,6 +160,9 @@ class OneLane:
         #: The time (1,) and state before the last step (the budget's stiffness test).
         self.t_old, self.y_old = self.t.copy(), self.y[0]
         self._project: Projection | None = None
+        # what a step says, made once: the lane, its t_old updated in place
+        self._going = Taken(_LANE, _GOING, self.t_old)
+        self._done = Taken(_LANE, _DONE, self.t_old)
 
     def begin(self) -> Taken:
         return NOTHING  # the solver evaluated its start when it was made
@@ -168,7 +175,7 @@ class OneLane:
                 f"The equations of motion are not finite numbers at t = {solver.t:.6g}: "
                 "no step size can be chosen (an overflow or a division by zero there)."
             )
-        self.t_old, self.y_old = self.t.copy(), solver.y.copy()
+        self.t_old[0], self.y_old = self.t[0], solver.y.copy()
         message = solver.step()
         if solver.status == "failed":
             return self._failed(message or "the solver failed")
@@ -176,8 +183,7 @@ class OneLane:
             return self._failed(BLEW_UP)
         self.t[0] = solver.t
         self.y = solver.y[None, :]  # a view: SciPy's steps make a new state, not change it
-        finished = _DONE if solver.status == "finished" else _GOING
-        return Taken(lanes, finished, self.t_old)
+        return self._done if solver.status == "finished" else self._going
 
     def _failed(self, message: str | Fix) -> Taken:
         return Taken(NOWHERE, NOWHERE, NOWHERE, np.zeros(1, dtype=np.intp), _FAILED, (message,))
@@ -195,6 +201,7 @@ class OneLane:
 
 
 _FAILED = np.array([Status.FAILED])
+_LANE = np.zeros(1, dtype=np.intp)  # the one lane
 _DONE, _GOING = np.ones(1, dtype=bool), np.zeros(1, dtype=bool)
 
 
@@ -238,6 +245,8 @@ class EachLane:
 
     def __init__(self, watches: Sequence[EventWatch | None]) -> None:
         self.watches = watches
+        # crossed() of each lane alone, made once (a single run asks it every step)
+        self._alone = [np.array([watch is not None]) for watch in watches]
 
     def start(self, stepper: LaneStepper, lanes: np.ndarray) -> np.ndarray:
         for lane in lanes:
@@ -247,6 +256,8 @@ class EachLane:
         return NOWHERE
 
     def crossed(self, stepper: LaneStepper, moved: np.ndarray) -> np.ndarray:
+        if len(moved) == 1:
+            return self._alone[moved[0]]
         return np.array([self.watches[lane] is not None for lane in moved], dtype=bool)
 
     def locate(
@@ -273,6 +284,8 @@ class EachLane:
                 t_stop.append(t)
                 x_stop.append(x)
                 names.append(name)
+        if not events:
+            return NOT_FOUND
         n = stepper.y.shape[1]
         return Found(
             events,

@@ -248,10 +248,11 @@ def _advance(
         if watch is not None and crossed is not None and crossed.any():
             on = np.flatnonzero(crossed)
             found = watch.locate(stepper, moved[on], taken.t_old[on], dense, which[on])
-            if x_end is None and len(found.stopped):
-                x_end = stepper.y[moved]
-            _found(run, found, np.searchsorted(moved, found.stopped), t_end, x_end)
             stopped = len(found.stopped) > 0
+            if found.events or stopped:
+                if x_end is None and stopped:
+                    x_end = stepper.y[moved]
+                _found(run, found, np.searchsorted(moved, found.stopped), t_end, x_end)
     run.rows.reach(moved, t_end, x_end, dense, which)
     if len(over):
         for lane in over[run.status[over] == RUNNING]:
