@@ -4,10 +4,12 @@ NaN or inf in a column."""
 
 import numpy as np
 import pytest
+from scipy.integrate import DOP853, RK45
 
 import lagrangian as lg
 from lagrangian.errors import SimulationError, SimulationInputError
 from lagrangian.io.load import loads
+from lagrangian.simulation.integrators.budget import Budget, step_eigenvalue
 
 VAN_DER_POL = """
 name: van der Pol oscillator
@@ -98,3 +100,30 @@ def test_a_collapsed_step_size_stops_the_run_at_the_singularity():
     )
     assert kept.status == "failed" and "collapsed" in kept.message
     assert kept.t[-1] == pytest.approx(np.pi / (2 * np.sqrt(2)), rel=1e-6)
+
+
+@pytest.mark.parametrize("solver", [RK45, DOP853])
+def test_the_step_eigenvalue_is_h_lambda_on_a_scalar_linear_problem(solver):
+    # x' = -lam x: f(y1) - f(y_j) = -lam (y1 - y_j) exactly, so the estimate is h lam
+    lam = 50.0
+    stepping = solver(lambda t, x: -lam * x, 0.0, np.array([1.0]), 1.0, rtol=1e-6, atol=1e-9)
+    for _ in range(5):
+        t_old, y_old = stepping.t, stepping.y.copy()
+        stepping.step()
+        h = stepping.t - t_old
+        assert step_eigenvalue(stepping, t_old, y_old) == pytest.approx(h * lam, rel=1e-9)
+
+
+def test_the_stiffness_window_counts_the_steps_near_the_edge_as_they_come_and_go():
+    # the running count of steps near the edge equals a recount of the window, step by step
+    A = np.array([[-1000.0, 0.0], [0.0, -1.0]])
+    stepping = RK45(lambda t, x: A @ x, 0.0, np.array([1.0, 1.0]), 50.0, rtol=1e-6, atol=1e-9)
+    budget = Budget("RK45")
+    for _ in range(200):
+        t_old, y_old = stepping.t, stepping.y.copy()
+        stepping.step()
+        budget.spend(stepping, t_old, y_old, stepping.t_bound)
+        if budget.stiff_since is not None:
+            break
+        assert budget._near == sum(budget._recent)
+    assert budget.stiff_since is not None  # |h lambda| held near 3.3 by stability

@@ -14,11 +14,14 @@ can run here (nothing else decides which engine runs a method):
 
 * ``"c"``: the C loop compiled once per machine (:mod:`lagrangian.numerics.fast.c_loop`), the
   one compiled engine of the explicit Runge–Kutta family (RK45, DOP853, RK4);
-* ``"vectorized"``: a batch's members stepped together in NumPy
-  (:mod:`lagrangian.simulation.batch.vectorized`), a batch's engine without a C compiler;
+* ``"vectorized"``: a batch's members as the lanes of one Runge–Kutta stepper whose stages
+  are computed for all members at once in NumPy
+  (:mod:`lagrangian.simulation.batch.vectorized`), driven by the one Python loop: a batch's
+  engine without a C compiler;
 * ``"numba"``: the variational marches compiled by numba
   (:mod:`lagrangian.simulation.variational.compiled`) where it is installed;
-* ``"python"``: the Python loop over a stepper (SciPy's solvers, RK4, the variational steps).
+* ``"python"``: the Python loop over a stepper (SciPy's solvers, RK4, the variational steps)
+  as its one lane (:mod:`lagrangian.simulation.integrators.lanes`).
 
 ``backend="numba"`` is kept for one release as another name of the default: the C loop runs
 RK45, DOP853 and RK4 (:func:`backend_note` says so in the run's note).
@@ -99,7 +102,7 @@ class Method:
 
 _SCIPY = "scipy.integrate"
 _RK4 = "lagrangian.simulation.integrators.rk4"
-#: The explicit Runge–Kutta methods with a tableau in the C loop and the vectorized batch.
+#: The explicit Runge–Kutta methods with a tableau in the C loop and the batch's lanes stepper.
 _RUNGE_KUTTA = ("c", "vectorized", "python")
 #: The variational marches: compiled by numba where installed, else stepped in Python.
 _MARCH = ("numba", "python")

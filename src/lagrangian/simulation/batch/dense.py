@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -50,6 +51,17 @@ class Dense:
             value += row
             value *= s if r % 2 == 0 else 1 - s
         return value + y_old
+
+    def of(self, which: int) -> Callable[[Any], np.ndarray]:
+        """The interpolant of member ``which`` alone, as SciPy's DenseOutput: a time gives
+        (state,), an array of times (state, times)."""
+
+        def interpolant(t: Any) -> np.ndarray:
+            times = np.atleast_1d(np.asarray(t, dtype=float))
+            values = self.value(times, np.full(len(times), which))
+            return values[0] if np.ndim(t) == 0 else values.T
+
+        return interpolant
 
 
 #: g(t, x) for some members: the stop condition at the states x (members, state).

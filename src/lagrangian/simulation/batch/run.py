@@ -192,10 +192,10 @@ def _vectorized(run: MemberRun) -> Ran | None:
     if run.options.constraints:  # the members' multiplier forms are not vectorized
         return None
     batch = run.batch
-    members = integrate_members(
+    members, messages = integrate_members(
         run.compiled, run.settings, batch.X0, batch.P, run.stop_when, run.progress
     )
-    return members, None, ()
+    return members, None, messages
 
 
 def _simulated(run: MemberRun) -> Ran | None:

@@ -1,23 +1,24 @@
-"""A batch of integrations vectorized with NumPy: every member keeps its own adaptive step.
+"""A batch's members as the lanes of one Runge–Kutta stepper vectorized with NumPy.
 
-Each iteration makes one trial step for every running member at once (one call of the
-right-hand side per stage on a (members, state) array), each with its own step h_i and time
-t_i, and accepts or rejects each member by its own error norm with SciPy's rules
+The members of a batch without the C loop run through the one Python loop
+(:func:`lagrangian.simulation.integrators.loop.run_lanes`) as its lanes: each call of
+:meth:`RungeKuttaLanes.step` makes one trial step for every running member at once (one call
+of the right-hand side per stage on a (members, state) array), each with its own step h_i
+and time t_i, and accepts or rejects each member by its own error norm with SciPy's rules
 (SciPy's ``RungeKutta``, as the C loop).  Per-member control rather than one shared step:
 members of a chaotic ensemble need very different steps, a shared step would be the smallest
 for all, and with its own steps member i of a batch is the run of member i alone (the same
-steps as solve_ivp).  Members that finished, stopped or failed leave the arrays, so the work
-shrinks with them.  RK4 (fixed step) uses the same loop without rejections.
+steps as solve_ivp).  Members that finished, stopped or failed leave the lanes the loop
+steps, so the work shrinks with them.  RK4 (fixed step) takes every member's step together.
 
-Output rows come from each step's dense output at the shared output times; a stop condition
-g(t, q, q_dot) (vectorized: arrays (members,) and (members, n)) ends a member where g turns
-negative, its time found on the dense output by the Illinois method, vectorized too.
+The loop reads the output rows on the steps' interpolants (:mod:`~.dense`, SciPy's, with an
+axis for the members) and watches the stop condition (:mod:`~.stop`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -26,10 +27,15 @@ from lagrangian.numerics.compile import CompiledEquations
 from lagrangian.numerics.fast.settings import Settings
 from lagrangian.numerics.fast.tableaus import Tableau, fixed_steps, tableau_of
 from lagrangian.numerics.status import Status
-from lagrangian.simulation.batch.dense import DOP853, HERMITE, RK45, Dense, locate_stops
+from lagrangian.simulation.batch.dense import DOP853, HERMITE, RK45, Dense
+from lagrangian.simulation.batch.stop import StopWatch
+from lagrangian.simulation.integrators.budget import Budget
+from lagrangian.simulation.integrators.lanes import NOWHERE, Projection, Taken
+from lagrangian.simulation.integrators.loop import run_lanes
 
 SAFETY, MIN_FACTOR, MAX_FACTOR = 0.9, 0.2, 10.0
-ULP = float(np.finfo(float).eps)
+#: The step budget of a member when the settings give none.
+UNLIMITED = np.iinfo(np.int64).max
 
 
 class _Field:
@@ -62,100 +68,83 @@ def integrate_members(
     P: np.ndarray,
     stop_when: Callable[..., Any] | None = None,
     progress: Callable[[float], None] | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Integrate every row of X0 (parameters: the same row of P).
+) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray], list[str | None]]:
+    """Integrate every row of X0 (parameters: the same row of P) as the lanes of the loop.
 
     Returns (out (members, times, state) with NaN after a stop or failure, status, t_final,
-    x_final): status codes of :class:`~lagrangian.numerics.status.Status`, the time and state
-    each member ended at (the end, its stop, or its last accepted step).  ``progress`` gets
-    the smallest time reached by a running member after each iteration.
+    x_final) — status codes of :class:`~lagrangian.numerics.status.Status`, the time and
+    state each member ended at (the end, its stop, or its last accepted step) — and each
+    member's message where its code does not say it (an error raised while stepping).
+    ``progress`` gets the smallest time reached by a running member after each round.
+    Ctrl-C ends the whole batch (KeyboardInterrupt).
     """
-    run = _Run(compiled, settings, X0, P, stop_when)
+    t0, t1 = settings.span
+    watch = None if stop_when is None else StopWatch(stop_when, len(compiled.coordinates))
+    max_steps = settings.max_steps if settings.max_steps is not None else UNLIMITED
+    budget = Budget(settings.method, max_steps=max_steps, start=t0)
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        run.start()
-        while len(run.active):
-            run.iterate()
-            if progress is not None and len(run.active):
-                progress(float(np.min(run.t[run.active])))
+        run = run_lanes(
+            lambda: RungeKuttaLanes(compiled, settings, X0, P),
+            t0,
+            X0.astype(float),
+            settings.t_out,
+            watch,
+            progress,
+            None,
+            budget,
+        )
+    if run.interrupted:
+        raise KeyboardInterrupt  # as the C loop's batch: Ctrl-C ends the whole batch
     if progress is not None:
-        progress(settings.span[1])
-    return run.out, run.status, run.t_final, run.x_final
+        progress(t1)
+    messages = [
+        str(m) if m is not None and code == Status.FAILED else None
+        for m, code in zip(run.messages, run.status.tolist())
+    ]
+    return (run.rows.x, run.status, run.t_final, run.x_final), messages
 
 
-class _Run:
-    """The state of a batch run: per member t, x, f, h, status, next output row."""
+class RungeKuttaLanes:
+    """The members of a batch as lanes (:class:`~lagrangian.simulation.integrators.lanes.
+    LaneStepper`): per member t, x, f = dx/dt, step h; one trial step per call."""
 
     def __init__(
-        self,
-        compiled: CompiledEquations,
-        settings: Settings,
-        X0: np.ndarray,
-        P: np.ndarray,
-        stop_when: Callable[..., Any] | None,
+        self, compiled: CompiledEquations, settings: Settings, X0: np.ndarray, P: np.ndarray
     ) -> None:
         k, nx = X0.shape
-        self.compiled, self.settings, self.stop_when = compiled, settings, stop_when
-        self.n = len(compiled.coordinates)
+        self.settings = settings
         self.field = _Field(compiled, P)
         self.tableau = tableau_of(settings.method)
         self.fixed = self.tableau.fixed
-        self.t, self.x = np.full(k, settings.span[0]), X0.astype(float).copy()
+        self.t_bound = float(settings.span[1])
+        self.t, self.y = np.full(k, float(settings.span[0])), X0.astype(float).copy()
         self.f, self.h = np.zeros((k, nx)), np.zeros(k)
         self.rejected = np.zeros(k, dtype=bool)
-        self.trials = np.zeros(k, dtype=np.int64)  # trial steps per member, for max_steps
-        self.g = np.ones(k)
-        self.status = np.full(k, Status.FINISHED)
-        self.t_final, self.x_final = np.full(k, settings.span[1]), self.x.copy()
-        t_out = settings.t_out
-        self.out = np.full((k, len(t_out), nx), np.nan)
-        first = int(np.searchsorted(t_out, settings.span[0], side="right"))
-        self.out[:, :first] = X0[:, None, :]
-        self.row = np.full(k, first)
-        self.active = np.arange(k)
+        self.fresh = np.ones(k, dtype=bool)  # no step size chosen yet
+        self.taken = 0  # RK4: the steps every member took (all share the step index)
+        self.last: _Last | None = None
 
-    # ----------------------------------------------------------------- start and end
+    def rates(self, t: np.ndarray, x: np.ndarray, lanes: np.ndarray) -> tuple[np.ndarray, Any]:
+        """dx/dt of the ``lanes`` at (t, x), and which of them were singular."""
+        return self.field(t, x, lanes)
 
-    def start(self) -> None:
-        rows = self.active
-        self.f[rows], bad = self.field(self.t[rows], self.x[rows], rows)
-        self.end(rows[bad], Status.SINGULAR)
-        rows = self.active
-        if self.stop_when is not None:
-            self.g[rows] = self.condition(self.t[rows], self.x[rows], self.f[rows])
-            stopped = rows[~(self.g[rows] >= 0)]
-            self.t_final[stopped], self.x_final[stopped] = self.t[stopped], self.x[stopped]
-            self.end(stopped, Status.STOPPED)
-        rows = self.active
+    # ----------------------------------------------------------------- start
+
+    def begin(self) -> Taken:
+        lanes = np.arange(len(self.t))
+        self.f, bad = self.field(self.t, self.y, lanes)
         if self.fixed:
             t0, t1 = self.settings.span
             self.steps = fixed_steps(t0, t1, float(self.settings.dt or 1.0))
             self.h[:] = (t1 - t0) / self.steps
-            self.taken = 0
-        else:
-            self.h[rows] = self.initial_step(rows)
+            self.fresh[:] = False
+        return _failures((lanes[bad], Status.SINGULAR))
 
-    def end(self, rows: np.ndarray, status: int) -> None:
-        """Members ``rows`` leave the run with ``status`` (their final state set already,
-        except after a failure: the last accepted step)."""
-        if len(rows) == 0:
-            return
-        self.status[rows] = status
-        if status not in (Status.FINISHED, Status.STOPPED):
-            self.t_final[rows], self.x_final[rows] = self.t[rows], self.x[rows]
-        self.active = np.setdiff1d(self.active, rows, assume_unique=True)
-
-    def condition(self, t: np.ndarray, x: np.ndarray, f: np.ndarray) -> np.ndarray:
-        assert self.stop_when is not None
-        n = self.n
-        values = np.asarray(self.stop_when(t, x[:, :n], f[:, :n]), dtype=float)
-        return np.broadcast_to(values, t.shape).astype(float)
-
-    # ----------------------------------------------------------------- steps
-
-    def initial_step(self, rows: np.ndarray) -> np.ndarray:
-        """SciPy's select_initial_step, member by member (vectorized)."""
+    def initial_step(self, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """SciPy's select_initial_step, member by member (vectorized), and the members
+        whose matrix was singular on the way."""
         s = self.settings
-        t0, y0, f0 = self.t[rows], self.x[rows], self.f[rows]
+        t0, y0, f0 = self.t[rows], self.y[rows], self.f[rows]
         interval = abs(s.span[1] - s.span[0])
         scale = s.atol + np.abs(y0) * s.rtol
         d0, d1 = _rms(y0 / scale), _rms(f0 / scale)
@@ -169,45 +158,48 @@ class _Run:
             np.maximum(1e-6, h0 * 1e-3),
             (0.01 / np.maximum(d1, d2)) ** (1 / (order + 1)),
         )
-        self.end(rows[bad], Status.SINGULAR)
-        return np.minimum(np.minimum(100 * h0, h1), min(interval, s.max_step))
+        return np.minimum(np.minimum(100 * h0, h1), min(interval, s.max_step)), bad
 
-    def iterate(self) -> None:
-        """One trial step of every running member; accepted ones advance."""
+    # ----------------------------------------------------------------- steps
+
+    def step(self, lanes: np.ndarray) -> Taken:
+        """One trial step of every lane in ``lanes``; the accepted ones advance."""
         if self.fixed:
-            self.iterate_fixed()
-            return
+            return self.step_fixed(lanes)
+        failed: list[tuple[np.ndarray, int]] = []
+        fresh = lanes[self.fresh[lanes]]
+        if len(fresh):
+            self.h[fresh], bad = self.initial_step(fresh)
+            self.fresh[fresh] = False
+            failed.append((fresh[bad], Status.SINGULAR))
+            lanes = np.setdiff1d(lanes, fresh[bad], assume_unique=True)
         s, tableau = self.settings, self.tableau
-        rows = self.active
-        if s.max_steps is not None:
-            self.trials[rows] += 1
-            self.end(rows[self.trials[rows] > s.max_steps], Status.STEP_BUDGET)
-            rows = self.active
-        t, y, f = self.t[rows], self.x[rows], self.f[rows]
+        t, y, f = self.t[lanes], self.y[lanes], self.f[lanes]
         min_step = 10 * np.abs(np.nextafter(t, np.inf) - t)
-        h_abs = self.h[rows]
-        fresh = ~self.rejected[rows]  # a new step: clamp as SciPy does before its loop
-        h_abs = np.where(fresh & (h_abs > s.max_step), s.max_step, h_abs)
-        h_abs = np.where(fresh & (h_abs < min_step), min_step, h_abs)
+        h_abs = self.h[lanes]
+        new = ~self.rejected[lanes]  # a new step: clamp as SciPy does before its loop
+        h_abs = np.where(new & (h_abs > s.max_step), s.max_step, h_abs)
+        h_abs = np.where(new & (h_abs < min_step), min_step, h_abs)
         small = h_abs < min_step
-        self.end(rows[small], Status.STEP_TOO_SMALL)
-        rows, t, y, f, h_abs = rows[~small], t[~small], y[~small], f[~small], h_abs[~small]
+        failed.append((lanes[small], Status.STEP_TOO_SMALL))
+        lanes, t, y, f, h_abs = lanes[~small], t[~small], y[~small], f[~small], h_abs[~small]
         t_new = np.minimum(t + h_abs, s.span[1])
         h = t_new - t
-        K, y_new, bad = self.stages(rows, t, y, f, h)
+        K, y_new, bad = self.stages(lanes, t, y, f, h)
         err = _error_norm(K, h, y, y_new, s.rtol, s.atol, tableau)
         exponent = -1 / (tableau.error_order + 1)
         accept = (err < 1) & ~bad
         with np.errstate(divide="ignore"):
             grow = np.where(err == 0, MAX_FACTOR, np.minimum(MAX_FACTOR, SAFETY * err**exponent))
             shrink = SAFETY * err**exponent
-        grow = np.where(self.rejected[rows], np.minimum(1.0, grow), grow)
+        grow = np.where(self.rejected[lanes], np.minimum(1.0, grow), grow)
         shrink = np.where(shrink > MIN_FACTOR, shrink, MIN_FACTOR)  # NaN error: shrink by 0.2
-        self.h[rows] = np.abs(h) * np.where(accept, grow, shrink)
-        self.rejected[rows] = ~accept
-        self.end(rows[bad], Status.SINGULAR)
+        self.h[lanes] = np.abs(h) * np.where(accept, grow, shrink)
+        self.rejected[lanes] = ~accept
+        failed.append((lanes[bad], Status.SINGULAR))
         a = accept
-        self.advance(rows[a], t[a], y[a], f[a], t_new[a], y_new[a], K[:, a], h[a])
+        last = _Last(lanes[a], t[a], y[a], t_new[a], y_new[a], K[:, a], h[a])
+        return self.accepted(last, K[len(tableau.B), a], t_new[a] >= s.span[1], failed)
 
     def stages(
         self, rows: np.ndarray, t: np.ndarray, y: np.ndarray, f: np.ndarray, h: np.ndarray
@@ -227,113 +219,60 @@ class _Run:
         K[len(B)], singular = self.field(t + h, y_new, rows)
         return K, y_new, bad | singular
 
-    def iterate_fixed(self) -> None:
-        """One RK4 step of every running member (all share the step index)."""
-        rows = self.active
+    def step_fixed(self, lanes: np.ndarray) -> Taken:
+        """One RK4 step of every lane in ``lanes`` (all share the step index)."""
         t0, t1 = self.settings.span
         self.taken += 1
-        h = self.h[rows]
-        t, y, f = self.t[rows], self.x[rows], self.f[rows]
-        bad = np.zeros(len(rows), dtype=bool)
+        h = self.h[lanes]
+        t, y, f = self.t[lanes], self.y[lanes], self.f[lanes]
+        bad = np.zeros(len(lanes), dtype=bool)
         k = [f]
         for c in (0.5, 0.5, 1.0):
-            value, singular = self.field(t + c * h, y + (c * h)[:, None] * k[-1], rows)
+            value, singular = self.field(t + c * h, y + (c * h)[:, None] * k[-1], lanes)
             k.append(value)
             bad |= singular
         y_new = y + (h / 6)[:, None] * (k[0] + 2 * k[1] + 2 * k[2] + k[3])
-        t_new = np.full(len(rows), t1 if self.taken == self.steps else t0 + self.taken * h[0])
-        f_new, singular = self.field(t_new, y_new, rows)
+        last_step = self.taken == self.steps
+        t_new = np.full(len(lanes), t1 if last_step else t0 + self.taken * h[0])
+        f_new, singular = self.field(t_new, y_new, lanes)
         bad |= singular
-        self.end(rows[bad], Status.SINGULAR)
         ok = ~bad
         K = np.stack([y[ok], y_new[ok], f[ok], f_new[ok]])
-        self.advance(rows[ok], t[ok], y[ok], f[ok], t_new[ok], y_new[ok], K, h[ok], f_new[ok])
+        last = _Last(lanes[ok], t[ok], y[ok], t_new[ok], y_new[ok], K, h[ok])
+        finished = np.full(int(ok.sum()), last_step)
+        return self.accepted(last, f_new[ok], finished, [(lanes[bad], Status.SINGULAR)])
 
-    # ----------------------------------------------------------------- after a step
-
-    def advance(
+    def accepted(
         self,
-        rows: np.ndarray,
-        t_old: np.ndarray,
-        y_old: np.ndarray,
-        f_old: np.ndarray,
-        t_new: np.ndarray,
-        y_new: np.ndarray,
-        K: np.ndarray,
-        h: np.ndarray,
-        f_new: np.ndarray | None = None,
-    ) -> None:
-        """Accept a step of members ``rows``: output rows, stop condition, the end."""
-        finite = np.all(np.isfinite(y_new), axis=1)
-        self.end(rows[~finite], Status.NOT_FINITE)
-        rows, t_old, y_old, f_old = rows[finite], t_old[finite], y_old[finite], f_old[finite]
-        t_new, y_new, K, h = t_new[finite], y_new[finite], K[:, finite], h[finite]
-        f_new = K[len(self.tableau.B)] if f_new is None else f_new[finite]
-        self.t[rows], self.x[rows], self.f[rows] = t_new, y_new, f_new
-        stopped = np.zeros(len(rows), dtype=bool)
-        if self.stop_when is not None:
-            g_new = self.condition(t_new, y_new, f_new)
-            stopped = ~(g_new >= 0)
-        t_out, row = self.settings.t_out, self.row[rows]
-        sampled = (row < len(t_out)) & (t_out[np.minimum(row, len(t_out) - 1)] <= t_new)
-        local = np.flatnonzero(sampled | stopped)
-        if len(local):
-            dense = self.dense(
-                rows[local],
-                t_old[local],
-                y_old[local],
-                y_new[local],
-                f_new[local],
-                K[:, local],
-                h[local],
-            )
-            t_end = t_new[local].copy()
-            ends = np.flatnonzero(stopped[local])
-            if len(ends):
-                t_end[ends] = locate_stops(
-                    dense,
-                    ends,
-                    self.g[rows[local][ends]],
-                    t_new[local][ends],
-                    g_new[local][ends],
-                    lambda c, x, m: self.condition_at(c, x, rows[local][m]),
-                )
-                members = rows[local][ends]
-                self.t_final[members] = t_end[ends]
-                self.x_final[members] = dense.value(t_end[ends], ends)
-            self.sample(rows[local], dense, t_end)
-        if self.stop_when is not None:
-            self.g[rows] = g_new
-        self.end(rows[stopped], Status.STOPPED)
-        done = ~stopped & (t_new >= self.settings.span[1])
-        self.t_final[rows[done]], self.x_final[rows[done]] = t_new[done], y_new[done]
-        self.end(rows[done], Status.FINISHED)
-
-    def sample(self, rows: np.ndarray, dense: Dense, t_end: np.ndarray) -> None:
-        """Output rows of members ``rows`` at the output times up to t_end (per member)."""
-        t_out = self.settings.t_out
-        while True:
-            row = self.row[rows]
-            pending = np.flatnonzero(
-                (row < len(t_out)) & (t_out[np.minimum(row, len(t_out) - 1)] <= t_end)
-            )
-            if len(pending) == 0:
-                return
-            times = t_out[row[pending]]
-            self.out[rows[pending], row[pending]] = dense.value(times, pending)
-            self.row[rows[pending]] += 1
-
-    def dense(
-        self,
-        rows: np.ndarray,
-        t_old: np.ndarray,
-        y_old: np.ndarray,
-        y_new: np.ndarray,
+        last: _Last,
         f_new: np.ndarray,
-        K: np.ndarray,
-        h: np.ndarray,
-    ) -> Dense:
-        """The step's interpolant for members ``rows`` (DOP853: its three extra stages)."""
+        finished: np.ndarray,
+        failed: list[tuple[np.ndarray, int]],
+    ) -> Taken:
+        """Advance the lanes of an accepted step whose state is finite (the others fail)."""
+        finite = np.all(np.isfinite(last.y_new), axis=1)
+        failed.append((last.lanes[~finite], Status.NOT_FINITE))
+        if not finite.all():
+            last = last.where(finite)
+            f_new, finished = f_new[finite], finished[finite]
+        self.t[last.lanes], self.y[last.lanes], self.f[last.lanes] = last.t_new, last.y_new, f_new
+        self.last = last
+        return Taken(last.lanes, finished, last.t_old, *_failures(*failed)[3:5])
+
+    def project(self, lanes: np.ndarray, project: Projection) -> None:
+        for lane in lanes.tolist():
+            self.y[lane] = project(float(self.t[lane]), self.y[lane])
+        self.f[lanes], _ = self.field(self.t[lanes], self.y[lanes], lanes)
+
+    # ----------------------------------------------------------------- interpolants
+
+    def dense_output(self, lanes: np.ndarray) -> Dense:
+        """The last step's interpolant of ``lanes`` (DOP853: its three extra stages)."""
+        last = self.last
+        assert last is not None  # the loop asks only after a step
+        at = np.searchsorted(last.lanes, lanes)
+        t_old, y_old, y_new, h = last.t_old[at], last.y_old[at], last.y_new[at], last.h[at]
+        K = last.K[:, at]
         if self.fixed:
             return Dense(HERMITE, t_old, h, y_old, K)
         tb = self.tableau
@@ -344,19 +283,41 @@ class _Run:
         for e in range(len(C_extra)):
             s = first + e
             dy = np.einsum("sai,s->ai", K[:s], A_extra[e, :s]) * h[:, None]
-            K[s], _ = self.field(t_old + C_extra[e] * h, y_old + dy, rows)
+            K[s], _ = self.field(t_old + C_extra[e] * h, y_old + dy, lanes)
         delta = y_new - y_old
-        f_old = K[0]
+        f_old, f_new = K[0], K[len(tb.B)]
         F = np.empty((7, *y_old.shape))
         F[0], F[1] = delta, h[:, None] * f_old - delta
         F[2] = 2 * delta - h[:, None] * (f_new + f_old)
         F[3:] = h[None, :, None] * np.einsum("rs,sai->rai", D, K)
         return Dense(DOP853, t_old, h, y_old, F)
 
-    def condition_at(self, t: np.ndarray, x: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        """g at states x of members ``rows`` (q_dot from the right-hand side)."""
-        f, bad = self.field(t, x, rows)
-        return np.where(bad, np.nan, self.condition(t, x, f))
+
+class _Last(NamedTuple):
+    """The last accepted step of some lanes: what their interpolants are built from."""
+
+    lanes: np.ndarray
+    t_old: np.ndarray
+    y_old: np.ndarray
+    t_new: np.ndarray
+    y_new: np.ndarray
+    K: np.ndarray
+    h: np.ndarray
+
+    def where(self, keep: np.ndarray) -> _Last:
+        """The lanes ``keep`` (bool) of this step."""
+        return _Last(
+            *(v[:, keep] if name == "K" else v[keep] for name, v in self._asdict().items())
+        )
+
+
+def _failures(*groups: tuple[np.ndarray, int]) -> Taken:
+    """A Taken of failures only: each group's lanes with its code."""
+    lanes = [g for g, _ in groups if len(g)]
+    if not lanes:
+        return Taken(NOWHERE, NOWHERE)
+    codes = [np.full(len(g), code) for g, code in groups if len(g)]
+    return Taken(NOWHERE, NOWHERE, NOWHERE, np.concatenate(lanes), np.concatenate(codes))
 
 
 def _rms(values: np.ndarray) -> np.ndarray:

@@ -22,6 +22,9 @@ change, keeping the rows computed so far:
   sets, impacts: :mod:`lagrangian.simulation.integrators.piecewise`) hands the same Budget
   to every piece, so its steps, its wall time and its step-size history add up across
   the pieces (a motion switching a million times spends a million steps, not one per piece);
+* a batch's members are the **lanes** of one run (:mod:`lagrangian.simulation.integrators.lanes`),
+  each with ``max_steps`` steps of its own and the wall time shared, as the C loop runs a
+  batch's members (stiffness and collapse are watched on a single run);
 * a **collapsed step size** (the last :data:`COLLAPSE_STEPS` steps advanced t by less than
   :data:`COLLAPSE` of the time span) stops the run: an integrator creeping at 1e-12 per step
   at a singularity would otherwise fill the memory before its step budget is spent.
@@ -29,6 +32,7 @@ change, keeping the rows computed so far:
 
 from __future__ import annotations
 
+import math
 import time
 from collections import deque
 from dataclasses import dataclass, field
@@ -37,9 +41,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from lagrangian.errors import Fix, Setting
+from lagrangian.numerics.status import Status
 
 if TYPE_CHECKING:  # the protocol module imports the inputs, which import this module
     from lagrangian.simulation.inputs import Inputs
+    from lagrangian.simulation.integrators.lanes import LaneStepper
     from lagrangian.simulation.integrators.protocol import Stepper
 
 #: Accepted steps a run may take unless ``max_steps`` says otherwise (about a minute and a
@@ -112,7 +118,12 @@ class Budget:
     steps: int = 0
     started: float = field(default_factory=time.monotonic)
     stiff_since: float | None = None
+    #: Why the budget ended the run, in the codes every loop shares (None: it did not).
+    ended: Status | None = None
+    #: The steps of each lane of a run of several lanes (None until they step).
+    lane_steps: np.ndarray | None = None
     _recent: deque[bool] = field(default_factory=lambda: deque(maxlen=WINDOW))
+    _near: int = 0  # how many of _recent are True (kept as they come and go)
     _times: deque[float] = field(default_factory=lambda: deque(maxlen=COLLAPSE_STEPS))
 
     @classmethod
@@ -129,20 +140,46 @@ class Budget:
         if len(self._times) == COLLAPSE_STEPS:
             advanced = abs(self._times[-1] - self._times[0])
             if advanced <= COLLAPSE * max(abs(t_end - self.start), abs(solver.t), 1e-300):
+                self.ended = Status.COLLAPSED
                 return collapse_message(advanced, float(solver.t))
         if self.stiff_since is not None:
             step = abs(solver.t - t_old)
             if step > 0 and abs(t_end - solver.t) / step > STIFF_STEPS_LEFT:
+                self.ended = Status.STIFF
                 return stiffness_message(self.method, self.stiff_since, step)
         return self.used_up()
+
+    def spend_lanes(self, stepper: LaneStepper, moved: np.ndarray) -> tuple[np.ndarray, Fix | None]:
+        """Count the step each lane of ``moved`` just took; the lanes whose budget is spent
+        and why (:attr:`ended` the code).  One lane stepping a solver (a single run) is
+        :meth:`spend`; lanes of a batch each spend ``max_steps``, and the wall time."""
+        solver = getattr(stepper, "solver", None)
+        if solver is not None and len(moved) == 1:
+            t_old, y_old = stepper.t_old, stepper.y_old  # type: ignore[attr-defined]
+            reason = self.spend(solver, float(t_old[0]), y_old, stepper.t_bound)
+            return (moved if reason is not None else moved[:0]), reason
+        if self.lane_steps is None:
+            self.lane_steps = np.zeros(len(stepper.t), dtype=np.int64)
+        self.lane_steps[moved] += 1
+        self.steps = int(self.lane_steps.max(initial=0))
+        over = moved[self.lane_steps[moved] >= self.max_steps]
+        if len(over):
+            self.ended = Status.STEP_BUDGET
+            return over, step_budget_message(self.max_steps, None)
+        if self.max_wall_time is not None and time.monotonic() - self.started > self.max_wall_time:
+            self.ended = Status.WALL_TIME
+            return moved, wall_time_message(self.max_wall_time, self.steps, None)
+        return moved[:0], None
 
     def used_up(self) -> Fix | None:
         """The reason to stop when the steps or the wall time are spent, else None (checked
         after every step, and by the piecewise loop between two pieces: a piece ended by its
         guard says nothing of the budget)."""
         if self.steps >= self.max_steps:
+            self.ended = Status.STEP_BUDGET
             return step_budget_message(self.max_steps, self.stiff_since)
         if self.max_wall_time is not None and time.monotonic() - self.started > self.max_wall_time:
+            self.ended = Status.WALL_TIME
             return wall_time_message(self.max_wall_time, self.steps, self.stiff_since)
         return None
 
@@ -162,9 +199,27 @@ class Budget:
         h_lambda = step_eigenvalue(solver, t_old, y_old)
         if h_lambda is None:
             return
-        self._recent.append(h_lambda > NEAR * edge)
-        if len(self._recent) == WINDOW and sum(self._recent) >= SHARE * WINDOW:
+        recent, near = self._recent, h_lambda > NEAR * edge
+        if len(recent) == WINDOW:
+            self._near -= recent[0]  # the oldest leaves the window as this one comes
+        recent.append(near)
+        self._near += near
+        if len(recent) == WINDOW and self._near >= SHARE * WINDOW:
             self.stiff_since = float(solver.t)
+
+
+#: The stage with c_j = 1 of each solver class's tableau (None: it has none).
+_END_STAGE: dict[type, int | None] = {}
+
+
+def _end_stage(solver: Any, c: np.ndarray) -> int | None:
+    """The first stage j > 0 with c_j = 1 (the step's end), found once per solver class
+    (SciPy's tableaus are class attributes)."""
+    kind = type(solver)
+    if kind not in _END_STAGE:
+        ends = [j for j in range(1, len(c)) if c[j] == 1.0]
+        _END_STAGE[kind] = ends[0] if ends else None
+    return _END_STAGE[kind]
 
 
 def step_eigenvalue(solver: Any, t_old: float, y_old: np.ndarray) -> float | None:
@@ -174,12 +229,13 @@ def step_eigenvalue(solver: Any, t_old: float, y_old: np.ndarray) -> float | Non
     stages = getattr(solver, "K", None)
     if c is None or stages is None:
         return None
-    ends = [j for j in range(1, len(c)) if c[j] == 1.0]
-    if not ends:
+    j = _end_stage(solver, c)
+    if j is None:
         return None
-    j, h = ends[0], solver.t - t_old
-    y_j = y_old + h * (solver.A[j, :j] @ stages[:j])
-    distance = float(np.linalg.norm(solver.y - y_j))
-    if distance == 0.0 or not np.isfinite(distance):
+    h = solver.t - t_old
+    apart = solver.y - (y_old + h * (solver.A[j, :j] @ stages[:j]))
+    squared = float(apart @ apart)  # the norms by dot products: np.linalg.norm costs more
+    if squared == 0.0 or not math.isfinite(squared):
         return None
-    return abs(h) * float(np.linalg.norm(stages[-1] - stages[j])) / distance
+    change = stages[-1] - stages[j]
+    return abs(h) * math.sqrt(float(change @ change) / squared)

@@ -1,13 +1,15 @@
-"""integrate: the one Python loop, driving a stepper step by step, keeping everything up to a
+"""The one Python loop, driving k lanes of a stepper step by step, keeping everything up to a
 failure.
 
 Every method stepped in Python runs through it — SciPy's solvers, RK4, the variational and
-collocation steps — since each is a :class:`~lagrangian.simulation.integrators.protocol.Stepper`
-(the shape of SciPy's ``OdeSolver``).  The loop is solve_ivp's (step; locate events on the
-step's dense output; sample the output times the step covered), written out so that a
-failure — a step size underflow, a singular mass matrix raised from the right-hand side, a
-state that is no longer finite — or Ctrl-C ends the run with what was computed so far instead
-of losing it.
+collocation steps, each a :class:`~lagrangian.simulation.integrators.protocol.Stepper` (the
+shape of SciPy's ``OdeSolver``) run as one lane (:func:`integrate`), and the members of a
+batch without the C loop, the lanes of one vectorized Runge–Kutta stepper
+(:mod:`lagrangian.simulation.batch.vectorized`).  The loop is solve_ivp's (step; locate
+events on the step's dense output; sample the output times the step covered) over arrays of
+lanes (:func:`run_lanes`), written out so that a failure — a step size underflow, a singular
+mass matrix raised from the right-hand side, a state that is no longer finite — or Ctrl-C
+ends a run with what was computed so far instead of losing it.
 
 >>> import numpy as np
 >>> from scipy.integrate import RK45
@@ -19,18 +21,27 @@ of losing it.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from scipy.integrate import OdeSolver
 
 from lagrangian.errors import Fix, SimulationError
+from lagrangian.numerics.status import Status
 from lagrangian.simulation.inputs import Inputs
 from lagrangian.simulation.integrators.budget import Budget
 from lagrangian.simulation.integrators.events import EventWatch
+from lagrangian.simulation.integrators.lanes import (
+    EachLane,
+    Found,
+    LaneDense,
+    LaneStepper,
+    LaneWatch,
+    OneLane,
+    Taken,
+)
+from lagrangian.simulation.integrators.output import Rows
 from lagrangian.simulation.integrators.protocol import (
     Dynamics,
     Integration,
@@ -87,46 +98,224 @@ def solver_starter(
     )
 
 
-class _Output:
-    """Collects output rows: every step (``times`` None) or the given times as reached."""
+#: The code of a lane still running.
+RUNNING = -1
 
-    def __init__(self, times: np.ndarray | None, t0: float, x0: np.ndarray) -> None:
-        self.times, self.t, self.x = times, [t0], [x0]
-        self.next = 1
-        if times is not None:
-            self.next = int(np.searchsorted(times, t0, side="right"))
-            self.t, self.x = list(times[: self.next]), [x0] * self.next
 
-    def reach(
-        self, t: float, dense: Callable[[], Callable[[Any], np.ndarray]], x: np.ndarray | None
-    ) -> None:
-        """Record output up to t (``x`` is the state at t when t is a step's end)."""
-        # each row's state is computed before its time is kept: a Ctrl-C in between leaves
-        # no time without a state
-        if self.times is None:
-            state = x if x is not None else dense()(t)
-            self.t.append(t)
-            self.x.append(state)
-            return
-        if self.next >= len(self.times) or self.times[self.next] > t:
-            return  # no output time in this step (most steps of a fine output)
-        end = int(np.searchsorted(self.times, t, side="right"))
-        if end > self.next:
-            block = self.times[self.next : end]
-            states = list(np.atleast_2d(dense()(block)).T)
-            self.t.extend(block)
-            self.x.extend(states)
-            self.next = end
+@dataclass
+class LaneRun:
+    """What the loop computed for k lanes: the output rows (:class:`Rows`), and per lane
+    how it ended — its :class:`Status` code (FINISHED, STOPPED or a failure), its message
+    where the code does not say it all (a single run's failure), the last accepted step
+    (``t_reached``, ``x_reached``), where a watch stopped it (``t_stop``, ``x_stop``, NaN
+    for the others, and the name of the event in ``stopped_by``), its events in the order
+    of time; ``interrupted`` after Ctrl-C (every lane still running keeps its rows)."""
 
-    def stop(self, t: float, x: np.ndarray) -> None:
-        """End the output at a terminal event: its time and state are the last row."""
-        if self.times is not None and (not self.t or t > self.t[-1]):
-            self.t.append(t)
-            self.x.append(x)
+    rows: Rows
+    status: np.ndarray
+    messages: list[str | Fix | None]
+    t_reached: np.ndarray
+    x_reached: np.ndarray
+    t_stop: np.ndarray
+    x_stop: np.ndarray
+    stopped_by: list[str | None]
+    events: list[list[tuple[str, float, np.ndarray]]]
+    interrupted: bool = False
 
-    def arrays(self, size: int) -> tuple[np.ndarray, np.ndarray]:
-        x = np.array(self.x, dtype=float).reshape(-1, size)
-        return np.array(self.t, dtype=float), x
+    @classmethod
+    def begun(cls, rows: Rows, t0: float, X0: np.ndarray) -> LaneRun:
+        """Every lane running from (t0, X0)."""
+        k, n = X0.shape
+        return cls(
+            rows,
+            np.full(k, RUNNING, dtype=np.intp),
+            [None] * k,
+            np.full(k, float(t0)),
+            np.array(X0, dtype=float),
+            np.full(k, np.nan),
+            np.full((k, n), np.nan),
+            [None] * k,
+            [[] for _ in range(k)],
+        )
+
+    @property
+    def t_final(self) -> np.ndarray:
+        """Where each lane ended: its stop, else its last accepted step."""
+        return np.where(self.status == Status.STOPPED, self.t_stop, self.t_reached)
+
+    @property
+    def x_final(self) -> np.ndarray:
+        """The state each lane ended at (its stop, else its last accepted step)."""
+        stopped = (self.status == Status.STOPPED)[:, None]
+        return np.where(stopped, self.x_stop, self.x_reached)
+
+
+def _started(
+    run: LaneRun, stepper: LaneStepper, watch: LaneWatch | None, t0: float, X0: np.ndarray
+) -> np.ndarray:
+    """The lanes that start: not those that fail at their first rates, nor those the watch
+    stops where they begin (their stop is their start)."""
+    _failed(run, stepper.begin())
+    running = np.flatnonzero(run.status == RUNNING)
+    if watch is not None:
+        stopped = watch.start(stepper, running)
+        _end(run, stopped, Status.STOPPED)
+        run.t_stop[stopped], run.x_stop[stopped] = t0, X0[stopped]
+        running = np.flatnonzero(run.status == RUNNING)
+    return running
+
+
+def run_lanes(
+    start: Callable[[], LaneStepper],
+    t0: float,
+    X0: np.ndarray,
+    times: np.ndarray | None = None,
+    watch: LaneWatch | None = None,
+    progress: Progress | None = None,
+    project: Callable[[float, np.ndarray], np.ndarray] | None = None,
+    budget: Budget | None = None,
+) -> LaneRun:
+    """Run the k lanes of the stepper ``start()`` from (t0, X0 (k, n)) each to its end, a
+    watch's stop, a failure, or all of them to Ctrl-C.
+
+    Every round, each lane still running takes one step (:class:`LaneStepper`); the lanes
+    that moved are checked by the ``watch`` (:class:`LaneWatch`: events, a stop condition),
+    their output rows at ``times`` (None: every step) read on their steps' interpolants, and
+    their budget counted (:mod:`lagrangian.simulation.integrators.budget`).  Errors of
+    :data:`FAILURES` raised while stepping end every lane still running with that message.
+    ``project`` (explicit Runge–Kutta steppers: they keep no history but the last state and
+    its derivative) moves every accepted step's state, and every interpolated state, onto a
+    manifold (coordinate projection, Hairer, Lubich & Wanner, Geometric Numerical
+    Integration IV.4).  ``progress`` gets the earliest time of the lanes still running (the
+    latest reached once none is) after every round.
+    """
+    budget = budget if budget is not None else Budget("", start=t0)
+    run = LaneRun.begun(Rows(times, t0, X0), t0, X0)
+    running = np.arange(len(X0))
+    stepper: LaneStepper | None = None
+    try:
+        stepper = start()
+        running = _started(run, stepper, watch, t0, X0)
+        while len(running):
+            taken = stepper.step(running)
+            ended = len(taken.failed) > 0
+            if ended:
+                _failed(run, taken)
+            moved = taken.moved
+            if len(moved):
+                ended |= _advance(run, stepper, taken, watch, project, budget)
+            if ended:
+                running = running[run.status[running] == RUNNING]
+            if progress is not None and len(moved):
+                progress(_earliest(run, stepper, running, moved))
+    except FAILURES as error:
+        for lane in running[run.status[running] == RUNNING]:
+            run.status[lane], run.messages[lane] = Status.FAILED, str(error)
+    except KeyboardInterrupt:  # Ctrl-C: keep what was computed, the caller decides
+        run.interrupted = True
+        run.status[run.status == RUNNING] = Status.INTERRUPTED
+    if stepper is not None:  # a lane's state changes only with its accepted steps
+        run.t_reached[:], run.x_reached[:] = stepper.t, stepper.y
+    return run
+
+
+def _advance(
+    run: LaneRun,
+    stepper: LaneStepper,
+    taken: Taken,
+    watch: LaneWatch | None,
+    project: Callable[[float, np.ndarray], np.ndarray] | None,
+    budget: Budget,
+) -> bool:
+    """After a step of the lanes ``taken.moved``: budget, projection, watch, output rows,
+    and the lanes that end (a stop first, then a spent budget, then the end of the span);
+    whether any ended."""
+    moved = taken.moved
+    over, reason = budget.spend_lanes(stepper, moved)
+    if project is not None:
+        stepper.project(moved, project)
+    t_end = stepper.t[moved]  # a copy: a stop replaces its lane's time
+    x_end = stepper.y[moved] if run.rows.times is None else None  # read where needed
+    stopped = False
+    crossed = watch.crossed(stepper, moved) if watch is not None else None
+    needed = run.rows.pending(moved, t_end)
+    if crossed is not None:
+        needed = crossed if needed is None else needed | crossed
+    dense: LaneDense | None = None
+    which = moved
+    if needed is not None and needed.any():
+        dense, which = _interpolants(stepper, moved, needed)
+        if watch is not None and crossed is not None and crossed.any():
+            on = np.flatnonzero(crossed)
+            found = watch.locate(stepper, moved[on], taken.t_old[on], dense, which[on])
+            stopped = len(found.stopped) > 0
+            if found.events or stopped:
+                if x_end is None and stopped:
+                    x_end = stepper.y[moved]
+                _found(run, found, np.searchsorted(moved, found.stopped), t_end, x_end)
+    run.rows.reach(moved, t_end, x_end, dense, which)
+    if len(over):
+        for lane in over[run.status[over] == RUNNING]:
+            run.status[lane] = budget.ended if budget.ended is not None else Status.FAILED
+            run.messages[lane] = reason
+    # (one lane read as a number: the reduction costs more than the lane)
+    finished = bool(taken.finished[0] if len(moved) == 1 else taken.finished.any())
+    if finished:
+        _end(run, moved[taken.finished], Status.FINISHED)
+    return stopped or finished or len(over) > 0
+
+
+def _interpolants(
+    stepper: LaneStepper, moved: np.ndarray, needed: np.ndarray
+) -> tuple[LaneDense, np.ndarray]:
+    """The interpolants of the lanes of ``moved`` that need one (``needed``), built in one
+    call, and each moved lane's entry in them (-1: none)."""
+    if needed.all():
+        return stepper.dense_output(moved), np.arange(len(moved))
+    local = np.flatnonzero(needed)
+    which = np.full(len(moved), -1, dtype=np.intp)
+    which[local] = np.arange(len(local))
+    return stepper.dense_output(moved[local]), which
+
+
+def _found(
+    run: LaneRun, found: Found, at: np.ndarray, t_end: np.ndarray, x_end: np.ndarray | None
+) -> None:
+    """Record a watch's events; the lanes it stopped (entries ``at`` of the step's t_end
+    and x_end) end there, their output up to the stop."""
+    for lane, name, t, x in found.events:
+        run.events[lane].append((name, t, x))
+    stopped = found.stopped
+    if len(stopped):
+        assert x_end is not None  # read for the stopped lanes
+        t_end[at], x_end[at] = found.t_stop, found.x_stop
+        run.t_stop[stopped], run.x_stop[stopped] = found.t_stop, found.x_stop
+        for lane, name in zip(stopped.tolist(), found.names):
+            run.stopped_by[lane] = name
+        _end(run, stopped, Status.STOPPED)
+
+
+def _earliest(run: LaneRun, stepper: LaneStepper, running: np.ndarray, moved: np.ndarray) -> float:
+    """The progress of the lanes: the earliest time of those still running, else the
+    latest where the lanes that just moved ended."""
+    if len(running):
+        return float(np.min(stepper.t[running]))
+    stopped = run.status[moved] == Status.STOPPED
+    return float(np.max(np.where(stopped, run.t_stop[moved], stepper.t[moved])))
+
+
+def _failed(run: LaneRun, taken: Taken) -> None:
+    """The lanes ``taken.failed`` end with their codes and messages."""
+    messages = taken.messages or [None] * len(taken.failed)
+    for lane, code, message in zip(taken.failed.tolist(), taken.codes.tolist(), messages):
+        run.status[lane], run.messages[lane] = code, message
+
+
+def _end(run: LaneRun, lanes: np.ndarray, code: int) -> None:
+    """The lanes ``lanes`` still running end with ``code``."""
+    if len(lanes):
+        lanes = lanes[run.status[lanes] == RUNNING]
+        run.status[lanes] = code
 
 
 def integrate(
@@ -139,108 +328,41 @@ def integrate(
     project: Callable[[float, np.ndarray], np.ndarray] | None = None,
     budget: Budget | None = None,
 ) -> Integration:
-    """Run the solver ``start()`` to its end, a terminal event, a failure or Ctrl-C.
+    """Run the solver ``start()`` to its end, a terminal event, a failure or Ctrl-C: one
+    lane of :func:`run_lanes` (:class:`~lagrangian.simulation.integrators.lanes.OneLane`).
 
-    Output rows are the ``times`` (None: every step).  Errors of :data:`FAILURES` raised while
-    stepping become ``failure``, a KeyboardInterrupt ``interrupted``; the output holds
-    everything before them.  ``project`` (explicit Runge–Kutta solvers only: they keep no
-    history but the last state and its derivative) moves every accepted step's state, and
-    every output row, onto a manifold (coordinate projection, Hairer, Lubich & Wanner,
-    Geometric Numerical Integration IV.4).  ``budget`` (default: the default step budget)
-    stops a run that takes too many steps or too long, or is stiff for an explicit method
-    (:mod:`lagrangian.simulation.integrators.budget`).
+    Output rows are the ``times`` (None: every step), a terminal event's time and state the
+    last; the failure is the solver's message, or that of an error of :data:`FAILURES`
+    raised while stepping; ``interrupted`` after Ctrl-C; the output holds everything
+    before.  ``project`` and ``budget`` as for :func:`run_lanes` (the budget watches
+    stiffness and a collapsed step size too).
     """
     budget = budget if budget is not None else Budget("", start=t0)
-    output = _Output(times, t0, x0)
-    events: list[tuple[str, float, np.ndarray]] = []
-    t_reached, x_reached, stopped_by = t0, x0, None
-    failure: str | Fix | None = None
-    interrupted = False
-    try:
-        solver = start()
-        if watch is not None:
-            watch.start(t0, x0)
-        while solver.status == "running":
-            if not math.isfinite(getattr(solver, "h_abs", 0.0)):
-                # SciPy's adaptive solvers shrink a step size that is NaN for ever
-                failure = (
-                    f"The equations of motion are not finite numbers at t = {solver.t:.6g}: "
-                    "no step size can be chosen (an overflow or a division by zero there)."
-                )
-                break
-            t_old, y_old = solver.t, solver.y.copy()
-            message = solver.step()
-            if solver.status == "failed":
-                failure = message or "the solver failed"
-                break
-            if not np.isfinite(solver.y).all():
-                failure = "The state is no longer finite (the solution blew up)."
-                break
-            over_budget = budget.spend(solver, t_old, y_old, solver.t_bound)
-            if project is not None:
-                solver.y = project(solver.t, solver.y)
-                # explicit Runge–Kutta solvers only (Method.explicit): SciPy's, with f and fun
-                solver.f = solver.fun(solver.t, solver.y)  # type: ignore[attr-defined]
-            t_reached, x_reached = solver.t, solver.y.copy()
-            dense: Callable[[], Callable[[Any], np.ndarray]] = _lazy(solver)
-            if project is not None:
-                dense = _projected(_lazy(solver), project)
-            t_stop, x_stop = solver.t, x_reached
-            if watch is not None:
-                found, stop = watch.check(t_old, solver.t, solver.y, dense())
-                events.extend((watch.names[i], t, dense()(t)) for i, t in found)
-                if stop:
-                    stopped_by, t_stop, x_stop = events[-1]
-            output.reach(t_stop, dense, x_stop)
-            if progress is not None:
-                progress(t_stop)
-            if stopped_by is not None:
-                output.stop(t_stop, x_stop)
-                break
-            if over_budget is not None:
-                failure = over_budget
-                break
-    except FAILURES as error:
-        failure = str(error)
-    except KeyboardInterrupt:  # Ctrl-C: keep what was computed, the caller decides
-        interrupted = True
-    t, x = output.arrays(len(x0))
+    x0 = np.asarray(x0, dtype=float)
+    lanes = run_lanes(
+        lambda: OneLane(start()),
+        t0,
+        x0[None, :],
+        times,
+        None if watch is None else EachLane([watch]),
+        progress,
+        project,
+        budget,
+    )
+    t, x = lanes.rows.lane(0)
+    stopped_by = lanes.stopped_by[0]
+    if stopped_by is not None and times is not None and (not len(t) or lanes.t_stop[0] > t[-1]):
+        t, x = np.append(t, lanes.t_stop[0]), np.vstack([x, lanes.x_stop[0]])
+    code = int(lanes.status[0])
+    failed = code not in (Status.FINISHED, Status.STOPPED, Status.INTERRUPTED)
     return Integration(
         t,
         x,
-        t_reached,
-        x_reached,
-        tuple(events),
-        failure,
-        interrupted,
+        float(lanes.t_reached[0]),
+        lanes.x_reached[0].copy(),
+        tuple(lanes.events[0]),
+        (lanes.messages[0] or Status(code).message) if failed else None,
+        lanes.interrupted,
         stopped_by,
         note=budget.note(),
     )
-
-
-def _projected(
-    dense: Callable[[], Callable[[Any], np.ndarray]],
-    project: Callable[[float, np.ndarray], np.ndarray],
-) -> Callable[[], Callable[[Any], np.ndarray]]:
-    """The step's dense output with every interpolated state projected."""
-
-    def evaluate(t: Any) -> np.ndarray:
-        values = dense()(t)
-        if np.ndim(t) == 0:
-            return project(float(t), values)
-        columns = [project(float(s), values[:, i]) for i, s in enumerate(np.atleast_1d(t))]
-        return np.stack(columns, axis=1)
-
-    return lambda: evaluate
-
-
-def _lazy(solver: Stepper) -> Callable[[], Callable[[Any], np.ndarray]]:
-    """The step's dense output, built on first use only (it costs work for some methods)."""
-    built: list[Callable[[Any], np.ndarray]] = []
-
-    def dense() -> Callable[[Any], np.ndarray]:
-        if not built:
-            built.append(solver.dense_output())
-        return built[0]
-
-    return dense

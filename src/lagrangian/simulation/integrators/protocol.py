@@ -10,7 +10,9 @@ A simulation is three pieces, as in diffrax (a solver stepping a term) or jax-md
   q_dot from x, and the constraint multipliers and residuals at the output rows;
 * an **integrator** behind :class:`Integrator` that runs it from the checked inputs: the one
   Python loop (:mod:`lagrangian.simulation.integrators.loop`) stepping a :class:`Stepper`
-  (SciPy's solvers, RK4, the variational and collocation steps), the compiled loops (the C
+  (SciPy's solvers, RK4, the variational and collocation steps) as one lane of its lanes
+  axis (:mod:`lagrangian.simulation.integrators.lanes`; a batch's members are the lanes of
+  one vectorized stepper), the compiled loops (the C
   loop of the Runge–Kutta methods, the numba marches of the variational ones), or the
   piecewise loop (:mod:`lagrangian.simulation.integrators.piecewise`) of a motion whose
   equations change at events;
