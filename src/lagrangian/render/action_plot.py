@@ -33,9 +33,9 @@ def plot_action_variation(
     eps = np.asarray(amplitudes, dtype=float)
     values = np.asarray(actions, dtype=float)
     if ax is None:
-        from matplotlib.figure import Figure
+        from lagrangian.render.plots import new_axes
 
-        ax = Figure(figsize=(6.4, 4.8), layout="constrained").add_subplot()
+        ax = new_axes()
     reference = float(values[np.argmin(np.abs(eps))]) if len(values) else 0.0
     ax.plot(eps, values - reference, "o-", label="A(eps) - A(0)")
     ax.axvline(0.0, color="gray", linewidth=0.8)

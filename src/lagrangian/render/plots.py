@@ -89,7 +89,7 @@ def plot_time_series(
     units: Mapping[str, str] | None = None,
 ) -> Axes:
     """Columns ``names`` (default: every coordinate) against t, labelled with ``units``."""
-    ax = ax if ax is not None else _new_axes()
+    ax = ax if ax is not None else new_axes()
     shown = list(names if names is not None else trajectory.coordinates)
     for name in shown:
         ax.plot(trajectory.t, trajectory[name], label=column_label(name, units))
@@ -127,7 +127,7 @@ def plot_phase_portrait(
     units: Mapping[str, str] | None = None,
 ) -> Axes:
     """``coordinate_dot`` against ``coordinate``, the start marked, labelled with ``units``."""
-    ax = ax if ax is not None else _new_axes()
+    ax = ax if ax is not None else new_axes()
     rate = coordinate + DOT_SUFFIX
     q, q_dot = trajectory[coordinate], trajectory[rate]
     ax.plot(q, q_dot, linewidth=1.0)
@@ -150,7 +150,7 @@ def plot_energy_drift(
     """Relative drift of E = T + V (and of h when it differs) against t, titled as the drift
     report says it (:meth:`Trajectory.drift`): a drift where the energy is conserved, a change
     "not conserved: dissipation" (or forcing, ...) where it is not."""
-    ax = ax if ax is not None else _new_axes()
+    ax = ax if ax is not None else new_axes()
     series = {"E = T + V": trajectory.energy}
     if trajectory.energy_function is not None:
         series["h"] = trajectory.energy_function
@@ -189,7 +189,7 @@ def plot_constraint_forces(
 ) -> Axes:
     """Each Lagrange multiplier that acts against t: the force of its constraint
     (lambda_j dh_j/dq); the title counts the contacts that never closed."""
-    ax = ax if ax is not None else _new_axes()
+    ax = ax if ax is not None else new_axes()
     assert trajectory.multipliers is not None, "a trajectory of a constrained system"
     acting = acting_multipliers(trajectory)
     for j in acting:
@@ -353,7 +353,8 @@ def energy_title(trajectory: Trajectory) -> str:
     return f"Energy change (not conserved: {reasons['energy']})"
 
 
-def _new_axes() -> Axes:
+def new_axes() -> Axes:
+    """A new figure's one Axes, the size and layout of every plot of the package."""
     from matplotlib.figure import Figure
 
     figure: Figure = Figure(figsize=(6.4, 4.8), layout="constrained")
