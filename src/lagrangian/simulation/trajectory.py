@@ -28,7 +28,6 @@ from __future__ import annotations
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from types import MappingProxyType
 from typing import Any, NamedTuple, TextIO
 
 import numpy as np
@@ -37,6 +36,7 @@ from lagrangian.errors import Fix, SimulationInputError, Wording
 from lagrangian.simulation.files import written_atomically
 from lagrangian.simulation.trajectory_csv import DOT, read_columns
 from lagrangian.symbolic.expressions import closest_name
+from lagrangian.symbolic.frozen import FrozenMapping, reduce_to_fields
 
 
 class StateRow(Mapping[str, float]):
@@ -193,14 +193,17 @@ class Trajectory:
             _freeze(self, "constraint_residual", (rows,))
         object.__setattr__(self, "coordinates", tuple(self.coordinates))
         object.__setattr__(self, "events", tuple(self.events))
-        object.__setattr__(self, "parameters", MappingProxyType(dict(self.parameters)))
-        object.__setattr__(self, "conserved", MappingProxyType(_frozen_columns(self, rows)))
+        object.__setattr__(self, "parameters", FrozenMapping(dict(self.parameters)))
+        object.__setattr__(self, "conserved", FrozenMapping(_frozen_columns(self, rows)))
         if self.not_conserved is not None:
             reasons = {str(k): str(v) for k, v in self.not_conserved.items()}
-            object.__setattr__(self, "not_conserved", MappingProxyType(reasons))
+            object.__setattr__(self, "not_conserved", FrozenMapping(reasons))
         if self.message_template is not None:
             object.__setattr__(self, "message", str(self.message_template))
-        object.__setattr__(self, "_where", MappingProxyType(_column_places(self)))
+        object.__setattr__(self, "_where", FrozenMapping(_column_places(self)))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return reduce_to_fields(self)
 
     def worded_message(self, wording: Wording) -> str:
         """:attr:`message` with the options it names as ``wording`` names them

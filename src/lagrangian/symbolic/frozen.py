@@ -19,11 +19,13 @@ TypeError: 'FrozenMapping' object does not support item assignment
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterable, Iterator, Mapping
 from typing import Any, TypeVar
 
 K = TypeVar("K")
 V = TypeVar("V")
+T = TypeVar("T")
 
 
 class FrozenMapping(Mapping[K, V]):
@@ -66,3 +68,16 @@ class FrozenMapping(Mapping[K, V]):
 def frozen(mapping: Mapping[K, V] | Iterable[tuple[K, V]]) -> FrozenMapping[K, V]:
     """``mapping`` as a FrozenMapping (itself when it already is one)."""
     return mapping if isinstance(mapping, FrozenMapping) else FrozenMapping(mapping)
+
+
+def rebuilt(kind: type[T], fields: Mapping[str, Any]) -> T:
+    """``kind(**fields)``: a frozen dataclass made again from its fields (unpickling)."""
+    return kind(**fields)
+
+
+def reduce_to_fields(value: Any) -> tuple[Any, ...]:
+    """``__reduce__`` of a frozen dataclass that checks and freezes its fields when made:
+    pickled as its init fields and made again through its constructor, so that an
+    unpickled value is as read-only as the original (NumPy unpickles arrays writeable)."""
+    names = [f.name for f in dataclasses.fields(value) if f.init]
+    return (rebuilt, (type(value), {name: getattr(value, name) for name in names}))

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -28,6 +27,7 @@ import numpy as np
 from lagrangian.errors import SimulationError
 from lagrangian.numerics.status import Outcome
 from lagrangian.simulation.trajectory import DOT, Event, Rows, Trajectory, trajectory_of_rows
+from lagrangian.symbolic.frozen import FrozenMapping, reduce_to_fields
 
 
 @dataclass(frozen=True, eq=False)
@@ -128,11 +128,14 @@ class Batch:
             object.__setattr__(self, name, array)
         for name in ("initial", "parameters"):
             columns = {key: _frozen(values) for key, values in getattr(self, name).items()}
-            object.__setattr__(self, name, MappingProxyType(columns))
+            object.__setattr__(self, name, FrozenMapping(columns))
         object.__setattr__(self, "coordinates", tuple(self.coordinates))
         object.__setattr__(self, "status", tuple(Outcome(s) for s in self.status))
         object.__setattr__(self, "message", tuple(self.message))
         object.__setattr__(self, "multiplier_names", tuple(self.multiplier_names))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return reduce_to_fields(self)
 
     def __len__(self) -> int:
         return len(self.status)
