@@ -38,6 +38,7 @@ import numpy as np
 import symengine as se
 import sympy as sp
 
+from lagrangian.numerics.fast.llvm import llvm_lambdify
 from lagrangian.symbolic.nonsmooth import piecewise_smooth
 
 #: Whether to compile with SymEngine's LLVM backend (False: always sympy.lambdify; tests
@@ -147,24 +148,7 @@ class NumericFunction:
         if not self._expressions or not NATIVE:
             return None
         symbols = [s for a in self._args for s in (a if isinstance(a, list) else [a])]
-        # SymEngine's CSE names its temporaries x0, x1, ...: a user's x1 would be taken for
-        # one, so every argument gets a name no model can have
-        renamed = {se.sympify(s): se.Symbol(f"_arg{i}_") for i, s in enumerate(symbols)}
-        expressions = self._compilable()
-        try:
-            # one replacement over a column of every expression: per expression, the map
-            # of every argument was converted again (a 200 x 200 mass matrix took half a
-            # minute to rename, eight times the column's)
-            column = se.DenseMatrix(len(expressions), 1, [se.sympify(e) for e in expressions])
-            return se.Lambdify(
-                list(renamed.values()),
-                list(column.xreplace(renamed)),
-                backend="llvm",
-                cse=True,
-                opt_level=3 if optimize else 0,
-            )
-        except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
-            return None
+        return llvm_lambdify(symbols, self._compilable(), opt_level=3 if optimize else 0)
 
     def _compilable(self) -> list[Any]:
         """The expressions with Heaviside written with sign (SymEngine's own expressions

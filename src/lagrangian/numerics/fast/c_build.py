@@ -199,18 +199,20 @@ def _build(compiler: str, path: Path, source: Path) -> bool:
             return False
         digest = hashlib.sha256(Path(temporary).read_bytes()).hexdigest()
         os.replace(temporary, path)
-        _write_atomically(path.with_name(path.name + ".sha256"), digest + "\n")
+        write_atomically(path.with_name(path.name + ".sha256"), (digest + "\n").encode())
         return True
     finally:
         with contextlib.suppress(OSError):
             os.unlink(temporary)
 
 
-def _write_atomically(path: Path, text: str) -> None:
+def write_atomically(path: Path, content: bytes) -> None:
+    """``content`` into ``path`` whole or not at all: a temporary file of the same folder,
+    moved onto the name (a reader sees the old file or the new one, never half of one)."""
     handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
     try:
-        with os.fdopen(handle, "w") as stream:
-            stream.write(text)
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(content)
         os.replace(temporary, path)
     finally:
         with contextlib.suppress(OSError):

@@ -32,9 +32,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-import symengine as se
 import sympy as sp
 
+from lagrangian.numerics.fast.llvm import CANNOT_COMPILE, llvm_lambdify
 from lagrangian.numerics.fast.source import values_source
 
 #: Whether to try SymEngine's LLVM backend (False: always numba; tests compare the two).
@@ -87,19 +87,15 @@ def llvm_function(
     symbols: Sequence[sp.Symbol], expressions: Sequence[Any], *, backend: bool = False
 ) -> Any:
     """The ``symengine.Lambdify`` of ``expressions`` (SymPy, or SymEngine when ``backend``)
-    compiled by LLVM with common subexpressions computed once, or None where SymEngine
-    cannot compile them."""
-    # SymEngine's CSE names its temporaries x0, x1, ...: a user's x1 would be taken for one,
-    # so every argument gets a name no model can have
-    renamed = {se.sympify(s): se.Symbol(f"_arg{i}_") for i, s in enumerate(symbols)}
-    try:
-        if backend:
-            converted = [e.xreplace(renamed) for e in expressions]
-        else:
-            converted = [se.sympify(_without_heaviside(e)).xreplace(renamed) for e in expressions]
-        return se.Lambdify(list(renamed.values()), converted, backend="llvm", cse=True)
-    except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
-        return None
+    compiled by LLVM with common subexpressions computed once
+    (:func:`~lagrangian.numerics.fast.llvm.llvm_lambdify`), or None where SymEngine cannot
+    compile them."""
+    if not backend:
+        try:
+            expressions = [_without_heaviside(e) for e in expressions]
+        except CANNOT_COMPILE:
+            return None
+    return llvm_lambdify(symbols, expressions)
 
 
 def _without_heaviside(expr: sp.Expr) -> sp.Expr:
