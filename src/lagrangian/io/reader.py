@@ -13,7 +13,7 @@ names the path, its line and column, and the fix.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from typing import Any
 
 import sympy as sp
@@ -137,6 +137,33 @@ class Reader:
             if entry is not None:
                 found.append((child(path, i), entry))
         return found
+
+    def known_entries(
+        self, data: Mapping[str, Any], section: str, known: Iterable[str], unknown: str, fix: str
+    ) -> Iterator[tuple[str, str, Any]]:
+        """(key, path, value) of each entry of the mapping ``data[section]`` (a section keyed
+        by declared names: initial values, units...) whose key is one of ``known``; every
+        other key is reported at its key, with the message ``unknown`` (``{key!r}`` stands
+        for the key), the closest known name and then ``fix``.
+
+        >>> from lagrangian.io.document import Document
+        >>> reader = Reader(Document({}, "<string>"))
+        >>> data = {"initial": {"theta": 0.1, "thta_dot": 0.0}}
+        >>> known = ["theta", "theta_dot"]
+        >>> [key for key, path, value in reader.known_entries(
+        ...     data, "initial", known, "{key!r} is not a coordinate", "give coordinates")]
+        ['theta']
+        >>> reader.problems[0].message, str(reader.problems[0].fix)
+        ("'thta_dot' is not a coordinate", "did you mean 'theta_dot'? give coordinates")
+        """
+        known = list(known)
+        for key, value in (self.mapping(data.get(section, {}), section) or {}).items():
+            path = child(section, key)
+            if key in known:
+                yield key, path, value
+            else:
+                message = unknown.format(key=key)
+                self.problem(path, message, suggestion(str(key), known, fix), key=True)
 
     def one_of(
         self, entry: Mapping[str, Any], kinds: Iterable[str], path: str, noun: str, example: str

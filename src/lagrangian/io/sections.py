@@ -125,14 +125,14 @@ def read_generalized_forces(
     reader: Reader, data: dict[str, Any], coordinates: list[str]
 ) -> dict[sp.Symbol, sp.Expr]:
     """Coordinate -> Q(q, q_dot, t)."""
-    raw = reader.mapping(data.get("generalized_forces", {}), "generalized_forces") or {}
     forces = {}
-    for key, value in raw.items():
-        path = child("generalized_forces", key)
-        if key not in coordinates:
-            fix = suggestion(key, coordinates, "generalized forces are keyed by coordinate")
-            reader.problem(path, f"unknown coordinate {key!r}", fix, key=True)
-            continue
+    for key, path, value in reader.known_entries(
+        data,
+        "generalized_forces",
+        coordinates,
+        "unknown coordinate {key!r}",
+        "generalized forces are keyed by coordinate",
+    ):
         expression = reader.expression(value, path)
         if expression is not None:
             forces[sp.Symbol(key)] = expression
