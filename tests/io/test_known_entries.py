@@ -90,3 +90,15 @@ def test_a_section_that_is_not_a_mapping_is_reported_once():
     assert list(reader.known_entries({"initial": [1]}, "initial", ["x"], "{key!r}", "")) == []
     (problem,) = reader.problems
     assert problem.message == "must be a mapping of keys to values, got a list"
+
+
+def test_a_value_is_read_by_its_sections_reading_and_left_out_when_it_cannot_be():
+    reader = Reader(Document({}, "<string>"), {"theta": sp.Symbol("theta")})
+    data = {"initial": {"theta": "fast", "theta_dot": 2}, "forces": {"theta": "theta**", "x": 1}}
+    known = ["theta", "theta_dot"]
+    numbers = reader.known_values(data, "initial", known, "{key!r}?", "", reader.number)
+    expressions = reader.known_values(data, "forces", known, "{key!r}?", "", reader.expression)
+    assert numbers == {"theta_dot": 2.0} and expressions == {}
+    assert [p.field for p in reader.problems] == ["initial.theta", "forces.theta", "forces.x"]
+    assert reader.problems[0].message == "value 'fast' is not a number"  # Reader.number's
+    assert reader.expression_problems == 1  # "theta**" was parsed as an expression

@@ -9,7 +9,6 @@ from typing import Any
 
 import numpy as np
 import pytest
-import sympy as sp
 
 import lagrangian as lg
 from lagrangian.errors import SimulationInputError
@@ -21,15 +20,18 @@ TIMES = (0.0, 0.25, 0.5)
 STEPPING: dict[str, Any] = {"method": "DOP853", "rtol": 1e-10, "atol": 1e-10}
 
 
+# a bob on a rod of length l, in the plane, in Cartesian coordinates
+ROD_PENDULUM = """\
+coordinates: [x, y]
+parameters: {m: 1.0, g: 9.81, l: 1.0}
+gravity: [0, -g]
+particles: [{name: bob, mass: m, position: [x, y]}]
+constraints: [{name: rod, holonomic: x**2 + y**2 - l**2}]
+"""
+
+
 def cartesian_pendulum() -> lg.System:
-    x, y, m, g, l = sp.symbols("x y m g l")
-    return lg.System(
-        coordinates=[x, y],
-        parameters={m: 1.0, g: 9.81, l: 1.0},
-        gravity=(0, -g),
-        particles=[lg.Particle("bob", m, (x, y))],
-        constraints=[lg.Holonomic(x**2 + y**2 - l**2, name="rod")],
-    )
+    return lg.loads(ROD_PENDULUM)
 
 
 # two bobs started off the rod's circle (radii 1.04 and 1.17), at rest

@@ -92,18 +92,10 @@ def read_initial(
 ) -> dict[sp.Symbol, float]:
     """Initial values of coordinates and velocities."""
     known = [*coordinates, *(velocity(sp.Symbol(q)).name for q in coordinates)]
-    initial: dict[sp.Symbol, float] = {}
-    for key, path, value in reader.known_entries(
-        data,
-        "initial",
-        known,
-        "{key!r} is not a coordinate or a velocity",
-        "give values of coordinates and NAME_dot velocities",
-    ):
-        number = reader.number(value, path)
-        if number is not None:
-            initial[sp.Symbol(key)] = number
-    return initial
+    unknown = "{key!r} is not a coordinate or a velocity"
+    fix = "give values of coordinates and NAME_dot velocities"
+    initial = reader.known_values(data, "initial", known, unknown, fix, reader.number)
+    return {sp.Symbol(key): number for key, number in initial.items()}
 
 
 def read_units(
@@ -113,13 +105,9 @@ def read_units(
     short, in the characters of :func:`lagrangian.model.system.unit_problem`."""
     known = [*coordinates, *parameters, "t"]
     units: dict[str, str] = {}
-    for key, path, value in reader.known_entries(
-        data,
-        "units",
-        known,
-        "{key!r} is not a coordinate, parameter or t",
-        "give units of coordinates, parameters and t",
-    ):
+    unknown = "{key!r} is not a coordinate, parameter or t"
+    fix = "give units of coordinates, parameters and t"
+    for key, path, value in reader.known_entries(data, "units", known, unknown, fix):
         message = unit_problem(value)
         if message is not None:
             reader.problem(path, message, "write it as text such as m, rad or m/s^2")

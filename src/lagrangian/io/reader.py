@@ -13,8 +13,8 @@ names the path, its line and column, and the fix.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator, Mapping
-from typing import Any
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from typing import Any, TypeVar
 
 import sympy as sp
 
@@ -29,6 +29,8 @@ from lagrangian.symbolic.expressions import (
 )
 from lagrangian.symbolic.names import name_problem
 from lagrangian.symbolic.probe import is_zero
+
+T = TypeVar("T")
 
 _EXAMPLE_VECTOR = 'a list such as ["l*sin(theta)", "-l*cos(theta)"]'
 
@@ -164,6 +166,29 @@ class Reader:
             else:
                 message = unknown.format(key=key)
                 self.problem(path, message, suggestion(str(key), known, fix), key=True)
+
+    def known_values(
+        self,
+        data: Mapping[str, Any],
+        section: str,
+        known: Iterable[str],
+        unknown: str,
+        fix: str,
+        read: Callable[[Any, str], T | None],
+    ) -> dict[str, T]:
+        """The values of :meth:`known_entries`, each read by ``read(value, path)`` (a reading
+        method: :meth:`number`, :meth:`expression`...), by key; a value that could not be
+        read is left out, its problem recorded.
+
+        >>> from lagrangian.io.document import Document
+        >>> reader = Reader(Document({}, "<string>"))
+        >>> data = {"initial": {"x": 0.5, "x_dot": "fast"}}
+        >>> reader.known_values(data, "initial", ["x", "x_dot"], "", "", reader.number)
+        {'x': 0.5}
+        """
+        entries = self.known_entries(data, section, known, unknown, fix)
+        found = {key: read(value, path) for key, path, value in entries}
+        return {key: value for key, value in found.items() if value is not None}
 
     def one_of(
         self, entry: Mapping[str, Any], kinds: Iterable[str], path: str, noun: str, example: str

@@ -17,12 +17,9 @@ if TYPE_CHECKING:
 
 #: Public name -> the module defining it, imported when the name is first used.
 _HOMES = {
-    "Grid": "lagrangian.sweeps.grid",
-    "build_grid": "lagrangian.sweeps.grid",
-    "SweepReport": "lagrangian.sweeps.run",
-    "sweep": "lagrangian.sweeps.run",
-    "StopExpression": "lagrangian.sweeps.stop_condition",
-    "stop_expression": "lagrangian.sweeps.stop_condition",
+    **dict.fromkeys(("Grid", "build_grid"), "lagrangian.sweeps.grid"),
+    **dict.fromkeys(("SweepReport", "sweep"), "lagrangian.sweeps.run"),
+    **dict.fromkeys(("StopExpression", "stop_expression"), "lagrangian.sweeps.stop_condition"),
 }
 
 
