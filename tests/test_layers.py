@@ -24,6 +24,7 @@ RANKS = {
     "model": 4,
     "symbolic": 3,
     "limits": 0,
+    "lazy_names": 0,
     "size_limits": 0,
     "errors": 0,
 }

@@ -36,6 +36,7 @@ from lagrangian.errors import (
     SizeLimitError,
     TimeLimitError,
 )
+from lagrangian.lazy_names import lazy_attribute
 
 if TYPE_CHECKING:
     from lagrangian import examples, io, render
@@ -182,11 +183,9 @@ _SUBPACKAGES = (
 def __getattr__(name: str) -> Any:
     if name in _SUBPACKAGES:
         return importlib.import_module(f"{__name__}.{name}")
-    if name in _HOMES:
-        return getattr(importlib.import_module(_HOMES[name]), name)
     if name == "__version__":
         return _installed_version()
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return lazy_attribute(globals(), _HOMES, __name__, name)
 
 
 def __dir__() -> list[str]:

@@ -39,7 +39,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import Any, Generic, TypeVar
 
 from lagrangian.errors import ArgumentError, TimeLimitError
 
@@ -53,13 +53,15 @@ FIX = (
     f"pass a larger time_limit= (seconds), or set the environment variable {ENVIRONMENT}; "
     "or simplify the model (fewer bodies, shorter expressions)"
 )
-_NO_LIMIT = ("none", "off", "inf", "infinity")
+#: The words that mean "no limit" in an environment variable of a limit (any case).
+NO_LIMIT = ("none", "off", "inf", "infinity")
 #: After its exception the timer fires again this often until the limit is left: Python
 #: swallows an exception raised in a garbage-collector callback or a destructor (the work
 #: would then run on), so the interruption is repeated until it lands in the work itself.
 RETRY_SECONDS = 0.05
 
 F = TypeVar("F", bound=Callable[..., Any])
+L = TypeVar("L")
 
 
 @dataclass(frozen=True)
@@ -68,14 +70,66 @@ class _Limit:
     message: str
 
 
-class _Limits(threading.local):
-    """The limits active in this thread, outermost first."""
+class LimitStack(threading.local, Generic[L]):
+    """The limits of one kind active in this thread, outermost first (``stack``): each
+    thread has its own, so a limit set in one thread never stops another's work."""
 
     def __init__(self) -> None:
-        self.stack: list[_Limit] = []
+        self.stack: list[L] = []
 
 
-_active = _Limits()
+_active: LimitStack[_Limit] = LimitStack()
+
+
+def configured_limit(
+    value: float | None,
+    *,
+    environment: str,
+    default: float,
+    unit: str,
+    whole: bool = False,
+    where: str,
+) -> float:
+    """A limit in ``unit`` (seconds, operations): ``value`` when given, else the environment
+    variable ``environment``, else ``default``; ``math.inf`` means no limit (``math.inf``
+    given, or a word of :data:`NO_LIMIT` in the environment).  ``whole``: the environment
+    gives a whole number and the limit is at least 1 (else any positive number); ``where``
+    names the keyword or option in the message of a bad value.
+
+    >>> configured_limit(None, environment="UNSET_LIMIT", default=10.0, unit="seconds",
+    ...                  where="time_limit")
+    10.0
+    >>> configured_limit(0, environment="UNSET_LIMIT", default=10.0, unit="seconds",
+    ...                  where="time_limit")
+    Traceback (most recent call last):
+    ...
+    lagrangian.errors.ArgumentError: time_limit=0: give a positive number of seconds
+    """
+    amount = "positive whole number" if whole else "positive number"
+    if value is None:
+        text = os.environ.get(environment, "").strip()
+        if not text:
+            return default
+        if text.lower() in NO_LIMIT:
+            return math.inf
+        where = environment
+        try:
+            value = int(text) if whole else float(text)
+        except ValueError:
+            number = "whole number" if whole else "number"
+            raise ArgumentError(
+                f"{environment}={text[:40]!r} is not a {number} of {unit}: give a {amount}, "
+                "or none for no limit"
+            ) from None
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ArgumentError(
+            f"{where} takes a number of {unit}, not {type(value).__name__}: give a {amount}, "
+            "or math.inf for no limit"
+        )
+    too_small = value < 1 if whole else value <= 0
+    if math.isnan(value) or too_small:
+        raise ArgumentError(f"{where}={value!r}: give a positive number of {unit}")
+    return value
 
 
 def configured_seconds(seconds: float | None = None) -> float | None:
@@ -86,30 +140,14 @@ def configured_seconds(seconds: float | None = None) -> float | None:
     >>> configured_seconds(30.0), configured_seconds(math.inf)
     (30.0, None)
     """
-    if seconds is None:
-        text = os.environ.get(ENVIRONMENT, "").strip()
-        if not text:
-            return DEFAULT_SECONDS
-        if text.lower() in _NO_LIMIT:
-            return None
-        try:
-            seconds = float(text)
-        except ValueError:
-            raise ArgumentError(
-                f"{ENVIRONMENT}={text[:40]!r} is not a number of seconds: give a positive "
-                "number, or none for no limit"
-            ) from None
-        where = ENVIRONMENT
-    else:
-        where = "time_limit"
-    if isinstance(seconds, bool) or not isinstance(seconds, (int, float)):
-        raise ArgumentError(
-            f"time_limit takes a number of seconds, not {type(seconds).__name__}: "
-            "give a positive number, or math.inf for no limit"
-        )
-    if math.isnan(seconds) or seconds <= 0:
-        raise ArgumentError(f"{where}={seconds!r}: give a positive number of seconds")
-    return None if math.isinf(seconds) else float(seconds)
+    limit = configured_limit(
+        seconds,
+        environment=ENVIRONMENT,
+        default=DEFAULT_SECONDS,
+        unit="seconds",
+        where="time_limit",
+    )
+    return None if math.isinf(limit) else float(limit)
 
 
 def limit_message(seconds: float, what: str = "the work", fix: str = FIX) -> str:

@@ -29,14 +29,14 @@ from __future__ import annotations
 import contextlib
 import math
 import os
-import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
 import symengine as se
 
-from lagrangian.errors import ArgumentError, SizeLimitError
+from lagrangian.errors import SizeLimitError
+from lagrangian.limits import LimitStack, configured_limit
 
 #: The environment variable that sets the size limit where no number is given.
 ENVIRONMENT = "LAGRANGIAN_SIZE_LIMIT"
@@ -62,7 +62,6 @@ RAISE = {
         "(none for no limit)"
     ),
 }
-_NO_LIMIT = ("none", "off", "inf", "infinity")
 
 
 @dataclass(frozen=True)
@@ -71,14 +70,7 @@ class _Limit:
     where: str  # a key of RAISE
 
 
-class _Limits(threading.local):
-    """The size limits active in this thread, outermost first."""
-
-    def __init__(self) -> None:
-        self.stack: list[_Limit] = []
-
-
-_active = _Limits()
+_active: LimitStack[_Limit] = LimitStack()
 
 
 def configured_operations(operations: float | None = None, where: str = "size_limit") -> float:
@@ -90,28 +82,14 @@ def configured_operations(operations: float | None = None, where: str = "size_li
     >>> configured_operations(1000), configured_operations(math.inf)
     (1000, inf)
     """
-    if operations is None:
-        text = os.environ.get(ENVIRONMENT, "").strip()
-        if not text:
-            return DEFAULT_OPERATIONS
-        if text.lower() in _NO_LIMIT:
-            return math.inf
-        where = ENVIRONMENT
-        try:
-            operations = int(text)
-        except ValueError:
-            raise ArgumentError(
-                f"{ENVIRONMENT}={text[:40]!r} is not a whole number of operations: give a "
-                "positive whole number, or none for no limit"
-            ) from None
-    if isinstance(operations, bool) or not isinstance(operations, (int, float)):
-        raise ArgumentError(
-            f"{where} takes a number of operations, not {type(operations).__name__}: give a "
-            "positive whole number, or math.inf for no limit"
-        )
-    if math.isnan(operations) or operations < 1:
-        raise ArgumentError(f"{where}={operations!r}: give a positive number of operations")
-    return operations
+    return configured_limit(
+        operations,
+        environment=ENVIRONMENT,
+        default=DEFAULT_OPERATIONS,
+        unit="operations",
+        whole=True,
+        where=where,
+    )
 
 
 def active_operations() -> float:

@@ -13,7 +13,7 @@ from typing import Any
 import sympy as sp
 
 from lagrangian.io.document import child
-from lagrangian.io.reader import Reader, describe, suggestion
+from lagrangian.io.reader import Reader, describe
 from lagrangian.model import t, velocity
 from lagrangian.model.system import unit_problem
 from lagrangian.model.validation import MAX_COORDINATES, MAX_PARAMETERS, too_many_parameters
@@ -91,23 +91,11 @@ def read_initial(
     reader: Reader, data: dict[str, Any], coordinates: list[str]
 ) -> dict[sp.Symbol, float]:
     """Initial values of coordinates and velocities."""
-    raw = reader.mapping(data.get("initial", {}), "initial") or {}
     known = [*coordinates, *(velocity(sp.Symbol(q)).name for q in coordinates)]
-    initial: dict[sp.Symbol, float] = {}
-    for key, value in raw.items():
-        path = child("initial", key)
-        if key not in known:
-            reader.problem(
-                path,
-                f"{key!r} is not a coordinate or a velocity",
-                suggestion(key, known, "give values of coordinates and NAME_dot velocities"),
-                key=True,
-            )
-            continue
-        number = reader.number(value, path)
-        if number is not None:
-            initial[sp.Symbol(key)] = number
-    return initial
+    unknown = "{key!r} is not a coordinate or a velocity"
+    fix = "give values of coordinates and NAME_dot velocities"
+    initial = reader.known_values(data, "initial", known, unknown, fix, reader.number)
+    return {sp.Symbol(key): number for key, number in initial.items()}
 
 
 def read_units(
@@ -115,15 +103,11 @@ def read_units(
 ) -> dict[str, str]:
     """Units of coordinates, parameters and ``t``, as free text (``{l: m, theta: rad}``):
     short, in the characters of :func:`lagrangian.model.system.unit_problem`."""
-    raw = reader.mapping(data.get("units", {}), "units") or {}
     known = [*coordinates, *parameters, "t"]
     units: dict[str, str] = {}
-    for key, value in raw.items():
-        path = child("units", key)
-        if key not in known:
-            fix = suggestion(str(key), known, "give units of coordinates, parameters and t")
-            reader.problem(path, f"{key!r} is not a coordinate, parameter or t", fix, key=True)
-            continue
+    unknown = "{key!r} is not a coordinate, parameter or t"
+    fix = "give units of coordinates, parameters and t"
+    for key, path, value in reader.known_entries(data, "units", known, unknown, fix):
         message = unit_problem(value)
         if message is not None:
             reader.problem(path, message, "write it as text such as m, rad or m/s^2")

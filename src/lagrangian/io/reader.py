@@ -13,8 +13,8 @@ names the path, its line and column, and the fix.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
-from typing import Any
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from typing import Any, TypeVar
 
 import sympy as sp
 
@@ -29,6 +29,8 @@ from lagrangian.symbolic.expressions import (
 )
 from lagrangian.symbolic.names import name_problem
 from lagrangian.symbolic.probe import is_zero
+
+T = TypeVar("T")
 
 _EXAMPLE_VECTOR = 'a list such as ["l*sin(theta)", "-l*cos(theta)"]'
 
@@ -137,6 +139,56 @@ class Reader:
             if entry is not None:
                 found.append((child(path, i), entry))
         return found
+
+    def known_entries(
+        self, data: Mapping[str, Any], section: str, known: Iterable[str], unknown: str, fix: str
+    ) -> Iterator[tuple[str, str, Any]]:
+        """(key, path, value) of each entry of the mapping ``data[section]`` (a section keyed
+        by declared names: initial values, units...) whose key is one of ``known``; every
+        other key is reported at its key, with the message ``unknown`` (``{key!r}`` stands
+        for the key), the closest known name and then ``fix``.
+
+        >>> from lagrangian.io.document import Document
+        >>> reader = Reader(Document({}, "<string>"))
+        >>> data = {"initial": {"theta": 0.1, "thta_dot": 0.0}}
+        >>> known = ["theta", "theta_dot"]
+        >>> [key for key, path, value in reader.known_entries(
+        ...     data, "initial", known, "{key!r} is not a coordinate", "give coordinates")]
+        ['theta']
+        >>> reader.problems[0].message, str(reader.problems[0].fix)
+        ("'thta_dot' is not a coordinate", "did you mean 'theta_dot'? give coordinates")
+        """
+        known = list(known)
+        for key, value in (self.mapping(data.get(section, {}), section) or {}).items():
+            path = child(section, key)
+            if key in known:
+                yield key, path, value
+            else:
+                message = unknown.format(key=key)
+                self.problem(path, message, suggestion(str(key), known, fix), key=True)
+
+    def known_values(
+        self,
+        data: Mapping[str, Any],
+        section: str,
+        known: Iterable[str],
+        unknown: str,
+        fix: str,
+        read: Callable[[Any, str], T | None],
+    ) -> dict[str, T]:
+        """The values of :meth:`known_entries`, each read by ``read(value, path)`` (a reading
+        method: :meth:`number`, :meth:`expression`...), by key; a value that could not be
+        read is left out, its problem recorded.
+
+        >>> from lagrangian.io.document import Document
+        >>> reader = Reader(Document({}, "<string>"))
+        >>> data = {"initial": {"x": 0.5, "x_dot": "fast"}}
+        >>> reader.known_values(data, "initial", ["x", "x_dot"], "", "", reader.number)
+        {'x': 0.5}
+        """
+        entries = self.known_entries(data, section, known, unknown, fix)
+        found = {key: read(value, path) for key, path, value in entries}
+        return {key: value for key, value in found.items() if value is not None}
 
     def one_of(
         self, entry: Mapping[str, Any], kinds: Iterable[str], path: str, noun: str, example: str

@@ -125,18 +125,10 @@ def read_generalized_forces(
     reader: Reader, data: dict[str, Any], coordinates: list[str]
 ) -> dict[sp.Symbol, sp.Expr]:
     """Coordinate -> Q(q, q_dot, t)."""
-    raw = reader.mapping(data.get("generalized_forces", {}), "generalized_forces") or {}
-    forces = {}
-    for key, value in raw.items():
-        path = child("generalized_forces", key)
-        if key not in coordinates:
-            fix = suggestion(key, coordinates, "generalized forces are keyed by coordinate")
-            reader.problem(path, f"unknown coordinate {key!r}", fix, key=True)
-            continue
-        expression = reader.expression(value, path)
-        if expression is not None:
-            forces[sp.Symbol(key)] = expression
-    return forces
+    unknown, fix = "unknown coordinate {key!r}", "generalized forces are keyed by coordinate"
+    section = "generalized_forces"
+    forces = reader.known_values(data, section, coordinates, unknown, fix, reader.expression)
+    return {sp.Symbol(key): expression for key, expression in forces.items()}
 
 
 def read_fields(

@@ -13,8 +13,9 @@ render layer does — does not import SciPy's integrators.
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING, Any
+
+from lagrangian.lazy_names import lazy_attribute
 
 if TYPE_CHECKING:
     from lagrangian.simulation.batch.result import Batch
@@ -41,14 +42,7 @@ _HOMES = {
 
 
 def __getattr__(name: str) -> Any:
-    if name not in _HOMES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    module = importlib.import_module(_HOMES[name])
-    # Importing action.py has just bound the module to the name ``action`` here: bind the
-    # module's public names over it, as an eager ``from ... import`` would.
-    names = [key for key, home in _HOMES.items() if home == module.__name__]
-    globals().update({key: getattr(module, key) for key in names})
-    return globals()[name]
+    return lazy_attribute(globals(), _HOMES, __name__, name)
 
 
 __all__ = [

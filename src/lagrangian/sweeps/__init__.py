@@ -6,28 +6,25 @@ Needs ``pip install lagrangian[sweep]`` (Dask, xarray, Zarr), imported only when
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING, Any
+
+from lagrangian.lazy_names import lazy_attribute
 
 if TYPE_CHECKING:
     from lagrangian.sweeps.grid import Grid, build_grid
     from lagrangian.sweeps.run import SweepReport, sweep
     from lagrangian.sweeps.stop_condition import StopExpression, stop_expression
 
+#: Public name -> the module defining it, imported when the name is first used.
 _HOMES = {
-    "Grid": "lagrangian.sweeps.grid",
-    "build_grid": "lagrangian.sweeps.grid",
-    "SweepReport": "lagrangian.sweeps.run",
-    "sweep": "lagrangian.sweeps.run",
-    "StopExpression": "lagrangian.sweeps.stop_condition",
-    "stop_expression": "lagrangian.sweeps.stop_condition",
+    **dict.fromkeys(("Grid", "build_grid"), "lagrangian.sweeps.grid"),
+    **dict.fromkeys(("SweepReport", "sweep"), "lagrangian.sweeps.run"),
+    **dict.fromkeys(("StopExpression", "stop_expression"), "lagrangian.sweeps.stop_condition"),
 }
 
 
 def __getattr__(name: str) -> Any:
-    if name not in _HOMES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(_HOMES[name]), name)
+    return lazy_attribute(globals(), _HOMES, __name__, name)
 
 
 __all__ = ["Grid", "StopExpression", "SweepReport", "build_grid", "stop_expression", "sweep"]

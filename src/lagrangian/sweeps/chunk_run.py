@@ -32,6 +32,7 @@ import numpy as np
 
 from lagrangian.errors import SimulationInputError
 from lagrangian.model import System
+from lagrangian.simulation.batch.result import Batch
 from lagrangian.simulation.batch.run import StopCondition, simulate_batch
 from lagrangian.simulation.trajectory import Trajectory
 from lagrangian.sweeps.members import batch_members, simulate_member, stop_time
@@ -42,7 +43,8 @@ from lagrangian.sweeps.variables import SweepVariables
 class ChunkSettings:
     """How every block is integrated: the time span, what is stored (``variables``), the
     output times ``t``, the stepping keywords (method, rtol, atol, samples...), the stop
-    condition, the backend, and ``project_initial`` (members run by simulate)."""
+    condition, the backend, and ``project_initial`` (constrained systems only: the batch and
+    the members run by simulate refuse it without constraints)."""
 
     t_span: float | tuple[float, float] | None
     variables: SweepVariables
@@ -106,16 +108,7 @@ def _constrained_batch(
     """The members of a constrained system's block as one batch (the multiplier form), or
     None where the batch refuses or fails as a whole (then simulate runs each member)."""
     try:
-        batch = simulate_batch(
-            system,
-            dict(initial),
-            settings.t_span,
-            parameters=dict(parameters),
-            stop_when=settings.stop_when,
-            backend=settings.backend,
-            project_initial=settings.project_initial,
-            **_stepping(settings),
-        )
+        batch = _simulate_block(system, initial, parameters, settings)
     except Exception:  # each member then runs alone and records its own reason
         return None
     return batch_members(system, batch)
@@ -129,17 +122,8 @@ def _batch_chunk(
 ) -> ChunkResult:
     """The block as one compiled batch; a batch that raises as a whole is run again member
     by member, so that only the member that cannot be integrated is recorded as failed."""
-    stop = settings.stop_when
     try:
-        batch = simulate_batch(
-            system,
-            dict(initial),
-            settings.t_span,
-            parameters=dict(parameters),
-            stop_when=stop,
-            backend=settings.backend,
-            **_stepping(settings),
-        )
+        batch = _simulate_block(system, initial, parameters, settings)
     except SimulationInputError:
         raise
     except Exception as error:  # one member's failure must not take the block with it
@@ -153,6 +137,27 @@ def _batch_chunk(
             ]
         )
     return chunk_of_members(batch_members(system, batch), settings)
+
+
+def _simulate_block(
+    system: System,
+    initial: Mapping[str, Any],
+    parameters: Mapping[str, Any],
+    settings: ChunkSettings,
+) -> Batch:
+    """The members of a block integrated as one :func:`lagrangian.simulate_batch` with the
+    block's settings.  ``settings.project_initial`` is passed as it is: the sweep sets it
+    only for constrained systems (it refuses it without constraints, as the batch does)."""
+    return simulate_batch(
+        system,
+        dict(initial),
+        settings.t_span,
+        parameters=dict(parameters),
+        stop_when=settings.stop_when,
+        backend=settings.backend,
+        project_initial=settings.project_initial,
+        **_stepping(settings),
+    )
 
 
 def _count(initial: Mapping[str, Any], parameters: Mapping[str, Any]) -> int:
