@@ -132,7 +132,7 @@ def contact_offset(disc: RollingDisc, body: RigidBody) -> sp.ImmutableMatrix:
     Matrix([[-r*sin(psi)*sin(theta), r*sin(theta)*cos(psi), -r*cos(theta)]])
     """
     geometry = _wheel_geometry(disc, body)
-    back = _Sympy(body, disc)
+    back = _sympy_view(body, disc)
     return sp.ImmutableMatrix([back(geometry.rooted(e)) for e in geometry.offset])
 
 
@@ -240,7 +240,7 @@ def _axle(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
 def contact_point(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
     """C = p + r d, the lowest point of the disc's rim (world axes)."""
     geometry = _wheel_geometry(disc, body)
-    back = _Sympy(body, disc)
+    back = _sympy_view(body, disc)
     return tuple(
         back(geometry.rooted(se.expand(to_symengine(p) + e)))
         for p, e in zip(body.position, geometry.offset)
@@ -260,7 +260,7 @@ def _constraints(
 ) -> tuple[Any, ...]:
     """:func:`rolling_constraints` from the wheel's ``geometry``."""
     rates = [velocity(x) for x in q]
-    back = _Sympy(body, disc, q, rates)
+    back = _sympy_view(body, disc, q, rates)
     memo: dict[Any, Any] = {}  # a steered wheel's centre repeats the fork's offsets
     position = [to_symengine_sharing(e, memo) for e in body.position]
     offset = geometry.offset
@@ -347,7 +347,7 @@ def _terms(expr: Any) -> int:
     return len(expr.args) if expr.is_Add else 1
 
 
-def _Sympy(body: RigidBody, disc: RollingDisc, *more: Any) -> SympyView:
+def _sympy_view(body: RigidBody, disc: RollingDisc, *more: Any) -> SympyView:
     """SymEngine results back as SymPy with the System's own symbol objects (which may carry
     assumptions SymEngine does not keep), each distinct part once for all the constraints of
     the disc (the square root of a steered wheel's tilt is in most of their terms), sums and
