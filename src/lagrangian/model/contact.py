@@ -42,6 +42,8 @@ v_C = p_dot + omega_s x (C - p) = 0.
 from __future__ import annotations
 
 import difflib
+import math
+import random
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -55,11 +57,10 @@ from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
 from lagrangian.model.validation import CONFIGURATION, NameScope
 from lagrangian.symbolic.conversion import to_sympy
-from lagrangian.symbolic.expressions import distinct_parts
 from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
-from lagrangian.symbolic.nonsmooth import piecewise_smooth
-from lagrangian.symbolic.probe import is_zero
+from lagrangian.symbolic.probe import SEED, is_zero
 from lagrangian.symbolic.symbols import t, velocity
+from lagrangian.symbolic.sympy_view import SympyView
 
 #: Shapes whose axis of symmetry is a wheel's axle.
 WHEEL_SHAPES = ("disc", "ring", "cylinder")
@@ -131,7 +132,7 @@ def contact_offset(disc: RollingDisc, body: RigidBody) -> sp.ImmutableMatrix:
     Matrix([[-r*sin(psi)*sin(theta), r*sin(theta)*cos(psi), -r*cos(theta)]])
     """
     geometry = _wheel_geometry(disc, body)
-    back = _Sympy(body, disc)
+    back = _sympy_view(body, disc)
     return sp.ImmutableMatrix([back(geometry.rooted(e)) for e in geometry.offset])
 
 
@@ -201,7 +202,7 @@ def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
         return _WheelGeometry(below, _HorizontalLength(one, one, se.Integer(0)))
     a = _axle_in_world(disc, body)
     s = _length_of(a[2])
-    if s.value == 0 or is_zero(to_sympy(s.value if s.closed else s.root)):
+    if s.value == 0 or _vanishes(s.value if s.closed else s.root):
         return _WheelGeometry(below, s, flat=True)
     radius = to_symengine(disc.radius)
     inverse = 1 / s.value
@@ -239,7 +240,7 @@ def _axle(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
 def contact_point(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
     """C = p + r d, the lowest point of the disc's rim (world axes)."""
     geometry = _wheel_geometry(disc, body)
-    back = _Sympy(body, disc)
+    back = _sympy_view(body, disc)
     return tuple(
         back(geometry.rooted(se.expand(to_symengine(p) + e)))
         for p, e in zip(body.position, geometry.offset)
@@ -259,7 +260,7 @@ def _constraints(
 ) -> tuple[Any, ...]:
     """:func:`rolling_constraints` from the wheel's ``geometry``."""
     rates = [velocity(x) for x in q]
-    back = _Sympy(body, disc, q, rates)
+    back = _sympy_view(body, disc, q, rates)
     memo: dict[Any, Any] = {}  # a steered wheel's centre repeats the fork's offsets
     position = [to_symengine_sharing(e, memo) for e in body.position]
     offset = geometry.offset
@@ -284,11 +285,33 @@ def _constraints(
     name = disc.contact
     found: list[Any] = []
     if height != 0:
-        value = back(geometry.rooted(height))
-        if not is_zero(value):
-            found.append(ContactHeight(value, f"{name} height", name))
+        rooted = geometry.rooted(height)
+        if not _vanishes(rooted):
+            found.append(ContactHeight(back(rooted), f"{name} height", name))
     found += [NoSlip(slip[k], f"{name} slip {axis}", name) for k, axis in ((0, "x"), (1, "y"))]
     return tuple(found)
+
+
+#: The value (double precision) that proves an expression does not vanish identically; below
+#: it, :func:`lagrangian.symbolic.probe.is_zero` decides (a sum of order-one terms that
+#: cancels leaves about 1e-15 in double precision).
+CLEARLY_NONZERO = 1e-8
+
+
+def _vanishes(expr: Any) -> bool:
+    """True when the SymEngine ``expr`` vanishes identically: first one value in double
+    precision at the probe's kind of point (its symbols in (0.3, 1.3)), which settles the
+    common case, a wheel that stands and touches the plane, without converting ``expr`` to
+    SymPy; otherwise :func:`lagrangian.symbolic.probe.is_zero`."""
+    rng = random.Random(SEED)
+    point = {x: se.RealDouble(rng.uniform(0.3, 1.3)) for x in sorted(expr.free_symbols, key=str)}
+    try:
+        value = complex(expr.xreplace(point))
+    except (TypeError, ValueError, RuntimeError):
+        value = 0j
+    if math.isfinite(abs(value)) and abs(value) > CLEARLY_NONZERO:
+        return False
+    return is_zero(to_sympy(expr))
 
 
 def _tidy(expr: Any, length: _HorizontalLength) -> Any:
@@ -324,61 +347,17 @@ def _terms(expr: Any) -> int:
     return len(expr.args) if expr.is_Add else 1
 
 
-#: Parts whose free symbols are their symbols' and that :func:`piecewise_smooth` leaves.
-_PLAIN = (sp.Add, sp.Mul, sp.Pow, sp.Atom, sp.Function)
-_PLAIN_NOT = (sp.DiracDelta, sp.re, sp.im)
-
-
-class _Sympy:
-    """SymEngine results back as SymPy, with the System's own symbol objects (which may carry
-    assumptions SymEngine does not keep)."""
-
-    def __init__(self, body: RigidBody, disc: RollingDisc, *more: Any) -> None:
-        symbols: set[sp.Symbol] = {t}
-        for value in (*body.position, body.orientation.matrix, disc.radius, disc.tyre_radius):  # type: ignore[union-attr]
-            symbols |= value.free_symbols
-        for group in more:
-            symbols.update(group)
-        self.by_name = {s.name: s for s in symbols if isinstance(s, sp.Symbol)}
-        self._memo: dict[Any, sp.Expr] = {}
-
-    def __call__(self, expr: Any) -> sp.Expr:
-        result = self._converted(expr)
-        parts = distinct_parts(result)  # one walk, each shared part once
-        if all(isinstance(p, _PLAIN) and not isinstance(p, _PLAIN_NOT) for p in parts):
-            return result
-        return piecewise_smooth(result)
-
-    def _converted(self, expr: Any) -> sp.Expr:
-        """:func:`to_sympy` of ``expr`` by SymPy's own constructors, each distinct part once
-        for all the constraints of the disc (the square root of a steered wheel's tilt is in
-        most of their terms), the System's symbols put in as the parts are made: made with
-        SymPy's plain symbols and swapped afterwards, every sum and product would be made
-        twice (a bicycle's constraints: half the time of making them)."""
-        known = self._memo.get(expr)
-        if known is not None:
-            return known
-        if expr.is_Add:
-            result = sp.Add(*[self._converted(a) for a in expr.args])
-        elif expr.is_Mul:
-            result = sp.Mul(*[self._converted(a) for a in expr.args])
-        elif expr.is_Pow:
-            result = sp.Pow(*[self._converted(a) for a in expr.args])
-        else:
-            result = self._own_symbols(to_sympy(expr))
-        self._memo[expr] = result
-        return result
-
-    def _own_symbols(self, part: sp.Expr) -> sp.Expr:
-        """A leaf (a symbol, a number, a function's value) with the System's symbols."""
-        if isinstance(part, sp.Symbol):
-            return self.by_name.get(part.name, part)
-        swap = {
-            s: self.by_name[s.name]
-            for s in part.free_symbols
-            if s.name in self.by_name and self.by_name[s.name] is not s
-        }
-        return part.xreplace(swap) if swap else part
+def _sympy_view(body: RigidBody, disc: RollingDisc, *more: Any) -> SympyView:
+    """SymEngine results back as SymPy with the System's own symbol objects (which may carry
+    assumptions SymEngine does not keep), each distinct part once for all the constraints of
+    the disc (the square root of a steered wheel's tilt is in most of their terms), sums and
+    products that are canonical already made without SymPy's general evaluation."""
+    symbols: set[sp.Symbol] = {t}
+    for value in (*body.position, body.orientation.matrix, disc.radius, disc.tyre_radius):  # type: ignore[union-attr]
+        symbols |= value.free_symbols
+    for group in more:
+        symbols.update(group)
+    return SympyView(s for s in symbols if isinstance(s, sp.Symbol))
 
 
 def add_rolling_constraints(values: dict[str, Any]) -> list[Problem]:
