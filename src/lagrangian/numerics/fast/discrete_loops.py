@@ -52,8 +52,11 @@ _SCHEDULE = types.Tuple((_vector, _vector, _vector, types.boolean))
 _MIDPOINT_STATE = types.Tuple((*[_vector] * 5, _matrix, _vector, _matrix))
 #: (a, a_hat, b, c, lobatto) of a collocation method.
 _TABLEAU = types.Tuple((_matrix, _matrix, _vector, _vector, types.boolean))
-#: (q, v, momentum, h, A, dh/dt, V, Lambda, [previous step]) of the collocation march.
-_COLLOCATION_STATE = types.Tuple((*[_vector] * 4, _matrix, _vector, _matrix, _matrix, _vector))
+#: (q, v, momentum, h, A, dh/dt, V, Lambda, [previous step], the prediction errors' history
+#: and its counters) of the collocation march.
+_COLLOCATION_STATE = types.Tuple(
+    (*[_vector] * 4, _matrix, _vector, _matrix, _matrix, _vector, _matrix, _integers)
+)
 #: (q, v, residual, multipliers, node, t) by output row, of every march.
 _OUT = types.Tuple((_matrix, _matrix, _vector, _matrix, _integers, _vector))
 #: steps, cursor, clock
