@@ -5,7 +5,9 @@ compiled march reports progress, stops on Ctrl-C keeping its rows, fails with th
 march's message, and gives way to the NumPy march where numba is missing.  The collocation
 steps' Newton iteration (stopped at a small correction, the forces at it from their Jacobian)
 solves its stage equations to rounding: against the equations evaluated afresh, SciPy's root
-finder and the constraints, in two evaluations of every stage a step."""
+finder and the constraints, most steps in one evaluation of every stage from the corrected
+guess, which changes the iterations, not the solution (the stages solved again from the plain
+extrapolation; the trajectory recorded before it)."""
 
 from __future__ import annotations
 
