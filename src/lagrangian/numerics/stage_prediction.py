@@ -20,16 +20,18 @@ misses by about 1e-9 of the stage positions (median): within SMALL_CORRECTION, s
 first correction, whose error is of its square, ends most steps at one evaluation of the
 stages (:mod:`lagrangian.numerics.stage_newton`).  The solution is that of the equations
 whatever the start; only the number of iterations changes.  The table starts again at a step
-of another size, and when its guess missed by more than the plain prediction did (a motion
-too fast for the step, where differences grow with their order).
+of another size, and when its guess missed by more than the plain prediction did; a guess
+leaves out the differences of order 2 and more when their sum exceeds |D_n| + |nabla D_n|,
+so that a motion too fast for the step, whose differences grow with their order, is
+extrapolated no further than linearly.
 
 >>> import numpy as np
 >>> table, counters = np.zeros((HISTORY, 1)), np.zeros(1, dtype=np.int64)
 >>> plain, guess = np.array([[1.0]]), np.empty((1, 1))
->>> for n in range(4):  # D_n = n^2 / 64 at one stage of one coordinate
+>>> for n in range(4):  # D_n = (n + 4)^2 / 64 at one stage of one coordinate
 ...     corrected_guess(plain, table, counters, guess)
-...     remember(plain + n * n / 64, plain, guess, table, counters)
->>> corrected_guess(plain, table, counters, guess); float(guess[0, 0]) == 1 + 16 / 64
+...     remember(plain + (n + 4) ** 2 / 64, plain, guess, table, counters)
+>>> corrected_guess(plain, table, counters, guess); float(guess[0, 0]) == 1 + 64 / 64
 True
 """
 
@@ -47,15 +49,31 @@ def corrected_guess(
     plain: np.ndarray, table: np.ndarray, counters: np.ndarray, guess: np.ndarray
 ) -> None:
     """guess <- plain + sum_{j<k} nabla^j D_n (module docstring); ``plain`` and ``guess``
-    (s, n), ``table`` (HISTORY, s n) its rows the differences."""
+    (s, n), ``table`` (HISTORY, s n) its rows the differences.  The differences of order 2
+    and more are left out when their sum exceeds |D_n| + |nabla D_n| (largest entries): a
+    polynomial that does not hold, whose differences grow."""
     s, n = plain.shape
     known = counters[KNOWN]
+    bound, higher = 0.0, 0.0
+    for e in range(s * n if known > 1 else 0):
+        bound = max(bound, abs(table[0, e]))
+        higher = max(higher, abs(table[1, e]))
+    bound += higher
+    higher = 0.0
     for i in range(s):
         for x in range(n):
-            total = plain[i, x]
-            for j in range(known):
+            total = 0.0
+            for j in range(2, known):
                 total += table[j, i * n + x]
             guess[i, x] = total
+            higher = max(higher, abs(total))
+    whole = higher <= bound
+    for i in range(s):
+        for x in range(n):
+            low = plain[i, x]
+            for j in range(min(known, 2)):
+                low += table[j, i * n + x]
+            guess[i, x] = low + guess[i, x] if whole else low
 
 
 def remember(
