@@ -6,7 +6,8 @@ system's C functions (:mod:`lagrangian.numerics.fast.discrete`) as function valu
 compiled once per machine with an explicit signature and kept in numba's on-disk cache
 (:func:`lagrangian.numerics.fast.loops.compile_cached`).  Numba checks a cached march against
 the time stamp of its own file only: after editing the helpers it calls (``newton.py``,
-``discrete_nodes.py``), delete the caches beside them (``__pycache__/*.nbi``, ``*.nbc``).
+``discrete_nodes.py``, ``../stage_newton.py``, ``../stage_prediction.py``), delete the caches
+beside them (``__pycache__/*.nbi``, ``*.nbc``).
 
 :func:`run_march` calls a march over chunks of :data:`CHUNK` steps, or, when it reports
 progress, of at most a hundredth of the run (a progress bar moves, a Ctrl-C raised by it
