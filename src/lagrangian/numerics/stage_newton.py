@@ -6,8 +6,10 @@ stops: the rules shared by the NumPy step
 The stage equations are solved by simplified Newton iterations (Hairer & Wanner, Solving
 Ordinary Differential Equations II, section IV.8): their Jacobian is evaluated and factored
 at the first iterate, and the factors are reused by the corrections after it, each of which
-then costs one evaluation of the stages and one substitution.  From the extrapolated stages
-of the step before, the first correction is a full Newton step; the Jacobian changes over it
+then costs one evaluation of the stages and one substitution.  From the guess of
+:mod:`lagrangian.numerics.stage_prediction` (the stages of the step before extrapolated, and
+corrected), the first correction is a full Newton step, which ends the iteration when it is
+below SMALL_CORRECTION (most steps of a smooth motion); the Jacobian changes over it
 by the size of that correction, so the corrections after it contract at the rate
 
     theta_k = |dV_k| / |dV_{k-1}|     (about 1e-7 on a double pendulum at dt = 0.01)

@@ -15,7 +15,10 @@ last correction from their Jacobian), the Jacobian is assembled and factored onc
 at the first iterate, and reused by the corrections after it (simplified Newton,
 :mod:`lagrangian.numerics.stage_newton`), in a function of its own
 (:func:`factor_stage_jacobian`), and the extrapolation of the stage velocities is made once
-per size of step, not at every step.
+per size of step, not at every step.  The iteration starts from that extrapolation corrected
+by the extrapolated errors of the steps before (:mod:`lagrangian.numerics.stage_prediction`):
+most steps of a smooth motion then end at Newton's first correction, one evaluation of the
+stages.
 This module is imported only when numba is installed.
 """
 
@@ -55,9 +58,17 @@ from lagrangian.numerics.fast.newton import (
     within,
 )
 from lagrangian.numerics.stage_newton import REFRESH_RATE, settled
+from lagrangian.numerics.stage_prediction import corrected_guess, forget, remember
 
+_inline = njit(cache=False, nogil=True, error_model="numpy", inline="always")
 #: :func:`lagrangian.numerics.stage_newton.settled`, compiled into the march.
-compiled_settled = njit(cache=False, nogil=True, error_model="numpy", inline="always")(settled)
+compiled_settled = _inline(settled)
+#: The start of the stage iteration (:mod:`lagrangian.numerics.stage_prediction`): functions
+#: of their own (their loops keep their values in registers, see
+#: :func:`factor_stage_jacobian`), called with views without owners.
+_apart = njit(cache=False, nogil=True, error_model="numpy")
+compiled_corrected_guess, compiled_remember = _apart(corrected_guess), _apart(remember)
+compiled_forget = _inline(forget)
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
@@ -302,16 +313,16 @@ def step_ratio(dt, previous) -> float:
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
-def extrapolate(E, V, scratch):
-    """V <- E V: the stage velocities of the step before extrapolated to this step's nodes."""
+def extrapolate(E, V, plain):
+    """plain <- E V: the stage velocities of the step before extrapolated to this step's
+    nodes."""
     s, n = V.shape
     for i in range(s):
         for y in range(n):
             total = 0.0
             for j in range(s):
                 total += E[i, j] * V[j, y]
-            scratch[i, y] = total
-    V[:] = scratch
+            plain[i, y] = total
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
@@ -333,10 +344,11 @@ def march_collocation(
     lobatto) from the current node: step to the next node, record its output rows.
 
     Arguments as :func:`lagrangian.numerics.fast.midpoint.march_midpoint`, but ``state`` =
-    (q, v, p, h, A, dh/dt, V, Lambda, [previous step]).  Returns RUNNING, FINISHED or the
-    failure.
+    (q, v, p, h, A, dh/dt, V, Lambda, [previous step], the difference table of the prediction
+    errors and its counter (:mod:`lagrangian.numerics.stage_prediction`)).  Returns RUNNING,
+    FINISHED or the failure.
     """
-    q, v, momentum, h, jacobian, rate, V, lam, previous = state
+    q, v, momentum, h, jacobian, rate, V, lam, previous, history, counters = state
     n, m, s, r = q.size, h.size, V.shape[0], lam.shape[0]
     system = bind((midpoint, legendre, constraints), data, p, n, m)
     vectors, matrices = (np.empty((s, n)), np.empty((s, n)), np.empty((s, n))), (
@@ -348,6 +360,7 @@ def march_collocation(
         vectors, matrices, rows, np.empty((s, n)), np.empty((size, size)), np.empty(size),
         np.empty((4, n)), np.empty(m), np.empty((s, n)), np.empty((n + m, n + m)),
         np.empty(n + m), np.empty((s, s)), np.empty((s, s, s)), np.empty(size, np.int64),
+        np.empty((s, n)),
     )  # fmt: skip
     stages = (
         unowned(vectors[0]), unowned(vectors[1]), unowned(vectors[2]),
@@ -359,7 +372,7 @@ def march_collocation(
     )  # fmt: skip
     spare = (
         unowned(owners[6]), unowned(owners[7]), unowned(owners[8]), unowned(owners[11]),
-        unowned(owners[12]),
+        unowned(owners[12]), unowned(owners[14]),
     )  # fmt: skip
     velocity_work = (unowned(owners[9]), unowned(owners[10]))
     tableau_views = (
@@ -368,7 +381,8 @@ def march_collocation(
     )  # fmt: skip
     mine = (
         unowned(q), unowned(v), unowned(momentum), unowned(h), unowned(jacobian),
-        unowned(rate), unowned(V), unowned(lam), unowned(previous),
+        unowned(rate), unowned(V), unowned(lam), unowned(previous), unowned(history),
+        unowned(counters),
     )  # fmt: skip
     place = (unowned(schedule[0]), unowned(schedule[1]), unowned(schedule[2]), schedule[3])
     records = (
@@ -389,10 +403,10 @@ def collocation_steps(
     velocity_work,
 ):  # fmt: skip
     """:func:`march_collocation` on arrays that hold no references."""
-    q, v, momentum, h, jacobian, rate, V, lam, previous = state
+    q, v, momentum, h, jacobian, rate, V, lam, previous, history, counters = state
     s, m = V.shape[0], h.size
     stages = work[0]
-    vectors, mu, scratch, E, weights = spare
+    vectors, mu, plain, E, weights, guess = spare
     couplings(tableau, weights)
     ratio = np.nan  # that of the extrapolation E
     q1, momentum1, v_old = vectors[0], vectors[1], vectors[2]
@@ -404,17 +418,24 @@ def collocation_steps(
         if t1 == np.inf:
             return FINISHED
         dt = t1 - t0
-        if previous[0] > 0.0:
+        predicted = previous[0] > 0.0
+        if predicted:
             if step_ratio(dt, previous[0]) != ratio:  # only at a step of another size
                 ratio = step_ratio(dt, previous[0])
                 extrapolation(tableau[3], ratio, E)
-            extrapolate(E, V, scratch)
+            if ratio != 1.0:
+                compiled_forget(counters)
+            extrapolate(E, V, plain)
+            compiled_corrected_guess(plain, history, counters, V)
+            guess[:] = V
         status, evaluations = stage_step(
             system, tableau, weights, q, momentum, t0, dt, V, lam, (q1, momentum1), work
         )
         cursor[EVALUATIONS] += evaluations
         if status != OK:
             return status
+        if predicted:
+            compiled_remember(V, plain, guess, history, counters)
         momentum[:] = momentum1
         t2 = next_node(schedule, cursor, clock)
         if m > 0 or wants_output(schedule, cursor, t1, t2 == np.inf):

@@ -6,7 +6,8 @@ system's C functions (:mod:`lagrangian.numerics.fast.discrete`) as function valu
 compiled once per machine with an explicit signature and kept in numba's on-disk cache
 (:func:`lagrangian.numerics.fast.loops.compile_cached`).  Numba checks a cached march against
 the time stamp of its own file only: after editing the helpers it calls (``newton.py``,
-``discrete_nodes.py``), delete the caches beside them (``__pycache__/*.nbi``, ``*.nbc``).
+``discrete_nodes.py``, ``../stage_newton.py``, ``../stage_prediction.py``), delete the caches
+beside them (``__pycache__/*.nbi``, ``*.nbc``).
 
 :func:`run_march` calls a march over chunks of :data:`CHUNK` steps, or, when it reports
 progress, of at most a hundredth of the run (a progress bar moves, a Ctrl-C raised by it
@@ -52,8 +53,11 @@ _SCHEDULE = types.Tuple((_vector, _vector, _vector, types.boolean))
 _MIDPOINT_STATE = types.Tuple((*[_vector] * 5, _matrix, _vector, _matrix))
 #: (a, a_hat, b, c, lobatto) of a collocation method.
 _TABLEAU = types.Tuple((_matrix, _matrix, _vector, _vector, types.boolean))
-#: (q, v, momentum, h, A, dh/dt, V, Lambda, [previous step]) of the collocation march.
-_COLLOCATION_STATE = types.Tuple((*[_vector] * 4, _matrix, _vector, _matrix, _matrix, _vector))
+#: (q, v, momentum, h, A, dh/dt, V, Lambda, [previous step], the prediction errors' history
+#: and its counters) of the collocation march.
+_COLLOCATION_STATE = types.Tuple(
+    (*[_vector] * 4, _matrix, _vector, _matrix, _matrix, _vector, _matrix, _integers)
+)
 #: (q, v, residual, multipliers, node, t) by output row, of every march.
 _OUT = types.Tuple((_matrix, _matrix, _vector, _matrix, _integers, _vector))
 #: steps, cursor, clock

@@ -26,7 +26,9 @@ rounding, and so are the forces at them, moved from the last evaluation by their
 
     F_j + A_j^T Lambda_j  <-  F_j - (L_qv + Q_v)(j) dV_j - h K_j sum_k a_jk dV_k + A_j^T Lambda_j
 
-(Lambda corrected): a step of a smooth motion evaluates the stages twice, not three times.
+(Lambda corrected): a step of a smooth motion evaluates the stages twice, not three times,
+and once where its guess (:mod:`lagrangian.numerics.stage_prediction`) is within
+SMALL_CORRECTION already.
 
 >>> import numpy as np, lagrangian as lg
 >>> from lagrangian.numerics.discrete_lagrangian import compile_discrete_mechanics

@@ -47,6 +47,7 @@ from lagrangian.numerics.fast.newton import (
     VELOCITY_DIVERGED,
     VELOCITY_SINGULAR,
 )
+from lagrangian.numerics.stage_prediction import HISTORY
 from lagrangian.simulation.variational.collocation import Tableau
 from lagrangian.simulation.variational.march import Run, StepSchedule, end_multipliers
 from lagrangian.simulation.variational.step import not_converged, singular
@@ -95,7 +96,10 @@ def fast_collocation_march(
     compiled (arguments and errors as :func:`fast_march`)."""
     march = _March(mechanics, x0, parameters, nodes, outputs)
     m, s = march.sizes[1], tableau.stages
-    stages = (np.tile(march.start[1], (s, 1)), np.zeros((s - 1 if m else 0, m)), np.zeros(1))
+    stages = (
+        np.tile(march.start[1], (s, 1)), np.zeros((s - 1 if m else 0, m)), np.zeros(1),
+        np.zeros((HISTORY, s * march.sizes[0])), np.zeros(1, dtype=np.int64),
+    )  # fmt: skip
     arrays = (tableau.a, tableau.a_hat, tableau.b, tableau.c)
     coefficients = (*(np.ascontiguousarray(a, dtype=float) for a in arrays), tableau.lobatto)
     return march.run("collocation", (coefficients, (*march.start, *stages)), (), progress)

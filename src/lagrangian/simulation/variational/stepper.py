@@ -38,7 +38,8 @@ from typing import Any
 import numpy as np
 
 from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics
-from lagrangian.simulation.variational.collocation import Tableau
+from lagrangian.numerics.stage_prediction import HISTORY, corrected_guess, forget, remember
+from lagrangian.simulation.variational.collocation import EQUAL_STEPS, Tableau
 from lagrangian.simulation.variational.collocation_step import stage_step
 from lagrangian.simulation.variational.step import position_step, velocity_step
 
@@ -170,10 +171,11 @@ class MidpointStepper(NodeStepper):
 
 class CollocationStepper(NodeStepper):
     """A collocation method ``tableau``: each step solves the stage equations from the stage
-    velocities of the step before, extrapolated, then, where the node needs it, the velocity
-    equations of the step's end (the Legendre map, with the multiplier Lambda_s of the Lobatto
-    pair: :func:`~lagrangian.simulation.variational.step.velocity_step` with the weight
-    dt b_s)."""
+    velocities of the step before, extrapolated (and corrected by the extrapolated errors of
+    the predictions before: :mod:`lagrangian.numerics.stage_prediction`), then, where the
+    node needs it, the velocity equations of the step's end (the Legendre map, with the
+    multiplier Lambda_s of the Lobatto pair:
+    :func:`~lagrangian.simulation.variational.step.velocity_step` with the weight dt b_s)."""
 
     def __init__(
         self,
@@ -190,14 +192,23 @@ class CollocationStepper(NodeStepper):
         self.stage_velocities = np.tile(self.v, (s, 1))
         self.stage_multipliers = np.zeros((s - 1 if m else 0, m))
         self.last_dt: float | None = None
+        # the prediction errors of the last steps (lagrangian.numerics.stage_prediction)
+        self.history = np.zeros((HISTORY, s * len(self.q)))
+        self.counters = np.zeros(1, dtype=np.int64)
 
     def advance(self, k: int, t0: float, dt: float) -> None:
         mechanics, tableau, p = self.mechanics, self.tableau, self.p
-        V = self.stage_velocities
+        V = plain = self.stage_velocities
         if self.last_dt is not None:
-            V = tableau.extrapolation(dt / self.last_dt) @ V
+            if abs(dt / self.last_dt - 1.0) > EQUAL_STEPS:  # another size of step
+                forget(self.counters)
+            plain = tableau.extrapolation(dt / self.last_dt) @ self.stage_velocities
+            V = np.empty_like(plain)
+            corrected_guess(plain, self.history, self.counters, V)
         stage = stage_step(mechanics, tableau, self.q, self.momentum, t0, dt, p, V,
                            self.stage_multipliers)  # fmt: skip
+        if self.last_dt is not None:
+            remember(stage.V, plain, V, self.history, self.counters)
         self.momentum = stage.momentum
         self.evaluations += stage.evaluations
         if self.velocity_nodes[k + 1]:
