@@ -150,8 +150,8 @@ class SympyView:
                 known = (self._part(angle), None, False)
             else:
                 first, second, flipped = _ordered(x, y)
-                canonical = build.sum([build.part(first), self._negative(second)])
-                known = (canonical, canonical, flipped)
+                difference = build.sum([build.part(first), self._negative(second)])
+                known = (difference, difference, flipped)
             self._angles[angle] = known
         argument, canonical, flipped = known
         if canonical is None:

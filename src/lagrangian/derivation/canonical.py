@@ -161,9 +161,8 @@ class Builder:
         if len(parts) == 2:
             kinds = (parts[0][KIND], parts[1][KIND])
             if RATIONAL in kinds and (SUM in kinds or PRODUCT in kinds):
-                return self._general(
-                    sp.Mul, parts
-                )  # SymPy's two-argument rules (a number times a sum)
+                # SymPy's two-argument rules (a number times a sum is distributed)
+                return self._general(sp.Mul, parts)
         # a product among the factors (a flipped sine) flattened at once, not met midway
         return self._product(self._flat(parts), parts)
 
@@ -305,8 +304,8 @@ def _describe(expr: sp.Expr, key: tuple[Any, ...]) -> Part:
         return (expr, key, PLAIN, value_hash, value_hash, rest_hash, commutative, None)
     if kind is sp.Pow and not expr.args[0].is_Number:
         base, exponent = expr.args
-        kind = POWER_RATIONAL if exponent.is_Rational else POWER
-        return (expr, key, kind, value_hash, hash(base), rest_hash, commutative, None)
+        tag = POWER_RATIONAL if exponent.is_Rational else POWER
+        return (expr, key, tag, value_hash, hash(base), rest_hash, commutative, None)
     return (expr, key, OTHER, value_hash, None, None, commutative, None)
 
 
