@@ -13,14 +13,21 @@ import gc
 import threading
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
-from functools import cmp_to_key
 from typing import Any
 
 import symengine as se
 import sympy as sp
-from sympy.core.basic import ordering_of_classes
 
 from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.canonical import (
+    EXPR,
+    Builder,
+    CanonicalOrder,
+    Part,
+    Unorderable,
+    sympy_product,
+    sympy_sum,
+)
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.nonsmooth import piecewise_smooth
 
@@ -35,8 +42,9 @@ class SympyView:
     Sines and cosines of a difference of two symbols, which pendulum-like systems have by
     the hundred, are built directly in SymPy's canonical form (the first symbol in SymPy's
     order positive) instead of through SymPy's general evaluation; sums and products of
-    terms that are canonical already skip most of it (:func:`sympy_sum`,
-    :func:`sympy_product`); everything else goes through SymPy's own constructors.
+    terms that are canonical already skip most of it, each made from what is known of its
+    converted arguments (:class:`lagrangian.symbolic.canonical.Builder`); everything else
+    goes through SymPy's own constructors.
     """
 
     def __init__(
@@ -46,51 +54,52 @@ class SympyView:
         ``names`` maps further names to any SymPy expression the symbol stands for."""
         self.by_name: dict[str, sp.Expr] = {s.name: s for s in symbols}
         self.by_name.update(names or {})
-        self._memo: dict[Backend, sp.Expr] = {}
-        self._order = CanonicalOrder()
+        self._memo: dict[Backend, Part] = {}
+        self._builder = Builder()
         # a backend angle -> (the angle converted, its canonical difference or None, flipped)
-        self._angles: dict[Backend, tuple[sp.Expr, sp.Expr | None, bool]] = {}
-        self._negatives: dict[sp.Symbol, sp.Expr] = {}  # symbol -> -symbol
+        self._angles: dict[Backend, tuple[Part, Part | None, bool]] = {}
+        self._negatives: dict[sp.Symbol, Part] = {}  # symbol -> -symbol
 
     def __call__(self, expr: Backend) -> sp.Expr:
         known = self._memo.get(expr)
+        return (self._part(expr) if known is None else known)[EXPR]
+
+    def _part(self, expr: Backend) -> Part:
+        """The :data:`~lagrangian.symbolic.canonical.Part` of ``expr`` converted."""
+        known = self._memo.get(expr)
         if known is not None:
             return known
+        build = self._builder
         if isinstance(expr, se.Symbol):
-            result = self.by_name.get(expr.name) or sp.Symbol(expr.name)
+            result = build.part(self.by_name.get(expr.name) or sp.Symbol(expr.name))
         elif expr.is_Add:
-            result = sympy_sum(self._arguments(expr), self._order)
+            result = build.sum(self._arguments(expr))
         elif expr.is_Mul:
-            result = sympy_product(self._arguments(expr), self._order)
+            result = build.product(self._arguments(expr))
         elif expr.is_Pow:
             base, exponent = expr.args
             if base.is_Add and exponent.is_Number and not exponent.is_Integer:
-                result = sympy_root(self(base), self(exponent), base.has(se.I))
+                result = build.part(sympy_root(self(base), self(exponent), base.has(se.I)))
             else:
-                result = sp.Pow(self(base), self(exponent))
+                result = build.part(sp.Pow(self(base), self(exponent)))
         elif type(expr) in _TRIG:
             result = self._trig(_TRIG[type(expr)], expr.args[0])
         elif expr.is_Number:
-            result = to_sympy(expr)
+            result = build.part(to_sympy(expr))
         else:
-            result = self._fallback(expr)
+            result = build.part(self._fallback(expr))
         self._memo[expr] = result
         return result
 
     def _all(self, entries: list[Backend]) -> list[sp.Expr]:
-        """Every entry converted; then the sort keys remembered meanwhile are let go (a
-        200-link chain's equations have hundreds of thousands; the few that other entries
-        share are quickly made again)."""
-        try:
-            with _cycle_collection_paused():
-                return [self(v) for v in entries]
-        finally:
-            self._order = CanonicalOrder()
+        """Every entry converted."""
+        with _cycle_collection_paused():
+            return [self(v) for v in entries]
 
-    def _arguments(self, expr: Backend) -> list[sp.Expr]:
+    def _arguments(self, expr: Backend) -> list[Part]:
         """The arguments of ``expr`` converted (most are met before: looked up directly)."""
         get = self._memo.get
-        return [known if (known := get(a)) is not None else self(a) for a in expr.args]
+        return [known if (known := get(a)) is not None else self._part(a) for a in expr.args]
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs and sign, and Heaviside by a stand-in
@@ -102,33 +111,36 @@ class SympyView:
         }
         return result.xreplace(swap) if swap else result
 
-    def _trig(self, function: Callable[..., sp.Expr], angle: Backend) -> sp.Expr:
+    def _trig(self, function: Callable[..., sp.Expr], angle: Backend) -> Part:
         """``function`` of the backend ``angle``; a difference of two symbols in SymPy's
         canonical order (the first symbol positive), made from the two symbols directly: the
         angle as SymEngine orders it is then never converted (an n-link chain has n^2/2 such
         angles, each in a cosine of M and a sine of the forcing)."""
+        build = self._builder
         known = self._angles.get(angle)  # the sine and the cosine of an angle share it
         if known is None:
             pair = _backend_difference(angle)
             x, y = (None, None) if pair is None else (self(pair[0]), self(pair[1]))
             if not (x is not None and x.is_Symbol and y is not None and y.is_Symbol):
-                known = (self(angle), None, False)
+                known = (self._part(angle), None, False)
             else:
                 first, second, flipped = _ordered(x, y)
-                canonical = sympy_sum([first, self._negative(second)], self._order)
-                known = (canonical, canonical, flipped)
+                difference = build.sum([build.part(first), self._negative(second)])
+                known = (difference, difference, flipped)
             self._angles[angle] = known
         argument, canonical, flipped = known
         if canonical is None:
-            return function(argument)
-        value = unevaluated_trig(function, canonical)
-        return sympy_product([sp.S.NegativeOne, value]) if flipped and function is sp.sin else value
+            return build.part(function(argument[EXPR]))
+        value = build.function_value(unevaluated_trig(function, canonical[EXPR]), canonical)
+        if flipped and function is sp.sin:
+            return build.product([build.part(sp.S.NegativeOne), value])
+        return value
 
-    def _negative(self, symbol: sp.Symbol) -> sp.Expr:
+    def _negative(self, symbol: sp.Symbol) -> Part:
         """-symbol, made once per symbol."""
         known = self._negatives.get(symbol)
         if known is None:
-            known = self._negatives[symbol] = -symbol
+            known = self._negatives[symbol] = self._builder.part(-symbol)
         return known
 
     def vector(self, values: Iterable[Backend]) -> sp.ImmutableMatrix:
@@ -290,216 +302,15 @@ def _ordered(x: sp.Symbol, y: sp.Symbol) -> tuple[sp.Symbol, sp.Symbol, bool]:
     return first, second, x is not first
 
 
-#: SymPy's canonical order of the arguments of a sum or a product (what ``Add`` and ``Mul``
-#: sort them by).
-_CANONICAL_ORDER = cmp_to_key(sp.Basic.compare)
-
-
-def sympy_sum(terms: list[sp.Expr], order: CanonicalOrder | None = None) -> sp.Expr:
-    """``sp.Add(*terms)``, the same expression (equal arguments in the same order), built
-    without SymPy's general evaluation when the terms are canonical SymPy terms with nothing
-    to combine: rational numbers, and symbols, powers, products and function values whose
-    parts without their numeric coefficients all differ.  Then ``Add.flatten`` would only
-    sum the numbers, sort the rest (by :meth:`sympy.Basic.compare`) and put the number first,
-    which is all this does; anything else goes through ``sp.Add``.
-
-    >>> x, y = sp.symbols("x y")
-    >>> sympy_sum([sp.Integer(2), 3 * y, x**2]) == sp.Add(2, 3 * y, x**2)
-    True
-    """
-    return _sum(terms, terms, order)
-
-
-def _sum(flat: list[sp.Expr], terms: list[sp.Expr], order: CanonicalOrder | None) -> sp.Expr:
-    """:func:`sympy_sum` of ``terms``, whose sums are flattened in ``flat`` (``terms`` until
-    one is met)."""
-    coefficient: sp.Expr = sp.S.Zero
-    parts: list[sp.Expr] = []
-    seen: set[Any] = set()
-    for term in flat:
-        if term.is_Rational:
-            # 0 + a rational number is that number (SymPy makes the same canonical one)
-            coefficient = term if coefficient is sp.S.Zero else coefficient + term
-            continue
-        kind = type(term)
-        if kind is sp.Add:
-            if flat is not terms:  # a sum among a sum's arguments: SymPy never makes one
-                return sp.Add(*terms)
-            return _sum(_flat(terms, sp.Add), terms, order)
-        if kind is sp.Mul:
-            args = term.args
-            key: Any = (args[1:] if len(args) > 2 else args[1]) if args[0].is_Number else args
-        elif _is_plain(term) or (kind is sp.Pow and not term.args[0].is_Number):
-            key = term
-        else:
-            return sp.Add(*terms)
-        if key in seen or term.is_commutative is not True:
-            return sp.Add(*terms)
-        seen.add(key)
-        parts.append(term)
-    _sort(parts, order)
-    if coefficient is not sp.S.Zero:
-        parts.insert(0, coefficient)
-    return sp.Add._from_args(parts, True)  # what sp.Add does with the flattened terms
-
-
-def sympy_product(factors: list[sp.Expr], order: CanonicalOrder | None = None) -> sp.Expr:
-    """``sp.Mul(*factors)``, the same expression, built without SymPy's general evaluation
-    when the factors are canonical SymPy factors with nothing to combine: rational numbers,
-    and symbols, sums, function values and powers of them with rational exponents, of bases
-    that all differ.  Then ``Mul.flatten`` would only multiply the numbers, sort the rest
-    (by :meth:`sympy.Basic.compare`) and put the number first, which is all this does; a
-    number times one sum (which SymPy distributes) and anything else go through ``sp.Mul``.
-
-    >>> x, y = sp.symbols("x y")
-    >>> sympy_product([sp.Integer(-2), sp.sin(y), x**2]) == sp.Mul(-2, sp.sin(y), x**2)
-    True
-    """
-    if (
-        len(factors) == 2
-        and any(f.is_Rational for f in factors)
-        and any(type(f) in (sp.Add, sp.Mul) for f in factors)
-    ):
-        return sp.Mul(*factors)  # SymPy's two-argument rules (a number times a sum)
-    # a product among the factors (a flipped sine) flattened at once, not met midway
-    return _product(_flat(factors, sp.Mul), factors, order)
-
-
-def _product(flat: list[sp.Expr], factors: list[sp.Expr], order: CanonicalOrder | None) -> sp.Expr:
-    """:func:`sympy_product` of ``factors``, whose products are flattened in ``flat``
-    (``factors`` until one is met)."""
-    coefficient: sp.Expr = sp.S.One
-    parts: list[sp.Expr] = []
-    bases: set[sp.Expr] = set()
-    for factor in flat:
-        if factor.is_Rational:
-            # 1 * a rational number is that number (SymPy makes the same canonical one)
-            coefficient = factor if coefficient is sp.S.One else coefficient * factor
-            continue
-        kind = type(factor)
-        if kind is sp.Mul:
-            if flat is not factors:  # a product among a product's arguments: SymPy never makes one
-                return sp.Mul(*factors)
-            return _product(_flat(factors, sp.Mul), factors, order)
-        if kind is sp.Pow:
-            base, exponent = factor.args
-            if base.is_Number or not exponent.is_Rational:
-                return sp.Mul(*factors)
-        elif kind is sp.Add or _is_plain(factor):
-            base = factor
-        else:
-            return sp.Mul(*factors)
-        if base in bases or factor.is_commutative is not True:
-            return sp.Mul(*factors)
-        bases.add(base)
-        parts.append(factor)
-    if coefficient is sp.S.Zero or (
-        coefficient is not sp.S.One and len(parts) == 1 and parts[0].is_Add
-    ):
-        return sp.Mul(*factors)
-    keys = _sort(parts, order)
-    if coefficient is not sp.S.One:
-        parts.insert(0, coefficient)
-    product = sp.Mul._from_args(parts, True)  # what sp.Mul does with the flattened factors
-    if keys is not None and order is not None:
-        # its key from its factors' (a sum of such products sorts them by it next)
-        if coefficient is not sp.S.One:
-            keys.insert(0, order(coefficient))
-        order.remember(product, keys)
-    return product
-
-
-def _sort(parts: list[sp.Expr], order: CanonicalOrder | None) -> list[tuple[Any, ...]] | None:
-    """Sort ``parts`` in SymPy's canonical order, by the keys of ``order`` where it has them
-    (keys of unlike content, which no canonical expression has, cannot be compared); the
-    keys in the sorted order when they were used."""
-    if order is not None and len(parts) > 1:
-        try:
-            keys = [order(part) for part in parts]
-            ranks = sorted(range(len(parts)), key=keys.__getitem__)
-        except (Unorderable, TypeError):
-            pass
-        else:
-            parts[:] = [parts[i] for i in ranks]
-            return [keys[i] for i in ranks]
-    parts.sort(key=_CANONICAL_ORDER)
-    return None
-
-
-class Unorderable(Exception):
-    """An expression :class:`CanonicalOrder` has no key for."""
-
-
-#: Where a class's name stands in SymPy's order of classes; the rest come after, by name.
-_CLASS_RANK = {name: i for i, name in enumerate(ordering_of_classes)}
-_UNRANKED = len(ordering_of_classes) + 1
-_MUL_RANK = _CLASS_RANK.get("Mul", _UNRANKED)
-#: How SymPy's classes give the content that ``Basic.compare`` compares after the class.
-_ARGS_CONTENT = (sp.Basic._hashable_content, sp.Expr._hashable_content)
-_NAMED = (sp.Symbol, sp.Dummy)
-
-
-class CanonicalOrder:
-    """Sort keys that order expressions as :meth:`sympy.Basic.compare` does, remembered per
-    expression: a key is compared in C, where ``compare`` runs in Python on every
-    comparison (the arguments of the sums of a 200-link chain's equations are sorted by
-    the hundred thousand).
-
-    ``compare`` orders by class (its place in SymPy's ``ordering_of_classes``, else its
-    name), then by the length of the hashable content, then by its items one by one (other
-    expressions recursively, anything else by ``<``); the key is that tuple.  Symbols,
-    rational numbers and the expressions whose content is their arguments have keys; any
-    other expression raises :class:`Unorderable`.
-
-    >>> x, y = sp.symbols("x y")
-    >>> order = CanonicalOrder()
-    >>> sorted([y, sp.sin(x), x**2, x], key=order)
-    [x, y, x**2, sin(x)]
-    """
-
-    def __init__(self) -> None:
-        # by id, which hashes faster than an expression; the expression is kept with its key,
-        # so its id is not reused while the key is remembered
-        self._keys: dict[int, tuple[sp.Basic, tuple[Any, ...]]] = {}
-
-    def __call__(self, expr: sp.Basic) -> tuple[Any, ...]:
-        known = self._keys.get(id(expr))
-        if known is not None:
-            return known[1]
-        kind = type(expr)
-        name = kind.__name__
-        if kind._hashable_content in _ARGS_CONTENT:
-            content: tuple[Any, ...] = tuple(map(self, expr.args))
-        elif kind in _NAMED or expr.is_Rational:
-            content = expr._hashable_content()
-        else:
-            raise Unorderable(name)
-        key = (_CLASS_RANK.get(name, _UNRANKED), name, len(content), *content)
-        self._keys[id(expr)] = (expr, key)
-        return key
-
-    def remember(self, product: sp.Mul, keys: list[tuple[Any, ...]]) -> None:
-        """Remember the key of ``product`` from the keys of its arguments (in their order),
-        the key :meth:`__call__` would make of them."""
-        self._keys[id(product)] = (product, (_MUL_RANK, "Mul", len(keys), *keys))
-
-
-def _flat(items: list[sp.Expr], kind: type) -> list[sp.Expr]:
-    """``items`` with the arguments of each ``kind`` (Add or Mul) in place of it."""
-    if not any(type(item) is kind for item in items):
-        return items
-    flat: list[sp.Expr] = []
-    for item in items:
-        args: tuple[sp.Expr, ...] = item.args
-        flat.extend(args if type(item) is kind else (item,))
-    return flat
-
-
-def _is_plain(expr: sp.Expr) -> bool:
-    """A symbol, or the value of a function that SymPy's products take as a base to the
-    power 1 (every function but exp): neither has SymPy constructor postprocessors (only
-    matrix, vector, tensor and quantum expressions do)."""
-    kind = type(expr)
-    return kind in _NAMED or (
-        isinstance(expr, sp.Function) and kind.as_base_exp is sp.Expr.as_base_exp
-    )
+__all__ = [
+    "Backend",
+    "CanonicalOrder",
+    "SympyView",
+    "Unorderable",
+    "backend_entries",
+    "cycle_collection_paused",
+    "sympy_product",
+    "sympy_root",
+    "sympy_sum",
+    "unevaluated_trig",
+]

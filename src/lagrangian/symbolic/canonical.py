@@ -1,0 +1,345 @@
+"""SymPy sums and products built in their canonical form without SymPy's general evaluation,
+from what is already known of their parts.
+
+``sp.Add(*terms)`` and ``sp.Mul(*factors)`` flatten, combine like parts, sort the rest by
+:meth:`sympy.Basic.compare` and put the number first.  When the parts are canonical and
+nothing combines, only the sorting and the number are left to do, and that is what
+:class:`Builder` does, from a :data:`Part` of each argument: the SymPy expression with its
+sort key, what kind of argument it is and the hashes that tell whether two parts could
+combine.  A converted 200-link chain has 60,000 products of five or six factors each (M's
+entries and the forcing's terms), each sorted and checked once, so none of this is asked
+of SymPy again for each product: a part's key and hashes are computed once, when it is
+made, and a product's and a sum's from their parts'.
+
+Two parts combine only if their hashes are equal, so parts whose hashes all differ combine
+in no way, and a clash of hashes (rare) only sends the arguments to SymPy's own
+constructors: the result is SymPy's in every case.
+
+>>> import sympy as sp
+>>> x, y = sp.symbols("x y")
+>>> sympy_product([sp.Integer(-2), sp.sin(y), x**2]) == sp.Mul(-2, sp.sin(y), x**2)
+True
+>>> sympy_sum([sp.Integer(2), 3 * y, x**2]) == sp.Add(2, 3 * y, x**2)
+True
+"""
+
+from __future__ import annotations
+
+from functools import cmp_to_key
+from typing import Any
+
+import sympy as sp
+from sympy.core.basic import ordering_of_classes
+
+from lagrangian.symbolic.objects import sympy_object
+
+#: The fields of a Part, a tuple (the fastest record to read in the conversion's loops):
+#: the expression, its sort key (:data:`UNORDERABLE` when it has none), its kind,
+#: its hash (None for a sum or a product), the hash of its base as a factor (PLAIN,
+#: POWER_RATIONAL), the hash of what remains of it without a numeric coefficient as a term
+#: (None for a SUM), whether it is commutative, and the Parts of a sum's or a product's
+#: arguments (None until asked for).
+EXPR, KEY, KIND, HASH, BASE_HASH, REST_HASH, COMMUTATIVE, ARGS = range(8)
+Part = tuple[Any, ...]
+
+#: The kinds of parts: a rational number; a symbol or the value of a function that SymPy's
+#: products take as a base to the power 1; a power of a base that is not a number (to a
+#: rational exponent or not); a sum; a product; anything else (SymPy's constructors).
+RATIONAL, PLAIN, POWER_RATIONAL, POWER, SUM, PRODUCT, OTHER = range(7)
+
+
+class Unorderable(Exception):
+    """An expression :class:`CanonicalOrder` has no key for."""
+
+
+#: The key of a Part without one (its expression is sorted by ``Basic.compare``).
+UNORDERABLE: tuple[Any, ...] = ()
+
+
+#: Where a class's name stands in SymPy's order of classes; the rest come after, by name.
+_CLASS_RANK = {name: i for i, name in enumerate(ordering_of_classes)}
+_UNRANKED = len(ordering_of_classes) + 1
+_MUL_RANK = _CLASS_RANK.get("Mul", _UNRANKED)
+_ADD_RANK = _CLASS_RANK.get("Add", _UNRANKED)
+#: How SymPy's classes give the content that ``Basic.compare`` compares after the class.
+_ARGS_CONTENT = (sp.Basic._hashable_content, sp.Expr._hashable_content)
+_NAMED = (sp.Symbol, sp.Dummy)
+
+#: SymPy's canonical order of the arguments of a sum or a product (what ``Add`` and ``Mul``
+#: sort them by).
+_CANONICAL_ORDER = cmp_to_key(sp.Basic.compare)
+
+
+class CanonicalOrder:
+    """Sort keys that order expressions as :meth:`sympy.Basic.compare` does, remembered per
+    expression: a key is compared in C, where ``compare`` runs in Python on every
+    comparison (the arguments of the sums of a 200-link chain's equations are sorted by
+    the hundred thousand).
+
+    ``compare`` orders by class (its place in SymPy's ``ordering_of_classes``, else its
+    name), then by the length of the hashable content, then by its items one by one (other
+    expressions recursively, anything else by ``<``); the key is that tuple.  Symbols,
+    rational numbers and the expressions whose content is their arguments have keys; any
+    other expression raises :class:`Unorderable`.
+
+    >>> x, y = sp.symbols("x y")
+    >>> order = CanonicalOrder()
+    >>> sorted([y, sp.sin(x), x**2, x], key=order)
+    [x, y, x**2, sin(x)]
+    """
+
+    def __init__(self) -> None:
+        # by id, which hashes faster than an expression; the expression is kept with its key,
+        # so its id is not reused while the key is remembered
+        self._keys: dict[int, tuple[sp.Basic, tuple[Any, ...]]] = {}
+
+    def __call__(self, expr: sp.Basic) -> tuple[Any, ...]:
+        known = self._keys.get(id(expr))
+        if known is not None:
+            return known[1]
+        kind = type(expr)
+        name = kind.__name__
+        if kind._hashable_content in _ARGS_CONTENT:
+            content: tuple[Any, ...] = tuple(map(self, expr.args))
+        elif kind in _NAMED or expr.is_Rational:
+            content = expr._hashable_content()
+        else:
+            raise Unorderable(name)
+        key = (_CLASS_RANK.get(name, _UNRANKED), name, len(content), *content)
+        self._keys[id(expr)] = (expr, key)
+        return key
+
+
+class Builder:
+    """Makes the :data:`Part` of SymPy expressions (:meth:`part`, remembered per object),
+    and sums and products of Parts in SymPy's canonical form (:meth:`sum`,
+    :meth:`product`), each with its Part."""
+
+    def __init__(self) -> None:
+        self.order = CanonicalOrder()
+        self._parts: dict[int, Part] = {}  # by id; the Part holds its expression
+
+    def part(self, expr: sp.Expr) -> Part:
+        """The Part of any SymPy expression."""
+        known = self._parts.get(id(expr))
+        if known is None:
+            known = self._parts[id(expr)] = _describe(expr, self._key(expr))
+        return known
+
+    def function_value(self, value: sp.Expr, argument: Part) -> Part:
+        """The Part of ``value``, a sine or a cosine of the expression of ``argument`` made
+        without SymPy's constructor (:func:`lagrangian.derivation.backend.unevaluated_trig`),
+        without asking SymPy what it is."""
+        value_hash = hash(value)
+        key = argument[KEY]
+        if key is not UNORDERABLE:
+            name = type(value).__name__
+            key = (_CLASS_RANK.get(name, _UNRANKED), name, 1, key)
+        commutative = argument[COMMUTATIVE]
+        return (value, key, PLAIN, value_hash, value_hash, hash((value_hash,)), commutative, None)
+
+    def _key(self, expr: sp.Expr) -> tuple[Any, ...]:
+        try:
+            return self.order(expr)
+        except Unorderable:
+            return UNORDERABLE
+
+    @staticmethod
+    def key(part: Part) -> tuple[Any, ...]:
+        """The sort key of ``part`` (Unorderable when it has none)."""
+        key = part[KEY]
+        if key is UNORDERABLE:
+            raise Unorderable(type(part[EXPR]).__name__)
+        return key
+
+    def sum(self, parts: list[Part]) -> Part:
+        """The Part of ``sp.Add`` of the parts' expressions (:func:`sympy_sum`)."""
+        return self._sum(parts, parts)
+
+    def product(self, parts: list[Part]) -> Part:
+        """The Part of ``sp.Mul`` of the parts' expressions (:func:`sympy_product`)."""
+        if len(parts) == 2:
+            kinds = (parts[0][KIND], parts[1][KIND])
+            if RATIONAL in kinds and (SUM in kinds or PRODUCT in kinds):
+                # SymPy's two-argument rules (a number times a sum is distributed)
+                return self._general(sp.Mul, parts)
+        # a product among the factors (a flipped sine) flattened at once, not met midway
+        return self._product(self._flat(parts), parts)
+
+    def _general(self, constructor: Any, parts: list[Part]) -> Part:
+        return self.part(constructor(*[p[EXPR] for p in parts]))
+
+    def _flat(self, parts: list[Part]) -> list[Part]:
+        """``parts`` with the Parts of each product's arguments in place of it."""
+        flat = None
+        for i, p in enumerate(parts):
+            if p[KIND] == PRODUCT:
+                if flat is None:
+                    flat = parts[:i]
+                flat.extend(self._arguments(p))
+            elif flat is not None:
+                flat.append(p)
+        return parts if flat is None else flat
+
+    def _arguments(self, part: Part) -> tuple[Part, ...]:
+        args = part[ARGS]
+        return tuple(map(self.part, part[EXPR].args)) if args is None else args
+
+    def _sum(self, flat: list[Part], parts: list[Part]) -> Part:
+        """:meth:`sum` of ``parts``, whose sums are flattened in ``flat`` (``parts`` until
+        one is met).  Add.flatten would sum the numbers, sort the rest and put the number
+        first, which is all this does when no two terms have the same part without their
+        numeric coefficients (their REST_HASHes all differ)."""
+        coefficient: Any = sp.S.Zero
+        terms: list[Part] = []
+        seen: set[int] = set()
+        for p in flat:
+            kind = p[KIND]
+            if kind == RATIONAL:
+                # 0 + a rational number is that number (SymPy makes the same canonical one)
+                coefficient = p[EXPR] if coefficient is sp.S.Zero else coefficient + p[EXPR]
+                continue
+            if kind == SUM:
+                if flat is not parts:  # a sum among a sum's arguments: SymPy never makes one
+                    return self._general(sp.Add, parts)
+                flat = []
+                for q in parts:
+                    flat.extend(self._arguments(q) if q[KIND] == SUM else (q,))
+                return self._sum(flat, parts)
+            rest = p[REST_HASH]
+            if kind == OTHER or rest in seen or not p[COMMUTATIVE]:
+                return self._general(sp.Add, parts)
+            seen.add(rest)
+            terms.append(p)
+        number = None if coefficient is sp.S.Zero else self.part(coefficient)
+        return self._made(sp.Add, number, terms)
+
+    def _product(self, flat: list[Part], parts: list[Part]) -> Part:
+        """:meth:`product` of ``parts``, whose products are flattened in ``flat``.
+        Mul.flatten would multiply the numbers, sort the rest and put the number first,
+        which is all this does when the factors' bases all differ (their BASE_HASHes)."""
+        coefficient: Any = sp.S.One
+        factors: list[Part] = []
+        bases: set[int] = set()
+        for p in flat:
+            kind = p[KIND]
+            if kind == RATIONAL:
+                # 1 * a rational number is that number (SymPy makes the same canonical one)
+                coefficient = p[EXPR] if coefficient is sp.S.One else coefficient * p[EXPR]
+                continue
+            if kind in (PLAIN, POWER_RATIONAL):
+                base = p[BASE_HASH]
+            elif kind == SUM:
+                base = _hash(p)
+            else:  # a product among a product's arguments, a power to another exponent, ...
+                return self._general(sp.Mul, parts)
+            if base in bases or not p[COMMUTATIVE]:
+                return self._general(sp.Mul, parts)
+            bases.add(base)
+            factors.append(p)
+        if coefficient is sp.S.Zero or (
+            coefficient is not sp.S.One and len(factors) == 1 and factors[0][KIND] == SUM
+        ):
+            return self._general(sp.Mul, parts)
+        number = None if coefficient is sp.S.One else self.part(coefficient)
+        return self._made(sp.Mul, number, factors)
+
+    def _made(self, kind: Any, number: Part | None, parts: list[Part]) -> Part:
+        """The Part of ``kind._from_args`` (Add or Mul) of ``parts`` sorted and ``number``
+        (if any) first, as SymPy puts it; its key from theirs."""
+        ordered = _sorted(parts)
+        args = ordered if number is None else [number, *ordered]
+        if len(args) < 2:
+            return args[0] if args else self.part(kind.identity)
+        made = kind._from_args([p[EXPR] for p in args], True)
+        keys = tuple([p[KEY] for p in args])
+        if UNORDERABLE in keys:
+            key: tuple[Any, ...] = UNORDERABLE
+        else:
+            rank, name = (_ADD_RANK, "Add") if kind is sp.Add else (_MUL_RANK, "Mul")
+            key = (rank, name, len(keys), *keys)
+        if kind is sp.Add:
+            return (made, key, SUM, None, None, None, True, tuple(args))
+        # as a term of a sum: what it is without its number, as SymPy's Add sees it
+        rest_hash = hash(tuple([_hash(p) for p in ordered]))
+        return (made, key, PRODUCT, None, None, rest_hash, True, tuple(args))
+
+
+def _hash(part: Part) -> int:
+    known = part[HASH]
+    return hash(part[EXPR]) if known is None else known
+
+
+def _sorted(parts: list[Part]) -> list[Part]:
+    """``parts`` in SymPy's canonical order: by their keys (compared in C), or by
+    ``Basic.compare`` when one has none or two are of unlike content."""
+    if len(parts) < 2:
+        return parts
+    keys = [p[KEY] for p in parts]
+    try:
+        if UNORDERABLE in keys:
+            raise Unorderable
+        ranks = sorted(range(len(parts)), key=keys.__getitem__)
+    except (Unorderable, TypeError):
+        return sorted(parts, key=lambda p: _CANONICAL_ORDER(p[EXPR]))
+    return [parts[i] for i in ranks]
+
+
+def _describe(expr: sp.Expr, key: tuple[Any, ...]) -> Part:
+    """The Part of ``expr`` read from the expression itself, its sort key ``key``."""
+    kind = type(expr)
+    commutative = expr.is_commutative is True
+    value_hash = hash(expr)
+    if expr.is_Rational:
+        return (expr, key, RATIONAL, value_hash, None, None, commutative, None)
+    if kind is sp.Add:
+        return (expr, key, SUM, value_hash, None, None, commutative, None)
+    if kind is sp.Mul:
+        args = expr.args
+        rest = args[1:] if args[0].is_Number else args
+        rest_hash = hash(tuple(map(hash, rest)))
+        return (expr, key, PRODUCT, value_hash, None, rest_hash, commutative, None)
+    rest_hash = hash((value_hash,))
+    if _is_plain(expr):
+        return (expr, key, PLAIN, value_hash, value_hash, rest_hash, commutative, None)
+    if kind is sp.Pow and not expr.args[0].is_Number:
+        base, exponent = expr.args
+        tag = POWER_RATIONAL if exponent.is_Rational else POWER
+        return (expr, key, tag, value_hash, hash(base), rest_hash, commutative, None)
+    return (expr, key, OTHER, value_hash, None, None, commutative, None)
+
+
+def _is_plain(expr: sp.Expr) -> bool:
+    """A symbol, or the value of a function that SymPy's products take as a base to the
+    power 1 (every function but exp): neither has SymPy constructor postprocessors (only
+    matrix, vector, tensor and quantum expressions do)."""
+    kind = type(expr)
+    return kind in _NAMED or (
+        isinstance(expr, sp.Function) and kind.as_base_exp is sp.Expr.as_base_exp
+    )
+
+
+def sympy_sum(terms: list[sp.Expr], builder: Builder | None = None) -> sp.Expr:
+    """``sp.Add(*terms)``, the same expression (equal arguments in the same order), built
+    without SymPy's general evaluation when the terms are canonical SymPy terms with nothing
+    to combine (:class:`Builder`); anything else goes through ``sp.Add``.
+
+    >>> x, y = sp.symbols("x y")
+    >>> sympy_sum([sp.Integer(2), 3 * y, x**2]) == sp.Add(2, 3 * y, x**2)
+    True
+    """
+    builder = builder or Builder()
+    return builder.sum([builder.part(sympy_object(term)) for term in terms])[EXPR]
+
+
+def sympy_product(factors: list[sp.Expr], builder: Builder | None = None) -> sp.Expr:
+    """``sp.Mul(*factors)``, the same expression, built without SymPy's general evaluation
+    when the factors are canonical SymPy factors with nothing to combine (:class:`Builder`);
+    a number times one sum (which SymPy distributes) and anything else go through ``sp.Mul``.
+
+    >>> x, y = sp.symbols("x y")
+    >>> sympy_product([sp.Integer(-2), sp.sin(y), x**2]) == sp.Mul(-2, sp.sin(y), x**2)
+    True
+    """
+    builder = builder or Builder()
+    return builder.product([builder.part(sympy_object(f)) for f in factors])[EXPR]
