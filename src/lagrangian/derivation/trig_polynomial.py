@@ -257,28 +257,17 @@ class TrigAlgebra:
         """Add ``weight`` (a coefficient, 1 when None) * ``a`` * ``b`` to the coefficient
         lists ``target``: the products of many pairs summed with one :meth:`gather`, as an
         entry of M sums every body's share, with no polynomial made per pair."""
-        known = self._products  # looked up here: most pairs are known
         for ka, ca in a.items():
-            if weight is not None:
-                ca = weight * ca
-            for kb, cb in b.items():
-                both = ca * cb
-                r = known.get((*ka, -1, *kb))
-                if r is None:
-                    r = self._product(ka, kb)
-                if not r or r[0].__class__ is int:  # a monomial
-                    target[r].append(both)
-                    continue
-                for k, n in _monomials(r):
-                    target[k].append(both if n == 1 else n * both)
+            self.accumulate(target, b, ka, ca if weight is None else weight * ca)
 
     def accumulate(
         self, target: dict[Key, list[Backend]], p: Poly, factor: Key, scale: Any = 1
     ) -> None:
         """Add ``scale`` * monomial ``factor`` * ``p`` to the coefficient lists ``target``."""
-        known = self._products
+        known = self._products  # looked up here: most pairs are known
+        plain = scale == 1
         for k, c in p.items():
-            value = c if scale == 1 else scale * c
+            value = c if plain else scale * c
             r = known.get((*k, -1, *factor))
             if r is None:
                 r = self._product(k, factor)
