@@ -44,13 +44,44 @@ from lagrangian.symbolic.probe import depends_on, is_zero
 
 
 def energy_function(subject: Subject) -> sp.Expr:
-    """h = sum_j q_dot_j dL/dq_dot_j - L, expanded (computed once per System).
+    """h = sum_j q_dot_j dL/dq_dot_j - L: T + V + U(q, 0, t) as the equations write T
+    (1/2 q_dot^T M q_dot, its entries collected) when T is a quadratic form in the velocities
+    and U at most linear in them (:func:`collected_energy_function`), expanded otherwise
+    (computed once per System).
 
     >>> import lagrangian as lg
     >>> energy_function(lg.examples.simple_pendulum())
     -g*l*m*cos(theta) + l**2*m*theta_dot**2/2
     """
-    return expanded_energy_function(equations_of(subject).system)
+    eom = equations_of(subject)
+    collected = collected_energy_function(eom)
+    return expanded_energy_function(eom.system) if collected is None else collected
+
+
+def collected_energy_function(eom: EquationsOfMotion) -> sp.Expr | None:
+    """h = T + V + U(q, 0, t), nothing expanded, when T as written can only have terms of
+    degree 2 in the velocities and U of degree 0 or 1 (read from the expressions as written,
+    :func:`velocity_degrees`); None otherwise.
+
+    With L = L2 + L1 + L0 homogeneous in the velocities, h = L2 - L0 (Euler's theorem on
+    homogeneous functions: sum_j q_dot_j dL_d/dq_dot_j = d L_d); here L2 = T, L1 = -U1 and
+    L0 = -V - U(q, 0, t).  A chain's T = 1/2 q_dot^T M q_dot keeps M's entries as the
+    equations show them (sums of masses times a cosine): n^2 terms, where expanded h has
+    n^3/6.
+    """
+    velocities = eom.velocities
+    kinetic, potential, velocity_potential = (
+        eom.kinetic_energy,
+        eom.potential_energy,
+        eom.velocity_potential,
+    )
+    if velocity_degrees(kinetic, velocities) != {2} or depends_on(potential, velocities):
+        return None
+    u_degrees = velocity_degrees(velocity_potential, velocities)
+    if u_degrees is None or not u_degrees <= {0, 1}:
+        return None
+    scalar = velocity_potential.xreplace({v: 0 for v in velocities})
+    return kinetic + potential + scalar
 
 
 def homogeneous_parts(expr: sp.Expr, velocities: Sequence[sp.Symbol]) -> dict[int, sp.Expr] | None:
@@ -277,7 +308,9 @@ def energy_at_values(context: EvaluationContext) -> EnergyConservation:
     """:func:`energy_conservation` at the parameter values of ``context``: a rate dh/dt
     that vanishes only there (a force F given as 0) keeps h, under that condition."""
     eom = context.eom
-    h, name = energy_function(eom), OutputNames.of(eom).energy
+    collected = collected_energy_function(eom)
+    h = expanded_energy_function(eom.system) if collected is None else collected
+    name = OutputNames.of(eom).energy
     rate, reasons = _power_terms(eom)
     power, working, idle = _constraint_power(eom)
     if idle and reasons and vanishes_on_manifold(rate, eom):
@@ -305,14 +338,8 @@ def energy_at_values(context: EvaluationContext) -> EnergyConservation:
             f"({condition_text(condition)}), so {name} is conserved there (for other values "
             f"{reason})"
         )
-    scalar = eom.velocity_potential.xreplace({v: 0 for v in eom.velocities})
-    if scalar == 0:  # T + V, expanded once per System (a chain's has n^3/3 terms)
-        total = kinetic_plus_potential(eom.system)
-    else:
-        total = sp.expand(eom.kinetic_energy + eom.potential_energy + scalar)
-    # both expanded the same way: equal expressions need no difference built and probed
-    # (a chain's h and T + V have n^3/3 terms each)
-    equal = h == total or is_zero(h - total)
+    # h written as T + V + U(q, 0, t) is that total by construction
+    total, equal = (h, True) if collected is not None else _expanded_total_energy(eom, h)
     return EnergyConservation(
         energy_function=h,
         conserved=conserved,
@@ -324,3 +351,14 @@ def energy_at_values(context: EvaluationContext) -> EnergyConservation:
         constraint_power=sp.expand(power),
         condition=sp.true if condition is None else condition,
     )
+
+
+def _expanded_total_energy(eom: EquationsOfMotion, h: sp.Expr) -> tuple[sp.Expr, bool]:
+    """T + V + U(q, 0, t) expanded, and whether it is the expanded ``h``."""
+    scalar = eom.velocity_potential.xreplace({v: 0 for v in eom.velocities})
+    if scalar == 0:  # T + V, expanded once per System (a chain's has n^3/3 terms)
+        total = kinetic_plus_potential(eom.system)
+    else:
+        total = sp.expand(eom.kinetic_energy + eom.potential_energy + scalar)
+    # both expanded the same way: equal expressions need no difference built and probed
+    return total, h == total or is_zero(h - total)

@@ -27,6 +27,7 @@ from lagrangian.analysis.manifold.left_out import constraint_names
 from lagrangian.analysis.names import OutputNames
 from lagrangian.derivation import EquationsOfMotion
 from lagrangian.derivation.steps import step_momenta, step_slopes
+from lagrangian.symbolic.nonsmooth import derivative
 from lagrangian.symbolic.probe import is_zero
 
 
@@ -153,6 +154,19 @@ def _cyclic(context: EvaluationContext, j: int) -> CyclicCoordinate:
     return CyclicCoordinate(q, momentum, reason, False, kinds, sp.false)
 
 
+def _slopes_at_rest(eom: EquationsOfMotion, velocities: VelocityFree) -> list[sp.Expr]:
+    """dL/dq_j at rest, = d L(q, 0, t)/dq_j, each from the terms of T, V and U at rest that
+    hold q_j (a chain's V: one term per coordinate), nothing expanded."""
+    column = {q: j for j, q in enumerate(eom.coordinates)}
+    slopes: list[list[sp.Expr]] = [[] for _ in column]
+    pieces = ((1, eom.kinetic_energy), (-1, eom.potential_energy), (-1, eom.velocity_potential))
+    for sign, piece in pieces:
+        for term in sp.Add.make_args(expression_at_rest(piece, velocities)):
+            for q in term.free_symbols & column.keys():
+                slopes[column[q]].append(sign * derivative(term, q))
+    return [sp.Add(*terms) for terms in slopes]
+
+
 def _vanishes(expr: sp.Expr, velocities: VelocityFree) -> bool:
     """``expr`` = 0 identically: not when its part at rest (a few terms, -dV/dq for a
     natural system) is not, found without evaluating all of it; else by probing all."""
@@ -187,9 +201,14 @@ def cyclic_at_values(context: EvaluationContext) -> tuple[CyclicCoordinate, ...]
     in_lagrangian = set().union(*(piece.free_symbols for piece in pieces))
     in_dissipation = dissipation.free_symbols
     velocities = VelocityFree(frozenset(eom.velocities))
+    at_rest = _slopes_at_rest(eom, velocities)
     found = []
     for j, q in enumerate(eom.coordinates):
-        if q in in_lagrangian and not _vanishes(step_slopes(eom.system)[j], velocities):
+        # dL/dq_j at rest not 0 (-dV/dq_j of a pendulum) proves dL/dq_j != 0 before the
+        # steps' dL/dq_j (n^2 terms each for a chain) are converted to be probed
+        if q in in_lagrangian and (
+            not is_zero(at_rest[j]) or not _vanishes(step_slopes(eom.system)[j], velocities)
+        ):
             continue
         if q in in_dissipation and not is_zero(dissipation.diff(q)):
             continue

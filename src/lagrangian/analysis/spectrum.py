@@ -70,8 +70,15 @@ def eigenpairs(matrix: sp.MatrixBase) -> list[tuple[complex, list[complex]]]:
 
 
 def _doubles(matrix: sp.MatrixBase) -> np.ndarray:
-    """The real parts of a matrix of numbers, in double precision."""
-    return np.array([[complex(e).real for e in matrix.row(i)] for i in range(matrix.rows)])
+    """The real parts of a matrix of numbers, in double precision (a Float read directly:
+    ``complex`` of a SymPy number splits it into real and imaginary parts first, a tenth of
+    the normal modes of a 100-link chain)."""
+    return np.array(
+        [
+            [float(e) if isinstance(e, sp.Float) else complex(e).real for e in matrix.row(i)]
+            for i in range(matrix.rows)
+        ]
+    )
 
 
 def symmetric_eigenvalues(matrix: sp.MatrixBase) -> tuple[float, ...]:

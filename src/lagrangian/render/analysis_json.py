@@ -81,12 +81,12 @@ def _flag(value: Any) -> bool | None:
     return None if value is None else bool(value)
 
 
-def _energy(energy: EnergyConservation) -> dict[str, Any]:
+def _energy(energy: EnergyConservation, written: _Written) -> dict[str, Any]:
     return {
         "reason": energy.reason,
         "rate": expression_string(energy.rate),
         "constraint_power": expression_string(energy.constraint_power),
-        "total_energy": expression_string(energy.total_energy),
+        "total_energy": written(energy.total_energy),
         "equals_total_energy": bool(energy.equals_total_energy),
         "total_energy_reason": energy.total_energy_reason,
         "condition": expression_string(energy.condition),
@@ -178,6 +178,22 @@ def _cyclic(cyclic: CyclicCoordinate) -> dict[str, Any]:
     }
 
 
+class _Written:
+    """:func:`expression_string`, the energy function written once: it is also the conserved
+    h and, when equal to it, T + V (a chain's has n^2 terms, each with a sum of masses)."""
+
+    def __init__(self, energy_function: sp.Expr | None) -> None:
+        self._energy_function = energy_function
+        self._text: str | None = None
+
+    def __call__(self, expr: sp.Expr) -> str:
+        if expr is not self._energy_function:
+            return expression_string(expr)
+        if self._text is None:
+            self._text = expression_string(expr)
+        return self._text
+
+
 def _value(value: sp.Expr | None) -> float | str | None:
     """A parameter's value: a number, an expression of other parameters, or None."""
     if value is None:
@@ -188,6 +204,7 @@ def _value(value: sp.Expr | None) -> float | str | None:
 def analysis_document(report: AnalysisReport) -> dict[str, Any]:
     """The analyze JSON object (see the module docstring) of ``report``."""
     energy, legendre, canonical = report.energy, report.hamiltonian, report.hamilton_equations
+    written = _Written(None if energy is None else energy.energy_function)
     document: dict[str, Any] = {
         "name": report.name,
         "dof": report.dof,
@@ -200,11 +217,11 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
         "momenta": None if report.momenta is None else _strings_by_name(report.momenta.by_name()),
         "cyclic": [c.coordinate.name for c in report.cyclic],
         "cyclic_coordinates": [_cyclic(c) for c in report.cyclic],
-        "conserved": _strings(c.expression for c in report.conserved if c.holds),
+        "conserved": [written(c.expression) for c in report.conserved if c.holds],
         "conserved_quantities": [
             {
                 "name": c.name,
-                "expression": expression_string(c.expression),
+                "expression": written(c.expression),
                 "reason": c.reason,
                 "condition": expression_string(c.condition),
                 "conditions": _strings(c.conditions),
@@ -214,9 +231,9 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
             }
             for c in report.conserved
         ],
-        "energy_function": None if energy is None else expression_string(energy.energy_function),
+        "energy_function": None if energy is None else written(energy.energy_function),
         "energy_conserved": None if energy is None else bool(energy.conserved),
-        "energy": None if energy is None else _energy(energy),
+        "energy": None if energy is None else _energy(energy, written),
         "hamiltonian": None if legendre is None else expression_string(legendre.hamiltonian),
         "hamiltonian_coordinates": None
         if legendre is None

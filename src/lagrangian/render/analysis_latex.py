@@ -23,7 +23,7 @@ from lagrangian.analysis import (
     Symmetry,
 )
 from lagrangian.render.constrained import FORCES_HEADING
-from lagrangian.render.latex import block, symbol_names
+from lagrangian.render.latex import KeptLatexPrinter, block, symbol_names
 from lagrangian.render.values import values_latex
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.probe import is_small
@@ -43,6 +43,9 @@ def _text(words: str) -> str:
 def analysis_lines(report: AnalysisReport) -> list[str]:
     """One aligned line per result, parts that failed said as such."""
     names = symbol_names(report.coordinates)
+    # one printer for the report: a chain's sums of masses recur in every momentum and in h,
+    # each typeset once (the text as sympy.latex's)
+    printer = KeptLatexPrinter({"symbol_names": names})
 
     def tex(expr: sp.Basic) -> str:
         expr = to_sympy(expr)
@@ -51,7 +54,7 @@ def analysis_lines(report: AnalysisReport) -> list[str]:
                 f"(more than {TYPESET_OPERATIONS:,} operations: too long to typeset; the "
                 "text and JSON reports write it out)"
             )
-        return sp.latex(_shown(expr), symbol_names=names)
+        return printer.doprint(_shown(expr))
 
     lines = [rf"&{_text(report.name or 'system')}:\ {report.dof}\ {_text('degrees of freedom')}"]
     if report.parameter_values:

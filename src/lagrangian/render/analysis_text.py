@@ -15,7 +15,7 @@ linearization, and the parts that could not be computed.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 import sympy as sp
@@ -30,6 +30,9 @@ from lagrangian.analysis import (
 from lagrangian.analysis.evaluation import condition_text
 from lagrangian.render.text import SumPrinter
 from lagrangian.render.values import values_text
+
+#: How an expression is written (a :class:`SumPrinter`'s ``doprint``).
+Writer = Callable[[sp.Basic], str]
 
 VERDICTS = {True: "stable", False: "unstable", None: "stability undetermined"}
 
@@ -114,7 +117,18 @@ def _linearization_lines(lin: Linearization) -> list[str]:
     return lines
 
 
-def _energy_lines(report: AnalysisReport) -> list[str]:
+def _conserved_line(report: AnalysisReport, c: ConservedQuantity, write: Writer) -> str:
+    """``name = expression (holds when ...)  [origin]``; the energy function is written once,
+    in its own section (a chain's has n^2 terms)."""
+    energy = report.energy
+    if energy is not None and c.expression is energy.energy_function:
+        value = f"{c.name}: the energy function (below)"
+    else:
+        value = f"{c.name} = {write(c.expression)}"
+    return f"{value}{_holds(c)}" + (f"  [{c.origin}]" if c.origin else "")
+
+
+def _energy_lines(report: AnalysisReport, write: Writer) -> list[str]:
     energy = report.energy
     if energy is None:
         return []
@@ -122,7 +136,7 @@ def _energy_lines(report: AnalysisReport) -> list[str]:
     if energy.conserved and energy.condition != sp.true:
         verdict = f"conserved when {condition_text(energy.condition)}, as here"
     h = report.names.energy
-    lines = [f"{h} = {energy.energy_function}", f"d{h}/dt = {energy.rate}: {verdict}"]
+    lines = [f"{h} = {write(energy.energy_function)}", f"d{h}/dt = {energy.rate}: {verdict}"]
     lines.append(energy.reason)
     if energy.equals_total_energy:
         lines.append(f"{h} = T + V")
@@ -172,6 +186,9 @@ def _constraint_line(kind: str, expression: object, reason: str) -> str:
 
 def analysis_text(report: AnalysisReport) -> str:
     """The report as plain text (see the module docstring)."""
+    # one printer for the report: a chain's sums of masses recur in every momentum and in h,
+    # each written once (text as sympy.sstr's)
+    write = SumPrinter().doprint
     lines = [f"{report.name or 'system'}: {report.freedom or f'dof = {report.dof}'}"]
     if report.parameter_values:
         lines.append(values_line(report))
@@ -191,20 +208,14 @@ def analysis_text(report: AnalysisReport) -> str:
         lines += _section(
             "Momenta",
             (
-                f"{report.names.momentum(q)} = {p}"
+                f"{report.names.momentum(q)} = {write(p)}"
                 for q, p in zip(momenta.coordinates, momenta.momenta)
             ),
         )
     lines += _section("Cyclic coordinates (absent from L and F)", map(_cyclic_line, report.cyclic))
-    lines += _section(
-        "Conserved",
-        (
-            f"{c.name} = {c.expression}{_holds(c)}" + (f"  [{c.origin}]" if c.origin else "")
-            for c in report.conserved
-        ),
-    )
+    lines += _section("Conserved", (_conserved_line(report, c, write) for c in report.conserved))
     lines += _section("Search for first integrals", report.searched)
-    lines += _section("Energy function", _energy_lines(report))
+    lines += _section("Energy function", _energy_lines(report, write))
     lines += _section("Hamiltonian", _hamiltonian_lines(report))
     if report.equilibria is not None:
         found = [_equilibrium_line(e) for e in report.equilibria]

@@ -16,6 +16,7 @@ from sympy.printing.c import C99CodePrinter, get_math_macros
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.numerics.export.common import (
     RHS_SUMMARY,
+    UNSORTED,
     ExportPlan,
     Routine,
     comment,
@@ -171,7 +172,7 @@ def _macro_fallbacks(code: str) -> str:
 
 
 def _function(plan: ExportPlan, routine: Routine) -> str:
-    printer = C99CodePrinter()
+    printer = C99CodePrinter(dict(UNSORTED))
     lines = [_routine_doc(routine), _signature(plan, routine), "{"]
     lines += [f"    (void){a};" for a in routine.arguments if not routine.uses(a)]
     lines += [

@@ -14,6 +14,7 @@ from sympy.printing.julia import JuliaCodePrinter
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.numerics.export.common import (
     RHS_SUMMARY,
+    UNSORTED,
     ExportPlan,
     Routine,
     camel_case,
@@ -83,7 +84,7 @@ def _docstring(signature: str, summary: str) -> str:
 
 
 def _function(routine: Routine) -> str:
-    printer = _Printer()
+    printer = _Printer(dict(UNSORTED))
     signature = f"{routine.name}({', '.join(routine.arguments)})"
     lines = [_docstring(signature, routine.summary), f"function {signature}"]
     lines += [f"    {s} = {code}" for s, code in temporaries_code(routine, printer, "Julia")]

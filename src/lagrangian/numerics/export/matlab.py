@@ -11,6 +11,7 @@ from sympy.printing.octave import OctaveCodePrinter
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.numerics.export.common import (
     RHS_SUMMARY,
+    UNSORTED,
     ExportPlan,
     Routine,
     comment,
@@ -48,7 +49,7 @@ def _help(plan: ExportPlan, name: str, summary: str) -> str:
 
 
 def _function(plan: ExportPlan, routine: Routine) -> str:
-    printer = OctaveCodePrinter()
+    printer = OctaveCodePrinter(dict(UNSORTED))
     lines = [
         f"function {routine.output} = {routine.name}({', '.join(routine.arguments)})",
         _help(plan, routine.name, routine.summary),

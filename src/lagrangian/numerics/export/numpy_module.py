@@ -13,6 +13,7 @@ from sympy.printing.numpy import NumPyPrinter
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.numerics.export.common import (
     RHS_SUMMARY,
+    UNSORTED,
     ExportPlan,
     Routine,
     literal,
@@ -61,7 +62,7 @@ def _tuple(items: list[str]) -> str:
 
 
 def _function(routine: Routine) -> str:
-    printer = NumPyPrinter({"fully_qualified_modules": True})
+    printer = NumPyPrinter({"fully_qualified_modules": True, **UNSORTED})
     lines = [f"def {routine.name}({', '.join(routine.arguments)}):", f'    """{routine.summary}"""']
     lines += [f"{_INDENT}{s} = {code}" for s, code in temporaries_code(routine, printer, "numpy")]
     rows, cols = routine.outputs.shape
