@@ -51,8 +51,8 @@ from lagrangian.numerics.fast.newton import (
     evaluate_constraints,
     hold,
     largest,
+    newton_update,
     small_correction,
-    solve,
     unowned,
     unowned_system,
     velocity_step,
@@ -92,15 +92,8 @@ def position_step(system, q0, p0, t0, dt, jacobian0, q1, lam, found, work):
             for i in range(n):
                 matrix[i, n + j] = dt / 2 * jacobian0[j, i]
                 matrix[n + j, i] = a1[j, i]
-            for k in range(m):
-                matrix[n + j, n + k] = 0.0
-        if not solve(matrix, rhs):
+        if not newton_update(matrix, rhs, q1, q_old, lam):
             return POSITION_SINGULAR, iteration + 1
-        for i in range(n):
-            q_old[i] = q1[i]
-            q1[i] -= rhs[i]
-        for j in range(m):
-            lam[j] -= rhs[n + j]
         if converging and small_correction(rhs[:n], q_old, q0):
             corrected_momentum(values, dt, n, rhs, momentum)
             evaluate_constraints(system, q1, t1, h, a1, rate, hessians)

@@ -188,6 +188,27 @@ def solve(matrix, rhs) -> bool:
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
+def newton_update(matrix, rhs, x, x_old, multipliers) -> bool:
+    """One Newton correction of unknowns x and their constraints' ``multipliers`` from the
+    saddle-point system [[K, B], [C, 0]] (correction) = rhs, its blocks K, B, C filled by
+    the caller (the position and the velocity equations fill them differently): the
+    multipliers' block zeroed, solved in place, x_old = x, then both corrected.  False
+    when the matrix is singular or the correction is not finite."""
+    n, m = x.size, multipliers.size
+    for j in range(m):
+        for k in range(m):
+            matrix[n + j, n + k] = 0.0
+    if not solve(matrix, rhs):
+        return False
+    for i in range(n):
+        x_old[i] = x[i]
+        x[i] -= rhs[i]
+    for j in range(m):
+        multipliers[j] -= rhs[n + j]
+    return True
+
+
+@njit(cache=False, nogil=True, error_model="numpy", inline="always")
 def factor(matrix, pivots) -> bool:
     """LU factors of ``matrix`` with partial pivoting, in place, for :func:`substitute`
     (Golub & Van Loan, Matrix Computations, 3.4): the multipliers of the elimination below
@@ -275,15 +296,8 @@ def velocity_step(system, q1, momentum, t1, weight, constraint, linear, v, mu, w
                 matrix[n + j, i] = jacobian[j, i]
                 total += jacobian[j, i] * v[i]
             rhs[n + j] = total
-            for k in range(m):
-                matrix[n + j, n + k] = 0.0
-        if not solve(matrix, rhs):
+        if not newton_update(matrix, rhs, v, v_old, mu):
             return VELOCITY_SINGULAR, iteration + 1
-        for i in range(n):
-            v_old[i] = v[i]
-            v[i] -= rhs[i]
-        for j in range(m):
-            mu[j] -= rhs[n + j]
         if linear:  # the equations are linear in (v1, mu): solved exactly
             add_impulse(momentum, weight, jacobian, mu)
             return OK, 1
