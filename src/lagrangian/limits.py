@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import gc
 import math
 import os
 import signal
@@ -55,9 +56,10 @@ FIX = (
 )
 #: The words that mean "no limit" in an environment variable of a limit (any case).
 NO_LIMIT = ("none", "off", "inf", "infinity")
-#: After its exception the timer fires again this often until the limit is left: Python
-#: swallows an exception raised in a garbage-collector callback or a destructor (the work
-#: would then run on), so the interruption is repeated until it lands in the work itself.
+#: After its exception the timer fires again this often until the limit is left: code that
+#: catches every exception (a C extension's conversion) may swallow it.  An alarm that comes
+#: in a garbage-collector callback or a destructor, where Python would print the exception
+#: and drop it, raises nothing and waits for the next (:func:`_swallowed_there`).
 RETRY_SECONDS = 0.05
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -272,6 +274,8 @@ def _timer(limit: _Limit, outer_timer: float) -> Iterator[None]:
                 handler(signum, frame)
                 return
         signal.setitimer(signal.ITIMER_REAL, RETRY_SECONDS)  # in case this one is swallowed
+        if _swallowed_there(frame):
+            return  # Python would print the error and drop it: the next alarm lands elsewhere
         raise TimeLimitError(_expired(_active.stack).message)
 
     if outermost:
@@ -289,6 +293,19 @@ def _timer(limit: _Limit, outer_timer: float) -> Iterator[None]:
                 _arm(started + outer_timer)
         else:
             _arm(min(o.deadline for o in stack))
+
+
+def _swallowed_there(frame: Any) -> bool:
+    """Whether an exception raised at ``frame`` would be swallowed: it runs a garbage
+    collector's callback (``gc.callbacks``, as Hypothesis and Dask register) or a destructor,
+    where Python prints "Exception ignored in ..." to the user and carries on."""
+    callbacks = {getattr(callback, "__code__", None) for callback in gc.callbacks}
+    while frame is not None:
+        code = frame.f_code
+        if code in callbacks or code.co_name == "__del__":
+            return True
+        frame = frame.f_back
+    return False
 
 
 def _arm(deadline: float) -> None:
