@@ -9,12 +9,6 @@ import pytest
 from lagrangian.cli.main import LONG_RUNNING, main, time_limit
 from lagrangian.errors import TimeLimitError
 
-# A timer can interrupt a garbage-collector callback (Hypothesis's plugin keeps one), where
-# Python swallows the exception and reports it as unraisable; the limit then fires again
-# (lagrangian.limits.RETRY_SECONDS), which is what these tests check.
-pytestmark = pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
-
-
 # 150 links: a legitimate system whose derivation takes far longer than a second.
 SLOW = "examples/n_link_pendulum:150"
 
