@@ -55,3 +55,19 @@ def test_given_values_fix_the_point() -> None:
     assert generic_rank(matrix) == 2
     assert generic_rank(matrix, {x: 0.5, y: 0.5}) == 1
     assert generic_rank(matrix, {x: sp.Rational(1, 2), y: sp.Float(0.5)}) == 1
+
+
+def test_a_derived_matrix_is_evaluated_from_its_kept_symengine_entries() -> None:
+    # the SymEngine entries a derivation converted M from give the same numbers as M's own
+    # (SymPy's, to 30 digits), without converting M back
+    from lagrangian.symbolic.probe import _double_values
+    from lagrangian.symbolic.sympy_view import backend_entries
+
+    eom = lg.derive(lg.examples.n_link_pendulum(6))
+    matrix = eom.mass_matrix
+    assert backend_entries(matrix) is not None  # the case this test is about
+    point = random_values(matrix.free_symbols, random.Random(SEED))
+    exact = {s: sp.Float(v, DIGITS) for s, v in point.items()}
+    reference = np.array(matrix.xreplace(exact).evalf(DIGITS).tolist(), dtype=float)
+    assert np.allclose(_double_values(matrix, point), reference, rtol=1e-13, atol=1e-13)
+    assert generic_rank(matrix) == thirty_digit_rank(matrix) == 6

@@ -140,19 +140,38 @@ def generic_rank(matrix: Any, values: Mapping[sp.Symbol, float] | None = None) -
 
 def _double_values(matrix: sp.MatrixBase, point: Mapping[sp.Symbol, Any]) -> np.ndarray | None:
     """``matrix`` at ``point`` in double precision, substituted in SymEngine (no code
-    compiled: each entry is evaluated once); None when a value given is not a real number,
-    or a value is not finite and real there, or not a number (a function SymEngine does not
-    evaluate)."""
+    compiled: each entry is evaluated once), from the SymEngine entries it was converted
+    from where a derivation remembers them (a 100-link chain's M: no conversion back); None
+    when a value given is not a real number, or a value is not finite and real there, or
+    not a number (a function SymEngine does not evaluate)."""
+    # sympy_view imports the conversion, which imports this module: imported when used
+    from lagrangian.symbolic.sympy_view import backend_entries
+
     try:
         numbers = {se.sympify(s): se.RealDouble(float(v)) for s, v in point.items()}
-        entries = [se.sympify(e) for e in _entries(matrix)]
-        column = se.DenseMatrix(len(entries), 1, entries).xreplace(numbers)
+    except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
+        return None
+    kept = backend_entries(matrix)
+    values = None if kept is None else _evaluated(kept, numbers)
+    if values is None:  # a symbol of the kept entries that stands for an expression
+        try:
+            values = _evaluated([se.sympify(e) for e in _entries(matrix)], numbers)
+        except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
+            return None
+    return None if values is None else values.reshape(matrix.shape)
+
+
+def _evaluated(entries: Sequence[Any], numbers: Mapping[Any, Any]) -> np.ndarray | None:
+    """SymEngine ``entries`` with ``numbers`` put in, as real doubles; None where one is not
+    a finite real number."""
+    try:
+        column = se.DenseMatrix(len(entries), 1, list(entries)).xreplace(numbers)
         values = np.array([complex(e) for e in column], dtype=complex)
     except (RuntimeError, TypeError, ValueError, NotImplementedError, AttributeError):
         return None
     if not np.all(np.isfinite(values)) or np.any(np.abs(values.imag) > 1e-12):
         return None
-    return values.real.reshape(matrix.shape)
+    return values.real
 
 
 def _entries(matrix: Any) -> list[Any]:
