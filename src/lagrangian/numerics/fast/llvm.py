@@ -66,17 +66,19 @@ def llvm_lambdify(symbols: Sequence[Any], expressions: Sequence[Any], opt_level:
         # every argument was converted again (a 200 x 200 mass matrix took half a minute to
         # rename, eight times the column's)
         column = se.DenseMatrix(len(expressions), 1, [se.sympify(e) for e in expressions])
-        arguments, outputs = list(renamed.values()), list(column.xreplace(renamed))
+        arguments, outputs = list(renamed.values()), column.xreplace(renamed)
     except CANNOT_COMPILE:
         return None
-    path = _kept_path(arguments, outputs, opt_level)
+    path = _kept_path(len(arguments), outputs, opt_level)
     if path is not None:
         kept = _load(path)
         if kept is not None:
             return kept
     started = time.perf_counter()
     try:
-        compiled = se.Lambdify(arguments, outputs, backend="llvm", cse=True, opt_level=opt_level)
+        compiled = se.Lambdify(
+            arguments, list(outputs), backend="llvm", cse=True, opt_level=opt_level
+        )
     except CANNOT_COMPILE:
         return None
     if path is not None and time.perf_counter() - started >= KEEP_AFTER:
@@ -84,13 +86,14 @@ def llvm_lambdify(symbols: Sequence[Any], expressions: Sequence[Any], opt_level:
     return compiled
 
 
-def _kept_path(arguments: list[Any], outputs: list[Any], opt_level: int) -> Path | None:
-    """Where the compilation of these expressions is kept; None when nothing is kept."""
+def _kept_path(arguments: int, outputs: Any, opt_level: int) -> Path | None:
+    """Where the compilation of the column ``outputs`` in ``arguments`` renamed arguments is
+    kept; None when nothing is kept."""
     folder = cache_folder()
     if folder is None or os.environ.get("LAGRANGIAN_LLVM_CACHE", "1") == "0":
         return None
     key = hashlib.sha256()
-    for part in (_machine(), str(opt_level), str(arguments), str(se.DenseMatrix(outputs))):
+    for part in (_machine(), str(opt_level), str(arguments), str(outputs)):
         key.update(part.encode())
         key.update(b"\0")
     return folder / "llvm" / f"{key.hexdigest()[:32]}.pickle"
