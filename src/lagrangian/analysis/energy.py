@@ -39,6 +39,7 @@ from lagrangian.derivation import EquationsOfMotion
 from lagrangian.derivation.energies import energy_function as expanded_energy_function
 from lagrangian.derivation.energies import kinetic_plus_potential
 from lagrangian.model.constraints import Unilateral, label
+from lagrangian.symbolic.caches import IdentityCache
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.probe import depends_on, is_zero
 
@@ -53,9 +54,23 @@ def energy_function(subject: Subject) -> sp.Expr:
     >>> energy_function(lg.examples.simple_pendulum())
     -g*l*m*cos(theta) + l**2*m*theta_dot**2/2
     """
-    eom = equations_of(subject)
+    return _energy_function(equations_of(subject))[0]
+
+
+def _energy_function(eom: EquationsOfMotion) -> tuple[sp.Expr, bool]:
+    """h of ``eom`` and whether it is the collected T + V + U(q, 0, t), made once."""
+    return _ENERGY_FUNCTIONS.get(eom, _energy_function_of)
+
+
+def _energy_function_of(eom: EquationsOfMotion) -> tuple[sp.Expr, bool]:
     collected = collected_energy_function(eom)
-    return expanded_energy_function(eom.system) if collected is None else collected
+    if collected is None:
+        return expanded_energy_function(eom.system), False
+    return collected, True
+
+
+#: h per EquationsOfMotion: the report's parts (energy, conserved quantities) share one.
+_ENERGY_FUNCTIONS: IdentityCache[EquationsOfMotion, tuple[sp.Expr, bool]] = IdentityCache()
 
 
 def collected_energy_function(eom: EquationsOfMotion) -> sp.Expr | None:
@@ -308,8 +323,7 @@ def energy_at_values(context: EvaluationContext) -> EnergyConservation:
     """:func:`energy_conservation` at the parameter values of ``context``: a rate dh/dt
     that vanishes only there (a force F given as 0) keeps h, under that condition."""
     eom = context.eom
-    collected = collected_energy_function(eom)
-    h = expanded_energy_function(eom.system) if collected is None else collected
+    h, collected = _energy_function(eom)
     name = OutputNames.of(eom).energy
     rate, reasons = _power_terms(eom)
     power, working, idle = _constraint_power(eom)
@@ -339,7 +353,7 @@ def energy_at_values(context: EvaluationContext) -> EnergyConservation:
             f"{reason})"
         )
     # h written as T + V + U(q, 0, t) is that total by construction
-    total, equal = (h, True) if collected is not None else _expanded_total_energy(eom, h)
+    total, equal = (h, True) if collected else _expanded_total_energy(eom, h)
     return EnergyConservation(
         energy_function=h,
         conserved=conserved,

@@ -128,7 +128,7 @@ class Builder:
 
     def function_value(self, value: sp.Expr, argument: Part) -> Part:
         """The Part of ``value``, a sine or a cosine of the expression of ``argument`` made
-        without SymPy's constructor (:func:`lagrangian.derivation.backend.unevaluated_trig`),
+        without SymPy's constructor (:func:`lagrangian.symbolic.sympy_view.unevaluated_trig`),
         without asking SymPy what it is."""
         value_hash = hash(value)
         key = argument[KEY]
@@ -143,14 +143,6 @@ class Builder:
             return self.order(expr)
         except Unorderable:
             return UNORDERABLE
-
-    @staticmethod
-    def key(part: Part) -> tuple[Any, ...]:
-        """The sort key of ``part`` (Unorderable when it has none)."""
-        key = part[KEY]
-        if key is UNORDERABLE:
-            raise Unorderable(type(part[EXPR]).__name__)
-        return key
 
     def sum(self, parts: list[Part]) -> Part:
         """The Part of ``sp.Add`` of the parts' expressions (:func:`sympy_sum`)."""
