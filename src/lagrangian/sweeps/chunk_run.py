@@ -35,7 +35,13 @@ from lagrangian.model import System
 from lagrangian.simulation.batch.result import Batch
 from lagrangian.simulation.batch.run import StopCondition, simulate_batch
 from lagrangian.simulation.trajectory import Trajectory
-from lagrangian.sweeps.members import batch_members, simulate_member, stop_time
+from lagrangian.sweeps.members import (
+    batch_members,
+    impact_count,
+    rest_time,
+    simulate_member,
+    stop_time,
+)
 from lagrangian.sweeps.variables import SweepVariables
 
 
@@ -60,8 +66,9 @@ class ChunkResult:
     """The members of one block, in C order: ``series`` by variable name (k, T) — the
     coordinates, ``NAME_dot``, multipliers and ``energy`` — and per member (k,) the status,
     message, stop time (NaN: did not stop), ``drifts`` by variable name (NaN where the
-    quantity is not conserved, or unknown) and ``not_conserved`` (why, in words; empty when
-    every stored quantity is conserved)."""
+    quantity is not conserved, or unknown), ``not_conserved`` (why, in words; empty when
+    every stored quantity is conserved), the number of ``impacts`` and the ``rest_time``
+    (NaN: no contact came to rest), which the store keeps for systems with impacts."""
 
     series: Mapping[str, np.ndarray]
     status: tuple[str, ...]
@@ -69,6 +76,8 @@ class ChunkResult:
     stop_time: np.ndarray
     drifts: Mapping[str, np.ndarray]
     not_conserved: tuple[str, ...]
+    impacts: np.ndarray
+    rest_time: np.ndarray
 
 
 def run_chunk(
@@ -205,6 +214,8 @@ def chunk_of_members(members: Sequence[Trajectory], settings: ChunkSettings) -> 
         stop_time=np.array([stop_time(member) for member in members], dtype=float),
         drifts=drifts,
         not_conserved=tuple(_reasons(member, variables) for member in members),
+        impacts=np.array([impact_count(member) for member in members], dtype=np.int64),
+        rest_time=np.array([rest_time(member) for member in members], dtype=float),
     )
 
 
@@ -274,6 +285,8 @@ def joined(parts: list[ChunkResult]) -> ChunkResult:
         stop_time=np.concatenate([p.stop_time for p in parts]),
         drifts={name: np.concatenate([p.drifts[name] for p in parts]) for name in first.drifts},
         not_conserved=sum((p.not_conserved for p in parts), ()),
+        impacts=np.concatenate([p.impacts for p in parts]),
+        rest_time=np.concatenate([p.rest_time for p in parts]),
     )
 
 
@@ -287,4 +300,6 @@ def failed_chunk(members: int, settings: ChunkSettings, message: str) -> ChunkRe
         stop_time=np.full(members, np.nan),
         drifts={name: np.full(members, np.nan) for name in variables.drifts},
         not_conserved=("",) * members,
+        impacts=np.zeros(members, dtype=np.int64),
+        rest_time=np.full(members, np.nan),
     )

@@ -90,6 +90,19 @@ def stop_time(member: Trajectory) -> float:
     return float(times[-1]) if times else float("nan")
 
 
+def impact_count(member: Trajectory) -> int:
+    """How many impacts ``member`` met (those with an impulse: a transition's reset is not
+    one), as the single run's summary counts them."""
+    return sum(1 for impact in member.impacts if impact.impulses)
+
+
+def rest_time(member: Trajectory) -> float:
+    """When a contact of ``member`` first came to rest (its bounces accumulated and it stays
+    in contact: ``Impact.rest``), NaN when none did."""
+    times = [impact.t for impact in member.impacts if impact.rest]
+    return float(times[0]) if times else float("nan")
+
+
 def _negative_at_start(stop_when: StopCondition, member: Trajectory) -> bool:
     if not len(member.t):
         return False
@@ -114,7 +127,13 @@ def _stopped_at_start(member: Trajectory) -> Trajectory:
     event = Event(STOP_EVENT, t0, {name: float(member[name][0]) for name in names})
     message = f"Stopped by stop_when at t = {t0:.6g}."
     return dataclasses.replace(
-        member, **cut, events=(event,), status="success", message=message, message_template=None
+        member,
+        **cut,
+        events=(event,),
+        impacts=(),  # those of the run past its start, which the cut leaves out
+        status="success",
+        message=message,
+        message_template=None,
     )
 
 

@@ -9,10 +9,13 @@ differs from T + V, else T + V, as its attribute ``quantity`` says
 (``energy_drift`` = max |energy - energy(t0)|, ``p_NAME_drift`` for the momentum of a cyclic
 coordinate; NaN where the member does not conserve it, ``not_conserved`` saying why), with
 constraints ``constraint_drift`` (the largest constraint residual), ``stop_time`` with a stop
-condition, and ``done``.  Each block is one chunk of every array; its ``done`` flags are
-written after its data, so a block interrupted mid-write reads as not done and is computed
-again by a resumed sweep.  The attribute ``lagrangian_sweep`` describes the sweep (model,
-grid, time span, method...) so that a resume can check it continues the same one.
+condition, with impacts (unilateral constraints with a coefficient of restitution)
+``impacts``, how many the member met (-1 while not computed), and ``rest_time``, when a
+contact came to rest (NaN: none did), and ``done``.  Each block is one chunk of every
+array; its ``done`` flags are written after its data, so a block interrupted mid-write reads
+as not done and is computed again by a resumed sweep.  The attribute ``lagrangian_sweep``
+describes the sweep (model, grid, time span, method...) so that a resume can check it
+continues the same one.
 """
 
 from __future__ import annotations
@@ -35,6 +38,9 @@ DESCRIPTION = "lagrangian_sweep"
 STATUS_DTYPE, MESSAGE_LENGTH, REASONS_LENGTH = "<U7", 200, 100
 #: What each per-member drift variable measures.
 DRIFT_NAMES = {"energy_drift": "max |energy - energy(t0)|", "constraint_drift": "max residual"}
+#: What ``impacts`` and ``rest_time`` hold.
+IMPACTS_NAME = "number of impacts on the unilateral constraints"
+REST_NAME = "time (as t) a contact came to rest: its bounces accumulated; NaN: none did"
 
 
 def create_store(
@@ -70,6 +76,10 @@ def create_store(
     variables["not_conserved"] = (dims, empty((), f"<U{REASONS_LENGTH}", ""))
     if stop_time:
         variables["stop_time"] = (dims, empty((), float, np.nan))
+    if stored.impacts:
+        counted = {"long_name": IMPACTS_NAME, "comment": "-1: not computed yet"}
+        variables["impacts"] = (dims, empty((), np.int64, -1), counted)
+        variables["rest_time"] = (dims, empty((), float, np.nan), {"long_name": REST_NAME})
     variables["done"] = (dims, empty((), bool, False))
     coords: dict[str, Any] = {axis.dimension: axis.values for axis in grid.axes}
     if grid.random:
@@ -147,8 +157,9 @@ class SweepWriter:
         for name, values in result.drifts.items():
             self._put(name, region, values, shape)
         self._put("not_conserved", region, _text(result.not_conserved, REASONS_LENGTH), shape)
-        if "stop_time" in self.group:
-            self._put("stop_time", region, result.stop_time, shape)
+        for name in ("stop_time", "impacts", "rest_time"):
+            if name in self.group:  # stored for the sweeps that have them
+                self._put(name, region, getattr(result, name), shape)
         self._put("done", region, np.ones(len(result.status), dtype=bool), shape)
 
     def _put(self, name: str, region: Region, values: np.ndarray, shape: tuple[int, ...]) -> None:

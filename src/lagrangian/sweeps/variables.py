@@ -9,7 +9,10 @@
 * per member the drift of each quantity a run conserves, as :meth:`Trajectory.drift
   <lagrangian.simulation.trajectory.Trajectory.drift>` decides (``energy_drift``, ``p_NAME_drift``
   for the momentum of each cyclic coordinate), and with constraints ``constraint_drift``, the
-  largest constraint residual.
+  largest constraint residual;
+* with unilateral constraints that have a coefficient of restitution (a bouncing ball), per
+  member ``impacts``, how many impacts the run met, and ``rest_time``, when a contact came to
+  rest (its bounces accumulated, as the single run's ``Impact.rest`` records).
 
 Constrained systems run in the multiplier form, in smaller blocks (a member the batch
 refuses, such as one with unilateral constraints, runs alone through :func:`lagrangian.simulate`):
@@ -20,6 +23,8 @@ refuses, such as one with unilateral constraints, runs alone through :func:`lagr
 ('energy_drift', 'p_theta_drift')
 >>> sweep_variables(lg.examples.cylinder_on_incline()).multipliers
 ('lambda_1',)
+>>> sweep_variables(lg.examples.bouncing_ball()).impacts
+True
 """
 
 from __future__ import annotations
@@ -29,6 +34,7 @@ from dataclasses import dataclass
 from lagrangian.constraints import multiplier_names
 from lagrangian.derivation import derive
 from lagrangian.model import System
+from lagrangian.model.constraints import Unilateral
 from lagrangian.numerics.compile import compile_equations
 from lagrangian.simulation.conserved import conserved_expressions
 from lagrangian.simulation.trajectory import DOT
@@ -49,6 +55,7 @@ class SweepVariables:
     momenta: tuple[str, ...] = ()
     energy_function: bool = False
     per_member: bool = False
+    impacts: bool = False
 
     @property
     def series(self) -> tuple[str, ...]:
@@ -80,4 +87,11 @@ def sweep_variables(system: System) -> SweepVariables:
         # blocks of constrained members are kept small: one the batch refuses runs member
         # by member (Batch.trajectory carries the multipliers the store reads)
         per_member=bool(constraints),
+        impacts=has_impacts(system),
     )
+
+
+def has_impacts(system: System) -> bool:
+    """Whether runs of ``system`` record impacts: it has a unilateral constraint with a
+    coefficient of restitution (without one, a run that reaches an impact stops there)."""
+    return any(isinstance(c, Unilateral) and c.restitution is not None for c in system.constraints)
