@@ -50,161 +50,138 @@ from lagrangian.analysis import (
 )
 from lagrangian.analysis.manifold.constraint_forces import ConstraintForces
 from lagrangian.analysis.steady_motions import SteadyMotions
-from lagrangian.render.text import SumPrinter
+from lagrangian.render.json import ExpressionWriter
 from lagrangian.symbolic.conversion import to_sympy
 
 
-def expression_string(expr: sp.Basic) -> str:
-    """A SymPy-parseable string of ``expr`` (``sympy.sstr`` with ``order="none"``), each
-    recurring subexpression written once (:class:`~lagrangian.render.text.SumPrinter`): the
-    velocities of a Hamiltonian of several links nest the same quotients many times."""
-    return SumPrinter({"order": "none"}).doprint(expr)
+def _strings(text: ExpressionWriter, values: Iterable[Any]) -> list[str]:
+    return [text(to_sympy(v)) for v in values]
 
 
-def _strings(values: Iterable[Any]) -> list[str]:
-    return [expression_string(to_sympy(v)) for v in values]
+def _matrix(text: ExpressionWriter, matrix: sp.MatrixBase) -> list[list[str]]:
+    return [_strings(text, matrix.row(i)) for i in range(matrix.rows)]
 
 
-def _matrix(matrix: sp.MatrixBase) -> list[list[str]]:
-    return [_strings(matrix.row(i)) for i in range(matrix.rows)]
+def _state(text: ExpressionWriter, state: Mapping[sp.Symbol, Any]) -> dict[str, str]:
+    return {s.name: text(to_sympy(v)) for s, v in state.items()}
 
 
-def _state(state: Mapping[sp.Symbol, Any]) -> dict[str, str]:
-    return {s.name: expression_string(to_sympy(v)) for s, v in state.items()}
-
-
-def _strings_by_name(values: Mapping[str, Any]) -> dict[str, str]:
-    return {name: expression_string(to_sympy(v)) for name, v in values.items()}
+def _strings_by_name(text: ExpressionWriter, values: Mapping[str, Any]) -> dict[str, str]:
+    return {name: text(to_sympy(v)) for name, v in values.items()}
 
 
 def _flag(value: Any) -> bool | None:
     return None if value is None else bool(value)
 
 
-def _energy(energy: EnergyConservation, written: _Written) -> dict[str, Any]:
+def _energy(text: ExpressionWriter, energy: EnergyConservation) -> dict[str, Any]:
     return {
         "reason": energy.reason,
-        "rate": expression_string(energy.rate),
-        "constraint_power": expression_string(energy.constraint_power),
-        "total_energy": written(energy.total_energy),
+        "rate": text(energy.rate),
+        "constraint_power": text(energy.constraint_power),
+        "total_energy": text(energy.total_energy),
         "equals_total_energy": bool(energy.equals_total_energy),
         "total_energy_reason": energy.total_energy_reason,
-        "condition": expression_string(energy.condition),
+        "condition": text(energy.condition),
     }
 
 
-def _equilibrium(equilibrium: Equilibrium) -> dict[str, Any]:
+def _equilibrium(text: ExpressionWriter, equilibrium: Equilibrium) -> dict[str, Any]:
     condition = equilibrium.stability_condition
     return {
-        "state": _state(equilibrium.state),
+        "state": _state(text, equilibrium.state),
         "stable": _flag(equilibrium.stable),
         "reason": equilibrium.reason,
-        "condition": expression_string(equilibrium.condition),
+        "condition": text(equilibrium.condition),
         "exists": _flag(equilibrium.exists),
-        "stability_condition": None if condition is None else expression_string(condition),
+        "stability_condition": None if condition is None else text(condition),
         "free": [q.name for q in equilibrium.free],
         "exact": bool(equilibrium.exact),
-        "multipliers": _state(equilibrium.multipliers),
-        "stiffness": _matrix(equilibrium.stiffness),
+        "multipliers": _state(text, equilibrium.multipliers),
+        "stiffness": _matrix(text, equilibrium.stiffness),
         "stiffness_coordinates": [q.name for q in equilibrium.stiffness_coordinates],
     }
 
 
-def _modes(modes: NormalModes) -> dict[str, Any]:
+def _modes(text: ExpressionWriter, modes: NormalModes) -> dict[str, Any]:
     return {
-        "about": _state(modes.about),
-        "frequencies": _strings(modes.frequencies),
-        "squared_frequencies": _strings(modes.squared_frequencies),
-        "shapes": [_strings(shape) for shape in modes.shapes],
+        "about": _state(text, modes.about),
+        "frequencies": _strings(text, modes.frequencies),
+        "squared_frequencies": _strings(text, modes.squared_frequencies),
+        "shapes": [_strings(text, shape) for shape in modes.shapes],
         "symbolic": bool(modes.symbolic),
         "reason": modes.reason,
     }
 
 
-def _canonical(canonical: HamiltonEquations) -> dict[str, dict[str, str]]:
+def _canonical(text: ExpressionWriter, canonical: HamiltonEquations) -> dict[str, dict[str, str]]:
     """q_dot = dH/dp keyed by coordinate, p_dot keyed by momentum name."""
     return {
         "coordinate_rates": dict(
-            zip([q.name for q in canonical.coordinates], _strings(canonical.coordinate_rates))
+            zip([q.name for q in canonical.coordinates], _strings(text, canonical.coordinate_rates))
         ),
         "momentum_rates": dict(
-            zip([p.name for p in canonical.momenta], _strings(canonical.momentum_rates))
+            zip([p.name for p in canonical.momenta], _strings(text, canonical.momentum_rates))
         ),
     }
 
 
-def _linearization(linear: Linearization) -> dict[str, Any]:
+def _linearization(text: ExpressionWriter, linear: Linearization) -> dict[str, Any]:
     return {
-        "state": _state(linear.state),
+        "state": _state(text, linear.state),
         "state_vector": [s.name for s in linear.state_vector],
         "inputs": [u.name for u in linear.inputs],
-        "A": _matrix(linear.A),
-        "A_at_values": None if linear.A_at_values is None else _matrix(linear.A_at_values),
-        "B": _matrix(linear.B),
-        "eigenvalues": _strings(linear.eigenvalues),
-        "frequencies": _strings(linear.frequencies),
-        "growth_rates": _strings(linear.growth_rates),
+        "A": _matrix(text, linear.A),
+        "A_at_values": None if linear.A_at_values is None else _matrix(text, linear.A_at_values),
+        "B": _matrix(text, linear.B),
+        "eigenvalues": _strings(text, linear.eigenvalues),
+        "frequencies": _strings(text, linear.frequencies),
+        "growth_rates": _strings(text, linear.growth_rates),
         "is_solution": bool(linear.is_solution),
         "note": linear.note,
         "eliminated": [s.name for s in linear.dependent],
-        "multipliers": _state(linear.multipliers),
+        "multipliers": _state(text, linear.multipliers),
     }
 
 
-def _steady(found: SteadyMotions) -> dict[str, Any]:
+def _steady(text: ExpressionWriter, found: SteadyMotions) -> dict[str, Any]:
     """Each steady motion: its configuration at t = 0 and velocities, stability relative to
     the moving constraints; the effective potential and the rate of the symmetry."""
     return {
         "motions": [
-            {**_equilibrium(e), "velocities": _state(v)}
+            {**_equilibrium(text, e), "velocities": _state(text, v)}
             for e, v in zip(found.motions, found.velocities)
         ],
-        "effective_potential": expression_string(found.effective_potential),
-        "rate": expression_string(found.rate),
+        "effective_potential": text(found.effective_potential),
+        "rate": text(found.rate),
         "symmetry": found.symmetry,
         "method": found.method,
         "reason": found.reason,
     }
 
 
-def _cyclic(cyclic: CyclicCoordinate) -> dict[str, Any]:
+def _cyclic(text: ExpressionWriter, cyclic: CyclicCoordinate) -> dict[str, Any]:
     return {
         "coordinate": cyclic.coordinate.name,
-        "momentum": expression_string(cyclic.momentum),
+        "momentum": text(cyclic.momentum),
         "conserved": bool(cyclic.conserved),
         "obstructions": list(cyclic.obstructions),
-        "condition": expression_string(cyclic.condition),
+        "condition": text(cyclic.condition),
         "reason": cyclic.reason,
     }
 
 
-class _Written:
-    """:func:`expression_string`, the energy function written once: it is also the conserved
-    h and, when equal to it, T + V (a chain's has n^2 terms, each with a sum of masses)."""
-
-    def __init__(self, energy_function: sp.Expr | None) -> None:
-        self._energy_function = energy_function
-        self._text: str | None = None
-
-    def __call__(self, expr: sp.Expr) -> str:
-        if expr is not self._energy_function:
-            return expression_string(expr)
-        if self._text is None:
-            self._text = expression_string(expr)
-        return self._text
-
-
-def _value(value: sp.Expr | None) -> float | str | None:
+def _value(text: ExpressionWriter, value: sp.Expr | None) -> float | str | None:
     """A parameter's value: a number, an expression of other parameters, or None."""
     if value is None:
         return None
-    return float(value) if value.is_number else expression_string(value)
+    return float(value) if value.is_number else text(value)
 
 
 def analysis_document(report: AnalysisReport) -> dict[str, Any]:
     """The analyze JSON object (see the module docstring) of ``report``."""
     energy, legendre, canonical = report.energy, report.hamiltonian, report.hamilton_equations
-    written = _Written(None if energy is None else energy.energy_function)
+    text = ExpressionWriter()
     document: dict[str, Any] = {
         "name": report.name,
         "dof": report.dof,
@@ -212,52 +189,56 @@ def analysis_document(report: AnalysisReport) -> dict[str, Any]:
         "independent_velocities": report.independent_velocities,
         "freedom": report.freedom,
         "coordinates": [q.name for q in report.coordinates],
-        "parameter_values": {p.name: _value(v) for p, v in report.parameter_values},
+        "parameter_values": {p.name: _value(text, v) for p, v in report.parameter_values},
         "constraints": [c.as_dict() for c in report.constraints],
-        "momenta": None if report.momenta is None else _strings_by_name(report.momenta.by_name()),
+        "momenta": None
+        if report.momenta is None
+        else _strings_by_name(text, report.momenta.by_name()),
         "cyclic": [c.coordinate.name for c in report.cyclic],
-        "cyclic_coordinates": [_cyclic(c) for c in report.cyclic],
-        "conserved": [written(c.expression) for c in report.conserved if c.holds],
+        "cyclic_coordinates": [_cyclic(text, c) for c in report.cyclic],
+        "conserved": [text(c.expression) for c in report.conserved if c.holds],
         "conserved_quantities": [
             {
                 "name": c.name,
-                "expression": written(c.expression),
+                "expression": text(c.expression),
                 "reason": c.reason,
-                "condition": expression_string(c.condition),
-                "conditions": _strings(c.conditions),
+                "condition": text(c.condition),
+                "conditions": _strings(text, c.conditions),
                 "holds": bool(c.holds),
                 "origin": c.origin,
                 "explicit_time": c.explicit_time,
             }
             for c in report.conserved
         ],
-        "energy_function": None if energy is None else written(energy.energy_function),
+        "energy_function": None if energy is None else text(energy.energy_function),
         "energy_conserved": None if energy is None else bool(energy.conserved),
-        "energy": None if energy is None else _energy(energy, written),
-        "hamiltonian": None if legendre is None else expression_string(legendre.hamiltonian),
+        "energy": None if energy is None else _energy(text, energy),
+        "hamiltonian": None if legendre is None else text(legendre.hamiltonian),
         "hamiltonian_coordinates": None
         if legendre is None
         else [q.name for q in legendre.coordinates],
-        "eliminated": None if legendre is None else _state(legendre.eliminated),
-        "hamilton_equations": None if canonical is None else _canonical(canonical),
+        "eliminated": None if legendre is None else _state(text, legendre.eliminated),
+        "hamilton_equations": None if canonical is None else _canonical(text, canonical),
         "equilibria": None
         if report.equilibria is None
-        else [_equilibrium(e) for e in report.equilibria],
+        else [_equilibrium(text, e) for e in report.equilibria],
         "equilibria_count": None
         if report.equilibria is None
         else (report.equilibria.count or len(report.equilibria.equilibria)),
         "equilibria_reason": None if report.equilibria is None else report.equilibria.reason,
-        "normal_modes": None if report.normal_modes is None else _modes(report.normal_modes),
-        "steady_motions": None if report.steady_motions is None else _steady(report.steady_motions),
+        "normal_modes": None if report.normal_modes is None else _modes(text, report.normal_modes),
+        "steady_motions": None
+        if report.steady_motions is None
+        else _steady(text, report.steady_motions),
         "first_integral_search": list(report.searched),
         "failures": {f.part: f.reason for f in report.failures},
         "symbols": _symbols(report),
     }
     if report.constraint_forces is not None:
-        document["constraint_forces"] = _constraint_forces(report.constraint_forces)
+        document["constraint_forces"] = _constraint_forces(text, report.constraint_forces)
     if report.linearization is not None or report.failure("linearization"):
         linear = report.linearization
-        document["linearization"] = None if linear is None else _linearization(linear)
+        document["linearization"] = None if linear is None else _linearization(text, linear)
     return document
 
 
@@ -273,10 +254,8 @@ def _symbols(report: AnalysisReport) -> dict[str, Any]:
     }
 
 
-def _constraint_forces(forces: ConstraintForces) -> dict[str, Any]:
+def _constraint_forces(text: ExpressionWriter, forces: ConstraintForces) -> dict[str, Any]:
     """As ``derive``'s JSON: the multipliers solved by name, or the reason they are not."""
     solved = forces.solved
-    by_name = (
-        None if solved is None else {lam.name: expression_string(v) for lam, v in solved.items()}
-    )
+    by_name = None if solved is None else {lam.name: text(v) for lam, v in solved.items()}
     return {"solved": by_name, "reason": forces.reason}

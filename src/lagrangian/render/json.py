@@ -16,15 +16,20 @@ from lagrangian.derivation import EquationsOfMotion
 from lagrangian.render.text import SumPrinter
 
 
-def expression_string(expr: sp.Basic) -> str:
-    """A SymPy-parseable string of ``expr``."""
-    return sp.sstr(expr, order="none")
+class ExpressionWriter:
+    """The text of every expression of one JSON document (derive's, analyze's): ``sympy.sstr``
+    with ``order="none"``, character for character, so that it parses back.
 
+    The document's expressions share one printer, which writes each subexpression once
+    (:class:`SumPrinter`: the velocities of a chain's Hamiltonian nest the same quotients many
+    times), and one string per distinct expression: an equation is also the last step of its
+    coordinate, M[i, j] is M[j, i], and the energy function is also the conserved h and T + V.
 
-class _Writer:
-    """A document's expressions share one printer, which writes each subexpression once
-    (:class:`SumPrinter`), and one string per distinct expression: an equation is also the
-    last step of its coordinate, and M[i, j] is M[j, i]."""
+    >>> x, m = sp.symbols("x m")
+    >>> text = ExpressionWriter()
+    >>> text(m * x**2 / 2), text(sp.Integer(3) / 2)
+    ('m*x**2/2', '3/2')
+    """
 
     def __init__(self) -> None:
         self.printer = SumPrinter({"order": "none"})
@@ -37,11 +42,11 @@ class _Writer:
         return text
 
 
-def _vector(text: _Writer, matrix: sp.MatrixBase) -> list[str]:
+def _vector(text: ExpressionWriter, matrix: sp.MatrixBase) -> list[str]:
     return [text(e) for e in matrix]
 
 
-def _matrix(text: _Writer, matrix: sp.MatrixBase) -> list[list[str]]:
+def _matrix(text: ExpressionWriter, matrix: sp.MatrixBase) -> list[list[str]]:
     return [[text(matrix[i, j]) for j in range(matrix.cols)] for i in range(matrix.rows)]
 
 
@@ -49,7 +54,7 @@ def eom_document(eom: EquationsOfMotion, *, steps: bool = False) -> dict[str, An
     """The derive JSON object: coordinates, parameters, lagrangian, equations, mass_matrix,
     forcing, coriolis, potential_forces (G = dV/dq; ``gravity`` is its old name, kept for one
     release), generalized_forces, dissipation_forces, and more."""
-    text = _Writer()
+    text = ExpressionWriter()
     document: dict[str, Any] = {
         "name": eom.name,
         "coordinates": [q.name for q in eom.coordinates],
@@ -98,7 +103,7 @@ def constrained_document(equations: ConstrainedEquations) -> dict[str, Any]:
     ``gamma`` (A q_ddot = gamma), the residuals with the constraint forces,
     d/dt dL/dq_dot - dL/dq + dF/dq_dot - Q - A^T lambda (each = 0), and the augmented
     Lagrangian L + sum lambda_j h_j."""
-    text = _Writer()
+    text = ExpressionWriter()
     return {
         "constraints": [text(c.expression) for c in equations.constraints],
         "constraint_kinds": [c.kind for c in equations.constraints],
@@ -111,7 +116,7 @@ def constrained_document(equations: ConstrainedEquations) -> dict[str, Any]:
     }
 
 
-def _forces(text: _Writer, equations: ConstrainedEquations) -> dict[str, Any]:
+def _forces(text: ExpressionWriter, equations: ConstrainedEquations) -> dict[str, Any]:
     """The multipliers solved for the state, by name, or the reason they are not."""
     forces = equations.constraint_forces
     if forces is None:
