@@ -180,12 +180,17 @@ def _jacobian_at(
     forms: list[PfaffianForm], coordinates: Sequence[sp.Symbol], point: dict[sp.Symbol, float]
 ) -> tuple[np.ndarray | None, np.ndarray | None]:
     """A and b at ``point`` (None where not finite and real), each c_j = a_j . q_dot + b_j
-    evaluated in SymEngine (:func:`linear_forms_at`).  What SymEngine cannot evaluate (the
-    derivative of |u| SymPy leaves unevaluated) goes through
+    evaluated in SymEngine as a_j = dc_j/dq_dot and b_j = c_j at rest.  What SymEngine cannot
+    evaluate (the derivative of |u| SymPy leaves unevaluated) goes through
     :class:`~lagrangian.symbolic.probe.PointFunction`."""
     speeds = [to_backend(velocity(q)) for q in coordinates]
+    at_rest = {v: se.Integer(0) for v in speeds}
+    entries = []
+    for form in forms:
+        c = form.rate  # as the form made it: not converted back from SymPy
+        entries += [*(c.diff(v) for v in speeds), c.xreplace(at_rest)]
     try:
-        numbers = linear_forms_at([f.rate for f in forms], speeds, point)
+        numbers = values_at(entries, point)
     except ValueError:
         symbols = sorted(point, key=str)
         a = PointFunction(sp.Matrix([list(f.coefficients) for f in forms]), symbols)(point)
@@ -193,39 +198,8 @@ def _jacobian_at(
         return a, b
     if numbers is None:
         return None, None
+    numbers = numbers.reshape(len(forms), len(coordinates) + 1)
     return numbers[:, :-1], numbers[:, -1:]
-
-
-def linear_forms_at(
-    rates: Sequence[Any], speeds: Sequence[Any], point: Mapping[sp.Symbol, float]
-) -> np.ndarray | None:
-    """Row j: the coefficients a_j of the ``speeds`` and the rest b_j of the SymEngine
-    c_j = a_j . q_dot + b_j (linear in the speeds, as the System checks) with ``point`` put
-    in, then b_j; None where one is not finite or not real.  ValueError where SymEngine
-    cannot evaluate one.
-
-    Each c_j is substituted once (as one matrix: a substitution converts its whole mapping
-    first) and is then a linear form with numbers for coefficients, read off its expansion:
-    substituting into each partial derivative instead took ten times as long for a bicycle's
-    rolling front wheel (a few thousand operations per constraint, n + 1 derivatives)."""
-    if not rates:
-        return np.zeros((0, len(speeds) + 1))
-    values = {to_backend(s): se.RealDouble(v) for s, v in point.items()}
-    at_rest = {v: se.Integer(0) for v in speeds}
-    try:
-        substituted = se.DenseMatrix(len(rates), 1, list(rates)).subs(values)
-        rows = []
-        for c in substituted:
-            linear = se.expand(c)
-            rows.append(
-                [*(complex(linear.diff(v)) for v in speeds), complex(linear.xreplace(at_rest))]
-            )
-        numbers = np.array(rows, dtype=complex)
-    except (RuntimeError, TypeError) as error:
-        raise ValueError(f"SymEngine cannot evaluate an expression: {error}") from error
-    if not np.all(np.isfinite(numbers)) or np.any(np.abs(numbers.imag) > 1e-12):
-        return None
-    return numbers.real
 
 
 def values_at(exprs: Sequence[Any], point: Mapping[sp.Symbol, float]) -> np.ndarray | None:
