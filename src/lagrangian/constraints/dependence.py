@@ -38,7 +38,7 @@ import numpy as np
 import symengine as se
 import sympy as sp
 
-from lagrangian.constraints.pfaffian import PfaffianForm, pfaffian_form
+from lagrangian.constraints.pfaffian import PfaffianForm, backend, pfaffian_form
 from lagrangian.constraints.projection import SATISFIED, project
 from lagrangian.derivation.backend import to_backend
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
@@ -187,7 +187,7 @@ def _jacobian_at(
     at_rest = {v: se.Integer(0) for v in speeds}
     entries = []
     for form in forms:
-        c = form.rate  # as the form made it: not converted back from SymPy
+        c = backend(form.velocity_expression)
         entries += [*(c.diff(v) for v in speeds), c.xreplace(at_rest)]
     try:
         numbers = values_at(entries, point)

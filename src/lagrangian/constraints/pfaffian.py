@@ -29,7 +29,7 @@ expression and coordinates, since every consumer of a System's constraints asks 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import symengine as se
@@ -56,15 +56,6 @@ class PfaffianForm:
     coefficients: tuple[sp.Expr, ...]
     time_coefficient: sp.Expr
     velocity_expression: sp.Expr
-    #: c in SymEngine as it was made, before its conversion to SymPy: the redundancy check
-    #: evaluates it and gamma differentiates it without converting it back (a holonomic
-    #: constraint's rate is made here; a rolling contact's is a few thousand operations)
-    backend_rate: Any = field(default=None, compare=False, repr=False)
-
-    @property
-    def rate(self) -> Backend:
-        """c in SymEngine."""
-        return backend(self.velocity_expression) if self.backend_rate is None else self.backend_rate
 
     def depends_on_time(self) -> bool:
         """True when omega involves t (b != 0 or some a_k depends on t)."""
@@ -96,11 +87,11 @@ def _form(velocity_level: bool, expr: sp.Expr, coordinates: tuple[sp.Symbol, ...
     if velocity_level:  # a = dc/dq_dot and b = c at q_dot = 0, each expanded
         coefficients = tuple(view(se.expand(c.diff(v))) for v in fast)
         at_rest = se.expand(c.xreplace({v: 0 for v in fast}))
-        return PfaffianForm(coefficients, view(at_rest), expr, c)
+        return PfaffianForm(coefficients, view(at_rest), expr)
     slopes = [c.diff(to_backend(q)) for q in coordinates]  # a = dh/dq, b = dh/dt
     time_slope = c.diff(to_backend(t))
     rate = se.Add(*[a * v for a, v in zip(slopes, fast)], time_slope)
-    return PfaffianForm(tuple(view(a) for a in slopes), view(time_slope), view(rate), rate)
+    return PfaffianForm(tuple(view(a) for a in slopes), view(time_slope), view(rate))
 
 
 def backend(expr: Any) -> Backend:
@@ -149,7 +140,7 @@ def acceleration_terms(
     view = SympyView({t, *coordinates}.union(*(free_symbols(f.velocity_expression) for f in forms)))
     result = []
     for j, form in enumerate(forms):
-        terms, held = _rate_terms(form.rate, variables, rates)
+        terms, held = _rate_terms(backend(form.velocity_expression), variables, rates)
         if all(size(slope) * max(1, size(rate)) <= TIDY_OPS for slope, rate in terms):
             rate = se.expand(se.Add(*[combine_trig(slope) * rate for slope, rate in terms]))
             gamma = collect_state(-rate, state)
