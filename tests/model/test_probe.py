@@ -1,8 +1,11 @@
 """The symbolic probe: zero tests and generic ranks against identities known by hand."""
 
 import numpy as np
+import pytest
+import symengine as se
 import sympy as sp
 
+from lagrangian.symbolic import probe
 from lagrangian.symbolic.probe import (
     PointFunction,
     all_zero,
@@ -39,6 +42,36 @@ def test_non_zero_is_not_zero():
     # differs from zero only by 1e-12 of its size: still found
     assert not is_zero(x * (1 + sp.Rational(1, 10**12)) - x)
     assert not all_zero([0, x])
+
+
+def test_symengine_input_is_decided_like_sympy_input():
+    # the same answers for the same expressions, whichever library made them
+    cases = [
+        sp.sin(x) ** 2 + sp.cos(x) ** 2 - 1,
+        10**12 * (sp.sin(x) ** 2 + sp.cos(x) ** 2 - 1),  # cancels under a large factor
+        sp.expand((x + y + z) ** 8) - sp.expand((x + y + z) ** 4) ** 2,
+        x - 1,
+        sp.sin(x) ** 2 - sp.cos(x) ** 2,
+        x * (1 + sp.Rational(1, 10**12)) - x,
+        sp.sqrt(1 - (x * y) ** 2) - sp.sqrt((1 - x * y) * (1 + x * y)),
+        sp.sqrt(x - 2),  # imaginary at every probe point: not decided by the first one
+    ]
+    for expr in cases:
+        assert is_zero(se.sympify(expr)) == is_zero(expr), expr
+
+
+def test_symengine_input_found_non_zero_without_sympy(monkeypatch: pytest.MonkeyPatch):
+    # a value at the first probe point settles it: the expression is never converted
+    def refuse(value):
+        raise AssertionError(f"converted to SymPy: {value}")
+
+    monkeypatch.setattr(probe, "sympy_object", refuse)
+    a, b = se.symbols("a b")
+    height = se.expand((a + b) ** 6 * se.sin(a) - (a + b) ** 6 * se.cos(b) ** 2)
+    assert not is_zero(height)
+    assert not is_zero(a * (1 + se.Rational(1, 10**12)) - a)
+    with pytest.raises(AssertionError, match="converted"):  # a zero is confirmed as before
+        is_zero(se.sin(a) ** 2 + se.cos(a) ** 2 - 1)
 
 
 def test_generic_rank():

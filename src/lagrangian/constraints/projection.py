@@ -31,7 +31,7 @@ import numpy as np
 import symengine as se
 import sympy as sp
 
-from lagrangian.constraints.pfaffian import pfaffian_form
+from lagrangian.constraints.pfaffian import backend, pfaffian_form
 from lagrangian.derivation.backend import to_backend
 from lagrangian.errors import ConstraintError, Fix, Problem, raise_if_problems
 from lagrangian.model import Holonomic, System, Unilateral, VelocityConstraint, t, velocity
@@ -67,8 +67,10 @@ def project(
     if not equations:
         return Projection(dict(start), ())
     symbols = sorted(set(start) | set(unknowns), key=str)
-    residual = PointFunction(sp.Matrix(equations), symbols)
-    fast = se.Matrix([to_backend(e) for e in equations])  # SymPy's diff is the slow part
+    # converted once, as the constraints' forms convert them (a rolling wheel's contact
+    # height: hundreds of operations), and differentiated in SymEngine (SymPy's diff is slow)
+    fast = se.DenseMatrix(len(equations), 1, [backend(e) for e in equations])
+    residual = PointFunction(fast, symbols)
     slope = PointFunction(fast.jacobian(se.Matrix([to_backend(u) for u in unknowns])), symbols)
     rng = random.Random(SEED + 1)
     best: Projection | None = None

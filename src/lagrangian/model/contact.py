@@ -42,8 +42,6 @@ v_C = p_dot + omega_s x (C - p) = 0.
 from __future__ import annotations
 
 import difflib
-import math
-import random
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -56,9 +54,8 @@ from lagrangian.model.elements import Force, RigidBody, Torque, as_expression
 from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
 from lagrangian.model.validation import CONFIGURATION, NameScope
-from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
-from lagrangian.symbolic.probe import SEED, is_zero
+from lagrangian.symbolic.probe import is_zero
 from lagrangian.symbolic.symbols import t, velocity
 from lagrangian.symbolic.sympy_view import SympyView
 
@@ -202,7 +199,7 @@ def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
         return _WheelGeometry(below, _HorizontalLength(one, one, se.Integer(0)))
     a = _axle_in_world(disc, body)
     s = _length_of(a[2])
-    if s.value == 0 or _vanishes(s.value if s.closed else s.root):
+    if s.value == 0 or is_zero(s.value if s.closed else s.root):
         return _WheelGeometry(below, s, flat=True)
     radius = to_symengine(disc.radius)
     inverse = 1 / s.value
@@ -286,32 +283,10 @@ def _constraints(
     found: list[Any] = []
     if height != 0:
         rooted = geometry.rooted(height)
-        if not _vanishes(rooted):
+        if not is_zero(rooted):
             found.append(ContactHeight(back(rooted), f"{name} height", name))
     found += [NoSlip(slip[k], f"{name} slip {axis}", name) for k, axis in ((0, "x"), (1, "y"))]
     return tuple(found)
-
-
-#: The value (double precision) that proves an expression does not vanish identically; below
-#: it, :func:`lagrangian.symbolic.probe.is_zero` decides (a sum of order-one terms that
-#: cancels leaves about 1e-15 in double precision).
-CLEARLY_NONZERO = 1e-8
-
-
-def _vanishes(expr: Any) -> bool:
-    """True when the SymEngine ``expr`` vanishes identically: first one value in double
-    precision at the probe's kind of point (its symbols in (0.3, 1.3)), which settles the
-    common case, a wheel that stands and touches the plane, without converting ``expr`` to
-    SymPy; otherwise :func:`lagrangian.symbolic.probe.is_zero`."""
-    rng = random.Random(SEED)
-    point = {x: se.RealDouble(rng.uniform(0.3, 1.3)) for x in sorted(expr.free_symbols, key=str)}
-    try:
-        value = complex(expr.xreplace(point))
-    except (TypeError, ValueError, RuntimeError):
-        value = 0j
-    if math.isfinite(abs(value)) and abs(value) > CLEARLY_NONZERO:
-        return False
-    return is_zero(to_sympy(expr))
 
 
 def _tidy(expr: Any, length: _HorizontalLength) -> Any:

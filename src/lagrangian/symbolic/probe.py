@@ -27,6 +27,7 @@ Tolerances, all documented here and nowhere else:
 
 from __future__ import annotations
 
+import math
 import random
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import Any
@@ -42,6 +43,8 @@ SEED = 20240605
 PROBES = 3
 DIGITS = 30
 ZERO = 1e-15
+#: ``DIGITS`` in bits, for SymEngine's evaluation
+BITS = math.ceil(DIGITS * math.log2(10))
 RANK_TOLERANCE = 1e-9
 #: count_ops up to which sympy.simplify is cheap enough to confirm a zero found by probes
 SMALL = 60
@@ -79,8 +82,13 @@ def is_zero(expr: Any) -> bool:
 
     A value above ``ZERO`` at a random point proves it does not; zeros at ``PROBES`` points
     are confirmed by ``sympy.simplify`` when the expression is small, and accepted otherwise
-    (a non-zero analytic expression vanishes on a set of measure zero).
+    (a non-zero analytic expression vanishes on a set of measure zero).  A SymEngine
+    expression is evaluated at the first point by SymEngine, to the same ``DIGITS``: a value
+    there settles "not zero" without converting it to SymPy (a rolling wheel's contact
+    height, hundreds of operations, is asked whether it holds identically).
     """
+    if isinstance(expr, se.Basic) and _nonzero_at_first_point(expr):
+        return False
     expr = sympy_object(expr)
     if expr == 0 or (expr.is_Number and expr.is_zero):  # 0.0 == 0 is False in SymPy
         return True
@@ -94,6 +102,20 @@ def is_zero(expr: Any) -> bool:
     if is_small(expr):
         return bool(sp.simplify(expr) == 0)
     return True
+
+
+def _nonzero_at_first_point(expr: se.Basic) -> bool:
+    """True when the SymEngine ``expr`` at the first point :func:`is_zero` probes, evaluated
+    by SymEngine to ``DIGITS`` digits, is real and above ``ZERO``; False when it is not or
+    cannot be evaluated there (a function SymEngine does not know)."""
+    values = random_values(expr.free_symbols, random.Random(SEED))
+    point = {s: se.RealMPFR(repr(v), BITS) for s, v in values.items()}
+    try:
+        number = complex(expr.xreplace(point))
+    except (TypeError, ValueError, RuntimeError):
+        return False
+    real = np.isfinite(number) and abs(number.imag) <= 1e-12 * max(1.0, abs(number.real))
+    return bool(real and abs(number.real) > ZERO)
 
 
 def all_zero(exprs: Iterable[Any]) -> bool:
