@@ -47,6 +47,7 @@ import numpy as np
 from numpy.polynomial import Polynomial
 from numpy.polynomial import legendre as legendre_series
 
+
 @dataclass(frozen=True)
 class Tableau:
     """A symplectic partitioned Runge–Kutta method (module docstring): ``a`` for the
