@@ -20,10 +20,19 @@ misses by about 1e-9 of the stage positions (median): within SMALL_CORRECTION, s
 first correction, whose error is of its square, ends most steps at one evaluation of the
 stages (:mod:`lagrangian.numerics.stage_newton`).  The solution is that of the equations
 whatever the start; only the number of iterations changes.  The table starts again at a step
-of another size, and when its guess missed by more than the plain prediction did; a guess
-leaves out the differences of order 2 and more when their sum exceeds |D_n| + |nabla D_n|,
-so that a motion too fast for the step, whose differences grow with their order, is
-extrapolated no further than linearly.
+of another size (:func:`step_ratio`), and when its guess missed by more than the plain
+prediction did; a guess leaves out the differences of order 2 and more when their sum exceeds
+|D_n| + |nabla D_n|, so that a motion too fast for the step, whose differences grow with their
+order, is extrapolated no further than linearly.
+
+A guess this close has a residual of the stage equations of about 1e-7 of their terms: above
+RESIDUAL_GUARD (1e-8), the residual the iteration accepts.  Newton's first correction, made
+with the Jacobian at the guess, leaves a residual of the order of the square of the one
+before it, so the iteration takes the residual before that correction against
+:data:`NEWTON_RESIDUAL_GUARD` = RESIDUAL_GUARD^(1/2) instead (its correction still below
+SMALL_CORRECTION of the stage positions, whose square is below rounding): a step whose guess
+is good to 1e-7 of its terms ends at one evaluation of the stages, where RESIDUAL_GUARD asked
+for a second (an eighth of the steps of the double pendulum at dt = 0.01, gauss6).
 
 >>> import numpy as np
 >>> table, counters = np.zeros((HISTORY, 1)), np.zeros(1, dtype=np.int64)
@@ -39,10 +48,30 @@ from __future__ import annotations
 
 import numpy as np
 
+from lagrangian.numerics.discrete_lagrangian import RESIDUAL_GUARD
+
 #: The most steps whose prediction errors are extrapolated (the polynomial's degree + 1).
 HISTORY = 8
 #: counters[KNOWN]: how many differences of the table hold (0 .. HISTORY).
 KNOWN = 0
+#: Steps whose sizes differ by less than this fraction are of one size (their nodes
+#: t0 + k dt differ by rounding): they share one extrapolation and keep the table.
+EQUAL_STEPS = 1e-9
+#: The residual of the stage equations, relative to their terms, accepted before a
+#: correction by the Jacobian at the same iterate (Newton's step, not a reused Jacobian):
+#: the residual that correction leaves is of its square, within RESIDUAL_GUARD.
+NEWTON_RESIDUAL_GUARD = RESIDUAL_GUARD**0.5
+
+
+def step_ratio(dt: float, previous: float) -> float:
+    """dt / previous, exactly 1 for steps of one size (within EQUAL_STEPS): the ratio of
+    the extrapolation to this step's nodes; another ratio starts the table again.
+
+    >>> step_ratio(0.01, 0.01 * (1 + 1e-12)), step_ratio(0.02, 0.01)
+    (1.0, 2.0)
+    """
+    ratio = dt / previous
+    return 1.0 if abs(ratio - 1.0) <= EQUAL_STEPS else ratio
 
 
 def corrected_guess(

@@ -58,7 +58,13 @@ from lagrangian.numerics.fast.newton import (
     within,
 )
 from lagrangian.numerics.stage_newton import REFRESH_RATE, settled
-from lagrangian.numerics.stage_prediction import corrected_guess, forget, remember
+from lagrangian.numerics.stage_prediction import (
+    NEWTON_RESIDUAL_GUARD,
+    corrected_guess,
+    forget,
+    remember,
+    step_ratio,
+)
 
 _inline = njit(cache=False, nogil=True, error_model="numpy", inline="always")
 #: :func:`lagrangian.numerics.stage_newton.settled`, compiled into the march.
@@ -68,7 +74,7 @@ compiled_settled = _inline(settled)
 #: :func:`factor_stage_jacobian`), called with views without owners.
 _apart = njit(cache=False, nogil=True, error_model="numpy")
 compiled_corrected_guess, compiled_remember = _apart(corrected_guess), _apart(remember)
-compiled_forget = _inline(forget)
+compiled_forget, compiled_step_ratio = _inline(forget), _inline(step_ratio)
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
@@ -214,7 +220,10 @@ def stage_step(system, tableau, weights, q0, p0, t0, dt, V, lam, found, work):
     for iteration in range(MAX_ITERATIONS + 1):
         evaluate_stages(system, tableau, q0, t0, dt, V, stages)
         size = stage_residual(tableau, p0, dt, lam, stages, forces, rhs)
-        converging = within(largest(rhs[: s * n]), size, RESIDUAL_GUARD)
+        # the residual left after the correction within RESIDUAL_GUARD: of the square of
+        # the one before it after a Newton step (stage_prediction.NEWTON_RESIDUAL_GUARD)
+        guard = NEWTON_RESIDUAL_GUARD if fresh else RESIDUAL_GUARD
+        converging = within(largest(rhs[: s * n]), size, guard)
         converging = converging and stages_hold(stages, q0, r)
         reach = 0.0
         for i in range(s):
@@ -296,20 +305,6 @@ def extrapolation(c, ratio, E):
                 if k != j:
                     basis *= (x - c[k]) / (c[j] - c[k])
             E[i, j] = basis
-
-
-#: Steps whose ratio is within this of 1 are equal (their nodes t0 + k dt differ by rounding):
-#: the extrapolation of :meth:`lagrangian.simulation.variational.collocation.Tableau.extrapolation`,
-#: which takes the same tolerance, is made once for them.
-EQUAL_STEPS = 1e-9
-
-
-@njit(cache=False, nogil=True, error_model="numpy", inline="always")
-def step_ratio(dt, previous) -> float:
-    """dt / previous, 1 when the steps are equal to rounding (as
-    :func:`lagrangian.simulation.variational.collocation.step_ratio`)."""
-    ratio = dt / previous
-    return 1.0 if abs(ratio - 1.0) <= EQUAL_STEPS else ratio
 
 
 @njit(cache=False, nogil=True, error_model="numpy", inline="always")
@@ -420,8 +415,8 @@ def collocation_steps(
         dt = t1 - t0
         predicted = previous[0] > 0.0
         if predicted:
-            if step_ratio(dt, previous[0]) != ratio:  # only at a step of another size
-                ratio = step_ratio(dt, previous[0])
+            if compiled_step_ratio(dt, previous[0]) != ratio:  # a step of another size
+                ratio = compiled_step_ratio(dt, previous[0])
                 extrapolation(tableau[3], ratio, E)
             if ratio != 1.0:
                 compiled_forget(counters)

@@ -47,10 +47,6 @@ import numpy as np
 from numpy.polynomial import Polynomial
 from numpy.polynomial import legendre as legendre_series
 
-#: Steps whose ratio is within this of 1 are equal (the compiled march,
-#: :mod:`lagrangian.numerics.fast.collocation`, takes the same tolerance).
-EQUAL_STEPS = 1e-9
-
 
 @dataclass(frozen=True)
 class Tableau:
@@ -78,11 +74,9 @@ class Tableau:
     def extrapolation(self, ratio: float) -> np.ndarray:
         """E with E_ij = l_j(1 + ratio c_i), l_j the Lagrange polynomials of the nodes: the
         stage velocities of the previous step (of size h / ratio) extrapolated to this step's
-        nodes, V_i ~ sum_j E_ij V_j^prev (the start of the Newton iteration, HLW VIII.6.1).
-        A ratio within EQUAL_STEPS of 1 is 1: steps of one size whose nodes differ by
-        rounding share one E."""
-        if abs(ratio - 1.0) <= EQUAL_STEPS:
-            ratio = 1.0
+        nodes, V_i ~ sum_j E_ij V_j^prev (the start of the Newton iteration, HLW VIII.6.1);
+        ``ratio`` as :func:`lagrangian.numerics.stage_prediction.step_ratio` gives it,
+        exactly 1 for steps of one size whose nodes differ by rounding."""
         return np.array(
             [[_lagrange(self.c, j)(1 + ratio * ci) for j in range(self.stages)] for ci in self.c]
         )

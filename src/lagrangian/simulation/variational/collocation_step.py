@@ -21,7 +21,10 @@ iteration stops as the midpoint rule's does (:mod:`lagrangian.simulation.variati
 with a correction of the stage positions below SMALL_CORRECTION of their size whose residual
 was within RESIDUAL_GUARD of its terms (and the constraints within it of |A| |Q|), and, after
 a reused Jacobian, with the error its rate of contraction leaves below rounding
-(:func:`lagrangian.numerics.stage_newton.settled`).  The corrected stages are then exact to
+(:func:`lagrangian.numerics.stage_newton.settled`).  Before a correction by the Jacobian at
+the same iterate (Newton's step, which leaves a residual of the square of the one before it)
+the momentum rows are taken against NEWTON_RESIDUAL_GUARD = RESIDUAL_GUARD^(1/2) instead
+(:mod:`lagrangian.numerics.stage_prediction`).  The corrected stages are then exact to
 rounding, and so are the forces at them, moved from the last evaluation by their Jacobian,
 
     F_j + A_j^T Lambda_j  <-  F_j - (L_qv + Q_v)(j) dV_j - h K_j sum_k a_jk dV_k + A_j^T Lambda_j
@@ -55,6 +58,7 @@ from lagrangian.numerics.discrete_lagrangian import (
     DiscreteMechanics,
 )
 from lagrangian.numerics.stage_newton import REFRESH_RATE, settled
+from lagrangian.numerics.stage_prediction import NEWTON_RESIDUAL_GUARD
 from lagrangian.simulation.variational.collocation import Tableau
 from lagrangian.simulation.variational.step import factor_correction, not_converged, solve_factored
 
@@ -117,9 +121,10 @@ def stage_step(
         pushed = dt * tableau.a_hat @ forces
         rows = stages.L_v - p0 - pushed
         g = stages.h[1 : r + 1] / dt
-        converging = _acceptable(rows, (stages.L_v, p0, pushed), g, stages, q0, r)
-        K = _hessians(stages, lam, r)
         fresh = factors is None
+        guard = NEWTON_RESIDUAL_GUARD if fresh else RESIDUAL_GUARD
+        converging = _acceptable(rows, (stages.L_v, p0, pushed), guard, g, stages, q0, r)
+        K = _hessians(stages, lam, r)
         if factors is None:
             factors = factor_correction(_jacobian(tableau, dt, stages, K, lam, r), "position")
         residual = np.concatenate((rows.ravel(), g.ravel()))
@@ -203,15 +208,16 @@ def _jacobian(
 def _acceptable(
     rows: np.ndarray,
     terms: tuple[np.ndarray, ...],
+    guard: float,
     g: np.ndarray,
     stages: _Stages,
     q0: np.ndarray,
     r: int,
 ) -> bool:
-    """Whether the momentum rows are small against their terms and the constraints against
-    |A| (|Q| + |Q - q0|) (False for NaN)."""
+    """Whether the momentum rows are within ``guard`` of their terms and the constraints
+    within RESIDUAL_GUARD of |A| (|Q| + |Q - q0|) (False for NaN)."""
     size = max(float(np.abs(term).max()) for term in terms)
-    if not np.abs(rows).max() <= RESIDUAL_GUARD * (size or 1.0):
+    if not np.abs(rows).max() <= guard * (size or 1.0):
         return False
     if not r:
         return True

@@ -38,8 +38,14 @@ from typing import Any
 import numpy as np
 
 from lagrangian.numerics.discrete_lagrangian import DiscreteMechanics
-from lagrangian.numerics.stage_prediction import HISTORY, corrected_guess, forget, remember
-from lagrangian.simulation.variational.collocation import EQUAL_STEPS, Tableau
+from lagrangian.numerics.stage_prediction import (
+    HISTORY,
+    corrected_guess,
+    forget,
+    remember,
+    step_ratio,
+)
+from lagrangian.simulation.variational.collocation import Tableau
 from lagrangian.simulation.variational.collocation_step import stage_step
 from lagrangian.simulation.variational.step import position_step, velocity_step
 
@@ -200,9 +206,10 @@ class CollocationStepper(NodeStepper):
         mechanics, tableau, p = self.mechanics, self.tableau, self.p
         V = plain = self.stage_velocities
         if self.last_dt is not None:
-            if abs(dt / self.last_dt - 1.0) > EQUAL_STEPS:  # another size of step
+            ratio = step_ratio(dt, self.last_dt)
+            if ratio != 1.0:  # another size of step
                 forget(self.counters)
-            plain = tableau.extrapolation(dt / self.last_dt) @ self.stage_velocities
+            plain = tableau.extrapolation(ratio) @ self.stage_velocities
             V = np.empty_like(plain)
             corrected_guess(plain, self.history, self.counters, V)
         stage = stage_step(mechanics, tableau, self.q, self.momentum, t0, dt, p, V,
