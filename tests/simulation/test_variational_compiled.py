@@ -412,3 +412,22 @@ def test_a_step_from_the_extrapolated_stages_solves_them_to_rounding(tableau: Ta
     np.testing.assert_allclose(step.momentum, momentum, rtol=0, atol=1e-13)
     assert_as_scipy_root(mechanics, tableau, (q1, p1, t1), p, guess, step.V)
     assert step.evaluations <= 3 * tableau.stages
+
+
+def test_the_marches_compile_with_loops_neither_vectorized_nor_unrolled():
+    # loops of two to six entries: LLVM's overlap checks and eightfold unrolling cost more
+    # than the loops (gauss6 a quarter, then a fifth, faster without each); the options are
+    # restored for every other compilation
+    llvm = pytest.importorskip("llvmlite.binding")
+    from numba.core import config as numba_config
+
+    from lagrangian.numerics.fast.discrete_loops import scalar_loops
+
+    if not hasattr(llvm, "create_pipeline_tuning_options"):
+        pytest.skip("numba < 0.61: LLVM's legacy pass manager, unrolled as before")
+    vectorize = numba_config.LOOP_VECTORIZE
+    with scalar_loops():
+        assert numba_config.LOOP_VECTORIZE is False
+        assert llvm.create_pipeline_tuning_options().loop_unrolling is False
+    assert numba_config.LOOP_VECTORIZE is vectorize
+    assert llvm.create_pipeline_tuning_options().loop_unrolling is True

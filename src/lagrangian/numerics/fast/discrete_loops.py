@@ -25,6 +25,7 @@ from contextlib import contextmanager
 from functools import cache
 from typing import Any
 
+import llvmlite.binding as llvm
 import numpy as np
 from numba import types
 from numba.core import config as numba_config
@@ -101,21 +102,42 @@ def discrete_march(kind: str) -> Any:
 @contextmanager
 def scalar_loops() -> Iterator[None]:
     """Compile without LLVM's loop vectorizer (numba's ``LOOP_VECTORIZE``, read when a
-    library is optimized), under numba's compiler lock so that nothing else compiles
-    meanwhile.
+    library is optimized) and without its loop unrolling, under numba's compiler lock so
+    that nothing else compiles meanwhile.
 
-    The marches' loops run over a handful of entries (a coordinate, a stage): vectorized,
-    each was preceded by run-time checks that its arrays do not overlap, pairwise over the
-    arrays it touches, and the checks took longer than the loops (a gauss6 step of a double
-    pendulum a quarter faster without them)."""
+    The marches' loops run over a handful of entries (a coordinate, a stage):
+    - vectorized, each was preceded by run-time checks that its arrays do not overlap,
+      pairwise over the arrays it touches, and the checks took longer than the loops (a
+      gauss6 step of a double pendulum a quarter faster without them);
+    - unrolled, each loop of unknown length became eight copies of its body with a loop for
+      the rest and the tests between them, most of the work for two to six entries (gauss6
+      1.2x, gauss4 1.3x faster without; the same numbers to the last digit)."""
     # numba sets its configuration at run time: mypy does not see the attribute
     with global_compiler_lock:
         vectorize = numba_config.LOOP_VECTORIZE  # type: ignore[attr-defined]
         numba_config.LOOP_VECTORIZE = False  # type: ignore[attr-defined]
+        # numba has no setting for unrolling: its pass builders (LLVM's new pass manager,
+        # numba >= 0.61) take their tuning options from llvmlite, made without it here
+        tuning = getattr(llvm, "create_pipeline_tuning_options", None)
+        if tuning is not None:
+            llvm.create_pipeline_tuning_options = _without_unrolling(tuning)
         try:
             yield
         finally:
             numba_config.LOOP_VECTORIZE = vectorize  # type: ignore[attr-defined]
+            if tuning is not None:
+                llvm.create_pipeline_tuning_options = tuning
+
+
+def _without_unrolling(tuning: Callable[[], Any]) -> Callable[[], Any]:
+    """llvmlite's ``create_pipeline_tuning_options`` with loop unrolling off."""
+
+    def create_pipeline_tuning_options() -> Any:
+        options = tuning()
+        options.loop_unrolling = False
+        return options
+
+    return create_pipeline_tuning_options
 
 
 def system_arguments(native: NativeMechanics) -> tuple[tuple[Any, ...], tuple[int, ...]]:
