@@ -16,7 +16,10 @@ by the size of that correction, so the corrections after it contract at the rate
 
 and the error left after the correction dV_k is about theta_k / (1 - theta_k) |dV_k| (HW
 IV.8, (8.10)).  The iteration stops, as Newton's method does, at a correction below
-SMALL_CORRECTION of the stage positions whose residual was within RESIDUAL_GUARD; after a
+SMALL_CORRECTION of the stage positions whose residual was within RESIDUAL_GUARD (within
+its square root, :data:`~lagrangian.numerics.stage_prediction.NEWTON_RESIDUAL_GUARD`, for a
+correction by the Jacobian at the same iterate, which leaves a residual of the square of
+the one before it); after a
 reused Jacobian, also with that estimate of the error left below :data:`SETTLED` of them:
 a few units of rounding, where the corrections of a converged iteration (its own rounding
 noise) are of one or two.  A rate above :data:`REFRESH_RATE` (a poor start, a long
