@@ -12,7 +12,7 @@ import pytest
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.derivation.energies import energy_function, kinetic_plus_potential
+from lagrangian.derivation.energies import energy_function, kinetic_plus_potential, rest_potential
 from lagrangian.derivation.terms import euler_lagrange_terms
 from lagrangian.symbolic.native import to_symengine
 
@@ -87,3 +87,45 @@ def test_expansion_sympy_finishes_is_sympys():
     found = terms.sympy_expanded(to_symengine(expr))
     assert found == sp.expand(expr)
     assert found.has(sp.sin(a * x + a * y))
+
+
+def bead_on_rotating_hoop() -> lg.System:
+    """A bead on a hoop of radius R turning at omega about its vertical diameter: T has a
+    part free of theta_dot, m R^2 omega^2 sin(theta)^2 / 2 (Goldstein §2.6)."""
+    return lg.loads(
+        """
+name: bead_on_rotating_hoop
+coordinates: [theta]
+parameters: {m: 1.0, g: 9.81, R: 1.0, omega: 4.0}
+kinetic: m*R**2*(theta_dot**2 + omega**2*sin(theta)**2)/2
+potential: -m*g*R*cos(theta)
+"""
+    )
+
+
+@pytest.mark.parametrize(
+    "build",
+    [
+        lambda: lg.examples.n_link_pendulum(9),
+        lambda: rod_chain(9),
+        lg.examples.get("charged_particle_em"),
+        lg.examples.get("moving_pivot_pendulum"),
+        lg.examples.get("heavy_symmetric_top"),
+        bead_on_rotating_hoop,
+    ],
+    ids=["particles_9", "rods_9", "charged_particle", "moving_pivot", "top", "rotating_hoop"],
+)
+def test_rest_potential_is_sympys_expansion_of_minus_l_at_rest(build):
+    system = build()
+    eom = lg.derive(system)
+    at_rest = {v: 0 for v in eom.velocities}
+    rest = eom.potential_energy + (eom.velocity_potential - eom.kinetic_energy).xreplace(at_rest)
+    assert sp.srepr(rest_potential(system)) == sp.srepr(sp.expand(rest))
+
+
+def test_rest_potential_of_the_rotating_hoop_is_the_textbook_effective_potential():
+    # V_eff = -m g R cos(theta) - m R^2 omega^2 sin(theta)^2 / 2: its minimum leaves the bottom
+    # once omega^2 > g/R (Goldstein §2.6; Taylor, Classical Mechanics, §7.6)
+    m, g, big_r, omega, theta = sp.symbols("m g R omega theta")
+    hand = -m * g * big_r * sp.cos(theta) - m * big_r**2 * omega**2 * sp.sin(theta) ** 2 / 2
+    assert sp.expand(rest_potential(bead_on_rotating_hoop()) - hand) == 0

@@ -82,21 +82,6 @@ def expression_at_rest(expr: sp.Expr, free: VelocityFree) -> sp.Expr:
 
 
 _FORCING_AT_REST: IdentityCache[EquationsOfMotion, sp.ImmutableMatrix] = IdentityCache()
-_LAGRANGIAN_AT_REST: IdentityCache[EquationsOfMotion, sp.Expr] = IdentityCache()
-
-
-def lagrangian_at_rest(eom: EquationsOfMotion) -> sp.Expr:
-    """L(q, 0, t) = T0 - V - U0, expanded (computed once per equations), from the pieces of
-    L (a chain's L written out whole is n^2 terms, rebuilt on each request)."""
-
-    def compute(eom: EquationsOfMotion) -> sp.Expr:
-        free = VelocityFree(frozenset(eom.velocities))
-        kinetic = expression_at_rest(eom.kinetic_energy, free)
-        potential = eom.potential_energy
-        velocity_potential = expression_at_rest(eom.velocity_potential, free)
-        return sp.expand(kinetic - potential - velocity_potential)
-
-    return _LAGRANGIAN_AT_REST.get(eom, compute)
 
 
 def forcing_at_rest(eom: EquationsOfMotion) -> sp.ImmutableMatrix:

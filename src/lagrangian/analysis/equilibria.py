@@ -27,7 +27,6 @@ import sympy as sp
 from lagrangian.analysis.arguments import Subject, Values, evaluate
 from lagrangian.analysis.at_rest import (
     forcing_at_rest,
-    lagrangian_at_rest,
     velocity_jacobian_at_rest,
 )
 from lagrangian.analysis.evaluation import (
@@ -57,6 +56,7 @@ from lagrangian.analysis.separable import (
 from lagrangian.analysis.simplification import simplify_small_matrix
 from lagrangian.analysis.stability import stability_of, stiffness_matrix
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.derivation.energies import rest_potential
 from lagrangian.symbolic.probe import depends_on, is_zero
 
 
@@ -266,7 +266,9 @@ def _free_equilibria(context: EvaluationContext) -> Equilibria:
     if isinstance(special, str):
         return no_rest(static, special)
     static, subs = special.static, special.substitutions
-    potential = sp.expand(-lagrangian_at_rest(eom).xreplace(dict(subs)))
+    potential = rest_potential(eom.system)
+    if subs:  # values may be sums: m1 -> m + 1
+        potential = sp.expand(potential.xreplace(dict(subs)))
     test = _free_stability(eom, numbers, subs)
     if all(is_zero(e) for e in static):
         everywhere = (build_equilibrium(eom, {}, numbers, True, test),)

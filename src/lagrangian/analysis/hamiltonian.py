@@ -37,12 +37,12 @@ from lagrangian.analysis.arguments import Subject, equations_of, frozen
 from lagrangian.analysis.at_rest import (
     VelocityFree,
     expression_at_rest,
-    lagrangian_at_rest,
     velocity_monomial,
 )
 from lagrangian.analysis.momenta import momentum_symbols
 from lagrangian.analysis.simplification import QUICK, simplify_small
 from lagrangian.derivation import EquationsOfMotion
+from lagrangian.derivation.energies import rest_potential
 from lagrangian.derivation.steps import step_momenta, step_slopes
 from lagrangian.errors import AnalysisError, SizeLimitError
 from lagrangian.size_limits import active_operations, check_size, operations
@@ -170,7 +170,7 @@ def _legendre_quadratic(eom: EquationsOfMotion, w: sp.MatrixBase, p: tuple[sp.Sy
         velocities = list(solved)
         kinetic = (shifted.T * solved)[0, 0] / 2
     # L0 last: a W^-1 too long to write out is refused before anything else is built
-    return kinetic - lagrangian_at_rest(eom), dict(zip(eom.velocities, velocities))
+    return kinetic + rest_potential(eom.system), dict(zip(eom.velocities, velocities))
 
 
 def elimination_sizes(w: sp.MatrixBase, rhs: sp.MatrixBase) -> list[int]:

@@ -22,6 +22,7 @@ from lagrangian.symbolic.caches import IdentityCache
 
 _ENERGY_FUNCTIONS: IdentityCache[System, sp.Expr] = IdentityCache()
 _TOTAL_ENERGIES: IdentityCache[System, sp.Expr] = IdentityCache()
+_REST_POTENTIALS: IdentityCache[System, sp.Expr] = IdentityCache()
 
 
 def energy_function(system: System) -> sp.Expr:
@@ -44,6 +45,17 @@ def kinetic_plus_potential(system: System) -> sp.Expr:
     return _TOTAL_ENERGIES.get(system, _kinetic_plus_potential)
 
 
+def rest_potential(system: System) -> sp.Expr:
+    """-L(q, 0, t) = V + U(q, 0, t) - T(q, 0, t) of ``system``, expanded: the potential whose
+    stationary points are the equilibria (the pieces tidied, then every velocity 0).
+
+    >>> import lagrangian as lg
+    >>> rest_potential(lg.examples.double_pendulum())
+    -g*l1*m1*cos(theta1) - g*l1*m2*cos(theta1) - g*l2*m2*cos(theta2)
+    """
+    return _REST_POTENTIALS.get(system, _rest_potential)
+
+
 def _energy_function(system: System) -> sp.Expr:
     terms = euler_lagrange_terms(system)
     asm, tidy = terms.assembly, terms.tidy
@@ -59,3 +71,13 @@ def _kinetic_plus_potential(system: System) -> sp.Expr:
     return terms.sympy_expanded(
         terms.tidy(terms.kinetic.kinetic_energy) + terms.tidy(terms.assembly.potential)
     )
+
+
+def _rest_potential(system: System) -> sp.Expr:
+    terms = euler_lagrange_terms(system)
+    asm, tidy = terms.assembly, terms.tidy
+    at_rest = {v: se.Integer(0) for v in asm.q_dot}
+    kinetic, velocity_potential = (
+        tidy(e).xreplace(at_rest) for e in (terms.kinetic.kinetic_energy, asm.velocity_potential)
+    )
+    return terms.sympy_expanded(tidy(asm.potential) + velocity_potential - kinetic)

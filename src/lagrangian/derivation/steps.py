@@ -110,18 +110,17 @@ def step_momenta(system: System) -> tuple[sp.Expr, ...]:
     >>> step_momenta(lg.examples.simple_pendulum())
     (l**2*m*theta_dot,)
     """
-    return _SHOWN_MOMENTA.get(system, lambda s: _shown(s, "momentum"))
+    return _SHOWN_MOMENTA.get(system, lambda s: _shown(s, momenta(s)))
 
 
 def step_slopes(system: System) -> tuple[sp.Expr, ...]:
     """dL/dq_j of every coordinate as the steps show it (see :func:`step_momenta`)."""
-    return _SHOWN_SLOPES.get(system, lambda s: _shown(s, "slope"))
+    return _SHOWN_SLOPES.get(system, lambda s: _shown(s, slopes(s)))
 
 
-def _shown(system: System, step: str) -> tuple[sp.Expr, ...]:
+def _shown(system: System, derivatives: list[Backend]) -> tuple[sp.Expr, ...]:
     sympy = euler_lagrange_terms(system).sympy
-    derivatives = _DERIVATIVES.get(system, _differentiate_lagrangian)
-    return tuple(sympy(getattr(d, step)) for d in derivatives)
+    return tuple(sympy(d) for d in derivatives)
 
 
 def _show_steps(system: System) -> Steps:
@@ -162,6 +161,25 @@ def momenta(system: System) -> list[Backend]:
 def _velocity_gradient(system: System) -> list[Backend]:
     terms = euler_lagrange_terms(system)
     return terms.gradient(_compressed_lagrangian(terms), list(terms.assembly.q_dot))
+
+
+_SLOPES: IdentityCache[System, list[Backend]] = IdentityCache()
+
+
+def slopes(system: System) -> list[Backend]:
+    """dL/dq_j of every coordinate of ``system`` in backend form, as the steps find it (see
+    :func:`momenta`): the steps' own when they are derived already, else L differentiated by
+    the coordinates alone; neither needs the time derivatives of the momenta, nor the
+    tidied equations (n^2 terms each for a chain)."""
+    derived = _DERIVATIVES.peek(system)
+    if derived is not None:
+        return [d.slope for d in derived]
+    return _SLOPES.get(system, _coordinate_gradient)
+
+
+def _coordinate_gradient(system: System) -> list[Backend]:
+    terms = euler_lagrange_terms(system)
+    return terms.gradient(_compressed_lagrangian(terms), list(terms.assembly.q))
 
 
 def _compressed_lagrangian(terms: EulerLagrangeTerms) -> Backend:

@@ -36,7 +36,8 @@ r**3*theta_dot**2*cos(theta) + r**2*r_dot*theta_dot*sin(theta) - cos(theta)
 from __future__ import annotations
 
 import itertools
-from collections.abc import Callable, Sequence
+import math
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 
 import sympy as sp
@@ -82,8 +83,11 @@ class TrigonometricSearch:
         return trigonometric_ansatz(coordinates, self.angles, degree, reversible(self.problem))
 
     def unknowns(self, degree: int) -> int:
-        """The unknowns of the largest part of the ansatz of ``degree``."""
-        return max(a.unknowns for a in self.ansatz(degree)[1])
+        """The unknowns of the largest part of the ansatz of ``degree``, counted without
+        building it (a 12-link chain's ansatz of degree 4 has millions of functions)."""
+        coordinates = self.problem.eom.coordinates
+        sizes = ansatz_sizes(coordinates, self.angles, degree, reversible(self.problem))
+        return max(sizes, default=0)
 
     def integrals(
         self, degree: int, novel: Callable[[sp.Expr], bool] | None = None
@@ -168,49 +172,88 @@ def trigonometric_ansatz(
     integral to an integral, so each mode of one is one), and with ``even_and_odd`` the
     monomials of degree 2 with K_0 apart from those of degree 1 (module docstring)."""
     radial = [s for s in coordinates if s not in (*angles.all, *angles.translations)]
-    exponents = velocity_monomials(len(coordinates), 2)
-    groups = [exponents]
-    if even_and_odd:
-        groups = [[e for e in exponents if sum(e) == 2], [e for e in exponents if sum(e) == 1]]
     functions: list[sp.Expr] = [sp.Integer(1)]
+    index: dict[sp.Expr, int] = {sp.Integer(1): 0}
     ansatze = []
-    for waves in _modes(angles, degree):
-        for group in groups:
-            supports = []
-            for powers in [*group, (0,) * len(coordinates)]:
-                weight = sum(-e if s in angles.all else e for s, e in zip(coordinates, powers))
-                support = []
-                for power in _monomials(radial, degree - weight):
-                    for wave in waves:
-                        f = power * wave
-                        if f not in functions:
-                            functions.append(f)
-                        support.append(functions.index(f))
-                supports.append(support)
-            if even_and_odd and sum(group[0]) == 1:
-                supports[-1] = []  # K_0 is even
-            supports[-1] = [i for i in supports[-1] if i]  # a constant K_0 is no integral
-            ansatz = Ansatz(tuple(group), tuple(tuple(s) for s in supports))
-            if ansatz.unknowns:
-                ansatze.append(ansatz)
+    for k, group, radial_degrees, no_constant in _layout(coordinates, angles, degree, even_and_odd):
+        waves = _waves(angles, k, degree)
+        supports = []
+        for radial_degree in radial_degrees:
+            support = []
+            for power in _monomials(radial, radial_degree):
+                for wave in waves:
+                    f = power * wave
+                    i = index.get(f)
+                    if i is None:
+                        i = index[f] = len(functions)
+                        functions.append(f)
+                    support.append(i)
+            supports.append(support)
+        if no_constant:
+            supports[-1] = []  # K_0 is even
+        supports[-1] = [i for i in supports[-1] if i]  # a constant K_0 is no integral
+        ansatz = Ansatz(tuple(group), tuple(tuple(s) for s in supports))
+        if ansatz.unknowns:
+            ansatze.append(ansatz)
     basis = FunctionBasis((t, *coordinates), tuple(functions), angles.all)
     return basis, tuple(ansatze)
 
 
-def _modes(angles: Angles, degree: int) -> list[list[sp.Expr]]:
-    """For each Fourier mode k of the cyclic angles (up to its sign, sum |k_j| <= ``degree``)
-    cos(k . phi) and sin(k . phi) (1 for k = 0) times the trigonometric monomials of the
-    other angles of order <= ``degree`` - sum |k_j|."""
-    found = []
+def ansatz_sizes(
+    coordinates: Sequence[sp.Symbol], angles: Angles, degree: int, even_and_odd: bool = False
+) -> list[int]:
+    """The unknowns of each part of :func:`trigonometric_ansatz`, counted from the sizes of
+    its bases alone: C(r + d, d) monomials of degree <= d in r radial coordinates, and the
+    trigonometric monomials of :func:`_trigonometric_count`."""
+    radial = [s for s in coordinates if s not in (*angles.all, *angles.translations)]
+    sizes = []
+    for k, _, radial_degrees, no_constant in _layout(coordinates, angles, degree, even_and_odd):
+        order = sum(map(abs, k))
+        waves = (1 if order == 0 else 2) * _trigonometric_count(len(angles.turning), degree - order)
+        counts = [math.comb(len(radial) + d, d) * waves if d >= 0 else 0 for d in radial_degrees]
+        if no_constant:
+            counts[-1] = 0
+        elif order == 0 and radial_degrees[-1] >= 0:
+            counts[-1] -= 1  # the constant function, dropped from K_0
+        if sum(counts):
+            sizes.append(sum(counts))
+    return sizes
+
+
+def _layout(
+    coordinates: Sequence[sp.Symbol], angles: Angles, degree: int, even_and_odd: bool
+) -> Iterator[tuple[tuple[int, ...], list[tuple[int, ...]], list[int], bool]]:
+    """Each part of the ansatz: its Fourier mode k of the cyclic angles, its velocity
+    monomials, the degree of the radial monomials of each of them (and of K_0, last), and
+    whether K_0 is left out (an odd part of a reversible system)."""
+    exponents = velocity_monomials(len(coordinates), 2)
+    groups = [exponents]
+    if even_and_odd:
+        groups = [[e for e in exponents if sum(e) == 2], [e for e in exponents if sum(e) == 1]]
+    for k in _fourier_modes(angles, degree):
+        for group in groups:
+            radial_degrees = [
+                degree - sum(-e if s in angles.all else e for s, e in zip(coordinates, powers))
+                for powers in [*group, (0,) * len(coordinates)]
+            ]
+            yield k, group, radial_degrees, even_and_odd and sum(group[0]) == 1
+
+
+def _fourier_modes(angles: Angles, degree: int) -> Iterator[tuple[int, ...]]:
+    """The Fourier modes k of the cyclic angles, each up to its sign, sum |k_j| <= ``degree``."""
     for k in itertools.product(range(-degree, degree + 1), repeat=len(angles.cyclic)):
         leading = next((j for j in k if j), 0)
-        if leading < 0 or sum(map(abs, k)) > degree:
-            continue  # -k is the same mode
-        phase = sp.Add(*(j * a for j, a in zip(k, angles.cyclic)))
-        waves = [sp.Integer(1)] if phase == 0 else [sp.cos(phase), sp.sin(phase)]
-        rest = _trigonometric_monomials(angles.turning, degree - sum(map(abs, k)))
-        found.append([w * r for w in waves for r in rest])
-    return found
+        if leading >= 0 and sum(map(abs, k)) <= degree:  # -k is the same mode
+            yield k
+
+
+def _waves(angles: Angles, k: tuple[int, ...], degree: int) -> list[sp.Expr]:
+    """cos(k . phi) and sin(k . phi) (1 for k = 0) times the trigonometric monomials of the
+    other angles of order <= ``degree`` - sum |k_j|."""
+    phase = sp.Add(*(j * a for j, a in zip(k, angles.cyclic)))
+    waves = [sp.Integer(1)] if phase == 0 else [sp.cos(phase), sp.sin(phase)]
+    rest = _trigonometric_monomials(angles.turning, degree - sum(map(abs, k)))
+    return [w * r for w in waves for r in rest]
 
 
 def _monomials(variables: Sequence[sp.Symbol], degree: int) -> list[sp.Expr]:
@@ -225,12 +268,34 @@ def _monomials(variables: Sequence[sp.Symbol], degree: int) -> list[sp.Expr]:
 def _trigonometric_monomials(angles: Sequence[sp.Symbol], degree: int) -> list[sp.Expr]:
     """prod sin(a)**b cos(a)**c with c in (0, 1) and sum(b + c) <= ``degree``: a basis of the
     trigonometric polynomials of order <= ``degree`` in ``angles``."""
-    single = {
-        a: [(b + c, sp.sin(a) ** b * sp.cos(a) ** c) for b in range(degree + 1) for c in (0, 1)]
+    if degree < 0:
+        return []
+    single = [
+        [(b + c, sp.sin(a) ** b * sp.cos(a) ** c) for b in range(degree + 1) for c in (0, 1)]
         for a in angles
-    }
-    found = []
-    for chosen in itertools.product(*(single[a] for a in angles)):
-        if sum(o for o, _ in chosen) <= degree:
-            found.append(sp.Mul(*(f for _, f in chosen)))
+    ]
+    found: list[sp.Expr] = []
+
+    def choose(j: int, left: int, factors: list[sp.Expr]) -> None:
+        # every angle's choices in the order of their product, each branch ended once its
+        # order is spent (the product has (2 degree + 2)**n choices, nearly all over it)
+        if j == len(single):
+            found.append(sp.Mul(*factors))
+            return
+        for order, f in single[j]:
+            if order <= left:
+                choose(j + 1, left - order, [*factors, f])
+
+    choose(0, degree, [])
     return sorted(found, key=sp.count_ops)
+
+
+def _trigonometric_count(angles: int, degree: int) -> int:
+    """How many :func:`_trigonometric_monomials` of order <= ``degree`` ``angles`` angles
+    have: an angle's factor of order 0 is 1, of order o > 0 sin**o or sin**(o-1) cos."""
+    if degree < 0:
+        return 0
+    ways = [1] + [0] * degree  # ways[o]: the products of the angles so far of order o
+    for _ in range(angles):
+        ways = [ways[o] + 2 * sum(ways[:o]) for o in range(degree + 1)]
+    return sum(ways)
