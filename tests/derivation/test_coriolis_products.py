@@ -12,7 +12,7 @@ import sympy as sp
 
 import lagrangian as lg
 from lagrangian.derivation.coriolis import coriolis_products
-from lagrangian.derivation.kinetic import _coriolis
+from lagrangian.derivation.kinetic import _coriolis, coriolis_vector
 from lagrangian.derivation.terms import euler_lagrange_terms
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
@@ -66,7 +66,7 @@ def test_forcing_is_the_whole_forcing_tidied(build, n):
             asm.applied[j]
             + terms.dissipation_forces[j]
             + terms.velocity_potential_forces[j]
-            - terms.kinetic.coriolis[j]
+            - coriolis_vector(terms.kinetic)[j]
             - terms.kinetic.time_terms[j]
             - terms.gravity[j]
         )
