@@ -75,17 +75,19 @@ def test_a_chain_of_four_rods_is_kanes_method() -> None:
 
 def test_the_rods_entries_are_collected_as_their_expansion(monkeypatch) -> None:
     """Each entry collected from its products is the collection of its expansion, the same
-    SymEngine expression, for chains of 2 to 12 rods (and the fast way is taken)."""
+    SymEngine expression, for chains of 2 to 12 rods (and the fast way is taken), with what
+    the entries share remembered across them (the memo M's collection passes) or not."""
     compared = []
     original = kinetic.collected_entry
 
-    def checked(entry, state, sums=None):
-        fast = kinetic._collected_products(entry, state, {})
+    def checked(entry, state, memo=None):
         slow = collect_state(se.expand(entry), state)
-        compared.append(fast is not None)
-        if fast is not None:
-            assert fast == slow and str(fast) == str(slow)
-        return original(entry, state, sums)
+        for shared in (kinetic.EntryMemo(), memo):
+            fast = kinetic._collected_products(entry, state, shared)
+            compared.append(fast is not None)
+            if fast is not None:
+                assert fast == slow and str(fast) == str(slow)
+        return original(entry, state, memo)
 
     monkeypatch.setattr(kinetic, "collected_entry", checked)
     for n in (2, 5, 12):

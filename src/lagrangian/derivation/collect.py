@@ -345,25 +345,30 @@ def _sum_by_coefficient(pairs: list[tuple[Any, Any]], unchanged: Any) -> Any:
     :data:`SHARED` or more summed first: c k1 - c k2 + c k3 -> c (k1 - k2 + k3), c without
     a negative number in front; numbers are not factored out.  ``unchanged`` (when not
     None) is returned if nothing is shared."""
-    shared: dict[Any, list[Any]] = {}
+    # coefficient without a negative number in front -> [(key, coefficient, its sign flipped)]
+    shared: dict[Any, list[tuple[Any, Any, bool]]] = {}
     for key, coefficient in pairs:
         if coefficient.is_Number:
-            shared.setdefault(coefficient, []).append(key)
+            shared.setdefault(coefficient, []).append((key, coefficient, False))
         elif coefficient.is_Mul and _leads_negative(coefficient):
             # c k1 - c k2 + c k3 whichever sign comes first: the same form for the same sum
-            shared.setdefault(-coefficient, []).append(-key)
+            shared.setdefault(-coefficient, []).append((key, coefficient, True))
         else:
-            keys = shared.get(-coefficient)  # never None for a coefficient in ``shared``
-            if keys is not None:
-                keys.append(-key)
+            # the negative of a product, a symbol or a power is a product with a negative
+            # number in front, never a key: only other coefficients (sums) are looked up
+            simple = coefficient.is_Mul or coefficient.is_Symbol or coefficient.is_Pow
+            members = None if simple else shared.get(-coefficient)
+            if members is not None:  # never None for a coefficient in ``shared``
+                members.append((key, coefficient, True))
             else:
-                shared.setdefault(coefficient, []).append(key)
-    if unchanged is not None and all(len(keys) < SHARED for keys in shared.values()):
+                shared.setdefault(coefficient, []).append((key, coefficient, False))
+    if unchanged is not None and all(len(members) < SHARED for members in shared.values()):
         return unchanged
     terms = []
-    for coefficient, keys in shared.items():
-        if coefficient.is_Number or len(keys) < SHARED:
-            terms += [coefficient * key for key in keys]
+    for common, members in shared.items():
+        if common.is_Number or len(members) < SHARED:
+            # (-c) (-k) is c k: each term as it came
+            terms += [coefficient * key for key, coefficient, _ in members]
         else:
-            terms.append(coefficient * se.Add(*keys))
+            terms.append(common * se.Add(*[-key if flip else key for key, _, flip in members]))
     return se.Add(*terms)

@@ -59,17 +59,26 @@ def coriolis_products(
             split = _parameters_times_trig(mass[j][k], state, parameters)
             if split is None:
                 return None
-            coefficient, trig = split
+            coefficient, trig, symbols = split
             if trig is None:  # constant: no derivative
                 continue
-            for q in trig.args[0].free_symbols:
+            first: tuple[Backend, Backend, int] | None = None
+            for q in symbols:
                 ell = index.get(q)
                 if ell is None:
                     continue
-                change = _number_times_trig(trig.diff(q))
-                if change is None:
-                    return None
-                number, turned = change
+                if first is None:
+                    change = _number_times_trig(trig.diff(q))
+                    if change is None:
+                        return None
+                    number, turned = change
+                    first = number, turned, _unit_coefficient(trig.args[0], q)
+                else:
+                    # f(a) with a = sum_i (+-1) q_i: df/dq = (+-1) f'(a), the same f'(a)
+                    # times the first coordinate's number, with its sign when the two
+                    # coordinates' signs in the angle differ
+                    same = _unit_coefficient(trig.args[0], q) == first[2]
+                    number, turned = (first[0] if same else -first[0]), first[1]
                 within = (
                     _add(rows[j], turned, k, ell, coefficient, number)
                     and (j == k or _add(rows[k], turned, j, ell, coefficient, number))
@@ -80,9 +89,17 @@ def coriolis_products(
                 if not within:
                     return None
     v = asm.q_dot
+    rates: dict[tuple[int, int], Backend] = {}  # q_dot_a q_dot_b, made once per pair
+
+    def rate(a: int, b: int) -> Backend:
+        known = rates.get((a, b))
+        if known is None:
+            known = rates[a, b] = v[a] * v[b]
+        return known
+
     return tuple(
         tuple(
-            VelocityProduct(turned * v[a] * v[b], coefficient, number)
+            VelocityProduct(turned * rate(a, b), coefficient, number)
             for (turned, a, b), (coefficient, number) in row.items()
             if not number.is_zero
         )
@@ -113,15 +130,20 @@ def _add(
 
 def _parameters_times_trig(
     entry: Backend, state: set[Backend], parameters: dict[Backend, bool]
-) -> tuple[Backend, Backend | None] | None:
-    """(w, f) for an entry w f, f a sine or cosine of a plain angle of the state (None for
-    an entry free of the state), w a product of parameter factors; else None."""
+) -> tuple[Backend, Backend | None, set[Backend]] | None:
+    """(w, f, the symbols of f's angle) for an entry w f, f a sine or cosine of a plain
+    angle of the state (None for an entry free of the state), w a product of parameter
+    factors; else None."""
     trig = None
+    symbols: set[Backend] = set()
     rest = []
     for factor in entry.args if entry.is_Mul else (entry,):
         if isinstance(factor, _TRIG) and trig is None:
             angle = factor.args[0]
-            if not plain_angle(angle) or state.isdisjoint(angle.free_symbols):
+            if not plain_angle(angle):
+                return None
+            symbols = angle.free_symbols
+            if state.isdisjoint(symbols):
                 return None
             trig = factor
             continue
@@ -132,8 +154,13 @@ def _parameters_times_trig(
             return None
         rest.append(factor)
     if trig is None:
-        return entry, None
-    return (rest[0] if len(rest) == 1 else se.Mul(*rest)), trig
+        return entry, None, symbols
+    return (rest[0] if len(rest) == 1 else se.Mul(*rest)), trig, symbols
+
+
+def _unit_coefficient(angle: Backend, q: Backend) -> bool:
+    """Whether ``q`` has the coefficient +1 in a plain angle (else it has -1)."""
+    return q in (angle.args if angle.is_Add else (angle,))  # -q is a product
 
 
 def _parameter_factor(factor: Backend, state: set[Backend]) -> bool:

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import symengine as se
 
@@ -46,7 +46,9 @@ class KineticForm:
     """M(q, t) (or M(q, q_dot, t) for a T that is not quadratic), C q_dot, time terms and T."""
 
     mass_matrix: Matrix
-    coriolis: list[Backend]
+    #: C q_dot, one sum per row; None when :attr:`coriolis_products` holds it by monomial
+    #: (:func:`coriolis_vector` sums them: the forcing of a chain takes them as they are)
+    coriolis: list[Backend] | None
     time_terms: list[Backend]
     kinetic_energy: Backend
     quadratic: bool
@@ -137,15 +139,13 @@ def one_trigonometric_factor(products: list[Backend]) -> bool:
     return shared is None or plain_angle(shared.args[0])
 
 
-def collected_entry(
-    entry: Backend, state: set[Backend], sums: dict[Backend, _SumPowers | None] | None = None
-) -> Backend:
+def collected_entry(entry: Backend, state: set[Backend], memo: EntryMemo | None = None) -> Backend:
     """An entry of M whose products share one sine or cosine (:func:`one_trigonometric_factor`)
     collected now, as the mass matrix's tidying would collect it, when that makes it one
     product: its sum of masses is then one factor in C q_dot (never n terms each); else
-    combined as any other entry.  ``sums`` remembers what :func:`_collected_products` reads
-    off each sum of masses across the entries (the sums recur in n entries each)."""
-    collected = _collected_products(entry, state, {} if sums is None else sums)
+    combined as any other entry.  ``memo`` remembers what :func:`_collected_products` finds
+    across the entries of one M (:class:`EntryMemo`)."""
+    collected = _collected_products(entry, state, EntryMemo() if memo is None else memo)
     if collected is None:
         collected = collect_state(se.expand(entry), state)
     return collected if collected.is_Mul else combine_trig(entry)
@@ -155,6 +155,19 @@ def collected_entry(
 #: base in every term, the magnitudes of the terms' numbers, whether all are negative and
 #: whether all are positive, and how many terms it has.
 _SumPowers = tuple[dict[Backend, Backend], set[Backend], bool, bool, int]
+
+
+@dataclass
+class EntryMemo:
+    """What :func:`collected_entry` finds once for all the entries of one M: each sum of
+    masses read off (its :data:`_SumPowers`, or None), and each coefficient left inside
+    the common factor expanded (or None when its terms combine), by the products it is
+    made of: the sums recur in n entries each."""
+
+    sums: dict[Backend, _SumPowers | None] = field(default_factory=dict)
+    insides: dict[tuple[tuple[Backend, Backend | None], ...], Backend | None] = field(
+        default_factory=dict
+    )
 
 
 def _sum_powers(factor: Backend, state: set[Backend]) -> _SumPowers | None:
@@ -186,15 +199,13 @@ def _keep_least(common: dict[Backend, Backend], powers: dict[Backend, Backend]) 
             common[base] = min(least, exponent)
 
 
-def _collected_products(
-    entry: Backend, state: set[Backend], sums: dict[Backend, _SumPowers | None]
-) -> Backend | None:
+def _collected_products(entry: Backend, state: set[Backend], memo: EntryMemo) -> Backend | None:
     """``collect_state(se.expand(entry), state)`` for an entry that is a sum of products, each
     a number, parameters, one sine or cosine of the state shared by all, and at most one sum
     of parameter products (a sum of masses), whose expanded terms all differ; else None.
 
     Collecting the expanded entry walks its terms in Python, n per entry of a chain of rods
-    and n^3/6 in all; here each sum of masses is read once (``sums``), an entry by its few
+    and n^3/6 in all; here each sum of masses is read once (``memo``), an entry by its few
     products, and the expansion is SymEngine's.  The collection of one monomial is its
     coefficient's common factor (each base's least exponent over the terms, the numbers'
     one magnitude, negative when every number is) times the terms divided by it, which is
@@ -209,9 +220,9 @@ def _collected_products(
             if isinstance(factor, (se.sin, se.cos)) and (trig is None or factor == trig):
                 trig = factor
             elif factor.is_Add and sum_factor is None:
-                if factor not in sums:
-                    sums[factor] = _sum_powers(factor, state)
-                sum_factor, summed = factor, sums[factor]
+                if factor not in memo.sums:
+                    memo.sums[factor] = _sum_powers(factor, state)
+                sum_factor, summed = factor, memo.sums[factor]
                 if summed is None:
                     return None
             elif factor.is_Symbol or factor.is_Number or _symbol_power(factor):
@@ -246,17 +257,24 @@ def _collected_products(
         scale = -scale
     outside = scale * se.Mul(*[b**e for b, e in (common or {}).items()])
     # the expanded coefficient divided by its common factor: its terms, one per term of the
-    # expanded entry unless two combined (then the entry is collected from its expansion)
-    inside = se.expand(
-        se.Add(
-            *[
-                se.Mul(*plain) / outside * (_UNIT if sum_factor is None else sum_factor)
-                for plain, _, _, sum_factor, _ in products
-            ]
+    # expanded entry unless two combined (then the entry is collected from its expansion).
+    # The same for every entry of a column of a chain of rods (l_j l_k is the common factor,
+    # m_k / 2 + m_(k+1) + ... + m_n what is left): expanded once (``insides``), not n times
+    parts = tuple((se.Mul(*plain) / outside, sum_factor) for plain, _, _, sum_factor, _ in products)
+    if parts not in memo.insides:
+        expanded = se.expand(
+            se.Add(
+                *[
+                    part * (_UNIT if sum_factor is None else sum_factor)
+                    for part, sum_factor in parts
+                ]
+            )
         )
-    )
-    expected = sum(1 if summed is None else summed[4] for *_, summed in products)
-    if len(inside.args if inside.is_Add else (inside,)) != expected:
+        expected = sum(1 if summed is None else summed[4] for *_, summed in products)
+        whole = len(expanded.args if expanded.is_Add else (expanded,)) == expected
+        memo.insides[parts] = expanded if whole else None
+    inside = memo.insides[parts]
+    if inside is None:
         return None
     return trig * (outside * inside)
 
@@ -286,6 +304,8 @@ class _ColumnTable:
         self.moving: list[int] = [0] * n  # coordinate -> holders with a column that is not 0
         self.products: dict[tuple[int, int], Backend | None] = {}  # (id, id) -> product
         self.sums: dict[int, Backend] = {}  # set of holders -> sum of their weights
+        # (a, b) -> cos(a - b): a rod's centre and the joint below it share their angle
+        self.cosines: dict[tuple[Backend, Backend], Backend] = {}
 
     def add(self, weight: Backend, jac: list[list[Backend]]) -> None:
         """Add a holder of weight ``weight`` whose Jacobian has rows ``jac``."""
@@ -337,7 +357,12 @@ class _ColumnTable:
         key = (id_j, id_k)
         if key not in self.products:
             self.products[key] = _column_product(
-                self.by_id[id_j], self.by_id[id_k], self.polar[id_j], self.polar[id_k], combined
+                self.by_id[id_j],
+                self.by_id[id_k],
+                self.polar[id_j],
+                self.polar[id_k],
+                combined,
+                self.cosines,
             )
         product = self.products[key]
         if product is not None:
@@ -364,15 +389,19 @@ def _column_product(
     first_polar: tuple[Backend, Backend] | None,
     second_polar: tuple[Backend, Backend] | None,
     combined: dict[Backend, Backend],
+    cosines: dict[tuple[Backend, Backend], Backend],
 ) -> Backend | None:
     """The product of two Jacobian columns, trigonometry combined; None when it is 0.
 
     Two planar columns (r cos a, r sin a) and (s cos b, s sin b) give r s cos(a - b) at once,
     which is what :func:`combine_trig` makes of r s (cos a cos b + sin a sin b): a chain has
-    n^2/2 of them."""
+    n^2/2 of them (``cosines`` keeps each cos(a - b))."""
     if first_polar is not None and second_polar is not None:
         (r, angle_a), (s, angle_b) = first_polar, second_polar
-        return r * s * se.cos(angle_a - angle_b)
+        cosine = cosines.get((angle_a, angle_b))
+        if cosine is None:
+            cosine = cosines[angle_a, angle_b] = se.cos(angle_a - angle_b)
+        return r * s * cosine
     term = se.Add(*[x * y for x, y in zip(first, second)])
     if term not in combined:
         combined[term] = combine_trig(term) if term != 0 else term
@@ -545,13 +574,13 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     point_mass, point_low, single, shared = _point_terms(asm)
     mass = [[se.Integer(0)] * n for _ in range(n)]
     state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
-    mass_sums: dict[Backend, _SumPowers | None] = {}
+    memo = EntryMemo()
     for j in range(n):
         for k in range(j, n):
             if explicit[j][k] == _ZERO and (j, k) in single:  # combined already
                 mass[j][k] = point_mass[j][k]
             elif explicit[j][k] == _ZERO and (j, k) in shared:
-                mass[j][k] = collected_entry(point_mass[j][k], state, mass_sums)
+                mass[j][k] = collected_entry(point_mass[j][k], state, memo)
             else:
                 mass[j][k] = combine_trig(explicit[j][k] + point_mass[j][k])
             mass[k][j] = mass[j][k]
@@ -585,14 +614,20 @@ def kinetic_form(asm: Assembly) -> KineticForm:
         )
         time_terms.append(se.expand(explicit_time + low_terms))
     products = coriolis_products(mass, asm)
-    coriolis = (
-        _coriolis(mass, asm)
-        if products is None
-        else [se.Add(*[product.term for product in row]) for row in products]
-    )
+    coriolis = _coriolis(mass, asm) if products is None else None
     return KineticForm(
         mass, coriolis, time_terms, quadratic_t + low, True, coriolis_products=products
     )
+
+
+def coriolis_vector(kinetic: KineticForm) -> list[Backend]:
+    """C q_dot of ``kinetic``, one sum per row (summed from its products when it is held by
+    monomial)."""
+    if kinetic.coriolis is not None:
+        return kinetic.coriolis
+    if kinetic.coriolis_products is None:
+        raise ValueError("a kinetic form without C q_dot")  # never made by kinetic_form
+    return [se.Add(*[product.term for product in row]) for row in kinetic.coriolis_products]
 
 
 def _made_with_time(asm: Assembly) -> bool:
@@ -681,7 +716,7 @@ def _structured_form(asm: Assembly, explicit: Matrix) -> KineticForm | None:
         nested = _nested_form(asm, explicit)
     finally:
         algebra.limit = None
-    for expr in [*nested.coriolis, *(e for row in nested.mass_matrix for e in row)]:
+    for expr in [*coriolis_vector(nested), *(e for row in nested.mass_matrix for e in row)]:
         algebra.keep_nested(expr)
     return nested
 

@@ -21,7 +21,7 @@ each once per System): a simulation reads none of them.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 import symengine as se
@@ -36,7 +36,7 @@ from lagrangian.derivation.collect import (
     factor_common,
 )
 from lagrangian.derivation.coriolis import VelocityProduct
-from lagrangian.derivation.kinetic import KineticForm, kinetic_form
+from lagrangian.derivation.kinetic import KineticForm, coriolis_vector, kinetic_form
 from lagrangian.derivation.trig import (
     NESTED_CHECK_OPS,
     NESTED_TERMS,
@@ -88,6 +88,7 @@ class EulerLagrangeTerms:
         self._symbol_of_sum: dict[Backend, Backend] = {}
         self._sum_of_symbol: dict[Backend, Backend] = {}
         self._sums: dict[Backend, tuple[Backend, Backend]] = {}  # symbol -> (sum, factored)
+        self._refactored = False  # whether a sum's factored form differs from it
         self._compressed: dict[Backend, Backend] = {}
         self._factors: dict[Backend, Backend] = {}  # collect_state's sorting of factors
         self._coefficients: dict[Backend, tuple[int, Backend | None]] = {}  # of C q_dot's terms
@@ -103,6 +104,7 @@ class EulerLagrangeTerms:
         tidy = self.tidy if kept else self._tidy_expanded
         products = self.kinetic.coriolis_products if kept else None
         self.forcing = []
+        coriolis: list[Backend] | None = None  # summed when a row is tidied whole
         for j in range(len(asm.q)):
             rest = (
                 asm.applied[j]
@@ -112,7 +114,10 @@ class EulerLagrangeTerms:
                 - self.gravity[j]
             )
             tidied = None if products is None else self._tidy_with(rest, products[j])
-            self.forcing.append(tidy(rest - self.kinetic.coriolis[j]) if tidied is None else tidied)
+            if tidied is None:
+                coriolis = coriolis or coriolis_vector(self.kinetic)
+                tidied = tidy(rest - coriolis[j])
+            self.forcing.append(tidied)
         self.orders = self._orders()
 
     def _tidy_with(self, rest: Backend, coriolis: tuple[VelocityProduct, ...]) -> Backend | None:
@@ -152,7 +157,11 @@ class EulerLagrangeTerms:
                 if factor.is_Add:  # a short sum of parameters, expanded with the rest
                     count *= len(factor.args)
             plain = count == 1 and not compact.is_Add
-            collected = self._collected(compact) if plain else None
+            # one product collects to itself with its sums put back factored: the
+            # coefficient as it came when no sum has a common factor to pull out
+            collected = (
+                (self._collected(compact) if self._refactored else coefficient) if plain else None
+            )
             known = self._coefficients[coefficient] = (count, collected)
         count, collected = known
         if collected is not None:
@@ -252,7 +261,9 @@ class EulerLagrangeTerms:
         self._symbol_of_sum[factor] = symbol
         whole = self.expand_sums(factor)
         self._sum_of_symbol[symbol] = whole
-        self._sums[symbol] = (whole, factor_common(list(whole.args)) if whole.is_Add else whole)
+        factored = factor_common(list(whole.args)) if whole.is_Add else whole
+        self._sums[symbol] = (whole, factored)
+        self._refactored = self._refactored or factored != whole
         return symbol
 
     def _moving(self, terms: tuple[Backend, ...]) -> bool:
@@ -282,14 +293,7 @@ class EulerLagrangeTerms:
         A number times a sum (the -V of L = T - V, whose n^2/2 terms of a chain hold every
         angle) is differentiated term by term as well, not whole by each of its symbols:
         the derivatives are the same sums, written out (every caller expands them)."""
-        index = {s: i for i, s in enumerate(symbols)}
-        parts: list[list[Backend]] = [[] for _ in symbols]
-        for term in _distributed_terms(expr):
-            for s in term.free_symbols:
-                i = index.get(s)
-                if i is not None:
-                    parts[i].append(term.diff(s))
-        return [se.Add(*p) for p in parts]
+        return _term_gradient(_distributed_terms(expr), symbols)
 
     def potential_gradient(self, potential: Backend) -> list[Backend]:
         """G = dV/dq.  A potential whose expansion has at most :data:`SPREAD` times as many
@@ -300,7 +304,8 @@ class EulerLagrangeTerms:
         q = list(self.assembly.q)
         ops = size(potential)
         if ops > NESTED_CHECK_OPS and expanded_terms(potential, SPREAD * ops) < SPREAD * ops:
-            return self.gradient(se.expand(potential), q)
+            expanded = se.expand(potential)  # no term a number times a sum: none to distribute
+            return _term_gradient(expanded.args if expanded.is_Add else (expanded,), q)
         return [potential.diff(s) for s in q]
 
     def time_derivative(self, expr: Backend) -> Backend:
@@ -363,6 +368,19 @@ class EulerLagrangeTerms:
             else:
                 orders[q] = 1 if depends_on(self.forcing[j], inert_velocities) else 0
         return orders
+
+
+def _term_gradient(terms: Iterable[Backend], symbols: list[Backend]) -> list[Backend]:
+    """[d(sum of ``terms``)/ds for s in symbols], each term differentiated by the symbols it
+    has only."""
+    index = {s: i for i, s in enumerate(symbols)}
+    parts: list[list[Backend]] = [[] for _ in symbols]
+    for term in terms:
+        for s in term.free_symbols:
+            i = index.get(s)
+            if i is not None:
+                parts[i].append(term.diff(s))
+    return [se.Add(*p) for p in parts]
 
 
 def _distributed_terms(expr: Backend) -> list[Backend]:
@@ -543,7 +561,7 @@ PIECES: dict[str, Callable[[EulerLagrangeTerms], sp.Basic]] = {
     "potential_energy": lambda terms: terms.sympy(terms.assembly.potential),
     "velocity_potential": lambda terms: terms.sympy(terms.assembly.velocity_potential),
     "dissipation_function": lambda terms: terms.sympy(terms.assembly.dissipation),
-    "coriolis": lambda terms: terms.sympy_vector(terms.kinetic.coriolis),
+    "coriolis": lambda terms: terms.sympy_vector(coriolis_vector(terms.kinetic)),
     "time_terms": lambda terms: terms.sympy_vector(terms.kinetic.time_terms),
     "gravity": lambda terms: terms.sympy_vector(terms.gravity),
     "generalized_forces": lambda terms: terms.sympy_vector(list(terms.assembly.applied)),
