@@ -70,7 +70,7 @@ class SympyView:
 
     def __call__(self, expr: Backend) -> sp.Expr:
         known = self._memo.get(expr)
-        return (self._converted(expr) if known is None else known)[0][EXPR]
+        return (self._convert(expr) if known is None else known)[0][EXPR]
 
     def operations(self, expr: Backend) -> int:
         """The operations of ``expr`` counted over its tree as SymEngine's ``count_ops``
@@ -78,15 +78,17 @@ class SympyView:
         each distinct subexpression is counted once and its count remembered with its
         converted Part (a chain's mass sums m_k + ... + m_n recur in n entries of M each)."""
         known = self._memo.get(expr)
-        return (self._converted(expr) if known is None else known)[1]
+        return (self._convert(expr) if known is None else known)[1]
 
     def _converted(self, expr: Backend) -> tuple[Part, int]:
         """The :data:`~lagrangian.symbolic.canonical.Part` of ``expr`` converted, and its
         operations; :class:`_PastLimit` before converting a sum, product, power or function
         of more operations than the limit of a sized conversion."""
         known = self._memo.get(expr)
-        if known is not None:
-            return known
+        return self._convert(expr) if known is None else known
+
+    def _convert(self, expr: Backend) -> tuple[Part, int]:
+        """:meth:`_converted` of an expression not converted yet."""
         build = self._builder
         if isinstance(expr, se.Symbol):
             count, result = 0, build.part(self.by_name.get(expr.name) or sp.Symbol(expr.name))
@@ -138,7 +140,7 @@ class SympyView:
 
     def _sized(self, entry: Backend, index: int, named: Callable[[int], str]) -> sp.Expr:
         try:
-            part, count = self._memo.get(entry) or self._converted(entry)
+            part, count = self._memo.get(entry) or self._convert(entry)
         except _PastLimit:
             # the message gives the whole entry's operations
             check_operations(self._tree_operations(entry), named(index))
@@ -150,16 +152,10 @@ class SympyView:
     def _arguments(self, expr: Backend) -> tuple[list[Part], int]:
         """The arguments of the sum or product ``expr`` converted (most are met before:
         looked up directly), and the operations of ``expr``."""
-        get = self._memo.get
-        parts = []
-        count = -1
-        for a in expr.args:
-            known = get(a)
-            if known is None:
-                known = self._converted(a)
-            parts.append(known[0])
-            count += 1 + known[1]
-        return parts, self._within(count)
+        get, convert = self._memo.get, self._convert
+        known = [get(a) or convert(a) for a in expr.args]
+        count = len(known) - 1 + sum([k[1] for k in known])
+        return [k[0] for k in known], self._within(count)
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs and sign, and Heaviside by a stand-in
@@ -382,17 +378,21 @@ def unevaluated_trig(function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.
     return value
 
 
+_MINUS_ONE = se.Integer(-1)
+
+
 def _backend_difference(angle: Backend) -> tuple[Backend, Backend] | None:
     """(x, y) for a backend angle x - y with x, y symbols; else None."""
-    if not (angle.is_Add and len(angle.args) == 2):
+    terms = angle.args if angle.is_Add else ()
+    if len(terms) != 2:
         return None
     positive, negative = None, None
-    for term in angle.args:
+    for term in terms:
         if term.is_Symbol:
             positive = term
         elif term.is_Mul:
             args = term.args
-            if len(args) == 2 and args[0] == -1 and args[1].is_Symbol:
+            if len(args) == 2 and args[1].is_Symbol and args[0] == _MINUS_ONE:
                 negative = args[1]
     if positive is None or negative is None:
         return None
