@@ -13,15 +13,13 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from lagrangian.derivation.backend import (
+from lagrangian.derivation.backend import to_backend
+from lagrangian.symbolic.canonical import Builder, sympy_product, sympy_sum
+from lagrangian.symbolic.sympy_view import (
     SympyView,
-    _cycle_collection_paused,
-    sympy_product,
-    sympy_sum,
-    to_backend,
+    cycle_collection_paused,
     unevaluated_trig,
 )
-from lagrangian.symbolic.canonical import Builder
 
 #: One Builder for every example: its Parts, remembered per object, are reused across them.
 SHARED = Builder()
@@ -125,14 +123,14 @@ def test_conversions_in_two_threads_at_once_leave_the_collector_on() -> None:
         inside_a, inside_b, a_done = threading.Event(), threading.Event(), threading.Event()
 
         def first() -> None:
-            with _cycle_collection_paused():
+            with cycle_collection_paused():
                 inside_a.set()
                 inside_b.wait(10)
             a_done.set()
 
         def second() -> None:
             inside_a.wait(10)
-            with _cycle_collection_paused():
+            with cycle_collection_paused():
                 inside_b.set()
                 a_done.wait(10)
                 assert not gc.isenabled()  # A ended, B still converts

@@ -12,9 +12,10 @@ import sympy.physics.mechanics as me
 
 import lagrangian as lg
 from lagrangian.derivation.backend import vector_to_backend
-from lagrangian.derivation.lagrange import TreeOperations
 from lagrangian.derivation.terms import euler_lagrange_terms
 from lagrangian.derivation.trig import NESTED_CHECK_OPS, size
+from lagrangian.size_limits import size_limit
+from lagrangian.symbolic.sympy_view import SympyView, TreeOperations
 
 
 def test_a_long_chains_gravity_is_its_closed_form() -> None:
@@ -57,15 +58,64 @@ def test_operations_are_counted_as_symengine_counts_them(name: str) -> None:
         lg.examples.n_link_pendulum(12) if name == "n_link_pendulum" else lg.examples.get(name)()
     )
     terms = euler_lagrange_terms(system)
-    counted = TreeOperations()  # one memo for every entry, as the size check uses it
+    counted = TreeOperations()  # one memo for every entry
     entries = [e for row in terms.mass for e in row] + [*terms.forcing, terms.assembly.potential]
     for entry in entries:
         assert counted(entry) == int(se.count_ops(entry))
+    # the size check's count, read off the conversion (one view, its memo shared)
+    view = SympyView([], terms.view.by_name)
+    for entry in entries:
+        assert view.operations(entry) == int(se.count_ops(entry))
 
 
 def test_a_size_limit_still_names_the_entry_past_it() -> None:
     with pytest.raises(lg.SizeLimitError, match="forcing of the equation of theta1"):
         lg.derive(lg.examples.n_link_pendulum(6), size_limit=60)
+
+
+def _first_past(limit: int, terms) -> str | None:
+    """The message's start for the first entry past ``limit`` (M's upper triangle row by
+    row, then the forcing), from SymEngine's count of each entry."""
+    q, n = terms.coordinates, len(terms.coordinates)
+    for j in range(n):
+        for k in range(j, n):
+            count = int(se.count_ops(terms.mass[j][k]))
+            if count > limit:
+                return f"the mass matrix entry M[{q[j]}, {q[k]}] has {count:,} operations"
+    for j, entry in enumerate(terms.forcing):
+        count = int(se.count_ops(entry))
+        if count > limit:
+            return f"the forcing of the equation of {q[j]} has {count:,} operations"
+    return None
+
+
+@pytest.mark.parametrize("name", ["n_link_pendulum", "double_pendulum", "rolling_disc"])
+def test_the_entry_named_is_the_first_past_the_limit_with_its_whole_count(name: str) -> None:
+    # counted while converting, the check stops at a subexpression past the limit: the
+    # entry it names and the count it gives are still the whole entry's, the first in order
+    build = lg.examples.get(name)
+    terms = euler_lagrange_terms(build(6) if name == "n_link_pendulum" else build())
+    counts = sorted({int(se.count_ops(e)) for row in terms.mass for e in row})
+    counts += sorted({int(se.count_ops(e)) for e in terms.forcing})
+    for limit in sorted({max(c - 1, 1) for c in counts} | {max(counts)}):
+        expected = _first_past(limit, terms)
+        system = build(6) if name == "n_link_pendulum" else build()
+        if expected is None:
+            assert lg.derive(system, size_limit=limit).mass_matrix.shape[0] > 0
+            continue
+        with pytest.raises(lg.SizeLimitError) as stopped:
+            lg.derive(system, size_limit=limit)
+        assert f"derive: {expected}, more than the size limit of {limit:,}" in str(stopped.value)
+
+
+def test_an_entry_converted_before_without_a_limit_is_still_checked() -> None:
+    terms = euler_lagrange_terms(lg.examples.n_link_pendulum(4))
+    view = terms.view
+    view.vector(terms.forcing)  # converted, and remembered, without a limit
+    count = int(se.count_ops(terms.forcing[0]))
+    with size_limit(count - 1), pytest.raises(lg.SizeLimitError, match=f"has {count} operations"):
+        view.vector(terms.forcing, lambda j: f"the forcing of the equation of {j}")
+    assert view.vector(terms.forcing, lambda j: "unused")[0] == view(terms.forcing[0])
 
 
 def _lagranges_method(n: int) -> tuple[sp.Matrix, sp.Matrix]:

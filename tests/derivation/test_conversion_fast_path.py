@@ -12,16 +12,16 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import lagrangian as lg
-from lagrangian.derivation.backend import (
+from lagrangian.derivation.terms import combined_trig, euler_lagrange_terms
+from lagrangian.derivation.trig import combine_trig
+from lagrangian.symbolic.canonical import (
+    Builder,
     CanonicalOrder,
-    SympyView,
     Unorderable,
     sympy_product,
     sympy_sum,
 )
-from lagrangian.derivation.terms import combined_trig, euler_lagrange_terms
-from lagrangian.derivation.trig import combine_trig
-from lagrangian.symbolic.canonical import Builder
+from lagrangian.symbolic.sympy_view import SympyView
 
 #: One Builder for every example: its Parts, remembered per object, are reused across them.
 SHARED = Builder()

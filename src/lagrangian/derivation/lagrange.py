@@ -16,10 +16,11 @@ at once); a System is immutable, so a remembered derivation is never stale.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
-from lagrangian.derivation.backend import Backend, cycle_collection_paused
+import sympy as sp
+
+from lagrangian.derivation.backend import cycle_collection_paused
 from lagrangian.derivation.eom import EquationsOfMotion
 from lagrangian.derivation.terms import EulerLagrangeTerms, euler_lagrange_terms
 from lagrangian.errors import require
@@ -27,7 +28,7 @@ from lagrangian.limits import configured_seconds
 from lagrangian.limits import time_limit as limited_to
 from lagrangian.model import System
 from lagrangian.model.system import require_system
-from lagrangian.size_limits import active_operations, check_operations, configured_operations
+from lagrangian.size_limits import configured_operations
 from lagrangian.size_limits import size_limit as sized_to
 from lagrangian.symbolic.caches import RecentCache
 from lagrangian.symbolic.frozen import FrozenMapping, frozen
@@ -96,66 +97,37 @@ def forget_derivations() -> None:
 def equations_of_motion(system: System) -> EquationsOfMotion:
     """The EquationsOfMotion of ``system``, derived now (:func:`derive` remembers them)."""
     terms = euler_lagrange_terms(system)
-    _check_sizes(terms)
     return EquationsOfMotion(
         coordinates=tuple(system.coordinates),
         velocities=system.velocities,
         accelerations=system.accelerations,
         parameters=frozen(system.parameters),
         time=t,
-        mass_matrix=terms.view.symmetric_matrix(terms.mass),
-        forcing=terms.view.vector(terms.forcing),
+        mass_matrix=converted_mass_matrix(terms),
+        forcing=converted_forcing(terms),
         coordinate_orders=FrozenMapping(terms.orders),
         system=system,
         name=system.name,
     )
 
 
-def _check_sizes(terms: EulerLagrangeTerms) -> None:
-    """Every entry of M and the forcing within the size limit (SizeLimitError naming the
-    entry), before they are converted for the user: converting, printing and compiling an
-    expression cost far more time and memory than computing it.  The message naming an
-    entry is written only for an entry over the limit (a 200-link chain has 20,300 entries,
-    and writing each name costs more than counting the entry)."""
-    limit = active_operations()
-    if math.isinf(limit):
-        return
-    q, counted = terms.coordinates, TreeOperations()
-    for j, row in enumerate(terms.mass):
-        for k in range(j, len(row)):
-            count = counted(row[k])
-            if count > limit:
-                check_operations(count, f"derive: the mass matrix entry M[{q[j]}, {q[k]}]")
-    for j, entry in enumerate(terms.forcing):
-        count = counted(entry)
-        if count > limit:
-            check_operations(count, f"derive: the forcing of the equation of {q[j]}")
+# Every entry of M and the forcing is converted for the user within the size limit
+# (SizeLimitError naming the entry): printing and compiling an expression cost far more time
+# and memory than computing it.  Its operations are counted as it is converted, each
+# subexpression once, and the conversion stops before a subexpression past the limit.
 
 
-class TreeOperations:
-    """The operations of SymEngine expressions counted over their trees as SymEngine's
-    ``count_ops`` counts them (n - 1 for a sum or product of n arguments, one for a power or
-    a function, none for an atom), each distinct subexpression counted once across calls and
-    its count remembered (atoms too: a chain's lengths and velocities recur in every term):
-    a chain's mass sums m_k + ... + m_n recur in n entries of M each, and counting every
-    entry afresh would walk n^3/6 masses."""
+def converted_mass_matrix(terms: EulerLagrangeTerms) -> sp.ImmutableMatrix:
+    """M of ``terms`` converted to SymPy, each entry within the size limit."""
+    q = terms.coordinates
+    return terms.view.symmetric_matrix(
+        terms.mass, lambda j, k: f"derive: the mass matrix entry M[{q[j]}, {q[k]}]"
+    )
 
-    def __init__(self) -> None:
-        self._known: dict[Backend, int] = {}
 
-    def __call__(self, expr: Backend) -> int:
-        known = self._known
-        count = known.get(expr)
-        if count is not None:
-            return count
-        args = expr.args
-        if not args:
-            known[expr] = 0
-            return 0
-        count = len(args) - 1 if (expr.is_Add or expr.is_Mul) else 1
-        get = known.get
-        for arg in args:
-            inner = get(arg)
-            count += self(arg) if inner is None else inner
-        known[expr] = count
-        return count
+def converted_forcing(terms: EulerLagrangeTerms) -> sp.ImmutableMatrix:
+    """The forcing of ``terms`` converted to SymPy, each entry within the size limit."""
+    q = terms.coordinates
+    return terms.view.vector(
+        terms.forcing, lambda j: f"derive: the forcing of the equation of {q[j]}"
+    )

@@ -155,8 +155,24 @@ class Builder:
             if RATIONAL in kinds and (SUM in kinds or PRODUCT in kinds):
                 # SymPy's two-argument rules (a number times a sum is distributed)
                 return self._general(sp.Mul, parts)
+            if kinds == (RATIONAL, PLAIN) and parts[1][COMMUTATIVE]:
+                return self._scaled(parts[0], parts[1])
         # a product among the factors (a flipped sine) flattened at once, not met midway
         return self._product(self._flat(parts), parts)
+
+    def _scaled(self, number: Part, factor: Part) -> Part:
+        """:meth:`product` of a rational number and a commutative symbol or function value
+        (a sine whose angle was flipped): the number first, unless it is 0 or 1."""
+        value = number[EXPR]
+        if value is sp.S.One:
+            return factor
+        if value is sp.S.Zero:
+            return self._general(sp.Mul, [number, factor])
+        args = (number, factor)
+        made = sp.Mul._from_args((value, factor[EXPR]), True)
+        keys = (number[KEY], factor[KEY])
+        key = UNORDERABLE if UNORDERABLE in keys else (_MUL_RANK, "Mul", 2, *keys)
+        return (made, key, PRODUCT, None, None, None, True, args)
 
     def _general(self, constructor: Any, parts: list[Part]) -> Part:
         return self.part(constructor(*[p[EXPR] for p in parts]))
@@ -199,6 +215,8 @@ class Builder:
                     flat.extend(self._arguments(q) if q[KIND] == SUM else (q,))
                 return self._sum(flat, parts)
             rest = p[REST_HASH]
+            if rest is None and kind == PRODUCT:  # a product made here, first met as a term
+                rest = _rest_hash(p[ARGS])
             if kind == OTHER or rest in seen or not p[COMMUTATIVE]:
                 return self._general(sp.Add, parts)
             seen.add(rest)
@@ -252,9 +270,16 @@ class Builder:
             key = (rank, name, len(keys), *keys)
         if kind is sp.Add:
             return (made, key, SUM, None, None, None, True, tuple(args))
-        # as a term of a sum: what it is without its number, as SymPy's Add sees it
-        rest_hash = hash(tuple([_hash(p) for p in ordered]))
-        return (made, key, PRODUCT, None, None, rest_hash, True, tuple(args))
+        # its REST_HASH is made when it is first met as a term of a sum (most products are
+        # not: M's entries, and the factors of larger products)
+        return (made, key, PRODUCT, None, None, None, True, tuple(args))
+
+
+def _rest_hash(args: tuple[Part, ...]) -> int:
+    """The hash of what a product made of the Parts ``args`` is without its number, as a
+    term of a sum (what SymPy's Add compares to combine terms)."""
+    rest = args[1:] if args[0][KIND] == RATIONAL else args
+    return hash(tuple([_hash(p) for p in rest]))
 
 
 def _hash(part: Part) -> int:

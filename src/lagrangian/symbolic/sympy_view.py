@@ -10,6 +10,7 @@ the time of converting large equations.
 from __future__ import annotations
 
 import gc
+import math
 import threading
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
@@ -18,6 +19,7 @@ from typing import Any
 import symengine as se
 import sympy as sp
 
+from lagrangian.size_limits import active_operations, check_operations
 from lagrangian.symbolic.caches import IdentityCache
 from lagrangian.symbolic.canonical import (
     EXPR,
@@ -54,52 +56,106 @@ class SympyView:
         ``names`` maps further names to any SymPy expression the symbol stands for."""
         self.by_name: dict[str, sp.Expr] = {s.name: s for s in symbols}
         self.by_name.update(names or {})
-        self._memo: dict[Backend, Part] = {}
+        # a backend expression -> (its Part converted, its operations counted over its tree)
+        self._memo: dict[Backend, tuple[Part, int]] = {}
+        self._limit = math.inf  # the operations past which a sized conversion stops
+        # counts what is not converted part by part: a function handed to SymPy whole, or an
+        # entry past the size limit (for the message)
+        self._tree_operations = TreeOperations()
         self._builder = Builder()
-        # a backend angle -> (the angle converted, its canonical difference or None, flipped)
-        self._angles: dict[Backend, tuple[Part, Part | None, bool]] = {}
+        # a backend angle ->
+        # (the angle converted, its canonical difference or None, flipped, its operations)
+        self._angles: dict[Backend, tuple[Part, Part | None, bool, int]] = {}
         self._negatives: dict[sp.Symbol, Part] = {}  # symbol -> -symbol
 
     def __call__(self, expr: Backend) -> sp.Expr:
         known = self._memo.get(expr)
-        return (self._part(expr) if known is None else known)[EXPR]
+        return (self._convert(expr) if known is None else known)[0][EXPR]
 
-    def _part(self, expr: Backend) -> Part:
-        """The :data:`~lagrangian.symbolic.canonical.Part` of ``expr`` converted."""
+    def operations(self, expr: Backend) -> int:
+        """The operations of ``expr`` counted over its tree as SymEngine's ``count_ops``
+        counts them (:func:`lagrangian.size_limits.operations`), read off its conversion:
+        each distinct subexpression is counted once and its count remembered with its
+        converted Part (a chain's mass sums m_k + ... + m_n recur in n entries of M each)."""
         known = self._memo.get(expr)
-        if known is not None:
-            return known
+        return (self._convert(expr) if known is None else known)[1]
+
+    def _converted(self, expr: Backend) -> tuple[Part, int]:
+        """The :data:`~lagrangian.symbolic.canonical.Part` of ``expr`` converted, and its
+        operations; :class:`_PastLimit` before converting a sum, product, power or function
+        of more operations than the limit of a sized conversion."""
+        known = self._memo.get(expr)
+        return self._convert(expr) if known is None else known
+
+    def _convert(self, expr: Backend) -> tuple[Part, int]:
+        """:meth:`_converted` of an expression not converted yet."""
         build = self._builder
         if isinstance(expr, se.Symbol):
-            result = build.part(self.by_name.get(expr.name) or sp.Symbol(expr.name))
+            count, result = 0, build.part(self.by_name.get(expr.name) or sp.Symbol(expr.name))
         elif expr.is_Add:
-            result = build.sum(self._arguments(expr))
+            parts, count = self._arguments(expr)
+            result = build.sum(parts)
         elif expr.is_Mul:
-            result = build.product(self._arguments(expr))
+            parts, count = self._arguments(expr)
+            result = build.product(parts)
         elif expr.is_Pow:
             base, exponent = expr.args
+            (power, base_count), (root, exponent_count) = map(self._converted, expr.args)
+            count = self._within(1 + base_count + exponent_count)
             if base.is_Add and exponent.is_Number and not exponent.is_Integer:
-                result = build.part(sympy_root(self(base), self(exponent), base.has(se.I)))
+                result = build.part(sympy_root(power[EXPR], root[EXPR], base.has(se.I)))
             else:
-                result = build.part(sp.Pow(self(base), self(exponent)))
+                result = build.part(sp.Pow(power[EXPR], root[EXPR]))
         elif type(expr) in _TRIG:
-            result = self._trig(_TRIG[type(expr)], expr.args[0])
+            result, count = self._trig(_TRIG[type(expr)], expr.args[0])
         elif expr.is_Number:
-            result = build.part(to_sympy(expr))
+            count, result = 0, build.part(to_sympy(expr))
         else:
+            count = self._within(self._tree_operations(expr))
             result = build.part(self._fallback(expr))
-        self._memo[expr] = result
-        return result
+        known = self._memo[expr] = (result, count)
+        return known
 
-    def _all(self, entries: list[Backend]) -> list[sp.Expr]:
-        """Every entry converted."""
-        with _cycle_collection_paused():
-            return [self(v) for v in entries]
+    def _within(self, count: int) -> int:
+        """``count``, checked against the limit of a sized conversion."""
+        if count > self._limit:
+            raise _PastLimit
+        return count
 
-    def _arguments(self, expr: Backend) -> list[Part]:
-        """The arguments of ``expr`` converted (most are met before: looked up directly)."""
-        get = self._memo.get
-        return [known if (known := get(a)) is not None else self._part(a) for a in expr.args]
+    def _all(self, entries: list[Backend], named: Callable[[int], str] | None) -> list[sp.Expr]:
+        """Every entry converted; with ``named`` (the entry at an index, named for a
+        message), each within the size limit that applies
+        (:func:`lagrangian.size_limits.active_operations`): SizeLimitError naming the first
+        entry past it, raised before the subexpression past the limit is converted.  Every
+        subexpression of an entry has at most the entry's operations, so this is the entry
+        that counting every entry first would name."""
+        with cycle_collection_paused():
+            if named is None:
+                return [self(v) for v in entries]
+            self._limit = active_operations()
+            try:
+                return [self._sized(v, i, named) for i, v in enumerate(entries)]
+            finally:
+                self._limit = math.inf
+
+    def _sized(self, entry: Backend, index: int, named: Callable[[int], str]) -> sp.Expr:
+        try:
+            part, count = self._memo.get(entry) or self._convert(entry)
+        except _PastLimit:
+            # the message gives the whole entry's operations
+            check_operations(self._tree_operations(entry), named(index))
+            raise  # not reached: the entry holds the subexpression past the limit
+        if count > self._limit:  # converted before, by a conversion without a limit
+            check_operations(count, named(index))
+        return part[EXPR]
+
+    def _arguments(self, expr: Backend) -> tuple[list[Part], int]:
+        """The arguments of the sum or product ``expr`` converted (most are met before:
+        looked up directly), and the operations of ``expr``."""
+        get, convert = self._memo.get, self._convert
+        known = [get(a) or convert(a) for a in expr.args]
+        count = len(known) - 1 + sum([k[1] for k in known])
+        return [k[0] for k in known], self._within(count)
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs and sign, and Heaviside by a stand-in
@@ -111,30 +167,34 @@ class SympyView:
         }
         return result.xreplace(swap) if swap else result
 
-    def _trig(self, function: Callable[..., sp.Expr], angle: Backend) -> Part:
-        """``function`` of the backend ``angle``; a difference of two symbols in SymPy's
-        canonical order (the first symbol positive), made from the two symbols directly: the
-        angle as SymEngine orders it is then never converted (an n-link chain has n^2/2 such
-        angles, each in a cosine of M and a sine of the forcing)."""
+    def _trig(self, function: Callable[..., sp.Expr], angle: Backend) -> tuple[Part, int]:
+        """``function`` of the backend ``angle`` and its operations; a difference of two
+        symbols in SymPy's canonical order (the first symbol positive), made from the two
+        symbols directly: the angle as SymEngine orders it is then never converted (an
+        n-link chain has n^2/2 such angles, each in a cosine of M and a sine of the
+        forcing)."""
         build = self._builder
         known = self._angles.get(angle)  # the sine and the cosine of an angle share it
         if known is None:
             pair = _backend_difference(angle)
             x, y = (None, None) if pair is None else (self(pair[0]), self(pair[1]))
             if not (x is not None and x.is_Symbol and y is not None and y.is_Symbol):
-                known = (self._part(angle), None, False)
+                argument, count = self._converted(angle)
+                known = (argument, None, False, count)
             else:
                 first, second, flipped = _ordered(x, y)
                 difference = build.sum([build.part(first), self._negative(second)])
-                known = (difference, difference, flipped)
+                # x + (-1)*y as SymEngine has it: a sum of two terms, one a product of two
+                known = (difference, difference, flipped, 2)
             self._angles[angle] = known
-        argument, canonical, flipped = known
+        argument, canonical, flipped, count = known
+        count = self._within(1 + count)
         if canonical is None:
-            return build.part(function(argument[EXPR]))
+            return build.part(function(argument[EXPR])), count
         value = build.function_value(unevaluated_trig(function, canonical[EXPR]), canonical)
         if flipped and function is sp.sin:
-            return build.product([build.part(sp.S.NegativeOne), value])
-        return value
+            return build.product([build.part(sp.S.NegativeOne), value]), count
+        return value, count
 
     def _negative(self, symbol: sp.Symbol) -> Part:
         """-symbol, made once per symbol."""
@@ -143,23 +203,67 @@ class SympyView:
             known = self._negatives[symbol] = self._builder.part(-symbol)
         return known
 
-    def vector(self, values: Iterable[Backend]) -> sp.ImmutableMatrix:
+    def vector(
+        self, values: Iterable[Backend], named: Callable[[int], str] | None = None
+    ) -> sp.ImmutableMatrix:
+        """The column of ``values`` converted; with ``named`` (an entry's index -> its name in
+        a message), each entry within the active size limit (SizeLimitError naming the first
+        past it, before it is converted)."""
         entries = list(values)
-        return _remember(_immutable(len(entries), 1, self._all(entries)), entries)
+        return _remember(_immutable(len(entries), 1, self._all(entries, named)), entries)
 
     def matrix(self, rows: Sequence[Sequence[Backend]]) -> sp.ImmutableMatrix:
         entries = [v for row in rows for v in row]
         columns = len(rows[0]) if rows else 0
-        return _remember(_immutable(len(rows), columns, self._all(entries)), entries)
+        return _remember(_immutable(len(rows), columns, self._all(entries, None)), entries)
 
-    def symmetric_matrix(self, rows: Sequence[Sequence[Backend]]) -> sp.ImmutableMatrix:
-        """Convert the upper triangle only and mirror it."""
+    def symmetric_matrix(
+        self, rows: Sequence[Sequence[Backend]], named: Callable[[int, int], str] | None = None
+    ) -> sp.ImmutableMatrix:
+        """Convert the upper triangle only (row by row) and mirror it; with ``named`` (row,
+        column -> the entry's name), each entry of the upper triangle within the size limit
+        as :meth:`vector`."""
         n = len(rows)
         pairs = [(j, k) for j in range(n) for k in range(j, n)]
-        upper = dict(zip(pairs, self._all([rows[j][k] for j, k in pairs])))
+        upper_named = None if named is None else (lambda i: named(*pairs[i]))
+        upper = dict(zip(pairs, self._all([rows[j][k] for j, k in pairs], upper_named)))
         mirrored = [(min(j, k), max(j, k)) for j in range(n) for k in range(n)]
         converted = _immutable(n, n, [upper[pair] for pair in mirrored])
         return _remember(converted, [rows[j][k] for j, k in mirrored])
+
+
+class _PastLimit(Exception):
+    """A subexpression of more operations than the limit of a sized conversion."""
+
+
+class TreeOperations:
+    """The operations of SymEngine expressions counted over their trees as SymEngine's
+    ``count_ops`` counts them (n - 1 for a sum or product of n arguments, one for a power or
+    a function, none for an atom), each distinct subexpression counted once across calls and
+    its count remembered (atoms too): a chain's mass sums m_k + ... + m_n recur in n entries
+    of M each, and counting every entry afresh would walk n^3/6 masses.  What a
+    :class:`SympyView` converts is counted as it is converted (:meth:`SympyView.operations`);
+    this counts what it hands to SymPy whole."""
+
+    def __init__(self) -> None:
+        self._known: dict[Backend, int] = {}
+
+    def __call__(self, expr: Backend) -> int:
+        known = self._known
+        count = known.get(expr)
+        if count is not None:
+            return count
+        args = expr.args
+        if not args:
+            known[expr] = 0
+            return 0
+        count = len(args) - 1 if (expr.is_Add or expr.is_Mul) else 1
+        get = known.get
+        for arg in args:
+            inner = get(arg)
+            count += self(arg) if inner is None else inner
+        known[expr] = count
+        return count
 
 
 def sympy_root(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) -> sp.Expr:
@@ -225,11 +329,10 @@ class _CollectorPause:
                     gc.enable()
 
 
-_cycle_collection_paused = _CollectorPause()
-#: The same pause for a whole derivation and the multiplier form: a bicycle's derivation
-#: otherwise sets off a full collection (of everything SymPy made at import), a tenth of its
-#: time, that finds nothing to free.
-cycle_collection_paused = _cycle_collection_paused
+#: The pause of every conversion, and of a whole derivation and the multiplier form: a
+#: bicycle's derivation otherwise sets off a full collection (of everything SymPy made at
+#: import), a tenth of its time, that finds nothing to free.
+cycle_collection_paused = _CollectorPause()
 
 
 #: The backend entries each matrix a SympyView converted came from, row by row: numeric code
@@ -275,17 +378,21 @@ def unevaluated_trig(function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.
     return value
 
 
+_MINUS_ONE = se.Integer(-1)
+
+
 def _backend_difference(angle: Backend) -> tuple[Backend, Backend] | None:
     """(x, y) for a backend angle x - y with x, y symbols; else None."""
-    if not (angle.is_Add and len(angle.args) == 2):
+    terms = angle.args if angle.is_Add else ()
+    if len(terms) != 2:
         return None
     positive, negative = None, None
-    for term in angle.args:
+    for term in terms:
         if term.is_Symbol:
             positive = term
         elif term.is_Mul:
             args = term.args
-            if len(args) == 2 and args[0] == -1 and args[1].is_Symbol:
+            if len(args) == 2 and args[1].is_Symbol and args[0] == _MINUS_ONE:
                 negative = args[1]
     if positive is None or negative is None:
         return None
@@ -306,6 +413,7 @@ __all__ = [
     "Backend",
     "CanonicalOrder",
     "SympyView",
+    "TreeOperations",
     "Unorderable",
     "backend_entries",
     "cycle_collection_paused",
