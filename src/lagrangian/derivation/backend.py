@@ -17,29 +17,17 @@ import sympy as sp
 from lagrangian.symbolic.native import to_symengine
 from lagrangian.symbolic.sympy_view import (
     Backend,
-    CanonicalOrder,
     SympyView,
-    Unorderable,
     backend_entries,
     cycle_collection_paused,
-    sympy_product,
-    sympy_sum,
     unevaluated_trig,
 )
 
-#: The conversions' pause of the cycle collector, under the name it had here.
-_cycle_collection_paused = cycle_collection_paused
-
 __all__ = [
     "Backend",
-    "CanonicalOrder",
     "SympyView",
-    "Unorderable",
-    "_cycle_collection_paused",
     "backend_entries",
     "cycle_collection_paused",
-    "sympy_product",
-    "sympy_sum",
     "to_backend",
     "unevaluated_trig",
     "vector_to_backend",

@@ -3,7 +3,8 @@ that the derivation, the constraints and the model's rolling contacts share.
 
 The SymPy expressions are built as SymPy's constructors build them (the same arguments in the
 same order, so ``srepr`` is equal), with SymPy's general evaluation skipped where the
-arguments are canonical already (:func:`sympy_sum`, :func:`sympy_product`), which is most of
+arguments are canonical already (:func:`~lagrangian.symbolic.canonical.sympy_sum`,
+:func:`~lagrangian.symbolic.canonical.sympy_product`), which is most of
 the time of converting large equations.
 """
 
@@ -21,15 +22,7 @@ import sympy as sp
 
 from lagrangian.size_limits import active_operations, check_operations
 from lagrangian.symbolic.caches import IdentityCache
-from lagrangian.symbolic.canonical import (
-    EXPR,
-    Builder,
-    CanonicalOrder,
-    Part,
-    Unorderable,
-    sympy_product,
-    sympy_sum,
-)
+from lagrangian.symbolic.canonical import EXPR, Builder, Part
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.nonsmooth import piecewise_smooth
 
@@ -411,14 +404,10 @@ def _ordered(x: sp.Symbol, y: sp.Symbol) -> tuple[sp.Symbol, sp.Symbol, bool]:
 
 __all__ = [
     "Backend",
-    "CanonicalOrder",
     "SympyView",
     "TreeOperations",
-    "Unorderable",
     "backend_entries",
     "cycle_collection_paused",
-    "sympy_product",
     "sympy_root",
-    "sympy_sum",
     "unevaluated_trig",
 ]
