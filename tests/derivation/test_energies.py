@@ -60,17 +60,18 @@ def sympy_energy_function(eom: lg.EquationsOfMotion) -> sp.Expr:
     return sp.expand(work - eom.lagrangian)
 
 
-@pytest.mark.parametrize(
-    "build",
-    [
-        lambda: lg.examples.n_link_pendulum(9),
-        lambda: rod_chain(9),
-        lg.examples.get("charged_particle_em"),
-        lg.examples.get("moving_pivot_pendulum"),
-        lg.examples.get("heavy_symmetric_top"),
-    ],
-    ids=["particles_9", "rods_9", "charged_particle", "moving_pivot", "top"],
-)
+#: Chains of particles and of rods, a velocity potential, a moving pivot (T with parts of
+#: degree 0 and 1 in the velocities) and a 3-D body.
+BUILDS = {
+    "particles_9": lambda: lg.examples.n_link_pendulum(9),
+    "rods_9": lambda: rod_chain(9),
+    "charged_particle": lg.examples.get("charged_particle_em"),
+    "moving_pivot": lg.examples.get("moving_pivot_pendulum"),
+    "top": lg.examples.get("heavy_symmetric_top"),
+}
+
+
+@pytest.mark.parametrize("build", list(BUILDS.values()), ids=list(BUILDS))
 def test_energy_function_is_sympys_expansion_exactly(build):
     system = build()
     eom = lg.derive(system)
@@ -105,15 +106,8 @@ potential: -m*g*R*cos(theta)
 
 @pytest.mark.parametrize(
     "build",
-    [
-        lambda: lg.examples.n_link_pendulum(9),
-        lambda: rod_chain(9),
-        lg.examples.get("charged_particle_em"),
-        lg.examples.get("moving_pivot_pendulum"),
-        lg.examples.get("heavy_symmetric_top"),
-        bead_on_rotating_hoop,
-    ],
-    ids=["particles_9", "rods_9", "charged_particle", "moving_pivot", "top", "rotating_hoop"],
+    [*BUILDS.values(), bead_on_rotating_hoop],
+    ids=[*BUILDS, "rotating_hoop"],
 )
 def test_rest_potential_is_sympys_expansion_of_minus_l_at_rest(build):
     system = build()

@@ -143,43 +143,37 @@ def _show_steps(system: System) -> Steps:
     )
 
 
-_MOMENTA: IdentityCache[System, list[Backend]] = IdentityCache()
-
-
 def momenta(system: System) -> list[Backend]:
     """dL/dq_dot_j of every coordinate of ``system`` in backend form, as the steps find it
     (before it is tidied; computed once per System): the steps' own when they are derived
     already, else L differentiated by the velocities alone (the same sums: the gradient
     adds each term's derivative by a symbol in the same order whichever other symbols it
     is asked for), without the equations the steps tidy."""
-    derived = _DERIVATIVES.peek(system)
-    if derived is not None:
-        return [d.momentum for d in derived]
-    return _MOMENTA.get(system, _velocity_gradient)
-
-
-def _velocity_gradient(system: System) -> list[Backend]:
-    terms = euler_lagrange_terms(system)
-    return terms.gradient(_compressed_lagrangian(terms), list(terms.assembly.q_dot))
-
-
-_SLOPES: IdentityCache[System, list[Backend]] = IdentityCache()
+    return _first_derivatives(system, "momentum")
 
 
 def slopes(system: System) -> list[Backend]:
     """dL/dq_j of every coordinate of ``system`` in backend form, as the steps find it (see
-    :func:`momenta`): the steps' own when they are derived already, else L differentiated by
-    the coordinates alone; neither needs the time derivatives of the momenta, nor the
-    tidied equations (n^2 terms each for a chain)."""
+    :func:`momenta`): neither needs the time derivatives of the momenta, nor the tidied
+    equations (n^2 terms each for a chain)."""
+    return _first_derivatives(system, "slope")
+
+
+#: L's gradients by the velocities ("momentum") or the coordinates ("slope") alone, per System.
+_GRADIENTS: IdentityCache[System, dict[str, list[Backend]]] = IdentityCache()
+
+
+def _first_derivatives(system: System, step: str) -> list[Backend]:
     derived = _DERIVATIVES.peek(system)
     if derived is not None:
-        return [d.slope for d in derived]
-    return _SLOPES.get(system, _coordinate_gradient)
-
-
-def _coordinate_gradient(system: System) -> list[Backend]:
-    terms = euler_lagrange_terms(system)
-    return terms.gradient(_compressed_lagrangian(terms), list(terms.assembly.q))
+        return [getattr(d, step) for d in derived]
+    known = _GRADIENTS.get(system, lambda _: {})
+    if step not in known:
+        terms = euler_lagrange_terms(system)
+        asm = terms.assembly
+        symbols = asm.q_dot if step == "momentum" else asm.q
+        known[step] = terms.gradient(_compressed_lagrangian(terms), list(symbols))
+    return known[step]
 
 
 def _compressed_lagrangian(terms: EulerLagrangeTerms) -> Backend:
