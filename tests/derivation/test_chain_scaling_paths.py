@@ -5,6 +5,8 @@ sympy.physics.mechanics."""
 
 from __future__ import annotations
 
+import threading
+
 import pytest
 import symengine as se
 import sympy as sp
@@ -116,6 +118,31 @@ def test_an_entry_converted_before_without_a_limit_is_still_checked() -> None:
     with size_limit(count - 1), pytest.raises(lg.SizeLimitError, match=f"has {count} operations"):
         view.vector(terms.forcing, lambda j: f"the forcing of the equation of {j}")
     assert view.vector(terms.forcing, lambda j: "unused")[0] == view(terms.forcing[0])
+
+
+def test_a_size_limit_in_one_thread_does_not_stop_another_threads_conversion() -> None:
+    # the view is shared by every derivation of the System, the size limits are per thread
+    # (lagrangian.size_limits): a sized conversion under way in one thread neither stops an
+    # unsized one in another nor has its limit reset by it
+    terms = euler_lagrange_terms(lg.examples.n_link_pendulum(4))
+    view = terms.view
+    sized, done = threading.Event(), threading.Event()
+    seen: list[float] = []
+
+    def sized_conversion() -> None:
+        view._sizing.limit = 1  # as SympyView._all sets it for a conversion under a limit
+        sized.set()
+        done.wait(10)
+        seen.append(view._limit())
+
+    other = threading.Thread(target=sized_conversion)
+    other.start()
+    assert sized.wait(10)
+    converted = view.vector(terms.forcing)  # no limit in this thread: nothing raised
+    done.set()
+    other.join(10)
+    assert seen == [1]
+    assert converted == SympyView(view.by_name.values()).vector(terms.forcing)
 
 
 def _lagranges_method(n: int) -> tuple[sp.Matrix, sp.Matrix]:

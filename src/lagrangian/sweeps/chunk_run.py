@@ -300,6 +300,6 @@ def failed_chunk(members: int, settings: ChunkSettings, message: str) -> ChunkRe
         stop_time=np.full(members, np.nan),
         drifts={name: np.full(members, np.nan) for name in variables.drifts},
         not_conserved=("",) * members,
-        impacts=np.zeros(members, dtype=np.int64),
+        impacts=np.full(members, -1, dtype=np.int64),  # not computed, as the store says
         rest_time=np.full(members, np.nan),
     )

@@ -10,8 +10,8 @@ differs from T + V, else T + V, as its attribute ``quantity`` says
 coordinate; NaN where the member does not conserve it, ``not_conserved`` saying why), with
 constraints ``constraint_drift`` (the largest constraint residual), ``stop_time`` with a stop
 condition, with impacts (unilateral constraints with a coefficient of restitution)
-``impacts``, how many the member met (-1 while not computed), and ``rest_time``, when a
-contact came to rest (NaN: none did), and ``done``.  Each block is one chunk of every
+``impacts``, how many the member met (-1 while not computed or when it failed), and
+``rest_time``, when a contact came to rest (NaN: none did), and ``done``.  Each block is one chunk of every
 array; its ``done`` flags are written after its data, so a block interrupted mid-write reads
 as not done and is computed again by a resumed sweep.  The attribute ``lagrangian_sweep``
 describes the sweep (model, grid, time span, method...) so that a resume can check it
@@ -77,7 +77,7 @@ def create_store(
     if stop_time:
         variables["stop_time"] = (dims, empty((), float, np.nan))
     if stored.impacts:
-        counted = {"long_name": IMPACTS_NAME, "comment": "-1: not computed yet"}
+        counted = {"long_name": IMPACTS_NAME, "comment": "-1: not computed (yet, or failed)"}
         variables["impacts"] = (dims, empty((), np.int64, -1), counted)
         variables["rest_time"] = (dims, empty((), float, np.nan), {"long_name": REST_NAME})
     variables["done"] = (dims, empty((), bool, False))

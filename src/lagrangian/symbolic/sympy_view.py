@@ -51,7 +51,9 @@ class SympyView:
         self.by_name.update(names or {})
         # a backend expression -> (its Part converted, its operations counted over its tree)
         self._memo: dict[Backend, tuple[Part, int]] = {}
-        self._limit = math.inf  # the operations past which a sized conversion stops
+        # the operations past which a sized conversion stops, per thread (as the size limits
+        # themselves: one thread's limit never stops another's conversion of the same view)
+        self._sizing = threading.local()
         # counts what is not converted part by part: a function handed to SymPy whole, or an
         # entry past the size limit (for the message)
         self._tree_operations = TreeOperations()
@@ -111,9 +113,12 @@ class SympyView:
 
     def _within(self, count: int) -> int:
         """``count``, checked against the limit of a sized conversion."""
-        if count > self._limit:
+        if count > self._limit():
             raise _PastLimit
         return count
+
+    def _limit(self) -> float:
+        return getattr(self._sizing, "limit", math.inf)
 
     def _all(self, entries: list[Backend], named: Callable[[int], str] | None) -> list[sp.Expr]:
         """Every entry converted; with ``named`` (the entry at an index, named for a
@@ -125,11 +130,11 @@ class SympyView:
         with cycle_collection_paused():
             if named is None:
                 return [self(v) for v in entries]
-            self._limit = active_operations()
+            self._sizing.limit = active_operations()
             try:
                 return [self._sized(v, i, named) for i, v in enumerate(entries)]
             finally:
-                self._limit = math.inf
+                self._sizing.limit = math.inf
 
     def _sized(self, entry: Backend, index: int, named: Callable[[int], str]) -> sp.Expr:
         try:
@@ -138,7 +143,7 @@ class SympyView:
             # the message gives the whole entry's operations
             check_operations(self._tree_operations(entry), named(index))
             raise  # not reached: the entry holds the subexpression past the limit
-        if count > self._limit:  # converted before, by a conversion without a limit
+        if count > self._limit():  # converted before, by a conversion without a limit
             check_operations(count, named(index))
         return part[EXPR]
 

@@ -129,11 +129,11 @@ def scalar_loops() -> Iterator[None]:
                 llvm.create_pipeline_tuning_options = tuning
 
 
-def _without_unrolling(tuning: Callable[[], Any]) -> Callable[[], Any]:
+def _without_unrolling(tuning: Callable[..., Any]) -> Callable[..., Any]:
     """llvmlite's ``create_pipeline_tuning_options`` with loop unrolling off."""
 
-    def create_pipeline_tuning_options() -> Any:
-        options = tuning()
+    def create_pipeline_tuning_options(*args: Any, **kwargs: Any) -> Any:
+        options = tuning(*args, **kwargs)
         options.loop_unrolling = False
         return options
 
