@@ -51,7 +51,7 @@ def rest_potential(system: System) -> sp.Expr:
 
     >>> import lagrangian as lg
     >>> rest_potential(lg.examples.double_pendulum())
-    -g*l1*m1*cos(theta1) - g*l1*m2*cos(theta1) - g*l2*m2*cos(theta2)
+    -g*l1*m1*cos(theta) - g*l1*m2*cos(theta) - g*l2*m2*cos(phi)
     """
     return _REST_POTENTIALS.get(system, _rest_potential)
 
