@@ -158,12 +158,20 @@ def test_the_sweeps_of_the_readme_run(
     pytest.importorskip("dask.distributed")
     xr = pytest.importorskip("xarray")
     monkeypatch.chdir(tmp_path)
-    flips, incline = [a for a in lagrangian_commands(README) if a[0] == "sweep"][:2]
+    flips, incline, bounces = [a for a in lagrangian_commands(README) if a[0] == "sweep"][:3]
     small = [a.replace(":200", ":3") for a in flips]  # 3 x 3 of the 200 x 200 map
     assert main([*small, "--workers", "1"]) == 0, capsys.readouterr().err
-    (reading,) = blocks(README, "py")
+    reading, bouncing = blocks(README, "py")
     namespace: dict[str, Any] = {}
     exec(compile(reading, "README.md", "exec"), namespace)  # the README's own code
     assert namespace["flips"]["stop_time"].shape == (3, 3)
     assert main([*incline, "--workers", "1"]) == 0, capsys.readouterr().err
     assert xr.open_zarr("incline.zarr")["x"].shape[0] == 8
+    few = [a.replace("0.1:0.9:9", "0.3:0.7:3") for a in bounces]  # 3 of the 9 restitutions
+    assert main([*few, "--workers", "1"]) == 0, capsys.readouterr().err
+    exec(compile(bouncing, "README.md", "exec"), namespace)  # after the first block: xr
+    stored = namespace["bounces"]
+    # each bounce lasts e times the one before: more of them before rest as e grows
+    counts = [int(c) for c in stored["impacts"].values]
+    assert 0 < counts[0] < counts[1] < counts[2]
+    assert all(0 < float(t) < 10 for t in stored["rest_time"].values)
