@@ -11,11 +11,11 @@ coordinate; NaN where the member does not conserve it, ``not_conserved`` saying 
 constraints ``constraint_drift`` (the largest constraint residual), ``stop_time`` with a stop
 condition, with impacts (unilateral constraints with a coefficient of restitution)
 ``impacts``, how many the member met (-1 while not computed or when it failed), and
-``rest_time``, when a contact came to rest (NaN: none did), and ``done``.  Each block is one chunk of every
-array; its ``done`` flags are written after its data, so a block interrupted mid-write reads
-as not done and is computed again by a resumed sweep.  The attribute ``lagrangian_sweep``
-describes the sweep (model, grid, time span, method...) so that a resume can check it
-continues the same one.
+``rest_time``, when a contact came to rest (NaN: none did), and ``done``.  Each block is one
+chunk of every array; its ``done`` flags are written after its data, so a block interrupted
+mid-write reads as not done and is computed again by a resumed sweep.  The attribute
+``lagrangian_sweep`` describes the sweep (model, grid, time span, method...) so that a resume
+can check it continues the same one.
 """
 
 from __future__ import annotations
