@@ -38,11 +38,11 @@ import numpy as np
 import symengine as se
 import sympy as sp
 
-from lagrangian.constraints.pfaffian import PfaffianForm, backend, pfaffian_form
+from lagrangian.constraints.pfaffian import PfaffianForm, backend, fast_state, pfaffian_form
 from lagrangian.constraints.projection import SATISFIED, project
 from lagrangian.derivation.backend import to_backend
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
-from lagrangian.model import Holonomic, System, Unilateral, t, velocity
+from lagrangian.model import Holonomic, System, Unilateral, t
 from lagrangian.model.constraints import label, statement
 from lagrangian.symbolic.probe import SEED, PointFunction, numeric_rank, random_values
 
@@ -127,6 +127,10 @@ def dependence(system: System, active: bool = False) -> Dependence:
     rows = equality_rows(system, active)
     redundant, inconsistent = [], []
     kept: list[int] = []
+    if numeric_rank(a[list(rows)]) == len(rows):
+        # independent rows: every subset of them is (its singular values lie within the
+        # whole's), so each row raises the rank, and one decomposition decides for all
+        return Dependence(point, rows, (), a, b.ravel())
     for i in rows:
         if numeric_rank(a[[*kept, i]]) > len(kept):
             kept.append(i)
@@ -183,22 +187,30 @@ def _jacobian_at(
     evaluated in SymEngine as a_j = dc_j/dq_dot and b_j = c_j at rest.  What SymEngine cannot
     evaluate (the derivative of |u| SymPy leaves unevaluated) goes through
     :class:`~lagrangian.symbolic.probe.PointFunction`."""
-    speeds = [to_backend(velocity(q)) for q in coordinates]
+    speeds = fast_state(tuple(coordinates)).speeds
     at_rest = {v: se.Integer(0) for v in speeds}
-    entries = []
-    for form in forms:
+    n = len(coordinates)
+    # only the entries that can be non-zero are evaluated: a chain's rod involves four of
+    # its 2n speeds, and the entries' substitution costs as much for a zero as for a term
+    places, entries = [], []
+    for j, form in enumerate(forms):
         c = backend(form.velocity_expression)
-        entries += [*(c.diff(v) for v in speeds), c.xreplace(at_rest)]
+        free = c.free_symbols
+        moving = [(k, v) for k, v in enumerate(speeds) if v in free]
+        places += [j * (n + 1) + k for k, _ in moving] + [j * (n + 1) + n]
+        entries += [*(c.diff(v) for _, v in moving), c.xreplace(at_rest)]
     try:
-        numbers = values_at(entries, point)
+        found = values_at(entries, point)
     except ValueError:
         symbols = sorted(point, key=str)
         a = PointFunction(sp.Matrix([list(f.coefficients) for f in forms]), symbols)(point)
         b = PointFunction(sp.Matrix([f.time_coefficient for f in forms]), symbols)(point)
         return a, b
-    if numbers is None:
+    if found is None:
         return None, None
-    numbers = numbers.reshape(len(forms), len(coordinates) + 1)
+    numbers = np.zeros(len(forms) * (n + 1))
+    numbers[places] = found
+    numbers = numbers.reshape(len(forms), n + 1)
     return numbers[:, :-1], numbers[:, -1:]
 
 

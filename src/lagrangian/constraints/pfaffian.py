@@ -47,6 +47,7 @@ from lagrangian.symbolic.native import to_symengine_sharing
 
 TIDY_OPS = 1000  # partial derivatives of a constraint's rate beyond this are not expanded
 CACHED = 512  # constraint expressions whose form and SymEngine image are kept
+ZERO = sp.Integer(0)
 
 
 @dataclass(frozen=True)
@@ -81,17 +82,53 @@ def _cached_form(
 
 def _form(velocity_level: bool, expr: sp.Expr, coordinates: tuple[sp.Symbol, ...]) -> PfaffianForm:
     c = backend(expr)
-    speeds = [velocity(q) for q in coordinates]
-    fast = [to_backend(v) for v in speeds]
-    view = SympyView({*free_symbols(expr), *coordinates, *speeds, t})  # a walk, shared parts once
+    free = c.free_symbols
+    state = fast_state(coordinates)
+    # only the partial derivatives by the symbols the constraint involves are taken, the
+    # others are 0: a chain's rod involves 4 of its 2n coordinates
+    coefficients = [ZERO] * len(coordinates)
     if velocity_level:  # a = dc/dq_dot and b = c at q_dot = 0, each expanded
-        coefficients = tuple(view(se.expand(c.diff(v))) for v in fast)
-        at_rest = se.expand(c.xreplace({v: 0 for v in fast}))
-        return PfaffianForm(coefficients, view(at_rest), expr)
-    slopes = [c.diff(to_backend(q)) for q in coordinates]  # a = dh/dq, b = dh/dt
-    time_slope = c.diff(to_backend(t))
-    rate = se.Add(*[a * v for a, v in zip(slopes, fast)], time_slope)
-    return PfaffianForm(tuple(view(a) for a in slopes), view(time_slope), view(rate))
+        moving = [k for k, v in enumerate(state.speeds) if v in free]
+        view = _view(expr, coordinates, ())
+        for k in moving:
+            coefficients[k] = view(se.expand(c.diff(state.speeds[k])))
+        at_rest = se.expand(c.xreplace({state.speeds[k]: 0 for k in moving}))
+        return PfaffianForm(tuple(coefficients), view(at_rest), expr)
+    moving = [k for k, q in enumerate(state.coordinates) if q in free]
+    view = _view(expr, coordinates, moving)
+    slopes = {k: c.diff(state.coordinates[k]) for k in moving}  # a = dh/dq, b = dh/dt
+    for k, slope in slopes.items():
+        coefficients[k] = view(slope)
+    time_slope = c.diff(state.time)
+    rate = se.Add(*[slope * state.speeds[k] for k, slope in slopes.items()], time_slope)
+    return PfaffianForm(tuple(coefficients), view(time_slope), view(rate))
+
+
+@dataclass(frozen=True)
+class FastState:
+    """The coordinates, their speeds and t in SymEngine, converted once per coordinates."""
+
+    coordinates: tuple[Backend, ...]
+    speeds: tuple[Backend, ...]
+    time: Backend
+
+
+@remembered(maxsize=CACHED)
+def fast_state(coordinates: tuple[sp.Symbol, ...]) -> FastState:
+    """The :class:`FastState` of ``coordinates`` (a chain's 400 coordinates and speeds were
+    converted again for each of its 200 constraints)."""
+    return FastState(
+        tuple(to_backend(q) for q in coordinates),
+        tuple(to_backend(velocity(q)) for q in coordinates),
+        to_backend(t),
+    )
+
+
+def _view(expr: sp.Expr, coordinates: tuple[sp.Symbol, ...], moving: list[int]) -> SympyView:
+    """The conversion back to SymPy of one constraint's form: its own symbols, the speeds of
+    the coordinates ``moving`` (the rate of a holonomic constraint) and t (a walk, shared
+    parts once)."""
+    return SympyView({*free_symbols(expr), *(velocity(coordinates[k]) for k in moving), t})
 
 
 def backend(expr: Any) -> Backend:
@@ -133,10 +170,10 @@ def acceleration_terms(
                                                                                in dc/dq, dc/dt),
 
     so du/dt appears once, not inside every partial derivative."""
-    q_dot = [to_backend(velocity(s)) for s in coordinates]
-    variables = [*(to_backend(s) for s in coordinates), to_backend(t)]
-    rates = [*q_dot, se.Integer(1)]
-    state = {*variables, *q_dot}
+    fast = fast_state(tuple(coordinates))
+    variables = [*fast.coordinates, fast.time]
+    rates = [*fast.speeds, se.Integer(1)]
+    state = {*variables, *fast.speeds}
     view = SympyView({t, *coordinates}.union(*(free_symbols(f.velocity_expression) for f in forms)))
     result = []
     for j, form in enumerate(forms):
@@ -166,7 +203,8 @@ def _rate_terms(
         if any(v in p.args[0].free_symbols for v in variables)
     }
     held = c.xreplace(bases) if bases else c
-    terms = [(held.diff(v), rate) for v, rate in zip(variables, rates)]
+    free = held.free_symbols  # the other partial derivatives are 0 (a chain's rod: 4 of 2n)
+    terms = [(held.diff(v), rate) for v, rate in zip(variables, rates) if v in free]
     for base, symbol in bases.items():
         inner, inner_held = _rate_terms(base, variables, rates)
         base_rate = se.Add(*[slope * rate for slope, rate in inner])
