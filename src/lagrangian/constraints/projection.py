@@ -131,7 +131,7 @@ def _gauss_newton(
         jac = slope(values)
         if jac is None or np.linalg.norm(h) < 1e-13:
             break
-        step = _least_norm_step(jac, h)
+        step = np.linalg.lstsq(jac, -h, rcond=None)[0]
         for damping in (1.0, 0.5, 0.25, 0.1, 0.01):  # accept the first step that helps
             trial = dict(values)
             for s, ds in zip(unknowns, step):
@@ -143,14 +143,6 @@ def _gauss_newton(
         else:
             break  # no step reduces |h|: a least-squares minimum
     return Projection({s: float(v) for s, v in values.items()}, tuple(float(v) for v in h))
-
-
-def _least_norm_step(jac: np.ndarray, h: np.ndarray) -> np.ndarray:
-    """-A^+ h as A^T (A A^T)^+ (-h), the same pseudo-inverse: least squares on the m x m
-    matrix A A^T instead of the m x n matrix A.  For a chain's 200 rods in 400 coordinates
-    that is a tenth of LAPACK's work, and OpenBLAS's threads, which spin after each large
-    call, cost ten times the call's own CPU time on a busy machine (0.3 s per step)."""
-    return jac.T @ np.linalg.lstsq(jac @ jac.T, -h, rcond=None)[0]
 
 
 def numeric_state(system: System, state: Mapping[Any, float]) -> dict[sp.Symbol, float]:
