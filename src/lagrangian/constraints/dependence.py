@@ -208,9 +208,8 @@ def _jacobian_at(
         return a, b
     if found is None:
         return None, None
-    numbers = np.zeros(len(forms) * (n + 1))
-    numbers[places] = found
-    numbers = numbers.reshape(len(forms), n + 1)
+    numbers = np.zeros((len(forms), n + 1))
+    numbers.flat[places] = found
     return numbers[:, :-1], numbers[:, -1:]
 
 

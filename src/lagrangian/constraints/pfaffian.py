@@ -29,7 +29,7 @@ expression and coordinates, since every consumer of a System's constraints asks 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import symengine as se
@@ -40,6 +40,7 @@ from lagrangian.derivation.collect import collect_state
 from lagrangian.derivation.trig import combine_trig, size
 from lagrangian.model import VelocityConstraint, t, velocity
 from lagrangian.model.constraints import Constraint
+from lagrangian.model.contact import CONVERSIONS
 from lagrangian.size_limits import check_size
 from lagrangian.symbolic.caches import remembered
 from lagrangian.symbolic.expressions import free_symbols
@@ -57,6 +58,10 @@ class PfaffianForm:
     coefficients: tuple[sp.Expr, ...]
     time_coefficient: sp.Expr
     velocity_expression: sp.Expr
+    #: The conversion back to SymPy that made the form (for a rolling contact's constraint,
+    #: the one that made the constraint), which the acceleration term goes on with: the parts
+    #: they share are converted once.
+    view: SympyView = field(compare=False, repr=False)
 
     def depends_on_time(self) -> bool:
         """True when omega involves t (b != 0 or some a_k depends on t)."""
@@ -66,7 +71,8 @@ class PfaffianForm:
 def pfaffian_form(constraint: Constraint, coordinates: Sequence[sp.Symbol]) -> PfaffianForm:
     """The Pfaffian form of ``constraint`` (holonomic and unilateral ones through h_dot)."""
     velocity_level = isinstance(constraint, VelocityConstraint)
-    key = (velocity_level, constraint.expression, tuple(coordinates))
+    made_by = CONVERSIONS.peek(constraint)
+    key = (velocity_level, constraint.expression, tuple(coordinates), made_by)
     try:
         return _cached_form(*key)
     except TypeError:  # an unhashable expression: let the System's validation name it
@@ -75,33 +81,42 @@ def pfaffian_form(constraint: Constraint, coordinates: Sequence[sp.Symbol]) -> P
 
 @remembered(maxsize=CACHED)
 def _cached_form(
-    velocity_level: bool, expr: sp.Expr, coordinates: tuple[sp.Symbol, ...]
+    velocity_level: bool,
+    expr: sp.Expr,
+    coordinates: tuple[sp.Symbol, ...],
+    made_by: SympyView | None,
 ) -> PfaffianForm:
-    return _form(velocity_level, expr, coordinates)
+    return _form(velocity_level, expr, coordinates, made_by)
 
 
-def _form(velocity_level: bool, expr: sp.Expr, coordinates: tuple[sp.Symbol, ...]) -> PfaffianForm:
+def _form(
+    velocity_level: bool,
+    expr: sp.Expr,
+    coordinates: tuple[sp.Symbol, ...],
+    made_by: SympyView | None,
+) -> PfaffianForm:
+    """The form of ``expr``, converted back to SymPy by ``made_by`` (the conversion that made
+    a rolling contact's constraint) or by a conversion of its own."""
     c = backend(expr)
     free = c.free_symbols
     state = fast_state(coordinates)
+    moving = [k for k, q in enumerate(state.coordinates) if q in free]
+    view = made_by or _view(expr, coordinates, moving)
     # only the partial derivatives by the symbols the constraint involves are taken, the
     # others are 0: a chain's rod involves 4 of its 2n coordinates
     coefficients = [ZERO] * len(coordinates)
     if velocity_level:  # a = dc/dq_dot and b = c at q_dot = 0, each expanded
-        moving = [k for k, v in enumerate(state.speeds) if v in free]
-        view = _view(expr, coordinates, ())
-        for k in moving:
+        rolling = [k for k, v in enumerate(state.speeds) if v in free]
+        for k in rolling:
             coefficients[k] = view(se.expand(c.diff(state.speeds[k])))
-        at_rest = se.expand(c.xreplace({state.speeds[k]: 0 for k in moving}))
-        return PfaffianForm(tuple(coefficients), view(at_rest), expr)
-    moving = [k for k, q in enumerate(state.coordinates) if q in free]
-    view = _view(expr, coordinates, moving)
+        at_rest = se.expand(c.xreplace({state.speeds[k]: 0 for k in rolling}))
+        return PfaffianForm(tuple(coefficients), view(at_rest), expr, view)
     slopes = {k: c.diff(state.coordinates[k]) for k in moving}  # a = dh/dq, b = dh/dt
     for k, slope in slopes.items():
         coefficients[k] = view(slope)
     time_slope = c.diff(state.time)
     rate = se.Add(*[slope * state.speeds[k] for k, slope in slopes.items()], time_slope)
-    return PfaffianForm(tuple(coefficients), view(time_slope), view(rate))
+    return PfaffianForm(tuple(coefficients), view(time_slope), view(rate), view)
 
 
 @dataclass(frozen=True)
@@ -125,9 +140,9 @@ def fast_state(coordinates: tuple[sp.Symbol, ...]) -> FastState:
 
 
 def _view(expr: sp.Expr, coordinates: tuple[sp.Symbol, ...], moving: list[int]) -> SympyView:
-    """The conversion back to SymPy of one constraint's form: its own symbols, the speeds of
-    the coordinates ``moving`` (the rate of a holonomic constraint) and t (a walk, shared
-    parts once)."""
+    """The conversion back to SymPy of one constraint's form and acceleration term: its own
+    symbols, the speeds of the coordinates ``moving`` (those it involves: the rate of a
+    holonomic constraint, the chain rule of gamma) and t (a walk, shared parts once)."""
     return SympyView({*free_symbols(expr), *(velocity(coordinates[k]) for k in moving), t})
 
 
@@ -174,7 +189,6 @@ def acceleration_terms(
     variables = [*fast.coordinates, fast.time]
     rates = [*fast.speeds, se.Integer(1)]
     state = {*variables, *fast.speeds}
-    view = SympyView({t, *coordinates}.union(*(free_symbols(f.velocity_expression) for f in forms)))
     result = []
     for j, form in enumerate(forms):
         terms, held = _rate_terms(backend(form.velocity_expression), variables, rates)
@@ -186,7 +200,7 @@ def acceleration_terms(
         gamma = gamma.xreplace(held) if held else gamma
         # before it is converted: converting and printing cost far more than building it
         check_size(gamma, f"the acceleration term gamma of constraints[{j}]")
-        result.append(view(gamma))
+        result.append(form.view(gamma))
     return result
 
 

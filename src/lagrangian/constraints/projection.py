@@ -108,9 +108,9 @@ class _SparseJacobian:
         found = self.slopes(values)
         if found is None:
             return None
-        numbers = np.zeros(self.shape[0] * self.shape[1])
-        numbers[self.places] = found.ravel()
-        return numbers.reshape(self.shape)
+        numbers = np.zeros(self.shape)
+        numbers.flat[self.places] = found.ravel()
+        return numbers
 
 
 def _norm(projection: Projection) -> float:

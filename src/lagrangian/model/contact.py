@@ -54,6 +54,7 @@ from lagrangian.model.elements import Force, RigidBody, Torque, as_expression
 from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
 from lagrangian.model.validation import CONFIGURATION, NameScope
+from lagrangian.symbolic.caches import IdentityCache
 from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
 from lagrangian.symbolic.probe import is_zero
 from lagrangian.symbolic.symbols import t, velocity
@@ -61,6 +62,12 @@ from lagrangian.symbolic.sympy_view import SympyView
 
 #: Shapes whose axis of symmetry is a wheel's axle.
 WHEEL_SHAPES = ("disc", "ring", "cylinder")
+
+#: The conversion back to SymPy that made each constraint of a rolling contact, which the
+#: constraint's Pfaffian form and acceleration term go on with
+#: (:mod:`lagrangian.constraints.pfaffian`): the parts they share with the constraint (the
+#: axle's tilt, its square root, the sines and cosines) are converted once.
+CONVERSIONS: IdentityCache[Any, SympyView] = IdentityCache()
 
 
 @dataclass(frozen=True)
@@ -286,6 +293,8 @@ def _constraints(
         if not is_zero(rooted):
             found.append(ContactHeight(back(rooted), f"{name} height", name))
     found += [NoSlip(slip[k], f"{name} slip {axis}", name) for k, axis in ((0, "x"), (1, "y"))]
+    for constraint in found:
+        CONVERSIONS.get(constraint, lambda _: back)
     return tuple(found)
 
 
