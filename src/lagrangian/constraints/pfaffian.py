@@ -43,7 +43,7 @@ from lagrangian.model.constraints import Constraint
 from lagrangian.model.contact import CONVERSIONS
 from lagrangian.size_limits import check_size
 from lagrangian.symbolic.caches import remembered
-from lagrangian.symbolic.expressions import free_symbols
+from lagrangian.symbolic.expressions import distinct_parts, free_symbols
 from lagrangian.symbolic.native import to_symengine_sharing
 
 TIDY_OPS = 1000  # partial derivatives of a constraint's rate beyond this are not expanded
@@ -212,8 +212,9 @@ def _rate_terms(
     ``variables`` times ``rates``, then dc/du times du/dt for each base."""
     bases = {
         p.args[0]: se.Dummy("u")
-        for p in c.atoms(se.Pow)
-        if p.args[1].is_Number and not p.args[1].is_Integer and not p.args[0].is_Symbol
+        for p in distinct_parts(c)  # each shared part once (SymEngine's atoms walks the tree)
+        if isinstance(p, se.Pow) and p.args[1].is_Number and not p.args[1].is_Integer
+        if not p.args[0].is_Symbol
         if any(v in p.args[0].free_symbols for v in variables)
     }
     held = c.xreplace(bases) if bases else c

@@ -55,6 +55,7 @@ from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
 from lagrangian.model.validation import CONFIGURATION, NameScope
 from lagrangian.symbolic.caches import IdentityCache
+from lagrangian.symbolic.expressions import distinct_parts
 from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
 from lagrangian.symbolic.probe import is_zero
 from lagrangian.symbolic.symbols import t, velocity
@@ -316,7 +317,7 @@ def _shorter(expr: Any) -> Any:
     (1 - cos(u)^2)^(k div 2) (a normal form of polynomials in sines and cosines), where that
     gives fewer terms."""
     table = {}
-    for power in expr.atoms(se.Pow):
+    for power in _powers(expr):
         base, exponent = power.args
         if isinstance(base, se.sin) and exponent.is_Integer and int(exponent) >= 2:
             k, rest = divmod(int(exponent), 2)
@@ -325,6 +326,12 @@ def _shorter(expr: Any) -> Any:
         return expr
     reduced = se.expand(expr.xreplace(table))
     return reduced if _terms(reduced) < _terms(expr) else expr
+
+
+def _powers(expr: Any) -> list[Any]:
+    """The powers in ``expr``, from a walk that enters each shared part once (SymEngine's
+    ``atoms`` walks the whole tree)."""
+    return [part for part in distinct_parts(expr) if isinstance(part, se.Pow)]
 
 
 def _terms(expr: Any) -> int:
