@@ -303,8 +303,8 @@ class _CollectorPause:
     thousand, and each of the collector's passes walks them all, a fifth of the time of
     converting a 200-link chain's equations, to find nothing: expressions, their sort keys
     and the memos refer only to their parts, never back.  Any cycle made meanwhile elsewhere
-    is collected once the collector runs again.  Counted under a lock, so two threads that
-    convert at once never leave the collector off."""
+    is collected by a later collection (:func:`_age_unwalked`).  Counted under a lock, so two
+    threads that convert at once never leave the collector off."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
@@ -324,7 +324,28 @@ class _CollectorPause:
             with self._lock:
                 self._running -= 1
                 if self._running == 0 and self._resume:
+                    _age_unwalked()
                     gc.enable()
+
+
+def _age_unwalked() -> None:
+    """Every object the collector tracks moved to its oldest generation without walking them.
+
+    The objects made while the collector was paused are all in its youngest generation, and
+    the first allocation after it is on again would walk them all (a quarter of a second
+    for a 200-link chain's million objects), and a collection of the middle generation
+    walks them again later.  ``gc.freeze`` moves every generation to the permanent one,
+    which no collection walks, and ``gc.unfreeze`` moves that to the oldest: collected by
+    the next full collection as any object that lived long, so a cycle among them (or a
+    garbage one made meanwhile) is still freed then, never leaked.  CPython starts a full
+    collection when the objects that reached the oldest generation by younger collections
+    since the last are a quarter of those the last one kept; these are not among them, so
+    they bring none sooner, and the full collection that walks them counts them in, so the
+    next comes later.  Done only when nothing is frozen: unfreezing would thaw what the
+    program froze itself (before a fork)."""
+    if gc.get_freeze_count() == 0:
+        gc.freeze()
+        gc.unfreeze()
 
 
 #: The pause of every conversion, and of a whole derivation and the multiplier form: a
