@@ -26,6 +26,7 @@ True
 from __future__ import annotations
 
 from functools import cmp_to_key
+from operator import itemgetter
 from typing import Any
 
 import sympy as sp
@@ -68,6 +69,7 @@ _NAMED = (sp.Symbol, sp.Dummy)
 #: SymPy's canonical order of the arguments of a sum or a product (what ``Add`` and ``Mul``
 #: sort them by).
 _CANONICAL_ORDER = cmp_to_key(sp.Basic.compare)
+_KEY_OF = itemgetter(KEY)
 
 
 class CanonicalOrder:
@@ -257,17 +259,17 @@ class Builder:
     def _made(self, kind: Any, number: Part | None, parts: list[Part]) -> Part:
         """The Part of ``kind._from_args`` (Add or Mul) of ``parts`` sorted and ``number``
         (if any) first, as SymPy puts it; its key from theirs."""
-        ordered = _sorted(parts)
+        ordered, keys = _sorted(parts)
         args = ordered if number is None else [number, *ordered]
         if len(args) < 2:
             return args[0] if args else self.part(kind.identity)
         made = kind._from_args([p[EXPR] for p in args], True)
-        keys = tuple([p[KEY] for p in args])
-        if UNORDERABLE in keys:
+        if keys is None or (number is not None and number[KEY] is UNORDERABLE):
             key: tuple[Any, ...] = UNORDERABLE
         else:
             rank, name = (_ADD_RANK, "Add") if kind is sp.Add else (_MUL_RANK, "Mul")
-            key = (rank, name, len(keys), *keys)
+            first = () if number is None else (number[KEY],)
+            key = (rank, name, len(args), *first, *keys)
         if kind is sp.Add:
             return (made, key, SUM, None, None, None, True, tuple(args))
         # its REST_HASH is made when it is first met as a term of a sum (most products are
@@ -287,19 +289,19 @@ def _hash(part: Part) -> int:
     return hash(part[EXPR]) if known is None else known
 
 
-def _sorted(parts: list[Part]) -> list[Part]:
-    """``parts`` in SymPy's canonical order: by their keys (compared in C), or by
-    ``Basic.compare`` when one has none or two are of unlike content."""
-    if len(parts) < 2:
-        return parts
-    keys = [p[KEY] for p in parts]
+def _sorted(parts: list[Part]) -> tuple[list[Part], list[tuple[Any, ...]] | None]:
+    """``parts`` in SymPy's canonical order, and their keys in that order (None when one has
+    none): sorted by their keys (compared in C), or by ``Basic.compare`` when one has none
+    or two are of unlike content."""
     try:
-        if UNORDERABLE in keys:
-            raise Unorderable
-        ranks = sorted(range(len(parts)), key=keys.__getitem__)
-    except (Unorderable, TypeError):
-        return sorted(parts, key=lambda p: _CANONICAL_ORDER(p[EXPR]))
-    return [parts[i] for i in ranks]
+        ordered = sorted(parts, key=_KEY_OF)
+    except TypeError:  # two keys of unlike content
+        pass
+    else:
+        keys = [p[KEY] for p in ordered]
+        if UNORDERABLE not in keys:
+            return ordered, keys
+    return sorted(parts, key=lambda p: _CANONICAL_ORDER(p[EXPR])), None
 
 
 def _describe(expr: sp.Expr, key: tuple[Any, ...]) -> Part:
