@@ -146,13 +146,12 @@ class SympyView:
             check_operations(count, named(index))
         return part[EXPR]
 
-    def _arguments(self, expr: Backend) -> tuple[list[Part], int]:
+    def _arguments(self, expr: Backend) -> tuple[tuple[Part, ...], int]:
         """The arguments of the sum or product ``expr`` converted (most are met before:
         looked up directly), and the operations of ``expr``."""
         get, convert = self._memo.get, self._convert
-        known = [get(a) or convert(a) for a in expr.args]
-        count = len(known) - 1 + sum([k[1] for k in known])
-        return [k[0] for k in known], self._within(count)
+        parts, counts = zip(*[get(a) or convert(a) for a in expr.args])
+        return parts, self._within(len(counts) - 1 + sum(counts))
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs and sign, and Heaviside by a stand-in
