@@ -367,7 +367,8 @@ def _age_unwalked() -> None:
     since the last are a quarter of those the last one kept; these are not among them, so
     they bring none sooner, and the full collection that walks them counts them in, so the
     next comes later.  Done only when nothing is frozen: unfreezing would thaw what the
-    program froze itself (before a fork)."""
+    program froze itself (before a fork).  Another thread may run between the two calls: a
+    collection it starts then passes over the frozen objects, which is all it does."""
     if gc.get_freeze_count() == 0:
         gc.freeze()
         gc.unfreeze()
