@@ -133,7 +133,7 @@ def test_a_size_limit_in_one_thread_does_not_stop_another_threads_conversion() -
         view._sizing.limit = 1  # as SympyView._all sets it for a conversion under a limit
         sized.set()
         done.wait(10)
-        seen.append(view._limit())
+        seen.append(view._sizing.limit)
 
     other = threading.Thread(target=sized_conversion)
     other.start()

@@ -25,7 +25,9 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from functools import cmp_to_key
+from operator import itemgetter
 from typing import Any
 
 import sympy as sp
@@ -68,6 +70,7 @@ _NAMED = (sp.Symbol, sp.Dummy)
 #: SymPy's canonical order of the arguments of a sum or a product (what ``Add`` and ``Mul``
 #: sort them by).
 _CANONICAL_ORDER = cmp_to_key(sp.Basic.compare)
+_KEY_OF = itemgetter(KEY)
 
 
 class CanonicalOrder:
@@ -144,11 +147,11 @@ class Builder:
         except Unorderable:
             return UNORDERABLE
 
-    def sum(self, parts: list[Part]) -> Part:
+    def sum(self, parts: Sequence[Part]) -> Part:
         """The Part of ``sp.Add`` of the parts' expressions (:func:`sympy_sum`)."""
         return self._sum(parts, parts)
 
-    def product(self, parts: list[Part]) -> Part:
+    def product(self, parts: Sequence[Part]) -> Part:
         """The Part of ``sp.Mul`` of the parts' expressions (:func:`sympy_product`)."""
         if len(parts) == 2:
             kinds = (parts[0][KIND], parts[1][KIND])
@@ -157,8 +160,7 @@ class Builder:
                 return self._general(sp.Mul, parts)
             if kinds == (RATIONAL, PLAIN) and parts[1][COMMUTATIVE]:
                 return self._scaled(parts[0], parts[1])
-        # a product among the factors (a flipped sine) flattened at once, not met midway
-        return self._product(self._flat(parts), parts)
+        return self._product(parts, parts)
 
     def _scaled(self, number: Part, factor: Part) -> Part:
         """:meth:`product` of a rational number and a commutative symbol or function value
@@ -174,26 +176,22 @@ class Builder:
         key = UNORDERABLE if UNORDERABLE in keys else (_MUL_RANK, "Mul", 2, *keys)
         return (made, key, PRODUCT, None, None, None, True, args)
 
-    def _general(self, constructor: Any, parts: list[Part]) -> Part:
+    def _general(self, constructor: Any, parts: Sequence[Part]) -> Part:
         return self.part(constructor(*[p[EXPR] for p in parts]))
 
-    def _flat(self, parts: list[Part]) -> list[Part]:
-        """``parts`` with the Parts of each product's arguments in place of it."""
-        flat = None
-        for i, p in enumerate(parts):
-            if p[KIND] == PRODUCT:
-                if flat is None:
-                    flat = parts[:i]
-                flat.extend(self._arguments(p))
-            elif flat is not None:
-                flat.append(p)
-        return parts if flat is None else flat
+    def _flat(self, parts: Sequence[Part], kind: int) -> list[Part]:
+        """``parts`` with the Parts of the arguments of each of ``kind`` (SUM or PRODUCT) in
+        place of it."""
+        flat: list[Part] = []
+        for p in parts:
+            flat.extend(self._arguments(p) if p[KIND] == kind else (p,))
+        return flat
 
     def _arguments(self, part: Part) -> tuple[Part, ...]:
         args = part[ARGS]
         return tuple(map(self.part, part[EXPR].args)) if args is None else args
 
-    def _sum(self, flat: list[Part], parts: list[Part]) -> Part:
+    def _sum(self, flat: Sequence[Part], parts: Sequence[Part]) -> Part:
         """:meth:`sum` of ``parts``, whose sums are flattened in ``flat`` (``parts`` until
         one is met).  Add.flatten would sum the numbers, sort the rest and put the number
         first, which is all this does when no two terms have the same part without their
@@ -210,10 +208,7 @@ class Builder:
             if kind == SUM:
                 if flat is not parts:  # a sum among a sum's arguments: SymPy never makes one
                     return self._general(sp.Add, parts)
-                flat = []
-                for q in parts:
-                    flat.extend(self._arguments(q) if q[KIND] == SUM else (q,))
-                return self._sum(flat, parts)
+                return self._sum(self._flat(parts, SUM), parts)
             rest = p[REST_HASH]
             if rest is None and kind == PRODUCT:  # a product made here, first met as a term
                 rest = _rest_hash(p[ARGS])
@@ -224,10 +219,11 @@ class Builder:
         number = None if coefficient is sp.S.Zero else self.part(coefficient)
         return self._made(sp.Add, number, terms)
 
-    def _product(self, flat: list[Part], parts: list[Part]) -> Part:
-        """:meth:`product` of ``parts``, whose products are flattened in ``flat``.
-        Mul.flatten would multiply the numbers, sort the rest and put the number first,
-        which is all this does when the factors' bases all differ (their BASE_HASHes)."""
+    def _product(self, flat: Sequence[Part], parts: Sequence[Part]) -> Part:
+        """:meth:`product` of ``parts``, whose products are flattened in ``flat``
+        (``parts`` until one is met).  Mul.flatten would multiply the numbers, sort the rest
+        and put the number first, which is all this does when the factors' bases all differ
+        (their BASE_HASHes)."""
         coefficient: Any = sp.S.One
         factors: list[Part] = []
         bases: set[int] = set()
@@ -241,6 +237,9 @@ class Builder:
                 base = p[BASE_HASH]
             elif kind == SUM:
                 base = _hash(p)
+            elif kind == PRODUCT and flat is parts:
+                # a product among the factors (a flipped sine) flattened at once
+                return self._product(self._flat(parts, PRODUCT), parts)
             else:  # a product among a product's arguments, a power to another exponent, ...
                 return self._general(sp.Mul, parts)
             if base in bases or not p[COMMUTATIVE]:
@@ -254,20 +253,20 @@ class Builder:
         number = None if coefficient is sp.S.One else self.part(coefficient)
         return self._made(sp.Mul, number, factors)
 
-    def _made(self, kind: Any, number: Part | None, parts: list[Part]) -> Part:
+    def _made(self, kind: Any, number: Part | None, parts: Sequence[Part]) -> Part:
         """The Part of ``kind._from_args`` (Add or Mul) of ``parts`` sorted and ``number``
         (if any) first, as SymPy puts it; its key from theirs."""
-        ordered = _sorted(parts)
+        ordered, keys = _sorted(parts)
         args = ordered if number is None else [number, *ordered]
         if len(args) < 2:
             return args[0] if args else self.part(kind.identity)
         made = kind._from_args([p[EXPR] for p in args], True)
-        keys = tuple([p[KEY] for p in args])
-        if UNORDERABLE in keys:
+        if keys is None or (number is not None and number[KEY] is UNORDERABLE):
             key: tuple[Any, ...] = UNORDERABLE
         else:
             rank, name = (_ADD_RANK, "Add") if kind is sp.Add else (_MUL_RANK, "Mul")
-            key = (rank, name, len(keys), *keys)
+            first = () if number is None else (number[KEY],)
+            key = (rank, name, len(args), *first, *keys)
         if kind is sp.Add:
             return (made, key, SUM, None, None, None, True, tuple(args))
         # its REST_HASH is made when it is first met as a term of a sum (most products are
@@ -287,19 +286,19 @@ def _hash(part: Part) -> int:
     return hash(part[EXPR]) if known is None else known
 
 
-def _sorted(parts: list[Part]) -> list[Part]:
-    """``parts`` in SymPy's canonical order: by their keys (compared in C), or by
-    ``Basic.compare`` when one has none or two are of unlike content."""
-    if len(parts) < 2:
-        return parts
-    keys = [p[KEY] for p in parts]
+def _sorted(parts: Sequence[Part]) -> tuple[list[Part], list[tuple[Any, ...]] | None]:
+    """``parts`` in SymPy's canonical order, and their keys in that order (None when one has
+    none): sorted by their keys (compared in C), or by ``Basic.compare`` when one has none
+    or two are of unlike content."""
     try:
-        if UNORDERABLE in keys:
-            raise Unorderable
-        ranks = sorted(range(len(parts)), key=keys.__getitem__)
-    except (Unorderable, TypeError):
-        return sorted(parts, key=lambda p: _CANONICAL_ORDER(p[EXPR]))
-    return [parts[i] for i in ranks]
+        ordered = sorted(parts, key=_KEY_OF)
+    except TypeError:  # two keys of unlike content
+        pass
+    else:
+        keys = [p[KEY] for p in ordered]
+        if UNORDERABLE not in keys:
+            return ordered, keys
+    return sorted(parts, key=lambda p: _CANONICAL_ORDER(p[EXPR])), None
 
 
 def _describe(expr: sp.Expr, key: tuple[Any, ...]) -> Part:

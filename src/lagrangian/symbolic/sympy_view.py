@@ -15,7 +15,7 @@ import math
 import threading
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
-from typing import Any
+from typing import Any, NamedTuple
 
 import symengine as se
 import sympy as sp
@@ -53,14 +53,16 @@ class SympyView:
         self._memo: dict[Backend, tuple[Part, int]] = {}
         # the operations past which a sized conversion stops, per thread (as the size limits
         # themselves: one thread's limit never stops another's conversion of the same view)
-        self._sizing = threading.local()
+        self._sizing = _Sizing()
         # counts what is not converted part by part: a function handed to SymPy whole, or an
         # entry past the size limit (for the message)
         self._tree_operations = TreeOperations()
         self._builder = Builder()
-        # a backend angle ->
-        # (the angle converted, its canonical difference or None, flipped, its operations)
-        self._angles: dict[Backend, tuple[Part, Part | None, bool, int]] = {}
+        # a backend angle -> (the angle converted, its canonical difference or None,
+        # flipped, its operations)
+        self._angles: dict[Backend, tuple[Part, _Difference | None, bool, int]] = {}
+        # (first, second) symbols -> first - second; shared by the angles x - y and y - x
+        self._differences: dict[tuple[sp.Symbol, sp.Symbol], _Difference] = {}
         self._negatives: dict[sp.Symbol, Part] = {}  # symbol -> -symbol
 
     def __call__(self, expr: Backend) -> sp.Expr:
@@ -113,12 +115,9 @@ class SympyView:
 
     def _within(self, count: int) -> int:
         """``count``, checked against the limit of a sized conversion."""
-        if count > self._limit():
+        if count > self._sizing.limit:
             raise _PastLimit
         return count
-
-    def _limit(self) -> float:
-        return getattr(self._sizing, "limit", math.inf)
 
     def _all(self, entries: list[Backend], named: Callable[[int], str] | None) -> list[sp.Expr]:
         """Every entry converted; with ``named`` (the entry at an index, named for a
@@ -143,17 +142,16 @@ class SympyView:
             # the message gives the whole entry's operations
             check_operations(self._tree_operations(entry), named(index))
             raise  # not reached: the entry holds the subexpression past the limit
-        if count > self._limit():  # converted before, by a conversion without a limit
+        if count > self._sizing.limit:  # converted before, by a conversion without a limit
             check_operations(count, named(index))
         return part[EXPR]
 
-    def _arguments(self, expr: Backend) -> tuple[list[Part], int]:
+    def _arguments(self, expr: Backend) -> tuple[tuple[Part, ...], int]:
         """The arguments of the sum or product ``expr`` converted (most are met before:
         looked up directly), and the operations of ``expr``."""
         get, convert = self._memo.get, self._convert
-        known = [get(a) or convert(a) for a in expr.args]
-        count = len(known) - 1 + sum([k[1] for k in known])
-        return [k[0] for k in known], self._within(count)
+        parts, counts = zip(*[get(a) or convert(a) for a in expr.args])
+        return parts, self._within(len(counts) - 1 + sum(counts))
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs and sign, and Heaviside by a stand-in
@@ -181,18 +179,30 @@ class SympyView:
                 known = (argument, None, False, count)
             else:
                 first, second, flipped = _ordered(x, y)
-                difference = build.sum([build.part(first), self._negative(second)])
+                difference = self._difference(first, second)
                 # x + (-1)*y as SymEngine has it: a sum of two terms, one a product of two
-                known = (difference, difference, flipped, 2)
+                known = (difference.part, difference, flipped, 2)
             self._angles[angle] = known
         argument, canonical, flipped, count = known
         count = self._within(1 + count)
         if canonical is None:
             return build.part(function(argument[EXPR])), count
-        value = build.function_value(unevaluated_trig(function, canonical[EXPR]), canonical)
+        value = canonical.values.get(function)
+        if value is None:
+            made = unevaluated_trig(function, canonical.part[EXPR])
+            value = canonical.values[function] = build.function_value(made, canonical.part)
         if flipped and function is sp.sin:
             return build.product([build.part(sp.S.NegativeOne), value]), count
         return value, count
+
+    def _difference(self, first: sp.Symbol, second: sp.Symbol) -> _Difference:
+        """first - second (first before second in SymPy's order), made once for both
+        orientations of the angle (a chain's forcing has the sines of both)."""
+        known = self._differences.get((first, second))
+        if known is None:
+            made = self._builder.sum([self._builder.part(first), self._negative(second)])
+            known = self._differences[(first, second)] = _Difference(made, {})
+        return known
 
     def _negative(self, symbol: sp.Symbol) -> Part:
         """-symbol, made once per symbol."""
@@ -228,6 +238,21 @@ class SympyView:
         mirrored = [(min(j, k), max(j, k)) for j in range(n) for k in range(n)]
         converted = _immutable(n, n, [upper[pair] for pair in mirrored])
         return _remember(converted, [rows[j][k] for j, k in mirrored])
+
+
+class _Difference(NamedTuple):
+    """An angle that is the difference of two symbols, in SymPy's canonical form, and the
+    sine and the cosine of it made so far (by SymPy function)."""
+
+    part: Part
+    values: dict[Callable[..., sp.Expr], Part]
+
+
+class _Sizing(threading.local):
+    """The operations past which a sized conversion stops, in this thread (none unless
+    set)."""
+
+    limit: float = math.inf
 
 
 class _PastLimit(Exception):
@@ -303,8 +328,8 @@ class _CollectorPause:
     thousand, and each of the collector's passes walks them all, a fifth of the time of
     converting a 200-link chain's equations, to find nothing: expressions, their sort keys
     and the memos refer only to their parts, never back.  Any cycle made meanwhile elsewhere
-    is collected once the collector runs again.  Counted under a lock, so two threads that
-    convert at once never leave the collector off."""
+    is collected by a later collection (:func:`_age_unwalked`).  Counted under a lock, so two
+    threads that convert at once never leave the collector off."""
 
     def __init__(self) -> None:
         self._lock = threading.Lock()
@@ -324,7 +349,29 @@ class _CollectorPause:
             with self._lock:
                 self._running -= 1
                 if self._running == 0 and self._resume:
+                    _age_unwalked()
                     gc.enable()
+
+
+def _age_unwalked() -> None:
+    """Every object the collector tracks moved to its oldest generation without walking them.
+
+    The objects made while the collector was paused are all in its youngest generation, and
+    the first allocation after it is on again would walk them all (a quarter of a second
+    for a 200-link chain's million objects), and a collection of the middle generation
+    walks them again later.  ``gc.freeze`` moves every generation to the permanent one,
+    which no collection walks, and ``gc.unfreeze`` moves that to the oldest: collected by
+    the next full collection as any object that lived long, so a cycle among them (or a
+    garbage one made meanwhile) is still freed then, never leaked.  CPython starts a full
+    collection when the objects that reached the oldest generation by younger collections
+    since the last are a quarter of those the last one kept; these are not among them, so
+    they bring none sooner, and the full collection that walks them counts them in, so the
+    next comes later.  Done only when nothing is frozen: unfreezing would thaw what the
+    program froze itself (before a fork).  Another thread may run between the two calls: a
+    collection it starts then passes over the frozen objects, which is all it does."""
+    if gc.get_freeze_count() == 0:
+        gc.freeze()
+        gc.unfreeze()
 
 
 #: The pause of every conversion, and of a whole derivation and the multiplier form: a
