@@ -39,8 +39,8 @@ def _partial_sums(terms: list[sp.Expr]) -> list[sp.Expr]:
 
     SymPy sorts a sum's terms.  When no two of ``terms`` combine (the whole sum has them all),
     the terms of a partial sum are those of the whole sum, in its order, so each partial sum
-    is built in that order as it stands, without sorting (``evaluate=False``): a 200-link
-    chain's positions take 0.05 s instead of 0.3 s.
+    is made from them in that order as it stands (``Add._from_args``: no sorting, no
+    checking each term again): a 200-link chain's positions take 0.02 s instead of 0.3 s.
 
     >>> x, y, z = sp.symbols("x y z")
     >>> _partial_sums([z, y, x])
@@ -56,5 +56,5 @@ def _partial_sums(terms: list[sp.Expr]) -> list[sp.Expr]:
     sums = []
     for term in terms:
         insort(kept, term, key=rank.__getitem__)
-        sums.append(kept[0] if len(kept) == 1 else sp.Add(*kept, evaluate=False))
+        sums.append(kept[0] if len(kept) == 1 else sp.Add._from_args(kept))
     return sums
