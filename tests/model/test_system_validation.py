@@ -129,3 +129,33 @@ def test_system_is_immutable() -> None:
         system.name = "other"  # type: ignore[misc]
     changed = system.with_parameters({"m": 2.0})
     assert changed.parameters[m] == 2.0 and system.parameters[m] == 1.0
+
+
+def test_a_part_fine_in_one_field_is_checked_again_where_less_is_allowed() -> None:
+    # the checks remember the parts they found fine, for each kind of field: a velocity term
+    # fine in the kinetic energy is still refused in a position
+    term = m * x_dot * sp.sin(x)
+    with pytest.raises(ModelError) as raised:
+        lg.System(
+            coordinates=[x],
+            parameters=[m, g],
+            kinetic=term + m * x_dot**2 / 2,
+            particles=[lg.Particle("bob", m, (x + term, sp.sin(x)))],
+            gravity=(0, -g),
+        )
+    fields = [(problem.field, problem.message) for problem in raised.value.problems]
+    assert fields == [("particles[0].position[0]", "the velocity x_dot may not appear here")]
+
+
+def test_a_bad_part_beside_parts_found_fine_is_reported() -> None:
+    fine = sp.sin(x) + sp.cos(x)
+    with pytest.raises(ModelError, match=r"position\[1\]: unknown name 'kk' — did you mean 'k'"):
+        lg.System(
+            coordinates=[x],
+            parameters=[m, k],
+            particles=[lg.Particle("bob", m, (fine, fine + sp.Symbol("kk")))],
+        )
+    with pytest.raises(ModelError, match=r"position\[1\]: .* holds an undefined or infinite"):
+        lg.System(
+            coordinates=[x], parameters=[m], particles=[lg.Particle("a", m, (fine, fine + sp.oo))]
+        )

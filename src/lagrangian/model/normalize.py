@@ -14,7 +14,6 @@ from dataclasses import fields, is_dataclass, replace
 from typing import TYPE_CHECKING, Any, get_args
 
 import sympy as sp
-from sympy.core.function import AppliedUndef
 
 from lagrangian.errors import ModelError, Problem, raise_if_problems
 from lagrangian.model.circuit import CircuitElement
@@ -33,7 +32,7 @@ from lagrangian.model.frames import Frame, resolve_orientations
 from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import Orientation
 from lagrangian.model.transitions import Transition
-from lagrangian.model.validation import validate
+from lagrangian.model.validation import is_plain, validate
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.frozen import FrozenMapping
 from lagrangian.symbolic.symbols import as_coordinate, from_time_functions, t
@@ -95,24 +94,12 @@ class _Canonicalizer:
             if isinstance(part, sp.Symbol):
                 if self.by_name.get(part.name, part) != part:
                     return False
-            elif not _is_plain(part):
+            elif not is_plain(part):
                 return False
             seen.add(part)
             stack.extend(part.args)
         self.canonical.update(seen)
         return True
-
-
-#: Expressions whose free symbols are those of their parts (no symbol bound in them).
-_PLAIN = (sp.Add, sp.Mul, sp.Pow, sp.Atom, sp.Function)
-
-
-def _is_plain(part: sp.Basic) -> bool:
-    """Whether ``part`` (not a Symbol) neither is a time function nor binds or holds symbols
-    of its own (derivatives, integrals, atoms with free symbols)."""
-    if not isinstance(part, _PLAIN) or isinstance(part, AppliedUndef):
-        return False
-    return not (isinstance(part, sp.Atom) and part.free_symbols)
 
 
 def _coordinates(raw: Any, problems: list[Problem]) -> tuple[sp.Symbol, ...]:

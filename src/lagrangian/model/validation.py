@@ -10,6 +10,7 @@ from collections.abc import Iterable
 from typing import Any
 
 import sympy as sp
+from sympy.core.function import AppliedUndef
 
 from lagrangian.errors import Problem
 from lagrangian.model.circuit import (
@@ -55,6 +56,9 @@ class NameScope:
         self.configuration = self.coordinates | self.parameters | {t}
         self.state = self.configuration | self.velocities
         self.names = sorted(s.name for s in self.state)
+        # the parts found free of problems for each kind, shared by the checks of every
+        # field: the positions of a chain share most of their terms
+        self._fine: dict[str, set[sp.Basic]] = {CONFIGURATION: set(), STATE: set(), CONSTANT: set()}
 
     def check(self, value: Any, field: str, kind: str, problems: list[Problem]) -> None:
         if isinstance(value, (sp.MatrixBase, list, tuple)):
@@ -73,6 +77,8 @@ class NameScope:
                 )
             )
             return
+        if self._is_fine(value, kind):
+            return
         try:
             parts, free = _parts(value)  # one walk for the checks below
         except TypeError:  # an unhashable part
@@ -82,9 +88,7 @@ class NameScope:
             problems.append(
                 Problem(field, found, "energies, forces and positions are real numbers")
             )
-        allowed = {CONFIGURATION: self.configuration, CONSTANT: self.parameters}.get(
-            kind, self.state
-        )
+        allowed = self._allowed(kind)
         for symbol in sorted(free - allowed, key=str):
             problems.append(self._diagnose(symbol, field, kind))
         for derivative in (p for p in parts if isinstance(p, sp.Derivative)):
@@ -96,6 +100,32 @@ class NameScope:
                     "part of a Lagrangian model",
                 )
             )
+
+    def _allowed(self, kind: str) -> set[sp.Basic]:
+        return {CONFIGURATION: self.configuration, CONSTANT: self.parameters}.get(kind, self.state)
+
+    def _is_fine(self, value: sp.Expr, kind: str) -> bool:
+        """Whether :meth:`check` would find nothing wrong with ``value``, from a walk that
+        skips the parts found fine before (each other part is a name allowed for ``kind``, a
+        number a double holds, or a sum, product, power or function of such parts); False
+        also when the walk cannot tell (the full check then decides)."""
+        allowed = self._allowed(kind)
+        fine = self._fine[kind if kind in (CONFIGURATION, CONSTANT) else STATE]
+        seen: set[sp.Basic] = set()
+        stack = [value]
+        try:
+            while stack:
+                part = stack.pop()
+                if part in fine or part in seen:
+                    continue
+                if not _fine_alone(part, allowed):
+                    return False
+                seen.add(part)
+                stack.extend(part.args)
+        except TypeError:  # an unhashable part
+            return False
+        fine.update(seen)
+        return True
 
     def _diagnose(self, symbol: Any, field: str, kind: str) -> Problem:
         name = str(symbol)
@@ -132,6 +162,31 @@ def _parts(value: sp.Basic) -> tuple[set[sp.Basic], set[sp.Basic]]:
     distinct = distinct_parts(value)
     parts = {node for node in distinct if isinstance(node, (sp.Atom, sp.Derivative))}
     return parts, free_symbols(value, distinct)
+
+
+def _fine_alone(part: sp.Basic, allowed: set[sp.Basic]) -> bool:
+    """Whether ``part`` itself (not its arguments) passes every check of
+    :meth:`NameScope.check`: an allowed Symbol, a rational or float a double holds, a
+    constant such as pi, or a sum, product, power or function (:func:`is_plain`)."""
+    if part.is_Symbol:
+        return part in allowed
+    if isinstance(part, sp.Atom):
+        if isinstance(part, (sp.Rational, sp.Float)):
+            return bool(abs(part) <= LARGEST_DOUBLE)
+        return isinstance(part, sp.NumberSymbol)
+    return is_plain(part)
+
+
+#: Expressions whose free symbols are those of their parts (no symbol bound in them).
+_PLAIN = (sp.Add, sp.Mul, sp.Pow, sp.Atom, sp.Function)
+
+
+def is_plain(part: sp.Basic) -> bool:
+    """Whether ``part`` (not a Symbol) neither is a time function nor binds or holds symbols
+    of its own (derivatives, integrals, atoms with free symbols)."""
+    if not isinstance(part, _PLAIN) or isinstance(part, AppliedUndef):
+        return False
+    return not (isinstance(part, sp.Atom) and part.free_symbols)
 
 
 #: The largest magnitude a double holds: a number beyond it is infinite in every computation.
