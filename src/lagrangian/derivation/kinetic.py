@@ -59,6 +59,9 @@ class KineticForm:
     #: The terms of each row of C q_dot, each monomial once, when M is a planar chain's
     #: (:func:`lagrangian.derivation.coriolis.coriolis_products`); else None.
     coriolis_products: tuple[tuple[VelocityProduct, ...], ...] | None = None
+    #: The Jacobian columns M was summed from, when it was (planar points and bodies): a
+    #: uniform gravity's forces are read off them (:meth:`PointColumns.gravity_forces`).
+    point_columns: PointColumns | None = None
 
 
 def _hessian(expr: Backend, symbols: tuple[Backend, ...]) -> Matrix:
@@ -69,10 +72,11 @@ def _hessian(expr: Backend, symbols: tuple[Backend, ...]) -> Matrix:
 
 def _point_terms(
     asm: Assembly,
-) -> tuple[Matrix, Backend, set[tuple[int, int]], set[tuple[int, int]]]:
+) -> tuple[Matrix, Backend, set[tuple[int, int]], set[tuple[int, int]], _ColumnTable]:
     """sum m J^T J (+ I g^T g), the kinetic terms of degree 0 and 1 in the velocities, the
-    entries that are one combined product times a sum of weights, and those that are several
-    such products sharing their one sine or cosine (:func:`one_trigonometric_factor`).
+    entries that are one combined product times a sum of weights, those that are several
+    such products sharing their one sine or cosine (:func:`one_trigonometric_factor`), and
+    the table of the columns.
 
     The weights of each combined column product are summed before they multiply it: a chain's
     entry is l_j l_k (m_k + ... + m_n) cos(theta_j - theta_k), never grown term by term; a
@@ -88,7 +92,7 @@ def _point_terms(
             columns.append((point.inertia, (point.angle,)))
         for weight, coordinates in columns:
             jac = [_gradient(x, index, slopes) for x in coordinates]
-            table.add(weight, jac)
+            table.add(weight, jac, coordinates is point.position)
             drift = [x.diff(asm.t) for x in coordinates]
             if any(d != 0 for d in drift):
                 moving = [se.Add(*[row[k] * asm.q_dot[k] for k in range(n)]) for row in jac]
@@ -115,7 +119,7 @@ def _point_terms(
         low_degree += _rotation_terms(rotation, asm, mass, combined)
         single.clear()
         shared.clear()
-    return mass, low_degree, single, shared
+    return mass, low_degree, single, shared, table
 
 
 def one_trigonometric_factor(products: list[Backend]) -> bool:
@@ -302,15 +306,19 @@ class _ColumnTable:
         self.polar: list[tuple[Backend, Backend] | None] = []  # by id: (r, a) or None
         self.holders: list[dict[int, int]] = [{} for _ in range(n)]  # coordinate -> id -> set
         self.moving: list[int] = [0] * n  # coordinate -> holders with a column that is not 0
+        self.positions = 0  # the holders that are points' positions (weighed by their masses)
         self.products: dict[tuple[int, int], Backend | None] = {}  # (id, id) -> product
         self.sums: dict[int, Backend] = {}  # set of holders -> sum of their weights
         # (a, b) -> cos(a - b): a rod's centre and the joint below it share their angle
         self.cosines: dict[tuple[Backend, Backend], Backend] = {}
 
-    def add(self, weight: Backend, jac: list[list[Backend]]) -> None:
-        """Add a holder of weight ``weight`` whose Jacobian has rows ``jac``."""
+    def add(self, weight: Backend, jac: list[list[Backend]], position: bool) -> None:
+        """Add a holder of weight ``weight`` whose Jacobian has rows ``jac``; ``position``:
+        whether it is a point's position (else a planar body's angle)."""
         bit = 1 << len(self.weights)
         self.weights.append(weight)
+        if position:
+            self.positions |= bit
         ids = []
         for j in range(len(self.holders)):
             column = tuple(row[j] for row in jac)
@@ -381,6 +389,45 @@ def _members(holders: int) -> Iterator[int]:
         lowest = holders & -holders
         yield lowest.bit_length() - 1
         holders ^= lowest
+
+
+@dataclass(frozen=True)
+class PointColumns:
+    """The columns M was summed from (:class:`_ColumnTable`), with what collected its
+    entries."""
+
+    table: _ColumnTable
+    memo: EntryMemo
+    state: set[Backend]
+
+    def gravity_forces(self, gravity: list[Backend]) -> list[Backend]:
+        """G = dV/dq of the gravity potential V = -sum_p m_p g . r_p of the points (g the
+        vector ``gravity``): G_k = -sum_c (g . c) (the masses of the points whose position
+        has the column c at q_k, summed), over the distinct columns c at q_k.
+
+        The sums are those M's entries were made with (a chain's G_k = g l_k (m_k + ... +
+        m_n) sin(theta_k), read off the column of link k), where expanding V and
+        differentiating it term by term builds its n^2/2 terms; products that share their
+        sine or cosine (a rod's centre and the joints below it) are collected as M's entries
+        are (:func:`collected_entry`), with the same sums of masses."""
+        table = self.table
+        forces = []
+        for at_k in table.holders:
+            products = []
+            for id_k, holders in at_k.items():
+                masses = holders & table.positions
+                if not masses:
+                    continue
+                slope = se.expand(se.Add(*[g * c for g, c in zip(gravity, table.by_id[id_k])]))
+                if slope == _ZERO:
+                    continue
+                weight = table.weight_sum(masses)
+                products += [(-term, weight) for term in (slope.args if slope.is_Add else (slope,))]
+            force = se.Add(*[term * weight for term, weight in products])
+            if len(products) > 1 and one_trigonometric_factor([term for term, _ in products]):
+                force = _collected_products(force, self.state, self.memo) or force
+            forces.append(force)
+        return forces
 
 
 def _column_product(
@@ -571,7 +618,7 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     structured = _structured_form(asm, explicit) if asm.rotations else None
     if structured is not None:
         return structured
-    point_mass, point_low, single, shared = _point_terms(asm)
+    point_mass, point_low, single, shared, table = _point_terms(asm)
     mass = [[se.Integer(0)] * n for _ in range(n)]
     state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
     memo = EntryMemo()
@@ -616,7 +663,13 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     products = coriolis_products(mass, asm)
     coriolis = _coriolis(mass, asm) if products is None else None
     return KineticForm(
-        mass, coriolis, time_terms, quadratic_t + low, True, coriolis_products=products
+        mass,
+        coriolis,
+        time_terms,
+        quadratic_t + low,
+        True,
+        coriolis_products=products,
+        point_columns=PointColumns(table, memo, state),
     )
 
 

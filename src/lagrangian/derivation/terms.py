@@ -27,8 +27,8 @@ from typing import Any
 import symengine as se
 import sympy as sp
 
-from lagrangian.derivation.assemble import Assembly, assemble
-from lagrangian.derivation.backend import Backend, SympyView
+from lagrangian.derivation.assemble import Assembly, InertialPoint, assemble
+from lagrangian.derivation.backend import Backend, SympyView, vector_to_backend
 from lagrangian.derivation.collect import (
     collect_state,
     collect_state_with,
@@ -94,13 +94,15 @@ class EulerLagrangeTerms:
         self._coefficients: dict[Backend, tuple[int, Backend | None]] = {}  # of C q_dot's terms
         self.velocity_potential_forces = self._velocity_potential_forces()
         self.mass = self._mass_matrix()
-        self.gravity = self.potential_gradient(asm.potential)
-        self.dissipation_forces = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
-        # sums kept whole in M (a chain's m_k + ... + m_n) recur in C q_dot: keep them whole
-        # there too; with none, looking for them would only cost time
+        # sums kept whole in M (a chain's m_k + ... + m_n) recur in C q_dot and G: keep them
+        # whole there too; with none, looking for them would only cost time
         kept = any(
             f.is_Add for row in self.kinetic.mass_matrix for e in row if e.is_Mul for f in e.args
         )
+        self.gravity = self._gravity_forces(system) if kept else None
+        if self.gravity is None:
+            self.gravity = self.potential_gradient(asm.potential)
+        self.dissipation_forces = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
         tidy = self.tidy if kept else self._tidy_expanded
         products = self.kinetic.coriolis_products if kept else None
         self.forcing = []
@@ -170,6 +172,19 @@ class EulerLagrangeTerms:
 
     def _collected(self, coefficient: Backend) -> Backend:
         return collected_coefficient(coefficient, self.state, self._sums, self._factors)
+
+    def _gravity_forces(self, system: System) -> list[Backend] | None:
+        """G = dV/dq read off M's columns
+        (:meth:`~lagrangian.derivation.kinetic.PointColumns.gravity_forces`) when V is a
+        uniform gravity's alone and M was summed from the points' columns, of a chain of
+        planar links (C q_dot held by monomial); else None."""
+        asm, columns = self.assembly, self.kinetic.point_columns
+        if system.gravity is None or columns is None or self.kinetic.coriolis_products is None:
+            return None
+        gravity = vector_to_backend(system.gravity)
+        if asm.potential != gravity_potential(gravity, asm.points):  # springs, a potential
+            return None
+        return columns.gravity_forces(gravity)
 
     def _velocity_potential_forces(self) -> list[Backend]:
         """d/dt dU/dq_dot - dU/dq of each coordinate, without its q_ddot part; each 0 when U
@@ -368,6 +383,15 @@ class EulerLagrangeTerms:
             else:
                 orders[q] = 1 if depends_on(self.forcing[j], inert_velocities) else 0
         return orders
+
+
+def gravity_potential(gravity: list[Backend], points: tuple[InertialPoint, ...]) -> Backend:
+    """V = -sum_p m_p g . r_p of a uniform gravity g, the expression
+    :func:`~lagrangian.derivation.assemble.assemble` adds to the potential (built the same
+    way: a potential that is the gravity's alone is equal to it)."""
+    return -se.Add(
+        *[p.mass * se.Add(*[g * x for g, x in zip(gravity, p.position)]) for p in points]
+    )
 
 
 def _term_gradient(terms: Iterable[Backend], symbols: list[Backend]) -> list[Backend]:
