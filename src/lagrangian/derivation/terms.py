@@ -34,6 +34,7 @@ from lagrangian.derivation.collect import (
     collect_state_with,
     collected_coefficient,
     factor_common,
+    numberless,
 )
 from lagrangian.derivation.coriolis import VelocityProduct
 from lagrangian.derivation.kinetic import KineticForm, coriolis_vector, kinetic_form
@@ -132,9 +133,11 @@ class EulerLagrangeTerms:
         monomials = []
         bound = 0
         for product in coriolis:
-            count, coefficient = self._collected_coefficient(-product.number, product.coefficient)
+            count, coefficient, numberless = self._collected_coefficient(
+                -product.number, product.coefficient
+            )
             bound += count
-            monomials.append((product.monomial, coefficient))
+            monomials.append((product.monomial, coefficient, numberless))
         compact = self.compress(rest)
         if not self._sums:
             return None
@@ -145,30 +148,42 @@ class EulerLagrangeTerms:
             se.expand(compact), monomials, self.state, self._sums, self._factors
         )
 
-    def _collected_coefficient(self, number: Backend, coefficient: Backend) -> tuple[int, Backend]:
+    def _collected_coefficient(
+        self, number: Backend, coefficient: Backend
+    ) -> tuple[int, Backend, Backend | None]:
         """(the terms of the expansion of number * ``coefficient`` with its long sums kept
         whole, counted as :func:`_plain_bound` counts them; the coefficient collect_state
-        makes of those terms).  A product with no short sum to expand collects to number
-        times what the product collects to, found once per coefficient (a chain's w_jk is in
-        two rows of C q_dot)."""
+        makes of those terms; that without its number, :func:`numberless`).  A product with
+        no short sum to expand collects to number times what the product collects to, found
+        once per coefficient (a chain's w_jk is in two rows of C q_dot)."""
         known = self._coefficients.get(coefficient)
         if known is None:
-            compact = self.compress(coefficient)
-            count = 1
-            for factor in compact.args if compact.is_Mul else (compact,):
-                if factor.is_Add:  # a short sum of parameters, expanded with the rest
-                    count *= len(factor.args)
-            plain = count == 1 and not compact.is_Add
-            # one product collects to itself with its sums put back factored: the
-            # coefficient as it came when no sum has a common factor to pull out
-            collected = (
-                (self._collected(compact) if self._refactored else coefficient) if plain else None
-            )
-            known = self._coefficients[coefficient] = (count, collected)
-        count, collected = known
+            known = self._coefficients[coefficient] = self._product_collection(coefficient)
+        count, collected, numberless_part = known
         if collected is not None:
-            return count, number * collected
-        return count, self._collected(se.expand(self.compress(number * coefficient)))
+            return count, number * collected, numberless_part
+        general = self._collected(se.expand(self.compress(number * coefficient)))
+        return count, general, numberless(general)
+
+    def _product_collection(
+        self, coefficient: Backend
+    ) -> tuple[int, Backend | None, Backend | None]:
+        """(the count of :meth:`_collected_coefficient`; what ``coefficient`` collects to
+        when it is one product once its long sums are symbols (:meth:`compress`), else None;
+        that without its number).  The factors' sums are looked up, not compressed: a long
+        sum is one symbol (a factor counted once), a short one is expanded with the rest."""
+        if coefficient.is_Add:
+            return len(self.compress(coefficient).args), None, None
+        count = 1
+        for factor in coefficient.args if coefficient.is_Mul else (coefficient,):
+            if factor.is_Add and self._symbol_for(factor) is None:
+                count *= len(factor.args)
+        if count != 1:
+            return count, None, None
+        # one product collects to itself with its sums put back factored: the coefficient
+        # as it came when no sum has a common factor to pull out
+        collected = self._collected(self.compress(coefficient)) if self._refactored else coefficient
+        return count, collected, numberless(collected)
 
     def _collected(self, coefficient: Backend) -> Backend:
         return collected_coefficient(coefficient, self.state, self._sums, self._factors)
