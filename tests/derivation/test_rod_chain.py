@@ -90,6 +90,35 @@ def test_the_rods_entries_are_collected_as_their_expansion(monkeypatch) -> None:
         return original(entry, state, memo)
 
     monkeypatch.setattr(kinetic, "collected_entry", checked)
+    monkeypatch.setattr(kinetic._ColumnTable, "collected", lambda *_: None)  # every entry here
     for n in (2, 5, 12):
         lg.derive(rod_chain(n)).mass_matrix  # noqa: B018
     assert sum(compared) > len(compared) / 2
+
+
+def test_the_rods_entries_made_from_their_columns_are_the_collection_of_their_expansion(
+    monkeypatch,
+) -> None:
+    """Each entry of M made from its column pairs (r_j cos(a - b) times the collected sum of
+    the radii s_i times their holders' masses) is the collection of the expanded entry
+    summed from its products, the same SymEngine expression, for chains of 2 to 12 rods;
+    every entry with two products is made so: all but the diagonal (the rod's inertia, no
+    cosine) and the last rod's column (its centre alone)."""
+    made = []
+    original = kinetic._ColumnTable.collected
+
+    def checked(table, groups, state, memo):
+        fast = original(table, groups, state, memo)
+        if fast is not None:
+            entry = se.Add(
+                *[table.weight_sum(holders) * table.products[ids] for holders, ids in groups]
+            )
+            slow = collect_state(se.expand(entry), state)
+            assert fast == slow and str(fast) == str(slow)
+            made.append(fast)
+        return fast
+
+    monkeypatch.setattr(kinetic._ColumnTable, "collected", checked)
+    for n in (2, 5, 12):
+        lg.derive(rod_chain(n)).mass_matrix  # noqa: B018
+    assert len(made) == sum((n - 1) * (n - 2) // 2 for n in (2, 5, 12))

@@ -36,6 +36,9 @@ from lagrangian.derivation.trig_polynomial import (
 )
 
 Matrix = list[list[Backend]]
+#: The products of two columns in an entry of M: product -> (the set of holders that have
+#: it, the ids of the first pair of columns that made it)
+Groups = dict[Backend, tuple[int, tuple[int, int]]]
 
 _ZERO = se.Integer(0)  # compared with as it is (0 would be converted at each comparison)
 _UNIT = se.Integer(1)  # the number 1 (ONE is the key of the constant monomial)
@@ -71,12 +74,13 @@ def _hessian(expr: Backend, symbols: tuple[Backend, ...]) -> Matrix:
 
 
 def _point_terms(
-    asm: Assembly,
+    asm: Assembly, explicit: Matrix, memo: EntryMemo
 ) -> tuple[Matrix, Backend, set[tuple[int, int]], set[tuple[int, int]], _ColumnTable]:
     """sum m J^T J (+ I g^T g), the kinetic terms of degree 0 and 1 in the velocities, the
-    entries that are one combined product times a sum of weights, those that are several
-    such products sharing their one sine or cosine (:func:`one_trigonometric_factor`), and
-    the table of the columns.
+    entries that are one combined product times a sum of weights or collected already
+    (where T's ``explicit`` Hessian adds nothing, :meth:`_ColumnTable.collected`), those
+    that are several such products sharing their one sine or cosine
+    (:func:`one_trigonometric_factor`), and the table of the columns.
 
     The weights of each combined column product are summed before they multiply it: a chain's
     entry is l_j l_k (m_k + ... + m_n) cos(theta_j - theta_k), never grown term by term; a
@@ -102,6 +106,7 @@ def _point_terms(
     single: set[tuple[int, int]] = set()
     shared: set[tuple[int, int]] = set()  # products that differ only in their coefficient
     combined: dict[Backend, Backend] = {}  # the same column pairs recur for every point below
+    state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
     for j in range(n):
         for k in range(j, n):
             groups = table.pair_groups(j, k, combined)
@@ -109,8 +114,14 @@ def _point_terms(
                 continue
             # the products in the order the holders first meet them, each times the sum of
             # its holders' weights in their order: the entry as summed holder by holder
-            ordered = sorted(groups.items(), key=lambda group: group[1] & -group[1])
-            mass[j][k] = se.Add(*[table.weight_sum(holders) * c for c, holders in ordered])
+            ordered = sorted(groups.items(), key=lambda group: group[1][0] & -group[1][0])
+            if len(groups) > 1 and not asm.rotations and explicit[j][k] == _ZERO:
+                collected = table.collected([group for _, group in ordered], state, memo)
+                if collected is not None:
+                    mass[j][k] = collected
+                    single.add((j, k))
+                    continue
+            mass[j][k] = se.Add(*[table.weight_sum(group[0]) * c for c, group in ordered])
             if len(groups) == 1 and not ordered[0][0].is_Add:
                 single.add((j, k))
             elif one_trigonometric_factor([c for c, _ in ordered]):
@@ -172,6 +183,8 @@ class EntryMemo:
     insides: dict[tuple[tuple[Backend, Backend | None], ...], Backend | None] = field(
         default_factory=dict
     )
+    #: the collected sums of (column radius, holders) pairs (:meth:`_ColumnTable.collected`)
+    columns: dict[tuple[tuple[Backend, int], ...], Backend | None] = field(default_factory=dict)
 
 
 def _sum_powers(factor: Backend, state: set[Backend]) -> _SumPowers | None:
@@ -239,6 +252,20 @@ def _collected_products(entry: Backend, state: set[Backend], memo: EntryMemo) ->
         products.append((plain, number, powers, sum_factor, summed))
     if trig is None or state.isdisjoint(trig.free_symbols) or not products:
         return None
+    collected = _collected_sum(products, memo)
+    return None if collected is None else trig * collected
+
+
+#: A product of an entry as :func:`_collected_products` reads it: its plain factors, their
+#: number and powers, its sum of masses (or None) and that sum's :data:`_SumPowers` (or None).
+_Product = tuple[
+    list[Backend], Backend, dict[Backend, Backend], Backend | None, "_SumPowers | None"
+]
+
+
+def _collected_sum(products: list[_Product], memo: EntryMemo) -> Backend | None:
+    """The sum of ``products`` collected (the common factor times the expanded rest), or None
+    when two of its expanded terms combine."""
     common: dict[Backend, Backend] | None = None
     magnitudes: set[Backend] = set()
     negative = True
@@ -278,9 +305,7 @@ def _collected_products(entry: Backend, state: set[Backend], memo: EntryMemo) ->
         whole = len(expanded.args if expanded.is_Add else (expanded,)) == expected
         memo.insides[parts] = expanded if whole else None
     inside = memo.insides[parts]
-    if inside is None:
-        return None
-    return trig * (outside * inside)
+    return None if inside is None else outside * inside
 
 
 def _symbol_power(factor: Backend) -> bool:
@@ -334,11 +359,12 @@ class _ColumnTable:
             self.moving[j] |= bit
         self.ids.append(ids)
 
-    def pair_groups(self, j: int, k: int, combined: dict[Backend, Backend]) -> dict[Backend, int]:
+    def pair_groups(self, j: int, k: int, combined: dict[Backend, Backend]) -> Groups:
         """The products of columns j and k of the holders that move with both (0 left out),
-        each with the set of holders that have it."""
+        each with the set of holders that have it and the ids of the first pair of columns
+        that made it."""
         both = self.moving[j] & self.moving[k]
-        groups: dict[Backend, int] = {}
+        groups: Groups = {}
         if not both:
             return groups
         at_j, at_k = self.holders[j], self.holders[k]
@@ -356,7 +382,7 @@ class _ColumnTable:
 
     def _group(
         self,
-        groups: dict[Backend, int],
+        groups: Groups,
         id_j: int,
         id_k: int,
         holders: int,
@@ -374,13 +400,79 @@ class _ColumnTable:
             )
         product = self.products[key]
         if product is not None:
-            groups[product] = groups.get(product, 0) | holders
+            known = groups.get(product)
+            groups[product] = (holders, key) if known is None else (known[0] | holders, known[1])
+
+    def collected(
+        self, groups: list[tuple[int, tuple[int, int]]], state: set[Backend], memo: EntryMemo
+    ) -> Backend | None:
+        """The entry of M summed from ``groups`` (holders, column ids) collected as
+        :func:`collected_entry` collects it, made from the columns without reading the
+        entry back: when every pair of columns is planar, r_j (cos a, sin a) and s_i (cos b,
+        sin b) with the same r_j (a product of parameters with no number), a and b, the entry
+        is r_j cos(a - b) sum_i s_i (the masses of holders i), and that sum is collected once
+        for all the entries with the same s_i and holders (``memo``): a chain of rods' column
+        k, l_k (m_k / 2 + m_(k+1) + ... + m_n), in every entry M_jk with j < k.  The common
+        factor of the whole is r_j times the sum's (r_j is in every product, with no number
+        to change the numbers' magnitudes), what is left inside is the same: the same
+        expression.  None when the columns are not such, or the sum does not collect."""
+        first, first_k = self.polar[groups[0][1][0]], self.polar[groups[0][1][1]]
+        if first is None or first_k is None:
+            return None
+        radius, angle = first
+        sides = []
+        for holders, (id_j, id_k) in groups:
+            at_k = self.polar[id_k]
+            if at_k is None or at_k[1] != first_k[1] or self.polar[id_j] != first:
+                return None
+            sides.append((at_k[0], holders))
+        cosine = self.cosines[angle, first_k[1]]
+        if not isinstance(cosine, se.cos) or not _numberless_parameters(radius, state):
+            return None
+        key = tuple(sides)
+        if key not in memo.columns:
+            memo.columns[key] = self._collected_sides(sides, state, memo)
+        inner = memo.columns[key]
+        return None if inner is None else cosine * (radius * inner)
+
+    def _collected_sides(
+        self, sides: list[tuple[Backend, int]], state: set[Backend], memo: EntryMemo
+    ) -> Backend | None:
+        """sum_i s_i (the masses of holders i) collected (:func:`_collected_sum`), or None."""
+        products: list[_Product] = []
+        for radius, holders in sides:
+            weight = self.weight_sum(holders)
+            plain = list(radius.args if radius.is_Mul else (radius,))
+            sum_factor, summed = None, None
+            if weight.is_Add:
+                if weight not in memo.sums:
+                    memo.sums[weight] = _sum_powers(weight, state)
+                sum_factor, summed = weight, memo.sums[weight]
+                if summed is None:
+                    return None
+            else:
+                plain += weight.args if weight.is_Mul else (weight,)
+            if not all(f.is_Symbol or f.is_Number or _symbol_power(f) for f in plain):
+                return None
+            number, powers = product_powers(plain)
+            if not state.isdisjoint(powers):
+                return None
+            products.append((plain, number, powers, sum_factor, summed))
+        return _collected_sum(products, memo)
 
     def weight_sum(self, holders: int) -> Backend:
         """The sum of the weights of a set of holders, in their order."""
         if holders not in self.sums:
             self.sums[holders] = se.Add(*[self.weights[h] for h in _members(holders)])
         return self.sums[holders]
+
+
+def _numberless_parameters(product: Backend, state: set[Backend]) -> bool:
+    """Whether a plain product has no number among its factors and no state symbol."""
+    for factor in product.args if product.is_Mul else (product,):
+        if factor.is_Number or (factor.args[0] if factor.is_Pow else factor) in state:
+            return False
+    return True
 
 
 def _members(holders: int) -> Iterator[int]:
@@ -618,10 +710,10 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     structured = _structured_form(asm, explicit) if asm.rotations else None
     if structured is not None:
         return structured
-    point_mass, point_low, single, shared, table = _point_terms(asm)
+    memo = EntryMemo()
+    point_mass, point_low, single, shared, table = _point_terms(asm, explicit, memo)
     mass = [[se.Integer(0)] * n for _ in range(n)]
     state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
-    memo = EntryMemo()
     for j in range(n):
         for k in range(j, n):
             if explicit[j][k] == _ZERO and (j, k) in single:  # combined already

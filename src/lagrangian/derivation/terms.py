@@ -92,7 +92,8 @@ class EulerLagrangeTerms:
         self._refactored = False  # whether a sum's factored form differs from it
         self._compressed: dict[Backend, Backend] = {}
         self._factors: dict[Backend, Backend] = {}  # collect_state's sorting of factors
-        self._coefficients: dict[Backend, tuple[int, Backend | None]] = {}  # of C q_dot's terms
+        # of C q_dot's terms (:meth:`_product_collection`)
+        self._coefficients: dict[Backend, tuple[int, Backend | None, Backend | None]] = {}
         self.velocity_potential_forces = self._velocity_potential_forces()
         self.mass = self._mass_matrix()
         # sums kept whole in M (a chain's m_k + ... + m_n) recur in C q_dot and G: keep them
@@ -100,9 +101,8 @@ class EulerLagrangeTerms:
         kept = any(
             f.is_Add for row in self.kinetic.mass_matrix for e in row if e.is_Mul for f in e.args
         )
-        self.gravity = self._gravity_forces(system) if kept else None
-        if self.gravity is None:
-            self.gravity = self.potential_gradient(asm.potential)
+        gravity = self._gravity_forces(system) if kept else None
+        self.gravity = self.potential_gradient(asm.potential) if gravity is None else gravity
         self.dissipation_forces = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
         tidy = self.tidy if kept else self._tidy_expanded
         products = self.kinetic.coriolis_products if kept else None
