@@ -15,7 +15,7 @@ as they are instead of expanding and collecting the sum (:mod:`lagrangian.deriva
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import symengine as se
 
@@ -26,8 +26,7 @@ _TRIG = (se.sin, se.cos)
 _UNITS = (se.Integer(1), se.Integer(-1))
 
 
-@dataclass(frozen=True)
-class VelocityProduct:
+class VelocityProduct(NamedTuple):
     """One term of (C q_dot)_j: ``number * coefficient * monomial``, the coefficient free of
     the state (an entry's w_jk), the monomial a sine or cosine times two velocities."""
 

@@ -345,9 +345,9 @@ class _ColumnTable:
         if position:
             self.positions |= bit
         ids = []
-        for j in range(len(self.holders)):
-            column = tuple(row[j] for row in jac)
-            if all(c == _ZERO for c in column):
+        zero = (_ZERO,) * len(jac)
+        for j, column in enumerate(zip(*jac)):
+            if column == zero:  # the zeros of _gradient are _ZERO itself: told apart at once
                 ids.append(-1)
                 continue
             id_j = self.columns.setdefault(column, len(self.columns))
@@ -587,7 +587,7 @@ def _gradient(
             slopes[term] = [(index[s], term.diff(s)) for s in term.free_symbols if s in index]
         for i, slope in slopes[term]:
             parts[i].append(slope)
-    return [se.Add(*p) for p in parts]
+    return [(p[0] if len(p) == 1 else se.Add(*p)) if p else _ZERO for p in parts]
 
 
 def _rotation_terms(
