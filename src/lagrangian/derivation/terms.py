@@ -132,12 +132,15 @@ class EulerLagrangeTerms:
         for, or too many terms), or a monomial of C q_dot is also one of ``rest``'s."""
         monomials = []
         bound = 0
-        for product in coriolis:
-            count, coefficient, numberless = self._collected_coefficient(
-                -product.number, product.coefficient
-            )
-            bound += count
-            monomials.append((product.monomial, coefficient, numberless))
+        known = self._coefficients.get
+        for monomial, coefficient, number in coriolis:
+            collection = known(coefficient)  # a chain's w_jk is met again in another row
+            if collection is None or collection[1] is None:
+                collection = self._collected_coefficient(-number, coefficient)
+            else:  # number times what the product collects to
+                collection = collection[0], -number * collection[1], collection[2]
+            bound += collection[0]
+            monomials.append((monomial, collection[1], collection[2]))
         compact = self.compress(rest)
         if not self._sums:
             return None
@@ -377,10 +380,12 @@ class EulerLagrangeTerms:
         asm, kinetic, n = self.assembly, self.kinetic.mass_matrix, len(self.assembly.q)
         u_momentum = [asm.velocity_potential.diff(v) for v in asm.q_dot]
         mass = [[se.Integer(0)] * n for _ in range(n)]
+        zero = se.Integer(0)
         for j in range(n):
+            constant = u_momentum[j].is_Number  # no q_dot in dU/dq_dot_j (a chain has no U)
             for k in range(j, n):
-                u_part = u_momentum[j].diff(asm.q_dot[k])
-                if u_part == 0 and self.kinetic.quadratic:  # combined already (kinetic_form)
+                u_part = zero if constant else u_momentum[j].diff(asm.q_dot[k])
+                if (constant or u_part == 0) and self.kinetic.quadratic:  # combined already
                     mass[j][k] = mass[k][j] = self.collect(kinetic[j][k])
                 else:
                     mass[j][k] = mass[k][j] = self.tidy(kinetic[j][k] - u_part)
