@@ -218,8 +218,10 @@ def _keep_least(common: dict[Backend, Backend], powers: dict[Backend, Backend]) 
 
 def _collected_products(entry: Backend, state: set[Backend], memo: EntryMemo) -> Backend | None:
     """``collect_state(se.expand(entry), state)`` for an entry that is a sum of products, each
-    a number, parameters, one sine or cosine of the state shared by all, and at most one sum
-    of parameter products (a sum of masses), whose expanded terms all differ; else None.
+    a number, parameters, one sine or cosine of the state shared by all (or none in any:
+    a rod's diagonal entry l_k^2 (m_k / 3 + m_(k+1) + ... + m_n), one monomial still), and
+    at most one sum of parameter products (a sum of masses), whose expanded terms all
+    differ; else None.
 
     Collecting the expanded entry walks its terms in Python, n per entry of a chain of rods
     and n^3/6 in all; here each sum of masses is read once (``memo``), an entry by its few
@@ -250,10 +252,12 @@ def _collected_products(entry: Backend, state: set[Backend], memo: EntryMemo) ->
         if not state.isdisjoint(powers):
             return None
         products.append((plain, number, powers, sum_factor, summed))
-    if trig is None or state.isdisjoint(trig.free_symbols) or not products:
+    if not products or (trig is not None and state.isdisjoint(trig.free_symbols)):
         return None
     collected = _collected_sum(products, memo)
-    return None if collected is None else trig * collected
+    if collected is None or trig is None:  # no trigonometry: a rod's diagonal entry
+        return collected
+    return trig * collected
 
 
 #: A product of an entry as :func:`_collected_products` reads it: its plain factors, their
