@@ -12,6 +12,7 @@ import sympy.physics.mechanics as me
 import lagrangian as lg
 from lagrangian.derivation import kinetic
 from lagrangian.derivation.collect import collect_state
+from lagrangian.derivation.terms import euler_lagrange_terms
 
 
 def rod_chain(n: int) -> lg.System:
@@ -122,3 +123,20 @@ def test_the_rods_entries_made_from_their_columns_are_the_collection_of_their_ex
     for n in (2, 5, 12):
         lg.derive(rod_chain(n)).mass_matrix  # noqa: B018
     assert len(made) == sum((n - 1) * (n - 2) // 2 for n in (2, 5, 12))
+
+
+def test_gravity_read_off_the_columns_is_the_gradient_of_the_potential() -> None:
+    """G read off M's column table (each column at q_k times the masses that hold it) is,
+    once tidied, the same SymEngine expression as the tidied gradient of the expanded
+    potential, and the same polynomial, for chains of particles and of rods short and long
+    enough for their sums of masses to be kept whole; the table is what gave it."""
+    for build in (lg.examples.n_link_pendulum, rod_chain):
+        for n in (3, 9, 14):
+            terms = euler_lagrange_terms(build(n))
+            by_potential = terms.potential_gradient(terms.assembly.potential)
+            assert terms.kinetic.point_columns is not None
+            # G_1 = g l_1 (... + m_n) sin(theta_1) one product, the gradient's n terms
+            assert terms.gravity[0].is_Mul and len(se.expand(by_potential[0]).args) == n
+            for by_columns, gradient in zip(terms.gravity, by_potential, strict=True):
+                assert terms.tidy(by_columns) == terms.tidy(gradient)
+                assert se.expand(by_columns - gradient) == 0
