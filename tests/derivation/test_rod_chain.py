@@ -91,7 +91,7 @@ def test_the_rods_entries_are_collected_as_their_expansion(monkeypatch) -> None:
         return original(entry, state, memo)
 
     monkeypatch.setattr(kinetic, "collected_entry", checked)
-    monkeypatch.setattr(kinetic._ColumnTable, "collected", lambda *_: None)  # every entry here
+    monkeypatch.setattr(kinetic._ColumnTable, "split", lambda *_: None)  # every entry here
     for n in (2, 5, 12):
         lg.derive(rod_chain(n)).mass_matrix  # noqa: B018
     assert sum(compared) > len(compared) / 2
@@ -106,20 +106,22 @@ def test_the_rods_entries_made_from_their_columns_are_the_collection_of_their_ex
     every entry with two products is made so: all but the diagonal (the rod's inertia, no
     cosine) and the last rod's column (its centre alone)."""
     made = []
-    original = kinetic._ColumnTable.collected
+    original = kinetic._ColumnTable.split
 
     def checked(table, groups, state, memo):
-        fast = original(table, groups, state, memo)
-        if fast is not None:
+        split = original(table, groups, state, memo)
+        if split is not None and len(groups) > 1:
+            fast = split[1] * split[0]
             entry = se.Add(
                 *[table.weight_sum(holders) * table.products[ids] for holders, ids in groups]
             )
             slow = collect_state(se.expand(entry), state)
             assert fast == slow and str(fast) == str(slow)
+            assert se.Mul(*split[2]) == split[0]  # w is the product of its parts
             made.append(fast)
-        return fast
+        return split
 
-    monkeypatch.setattr(kinetic._ColumnTable, "collected", checked)
+    monkeypatch.setattr(kinetic._ColumnTable, "split", checked)
     for n in (2, 5, 12):
         lg.derive(rod_chain(n)).mass_matrix  # noqa: B018
     assert len(made) == sum((n - 1) * (n - 2) // 2 for n in (2, 5, 12))

@@ -15,6 +15,7 @@ as they are instead of expanding and collecting the sum (:mod:`lagrangian.deriva
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import NamedTuple
 
 import symengine as se
@@ -39,13 +40,23 @@ class VelocityProduct(NamedTuple):
         return self.number * self.coefficient * self.monomial
 
 
+#: An entry of M as it was made: (w, f, the parts w is the product of), the entry w f.
+EntrySplit = tuple[Backend, Backend, tuple[Backend, ...]]
+
+
 def coriolis_products(
-    mass: list[list[Backend]], asm: Assembly
+    mass: list[list[Backend]],
+    asm: Assembly,
+    splits: Mapping[tuple[int, int], EntrySplit] | None = None,
 ) -> tuple[tuple[VelocityProduct, ...], ...] | None:
     """The terms of (C q_dot)_j for each j, each monomial once; None unless every entry of
     the upper triangle of ``mass`` is a parameter product times at most one sine or cosine
     of a plain angle of the coordinates, and the terms of each monomial of a row come from
-    one entry (then the general Christoffel sum, which adds them as expressions, is used)."""
+    one entry (then the general Christoffel sum, which adds them as expressions, is used).
+
+    ``splits`` gives entries as they were made, w f (M's entries of planar columns): such
+    an entry is not read back factor by factor when its parts are parameter products."""
+    splits = splits or {}
     n = len(asm.q)
     index = {q: i for i, q in enumerate(asm.q)}
     state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
@@ -55,7 +66,10 @@ def coriolis_products(
     half = se.Rational(1, 2)
     for j in range(n):
         for k in range(j, n):
-            split = _parameters_times_trig(mass[j][k], state, parameters)
+            made = splits.get((j, k))
+            split = None if made is None else _split_as_made(made, state, parameters)
+            if split is None:
+                split = _parameters_times_trig(mass[j][k], state, parameters)
             if split is None:
                 return None
             coefficient, trig, angle = split
@@ -145,6 +159,27 @@ def _parameters_times_trig(
     if trig is None:
         return entry, None, angle
     return (rest[0] if len(rest) == 1 else se.Mul(*rest)), trig, angle
+
+
+def _split_as_made(
+    made: EntrySplit, state: set[Backend], parameters: dict[Backend, bool]
+) -> tuple[Backend, Backend, list[tuple[Backend, bool]]] | None:
+    """What :func:`_parameters_times_trig` finds of the entry w f made as ``made``, when each
+    of w's parts is a product of parameter factors (their product's factors are then such
+    too, numbers and integer powers merged) and f's angle is plain of the state; else None
+    (the entry is then read back)."""
+    w, trig, parts = made
+    for part in parts:
+        plain = parameters.get(part)
+        if plain is None:
+            factors = part.args if part.is_Mul else (part,)
+            plain = parameters[part] = all(_parameter_factor(f, state) for f in factors)
+        if not plain:
+            return None
+    found = _plain_angle_terms(trig.args[0])
+    if found is None or not any(symbol in state for symbol, _ in found):
+        return None
+    return w, trig, found
 
 
 def _plain_angle_terms(angle: Backend) -> list[tuple[Backend, bool]] | None:

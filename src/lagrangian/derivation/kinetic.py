@@ -24,7 +24,7 @@ import symengine as se
 from lagrangian.derivation.assemble import Assembly, Rotation
 from lagrangian.derivation.backend import Backend
 from lagrangian.derivation.collect import collect_state, is_negative_number, product_powers
-from lagrangian.derivation.coriolis import VelocityProduct, coriolis_products
+from lagrangian.derivation.coriolis import EntrySplit, VelocityProduct, coriolis_products
 from lagrangian.derivation.trig import combine_trig, plain_angle
 from lagrangian.derivation.trig_polynomial import (
     ONE,
@@ -75,12 +75,21 @@ def _hessian(expr: Backend, symbols: tuple[Backend, ...]) -> Matrix:
 
 def _point_terms(
     asm: Assembly, explicit: Matrix, memo: EntryMemo
-) -> tuple[Matrix, Backend, set[tuple[int, int]], set[tuple[int, int]], _ColumnTable]:
+) -> tuple[
+    Matrix,
+    Backend,
+    set[tuple[int, int]],
+    set[tuple[int, int]],
+    _ColumnTable,
+    dict[tuple[int, int], EntrySplit],
+]:
     """sum m J^T J (+ I g^T g), the kinetic terms of degree 0 and 1 in the velocities, the
     entries that are one combined product times a sum of weights or collected already
-    (where T's ``explicit`` Hessian adds nothing, :meth:`_ColumnTable.collected`), those
+    (where T's ``explicit`` Hessian adds nothing, :meth:`_ColumnTable.split`), those
     that are several such products sharing their one sine or cosine
-    (:func:`one_trigonometric_factor`), and the table of the columns.
+    (:func:`one_trigonometric_factor`), the table of the columns, and the entries made of
+    planar columns as (w, cos(a - b), the parts w is the product of): C q_dot's products
+    take them as they are made (:func:`~lagrangian.derivation.coriolis.coriolis_products`).
 
     The weights of each combined column product are summed before they multiply it: a chain's
     entry is l_j l_k (m_k + ... + m_n) cos(theta_j - theta_k), never grown term by term; a
@@ -107,6 +116,7 @@ def _point_terms(
     shared: set[tuple[int, int]] = set()  # products that differ only in their coefficient
     combined: dict[Backend, Backend] = {}  # the same column pairs recur for every point below
     state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
+    splits: dict[tuple[int, int], EntrySplit] = {}
     for j in range(n):
         for k in range(j, n):
             groups = table.pair_groups(j, k, combined)
@@ -115,10 +125,11 @@ def _point_terms(
             # the products in the order the holders first meet them, each times the sum of
             # its holders' weights in their order: the entry as summed holder by holder
             ordered = sorted(groups.items(), key=lambda group: group[1][0] & -group[1][0])
-            if len(groups) > 1 and not asm.rotations and explicit[j][k] == _ZERO:
-                collected = table.collected([group for _, group in ordered], state, memo)
-                if collected is not None:
-                    mass[j][k] = collected
+            if not asm.rotations and explicit[j][k] == _ZERO:  # the entry is M's as made
+                split = table.split([group for _, group in ordered], state, memo)
+                if split is not None:
+                    mass[j][k] = split[1] * split[0]
+                    splits[j, k] = split
                     single.add((j, k))
                     continue
             mass[j][k] = se.Add(*[table.weight_sum(group[0]) * c for c, group in ordered])
@@ -130,7 +141,7 @@ def _point_terms(
         low_degree += _rotation_terms(rotation, asm, mass, combined)
         single.clear()
         shared.clear()
-    return mass, low_degree, single, shared, table
+    return mass, low_degree, single, shared, table, splits
 
 
 def one_trigonometric_factor(products: list[Backend]) -> bool:
@@ -183,7 +194,7 @@ class EntryMemo:
     insides: dict[tuple[tuple[Backend, Backend | None], ...], Backend | None] = field(
         default_factory=dict
     )
-    #: the collected sums of (column radius, holders) pairs (:meth:`_ColumnTable.collected`)
+    #: the collected sums of (column radius, holders) pairs (:meth:`_ColumnTable.split`)
     columns: dict[tuple[tuple[Backend, int], ...], Backend | None] = field(default_factory=dict)
 
 
@@ -407,19 +418,22 @@ class _ColumnTable:
             known = groups.get(product)
             groups[product] = (holders, key) if known is None else (known[0] | holders, known[1])
 
-    def collected(
+    def split(
         self, groups: list[tuple[int, tuple[int, int]]], state: set[Backend], memo: EntryMemo
-    ) -> Backend | None:
-        """The entry of M summed from ``groups`` (holders, column ids) collected as
-        :func:`collected_entry` collects it, made from the columns without reading the
-        entry back: when every pair of columns is planar, r_j (cos a, sin a) and s_i (cos b,
-        sin b) with the same r_j (a product of parameters with no number), a and b, the entry
-        is r_j cos(a - b) sum_i s_i (the masses of holders i), and that sum is collected once
-        for all the entries with the same s_i and holders (``memo``): a chain of rods' column
-        k, l_k (m_k / 2 + m_(k+1) + ... + m_n), in every entry M_jk with j < k.  The common
+    ) -> EntrySplit | None:
+        """The entry of M summed from ``groups`` (holders, column ids) as (w, cos(a - b), the
+        parts w is the product of), collected as :func:`collected_entry` collects it, made
+        from the columns without reading the entry back; None when its columns are not such.
+
+        When every pair of columns is planar, r_j (cos a, sin a) and s_i (cos b, sin b) with
+        the same r_j, a and b, the entry is r_j cos(a - b) sum_i s_i (the masses of holders
+        i).  One pair (a chain of particles): w = r_j s_1 (the masses), as summed.  Several
+        (with r_j a product of parameters with no number): the sum is collected once for
+        all the entries with the same s_i and holders (``memo``), a chain of rods' column k,
+        l_k (m_k / 2 + m_(k+1) + ... + m_n), in every entry M_jk with j < k.  The common
         factor of the whole is r_j times the sum's (r_j is in every product, with no number
         to change the numbers' magnitudes), what is left inside is the same: the same
-        expression.  None when the columns are not such, or the sum does not collect."""
+        expression."""
         first, first_k = self.polar[groups[0][1][0]], self.polar[groups[0][1][1]]
         if first is None or first_k is None:
             return None
@@ -431,13 +445,18 @@ class _ColumnTable:
                 return None
             sides.append((at_k[0], holders))
         cosine = self.cosines[angle, first_k[1]]
-        if not isinstance(cosine, se.cos) or not _numberless_parameters(radius, state):
+        if not isinstance(cosine, se.cos):
+            return None
+        if len(sides) == 1:
+            weight = self.weight_sum(sides[0][1])
+            return radius * sides[0][0] * weight, cosine, (radius, sides[0][0], weight)
+        if not _numberless_parameters(radius, state):
             return None
         key = tuple(sides)
         if key not in memo.columns:
             memo.columns[key] = self._collected_sides(sides, state, memo)
         inner = memo.columns[key]
-        return None if inner is None else cosine * (radius * inner)
+        return None if inner is None else (radius * inner, cosine, (radius, inner))
 
     def _collected_sides(
         self, sides: list[tuple[Backend, int]], state: set[Backend], memo: EntryMemo
@@ -715,7 +734,7 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     if structured is not None:
         return structured
     memo = EntryMemo()
-    point_mass, point_low, single, shared, table = _point_terms(asm, explicit, memo)
+    point_mass, point_low, single, shared, table, splits = _point_terms(asm, explicit, memo)
     mass = [[se.Integer(0)] * n for _ in range(n)]
     state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
     for j in range(n):
@@ -756,7 +775,7 @@ def kinetic_form(asm: Assembly) -> KineticForm:
             else se.Integer(0)
         )
         time_terms.append(se.expand(explicit_time + low_terms))
-    products = coriolis_products(mass, asm)
+    products = coriolis_products(mass, asm, splits)
     coriolis = _coriolis(mass, asm) if products is None else None
     return KineticForm(
         mass,
