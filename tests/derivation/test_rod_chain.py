@@ -12,6 +12,7 @@ import sympy.physics.mechanics as me
 import lagrangian as lg
 from lagrangian.derivation import kinetic
 from lagrangian.derivation.collect import collect_state
+from lagrangian.derivation.terms import euler_lagrange_terms
 
 
 def rod_chain(n: int) -> lg.System:
@@ -90,6 +91,54 @@ def test_the_rods_entries_are_collected_as_their_expansion(monkeypatch) -> None:
         return original(entry, state, memo)
 
     monkeypatch.setattr(kinetic, "collected_entry", checked)
+    monkeypatch.setattr(kinetic._ColumnTable, "split", lambda *_: None)  # every entry here
     for n in (2, 5, 12):
         lg.derive(rod_chain(n)).mass_matrix  # noqa: B018
     assert sum(compared) > len(compared) / 2
+
+
+def test_the_rods_entries_made_from_their_columns_are_the_collection_of_their_expansion(
+    monkeypatch,
+) -> None:
+    """Each entry of M made from its column pairs (r_j cos(a - b) times the collected sum of
+    the radii s_i times their holders' masses) is the collection of the expanded entry
+    summed from its products, the same SymEngine expression, for chains of 2 to 12 rods;
+    every entry with two products is made so: all but the diagonal (the rod's inertia, no
+    cosine) and the last rod's column (its centre alone)."""
+    made = []
+    original = kinetic._ColumnTable.split
+
+    def checked(table, groups, state, memo):
+        split = original(table, groups, state, memo)
+        if split is not None and len(groups) > 1:
+            fast = split[1] * split[0]
+            entry = se.Add(
+                *[table.weight_sum(holders) * table.products[ids] for holders, ids in groups]
+            )
+            slow = collect_state(se.expand(entry), state)
+            assert fast == slow and str(fast) == str(slow)
+            assert se.Mul(*split[2]) == split[0]  # w is the product of its parts
+            made.append(fast)
+        return split
+
+    monkeypatch.setattr(kinetic._ColumnTable, "split", checked)
+    for n in (2, 5, 12):
+        lg.derive(rod_chain(n)).mass_matrix  # noqa: B018
+    assert len(made) == sum((n - 1) * (n - 2) // 2 for n in (2, 5, 12))
+
+
+def test_gravity_read_off_the_columns_is_the_gradient_of_the_potential() -> None:
+    """G read off M's column table (each column at q_k times the masses that hold it) is,
+    once tidied, the same SymEngine expression as the tidied gradient of the expanded
+    potential, and the same polynomial, for chains of particles and of rods short and long
+    enough for their sums of masses to be kept whole; the table is what gave it."""
+    for build in (lg.examples.n_link_pendulum, rod_chain):
+        for n in (3, 9, 14):
+            terms = euler_lagrange_terms(build(n))
+            by_potential = terms.potential_gradient(terms.assembly.potential)
+            assert terms.kinetic.point_columns is not None
+            # G_1 = g l_1 (... + m_n) sin(theta_1) one product, the gradient's n terms
+            assert terms.gravity[0].is_Mul and len(se.expand(by_potential[0]).args) == n
+            for by_columns, gradient in zip(terms.gravity, by_potential, strict=True):
+                assert terms.tidy(by_columns) == terms.tidy(gradient)
+                assert se.expand(by_columns - gradient) == 0

@@ -132,25 +132,37 @@ def collect_state(
 
 def collect_state_with(
     expr: Any,
-    monomials: list[tuple[Any, Any]],
+    monomials: list[tuple[Any, Any, Any]],
     state: set[Any],
     sums: Mapping[Any, tuple[Any, Any]],
     factors: dict[Any, Any],
 ) -> Any | None:
-    """:func:`collect_state` (with ``sums``) of ``expr`` plus sum(c m for (m, c) in
+    """:func:`collect_state` (with ``sums``) of ``expr`` plus sum(c m for (m, c, _) in
     ``monomials``), whose terms come collected already: each m a state monomial, each c its
-    coefficient as :func:`collect_state` makes it (:func:`collected_coefficient`).  None when
-    an m is a monomial of ``expr`` too (its terms would join the group of ``expr``'s); the
-    caller makes sure no two m are equal.  A chain's C q_dot has n^2 such terms, known by
-    monomial when they are made (:mod:`lagrangian.derivation.coriolis`): grouping them again
-    would walk every factor.  A coefficient that is a sum (which the sharing of
-    :func:`_sum_by_coefficient` could write as either sign, by the order the monomials come
-    in) also gives None."""
+    coefficient as :func:`collect_state` makes it (:func:`collected_coefficient`), with
+    :func:`numberless` of c.  None when an m is a monomial of ``expr``
+    too (its terms would join the group of ``expr``'s); the caller makes sure no two m are
+    equal.  A chain's C q_dot has n^2 such terms, known by monomial when they are made
+    (:mod:`lagrangian.derivation.coriolis`): grouping them again would walk every factor.
+    A coefficient that is a sum (which the sharing of :func:`_sum_by_coefficient` could
+    write as either sign, by the order the monomials come in) also gives None."""
     terms = expr.args if expr.is_Add else (expr,)
     groups = _groups(terms, state, sums, factors)
-    if any(monomial in groups for monomial, _ in monomials):
+    if any(monomial in groups for monomial, _, _ in monomials):
         return None
     return _collected_with_sums(groups, sums, monomials)
+
+
+def numberless(coefficient: Any) -> Any | None:
+    """``coefficient`` without its number (c for 2 c, -c and c alike); None for a number.
+    Two coefficients equal up to their sign have the same."""
+    if coefficient.is_Number:
+        return None
+    if coefficient.is_Mul:
+        args = coefficient.args
+        if args[0].is_Number:
+            return args[1] if len(args) == 2 else se.Mul(*args[1:])
+    return coefficient
 
 
 def collected_coefficient(
@@ -194,22 +206,45 @@ def _coefficient_group(
 def _collected_with_sums(
     groups: dict[Any, Group],
     sums: Mapping[Any, tuple[Any, Any]],
-    collected: list[tuple[Any, Any]] | None = None,
+    collected: list[tuple[Any, Any, Any]] | None = None,
 ) -> Any:
     """The collected sum of ``groups`` (:func:`collect_state` with ``sums``) and of the
-    monomials ``collected`` with their coefficients; with ``collected``, None when a
-    coefficient is a sum."""
+    monomials ``collected`` with their coefficients (and those without their numbers);
+    with ``collected``, None when a coefficient is a sum."""
     pairs = [
         (key, _with_sums(products, sums, holds, factored))
         for key, (products, holds, factored) in groups.items()
     ]
     if collected is not None:
-        pairs += collected
-        if any(coefficient.is_Add for _, coefficient in pairs):
+        if any(coefficient.is_Add for _, coefficient in pairs) or any(
+            coefficient.is_Add for _, coefficient, _ in collected
+        ):
             return None
+        if _none_shared(pairs, collected):
+            return se.Add(
+                *[key * coefficient for key, coefficient in pairs],
+                *[key * coefficient for key, coefficient, _ in collected],
+            )
+        pairs += [(key, coefficient) for key, coefficient, _ in collected]
     if len(pairs) < SHARED:
         return se.Add(*[key * coefficient for key, coefficient in pairs])
     return _sum_by_coefficient(pairs, None)
+
+
+def _none_shared(pairs: list[tuple[Any, Any]], collected: list[tuple[Any, Any, Any]]) -> bool:
+    """Whether no two coefficients of ``pairs`` and ``collected`` are equal up to their
+    sign, told by their :func:`numberless` parts all differing (numbers are never summed
+    under): :func:`_sum_by_coefficient` would then give each term as it came.  A chain's row
+    of C q_dot has a coefficient of its own for each monomial, l_j l_k (m_k + ... + m_n)."""
+    seen = set()
+    for part in [numberless(coefficient) for _, coefficient in pairs] + [
+        part for _, _, part in collected
+    ]:
+        if part is not None:
+            if part in seen:
+                return False
+            seen.add(part)
+    return True
 
 
 def _sort(factor: Any, state: set[Any], sums: Mapping[Any, tuple[Any, Any]]) -> tuple[Any, Any]:

@@ -15,19 +15,19 @@ as they are instead of expanding and collecting the sum (:mod:`lagrangian.deriva
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Mapping
+from typing import NamedTuple
 
 import symengine as se
 
 from lagrangian.derivation.assemble import Assembly
 from lagrangian.derivation.backend import Backend
-from lagrangian.derivation.trig import plain_angle
 
 _TRIG = (se.sin, se.cos)
+_UNITS = (se.Integer(1), se.Integer(-1))
 
 
-@dataclass(frozen=True)
-class VelocityProduct:
+class VelocityProduct(NamedTuple):
     """One term of (C q_dot)_j: ``number * coefficient * monomial``, the coefficient free of
     the state (an entry's w_jk), the monomial a sine or cosine times two velocities."""
 
@@ -40,13 +40,23 @@ class VelocityProduct:
         return self.number * self.coefficient * self.monomial
 
 
+#: An entry of M as it was made: (w, f, the parts w is the product of), the entry w f.
+EntrySplit = tuple[Backend, Backend, tuple[Backend, ...]]
+
+
 def coriolis_products(
-    mass: list[list[Backend]], asm: Assembly
+    mass: list[list[Backend]],
+    asm: Assembly,
+    splits: Mapping[tuple[int, int], EntrySplit] | None = None,
 ) -> tuple[tuple[VelocityProduct, ...], ...] | None:
     """The terms of (C q_dot)_j for each j, each monomial once; None unless every entry of
     the upper triangle of ``mass`` is a parameter product times at most one sine or cosine
     of a plain angle of the coordinates, and the terms of each monomial of a row come from
-    one entry (then the general Christoffel sum, which adds them as expressions, is used)."""
+    one entry (then the general Christoffel sum, which adds them as expressions, is used).
+
+    ``splits`` gives entries as they were made, w f (M's entries of planar columns): such
+    an entry is not read back factor by factor when its parts are parameter products."""
+    splits = splits or {}
     n = len(asm.q)
     index = {q: i for i, q in enumerate(asm.q)}
     state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
@@ -56,29 +66,25 @@ def coriolis_products(
     half = se.Rational(1, 2)
     for j in range(n):
         for k in range(j, n):
-            split = _parameters_times_trig(mass[j][k], state, parameters)
+            made = splits.get((j, k))
+            split = None if made is None else _split_as_made(made, state, parameters)
+            if split is None:
+                split = _parameters_times_trig(mass[j][k], state, parameters)
             if split is None:
                 return None
-            coefficient, trig, symbols = split
+            coefficient, trig, angle = split
             if trig is None:  # constant: no derivative
                 continue
-            first: tuple[Backend, Backend, int] | None = None
-            for q in symbols:
+            slope = _angle_slope(trig)
+            if slope is None:
+                return None
+            change, turned = slope
+            for q, positive in angle:
                 ell = index.get(q)
                 if ell is None:
                     continue
-                if first is None:
-                    change = _number_times_trig(trig.diff(q))
-                    if change is None:
-                        return None
-                    number, turned = change
-                    first = number, turned, _unit_coefficient(trig.args[0], q)
-                else:
-                    # f(a) with a = sum_i (+-1) q_i: df/dq = (+-1) f'(a), the same f'(a)
-                    # times the first coordinate's number, with its sign when the two
-                    # coordinates' signs in the angle differ
-                    same = _unit_coefficient(trig.args[0], q) == first[2]
-                    number, turned = (first[0] if same else -first[0]), first[1]
+                # f(a) with a = sum_i (+-1) q_i: df/dq = (+-1) f'(a)
+                number = change if positive else -change
                 within = (
                     _add(rows[j], turned, k, ell, coefficient, number)
                     and (j == k or _add(rows[k], turned, j, ell, coefficient, number))
@@ -130,22 +136,19 @@ def _add(
 
 def _parameters_times_trig(
     entry: Backend, state: set[Backend], parameters: dict[Backend, bool]
-) -> tuple[Backend, Backend | None, set[Backend]] | None:
-    """(w, f, the symbols of f's angle) for an entry w f, f a sine or cosine of a plain
-    angle of the state (None for an entry free of the state), w a product of parameter
-    factors; else None."""
+) -> tuple[Backend, Backend | None, list[tuple[Backend, bool]]] | None:
+    """(w, f, the symbols of f's angle each with whether its coefficient is +1) for an entry
+    w f, f a sine or cosine of a plain angle of the state (None for an entry free of the
+    state), w a product of parameter factors; else None."""
     trig = None
-    symbols: set[Backend] = set()
+    angle: list[tuple[Backend, bool]] = []
     rest = []
     for factor in entry.args if entry.is_Mul else (entry,):
         if isinstance(factor, _TRIG) and trig is None:
-            angle = factor.args[0]
-            if not plain_angle(angle):
+            found = _plain_angle_terms(factor.args[0])
+            if found is None or not any(symbol in state for symbol, _ in found):
                 return None
-            symbols = angle.free_symbols
-            if state.isdisjoint(symbols):
-                return None
-            trig = factor
+            trig, angle = factor, found
             continue
         plain = parameters.get(factor)
         if plain is None:
@@ -154,13 +157,56 @@ def _parameters_times_trig(
             return None
         rest.append(factor)
     if trig is None:
-        return entry, None, symbols
-    return (rest[0] if len(rest) == 1 else se.Mul(*rest)), trig, symbols
+        return entry, None, angle
+    return (rest[0] if len(rest) == 1 else se.Mul(*rest)), trig, angle
 
 
-def _unit_coefficient(angle: Backend, q: Backend) -> bool:
-    """Whether ``q`` has the coefficient +1 in a plain angle (else it has -1)."""
-    return q in (angle.args if angle.is_Add else (angle,))  # -q is a product
+def _split_as_made(
+    made: EntrySplit, state: set[Backend], parameters: dict[Backend, bool]
+) -> tuple[Backend, Backend, list[tuple[Backend, bool]]] | None:
+    """What :func:`_parameters_times_trig` finds of the entry w f made as ``made``, when each
+    of w's parts is a product of parameter factors (their product's factors are then such
+    too, numbers and integer powers merged) and f's angle is plain of the state; else None
+    (the entry is then read back)."""
+    w, trig, parts = made
+    for part in parts:
+        plain = parameters.get(part)
+        if plain is None:
+            factors = part.args if part.is_Mul else (part,)
+            plain = parameters[part] = all(_parameter_factor(f, state) for f in factors)
+        if not plain:
+            return None
+    found = _plain_angle_terms(trig.args[0])
+    if found is None or not any(symbol in state for symbol, _ in found):
+        return None
+    return w, trig, found
+
+
+def _plain_angle_terms(angle: Backend) -> list[tuple[Backend, bool]] | None:
+    """The symbols of a plain angle (:func:`~lagrangian.derivation.trig.plain_angle`), each
+    with whether its coefficient is +1 (else -1); None for an angle that is not plain."""
+    found = []
+    for term in angle.args if angle.is_Add else (angle,):
+        if term.is_Symbol:
+            found.append((term, True))
+            continue
+        args: tuple[Backend, ...] = term.args if term.is_Mul else ()
+        if not (len(args) == 2 and args[1].is_Symbol and args[0] in _UNITS):
+            return None
+        found.append((args[1], args[0] == _UNITS[0]))
+    return found
+
+
+def _angle_slope(trig: Backend) -> tuple[Backend, Backend] | None:
+    """(c, g) with c g = f'(a) for ``trig`` f(a), a sine or cosine: cos'(a) = -sin(a),
+    sin'(a) = cos(a), the sine or cosine of the same angle as SymEngine's derivative writes
+    it; None when that is not a sine or cosine (an angle SymEngine writes otherwise)."""
+    angle = trig.args[0]
+    if isinstance(trig, se.cos):
+        turned, change = se.sin(angle), _UNITS[1]
+    else:
+        turned, change = se.cos(angle), _UNITS[0]
+    return (change, turned) if isinstance(turned, _TRIG) else None
 
 
 def _parameter_factor(factor: Backend, state: set[Backend]) -> bool:
@@ -180,13 +226,3 @@ def _plain(factor: Backend, state: set[Backend]) -> bool:
         base, exponent = factor.args
         return bool(base.is_Symbol and exponent.is_Integer and base not in state)
     return bool(factor.is_Symbol and factor not in state)
-
-
-def _number_times_trig(change: Backend) -> tuple[Backend, Backend] | None:
-    """(c, g) for a derivative c g, c a number and g a sine or cosine; else None."""
-    if isinstance(change, _TRIG):
-        return se.Integer(1), change
-    args: tuple[Backend, ...] = change.args if change.is_Mul else ()
-    if len(args) == 2 and args[0].is_Number and isinstance(args[1], _TRIG):
-        return args[0], args[1]
-    return None

@@ -24,7 +24,7 @@ import symengine as se
 from lagrangian.derivation.assemble import Assembly, Rotation
 from lagrangian.derivation.backend import Backend
 from lagrangian.derivation.collect import collect_state, is_negative_number, product_powers
-from lagrangian.derivation.coriolis import VelocityProduct, coriolis_products
+from lagrangian.derivation.coriolis import EntrySplit, VelocityProduct, coriolis_products
 from lagrangian.derivation.trig import combine_trig, plain_angle
 from lagrangian.derivation.trig_polynomial import (
     ONE,
@@ -36,6 +36,9 @@ from lagrangian.derivation.trig_polynomial import (
 )
 
 Matrix = list[list[Backend]]
+#: The products of two columns in an entry of M: product -> (the set of holders that have
+#: it, the ids of the first pair of columns that made it)
+Groups = dict[Backend, tuple[int, tuple[int, int]]]
 
 _ZERO = se.Integer(0)  # compared with as it is (0 would be converted at each comparison)
 _UNIT = se.Integer(1)  # the number 1 (ONE is the key of the constant monomial)
@@ -59,6 +62,9 @@ class KineticForm:
     #: The terms of each row of C q_dot, each monomial once, when M is a planar chain's
     #: (:func:`lagrangian.derivation.coriolis.coriolis_products`); else None.
     coriolis_products: tuple[tuple[VelocityProduct, ...], ...] | None = None
+    #: The Jacobian columns M was summed from, when it was (planar points and bodies): a
+    #: uniform gravity's forces are read off them (:meth:`PointColumns.gravity_forces`).
+    point_columns: PointColumns | None = None
 
 
 def _hessian(expr: Backend, symbols: tuple[Backend, ...]) -> Matrix:
@@ -68,11 +74,22 @@ def _hessian(expr: Backend, symbols: tuple[Backend, ...]) -> Matrix:
 
 
 def _point_terms(
-    asm: Assembly,
-) -> tuple[Matrix, Backend, set[tuple[int, int]], set[tuple[int, int]]]:
+    asm: Assembly, explicit: Matrix, memo: EntryMemo
+) -> tuple[
+    Matrix,
+    Backend,
+    set[tuple[int, int]],
+    set[tuple[int, int]],
+    _ColumnTable,
+    dict[tuple[int, int], EntrySplit],
+]:
     """sum m J^T J (+ I g^T g), the kinetic terms of degree 0 and 1 in the velocities, the
-    entries that are one combined product times a sum of weights, and those that are several
-    such products sharing their one sine or cosine (:func:`one_trigonometric_factor`).
+    entries that are one combined product times a sum of weights or collected already
+    (where T's ``explicit`` Hessian adds nothing, :meth:`_ColumnTable.split`), those
+    that are several such products sharing their one sine or cosine
+    (:func:`one_trigonometric_factor`), the table of the columns, and the entries made of
+    planar columns as (w, cos(a - b), the parts w is the product of): C q_dot's products
+    take them as they are made (:func:`~lagrangian.derivation.coriolis.coriolis_products`).
 
     The weights of each combined column product are summed before they multiply it: a chain's
     entry is l_j l_k (m_k + ... + m_n) cos(theta_j - theta_k), never grown term by term; a
@@ -88,7 +105,7 @@ def _point_terms(
             columns.append((point.inertia, (point.angle,)))
         for weight, coordinates in columns:
             jac = [_gradient(x, index, slopes) for x in coordinates]
-            table.add(weight, jac)
+            table.add(weight, jac, coordinates is point.position)
             drift = [x.diff(asm.t) for x in coordinates]
             if any(d != 0 for d in drift):
                 moving = [se.Add(*[row[k] * asm.q_dot[k] for k in range(n)]) for row in jac]
@@ -98,6 +115,8 @@ def _point_terms(
     single: set[tuple[int, int]] = set()
     shared: set[tuple[int, int]] = set()  # products that differ only in their coefficient
     combined: dict[Backend, Backend] = {}  # the same column pairs recur for every point below
+    state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
+    splits: dict[tuple[int, int], EntrySplit] = {}
     for j in range(n):
         for k in range(j, n):
             groups = table.pair_groups(j, k, combined)
@@ -105,8 +124,15 @@ def _point_terms(
                 continue
             # the products in the order the holders first meet them, each times the sum of
             # its holders' weights in their order: the entry as summed holder by holder
-            ordered = sorted(groups.items(), key=lambda group: group[1] & -group[1])
-            mass[j][k] = se.Add(*[table.weight_sum(holders) * c for c, holders in ordered])
+            ordered = sorted(groups.items(), key=lambda group: group[1][0] & -group[1][0])
+            if not asm.rotations and explicit[j][k] == _ZERO:  # the entry is M's as made
+                split = table.split([group for _, group in ordered], state, memo)
+                if split is not None:
+                    mass[j][k] = split[1] * split[0]
+                    splits[j, k] = split
+                    single.add((j, k))
+                    continue
+            mass[j][k] = se.Add(*[table.weight_sum(group[0]) * c for c, group in ordered])
             if len(groups) == 1 and not ordered[0][0].is_Add:
                 single.add((j, k))
             elif one_trigonometric_factor([c for c, _ in ordered]):
@@ -115,7 +141,7 @@ def _point_terms(
         low_degree += _rotation_terms(rotation, asm, mass, combined)
         single.clear()
         shared.clear()
-    return mass, low_degree, single, shared
+    return mass, low_degree, single, shared, table, splits
 
 
 def one_trigonometric_factor(products: list[Backend]) -> bool:
@@ -168,6 +194,8 @@ class EntryMemo:
     insides: dict[tuple[tuple[Backend, Backend | None], ...], Backend | None] = field(
         default_factory=dict
     )
+    #: the collected sums of (column radius, holders) pairs (:meth:`_ColumnTable.split`)
+    columns: dict[tuple[tuple[Backend, int], ...], Backend | None] = field(default_factory=dict)
 
 
 def _sum_powers(factor: Backend, state: set[Backend]) -> _SumPowers | None:
@@ -201,8 +229,10 @@ def _keep_least(common: dict[Backend, Backend], powers: dict[Backend, Backend]) 
 
 def _collected_products(entry: Backend, state: set[Backend], memo: EntryMemo) -> Backend | None:
     """``collect_state(se.expand(entry), state)`` for an entry that is a sum of products, each
-    a number, parameters, one sine or cosine of the state shared by all, and at most one sum
-    of parameter products (a sum of masses), whose expanded terms all differ; else None.
+    a number, parameters, one sine or cosine of the state shared by all (or none in any:
+    a rod's diagonal entry l_k^2 (m_k / 3 + m_(k+1) + ... + m_n), one monomial still), and
+    at most one sum of parameter products (a sum of masses), whose expanded terms all
+    differ; else None.
 
     Collecting the expanded entry walks its terms in Python, n per entry of a chain of rods
     and n^3/6 in all; here each sum of masses is read once (``memo``), an entry by its few
@@ -233,8 +263,24 @@ def _collected_products(entry: Backend, state: set[Backend], memo: EntryMemo) ->
         if not state.isdisjoint(powers):
             return None
         products.append((plain, number, powers, sum_factor, summed))
-    if trig is None or state.isdisjoint(trig.free_symbols) or not products:
+    if not products or (trig is not None and state.isdisjoint(trig.free_symbols)):
         return None
+    collected = _collected_sum(products, memo)
+    if collected is None or trig is None:  # no trigonometry: a rod's diagonal entry
+        return collected
+    return trig * collected
+
+
+#: A product of an entry as :func:`_collected_products` reads it: its plain factors, their
+#: number and powers, its sum of masses (or None) and that sum's :data:`_SumPowers` (or None).
+_Product = tuple[
+    list[Backend], Backend, dict[Backend, Backend], Backend | None, "_SumPowers | None"
+]
+
+
+def _collected_sum(products: list[_Product], memo: EntryMemo) -> Backend | None:
+    """The sum of ``products`` collected (the common factor times the expanded rest), or None
+    when two of its expanded terms combine."""
     common: dict[Backend, Backend] | None = None
     magnitudes: set[Backend] = set()
     negative = True
@@ -274,9 +320,7 @@ def _collected_products(entry: Backend, state: set[Backend], memo: EntryMemo) ->
         whole = len(expanded.args if expanded.is_Add else (expanded,)) == expected
         memo.insides[parts] = expanded if whole else None
     inside = memo.insides[parts]
-    if inside is None:
-        return None
-    return trig * (outside * inside)
+    return None if inside is None else outside * inside
 
 
 def _symbol_power(factor: Backend) -> bool:
@@ -302,19 +346,23 @@ class _ColumnTable:
         self.polar: list[tuple[Backend, Backend] | None] = []  # by id: (r, a) or None
         self.holders: list[dict[int, int]] = [{} for _ in range(n)]  # coordinate -> id -> set
         self.moving: list[int] = [0] * n  # coordinate -> holders with a column that is not 0
+        self.positions = 0  # the holders that are points' positions (weighed by their masses)
         self.products: dict[tuple[int, int], Backend | None] = {}  # (id, id) -> product
         self.sums: dict[int, Backend] = {}  # set of holders -> sum of their weights
         # (a, b) -> cos(a - b): a rod's centre and the joint below it share their angle
         self.cosines: dict[tuple[Backend, Backend], Backend] = {}
 
-    def add(self, weight: Backend, jac: list[list[Backend]]) -> None:
-        """Add a holder of weight ``weight`` whose Jacobian has rows ``jac``."""
+    def add(self, weight: Backend, jac: list[list[Backend]], position: bool) -> None:
+        """Add a holder of weight ``weight`` whose Jacobian has rows ``jac``; ``position``:
+        whether it is a point's position (else a planar body's angle)."""
         bit = 1 << len(self.weights)
         self.weights.append(weight)
+        if position:
+            self.positions |= bit
         ids = []
-        for j in range(len(self.holders)):
-            column = tuple(row[j] for row in jac)
-            if all(c == _ZERO for c in column):
+        zero = (_ZERO,) * len(jac)
+        for j, column in enumerate(zip(*jac)):
+            if column == zero:  # the zeros of _gradient are _ZERO itself: told apart at once
                 ids.append(-1)
                 continue
             id_j = self.columns.setdefault(column, len(self.columns))
@@ -326,11 +374,12 @@ class _ColumnTable:
             self.moving[j] |= bit
         self.ids.append(ids)
 
-    def pair_groups(self, j: int, k: int, combined: dict[Backend, Backend]) -> dict[Backend, int]:
+    def pair_groups(self, j: int, k: int, combined: dict[Backend, Backend]) -> Groups:
         """The products of columns j and k of the holders that move with both (0 left out),
-        each with the set of holders that have it."""
+        each with the set of holders that have it and the ids of the first pair of columns
+        that made it."""
         both = self.moving[j] & self.moving[k]
-        groups: dict[Backend, int] = {}
+        groups: Groups = {}
         if not both:
             return groups
         at_j, at_k = self.holders[j], self.holders[k]
@@ -348,7 +397,7 @@ class _ColumnTable:
 
     def _group(
         self,
-        groups: dict[Backend, int],
+        groups: Groups,
         id_j: int,
         id_k: int,
         holders: int,
@@ -366,7 +415,73 @@ class _ColumnTable:
             )
         product = self.products[key]
         if product is not None:
-            groups[product] = groups.get(product, 0) | holders
+            known = groups.get(product)
+            groups[product] = (holders, key) if known is None else (known[0] | holders, known[1])
+
+    def split(
+        self, groups: list[tuple[int, tuple[int, int]]], state: set[Backend], memo: EntryMemo
+    ) -> EntrySplit | None:
+        """The entry of M summed from ``groups`` (holders, column ids) as (w, cos(a - b), the
+        parts w is the product of), collected as :func:`collected_entry` collects it, made
+        from the columns without reading the entry back; None when its columns are not such.
+
+        When every pair of columns is planar, r_j (cos a, sin a) and s_i (cos b, sin b) with
+        the same r_j, a and b, the entry is r_j cos(a - b) sum_i s_i (the masses of holders
+        i).  One pair (a chain of particles): w = r_j s_1 (the masses), as summed.  Several
+        (with r_j a product of parameters with no number): the sum is collected once for
+        all the entries with the same s_i and holders (``memo``), a chain of rods' column k,
+        l_k (m_k / 2 + m_(k+1) + ... + m_n), in every entry M_jk with j < k.  The common
+        factor of the whole is r_j times the sum's (r_j is in every product, with no number
+        to change the numbers' magnitudes), what is left inside is the same: the same
+        expression."""
+        first, first_k = self.polar[groups[0][1][0]], self.polar[groups[0][1][1]]
+        if first is None or first_k is None:
+            return None
+        radius, angle = first
+        sides = []
+        for holders, (id_j, id_k) in groups:
+            at_k = self.polar[id_k]
+            if at_k is None or at_k[1] != first_k[1] or self.polar[id_j] != first:
+                return None
+            sides.append((at_k[0], holders))
+        cosine = self.cosines[angle, first_k[1]]
+        if not isinstance(cosine, se.cos):
+            return None
+        if len(sides) == 1:
+            weight = self.weight_sum(sides[0][1])
+            return radius * sides[0][0] * weight, cosine, (radius, sides[0][0], weight)
+        if not _numberless_parameters(radius, state):
+            return None
+        key = tuple(sides)
+        if key not in memo.columns:
+            memo.columns[key] = self._collected_sides(sides, state, memo)
+        inner = memo.columns[key]
+        return None if inner is None else (radius * inner, cosine, (radius, inner))
+
+    def _collected_sides(
+        self, sides: list[tuple[Backend, int]], state: set[Backend], memo: EntryMemo
+    ) -> Backend | None:
+        """sum_i s_i (the masses of holders i) collected (:func:`_collected_sum`), or None."""
+        products: list[_Product] = []
+        for radius, holders in sides:
+            weight = self.weight_sum(holders)
+            plain = list(radius.args if radius.is_Mul else (radius,))
+            sum_factor, summed = None, None
+            if weight.is_Add:
+                if weight not in memo.sums:
+                    memo.sums[weight] = _sum_powers(weight, state)
+                sum_factor, summed = weight, memo.sums[weight]
+                if summed is None:
+                    return None
+            else:
+                plain += weight.args if weight.is_Mul else (weight,)
+            if not all(f.is_Symbol or f.is_Number or _symbol_power(f) for f in plain):
+                return None
+            number, powers = product_powers(plain)
+            if not state.isdisjoint(powers):
+                return None
+            products.append((plain, number, powers, sum_factor, summed))
+        return _collected_sum(products, memo)
 
     def weight_sum(self, holders: int) -> Backend:
         """The sum of the weights of a set of holders, in their order."""
@@ -375,12 +490,59 @@ class _ColumnTable:
         return self.sums[holders]
 
 
+def _numberless_parameters(product: Backend, state: set[Backend]) -> bool:
+    """Whether a plain product has no number among its factors and no state symbol."""
+    for factor in product.args if product.is_Mul else (product,):
+        if factor.is_Number or (factor.args[0] if factor.is_Pow else factor) in state:
+            return False
+    return True
+
+
 def _members(holders: int) -> Iterator[int]:
     """The holders in a set (an int, bit h for holder h), in increasing order."""
     while holders:
         lowest = holders & -holders
         yield lowest.bit_length() - 1
         holders ^= lowest
+
+
+@dataclass(frozen=True)
+class PointColumns:
+    """The columns M was summed from (:class:`_ColumnTable`), with what collected its
+    entries."""
+
+    table: _ColumnTable
+    memo: EntryMemo
+    state: set[Backend]
+
+    def gravity_forces(self, gravity: list[Backend]) -> list[Backend]:
+        """G = dV/dq of the gravity potential V = -sum_p m_p g . r_p of the points (g the
+        vector ``gravity``): G_k = -sum_c (g . c) (the masses of the points whose position
+        has the column c at q_k, summed), over the distinct columns c at q_k.
+
+        The sums are those M's entries were made with (a chain's G_k = g l_k (m_k + ... +
+        m_n) sin(theta_k), read off the column of link k), where expanding V and
+        differentiating it term by term builds its n^2/2 terms; products that share their
+        sine or cosine (a rod's centre and the joints below it) are collected as M's entries
+        are (:func:`collected_entry`), with the same sums of masses."""
+        table = self.table
+        forces = []
+        for at_k in table.holders:
+            products = []
+            for id_k, holders in at_k.items():
+                masses = holders & table.positions
+                if not masses:
+                    continue
+                slope = se.expand(se.Add(*[g * c for g, c in zip(gravity, table.by_id[id_k])]))
+                if slope == _ZERO:
+                    continue
+                weight = table.weight_sum(masses)
+                products += [(-term, weight) for term in (slope.args if slope.is_Add else (slope,))]
+            force = se.Add(*[term * weight for term, weight in products])
+            if len(products) > 1 and one_trigonometric_factor([term for term, _ in products]):
+                force = _collected_products(force, self.state, self.memo) or force
+            forces.append(force)
+        return forces
 
 
 def _column_product(
@@ -448,7 +610,7 @@ def _gradient(
             slopes[term] = [(index[s], term.diff(s)) for s in term.free_symbols if s in index]
         for i, slope in slopes[term]:
             parts[i].append(slope)
-    return [se.Add(*p) for p in parts]
+    return [(p[0] if len(p) == 1 else se.Add(*p)) if p else _ZERO for p in parts]
 
 
 def _rotation_terms(
@@ -571,10 +733,10 @@ def kinetic_form(asm: Assembly) -> KineticForm:
     structured = _structured_form(asm, explicit) if asm.rotations else None
     if structured is not None:
         return structured
-    point_mass, point_low, single, shared = _point_terms(asm)
+    memo = EntryMemo()
+    point_mass, point_low, single, shared, table, splits = _point_terms(asm, explicit, memo)
     mass = [[se.Integer(0)] * n for _ in range(n)]
     state = {*asm.q, *asm.q_dot, *asm.q_ddot, asm.t}
-    memo = EntryMemo()
     for j in range(n):
         for k in range(j, n):
             if explicit[j][k] == _ZERO and (j, k) in single:  # combined already
@@ -613,10 +775,16 @@ def kinetic_form(asm: Assembly) -> KineticForm:
             else se.Integer(0)
         )
         time_terms.append(se.expand(explicit_time + low_terms))
-    products = coriolis_products(mass, asm)
+    products = coriolis_products(mass, asm, splits)
     coriolis = _coriolis(mass, asm) if products is None else None
     return KineticForm(
-        mass, coriolis, time_terms, quadratic_t + low, True, coriolis_products=products
+        mass,
+        coriolis,
+        time_terms,
+        quadratic_t + low,
+        True,
+        coriolis_products=products,
+        point_columns=PointColumns(table, memo, state),
     )
 
 

@@ -27,13 +27,14 @@ from typing import Any
 import symengine as se
 import sympy as sp
 
-from lagrangian.derivation.assemble import Assembly, assemble
-from lagrangian.derivation.backend import Backend, SympyView
+from lagrangian.derivation.assemble import Assembly, InertialPoint, assemble
+from lagrangian.derivation.backend import Backend, SympyView, vector_to_backend
 from lagrangian.derivation.collect import (
     collect_state,
     collect_state_with,
     collected_coefficient,
     factor_common,
+    numberless,
 )
 from lagrangian.derivation.coriolis import VelocityProduct
 from lagrangian.derivation.kinetic import KineticForm, coriolis_vector, kinetic_form
@@ -91,16 +92,18 @@ class EulerLagrangeTerms:
         self._refactored = False  # whether a sum's factored form differs from it
         self._compressed: dict[Backend, Backend] = {}
         self._factors: dict[Backend, Backend] = {}  # collect_state's sorting of factors
-        self._coefficients: dict[Backend, tuple[int, Backend | None]] = {}  # of C q_dot's terms
+        # of C q_dot's terms (:meth:`_product_collection`)
+        self._coefficients: dict[Backend, tuple[int, Backend | None, Backend | None]] = {}
         self.velocity_potential_forces = self._velocity_potential_forces()
         self.mass = self._mass_matrix()
-        self.gravity = self.potential_gradient(asm.potential)
-        self.dissipation_forces = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
-        # sums kept whole in M (a chain's m_k + ... + m_n) recur in C q_dot: keep them whole
-        # there too; with none, looking for them would only cost time
+        # sums kept whole in M (a chain's m_k + ... + m_n) recur in C q_dot and G: keep them
+        # whole there too; with none, looking for them would only cost time
         kept = any(
             f.is_Add for row in self.kinetic.mass_matrix for e in row if e.is_Mul for f in e.args
         )
+        gravity = self._gravity_forces(system) if kept else None
+        self.gravity = self.potential_gradient(asm.potential) if gravity is None else gravity
+        self.dissipation_forces = [se.expand(-asm.dissipation.diff(v)) for v in asm.q_dot]
         tidy = self.tidy if kept else self._tidy_expanded
         products = self.kinetic.coriolis_products if kept else None
         self.forcing = []
@@ -129,10 +132,15 @@ class EulerLagrangeTerms:
         for, or too many terms), or a monomial of C q_dot is also one of ``rest``'s."""
         monomials = []
         bound = 0
-        for product in coriolis:
-            count, coefficient = self._collected_coefficient(-product.number, product.coefficient)
-            bound += count
-            monomials.append((product.monomial, coefficient))
+        known = self._coefficients.get
+        for monomial, coefficient, number in coriolis:
+            collection = known(coefficient)  # a chain's w_jk is met again in another row
+            if collection is None or collection[1] is None:
+                collection = self._collected_coefficient(-number, coefficient)
+            else:  # number times what the product collects to
+                collection = collection[0], -number * collection[1], collection[2]
+            bound += collection[0]
+            monomials.append((monomial, collection[1], collection[2]))
         compact = self.compress(rest)
         if not self._sums:
             return None
@@ -143,33 +151,58 @@ class EulerLagrangeTerms:
             se.expand(compact), monomials, self.state, self._sums, self._factors
         )
 
-    def _collected_coefficient(self, number: Backend, coefficient: Backend) -> tuple[int, Backend]:
+    def _collected_coefficient(
+        self, number: Backend, coefficient: Backend
+    ) -> tuple[int, Backend, Backend | None]:
         """(the terms of the expansion of number * ``coefficient`` with its long sums kept
         whole, counted as :func:`_plain_bound` counts them; the coefficient collect_state
-        makes of those terms).  A product with no short sum to expand collects to number
-        times what the product collects to, found once per coefficient (a chain's w_jk is in
-        two rows of C q_dot)."""
+        makes of those terms; that without its number, :func:`numberless`).  A product with
+        no short sum to expand collects to number times what the product collects to, found
+        once per coefficient (a chain's w_jk is in two rows of C q_dot)."""
         known = self._coefficients.get(coefficient)
         if known is None:
-            compact = self.compress(coefficient)
-            count = 1
-            for factor in compact.args if compact.is_Mul else (compact,):
-                if factor.is_Add:  # a short sum of parameters, expanded with the rest
-                    count *= len(factor.args)
-            plain = count == 1 and not compact.is_Add
-            # one product collects to itself with its sums put back factored: the
-            # coefficient as it came when no sum has a common factor to pull out
-            collected = (
-                (self._collected(compact) if self._refactored else coefficient) if plain else None
-            )
-            known = self._coefficients[coefficient] = (count, collected)
-        count, collected = known
+            known = self._coefficients[coefficient] = self._product_collection(coefficient)
+        count, collected, numberless_part = known
         if collected is not None:
-            return count, number * collected
-        return count, self._collected(se.expand(self.compress(number * coefficient)))
+            return count, number * collected, numberless_part
+        general = self._collected(se.expand(self.compress(number * coefficient)))
+        return count, general, numberless(general)
+
+    def _product_collection(
+        self, coefficient: Backend
+    ) -> tuple[int, Backend | None, Backend | None]:
+        """(the count of :meth:`_collected_coefficient`; what ``coefficient`` collects to
+        when it is one product once its long sums are symbols (:meth:`compress`), else None;
+        that without its number).  The factors' sums are looked up, not compressed: a long
+        sum is one symbol (a factor counted once), a short one is expanded with the rest."""
+        if coefficient.is_Add:
+            return len(self.compress(coefficient).args), None, None
+        count = 1
+        for factor in coefficient.args if coefficient.is_Mul else (coefficient,):
+            if factor.is_Add and self._symbol_for(factor) is None:
+                count *= len(factor.args)
+        if count != 1:
+            return count, None, None
+        # one product collects to itself with its sums put back factored: the coefficient
+        # as it came when no sum has a common factor to pull out
+        collected = self._collected(self.compress(coefficient)) if self._refactored else coefficient
+        return count, collected, numberless(collected)
 
     def _collected(self, coefficient: Backend) -> Backend:
         return collected_coefficient(coefficient, self.state, self._sums, self._factors)
+
+    def _gravity_forces(self, system: System) -> list[Backend] | None:
+        """G = dV/dq read off M's columns
+        (:meth:`~lagrangian.derivation.kinetic.PointColumns.gravity_forces`) when V is a
+        uniform gravity's alone and M was summed from the points' columns, of a chain of
+        planar links (C q_dot held by monomial); else None."""
+        asm, columns = self.assembly, self.kinetic.point_columns
+        if system.gravity is None or columns is None or self.kinetic.coriolis_products is None:
+            return None
+        gravity = vector_to_backend(system.gravity)
+        if asm.potential != gravity_potential(gravity, asm.points):  # springs, a potential
+            return None
+        return columns.gravity_forces(gravity)
 
     def _velocity_potential_forces(self) -> list[Backend]:
         """d/dt dU/dq_dot - dU/dq of each coordinate, without its q_ddot part; each 0 when U
@@ -347,10 +380,12 @@ class EulerLagrangeTerms:
         asm, kinetic, n = self.assembly, self.kinetic.mass_matrix, len(self.assembly.q)
         u_momentum = [asm.velocity_potential.diff(v) for v in asm.q_dot]
         mass = [[se.Integer(0)] * n for _ in range(n)]
+        zero = se.Integer(0)
         for j in range(n):
+            constant = u_momentum[j].is_Number  # no q_dot in dU/dq_dot_j (a chain has no U)
             for k in range(j, n):
-                u_part = u_momentum[j].diff(asm.q_dot[k])
-                if u_part == 0 and self.kinetic.quadratic:  # combined already (kinetic_form)
+                u_part = zero if constant else u_momentum[j].diff(asm.q_dot[k])
+                if (constant or u_part == 0) and self.kinetic.quadratic:  # combined already
                     mass[j][k] = mass[k][j] = self.collect(kinetic[j][k])
                 else:
                     mass[j][k] = mass[k][j] = self.tidy(kinetic[j][k] - u_part)
@@ -368,6 +403,15 @@ class EulerLagrangeTerms:
             else:
                 orders[q] = 1 if depends_on(self.forcing[j], inert_velocities) else 0
         return orders
+
+
+def gravity_potential(gravity: list[Backend], points: tuple[InertialPoint, ...]) -> Backend:
+    """V = -sum_p m_p g . r_p of a uniform gravity g, the expression
+    :func:`~lagrangian.derivation.assemble.assemble` adds to the potential (built the same
+    way: a potential that is the gravity's alone is equal to it)."""
+    return -se.Add(
+        *[p.mass * se.Add(*[g * x for g, x in zip(gravity, p.position)]) for p in points]
+    )
 
 
 def _term_gradient(terms: Iterable[Backend], symbols: list[Backend]) -> list[Backend]:
