@@ -87,8 +87,15 @@ def _resolve(ref: object, points: dict[str, tuple[Backend, ...]]) -> tuple[Backe
 def _gravity_potential(system: System, points: tuple[InertialPoint, ...]) -> Backend:
     if system.gravity is None:
         return se.Integer(0)
-    g = vector_to_backend(system.gravity)
-    return -se.Add(*[p.mass * se.Add(*[gi * xi for gi, xi in zip(g, p.position)]) for p in points])
+    return gravity_potential(vector_to_backend(system.gravity), points)
+
+
+def gravity_potential(gravity: list[Backend], points: tuple[InertialPoint, ...]) -> Backend:
+    """V = -sum_p m_p g . r_p of a uniform gravity g over the inertial points (a potential
+    that is the gravity's alone is equal to this very expression)."""
+    return -se.Add(
+        *[p.mass * se.Add(*[g * x for g, x in zip(gravity, p.position)]) for p in points]
+    )
 
 
 def _spring_potential(system: System, asm_points: dict[str, tuple[Backend, ...]]) -> Backend:

@@ -27,7 +27,7 @@ from typing import Any
 import symengine as se
 import sympy as sp
 
-from lagrangian.derivation.assemble import Assembly, InertialPoint, assemble
+from lagrangian.derivation.assemble import Assembly, assemble, gravity_potential
 from lagrangian.derivation.backend import Backend, SympyView, vector_to_backend
 from lagrangian.derivation.collect import (
     collect_state,
@@ -403,15 +403,6 @@ class EulerLagrangeTerms:
             else:
                 orders[q] = 1 if depends_on(self.forcing[j], inert_velocities) else 0
         return orders
-
-
-def gravity_potential(gravity: list[Backend], points: tuple[InertialPoint, ...]) -> Backend:
-    """V = -sum_p m_p g . r_p of a uniform gravity g, the expression
-    :func:`~lagrangian.derivation.assemble.assemble` adds to the potential (built the same
-    way: a potential that is the gravity's alone is equal to it)."""
-    return -se.Add(
-        *[p.mass * se.Add(*[g * x for g, x in zip(gravity, p.position)]) for p in points]
-    )
 
 
 def _term_gradient(terms: Iterable[Backend], symbols: list[Backend]) -> list[Backend]:
