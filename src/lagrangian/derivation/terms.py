@@ -478,55 +478,65 @@ def _plain_bound(expr: Backend, cap: int) -> int | None:
     cosine, which is what the check accepts.  The bound is counted as expanded_terms counts
     it (a sum adds its terms' counts, a product multiplies its factors', a leaf counts 1,
     each capped at ``cap``), so the two are equal."""
-    sums: dict[Backend, tuple[int, int]] = {}  # a sum shared by several terms is walked once
-    angles: dict[Backend, bool] = {}  # whether a sine or cosine is of a plain angle
+    try:
+        return _PlainWalk(cap).walk(expr)[0]
+    except _NotPlain:
+        return None
 
-    def total(e: Backend) -> tuple[int, int]:  # (terms counted, most sines/cosines in a term)
-        known = sums.get(e)
+
+class _PlainWalk:
+    """The walk of :func:`_plain_bound` (methods, not closures of each other: closures
+    that call each other are a reference cycle, left to the collector at every call)."""
+
+    def __init__(self, cap: int) -> None:
+        self.cap = cap
+        self.sums: dict[Backend, tuple[int, int]] = {}  # a sum shared by several terms once
+        self.angles: dict[Backend, bool] = {}  # whether a sine or cosine is of a plain angle
+
+    def total(self, e: Backend) -> tuple[int, int]:
+        """(terms counted, most sines/cosines in a term) of a sum."""
+        known = self.sums.get(e)
         if known is None:
-            parts = [product(a) if a.is_Mul else walk(a) for a in e.args]
-            known = sums[e] = (min(cap, sum(p[0] for p in parts)), max(p[1] for p in parts))
+            parts = [self.product(a) if a.is_Mul else self.walk(a) for a in e.args]
+            known = (min(self.cap, sum(p[0] for p in parts)), max(p[1] for p in parts))
+            self.sums[e] = known
         return known
 
-    def product(e: Backend) -> tuple[int, int]:
+    def product(self, e: Backend) -> tuple[int, int]:
         count, trig = 1, 0
         for factor in e.args:  # the leaves inline: a chain's terms are products of them
             if factor.is_Symbol or factor.is_Number:
                 continue
             if factor.is_Add:
-                terms, inner = total(factor)
-                count, trig = min(cap, count * terms), trig + inner
+                terms, inner = self.total(factor)
+                count, trig = min(self.cap, count * terms), trig + inner
             elif isinstance(factor, _TRIG):
-                trig += plain_trig(factor)
+                trig += self.plain_trig(factor)
             elif not _symbol_power(factor):
                 raise _NotPlain
         if trig > 1:
             raise _NotPlain
         return count, trig
 
-    def plain_trig(e: Backend) -> int:  # 1 for a sine or cosine of a plain angle
-        plain = angles.get(e)
+    def plain_trig(self, e: Backend) -> int:
+        """1 for a sine or cosine of a plain angle."""
+        plain = self.angles.get(e)
         if plain is None:
-            plain = angles[e] = plain_angle(e.args[0])
+            plain = self.angles[e] = plain_angle(e.args[0])
         if not plain:
             raise _NotPlain
         return 1
 
-    def walk(e: Backend) -> tuple[int, int]:
+    def walk(self, e: Backend) -> tuple[int, int]:
         if e.is_Add:
-            return total(e)
+            return self.total(e)
         if e.is_Mul:
-            return product(e)
+            return self.product(e)
         if e.is_Symbol or e.is_Number or _symbol_power(e):
             return 1, 0
         if isinstance(e, _TRIG):
-            return 1, plain_trig(e)
+            return 1, self.plain_trig(e)
         raise _NotPlain
-
-    try:
-        return walk(expr)[0]
-    except _NotPlain:
-        return None
 
 
 def _symbol_power(factor: Backend) -> bool:
