@@ -4,11 +4,15 @@ The equations of 3-D multibody systems (a bicycle, a chain of bodies turned rela
 other) are polynomials in the sines and cosines of their angles, in the coordinates and in
 the velocities.  Expanded, such an expression has thousands of terms, but only a hundred or
 so distinct products of sines, cosines and state variables: everything else is the
-coefficient (masses, lengths, inertias), a plain polynomial that SymEngine sums and expands
-in C++.  A polynomial here is a dict from a monomial, a flat tuple of generator indices
-and exponents (i1, e1, i2, e2, ..., the indices ascending), to its coefficient; the
-generators are the state symbols, the sines and cosines (of state angles and of constant
-ones, such as a head-tube angle) and any other function of the state, taken as a whole.
+coefficient (masses, lengths, inertias), a polynomial in the parameters.  A polynomial
+here is a dict from a monomial, a flat tuple of generator indices and exponents (i1, e1,
+i2, e2, ..., the indices ascending), to its coefficient; the generators are the state
+symbols, the sines and cosines (of state angles and of constant ones, such as a head-tube
+angle) and any other function of the state, taken as a whole.  A coefficient is a dict
+from a parameter monomial, packed into one integer, to a Python number
+(:data:`Coefficient`): its products and sums are expanded as they are formed, and
+SymEngine expressions are built once, from the finished polynomials
+(:meth:`TrigAlgebra.grouped`, :meth:`TrigAlgebra.expression`).
 
 Every product is reduced modulo sin^2 x + cos^2 x = 1 as it is formed (cos^2 x written as
 1 - sin^2 x), the canonical form of :func:`lagrangian.derivation.trig.pythagorean_forms`,
@@ -51,7 +55,7 @@ Number = int | Fraction | float
 #: product of two monomials is the sum of their integers (negative exponents too).
 Coefficient = dict[int, Number]
 Poly = dict[Key, Coefficient]
-BITS = 8
+BITS = 16  # exponents within +-2**15 stay apart
 _FIELD = (1 << BITS) - 1
 #: Monomials with their integer factors, flat for the same reason: (key, n, key, n, ...).
 Terms = tuple[Any, ...]
@@ -64,6 +68,7 @@ ONE: Key = ()
 #: Terms of a coefficient beyond which :meth:`TrigAlgebra.grouped` does not factor it.
 FACTORED_TERMS = 40
 _NESTED: Poly = {(): {}}  # the marker of :meth:`TrigAlgebra.keep_nested`
+_ZERO = se.Integer(0)
 
 
 def _times(a: Coefficient, b: Coefficient) -> Coefficient:
@@ -249,7 +254,7 @@ class TrigAlgebra:
     # -- conversion -----------------------------------------------------------------------
 
     def convert(self, expr: Backend) -> Poly:
-        """``expr`` as a polynomial (coefficients not yet expanded: see :meth:`finish`)."""
+        """``expr`` as a polynomial (zero terms not yet dropped: see :meth:`finish`)."""
         memo = self._converted
         if expr in memo:
             known = memo[expr]
@@ -275,7 +280,8 @@ class TrigAlgebra:
 
     def _convert(self, expr: Backend) -> Poly:
         if expr.is_Number:
-            return {ONE: self.coefficient(expr)} if expr != 0 else {}
+            # a SymEngine zero: comparing with 0 converts it each time
+            return {ONE: self.coefficient(expr)} if expr != _ZERO else {}
         if isinstance(expr, se.Symbol):
             if expr in self.state:
                 return self._monomial(expr)
