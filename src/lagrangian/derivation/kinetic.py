@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from fractions import Fraction
 
 import symengine as se
 
@@ -28,6 +29,7 @@ from lagrangian.derivation.coriolis import EntrySplit, VelocityProduct, coriolis
 from lagrangian.derivation.trig import combine_trig, plain_angle
 from lagrangian.derivation.trig_polynomial import (
     ONE,
+    Coefficient,
     Key,
     Poly,
     PolynomialTooLarge,
@@ -907,7 +909,7 @@ def _canonical_form(asm: Assembly, explicit: Matrix, algebra: TrigAlgebra) -> Ki
     weighted = [(w, _turned(algebra, rows) if len(rows) == 3 else rows) for w, rows in weighted]
     # every body's share of an entry goes into one list of coefficients per monomial, summed
     # once (:meth:`TrigAlgebra.gather`): no polynomial per body, row or pair of axes
-    shares: list[list[dict[Key, list[Backend]]]] = [
+    shares: list[list[dict[Key, list[Coefficient]]]] = [
         [defaultdict(list) for _ in range(n)] for _ in range(n)
     ]
     for j in range(n):
@@ -1058,7 +1060,7 @@ def _turn(
 ) -> tuple[list[Poly], list[Poly]]:
     """Two rows turned in their plane by ``sign`` * ``angle``: (c a + s b, -s a + c b)."""
     c, s = algebra.convert(se.cos(angle)), algebra.convert(sign * se.sin(angle))
-    minus_s = algebra.scale(s, se.Integer(-1))
+    minus_s = algebra.scale(s, -1)
     one = [
         algebra.add([algebra.multiply(c, a), algebra.multiply(s, b)]) for a, b in zip(first, second)
     ]
@@ -1087,7 +1089,7 @@ def _jacobian_row(algebra: TrigAlgebra, x: Backend, q: tuple[Backend, ...]) -> l
 
 def _add_gram(
     algebra: TrigAlgebra,
-    shares: list[list[dict[Key, list[Backend]]]],
+    shares: list[list[dict[Key, list[Coefficient]]]],
     weight: Poly,
     first: list[list[Poly]],
     second: list[list[Poly]],
@@ -1116,7 +1118,7 @@ def _add_gram(
 
 def _add_rotation_share(
     algebra: TrigAlgebra,
-    shares: list[list[dict[Key, list[Backend]]]],
+    shares: list[list[dict[Key, list[Coefficient]]]],
     rotation: Rotation,
     asm: Assembly,
 ) -> None:
@@ -1152,10 +1154,10 @@ def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) ->
         return slope[key]
 
     rates = [next(iter(algebra.convert(v))) for v in asm.q_dot]
-    half = se.Rational(-1, 2)
+    half = Fraction(-1, 2)
     result = []
     for j in range(n):
-        parts: dict[Key, list[Backend]] = defaultdict(list)
+        parts: dict[Key, list[Coefficient]] = defaultdict(list)
         for k in range(n):
             for ell in range(k, n):
                 pair = algebra.multiply_keys(rates[k], rates[ell])

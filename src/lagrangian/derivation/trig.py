@@ -370,7 +370,7 @@ def _reduced_polynomial(expanded: Any, budget: int) -> Any:
         d = sum(e for i, e in pairs(key) if algebra.sine[i] or algebra.cosine[i])
         degree = max(degree, d)
         if d > 1:
-            cost += 2 ** (d - 1) * (len(coefficient.args) if coefficient.is_Add else 1)
+            cost += 2 ** (d - 1) * len(coefficient)
     if cost == 0 or (cost <= budget and degree <= FOURIER_DEGREE):
         return None
     return se.expand(algebra.expression(algebra.shortest(polynomial)))

@@ -4,11 +4,15 @@ The equations of 3-D multibody systems (a bicycle, a chain of bodies turned rela
 other) are polynomials in the sines and cosines of their angles, in the coordinates and in
 the velocities.  Expanded, such an expression has thousands of terms, but only a hundred or
 so distinct products of sines, cosines and state variables: everything else is the
-coefficient (masses, lengths, inertias), a plain polynomial that SymEngine sums and expands
-in C++.  A polynomial here is a dict from a monomial, a flat tuple of generator indices
-and exponents (i1, e1, i2, e2, ..., the indices ascending), to its coefficient; the
-generators are the state symbols, the sines and cosines (of state angles and of constant
-ones, such as a head-tube angle) and any other function of the state, taken as a whole.
+coefficient (masses, lengths, inertias), a polynomial in the parameters.  A polynomial
+here is a dict from a monomial, a flat tuple of generator indices and exponents (i1, e1,
+i2, e2, ..., the indices ascending), to its coefficient; the generators are the state
+symbols, the sines and cosines (of state angles and of constant ones, such as a head-tube
+angle) and any other function of the state, taken as a whole.  A coefficient is a dict
+from a parameter monomial, packed into one integer, to a Python number
+(:data:`Coefficient`): its products and sums are expanded as they are formed, and
+SymEngine expressions are built once, from the finished polynomials
+(:meth:`TrigAlgebra.grouped`, :meth:`TrigAlgebra.expression`).
 
 Every product is reduced modulo sin^2 x + cos^2 x = 1 as it is formed (cos^2 x written as
 1 - sin^2 x), the canonical form of :func:`lagrangian.derivation.trig.pythagorean_forms`,
@@ -27,6 +31,7 @@ from __future__ import annotations
 import threading
 from collections import defaultdict
 from collections.abc import Iterable, Iterator
+from fractions import Fraction
 from itertools import chain, product
 from math import comb
 from typing import Any
@@ -42,7 +47,16 @@ Backend = Any  # a symengine expression
 #: tracked for a pass per level and so reaches the oldest generation, whose growth sets off
 #: full collections (of everything SymPy made at import).
 Key = tuple[int, ...]
-Poly = dict[Key, Backend]
+#: A number of a coefficient: SymEngine's integers and fractions as Python's, its doubles
+#: as floats (any other number is a parameter factor).
+Number = int | Fraction | float
+#: A coefficient: {parameter monomial: number}, the monomial packed into one integer, the
+#: exponent of the j-th parameter factor times 2**(BITS j): the packing is linear, so the
+#: product of two monomials is the sum of their integers (negative exponents too).
+Coefficient = dict[int, Number]
+Poly = dict[Key, Coefficient]
+BITS = 16  # exponents within +-2**15 stay apart
+_FIELD = (1 << BITS) - 1
 #: Monomials with their integer factors, flat for the same reason: (key, n, key, n, ...).
 Terms = tuple[Any, ...]
 #: The product of two monomials: a :data:`Key` when it needs no reduction (its factor 1: the
@@ -53,8 +67,68 @@ Product = Key | Terms
 ONE: Key = ()
 #: Terms of a coefficient beyond which :meth:`TrigAlgebra.grouped` does not factor it.
 FACTORED_TERMS = 40
-_NESTED: Poly = {(): se.Integer(0)}  # the marker of :meth:`TrigAlgebra.keep_nested`
+_NESTED: Poly = {(): {}}  # the marker of :meth:`TrigAlgebra.keep_nested`
 _ZERO = se.Integer(0)
+
+
+def _times(a: Coefficient, b: Coefficient) -> Coefficient:
+    """The product of two coefficients."""
+    if len(a) > len(b):
+        a, b = b, a
+    if len(a) == 1:
+        for ka, na in a.items():
+            if ka == 0 and na.__class__ is int and na == 1:
+                return b
+            return {ka + kb: na * nb for kb, nb in b.items()}
+    out: Coefficient = {}
+    for ka, na in a.items():
+        for kb, nb in b.items():
+            k = ka + kb
+            out[k] = out.get(k, 0) + na * nb
+    return out
+
+
+def _scaled(c: Coefficient, n: Number) -> Coefficient:
+    return {k: n * v for k, v in c.items()}
+
+
+def _summed(parts: list[Coefficient]) -> Coefficient:
+    out = dict(parts[0])
+    for c in parts[1:]:
+        for k, v in c.items():
+            out[k] = out.get(k, 0) + v
+    return out
+
+
+def _nonzero(c: Coefficient) -> Coefficient:
+    return {k: v for k, v in c.items() if v}
+
+
+def number(expr: Backend) -> Number | None:
+    """A SymEngine number as a coefficient's number (None: a parameter factor).
+
+    >>> number(se.Rational(3, 4)), number(se.RealDouble(0.5)), number(se.sqrt(2))
+    (Fraction(3, 4), 0.5, None)
+    """
+    if expr.is_Integer:
+        return int(expr)
+    if expr.is_Rational:
+        numerator, denominator = expr.get_num_den()
+        return Fraction(int(numerator), int(denominator))
+    if isinstance(expr, se.RealDouble):
+        return float(expr)
+    return None
+
+
+def backend_number(value: Number) -> Backend:
+    """A coefficient's number as a SymEngine number (a float stays a double, 2.0 too)."""
+    if value.__class__ is int:
+        return se.Integer(value)
+    if isinstance(value, Fraction):
+        if value.denominator == 1:
+            return se.Integer(value.numerator)
+        return se.Rational(value.numerator, value.denominator)
+    return se.RealDouble(value)
 
 
 def pairs(key: Key) -> Iterator[tuple[int, int]]:
@@ -136,10 +210,15 @@ class TrigAlgebra:
         self._sine_reduced: dict[Key, Product] = {}
         self._reductions: dict[tuple[Any, ...], Terms] = {}
         self._splits: dict[Key, tuple[Key, Key]] = {}
-        #: The number of terms of each coefficient counted: SymEngine makes a Python object
-        #: of every term to give a sum's arguments (as long as expanding it), and a
-        #: coefficient is counted for its form, its other form and its grouping.
-        self._counts: dict[Backend, int] = {}
+        #: The parameter factors (the fields of a packed parameter monomial): symbols, and
+        #: factors that are no polynomial taken whole, flagged irregular (SymEngine may
+        #: rewrite their powers and products: sqrt(2)**2 is 2).
+        self.parameters: list[Backend] = []
+        self._parameter_index: dict[Backend, int] = {}
+        self._irregular: list[bool] = []
+        self._coefficients: dict[Backend, Coefficient] = {}  # parameter expressions
+        self._parameter_monomials: dict[int, tuple[Backend, bool]] = {}
+        self._built: dict[frozenset[tuple[int, Number]], Backend] = {}
         #: Monomials a product or sum may have before :class:`PolynomialTooLarge` (None: any).
         self.limit: int | None = None
 
@@ -170,12 +249,12 @@ class TrigAlgebra:
 
     def _monomial(self, gen: Backend, exponent: int = 1) -> Poly:
         index = self._generator(gen)
-        return {k: se.Integer(n) for k, n in _monomials(self._reduced({index: exponent}))}
+        return {k: {0: n} for k, n in _monomials(self._reduced({index: exponent}))}
 
     # -- conversion -----------------------------------------------------------------------
 
     def convert(self, expr: Backend) -> Poly:
-        """``expr`` as a polynomial (coefficients not yet expanded: see :meth:`finish`)."""
+        """``expr`` as a polynomial (zero terms not yet dropped: see :meth:`finish`)."""
         memo = self._converted
         if expr in memo:
             known = memo[expr]
@@ -190,7 +269,8 @@ class TrigAlgebra:
         """The number of memo entries (conversions, products, derivatives)."""
         memos: tuple[dict[Any, Any], ...] = (self._converted, self._products, self._derivatives)
         more = (self._factored, self._factored_parts, self._sine_reduced, self._splits)
-        return sum(len(memo) for memo in (*memos, *more, self._counts, self._reductions))
+        built = (self._coefficients, self._parameter_monomials, self._built, self._reductions)
+        return sum(len(memo) for memo in (*memos, *more, *built))
 
     def keep_nested(self, expr: Backend) -> None:
         """Mark ``expr`` as too large to expand: converting it (or an expression that holds
@@ -200,22 +280,25 @@ class TrigAlgebra:
 
     def _convert(self, expr: Backend) -> Poly:
         if expr.is_Number:
-            return {ONE: expr} if expr != _ZERO else {}
+            # a SymEngine zero: comparing with 0 converts it each time
+            return {ONE: self.coefficient(expr)} if expr != _ZERO else {}
         if isinstance(expr, se.Symbol):
-            return self._monomial(expr) if expr in self.state else {ONE: expr}
+            if expr in self.state:
+                return self._monomial(expr)
+            return {ONE: self.coefficient(expr)}
         if isinstance(expr, (se.sin, se.cos)):
             return self._monomial(expr)
         if expr.is_Add:
             parts = [self.convert(a) for a in expr.args]
             if all(_pure(p) for p in parts):
-                return {ONE: expr}
+                return {ONE: self.coefficient(expr)}
             return self.add(parts)
         if expr.is_Mul:
             parts = [self.convert(a) for a in expr.args]
             pure = [a for a, p in zip(expr.args, parts) if _pure(p)]
             if len(pure) == len(parts):
-                return {ONE: expr}
-            result: Poly = {ONE: se.Mul(*pure)}
+                return {ONE: self.coefficient(expr)}
+            result: Poly = {ONE: self.coefficient(se.Mul(*pure))}
             for p in parts:
                 if not _pure(p):
                     result = self.multiply(result, p)
@@ -224,20 +307,66 @@ class TrigAlgebra:
             base, exponent = expr.args
             converted = self.convert(base)
             if _pure(converted) and _pure(self.convert(exponent)):
-                return {ONE: expr}
+                return {ONE: self.coefficient(expr)}
             if exponent.is_Integer and int(exponent) > 0:
                 if isinstance(base, (se.sin, se.cos, se.Symbol)):
                     return self._monomial(base, int(exponent))
                 return self.power(converted, int(exponent))
             return self._monomial(expr)
         if all(_pure(self.convert(a)) for a in expr.args):
-            return {ONE: expr}
+            return {ONE: self.coefficient(expr)}
         return self._monomial(expr)
+
+    def coefficient(self, expr: Backend) -> Coefficient:
+        """A parameter expression as a coefficient (the expansion SymEngine would give)."""
+        known = self._coefficients.get(expr)
+        if known is None:
+            known = self._coefficients[expr] = self._coefficient(expr)
+        return known
+
+    def _coefficient(self, expr: Backend) -> Coefficient:
+        if expr.is_Number:
+            value = number(expr)
+            return self._parameter(expr) if value is None else {0: value}
+        if isinstance(expr, se.Symbol):
+            return self._parameter(expr)
+        if expr.is_Add:
+            return _summed([self.coefficient(a) for a in expr.args])
+        if expr.is_Mul:
+            result: Coefficient = {0: 1}
+            for a in expr.args:
+                result = _times(result, self.coefficient(a))
+            return result
+        if expr.is_Pow:
+            base, exponent = expr.args
+            if exponent.is_Integer and isinstance(base, se.Symbol):
+                return self._parameter(base, int(exponent))  # m**2, 1/m
+            if exponent.is_Integer and int(exponent) > 0:
+                power = self.coefficient(base)
+                result = {0: 1}
+                for _ in range(int(exponent)):
+                    result = _times(result, power)
+                return result
+            # SymEngine's expansion expands the base of such a power (1/(a + b)**2 is
+            # 1/(a**2 + 2 a b + b**2)), and may split it (sqrt(4 m) is 2 sqrt(m))
+            expanded = se.expand(expr)
+            if expanded != expr:
+                return self.coefficient(expanded)
+        return self._parameter(expr)  # SymEngine's expansion leaves function arguments alone
+
+    def _parameter(self, factor: Backend, exponent: int = 1) -> Coefficient:
+        """A parameter factor (a symbol, or a factor taken whole) to an integer power."""
+        index = self._parameter_index.get(factor)
+        if index is None:
+            index = self._parameter_index[factor] = len(self.parameters)
+            self.parameters.append(factor)
+            self._irregular.append(not isinstance(factor, se.Symbol))
+        return {exponent << (BITS * index): 1}
 
     # -- arithmetic -----------------------------------------------------------------------
 
     def add(self, polys: Iterable[Poly]) -> Poly:
-        parts: dict[Key, list[Backend]] = defaultdict(list)
+        parts: dict[Key, list[Coefficient]] = defaultdict(list)
         for p in polys:
             for k, c in p.items():
                 parts[k].append(c)
@@ -246,28 +375,43 @@ class TrigAlgebra:
     def multiply(self, a: Poly, b: Poly) -> Poly:
         if len(a) == 1 and ONE in a:
             c = a[ONE]
-            return {k: c * v for k, v in b.items()}
-        parts: dict[Key, list[Backend]] = defaultdict(list)
+            return {k: _times(c, v) for k, v in b.items()}
+        parts: dict[Key, list[Coefficient]] = defaultdict(list)
         self.accumulate_product(parts, a, b)
         return self.gather(parts)
 
     def accumulate_product(
-        self, target: dict[Key, list[Backend]], a: Poly, b: Poly, weight: Backend = None
+        self,
+        target: dict[Key, list[Coefficient]],
+        a: Poly,
+        b: Poly,
+        weight: Coefficient | None = None,
     ) -> None:
         """Add ``weight`` (a coefficient, 1 when None) * ``a`` * ``b`` to the coefficient
         lists ``target``: the products of many pairs summed with one :meth:`gather`, as an
         entry of M sums every body's share, with no polynomial made per pair."""
         for ka, ca in a.items():
-            self.accumulate(target, b, ka, ca if weight is None else weight * ca)
+            self.accumulate(target, b, ka, ca if weight is None else _times(weight, ca))
 
     def accumulate(
-        self, target: dict[Key, list[Backend]], p: Poly, factor: Key, scale: Any = 1
+        self,
+        target: dict[Key, list[Coefficient]],
+        p: Poly,
+        factor: Key,
+        scale: Coefficient | Number = 1,
     ) -> None:
-        """Add ``scale`` * monomial ``factor`` * ``p`` to the coefficient lists ``target``."""
+        """Add ``scale`` (a coefficient or a number) * monomial ``factor`` * ``p`` to the
+        coefficient lists ``target``."""
         known = self._products  # looked up here: most pairs are known
-        plain = scale == 1
+        coefficient = isinstance(scale, dict)
+        plain = not coefficient and scale.__class__ is int and scale == 1
         for k, c in p.items():
-            value = c if plain else scale * c
+            if plain:
+                value = c
+            elif coefficient:
+                value = _times(scale, c)  # type: ignore[arg-type]
+            else:
+                value = _scaled(c, scale)  # type: ignore[arg-type]
             r = known.get((*k, -1, *factor))
             if r is None:
                 r = self._product(k, factor)
@@ -275,22 +419,25 @@ class TrigAlgebra:
                 target[r].append(value)
                 continue
             for key, n in _monomials(r):
-                target[key].append(value if n == 1 else n * value)
+                target[key].append(value if n == 1 else _scaled(value, n))
 
-    def gather(self, target: dict[Key, list[Backend]]) -> Poly:
+    def gather(self, target: dict[Key, list[Coefficient]]) -> Poly:
         """The polynomial of coefficient lists (see :meth:`accumulate`)."""
         if self.limit is not None and len(target) > self.limit:
             raise PolynomialTooLarge(f"{len(target)} monomials")
-        return {k: v[0] if len(v) == 1 else se.Add(*v) for k, v in target.items()}
+        return {k: v[0] if len(v) == 1 else _summed(v) for k, v in target.items()}
 
     def power(self, p: Poly, exponent: int) -> Poly:
-        result: Poly = {ONE: se.Integer(1)}
+        result: Poly = {ONE: {0: 1}}
         for _ in range(exponent):
             result = self.multiply(result, p)
         return result
 
-    def scale(self, p: Poly, factor: Backend) -> Poly:
-        return {k: factor * c for k, c in p.items()}
+    @staticmethod
+    def scale(p: Poly, factor: Coefficient | Number) -> Poly:
+        if isinstance(factor, dict):
+            return {k: _times(factor, c) for k, c in p.items()}
+        return {k: _scaled(c, factor) for k, c in p.items()}
 
     def multiply_keys(self, a: Key, b: Key) -> Key:
         """The product of two monomials that need no reduction (no cosine squared)."""
@@ -385,7 +532,7 @@ class TrigAlgebra:
             if not d:
                 continue
             rest = _key((j, f - 1 if j == i else f) for j, f in pairs(key) if j != i or f > 1)
-            parts.append(self.multiply({rest: se.Integer(e)}, d))
+            parts.append(self.multiply({rest: {0: e}}, d))
         result = self.add(parts)
         self._derivatives[memo_key] = result
         return result
@@ -396,10 +543,10 @@ class TrigAlgebra:
             return memo
         gen = self.gens[i]
         if isinstance(gen, se.Symbol):
-            result: Poly = {ONE: se.Integer(1)} if gen == symbol else {}
+            result: Poly = {ONE: {0: 1}} if gen == symbol else {}
         elif self.sine[i] or self.cosine[i]:
             rate = self.convert(se.expand(gen.args[0].diff(symbol)))
-            turned: Poly = {(self.partner[i], 1): se.Integer(1 if self.sine[i] else -1)}
+            turned: Poly = {(self.partner[i], 1): {0: 1 if self.sine[i] else -1}}
             result = self.multiply(turned, rate) if rate else {}
         else:
             result = self.convert(se.expand(gen.diff(symbol)))
@@ -410,18 +557,18 @@ class TrigAlgebra:
 
     @staticmethod
     def finish(p: Poly) -> Poly:
-        """Coefficients expanded, zero ones dropped."""
+        """Zero terms and coefficients dropped (the sums are expanded as they are formed)."""
         result = {}
         for k, c in p.items():
-            value = se.expand(c)
-            if value != _ZERO:  # a SymEngine zero: comparing with 0 converts it each time
+            value = _nonzero(c)
+            if value:
                 result[k] = value
         return result
 
     def sine_form(self, p: Poly) -> Poly:
         """A finished polynomial with every sin^2 x written as 1 - cos^2 x instead (the other
         canonical form)."""
-        parts: dict[Key, list[Backend]] = defaultdict(list)
+        parts: dict[Key, list[Coefficient]] = defaultdict(list)
         memo = self._sine_reduced
         for k, c in p.items():
             r = memo.get(k)
@@ -431,12 +578,12 @@ class TrigAlgebra:
                 parts[r].append(c)
                 continue
             for key, n in _monomials(r):
-                parts[key].append(c if n == 1 else n * c)
+                parts[key].append(c if n == 1 else _scaled(c, n))
         result = {}
         for k, v in parts.items():
-            # a single coefficient kept as it is is expanded already
-            value = v[0] if len(v) == 1 and p.get(k) is v[0] else se.expand(se.Add(*v))
-            if value != _ZERO:
+            # a single coefficient kept as it is is finished already
+            value = v[0] if len(v) == 1 and p.get(k) is v[0] else _nonzero(_summed(v))
+            if value:
                 result[k] = value
         return result
 
@@ -462,10 +609,46 @@ class TrigAlgebra:
             memo = self._monomials[key] = se.Mul(*factors)
         return memo
 
+    def parameter_monomial(self, packed: int) -> tuple[Backend, bool]:
+        """(the expression, whether it holds an irregular factor) of a packed parameter
+        monomial, remembered."""
+        known = self._parameter_monomials.get(packed)
+        if known is None:
+            factors, irregular, index, rest = [], False, 0, packed
+            while rest:
+                exponent = rest & _FIELD
+                if exponent > _FIELD >> 1:
+                    exponent -= _FIELD + 1
+                rest = (rest - exponent) >> BITS
+                if exponent:
+                    factors.append(self.parameters[index] ** exponent)
+                    irregular = irregular or self._irregular[index]
+                index += 1
+            known = self._parameter_monomials[packed] = (se.Mul(*factors), irregular)
+        return known
+
+    def built(self, coefficient: Coefficient) -> Backend:
+        """A coefficient as SymEngine's expanded sum: the canonical sum of number *
+        monomial over its terms (expanded by SymEngine, too, when it holds an irregular
+        factor), remembered: the same coefficients recur."""
+        memo_key = frozenset(coefficient.items())
+        known = self._built.get(memo_key)
+        if known is None:
+            terms, irregular = [], False
+            for k, n in coefficient.items():
+                if n:
+                    monomial, odd = self.parameter_monomial(k)
+                    terms.append(backend_number(n) * monomial)
+                    irregular = irregular or odd
+            known = se.Add(*terms)
+            known = self._built[memo_key] = se.expand(known) if irregular else known
+        return known
+
     def expression(self, p: Poly) -> Backend:
-        """sum monomial * coefficient (coefficients as they are); converting it back (in
-        this algebra) gives ``p`` at once."""
-        result = se.Add(*[self.monomial_expression(k) * c for k, c in p.items()])
+        """sum monomial * coefficient (each coefficient SymEngine's expanded sum); converting
+        it back (in this algebra) gives ``p`` at once."""
+        built = self.built
+        result = se.Add(*[self.monomial_expression(k) * built(c) for k, c in p.items()])
         self._converted.setdefault(result, p)
         return result
 
@@ -494,10 +677,10 @@ class TrigAlgebra:
         groups: dict[Key, list[tuple[Backend, Backend]]] = defaultdict(list)
         for k, c in p.items():
             moving, constant = self.split(k)
-            groups[moving].append((self.monomial_expression(constant), c))
+            groups[moving].append((self.monomial_expression(constant), self.built(c)))
         result = []
         for k, parts in groups.items():
-            if sum(self.count(c) for _, c in parts) <= FACTORED_TERMS:
+            if sum(_count(c) for _, c in parts) <= FACTORED_TERMS:
                 coefficient = self._factor_parts(parts)
             else:
                 coefficient = se.Add(*[f * c for f, c in parts])
@@ -535,13 +718,15 @@ class TrigAlgebra:
         count = self.count
         return sum(count(c) + sum(k[1::2]) for k, c in p.items())
 
-    def count(self, coefficient: Backend) -> int:
-        """The number of terms of an expanded coefficient, remembered."""
-        known = self._counts.get(coefficient)
-        if known is None:
-            known = len(coefficient.args) if coefficient.is_Add else 1
-            self._counts[coefficient] = known
-        return known
+    @staticmethod
+    def count(coefficient: Coefficient) -> int:
+        """The number of terms of a finished coefficient."""
+        return len(coefficient)
+
+
+def _count(coefficient: Backend) -> int:
+    """The number of terms of an expanded SymEngine coefficient."""
+    return len(coefficient.args) if coefficient.is_Add else 1
 
 
 def expanded_terms(expr: Backend, cap: int) -> int:
