@@ -532,7 +532,8 @@ def check(method: str, n: int, result: dict) -> str:
 
 def warm_up() -> None:
     """Import the checkout's lagrangian and SymPy's lazily imported parts, outside the clock."""
-    sys.path.insert(0, str(SRC))  # benchmark the checkout, installed or not
+    if not os.environ.get("PYTHONPATH"):  # a source tree given on PYTHONPATH is the one timed
+        sys.path.insert(0, str(SRC))  # else the checkout's, installed or not
     import sympy as sp
     import sympy.physics.mechanics
 

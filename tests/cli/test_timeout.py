@@ -9,8 +9,9 @@ import pytest
 from lagrangian.cli.main import LONG_RUNNING, main, time_limit
 from lagrangian.errors import TimeLimitError
 
-# 150 links: a legitimate system whose derivation takes far longer than a second.
-SLOW = "examples/n_link_pendulum:150"
+# 200 links (the largest the command line builds): a legitimate system whose derivation and
+# printing take several seconds.
+SLOW = "examples/n_link_pendulum:200"
 
 
 @pytest.mark.parametrize(
