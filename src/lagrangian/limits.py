@@ -38,8 +38,10 @@ import os
 import signal
 import threading
 import time
+import weakref
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from types import CodeType
 from typing import Any, Generic, TypeVar
 
 from lagrangian.errors import ArgumentError, TimeLimitError
@@ -295,14 +297,33 @@ def _timer(limit: _Limit, outer_timer: float) -> Iterator[None]:
             _arm(min(o.deadline for o in stack))
 
 
+#: The code of functions that Python runs where an exception is printed and dropped: the
+#: callbacks of the weak collections and finalizers of the standard library, and those
+#: marked by :func:`swallows_exceptions`.
+_SWALLOWING: set[CodeType] = {
+    weakref.WeakSet()._remove.__code__,  # type: ignore[attr-defined]
+    weakref.WeakKeyDictionary()._remove.__code__,  # type: ignore[attr-defined]
+    weakref.WeakValueDictionary()._remove.__code__,  # type: ignore[attr-defined]
+    weakref.finalize.__call__.__code__,
+}
+
+
+def swallows_exceptions(function: F) -> F:
+    """Mark ``function`` as one Python runs where it drops exceptions (a weak reference's
+    callback): a time limit that expires in it lands in the work after it instead."""
+    _SWALLOWING.add(function.__code__)
+    return function
+
+
 def _swallowed_there(frame: Any) -> bool:
     """Whether an exception raised at ``frame`` would be swallowed: it runs a garbage
-    collector's callback (``gc.callbacks``, as Hypothesis and Dask register) or a destructor,
-    where Python prints "Exception ignored in ..." to the user and carries on."""
+    collector's callback (``gc.callbacks``, as Hypothesis and Dask register), a destructor
+    or a weak reference's callback (:data:`_SWALLOWING`), where Python prints "Exception
+    ignored in ..." to the user and carries on."""
     callbacks = {getattr(callback, "__code__", None) for callback in gc.callbacks}
     while frame is not None:
         code = frame.f_code
-        if code in callbacks or code.co_name == "__del__":
+        if code in callbacks or code in _SWALLOWING or code.co_name == "__del__":
             return True
         frame = frame.f_back
     return False

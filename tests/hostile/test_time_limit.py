@@ -10,6 +10,7 @@ import math
 import signal
 import threading
 import time
+import weakref
 
 import pytest
 import sympy as sp
@@ -17,14 +18,17 @@ import sympy as sp
 import lagrangian as lg
 from lagrangian.errors import ArgumentError, LagrangianError, TimeLimitError
 from lagrangian.limits import (
+    _SWALLOWING,
     DEFAULT_SECONDS,
     ENVIRONMENT,
     bounded,
     check_time,
     configured_seconds,
     remaining_seconds,
+    swallows_exceptions,
     time_limit,
 )
+from lagrangian.symbolic.caches import IdentityCache
 
 
 def spin(seconds: float) -> None:
@@ -260,6 +264,45 @@ def test_a_limit_that_falls_in_a_collector_callback_lands_in_the_work_instead(mo
     finally:
         gc.callbacks.remove(slow_callback)
     assert calls and not dropped
+
+
+@pytest.mark.parametrize("marked", [True, False], ids=["marked", "unmarked"])
+def test_a_limit_that_falls_in_a_weak_reference_callback_lands_in_the_work_instead(
+    monkeypatch, marked
+):
+    # a weak reference's callback drops its exceptions as a destructor does; a callback
+    # marked as one (the caches' are) lets the limit land in the work after it
+    dropped = []
+    monkeypatch.setattr("sys.unraisablehook", dropped.append)
+    monkeypatch.setattr("lagrangian.limits._SWALLOWING", set(_SWALLOWING))  # the marks undone
+
+    def slow_callback(ref):
+        spin(0.4)  # the limit's alarm comes in here
+
+    callback = swallows_exceptions(slow_callback) if marked else slow_callback
+
+    class Key:
+        pass
+
+    key = Key()
+    reference = weakref.ref(key, callback)
+    with pytest.raises(TimeLimitError), time_limit(0.1):
+        del key  # the callback runs here
+        spin(5.0)
+    assert reference() is None
+    assert bool(dropped) is not marked  # unmarked, the first alarm is dropped (and printed)
+
+
+def test_the_caches_weak_reference_callbacks_are_marked():
+    cache = IdentityCache()
+
+    class Key:
+        pass
+
+    key = Key()
+    cache.get(key, lambda k: 1)
+    ((reference, _),) = cache._entries.values()
+    assert reference.__callback__.__code__ in _SWALLOWING
 
 
 def test_a_limit_that_falls_in_a_destructor_lands_in_the_work_instead(monkeypatch):

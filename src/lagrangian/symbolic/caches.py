@@ -37,6 +37,8 @@ from collections import OrderedDict
 from collections.abc import Callable
 from typing import Any, Generic, Protocol, TypeVar
 
+from lagrangian.limits import swallows_exceptions
+
 K = TypeVar("K")
 V = TypeVar("V")
 F = TypeVar("F", bound=Callable[..., Any])
@@ -112,6 +114,7 @@ class IdentityCache(Generic[K, V]):
         value = compute(key)
         entries = self._entries
 
+        @swallows_exceptions  # a weak reference's callback
         def forget(ref: weakref.ref[K], ident: int = ident) -> None:
             current = entries.get(ident)
             if current is not None and current[0] is ref:
