@@ -6,7 +6,6 @@ the cycle collector is left as it was found."""
 from __future__ import annotations
 
 import gc
-import threading
 
 import pytest
 import sympy as sp
@@ -17,7 +16,6 @@ from lagrangian.derivation.backend import to_backend
 from lagrangian.symbolic.canonical import Builder, sympy_product, sympy_sum
 from lagrangian.symbolic.sympy_view import (
     SympyView,
-    cycle_collection_paused,
     unevaluated_trig,
 )
 
@@ -110,37 +108,6 @@ def test_conversion_leaves_the_cycle_collector_as_it_was(enabled: bool) -> None:
         with pytest.raises(AttributeError):
             view.vector([object()])  # not an expression: the conversion fails midway
         assert gc.isenabled() is enabled
-    finally:
-        gc.enable() if was else gc.disable()
-
-
-def test_conversions_in_two_threads_at_once_leave_the_collector_on() -> None:
-    # thread A pauses, thread B pauses, A ends, B ends: the collector is on again (a pause
-    # that remembered only its own start would leave it off after B)
-    was = gc.isenabled()
-    gc.enable()
-    try:
-        inside_a, inside_b, a_done = threading.Event(), threading.Event(), threading.Event()
-
-        def first() -> None:
-            with cycle_collection_paused():
-                inside_a.set()
-                inside_b.wait(10)
-            a_done.set()
-
-        def second() -> None:
-            inside_a.wait(10)
-            with cycle_collection_paused():
-                inside_b.set()
-                a_done.wait(10)
-                assert not gc.isenabled()  # A ended, B still converts
-
-        threads = [threading.Thread(target=first), threading.Thread(target=second)]
-        for thread in threads:
-            thread.start()
-        for thread in threads:
-            thread.join(20)
-        assert gc.isenabled()
     finally:
         gc.enable() if was else gc.disable()
 

@@ -115,8 +115,10 @@ def test_two_threads_pausing_at_once_move_both_threads_objects_at_the_end(
             inside_b.set()
             a_done.wait(10)
             made["b"] = _Node()
-            # A ended, B still converts: nothing moved yet
-            young_while_b_runs.append(_in_generation(made["a"], 0))
+            # A ended, B still converts: the collector still off, nothing moved yet (a
+            # pause that remembered only its own start would turn it on here, and leave it
+            # off after B)
+            young_while_b_runs.append(not gc.isenabled() and _in_generation(made["a"], 0))
 
     threads = [threading.Thread(target=first), threading.Thread(target=second)]
     for thread in threads:
