@@ -127,11 +127,9 @@ def dependence(system: System, active: bool = False) -> Dependence:
     rows = equality_rows(system, active)
     redundant, inconsistent = [], []
     kept: list[int] = []
-    if numeric_rank(a[list(rows)]) == len(rows):
-        # independent rows: every subset of them is (its singular values lie within the
-        # whole's), so each row raises the rank, and one decomposition decides for all
-        return Dependence(point, rows, (), a, b.ravel())
-    for i in rows:
+    # independent rows: every subset of them is (its singular values lie within the whole's),
+    # so each row raises the rank, and one decomposition decides for all
+    for i in rows if numeric_rank(a[list(rows)]) < len(rows) else ():
         if numeric_rank(a[[*kept, i]]) > len(kept):
             kept.append(i)
         elif numeric_rank(np.column_stack([a[[*kept, i]], b[[*kept, i]]])) > len(kept):

@@ -132,15 +132,10 @@ class EulerLagrangeTerms:
         for, or too many terms), or a monomial of C q_dot is also one of ``rest``'s."""
         monomials = []
         bound = 0
-        known = self._coefficients.get
         for monomial, coefficient, number in coriolis:
-            collection = known(coefficient)  # a chain's w_jk is met again in another row
-            if collection is None or collection[1] is None:
-                collection = self._collected_coefficient(-number, coefficient)
-            else:  # number times what the product collects to
-                collection = collection[0], -number * collection[1], collection[2]
-            bound += collection[0]
-            monomials.append((monomial, collection[1], collection[2]))
+            count, collected, part = self._collected_coefficient(-number, coefficient)
+            bound += count
+            monomials.append((monomial, collected, part))
         compact = self.compress(rest)
         if not self._sums:
             return None

@@ -711,17 +711,11 @@ class TrigAlgebra:
 
     def terms(self, p: Poly) -> int:
         """The number of terms of the expanded form of a finished polynomial."""
-        return sum(map(self.count, p.values()))
+        return sum(map(len, p.values()))
 
     def size(self, p: Poly) -> int:
         """A size for choosing between forms: terms of the coefficients plus factors."""
-        count = self.count
-        return sum(count(c) + sum(k[1::2]) for k, c in p.items())
-
-    @staticmethod
-    def count(coefficient: Coefficient) -> int:
-        """The number of terms of a finished coefficient."""
-        return len(coefficient)
+        return sum(len(c) + sum(k[1::2]) for k, c in p.items())
 
 
 def _count(coefficient: Backend) -> int:

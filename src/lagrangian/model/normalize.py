@@ -32,8 +32,9 @@ from lagrangian.model.frames import Frame, resolve_orientations
 from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import Orientation
 from lagrangian.model.transitions import Transition
-from lagrangian.model.validation import is_plain, validate
+from lagrangian.model.validation import validate
 from lagrangian.symbolic.conversion import to_sympy
+from lagrangian.symbolic.expressions import is_plain
 from lagrangian.symbolic.frozen import FrozenMapping
 from lagrangian.symbolic.symbols import as_coordinate, from_time_functions, t
 

@@ -10,7 +10,6 @@ from collections.abc import Iterable
 from typing import Any
 
 import sympy as sp
-from sympy.core.function import AppliedUndef
 
 from lagrangian.errors import Problem
 from lagrangian.model.circuit import (
@@ -25,7 +24,12 @@ from lagrangian.model.elements import ORIGIN
 from lagrangian.model.inertia import Shape, check_inertia
 from lagrangian.model.rotation import Orientation, check_rotation
 from lagrangian.model.transitions import check_transitions
-from lagrangian.symbolic.expressions import closest_name, distinct_parts, free_symbols
+from lagrangian.symbolic.expressions import (
+    closest_name,
+    distinct_parts,
+    free_symbols,
+    is_plain,
+)
 from lagrangian.symbolic.names import name_problem
 from lagrangian.symbolic.nonsmooth import kinks_in
 from lagrangian.symbolic.probe import PROBES, SEED, random_values
@@ -56,9 +60,13 @@ class NameScope:
         self.configuration = self.coordinates | self.parameters | {t}
         self.state = self.configuration | self.velocities
         self.names = sorted(s.name for s in self.state)
-        # the parts found free of problems for each kind, shared by the checks of every
-        # field: the positions of a chain share most of their terms
-        self._fine: dict[str, set[sp.Basic]] = {CONFIGURATION: set(), STATE: set(), CONSTANT: set()}
+        # each kind's allowed names, and the parts found free of problems for it, shared by
+        # the checks of every field: the positions of a chain share most of their terms
+        self._scopes: dict[str, tuple[set[sp.Basic], set[sp.Basic]]] = {
+            CONFIGURATION: (self.configuration, set()),
+            CONSTANT: (self.parameters, set()),
+            STATE: (self.state, set()),
+        }
 
     def check(self, value: Any, field: str, kind: str, problems: list[Problem]) -> None:
         if isinstance(value, (sp.MatrixBase, list, tuple)):
@@ -88,7 +96,7 @@ class NameScope:
             problems.append(
                 Problem(field, found, "energies, forces and positions are real numbers")
             )
-        allowed = self._allowed(kind)
+        allowed = self._scope(kind)[0]
         for symbol in sorted(free - allowed, key=str):
             problems.append(self._diagnose(symbol, field, kind))
         for derivative in (p for p in parts if isinstance(p, sp.Derivative)):
@@ -101,16 +109,17 @@ class NameScope:
                 )
             )
 
-    def _allowed(self, kind: str) -> set[sp.Basic]:
-        return {CONFIGURATION: self.configuration, CONSTANT: self.parameters}.get(kind, self.state)
+    def _scope(self, kind: str) -> tuple[set[sp.Basic], set[sp.Basic]]:
+        """(the names allowed in a value of ``kind``, the parts found fine for it); any other
+        kind is the state's."""
+        return self._scopes.get(kind, self._scopes[STATE])
 
     def _is_fine(self, value: sp.Expr, kind: str) -> bool:
         """Whether :meth:`check` would find nothing wrong with ``value``, from a walk that
         skips the parts found fine before (each other part is a name allowed for ``kind``, a
         number a double holds, or a sum, product, power or function of such parts); False
         also when the walk cannot tell (the full check then decides)."""
-        allowed = self._allowed(kind)
-        fine = self._fine[kind if kind in (CONFIGURATION, CONSTANT) else STATE]
+        allowed, fine = self._scope(kind)
         seen: set[sp.Basic] = set()
         stack = [value]
         try:
@@ -175,18 +184,6 @@ def _fine_alone(part: sp.Basic, allowed: set[sp.Basic]) -> bool:
             return bool(abs(part) <= LARGEST_DOUBLE)
         return isinstance(part, sp.NumberSymbol)
     return is_plain(part)
-
-
-#: Expressions whose free symbols are those of their parts (no symbol bound in them).
-_PLAIN = (sp.Add, sp.Mul, sp.Pow, sp.Atom, sp.Function)
-
-
-def is_plain(part: sp.Basic) -> bool:
-    """Whether ``part`` (not a Symbol) neither is a time function nor binds or holds symbols
-    of its own (derivatives, integrals, atoms with free symbols)."""
-    if not isinstance(part, _PLAIN) or isinstance(part, AppliedUndef):
-        return False
-    return not (isinstance(part, sp.Atom) and part.free_symbols)
 
 
 #: The largest magnitude a double holds: a number beyond it is infinite in every computation.

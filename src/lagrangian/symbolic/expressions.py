@@ -35,6 +35,7 @@ from collections.abc import Callable, Iterable, Mapping
 from typing import NamedTuple, NoReturn, TypeGuard
 
 import sympy as sp
+from sympy.core.function import AppliedUndef
 
 from lagrangian.errors import ExpressionError, Problem, TimeLimitError, raise_if_problems
 from lagrangian.size_limits import active_operations, raise_advice
@@ -699,6 +700,14 @@ def distinct_parts(value: sp.Basic) -> list[sp.Basic]:
 
 #: Expressions whose free symbols are those of their parts (no symbol bound in them).
 _PLAIN = (sp.Add, sp.Mul, sp.Pow, sp.Atom, sp.Function)
+
+
+def is_plain(part: sp.Basic) -> bool:
+    """Whether ``part`` (not a Symbol) neither is a time function nor binds or holds symbols
+    of its own (derivatives, integrals, atoms with free symbols)."""
+    if not isinstance(part, _PLAIN) or isinstance(part, AppliedUndef):
+        return False
+    return not (isinstance(part, sp.Atom) and part.free_symbols)
 
 
 def free_symbols(value: sp.Basic, parts: list[sp.Basic] | None = None) -> set[sp.Basic]:
