@@ -145,8 +145,8 @@ def _parameters_times_trig(
     rest = []
     for factor in entry.args if entry.is_Mul else (entry,):
         if isinstance(factor, _TRIG) and trig is None:
-            found = _plain_angle_terms(factor.args[0])
-            if found is None or not any(symbol in state for symbol, _ in found):
+            found = _state_angle_terms(factor, state)
+            if found is None:
                 return None
             trig, angle = factor, found
             continue
@@ -176,10 +176,17 @@ def _split_as_made(
             plain = parameters[part] = all(_parameter_factor(f, state) for f in factors)
         if not plain:
             return None
+    found = _state_angle_terms(trig, state)
+    return None if found is None else (w, trig, found)
+
+
+def _state_angle_terms(trig: Backend, state: set[Backend]) -> list[tuple[Backend, bool]] | None:
+    """:func:`_plain_angle_terms` of the angle of the sine or cosine ``trig`` when it is plain
+    and of the state; else None."""
     found = _plain_angle_terms(trig.args[0])
     if found is None or not any(symbol in state for symbol, _ in found):
         return None
-    return w, trig, found
+    return found
 
 
 def _plain_angle_terms(angle: Backend) -> list[tuple[Backend, bool]] | None:

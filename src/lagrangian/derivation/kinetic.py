@@ -199,6 +199,12 @@ class EntryMemo:
     #: the collected sums of (column radius, holders) pairs (:meth:`_ColumnTable.split`)
     columns: dict[tuple[tuple[Backend, int], ...], Backend | None] = field(default_factory=dict)
 
+    def sum_powers(self, factor: Backend, state: set[Backend]) -> _SumPowers | None:
+        """:func:`_sum_powers` of ``factor``, read off once."""
+        if factor not in self.sums:
+            self.sums[factor] = _sum_powers(factor, state)
+        return self.sums[factor]
+
 
 def _sum_powers(factor: Backend, state: set[Backend]) -> _SumPowers | None:
     """The :data:`_SumPowers` of a sum of plain products free of the state, else None."""
@@ -252,9 +258,7 @@ def _collected_products(entry: Backend, state: set[Backend], memo: EntryMemo) ->
             if isinstance(factor, (se.sin, se.cos)) and (trig is None or factor == trig):
                 trig = factor
             elif factor.is_Add and sum_factor is None:
-                if factor not in memo.sums:
-                    memo.sums[factor] = _sum_powers(factor, state)
-                sum_factor, summed = factor, memo.sums[factor]
+                sum_factor, summed = factor, memo.sum_powers(factor, state)
                 if summed is None:
                     return None
             elif factor.is_Symbol or factor.is_Number or _symbol_power(factor):
@@ -470,9 +474,7 @@ class _ColumnTable:
             plain = list(radius.args if radius.is_Mul else (radius,))
             sum_factor, summed = None, None
             if weight.is_Add:
-                if weight not in memo.sums:
-                    memo.sums[weight] = _sum_powers(weight, state)
-                sum_factor, summed = weight, memo.sums[weight]
+                sum_factor, summed = weight, memo.sum_powers(weight, state)
                 if summed is None:
                     return None
             else:
