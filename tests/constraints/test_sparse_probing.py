@@ -7,6 +7,7 @@ converted by the conversion that made the contact's constraints, against fresh c
 from __future__ import annotations
 
 import random
+from dataclasses import replace
 
 import numpy as np
 import symengine as se
@@ -99,11 +100,5 @@ def test_a_rolling_contacts_forms_go_on_with_the_conversion_that_made_it():
     gamma = acceleration_terms(forms, q)
     # the same gamma from a conversion that converted nothing before
     names = {t, *q, *(velocity(s) for s in q), *system.parameters}
-    fresh = acceleration_terms(
-        [
-            type(f)(f.coefficients, f.time_coefficient, f.velocity_expression, SympyView(names))
-            for f in forms
-        ],
-        q,
-    )
+    fresh = acceleration_terms([replace(f, view=SympyView(names)) for f in forms], q)
     assert [sp.srepr(g) for g in gamma] == [sp.srepr(g) for g in fresh]

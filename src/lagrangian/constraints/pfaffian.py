@@ -52,6 +52,16 @@ ZERO = sp.Integer(0)
 
 
 @dataclass(frozen=True)
+class FastForm:
+    """The SymEngine images the SymPy parts of a :class:`PfaffianForm` were converted from:
+    c, the a_k that can be non-zero (those of the coordinates c involves, by index) and b."""
+
+    velocity_expression: Backend
+    coefficients: tuple[tuple[int, Backend], ...]
+    time_coefficient: Backend
+
+
+@dataclass(frozen=True)
 class PfaffianForm:
     """omega = sum_k a_k dq_k + b dt of one constraint, and c = a.q_dot + b (= 0)."""
 
@@ -62,6 +72,10 @@ class PfaffianForm:
     #: the one that made the constraint), which the acceleration term goes on with: the parts
     #: they share are converted once.
     view: SympyView = field(compare=False, repr=False)
+    #: The form in SymEngine, which the acceleration term and the probes of
+    #: :mod:`lagrangian.constraints.dependence` go on from (converting the SymPy parts back
+    #: would walk a rolling wheel's rate of thousands of operations again).
+    fast: FastForm = field(compare=False, repr=False)
 
     def depends_on_time(self) -> bool:
         """True when omega involves t (b != 0 or some a_k depends on t)."""
@@ -107,16 +121,19 @@ def _form(
     coefficients = [ZERO] * len(coordinates)
     if velocity_level:  # a = dc/dq_dot and b = c at q_dot = 0, each expanded
         rolling = [k for k, v in enumerate(state.speeds) if v in free]
-        for k in rolling:
-            coefficients[k] = view(se.expand(c.diff(state.speeds[k])))
+        slopes = {k: se.expand(c.diff(state.speeds[k])) for k in rolling}
+        for k, slope in slopes.items():
+            coefficients[k] = view(slope)
         at_rest = se.expand(c.xreplace({state.speeds[k]: 0 for k in rolling}))
-        return PfaffianForm(tuple(coefficients), view(at_rest), expr, view)
+        fast = FastForm(c, tuple(slopes.items()), at_rest)
+        return PfaffianForm(tuple(coefficients), view(at_rest), expr, view, fast)
     slopes = {k: c.diff(state.coordinates[k]) for k in moving}  # a = dh/dq, b = dh/dt
     for k, slope in slopes.items():
         coefficients[k] = view(slope)
     time_slope = c.diff(state.time)
     rate = se.Add(*[slope * state.speeds[k] for k, slope in slopes.items()], time_slope)
-    return PfaffianForm(tuple(coefficients), view(time_slope), view(rate), view)
+    fast = FastForm(rate, tuple(slopes.items()), time_slope)
+    return PfaffianForm(tuple(coefficients), view(time_slope), view(rate), view, fast)
 
 
 @dataclass(frozen=True)
@@ -191,7 +208,7 @@ def acceleration_terms(
     state = {*variables, *fast.speeds}
     result = []
     for j, form in enumerate(forms):
-        terms, held = _rate_terms(backend(form.velocity_expression), variables, rates)
+        terms, held = _rate_terms(form.fast.velocity_expression, variables, rates)
         if all(size(slope) * max(1, size(rate)) <= TIDY_OPS for slope, rate in terms):
             rate = se.expand(se.Add(*[combine_trig(slope) * rate for slope, rate in terms]))
             gamma = collect_state(-rate, state)
