@@ -217,8 +217,22 @@ def acceleration_terms(
         gamma = gamma.xreplace(held) if held else gamma
         # before it is converted: converting and printing cost far more than building it
         check_size(gamma, f"the acceleration term gamma of constraints[{j}]")
-        result.append(form.view(gamma))
+        result.append(form.view(_distributed(gamma)))
     return result
+
+
+def _distributed(expr: Backend) -> Backend:
+    """``expr`` with a rational number times a sum, r (a + b + ...), as the sum r a + r b +
+    ... (the same value): SymPy's product of a number and a sum distributes the number
+    (``Mul.flatten``), SymEngine's keeps it (gamma is -(the rate), the whole sum negated), so
+    converting the product would build the sum, then SymPy the distributed sum again and
+    the sort keys of all its terms (a millisecond for each front-wheel gamma of a bicycle).
+    Given the distributed sum, the conversion builds SymPy's result directly."""
+    args = expr.args if expr.is_Mul else ()
+    if len(args) != 2 or not args[0].is_Rational or not args[1].is_Add:
+        return expr
+    number, terms = args
+    return se.Add(*[number * term for term in terms.args])
 
 
 def _rate_terms(
