@@ -2,7 +2,8 @@
 Jacobian against SymEngine's whole Jacobian at random points, the redundancy check of many
 independent rows against the row-by-row rank of the same matrix, the Pfaffian forms of a
 Cartesian chain against SymPy's own derivatives, and a rolling contact's forms and gamma
-converted by the conversion that made the contact's constraints, against fresh conversions."""
+converted by the conversion that made the contact's constraints, against fresh conversions;
+the conversion shared by the constraints on the same coordinates, unless a name clashes."""
 
 from __future__ import annotations
 
@@ -102,3 +103,23 @@ def test_a_rolling_contacts_forms_go_on_with_the_conversion_that_made_it():
     names = {t, *q, *(velocity(s) for s in q), *system.parameters}
     fresh = acceleration_terms([replace(f, view=SympyView(names)) for f in forms], q)
     assert [sp.srepr(g) for g in gamma] == [sp.srepr(g) for g in fresh]
+
+
+def test_constraints_on_the_same_coordinates_share_one_conversion():
+    """The forms of a chain's rods come from one conversion, each with the user's symbols;
+    a constraint whose symbol takes a name another symbol has there gets its own, with its
+    own symbol (kappa positive and kappa without assumptions are two symbols of one name)."""
+    system = _chain(3)
+    q = tuple(system.coordinates)
+    forms = [pfaffian_form(c, q) for c in system.constraints]
+    assert len({id(f.view) for f in forms}) == 1
+    for constraint, form in zip(system.constraints, forms):
+        assert form.coefficients == tuple(sp.diff(constraint.expression, s) for s in q)
+    plain, positive = sp.Symbol("kappa"), sp.Symbol("kappa", positive=True)
+    x1, y1 = q[:2]
+    first = pfaffian_form(lg.Holonomic(x1 - plain * y1), q)
+    second = pfaffian_form(lg.Holonomic(x1 + positive * y1), q)
+    assert first.view is forms[0].view and second.view is not first.view
+    assert first.coefficients[1] == -plain and second.coefficients[1] == positive
+    assert first.coefficients[1].free_symbols == {plain}
+    assert second.coefficients[1].free_symbols == {positive}

@@ -28,6 +28,7 @@ expression and coordinates, since every consumer of a System's constraints asks 
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -157,10 +158,29 @@ def fast_state(coordinates: tuple[sp.Symbol, ...]) -> FastState:
 
 
 def _view(expr: sp.Expr, coordinates: tuple[sp.Symbol, ...], moving: list[int]) -> SympyView:
-    """The conversion back to SymPy of one constraint's form and acceleration term: its own
-    symbols, the speeds of the coordinates ``moving`` (those it involves: the rate of a
-    holonomic constraint, the chain rule of gamma) and t (a walk, shared parts once)."""
-    return SympyView({*free_symbols(expr), *(velocity(coordinates[k]) for k in moving), t})
+    """The conversion back to SymPy of one constraint's form and acceleration term, with its
+    own symbols, the speeds of the coordinates ``moving`` (those it involves: the rate of a
+    holonomic constraint, the chain rule of gamma) and t: the conversion shared by the
+    constraints on ``coordinates`` (a bicycle's front contact written by hand: the no-slip
+    constraints and the contact's height have most of their parts in common), or, where a
+    symbol's name is taken there by another symbol, one of its own."""
+    symbols = {*free_symbols(expr), *(velocity(coordinates[k]) for k in moving), t}
+    shared = _shared_view(coordinates)
+    with _NAMING:  # checked and named at once: two threads never name a symbol two ways
+        names = shared.by_name
+        if any(names.get(s.name, s) != s for s in symbols):
+            return SympyView(symbols)
+        names.update((s.name, s) for s in symbols)
+    return shared
+
+
+@remembered(maxsize=CACHED)
+def _shared_view(coordinates: tuple[sp.Symbol, ...]) -> SympyView:
+    """The conversion :func:`_view` shares among the constraints on ``coordinates``."""
+    return SympyView([])
+
+
+_NAMING = threading.Lock()
 
 
 def backend(expr: Any) -> Backend:
