@@ -226,9 +226,10 @@ def acceleration_terms(
     variables = [*fast.coordinates, fast.time]
     rates = [*fast.speeds, se.Integer(1)]
     state = {*variables, *fast.speeds}
+    base_rates: dict[Backend, Backend] = {}
     result = []
     for j, form in enumerate(forms):
-        terms, held = _rate_terms(form.fast.velocity_expression, variables, rates)
+        terms, held = _rate_terms(form.fast.velocity_expression, variables, rates, base_rates)
         if all(size(slope) * max(1, size(rate)) <= TIDY_OPS for slope, rate in terms):
             rate = se.expand(se.Add(*[combine_trig(slope) * rate for slope, rate in terms]))
             gamma = collect_state(-rate, state)
@@ -256,11 +257,16 @@ def _distributed(expr: Backend) -> Backend:
 
 
 def _rate_terms(
-    c: Backend, variables: Sequence[Backend], rates: Sequence[Backend]
+    c: Backend,
+    variables: Sequence[Backend],
+    rates: Sequence[Backend],
+    base_rates: dict[Backend, Backend],
 ) -> tuple[list[tuple[Backend, Backend]], dict[Backend, Backend]]:
     """dc/dt (at q_ddot = 0) as a list of (partial derivative, rate) with the state-dependent
     radical bases u held as symbols, and those symbols -> u: the partial derivatives by
-    ``variables`` times ``rates``, then dc/du times du/dt for each base."""
+    ``variables`` times ``rates``, then dc/du times du/dt for each base, du/dt taken from
+    ``base_rates`` or computed and kept there (a wheel's contact height and its two no-slip
+    constraints share the square root of its axle's tilt)."""
     bases = {
         p.args[0]: se.Dummy("u")
         for p in distinct_parts(c)  # each shared part once (SymEngine's atoms walks the tree)
@@ -272,11 +278,14 @@ def _rate_terms(
     free = held.free_symbols  # the other partial derivatives are 0 (a chain's rod: 4 of 2n)
     terms = [(held.diff(v), rate) for v, rate in zip(variables, rates) if v in free]
     for base, symbol in bases.items():
-        inner, inner_held = _rate_terms(base, variables, rates)
-        base_rate = se.Add(*[slope * rate for slope, rate in inner])
-        terms.append(
-            (held.diff(symbol), base_rate.xreplace(inner_held) if inner_held else base_rate)
-        )
+        base_rate = base_rates.get(base)
+        if base_rate is None:
+            inner, inner_held = _rate_terms(base, variables, rates, base_rates)
+            base_rate = se.Add(*[slope * rate for slope, rate in inner])
+            base_rate = base_rates[base] = (
+                base_rate.xreplace(inner_held) if inner_held else base_rate
+            )
+        terms.append((held.diff(symbol), base_rate))
     return terms, {symbol: base for base, symbol in bases.items()}
 
 
