@@ -149,6 +149,8 @@ def contact_dependence(system: System, found: Dependence) -> tuple[int, ...]:
     that can never close (no configuration on the holonomic constraints has g = 0)."""
     coordinates = system.coordinates
     constraints = system.constraints
+    if not any(isinstance(c, Unilateral) for c in constraints):
+        return ()
     holonomic = [c.expression for c in constraints if isinstance(c, Holonomic)]
     kept = [i for i in found.rows if i not in found.redundant]
     kept_forms = [pfaffian_form(constraints[i], coordinates) for i in kept]
