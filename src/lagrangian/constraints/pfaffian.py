@@ -165,19 +165,42 @@ def _view(expr: sp.Expr, coordinates: tuple[sp.Symbol, ...], moving: list[int]) 
     constraints and the contact's height have most of their parts in common), or, where a
     symbol's name is taken there by another symbol, one of its own."""
     symbols = {*free_symbols(expr), *(velocity(coordinates[k]) for k in moving), t}
-    shared = _shared_view(coordinates)
+    shared = _shared_conversion(coordinates)
     with _NAMING:  # checked and named at once: two threads never name a symbol two ways
-        names = shared.by_name
+        view = shared.next_view()
+        names = view.by_name
         if any(names.get(s.name, s) != s for s in symbols):
             return SympyView(symbols)
         names.update((s.name, s) for s in symbols)
-    return shared
+    return view
+
+
+#: Constraints whose forms one shared conversion makes at most: what it converts lives as
+#: long as any of their cached forms, so a process that converts constraint after constraint
+#: on the same coordinates (a server's models) keeps a bounded part of it.
+SHARED_BY = 16
+
+
+class _SharedConversion:
+    """The conversion the constraints on some coordinates share, a new one after every
+    :data:`SHARED_BY` constraints."""
+
+    def __init__(self) -> None:
+        self.view = SympyView([])
+        self.constraints = 0
+
+    def next_view(self) -> SympyView:
+        """The conversion of one more constraint."""
+        if self.constraints == SHARED_BY:
+            self.view, self.constraints = SympyView([]), 0
+        self.constraints += 1
+        return self.view
 
 
 @remembered(maxsize=CACHED)
-def _shared_view(coordinates: tuple[sp.Symbol, ...]) -> SympyView:
+def _shared_conversion(coordinates: tuple[sp.Symbol, ...]) -> _SharedConversion:
     """The conversion :func:`_view` shares among the constraints on ``coordinates``."""
-    return SympyView([])
+    return _SharedConversion()
 
 
 _NAMING = threading.Lock()
