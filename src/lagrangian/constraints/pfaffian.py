@@ -272,10 +272,11 @@ def _distributed(expr: Backend) -> Backend:
     converting the product would build the sum, then SymPy the distributed sum again and
     the sort keys of all its terms (a millisecond for each front-wheel gamma of a bicycle).
     Given the distributed sum, the conversion builds SymPy's result directly."""
-    args = expr.args if expr.is_Mul else ()
-    if len(args) != 2 or not args[0].is_Rational or not args[1].is_Add:
+    if not expr.is_Mul or len(expr.args) != 2:
         return expr
-    number, terms = args
+    number, terms = expr.args
+    if not number.is_Rational or not terms.is_Add:
+        return expr
     return se.Add(*[number * term for term in terms.args])
 
 
