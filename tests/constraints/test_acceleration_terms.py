@@ -2,16 +2,19 @@
 derivatives, against -(dc/dt at q_ddot = 0) differentiated whole in SymPy, at random states:
 a contact-point constraint of a body turned by three rotations written in world axes and in
 body axes, one too large to tidy (left unexpanded), and constraints with radicals of the state
-(differentiated through their bases), nested, in denominators and rheonomic."""
+(differentiated through their bases), nested, in denominators and rheonomic; a number times
+a sum distributed before converting, against SymPy's own product."""
 
 from __future__ import annotations
 
 import random
 
+import symengine as se
 import sympy as sp
 
 import lagrangian as lg
-from lagrangian.constraints.pfaffian import TIDY_OPS, pfaffian_form
+from lagrangian.constraints.pfaffian import TIDY_OPS, _distributed, pfaffian_form
+from lagrangian.derivation.backend import SympyView, to_backend
 from lagrangian.model import rotation_sequence
 from lagrangian.symbolic.symbols import acceleration, t, time_derivative, velocity
 
@@ -92,3 +95,24 @@ def test_the_constraint_jacobian_of_a_velocity_constraint_is_expanded() -> None:
     assert form.coefficients[0] == sp.expand((1 + sp.sin(a)) * (r + y))
     assert form.coefficients[1] == -z and form.time_coefficient == 0
     assert pfaffian_form(lg.VelocityConstraint(first.expression, name="again"), Q) is form
+
+
+def test_a_number_times_a_sum_converts_as_sympys_product() -> None:
+    """SymPy distributes a rational number over a sum (``Mul.flatten``), SymEngine keeps the
+    product: gamma's -(rate) is converted from the sum with the number distributed, which
+    must be SymPy's own product, term for term."""
+    u, v, w = sp.symbols("u v w")
+    sums = [
+        u + v,
+        2 * u * v - 3 * sp.sin(w) + 5,
+        u * (v + w) - sp.sqrt(1 + u**2) * w / 2 + v**3,
+        -u * v * (v - w) ** 2 + sp.cos(u) * sp.sin(v) - 1,
+    ]
+    view = SympyView([u, v, w])
+    for total in sums:
+        for number in (-1, 2, sp.Rational(-1, 2)):
+            fast = se.Mul(to_backend(number), to_backend(total))
+            assert fast.is_Mul  # SymEngine keeps the product
+            assert _distributed(fast).is_Add
+            expected = sp.Mul(number, total)
+            assert sp.srepr(view(_distributed(fast))) == sp.srepr(expected)

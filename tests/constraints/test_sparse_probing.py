@@ -2,11 +2,13 @@
 Jacobian against SymEngine's whole Jacobian at random points, the redundancy check of many
 independent rows against the row-by-row rank of the same matrix, the Pfaffian forms of a
 Cartesian chain against SymPy's own derivatives, and a rolling contact's forms and gamma
-converted by the conversion that made the contact's constraints, against fresh conversions."""
+converted by the conversion that made the contact's constraints, against fresh conversions;
+the conversion shared by the constraints on the same coordinates, unless a name clashes."""
 
 from __future__ import annotations
 
 import random
+from dataclasses import replace
 
 import numpy as np
 import symengine as se
@@ -14,7 +16,7 @@ import sympy as sp
 
 import lagrangian as lg
 from lagrangian.constraints.dependence import dependence, generic_point
-from lagrangian.constraints.pfaffian import acceleration_terms, pfaffian_form
+from lagrangian.constraints.pfaffian import SHARED_BY, acceleration_terms, pfaffian_form
 from lagrangian.constraints.projection import _SparseJacobian
 from lagrangian.derivation.backend import SympyView, to_backend
 from lagrangian.model.contact import CONVERSIONS
@@ -99,11 +101,29 @@ def test_a_rolling_contacts_forms_go_on_with_the_conversion_that_made_it():
     gamma = acceleration_terms(forms, q)
     # the same gamma from a conversion that converted nothing before
     names = {t, *q, *(velocity(s) for s in q), *system.parameters}
-    fresh = acceleration_terms(
-        [
-            type(f)(f.coefficients, f.time_coefficient, f.velocity_expression, SympyView(names))
-            for f in forms
-        ],
-        q,
-    )
+    fresh = acceleration_terms([replace(f, view=SympyView(names)) for f in forms], q)
     assert [sp.srepr(g) for g in gamma] == [sp.srepr(g) for g in fresh]
+
+
+def test_constraints_on_the_same_coordinates_share_one_conversion():
+    """The forms of a chain's rods come from one conversion, each with the user's symbols;
+    a constraint whose symbol takes a name another symbol has there gets its own, with its
+    own symbol (kappa positive and kappa without assumptions are two symbols of one name);
+    after SHARED_BY constraints the next ones share a new conversion."""
+    u, w = sp.symbols("u1:4"), sp.symbols("w1:4")  # coordinates of this test alone
+    q = (*u, *w)
+    rods = [(u[i] - u[i - 1]) ** 2 + (w[i] - w[i - 1]) ** 2 - 1 for i in (1, 2)]
+    forms = [pfaffian_form(lg.Holonomic(h), q) for h in rods]
+    assert forms[0].view is forms[1].view
+    for h, form in zip(rods, forms):
+        assert form.coefficients == tuple(sp.diff(h, s) for s in q)
+    plain, positive = sp.Symbol("kappa"), sp.Symbol("kappa", positive=True)
+    first = pfaffian_form(lg.Holonomic(u[0] - plain * w[0]), q)
+    second = pfaffian_form(lg.Holonomic(u[0] + positive * w[0]), q)
+    assert first.view is forms[0].view and second.view is not first.view
+    assert first.coefficients[3] == -plain and second.coefficients[3] == positive
+    assert first.coefficients[3].free_symbols == {plain}
+    assert second.coefficients[3].free_symbols == {positive}
+    # four constraints so far: the next SHARED_BY - 4 share the first conversion
+    more = [pfaffian_form(lg.Holonomic(u[0] - k * w[1]), q) for k in range(SHARED_BY - 3)]
+    assert all(f.view is first.view for f in more[:-1]) and more[-1].view is not first.view

@@ -38,7 +38,7 @@ import numpy as np
 import symengine as se
 import sympy as sp
 
-from lagrangian.constraints.pfaffian import PfaffianForm, backend, fast_state, pfaffian_form
+from lagrangian.constraints.pfaffian import PfaffianForm, pfaffian_form
 from lagrangian.constraints.projection import SATISFIED, project
 from lagrangian.derivation.backend import to_backend
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
@@ -149,6 +149,8 @@ def contact_dependence(system: System, found: Dependence) -> tuple[int, ...]:
     that can never close (no configuration on the holonomic constraints has g = 0)."""
     coordinates = system.coordinates
     constraints = system.constraints
+    if not any(isinstance(c, Unilateral) for c in constraints):
+        return ()
     holonomic = [c.expression for c in constraints if isinstance(c, Holonomic)]
     kept = [i for i in found.rows if i not in found.redundant]
     kept_forms = [pfaffian_form(constraints[i], coordinates) for i in kept]
@@ -181,22 +183,18 @@ def contact_dependence(system: System, found: Dependence) -> tuple[int, ...]:
 def _jacobian_at(
     forms: list[PfaffianForm], coordinates: Sequence[sp.Symbol], point: dict[sp.Symbol, float]
 ) -> tuple[np.ndarray | None, np.ndarray | None]:
-    """A and b at ``point`` (None where not finite and real), each c_j = a_j . q_dot + b_j
-    evaluated in SymEngine as a_j = dc_j/dq_dot and b_j = c_j at rest.  What SymEngine cannot
+    """A and b at ``point`` (None where not finite and real), each form's a_j and b_j
+    evaluated in SymEngine (the images the form was converted from).  What SymEngine cannot
     evaluate (the derivative of |u| SymPy leaves unevaluated) goes through
     :class:`~lagrangian.symbolic.probe.PointFunction`."""
-    speeds = fast_state(tuple(coordinates)).speeds
-    at_rest = {v: se.Integer(0) for v in speeds}
     n = len(coordinates)
     # only the entries that can be non-zero are evaluated: a chain's rod involves four of
     # its 2n speeds, and the entries' substitution costs as much for a zero as for a term
     places, entries = [], []
     for j, form in enumerate(forms):
-        c = backend(form.velocity_expression)
-        free = c.free_symbols
-        moving = [(k, v) for k, v in enumerate(speeds) if v in free]
-        places += [j * (n + 1) + k for k, _ in moving] + [j * (n + 1) + n]
-        entries += [*(c.diff(v) for _, v in moving), c.xreplace(at_rest)]
+        fast = form.fast
+        places += [j * (n + 1) + k for k, _ in fast.coefficients] + [j * (n + 1) + n]
+        entries += [*(a for _, a in fast.coefficients), fast.time_coefficient]
     try:
         found = values_at(entries, point)
     except ValueError:
@@ -217,12 +215,15 @@ def values_at(exprs: Sequence[Any], point: Mapping[sp.Symbol, float]) -> np.ndar
     where one is not finite or not real.  ValueError where SymEngine cannot evaluate one.
 
     All are substituted as one matrix: a substitution converts its whole mapping first, and
-    a chain of n bodies has n (2n + 1) entries (most of them 0) over 4n + 1 symbols."""
+    a chain of n bodies has n (2n + 1) entries (most of them 0) over 4n + 1 symbols.  An
+    entry in SymEngine already is taken as it is (converting it again walks its tree: a
+    rolling wheel's coefficients have thousands of operations)."""
     values = {to_backend(s): se.RealDouble(v) for s, v in point.items()}
     if not exprs:
         return np.zeros(0)
+    entries = [e if isinstance(e, se.Basic) else to_backend(e) for e in exprs]
     try:
-        substituted = se.DenseMatrix(len(exprs), 1, [to_backend(e) for e in exprs]).subs(values)
+        substituted = se.DenseMatrix(len(entries), 1, entries).subs(values)
         numbers = np.array([complex(e) for e in substituted], dtype=complex)
     except (RuntimeError, TypeError) as error:
         raise ValueError(f"SymEngine cannot evaluate an expression: {error}") from error

@@ -28,6 +28,7 @@ expression and coordinates, since every consumer of a System's constraints asks 
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -52,6 +53,16 @@ ZERO = sp.Integer(0)
 
 
 @dataclass(frozen=True)
+class FastForm:
+    """The SymEngine images the SymPy parts of a :class:`PfaffianForm` were converted from:
+    c, the a_k that can be non-zero (those of the coordinates c involves, by index) and b."""
+
+    velocity_expression: Backend
+    coefficients: tuple[tuple[int, Backend], ...]
+    time_coefficient: Backend
+
+
+@dataclass(frozen=True)
 class PfaffianForm:
     """omega = sum_k a_k dq_k + b dt of one constraint, and c = a.q_dot + b (= 0)."""
 
@@ -62,6 +73,10 @@ class PfaffianForm:
     #: the one that made the constraint), which the acceleration term goes on with: the parts
     #: they share are converted once.
     view: SympyView = field(compare=False, repr=False)
+    #: The form in SymEngine, which the acceleration term and the probes of
+    #: :mod:`lagrangian.constraints.dependence` go on from (converting the SymPy parts back
+    #: would walk a rolling wheel's rate of thousands of operations again).
+    fast: FastForm = field(compare=False, repr=False)
 
     def depends_on_time(self) -> bool:
         """True when omega involves t (b != 0 or some a_k depends on t)."""
@@ -107,16 +122,19 @@ def _form(
     coefficients = [ZERO] * len(coordinates)
     if velocity_level:  # a = dc/dq_dot and b = c at q_dot = 0, each expanded
         rolling = [k for k, v in enumerate(state.speeds) if v in free]
-        for k in rolling:
-            coefficients[k] = view(se.expand(c.diff(state.speeds[k])))
+        slopes = {k: se.expand(c.diff(state.speeds[k])) for k in rolling}
+        for k, slope in slopes.items():
+            coefficients[k] = view(slope)
         at_rest = se.expand(c.xreplace({state.speeds[k]: 0 for k in rolling}))
-        return PfaffianForm(tuple(coefficients), view(at_rest), expr, view)
+        fast = FastForm(c, tuple(slopes.items()), at_rest)
+        return PfaffianForm(tuple(coefficients), view(at_rest), expr, view, fast)
     slopes = {k: c.diff(state.coordinates[k]) for k in moving}  # a = dh/dq, b = dh/dt
     for k, slope in slopes.items():
         coefficients[k] = view(slope)
     time_slope = c.diff(state.time)
     rate = se.Add(*[slope * state.speeds[k] for k, slope in slopes.items()], time_slope)
-    return PfaffianForm(tuple(coefficients), view(time_slope), view(rate), view)
+    fast = FastForm(rate, tuple(slopes.items()), time_slope)
+    return PfaffianForm(tuple(coefficients), view(time_slope), view(rate), view, fast)
 
 
 @dataclass(frozen=True)
@@ -140,10 +158,52 @@ def fast_state(coordinates: tuple[sp.Symbol, ...]) -> FastState:
 
 
 def _view(expr: sp.Expr, coordinates: tuple[sp.Symbol, ...], moving: list[int]) -> SympyView:
-    """The conversion back to SymPy of one constraint's form and acceleration term: its own
-    symbols, the speeds of the coordinates ``moving`` (those it involves: the rate of a
-    holonomic constraint, the chain rule of gamma) and t (a walk, shared parts once)."""
-    return SympyView({*free_symbols(expr), *(velocity(coordinates[k]) for k in moving), t})
+    """The conversion back to SymPy of one constraint's form and acceleration term, with its
+    own symbols, the speeds of the coordinates ``moving`` (those it involves: the rate of a
+    holonomic constraint, the chain rule of gamma) and t: the conversion shared by the
+    constraints on ``coordinates`` (a bicycle's front contact written by hand: the no-slip
+    constraints and the contact's height have most of their parts in common), or, where a
+    symbol's name is taken there by another symbol, one of its own."""
+    symbols = {*free_symbols(expr), *(velocity(coordinates[k]) for k in moving), t}
+    shared = _shared_conversion(coordinates)
+    with _NAMING:  # checked and named at once: two threads never name a symbol two ways
+        view = shared.next_view()
+        names = view.by_name
+        if any(names.get(s.name, s) != s for s in symbols):
+            return SympyView(symbols)
+        names.update((s.name, s) for s in symbols)
+    return view
+
+
+#: Constraints whose forms one shared conversion makes at most: what it converts lives as
+#: long as any of their cached forms, so a process that converts constraint after constraint
+#: on the same coordinates (a server's models) keeps a bounded part of it.
+SHARED_BY = 16
+
+
+class _SharedConversion:
+    """The conversion the constraints on some coordinates share, a new one after every
+    :data:`SHARED_BY` constraints."""
+
+    def __init__(self) -> None:
+        self.view = SympyView([])
+        self.constraints = 0
+
+    def next_view(self) -> SympyView:
+        """The conversion of one more constraint."""
+        if self.constraints == SHARED_BY:
+            self.view, self.constraints = SympyView([]), 0
+        self.constraints += 1
+        return self.view
+
+
+@remembered(maxsize=CACHED)
+def _shared_conversion(coordinates: tuple[sp.Symbol, ...]) -> _SharedConversion:
+    """The conversion :func:`_view` shares among the constraints on ``coordinates``."""
+    return _SharedConversion()
+
+
+_NAMING = threading.Lock()
 
 
 def backend(expr: Any) -> Backend:
@@ -189,9 +249,10 @@ def acceleration_terms(
     variables = [*fast.coordinates, fast.time]
     rates = [*fast.speeds, se.Integer(1)]
     state = {*variables, *fast.speeds}
+    base_rates: dict[Backend, Backend] = {}
     result = []
     for j, form in enumerate(forms):
-        terms, held = _rate_terms(backend(form.velocity_expression), variables, rates)
+        terms, held = _rate_terms(form.fast.velocity_expression, variables, rates, base_rates)
         if all(size(slope) * max(1, size(rate)) <= TIDY_OPS for slope, rate in terms):
             rate = se.expand(se.Add(*[combine_trig(slope) * rate for slope, rate in terms]))
             gamma = collect_state(-rate, state)
@@ -200,16 +261,36 @@ def acceleration_terms(
         gamma = gamma.xreplace(held) if held else gamma
         # before it is converted: converting and printing cost far more than building it
         check_size(gamma, f"the acceleration term gamma of constraints[{j}]")
-        result.append(form.view(gamma))
+        result.append(form.view(_distributed(gamma)))
     return result
 
 
+def _distributed(expr: Backend) -> Backend:
+    """``expr`` with a rational number times a sum, r (a + b + ...), as the sum r a + r b +
+    ... (the same value): SymPy's product of a number and a sum distributes the number
+    (``Mul.flatten``), SymEngine's keeps it (gamma is -(the rate), the whole sum negated), so
+    converting the product would build the sum, then SymPy the distributed sum again and
+    the sort keys of all its terms (a millisecond for each front-wheel gamma of a bicycle).
+    Given the distributed sum, the conversion builds SymPy's result directly."""
+    if not expr.is_Mul or len(expr.args) != 2:
+        return expr
+    number, terms = expr.args
+    if not number.is_Rational or not terms.is_Add:
+        return expr
+    return se.Add(*[number * term for term in terms.args])
+
+
 def _rate_terms(
-    c: Backend, variables: Sequence[Backend], rates: Sequence[Backend]
+    c: Backend,
+    variables: Sequence[Backend],
+    rates: Sequence[Backend],
+    base_rates: dict[Backend, Backend],
 ) -> tuple[list[tuple[Backend, Backend]], dict[Backend, Backend]]:
     """dc/dt (at q_ddot = 0) as a list of (partial derivative, rate) with the state-dependent
     radical bases u held as symbols, and those symbols -> u: the partial derivatives by
-    ``variables`` times ``rates``, then dc/du times du/dt for each base."""
+    ``variables`` times ``rates``, then dc/du times du/dt for each base, du/dt taken from
+    ``base_rates`` or computed and kept there (a wheel's contact height and its two no-slip
+    constraints share the square root of its axle's tilt)."""
     bases = {
         p.args[0]: se.Dummy("u")
         for p in distinct_parts(c)  # each shared part once (SymEngine's atoms walks the tree)
@@ -221,11 +302,14 @@ def _rate_terms(
     free = held.free_symbols  # the other partial derivatives are 0 (a chain's rod: 4 of 2n)
     terms = [(held.diff(v), rate) for v, rate in zip(variables, rates) if v in free]
     for base, symbol in bases.items():
-        inner, inner_held = _rate_terms(base, variables, rates)
-        base_rate = se.Add(*[slope * rate for slope, rate in inner])
-        terms.append(
-            (held.diff(symbol), base_rate.xreplace(inner_held) if inner_held else base_rate)
-        )
+        base_rate = base_rates.get(base)
+        if base_rate is None:
+            inner, inner_held = _rate_terms(base, variables, rates, base_rates)
+            base_rate = se.Add(*[slope * rate for slope, rate in inner])
+            base_rate = base_rates[base] = (
+                base_rate.xreplace(inner_held) if inner_held else base_rate
+            )
+        terms.append((held.diff(symbol), base_rate))
     return terms, {symbol: base for base, symbol in bases.items()}
 
 
