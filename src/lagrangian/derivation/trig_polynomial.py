@@ -89,7 +89,18 @@ def _times(a: Coefficient, b: Coefficient) -> Coefficient:
 
 
 def _scaled(c: Coefficient, n: Number) -> Coefficient:
+    if n.__class__ is Fraction:
+        # the -1/2 of a Christoffel symbol halves even integers: kept as ints, they keep the
+        # products and sums made of them on integer arithmetic (a Fraction's costs 10x)
+        return {k: _whole(n * v) for k, v in c.items()}
     return {k: n * v for k, v in c.items()}
+
+
+def _whole(value: Number) -> Number:
+    """A whole Fraction as an int (any other number as it is)."""
+    if value.__class__ is Fraction and value.denominator == 1:  # type: ignore[union-attr]
+        return value.numerator  # type: ignore[union-attr]
+    return value
 
 
 def _summed(parts: list[Coefficient]) -> Coefficient:
