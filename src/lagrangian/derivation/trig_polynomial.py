@@ -111,6 +111,30 @@ def _summed(parts: list[Coefficient]) -> Coefficient:
     return out
 
 
+def _add_into(result: Poly, made: set[Key], key: Key, c: Coefficient, n: int = 1) -> None:
+    """Add ``n`` * ``c`` to ``result[key]``: in place when that coefficient was made here
+    (its key in ``made``), else into a copy (a coefficient met once is kept as it is, shared
+    with the polynomial it came from)."""
+    known = result.get(key)
+    if known is None:
+        if n == 1:
+            result[key] = c
+        else:
+            result[key] = _scaled(c, n)
+            made.add(key)
+        return
+    if key not in made:
+        known = result[key] = dict(known)
+        made.add(key)
+    get = known.get
+    if n == 1:
+        for k, v in c.items():
+            known[k] = get(k, 0) + v
+    else:
+        for k, v in c.items():
+            known[k] = get(k, 0) + n * v
+
+
 def _nonzero(c: Coefficient) -> Coefficient:
     return {k: v for k, v in c.items() if v}
 
@@ -377,11 +401,14 @@ class TrigAlgebra:
     # -- arithmetic -----------------------------------------------------------------------
 
     def add(self, polys: Iterable[Poly]) -> Poly:
-        parts: dict[Key, list[Coefficient]] = defaultdict(list)
+        result: Poly = {}
+        made: set[Key] = set()
         for p in polys:
             for k, c in p.items():
-                parts[k].append(c)
-        return self.gather(parts)
+                _add_into(result, made, k, c)
+        if self.limit is not None and len(result) > self.limit:
+            raise PolynomialTooLarge(f"{len(result)} monomials")
+        return result
 
     def multiply(self, a: Poly, b: Poly) -> Poly:
         if len(a) == 1 and ONE in a:
@@ -579,23 +606,25 @@ class TrigAlgebra:
     def sine_form(self, p: Poly) -> Poly:
         """A finished polynomial with every sin^2 x written as 1 - cos^2 x instead (the other
         canonical form)."""
-        parts: dict[Key, list[Coefficient]] = defaultdict(list)
+        result: Poly = {}
+        made: set[Key] = set()
         memo = self._sine_reduced
         for k, c in p.items():
             r = memo.get(k)
             if r is None:
                 r = memo[k] = self._sine_reduction(k)
             if not r or r[0].__class__ is int:  # the monomial itself: no sine squared
-                parts[r].append(c)
+                _add_into(result, made, r, c)
                 continue
             for key, n in _monomials(r):
-                parts[key].append(c if n == 1 else _scaled(c, n))
-        result = {}
-        for k, v in parts.items():
-            # a single coefficient kept as it is is finished already
-            value = v[0] if len(v) == 1 and p.get(k) is v[0] else _nonzero(_summed(v))
+                _add_into(result, made, key, c, n)
+        # only a sum can vanish: p's coefficients, and their integer multiples, are nonzero
+        for key in made:
+            value = _nonzero(result[key])
             if value:
-                result[k] = value
+                result[key] = value
+            else:
+                del result[key]
         return result
 
     def _sine_reduction(self, key: Key) -> Product:
