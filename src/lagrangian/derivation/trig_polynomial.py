@@ -253,7 +253,7 @@ class TrigAlgebra:
         self._irregular: list[bool] = []
         self._coefficients: dict[Backend, Coefficient] = {}  # parameter expressions
         self._parameter_monomials: dict[int, tuple[Backend, bool]] = {}
-        self._built: dict[frozenset[tuple[int, Number]], Backend] = {}
+        self._built: dict[frozenset[tuple[int, Number]], tuple[Backend, int]] = {}
         #: Monomials a product or sum may have before :class:`PolynomialTooLarge` (None: any).
         self.limit: int | None = None
 
@@ -671,6 +671,12 @@ class TrigAlgebra:
         """A coefficient as SymEngine's expanded sum: the canonical sum of number *
         monomial over its terms (expanded by SymEngine, too, when it holds an irregular
         factor), remembered: the same coefficients recur."""
+        return self._built_terms(coefficient)[0]
+
+    def _built_terms(self, coefficient: Coefficient) -> tuple[Backend, int]:
+        """(:meth:`built`, the number of its terms): counted on the coefficient (each packed
+        monomial one term of its own), not on the expression (whose arguments SymEngine
+        would make into Python objects), unless SymEngine expanded it."""
         memo_key = frozenset(coefficient.items())
         known = self._built.get(memo_key)
         if known is None:
@@ -680,8 +686,13 @@ class TrigAlgebra:
                     monomial, odd = self.parameter_monomial(k)
                     terms.append(backend_number(n) * monomial)
                     irregular = irregular or odd
-            known = se.Add(*terms)
-            known = self._built[memo_key] = se.expand(known) if irregular else known
+            expr = se.Add(*terms)
+            if irregular:
+                expr = se.expand(expr)
+                known = (expr, _count(expr))
+            else:
+                known = (expr, len(terms) or 1)  # 0 is one term
+            self._built[memo_key] = known
         return known
 
     def expression(self, p: Poly) -> Backend:
@@ -715,12 +726,15 @@ class TrigAlgebra:
         :data:`FACTORED_TERMS` terms (a longer one is summed by constant monomial: factoring
         it costs more than the rest of its tidying, and reads no better)."""
         groups: dict[Key, list[tuple[Backend, Backend]]] = defaultdict(list)
+        terms: dict[Key, int] = defaultdict(int)
         for k, c in p.items():
             moving, constant = self.split(k)
-            groups[moving].append((self.monomial_expression(constant), self.built(c)))
+            built, count = self._built_terms(c)
+            groups[moving].append((self.monomial_expression(constant), built))
+            terms[moving] += count
         result = []
         for k, parts in groups.items():
-            if sum(_count(c) for _, c in parts) <= FACTORED_TERMS:
+            if terms[k] <= FACTORED_TERMS:
                 coefficient = self._factor_parts(parts)
             else:
                 coefficient = se.Add(*[f * c for f, c in parts])
