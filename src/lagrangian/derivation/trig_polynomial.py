@@ -235,7 +235,9 @@ class TrigAlgebra:
         self.sine: list[bool] = []
         self.moving: list[bool] = []  # the generator depends on the state
         self._converted: dict[Backend, Poly] = {}
-        self._products: dict[Key, Product] = {}  # keyed by (*a, -1, *b): flat
+        #: a * b keyed by b, then a: a product by one monomial runs over the many of a
+        #: polynomial, each looked up with no key made of both
+        self._products: dict[Key, dict[Key, Product]] = {}
         self._derivatives: dict[Key, Poly] = {}  # keyed by (*key, symbol)
         self._gen_derivatives: dict[tuple[int, Backend], Poly] = {}
         self._monomials: dict[Key, Backend] = {}
@@ -302,10 +304,11 @@ class TrigAlgebra:
 
     def remembered(self) -> int:
         """The number of memo entries (conversions, products, derivatives)."""
-        memos: tuple[dict[Any, Any], ...] = (self._converted, self._products, self._derivatives)
+        memos: tuple[dict[Any, Any], ...] = (self._converted, self._derivatives)
         more = (self._factored, self._factored_parts, self._sine_reduced, self._splits)
         built = (self._coefficients, self._parameter_monomials, self._built, self._reductions)
-        return sum(len(memo) for memo in (*memos, *more, *built))
+        products = sum(map(len, self._products.values()))
+        return products + sum(len(memo) for memo in (*memos, *more, *built))
 
     def keep_nested(self, expr: Backend) -> None:
         """Mark ``expr`` as too large to expand: converting it (or an expression that holds
@@ -440,7 +443,7 @@ class TrigAlgebra:
     ) -> None:
         """Add ``scale`` (a coefficient or a number) * monomial ``factor`` * ``p`` to the
         coefficient lists ``target``."""
-        known = self._products  # looked up here: most pairs are known
+        known = self._products_by(factor)  # most pairs are known
         coefficient = isinstance(scale, dict)
         plain = not coefficient and scale.__class__ is int and scale == 1
         for k, c in p.items():
@@ -450,9 +453,9 @@ class TrigAlgebra:
                 value = _times(scale, c)  # type: ignore[arg-type]
             else:
                 value = _scaled(c, scale)  # type: ignore[arg-type]
-            r = known.get((*k, -1, *factor))
+            r = known.get(k)
             if r is None:
-                r = self._product(k, factor)
+                r = known[k] = self._made_product(k, factor)
             if not r or r[0].__class__ is int:  # a monomial
                 target[r].append(value)
                 continue
@@ -484,26 +487,29 @@ class TrigAlgebra:
         return key
 
     def _product(self, a: Key, b: Key) -> Product:
-        memo_key = (*a, -1, *b)  # -1: no index or exponent (also so in multiply, accumulate)
-        memo = self._products.get(memo_key)
-        if memo is not None:
-            return memo
+        """The product of two monomials, remembered."""
+        known = self._products_by(b)
+        product = known.get(a)
+        if product is None:
+            product = known[a] = self._made_product(a, b)
+        return product
+
+    def _products_by(self, b: Key) -> dict[Key, Product]:
+        """The remembered products a * b, keyed by a."""
+        known = self._products.get(b)
+        if known is None:
+            known = self._products[b] = {}
+        return known
+
+    def _made_product(self, a: Key, b: Key) -> Product:
+        """a * b merged, or reduced when it has a cosine squared (where the merge stops)."""
         merged = _merged(a, b, self.cosine)
         if merged is not None:
-            self._products[memo_key] = merged
             return merged
         exponents = dict(pairs(a))
         for i, e in pairs(b):
             exponents[i] = exponents.get(i, 0) + e
-        cosine = self.cosine
-        for i, e in exponents.items():  # a loop, not any(...): this runs for every new pair
-            if e > 1 and cosine[i]:
-                result = self._reduced(exponents)
-                break
-        else:
-            result = _key(exponents.items())
-        self._products[memo_key] = result
-        return result
+        return self._reduced(exponents)
 
     def _reduced(self, exponents: dict[int, int], squares: list[bool] | None = None) -> Terms:
         """The monomial of ``exponents`` with every f(x)**k, k >= 2 (f the cosine, or the
