@@ -32,7 +32,7 @@ import threading
 from collections import defaultdict
 from collections.abc import Iterable, Iterator
 from fractions import Fraction
-from itertools import chain, product
+from itertools import chain
 from math import comb
 from typing import Any
 
@@ -524,25 +524,30 @@ class TrigAlgebra:
             return known
         base: dict[int, int] = {}  # what every term has: the other powers, f**(k mod 2)
         binomials: list[tuple[int, int]] = []  # (g, k // 2) of each f(x)**k
+        partner = self.partner
         for i, e in exponents.items():
-            if e == 0:
-                continue
-            if squares[i] and e >= 2:
+            if e >= 2 and squares[i]:
                 half, rest = divmod(e, 2)
                 if rest:
-                    base[i] = base.get(i, 0) + rest
-                binomials.append((self.partner[i], half))
-            else:
-                base[i] = base.get(i, 0) + e
-        terms: list[Any] = []
-        for picks in product(*[range(half + 1) for _, half in binomials]):
-            powers, n = dict(base), 1
-            for (other, half), j in zip(binomials, picks):
-                if j:  # C(half, j) (-g**2)**j
-                    powers[other] = powers.get(other, 0) + 2 * j
-                    n *= -comb(half, j) if j % 2 else comb(half, j)
-            terms += (_key(powers.items()), n)  # all e > 0
-        result = self._reductions[memo_key] = tuple(terms)
+                    base[i] = rest
+                binomials.append((partner[i], half))
+            elif e:
+                base[i] = e
+        # (powers, factor) of the terms, multiplied out binomial by binomial
+        terms = [(base, 1)]
+        for other, half in binomials:
+            expanded = []
+            for powers, n in terms:
+                expanded.append((powers, n))
+                for j in range(1, half + 1):  # C(half, j) (-g**2)**j
+                    raised = dict(powers)
+                    raised[other] = raised.get(other, 0) + 2 * j
+                    expanded.append((raised, -n * comb(half, j) if j % 2 else n * comb(half, j)))
+            terms = expanded
+        flat: list[Any] = []
+        for powers, n in terms:
+            flat += (_key(powers.items()), n)  # all e > 0
+        result = self._reductions[memo_key] = tuple(flat)
         return result
 
     # -- calculus -------------------------------------------------------------------------
