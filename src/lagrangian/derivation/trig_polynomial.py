@@ -90,17 +90,23 @@ def _times(a: Coefficient, b: Coefficient) -> Coefficient:
 
 def _scaled(c: Coefficient, n: Number) -> Coefficient:
     if n.__class__ is Fraction:
-        # the -1/2 of a Christoffel symbol halves even integers: kept as ints, they keep the
-        # products and sums made of them on integer arithmetic (a Fraction's costs 10x)
-        return {k: _whole(n * v) for k, v in c.items()}
+        return {k: _fraction_times(n, v) for k, v in c.items()}
     return {k: n * v for k, v in c.items()}
 
 
-def _whole(value: Number) -> Number:
-    """A whole Fraction as an int (any other number as it is)."""
-    if value.__class__ is Fraction and value.denominator == 1:  # type: ignore[union-attr]
-        return value.numerator  # type: ignore[union-attr]
-    return value
+def _fraction_times(n: Fraction, v: Number) -> Number:
+    """n * v, a whole product as an int: the -1/2 of a Christoffel symbol halves even
+    integers, and kept as ints they keep the sums and products made of them on integer
+    arithmetic (a Fraction's costs ten times as much)."""
+    if v.__class__ is int:
+        numerator = n.numerator * v
+        if numerator % n.denominator:
+            return Fraction(numerator, n.denominator)
+        return numerator // n.denominator
+    product = n * v
+    if product.__class__ is Fraction and product.denominator == 1:
+        return product.numerator
+    return product
 
 
 def _summed(parts: list[Coefficient]) -> Coefficient:
