@@ -79,6 +79,9 @@ def _times(a: Coefficient, b: Coefficient) -> Coefficient:
         for ka, na in a.items():
             if ka == 0 and na.__class__ is int and na == 1:
                 return b
+            if len(b) == 1:  # most are (a mass times a length): no comprehension to call
+                for kb, nb in b.items():
+                    return {ka + kb: na * nb}
             return {ka + kb: na * nb for kb, nb in b.items()}
     out: Coefficient = {}
     for ka, na in a.items():
