@@ -418,9 +418,13 @@ class TrigAlgebra:
         for p in polys:
             for k, c in p.items():
                 _add_into(result, made, k, c)
-        if self.limit is not None and len(result) > self.limit:
-            raise PolynomialTooLarge(f"{len(result)} monomials")
+        self._check_size(len(result))
         return result
+
+    def _check_size(self, monomials: int) -> None:
+        """Raise :class:`PolynomialTooLarge` for more ``monomials`` than :attr:`limit`."""
+        if self.limit is not None and monomials > self.limit:
+            raise PolynomialTooLarge(f"{monomials} monomials")
 
     def multiply(self, a: Poly, b: Poly) -> Poly:
         if len(a) == 1 and ONE in a:
@@ -473,8 +477,7 @@ class TrigAlgebra:
 
     def gather(self, target: dict[Key, list[Coefficient]]) -> Poly:
         """The polynomial of coefficient lists (see :meth:`accumulate`)."""
-        if self.limit is not None and len(target) > self.limit:
-            raise PolynomialTooLarge(f"{len(target)} monomials")
+        self._check_size(len(target))
         return {k: v[0] if len(v) == 1 else _summed(v) for k, v in target.items()}
 
     def power(self, p: Poly, exponent: int) -> Poly:
@@ -563,12 +566,13 @@ class TrigAlgebra:
 
     def derivative(self, p: Poly, symbol: Backend) -> Poly:
         """dp/d``symbol`` (``symbol`` a state symbol)."""
-        parts = []
+        result: Poly = {}
+        made: set[Key] = set()
         for k, c in p.items():
-            d = self._key_derivative(k, symbol)
-            if d:
-                parts.append(self.scale(d, c))
-        return self.add(parts)
+            for key, value in self._key_derivative(k, symbol).items():
+                _add_into(result, made, key, _times(c, value))
+        self._check_size(len(result))
+        return result
 
     def symbols(self, p: Poly) -> set[Backend]:
         """The state symbols ``p`` depends on (through its generators): a derivative by any
@@ -582,7 +586,7 @@ class TrigAlgebra:
         memo = self._derivatives.get(memo_key)
         if memo is not None:
             return memo
-        parts = []
+        parts: dict[Key, list[Coefficient]] = defaultdict(list)
         for i, e in pairs(key):
             if not self.moving[i]:
                 continue
@@ -590,9 +594,8 @@ class TrigAlgebra:
             if not d:
                 continue
             rest = _key((j, f - 1 if j == i else f) for j, f in pairs(key) if j != i or f > 1)
-            parts.append(self.multiply({rest: {0: e}}, d))
-        result = self.add(parts)
-        self._derivatives[memo_key] = result
+            self.accumulate(parts, d, rest, e)
+        result = self._derivatives[memo_key] = self.gather(parts)
         return result
 
     def _gen_derivative(self, i: int, symbol: Backend) -> Poly:
@@ -652,8 +655,9 @@ class TrigAlgebra:
         it has no sine squared (remembered by :meth:`sine_form`: the same monomials recur in
         every entry)."""
         sine = self.sine
-        if any(e > 1 and sine[i] for i, e in pairs(key)):
-            return self._reduced(dict(pairs(key)), sine)
+        for i, e in pairs(key):  # a loop, not any(...): this runs for every new monomial
+            if e > 1 and sine[i]:
+                return self._reduced(dict(pairs(key)), sine)
         return key
 
     def monomial_expression(self, key: Key) -> Backend:
