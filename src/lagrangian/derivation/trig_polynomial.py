@@ -32,7 +32,7 @@ import threading
 from collections import defaultdict
 from collections.abc import Iterable, Iterator
 from fractions import Fraction
-from itertools import chain, product
+from itertools import chain
 from math import comb
 from typing import Any
 
@@ -79,6 +79,9 @@ def _times(a: Coefficient, b: Coefficient) -> Coefficient:
         for ka, na in a.items():
             if ka == 0 and na.__class__ is int and na == 1:
                 return b
+            if len(b) == 1:  # most are (a mass times a length): no comprehension to call
+                for kb, nb in b.items():
+                    return {ka + kb: na * nb}
             return {ka + kb: na * nb for kb, nb in b.items()}
     out: Coefficient = {}
     for ka, na in a.items():
@@ -89,7 +92,24 @@ def _times(a: Coefficient, b: Coefficient) -> Coefficient:
 
 
 def _scaled(c: Coefficient, n: Number) -> Coefficient:
+    if n.__class__ is Fraction:
+        return {k: _fraction_times(n, v) for k, v in c.items()}
     return {k: n * v for k, v in c.items()}
+
+
+def _fraction_times(n: Fraction, v: Number) -> Number:
+    """n * v, a whole product as an int: the -1/2 of a Christoffel symbol halves even
+    integers, and kept as ints they keep the sums and products made of them on integer
+    arithmetic (a Fraction's costs ten times as much)."""
+    if v.__class__ is int:
+        numerator = n.numerator * v
+        if numerator % n.denominator:
+            return Fraction(numerator, n.denominator)
+        return numerator // n.denominator
+    product = n * v
+    if product.__class__ is Fraction and product.denominator == 1:
+        return product.numerator
+    return product
 
 
 def _summed(parts: list[Coefficient]) -> Coefficient:
@@ -98,6 +118,30 @@ def _summed(parts: list[Coefficient]) -> Coefficient:
         for k, v in c.items():
             out[k] = out.get(k, 0) + v
     return out
+
+
+def _add_into(result: Poly, made: set[Key], key: Key, c: Coefficient, n: int = 1) -> None:
+    """Add ``n`` * ``c`` to ``result[key]``: in place when that coefficient was made here
+    (its key in ``made``), else into a copy (a coefficient met once is kept as it is, shared
+    with the polynomial it came from)."""
+    known = result.get(key)
+    if known is None:
+        if n == 1:
+            result[key] = c
+        else:
+            result[key] = _scaled(c, n)
+            made.add(key)
+        return
+    if key not in made:
+        known = result[key] = dict(known)
+        made.add(key)
+    get = known.get
+    if n == 1:
+        for k, v in c.items():
+            known[k] = get(k, 0) + v
+    else:
+        for k, v in c.items():
+            known[k] = get(k, 0) + n * v
 
 
 def _nonzero(c: Coefficient) -> Coefficient:
@@ -200,7 +244,9 @@ class TrigAlgebra:
         self.sine: list[bool] = []
         self.moving: list[bool] = []  # the generator depends on the state
         self._converted: dict[Backend, Poly] = {}
-        self._products: dict[Key, Product] = {}  # keyed by (*a, -1, *b): flat
+        #: a * b keyed by b, then a: a product by one monomial runs over the many of a
+        #: polynomial, each looked up with no key made of both
+        self._products: dict[Key, dict[Key, Product]] = {}
         self._derivatives: dict[Key, Poly] = {}  # keyed by (*key, symbol)
         self._gen_derivatives: dict[tuple[int, Backend], Poly] = {}
         self._monomials: dict[Key, Backend] = {}
@@ -218,7 +264,7 @@ class TrigAlgebra:
         self._irregular: list[bool] = []
         self._coefficients: dict[Backend, Coefficient] = {}  # parameter expressions
         self._parameter_monomials: dict[int, tuple[Backend, bool]] = {}
-        self._built: dict[frozenset[tuple[int, Number]], Backend] = {}
+        self._built: dict[frozenset[tuple[int, Number]], tuple[Backend, int]] = {}
         #: Monomials a product or sum may have before :class:`PolynomialTooLarge` (None: any).
         self.limit: int | None = None
 
@@ -267,10 +313,11 @@ class TrigAlgebra:
 
     def remembered(self) -> int:
         """The number of memo entries (conversions, products, derivatives)."""
-        memos: tuple[dict[Any, Any], ...] = (self._converted, self._products, self._derivatives)
+        memos: tuple[dict[Any, Any], ...] = (self._converted, self._derivatives)
         more = (self._factored, self._factored_parts, self._sine_reduced, self._splits)
         built = (self._coefficients, self._parameter_monomials, self._built, self._reductions)
-        return sum(len(memo) for memo in (*memos, *more, *built))
+        products = sum(map(len, self._products.values()))
+        return products + sum(len(memo) for memo in (*memos, *more, *built))
 
     def keep_nested(self, expr: Backend) -> None:
         """Mark ``expr`` as too large to expand: converting it (or an expression that holds
@@ -366,11 +413,18 @@ class TrigAlgebra:
     # -- arithmetic -----------------------------------------------------------------------
 
     def add(self, polys: Iterable[Poly]) -> Poly:
-        parts: dict[Key, list[Coefficient]] = defaultdict(list)
+        result: Poly = {}
+        made: set[Key] = set()
         for p in polys:
             for k, c in p.items():
-                parts[k].append(c)
-        return self.gather(parts)
+                _add_into(result, made, k, c)
+        self._check_size(len(result))
+        return result
+
+    def _check_size(self, monomials: int) -> None:
+        """Raise :class:`PolynomialTooLarge` for more ``monomials`` than :attr:`limit`."""
+        if self.limit is not None and monomials > self.limit:
+            raise PolynomialTooLarge(f"{monomials} monomials")
 
     def multiply(self, a: Poly, b: Poly) -> Poly:
         if len(a) == 1 and ONE in a:
@@ -402,7 +456,7 @@ class TrigAlgebra:
     ) -> None:
         """Add ``scale`` (a coefficient or a number) * monomial ``factor`` * ``p`` to the
         coefficient lists ``target``."""
-        known = self._products  # looked up here: most pairs are known
+        known = self._products_by(factor)  # most pairs are known
         coefficient = isinstance(scale, dict)
         plain = not coefficient and scale.__class__ is int and scale == 1
         for k, c in p.items():
@@ -412,9 +466,9 @@ class TrigAlgebra:
                 value = _times(scale, c)  # type: ignore[arg-type]
             else:
                 value = _scaled(c, scale)  # type: ignore[arg-type]
-            r = known.get((*k, -1, *factor))
+            r = known.get(k)
             if r is None:
-                r = self._product(k, factor)
+                r = known[k] = self._made_product(k, factor)
             if not r or r[0].__class__ is int:  # a monomial
                 target[r].append(value)
                 continue
@@ -423,8 +477,7 @@ class TrigAlgebra:
 
     def gather(self, target: dict[Key, list[Coefficient]]) -> Poly:
         """The polynomial of coefficient lists (see :meth:`accumulate`)."""
-        if self.limit is not None and len(target) > self.limit:
-            raise PolynomialTooLarge(f"{len(target)} monomials")
+        self._check_size(len(target))
         return {k: v[0] if len(v) == 1 else _summed(v) for k, v in target.items()}
 
     def power(self, p: Poly, exponent: int) -> Poly:
@@ -446,26 +499,29 @@ class TrigAlgebra:
         return key
 
     def _product(self, a: Key, b: Key) -> Product:
-        memo_key = (*a, -1, *b)  # -1: no index or exponent (also so in multiply, accumulate)
-        memo = self._products.get(memo_key)
-        if memo is not None:
-            return memo
+        """The product of two monomials, remembered."""
+        known = self._products_by(b)
+        product = known.get(a)
+        if product is None:
+            product = known[a] = self._made_product(a, b)
+        return product
+
+    def _products_by(self, b: Key) -> dict[Key, Product]:
+        """The remembered products a * b, keyed by a."""
+        known = self._products.get(b)
+        if known is None:
+            known = self._products[b] = {}
+        return known
+
+    def _made_product(self, a: Key, b: Key) -> Product:
+        """a * b merged, or reduced when it has a cosine squared (where the merge stops)."""
         merged = _merged(a, b, self.cosine)
         if merged is not None:
-            self._products[memo_key] = merged
             return merged
         exponents = dict(pairs(a))
         for i, e in pairs(b):
             exponents[i] = exponents.get(i, 0) + e
-        cosine = self.cosine
-        for i, e in exponents.items():  # a loop, not any(...): this runs for every new pair
-            if e > 1 and cosine[i]:
-                result = self._reduced(exponents)
-                break
-        else:
-            result = _key(exponents.items())
-        self._products[memo_key] = result
-        return result
+        return self._reduced(exponents)
 
     def _reduced(self, exponents: dict[int, int], squares: list[bool] | None = None) -> Terms:
         """The monomial of ``exponents`` with every f(x)**k, k >= 2 (f the cosine, or the
@@ -480,37 +536,43 @@ class TrigAlgebra:
             return known
         base: dict[int, int] = {}  # what every term has: the other powers, f**(k mod 2)
         binomials: list[tuple[int, int]] = []  # (g, k // 2) of each f(x)**k
+        partner = self.partner
         for i, e in exponents.items():
-            if e == 0:
-                continue
-            if squares[i] and e >= 2:
+            if e >= 2 and squares[i]:
                 half, rest = divmod(e, 2)
                 if rest:
-                    base[i] = base.get(i, 0) + rest
-                binomials.append((self.partner[i], half))
-            else:
-                base[i] = base.get(i, 0) + e
-        terms: list[Any] = []
-        for picks in product(*[range(half + 1) for _, half in binomials]):
-            powers, n = dict(base), 1
-            for (other, half), j in zip(binomials, picks):
-                if j:  # C(half, j) (-g**2)**j
-                    powers[other] = powers.get(other, 0) + 2 * j
-                    n *= -comb(half, j) if j % 2 else comb(half, j)
-            terms += (_key(powers.items()), n)  # all e > 0
-        result = self._reductions[memo_key] = tuple(terms)
+                    base[i] = rest
+                binomials.append((partner[i], half))
+            elif e:
+                base[i] = e
+        # (powers, factor) of the terms, multiplied out binomial by binomial
+        terms = [(base, 1)]
+        for other, half in binomials:
+            expanded = []
+            for powers, n in terms:
+                expanded.append((powers, n))
+                for j in range(1, half + 1):  # C(half, j) (-g**2)**j
+                    raised = dict(powers)
+                    raised[other] = raised.get(other, 0) + 2 * j
+                    expanded.append((raised, -n * comb(half, j) if j % 2 else n * comb(half, j)))
+            terms = expanded
+        flat: list[Any] = []
+        for powers, n in terms:
+            flat += (_key(powers.items()), n)  # all e > 0
+        result = self._reductions[memo_key] = tuple(flat)
         return result
 
     # -- calculus -------------------------------------------------------------------------
 
     def derivative(self, p: Poly, symbol: Backend) -> Poly:
         """dp/d``symbol`` (``symbol`` a state symbol)."""
-        parts = []
+        result: Poly = {}
+        made: set[Key] = set()
         for k, c in p.items():
-            d = self._key_derivative(k, symbol)
-            if d:
-                parts.append(self.scale(d, c))
-        return self.add(parts)
+            for key, value in self._key_derivative(k, symbol).items():
+                _add_into(result, made, key, _times(c, value))
+        self._check_size(len(result))
+        return result
 
     def symbols(self, p: Poly) -> set[Backend]:
         """The state symbols ``p`` depends on (through its generators): a derivative by any
@@ -524,7 +586,7 @@ class TrigAlgebra:
         memo = self._derivatives.get(memo_key)
         if memo is not None:
             return memo
-        parts = []
+        parts: dict[Key, list[Coefficient]] = defaultdict(list)
         for i, e in pairs(key):
             if not self.moving[i]:
                 continue
@@ -532,9 +594,8 @@ class TrigAlgebra:
             if not d:
                 continue
             rest = _key((j, f - 1 if j == i else f) for j, f in pairs(key) if j != i or f > 1)
-            parts.append(self.multiply({rest: {0: e}}, d))
-        result = self.add(parts)
-        self._derivatives[memo_key] = result
+            self.accumulate(parts, d, rest, e)
+        result = self._derivatives[memo_key] = self.gather(parts)
         return result
 
     def _gen_derivative(self, i: int, symbol: Backend) -> Poly:
@@ -568,23 +629,25 @@ class TrigAlgebra:
     def sine_form(self, p: Poly) -> Poly:
         """A finished polynomial with every sin^2 x written as 1 - cos^2 x instead (the other
         canonical form)."""
-        parts: dict[Key, list[Coefficient]] = defaultdict(list)
+        result: Poly = {}
+        made: set[Key] = set()
         memo = self._sine_reduced
         for k, c in p.items():
             r = memo.get(k)
             if r is None:
                 r = memo[k] = self._sine_reduction(k)
             if not r or r[0].__class__ is int:  # the monomial itself: no sine squared
-                parts[r].append(c)
+                _add_into(result, made, r, c)
                 continue
             for key, n in _monomials(r):
-                parts[key].append(c if n == 1 else _scaled(c, n))
-        result = {}
-        for k, v in parts.items():
-            # a single coefficient kept as it is is finished already
-            value = v[0] if len(v) == 1 and p.get(k) is v[0] else _nonzero(_summed(v))
+                _add_into(result, made, key, c, n)
+        # only a sum can vanish: p's coefficients, and their integer multiples, are nonzero
+        for key in made:
+            value = _nonzero(result[key])
             if value:
-                result[k] = value
+                result[key] = value
+            else:
+                del result[key]
         return result
 
     def _sine_reduction(self, key: Key) -> Product:
@@ -592,8 +655,9 @@ class TrigAlgebra:
         it has no sine squared (remembered by :meth:`sine_form`: the same monomials recur in
         every entry)."""
         sine = self.sine
-        if any(e > 1 and sine[i] for i, e in pairs(key)):
-            return self._reduced(dict(pairs(key)), sine)
+        for i, e in pairs(key):  # a loop, not any(...): this runs for every new monomial
+            if e > 1 and sine[i]:
+                return self._reduced(dict(pairs(key)), sine)
         return key
 
     def monomial_expression(self, key: Key) -> Backend:
@@ -631,6 +695,12 @@ class TrigAlgebra:
         """A coefficient as SymEngine's expanded sum: the canonical sum of number *
         monomial over its terms (expanded by SymEngine, too, when it holds an irregular
         factor), remembered: the same coefficients recur."""
+        return self._built_terms(coefficient)[0]
+
+    def _built_terms(self, coefficient: Coefficient) -> tuple[Backend, int]:
+        """(:meth:`built`, the number of its terms): counted on the coefficient (each packed
+        monomial one term of its own), not on the expression (whose arguments SymEngine
+        would make into Python objects), unless SymEngine expanded it."""
         memo_key = frozenset(coefficient.items())
         known = self._built.get(memo_key)
         if known is None:
@@ -640,8 +710,13 @@ class TrigAlgebra:
                     monomial, odd = self.parameter_monomial(k)
                     terms.append(backend_number(n) * monomial)
                     irregular = irregular or odd
-            known = se.Add(*terms)
-            known = self._built[memo_key] = se.expand(known) if irregular else known
+            expr = se.Add(*terms)
+            if irregular:
+                expr = se.expand(expr)
+                known = (expr, _count(expr))
+            else:
+                known = (expr, len(terms) or 1)  # 0 is one term
+            self._built[memo_key] = known
         return known
 
     def expression(self, p: Poly) -> Backend:
@@ -675,12 +750,15 @@ class TrigAlgebra:
         :data:`FACTORED_TERMS` terms (a longer one is summed by constant monomial: factoring
         it costs more than the rest of its tidying, and reads no better)."""
         groups: dict[Key, list[tuple[Backend, Backend]]] = defaultdict(list)
+        terms: dict[Key, int] = defaultdict(int)
         for k, c in p.items():
             moving, constant = self.split(k)
-            groups[moving].append((self.monomial_expression(constant), self.built(c)))
+            built, count = self._built_terms(c)
+            groups[moving].append((self.monomial_expression(constant), built))
+            terms[moving] += count
         result = []
         for k, parts in groups.items():
-            if sum(_count(c) for _, c in parts) <= FACTORED_TERMS:
+            if terms[k] <= FACTORED_TERMS:
                 coefficient = self._factor_parts(parts)
             else:
                 coefficient = se.Add(*[f * c for f, c in parts])
