@@ -706,9 +706,13 @@ def spatial_angular_velocity(
 
 def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) -> np.ndarray | None:
     """The real numbers of ``matrix`` at ``values``; None if any entry is not finite and real."""
-    exact = {s: sp.Float(v, 30) for s, v in values.items()}
+    entries = [to_sympy(e) for e in matrix]
+    # only the symbols of the entries are made 30-digit numbers (a System's samples give
+    # every coordinate and parameter a value, a body's inertia has a few of them)
+    used = set().union(*(e.free_symbols for e in entries))
+    exact = {s: sp.Float(v, 30) for s, v in values.items() if s in used}
     try:
-        entries = [complex(to_sympy(e).xreplace(exact).evalf(30)) for e in matrix]
+        entries = [complex(e.xreplace(exact).evalf(30)) for e in entries]
     except (TypeError, ValueError, ZeroDivisionError):
         return None
     array = np.array(entries).reshape(matrix.shape)
