@@ -100,9 +100,20 @@ def vee(skew: sp.MatrixBase) -> sp.ImmutableMatrix:
 
 
 def _unit(axis: Sequence[Any]) -> sp.ImmutableMatrix:
+    """n / |n| of the axis n (itself when |n|^2 expands to 1)."""
+    try:  # the same few axes recur: each rotation, composed and differentiated, asks again
+        return _remembered_unit(tuple(axis))
+    except TypeError:  # an unhashable expression in it
+        return _unit_of(tuple(axis))
+
+
+def _unit_of(axis: tuple[Any, ...]) -> sp.ImmutableMatrix:
     n = sp.ImmutableMatrix([to_sympy(a) for a in axis])
     length_squared = sp.expand(n.dot(n))
     return n if length_squared == 1 else n / sp.sqrt(length_squared)
+
+
+_remembered_unit = remembered(maxsize=REMEMBERED)(_unit_of)
 
 
 def _about(unit_axis: sp.ImmutableMatrix, angle: Any) -> sp.ImmutableMatrix:

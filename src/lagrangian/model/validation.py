@@ -7,7 +7,6 @@ import math
 import random
 import sys
 from collections.abc import Iterable, Mapping
-from functools import lru_cache
 from types import MappingProxyType
 from typing import Any
 
@@ -26,6 +25,7 @@ from lagrangian.model.elements import ORIGIN
 from lagrangian.model.inertia import Shape, check_inertia
 from lagrangian.model.rotation import Orientation, check_rotation
 from lagrangian.model.transitions import check_transitions
+from lagrangian.symbolic.caches import remembered
 from lagrangian.symbolic.expressions import (
     closest_name,
     distinct_parts,
@@ -436,7 +436,7 @@ def _samples(values: dict) -> tuple[Mapping[sp.Symbol, float], ...]:
     return _samples_of(tuple(values["coordinates"]), tuple(values["parameters"].items()))
 
 
-@lru_cache(maxsize=8)
+@remembered(maxsize=8)
 def _samples_of(
     coordinates: tuple[sp.Symbol, ...], parameters: tuple[tuple[sp.Symbol, float | None], ...]
 ) -> tuple[Mapping[sp.Symbol, float], ...]:
