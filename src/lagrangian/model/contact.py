@@ -55,7 +55,7 @@ from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
 from lagrangian.model.validation import CONFIGURATION, NameScope
 from lagrangian.symbolic.caches import IdentityCache, remembered
-from lagrangian.symbolic.expressions import distinct_parts
+from lagrangian.symbolic.expressions import distinct_parts, free_symbols
 from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
 from lagrangian.symbolic.probe import is_zero
 from lagrangian.symbolic.symbols import t, velocity
@@ -356,8 +356,9 @@ def _sympy_view(body: RigidBody, disc: RollingDisc, *more: Any) -> SympyView:
     the disc (the square root of a steered wheel's tilt is in most of their terms), sums and
     products that are canonical already made without SymPy's general evaluation."""
     symbols: set[sp.Symbol] = {t}
-    for value in (*body.position, body.orientation.matrix, disc.radius, disc.tyre_radius):  # type: ignore[union-attr]
-        symbols |= value.free_symbols
+    matrix = body.orientation.matrix  # type: ignore[union-attr]
+    for value in (*body.position, *matrix, disc.radius, disc.tyre_radius):
+        symbols |= free_symbols(value)  # the entries of a product of rotations share parts
     for group in more:
         symbols.update(group)
     return SympyView(s for s in symbols if isinstance(s, sp.Symbol))
