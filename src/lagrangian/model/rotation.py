@@ -52,6 +52,8 @@ EULER_SEQUENCES = (
 _AXES = {"X": 0, "Y": 1, "Z": 2}
 #: The names of the body axes a simple rotation may turn about (or give a vector).
 AXIS_NAMES = ("x", "y", "z")
+#: Their unit vectors, the columns (and rows) of the identity.
+_BODY_AXES = tuple(tuple(sp.eye(3)[:, i]) for i in range(3))
 FORMS = ("matrix", "euler", "axis_angle", "quaternion", "rotations")
 #: Rotations with moving angles up to which a composed angular velocity is expanded.
 EXPANDED_TURNS = 6
@@ -265,7 +267,7 @@ def rotation_axis(axis: Any, field: str = "axis") -> tuple[sp.Expr, ...]:
     """
     if isinstance(axis, str):
         if axis.lower() in AXIS_NAMES:
-            return tuple(sp.eye(3)[:, AXIS_NAMES.index(axis.lower())])
+            return _BODY_AXES[AXIS_NAMES.index(axis.lower())]
         close = difflib.get_close_matches(axis.lower(), AXIS_NAMES, n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
         fix = hint + "use x, y or z (the body's own axes) or a vector [a, b, c]"
@@ -300,7 +302,7 @@ def rotation_sequence(rotations: Iterable[Any], parent: Any = None) -> Orientati
         axis, angle = item
         turns.append((rotation_axis(axis, field), as_expression(angle, field)))
     base = None if parent is None else as_orientation(parent)
-    rows = (sp.eye(3) if base is None else base.matrix).tolist()
+    rows = [list(axis) for axis in _BODY_AXES] if base is None else base.matrix.tolist()
     for axis, angle in turns:
         rows = _turned(rows, axis, angle)
     return Orientation(sp.ImmutableMatrix(rows), "rotations", rotations=tuple(turns), parent=base)
