@@ -725,13 +725,18 @@ def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) ->
     used = set().union(*(e.free_symbols for e in entries))
     exact = {s: sp.Float(v, 30) for s, v in values.items() if s in used}
     try:
-        entries = [complex(e.xreplace(exact).evalf(30)) for e in entries]
+        entries = [complex(_evaluated(e.xreplace(exact))) for e in entries]
     except (TypeError, ValueError, ZeroDivisionError):
         return None
     array = np.array(entries).reshape(matrix.shape)
     if not np.all(np.isfinite(array)) or np.max(np.abs(array.imag)) > 1e-12:
         return None
     return array.real
+
+
+def _evaluated(value: sp.Expr) -> sp.Expr:
+    """``value`` to 30 digits (a Float of them, or 0, as it is already)."""
+    return value if value.is_Float or value is sp.S.Zero else value.evalf(30)
 
 
 def _in_backend(matrix: sp.MatrixBase) -> list[Any] | None:
