@@ -40,6 +40,7 @@ import sympy as sp
 from lagrangian.errors import ModelError, Problem
 from lagrangian.model.rotation_factors import Factoring, factor_rotation, pythagorean_reduced
 from lagrangian.symbolic.caches import remembered
+from lagrangian.symbolic.canonical import Builder, sympy_product, sympy_sum
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
 from lagrangian.symbolic.symbols import t, time_derivative, velocity
@@ -303,16 +304,21 @@ def rotation_sequence(rotations: Iterable[Any], parent: Any = None) -> Orientati
         turns.append((rotation_axis(axis, field), as_expression(angle, field)))
     base = None if parent is None else as_orientation(parent)
     rows = [list(axis) for axis in _BODY_AXES] if base is None else base.matrix.tolist()
+    builder = Builder()  # the products of one turn are the sums of the next
     for axis, angle in turns:
-        rows = _turned(rows, axis, angle)
+        rows = _turned(rows, axis, angle, builder)
     return Orientation(sp.ImmutableMatrix(rows), "rotations", rotations=tuple(turns), parent=base)
 
 
-def _turned(rows: list[list[Any]], axis: Sequence[Any], angle: Any) -> list[list[Any]]:
+def _turned(
+    rows: list[list[Any]], axis: Sequence[Any], angle: Any, builder: Builder
+) -> list[list[Any]]:
     """The rows of the matrix times R1(angle) about ``axis``.  About a coordinate axis i only
     the other two columns change, (j, k) cyclic after i: c col_j + s col_k and
     -s col_j + c col_k (the product itself, entry by entry, without its multiplications by 0
-    and 1 nor a matrix's bookkeeping: a tenth of the time on a bicycle's fork)."""
+    and 1 nor a matrix's bookkeeping, its sums and products made as SymPy makes them without
+    its general evaluation where nothing combines: a tenth of the time on a bicycle's
+    fork)."""
     unit = _unit(axis)
     ones = [i for i, e in enumerate(unit) if e == 1]
     if len(ones) != 1 or any(e != 0 for i, e in enumerate(unit) if i != ones[0]):
@@ -321,14 +327,14 @@ def _turned(rows: list[list[Any]], axis: Sequence[Any], angle: Any) -> list[list
     c, s = sp.cos(angle), sp.sin(angle)
     turned = [list(row) for row in rows]
     for row, new in zip(rows, turned):
-        new[j] = _scaled(row[j], c) + _scaled(row[k], s)
-        new[k] = _scaled(row[k], c) - _scaled(row[j], s)
+        new[j] = sympy_sum([_scaled(row[j], c, builder), _scaled(row[k], s, builder)], builder)
+        new[k] = sympy_sum([_scaled(row[k], c, builder), -_scaled(row[j], s, builder)], builder)
     return turned
 
 
-def _scaled(entry: Any, factor: Any) -> Any:
+def _scaled(entry: Any, factor: Any, builder: Builder) -> Any:
     """entry * factor as a matrix's product by a scalar makes it (a zero entry stays 0)."""
-    return entry * factor if entry != 0 else entry
+    return sympy_product([entry, factor], builder) if entry != 0 else entry
 
 
 def _norm_squared(w: Any, x: Any, y: Any, z: Any) -> sp.Expr:
