@@ -43,6 +43,29 @@ TEXTS = {
     "empty values": "coordinates:\nparameters: {m: }\n",
 }
 
+#: Texts whose characters read apart (?!|>) are in full-line comments only, or in lines that
+#: look like comments inside a quoted or block scalar.
+COMMENTED = {
+    "above and below": "# steer > 0 turns right? yes! |a|\nx: 1\n# the end >\n",
+    "indented in a map": "a:\n  # b > 0?\n  b: 1\n    # !c |\n  c: [1, 2]\n",
+    "between items": "- 1\n  # ?\n- 2\n# !!str\n- [3]\n",
+    "in a flow": "a: [1,\n  # > ?\n  2, {b: 3,\n # |\n c: 4}]\n",
+    "in a plain scalar": "a: one\n  # two > one?\n",
+    "plain on after it": "a: one\n  # two > one?\n  three\n",
+    "CR line breaks": "# a > b\rx: 1\r  # ?\ry: 2\r",
+    "CRLF line breaks": "# a > b\r\nx: 1\r\n  # ?\r\n",
+    "hash alone": "#>\n#\nx: 1 # not a full line, no mark\n",
+    "in double quotes": 'a: "one\n  # two > one? !\n  three"\nb: 1\n',
+    "in single quotes": "a: 'one\n  # it''s | >\n  three'\nb: 1\n",
+    "a quoted key": '{"one\n  # ? two": 1}\n',
+    "a quote closing on it": 'a: ["one\n  # two", ? three]\n',
+    "a quote closing, then a tag": '{"one\n # two": !!str }\n',
+    "a quote closing, then a block": 'a: "one\n # two" |\n  three\n',
+    "in a block scalar": "a: |\n  one\n  # two > one?\nb: >\n  # ! |\n",
+    "a tab elsewhere": "# >\na:\t1\n",
+    "not a comment after all": "a: 1\n  b # ?\n",
+}
+
 
 def both_ways(read, text: str, monkeypatch: pytest.MonkeyPatch):
     """What ``read`` makes of ``text`` with libyaml, then with PyYAML alone (document data,
@@ -70,6 +93,36 @@ def test_the_example_models_compose_alike(path: Path, monkeypatch: pytest.Monkey
 def test_texts_compose_alike(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
     fast, python = both_ways(read_yaml, TEXTS[name], monkeypatch)
     assert fast == python
+
+
+@pytest.mark.parametrize("name", COMMENTED)
+def test_texts_with_comments_compose_alike(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    fast, python = both_ways(read_yaml, COMMENTED[name], monkeypatch)
+    assert fast == python
+
+
+@pytest.mark.parametrize(
+    ("name", "by_libyaml"),
+    [
+        ("above and below", True),
+        ("indented in a map", True),
+        ("in a flow", True),
+        ("CR line breaks", True),
+        ("in double quotes", False),  # the line is the string's text, not a comment
+        ("a quoted key", False),
+        ("a quote closing, then a tag", False),
+        ("a tab elsewhere", False),
+        ("not a comment after all", False),
+    ],
+)
+def test_only_comments_hold_what_reads_apart(name: str, by_libyaml: bool) -> None:
+    assert (yaml_tree._composed_alike(COMMENTED[name]) is not None) == by_libyaml
+
+
+def test_the_bicycle_with_a_condition_in_its_comment_is_composed_by_libyaml() -> None:
+    text = lg.examples.model_text("whipple_bicycle")
+    assert ">" in text
+    assert yaml_tree._composed_alike(text) is not None
 
 
 def test_json_composes_alike(monkeypatch: pytest.MonkeyPatch) -> None:

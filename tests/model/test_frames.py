@@ -17,9 +17,11 @@ from lagrangian.errors import ModelError
 from lagrangian.io.dump import dumps
 from lagrangian.model import Frame, RigidBody, System, rotation_sequence, shape
 from lagrangian.model.rotation import (
+    axis_angle,
     body_angular_velocity,
     euler_rotation,
     quaternion_rotation,
+    rotation_axis,
     spatial_angular_velocity,
 )
 from lagrangian.symbolic.symbols import velocity
@@ -89,6 +91,27 @@ def test_a_chain_of_parents_and_a_tilted_axis_compose_like_mechanics() -> None:
     omega = third.ang_vel_in(world)
     _agree(body_angular_velocity(C, q), _plain(omega.to_matrix(third), list("abcd")), SYMBOLS)
     _agree(spatial_angular_velocity(C, q), _plain(omega.to_matrix(world), list("abcd")), SYMBOLS)
+
+
+@pytest.mark.parametrize(
+    ("parent_turns", "turns"),
+    [
+        ([("z", a), ("x", b), ("y", c)], [("y", -d), ("z", -a), ("y", d)]),  # a bicycle's fork
+        ([("x", a)], [((0, 2, 0), b), ((0, -1, 0), c), ((1, 1, 0), d)]),  # scaled, tilted axes
+        ([], [("z", 0), ("x", sp.pi / 3), ("y", a + b)]),
+    ],
+)
+def test_the_composed_matrix_is_the_product_of_the_rotation_matrices(
+    parent_turns: list, turns: list
+) -> None:
+    """The same entries, tree for tree, as R_parent R1 R2 ... multiplied as SymPy matrices
+    (each Rk by Rodrigues' formula)."""
+    parent = rotation_sequence(parent_turns) if parent_turns else None
+    product = sp.eye(3) if parent is None else sp.Matrix(parent.matrix)
+    for axis, angle in turns:
+        product = product * axis_angle(rotation_axis(axis), angle).matrix
+    composed = rotation_sequence(turns, parent=parent).matrix
+    assert sp.srepr(composed) == sp.srepr(sp.ImmutableMatrix(product))
 
 
 def test_a_parent_given_by_a_quaternion_composes_its_angular_velocity() -> None:

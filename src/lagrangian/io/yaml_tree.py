@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import re
+from collections.abc import Iterator
 from typing import Any
 
 import yaml
@@ -193,47 +194,76 @@ def _compose(text: str, source: str, language: str) -> yaml.Node | None:
 
 #: Characters of YAML that libyaml and PyYAML read differently somewhere (a tab after a
 #: value, ``|#``, a tag on nothing, an explicit key with nothing after it): a text with one
-#: of them is composed by PyYAML.  Model files of expressions use none of them, except
-#: ``>`` in a condition and ``|`` or ``>`` for a long expression.
+#: of them is composed by PyYAML, unless it is in a comment (:func:`_commented_read_apart`).
+#: Model files of expressions use none of them, except ``>`` in a condition and ``|`` or
+#: ``>`` for a long expression.
 _READ_APART = frozenset("\t?!|>")
+#: YAML's line breaks in an ASCII text (those that its marks count).
+_LINE_BREAK = re.compile(r"\r\n|\r|\n")
 
 
 def _composed_alike(text: str) -> yaml.Node | None:
     """The node tree of ``text`` composed by libyaml, when it is the very tree PyYAML would
     compose (values, tags, lines and columns); None when that is not sure: libyaml missing, a
     text not ASCII (its marks then count characters as PyYAML's do) or with a character of
-    :data:`_READ_APART`, nested deeper than :data:`MAX_DEPTH` (libyaml's composer recurses in
-    C, beyond Python's recursion limit), not read by libyaml, or holding an empty value
-    (libyaml places some of them a column apart from PyYAML)."""
-    if _FastLoader is None or not text.isascii() or not _READ_APART.isdisjoint(text):
+    :data:`_READ_APART` outside full-line comments, nested deeper than :data:`MAX_DEPTH`
+    (libyaml's composer recurses in C, beyond Python's recursion limit), not read by libyaml,
+    holding an empty value (libyaml places some of them a column apart from PyYAML), or with
+    a quoted or block scalar across a line that looks like a comment and holds such a
+    character (it is the scalar's text then, and a quote closing on it may be followed by
+    YAML read apart)."""
+    if _FastLoader is None or not text.isascii():
         return None
-    if not _nests_within(text, MAX_DEPTH):
+    commented = _commented_read_apart(text)
+    if commented is None or not _nests_within(text, MAX_DEPTH):
         return None
     try:
         node = yaml.compose(text, Loader=_FastLoader)
     except yaml.YAMLError:
         return None
-    return node if node is None or not _holds_empty_value(node) else None
+    for scalar in _distinct_scalars(node):
+        if scalar.value == "" and not scalar.style:
+            return None  # an empty value
+        start, end = scalar.start_mark.line, scalar.end_mark.line
+        if commented and scalar.style and any(start <= line <= end for line in commented):
+            return None
+    return node
 
 
-def _holds_empty_value(node: yaml.Node) -> bool:
-    """Whether a plain scalar without text (an empty value) is in the tree of ``node`` (each
-    node once: an alias is the node it names, and nested aliases would repeat it 9**10
-    times)."""
-    stack, seen = [node], set()
+def _commented_read_apart(text: str) -> list[int] | None:
+    """The lines (from 0) holding a character of :data:`_READ_APART` that look like full-line
+    comments (spaces, then ``#``); None when a tab is anywhere or such a character is on any
+    other line.  Both parsers skip a comment whole, so what it holds cannot read apart; a
+    line that looks like one and is not, inside a quoted or block scalar, is found by
+    :func:`_composed_alike` from the scalars' marks."""
+    if _READ_APART.isdisjoint(text):
+        return []
+    if "\t" in text:
+        return None
+    lines = []
+    for number, line in enumerate(_LINE_BREAK.split(text)):
+        if not _READ_APART.isdisjoint(line):
+            if not line.lstrip(" ").startswith("#"):
+                return None
+            lines.append(number)
+    return lines
+
+
+def _distinct_scalars(node: yaml.Node | None) -> Iterator[yaml.ScalarNode]:
+    """The scalar nodes in the tree of ``node``, each once (an alias is the node it names,
+    and nested aliases would repeat it 9**10 times)."""
+    stack, seen = [node] if node is not None else [], set()
     while stack:
         node = stack.pop()
         if id(node) in seen:
             continue
         seen.add(id(node))
         if isinstance(node, yaml.ScalarNode):
-            if node.value == "" and not node.style:
-                return True
+            yield node
         elif isinstance(node, yaml.MappingNode):
             stack.extend(part for pair in node.value for part in pair)
         else:
             stack.extend(node.value)
-    return False
 
 
 def _nests_within(text: str, depth: int) -> bool:

@@ -54,13 +54,15 @@ from lagrangian.model.elements import Force, RigidBody, Torque, as_expression
 from lagrangian.model.inertia import Shape
 from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
 from lagrangian.model.validation import CONFIGURATION, NameScope
-from lagrangian.symbolic.caches import IdentityCache
-from lagrangian.symbolic.expressions import distinct_parts
+from lagrangian.symbolic.caches import IdentityCache, remembered
+from lagrangian.symbolic.expressions import distinct_parts, free_symbols
 from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
 from lagrangian.symbolic.probe import is_zero
 from lagrangian.symbolic.symbols import t, velocity
 from lagrangian.symbolic.sympy_view import SympyView
 
+#: The powers whose form in cosines (:func:`_in_cosines`) is remembered.
+SINE_POWERS = 1024
 #: Shapes whose axis of symmetry is a wheel's axle.
 WHEEL_SHAPES = ("disc", "ring", "cylinder")
 
@@ -318,14 +320,24 @@ def _shorter(expr: Any) -> Any:
     gives fewer terms."""
     table = {}
     for power in _powers(expr):
-        base, exponent = power.args
-        if isinstance(base, se.sin) and exponent.is_Integer and int(exponent) >= 2:
-            k, rest = divmod(int(exponent), 2)
-            table[power] = base**rest * (1 - se.cos(base.args[0]) ** 2) ** k
+        written = _in_cosines(power)
+        if written is not None:
+            table[power] = written
     if not table:
         return expr
     reduced = se.expand(expr.xreplace(table))
     return reduced if _terms(reduced) < _terms(expr) else expr
+
+
+@remembered(maxsize=SINE_POWERS)
+def _in_cosines(power: Any) -> Any:
+    """sin(u)^k, k >= 2, as sin(u)^(k mod 2) (1 - cos(u)^2)^(k div 2); None for any other
+    power (the same few recur in every coefficient of a wheel's constraints)."""
+    base, exponent = power.args
+    if not (isinstance(base, se.sin) and exponent.is_Integer and int(exponent) >= 2):
+        return None
+    k, rest = divmod(int(exponent), 2)
+    return base**rest * (1 - se.cos(base.args[0]) ** 2) ** k
 
 
 def _powers(expr: Any) -> list[Any]:
@@ -344,8 +356,9 @@ def _sympy_view(body: RigidBody, disc: RollingDisc, *more: Any) -> SympyView:
     the disc (the square root of a steered wheel's tilt is in most of their terms), sums and
     products that are canonical already made without SymPy's general evaluation."""
     symbols: set[sp.Symbol] = {t}
-    for value in (*body.position, body.orientation.matrix, disc.radius, disc.tyre_radius):  # type: ignore[union-attr]
-        symbols |= value.free_symbols
+    matrix = body.orientation.matrix  # type: ignore[union-attr]
+    for value in (*body.position, *matrix, disc.radius, disc.tyre_radius):
+        symbols |= free_symbols(value)  # the entries of a product of rotations share parts
     for group in more:
         symbols.update(group)
     return SympyView(s for s in symbols if isinstance(s, sp.Symbol))

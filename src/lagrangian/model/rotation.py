@@ -40,6 +40,7 @@ import sympy as sp
 from lagrangian.errors import ModelError, Problem
 from lagrangian.model.rotation_factors import Factoring, factor_rotation, pythagorean_reduced
 from lagrangian.symbolic.caches import remembered
+from lagrangian.symbolic.canonical import Builder, sympy_product, sympy_sum
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
 from lagrangian.symbolic.symbols import t, time_derivative, velocity
@@ -52,6 +53,8 @@ EULER_SEQUENCES = (
 _AXES = {"X": 0, "Y": 1, "Z": 2}
 #: The names of the body axes a simple rotation may turn about (or give a vector).
 AXIS_NAMES = ("x", "y", "z")
+#: Their unit vectors, the columns (and rows) of the identity.
+_BODY_AXES = tuple(tuple(sp.eye(3)[:, i]) for i in range(3))
 FORMS = ("matrix", "euler", "axis_angle", "quaternion", "rotations")
 #: Rotations with moving angles up to which a composed angular velocity is expanded.
 EXPANDED_TURNS = 6
@@ -100,9 +103,20 @@ def vee(skew: sp.MatrixBase) -> sp.ImmutableMatrix:
 
 
 def _unit(axis: Sequence[Any]) -> sp.ImmutableMatrix:
+    """n / |n| of the axis n (itself when |n|^2 expands to 1)."""
+    try:  # the same few axes recur: each rotation, composed and differentiated, asks again
+        return _remembered_unit(tuple(axis))
+    except TypeError:  # an unhashable expression in it
+        return _unit_of(tuple(axis))
+
+
+def _unit_of(axis: tuple[Any, ...]) -> sp.ImmutableMatrix:
     n = sp.ImmutableMatrix([to_sympy(a) for a in axis])
     length_squared = sp.expand(n.dot(n))
     return n if length_squared == 1 else n / sp.sqrt(length_squared)
+
+
+_remembered_unit = remembered(maxsize=REMEMBERED)(_unit_of)
 
 
 def _about(unit_axis: sp.ImmutableMatrix, angle: Any) -> sp.ImmutableMatrix:
@@ -254,7 +268,7 @@ def rotation_axis(axis: Any, field: str = "axis") -> tuple[sp.Expr, ...]:
     """
     if isinstance(axis, str):
         if axis.lower() in AXIS_NAMES:
-            return tuple(sp.eye(3)[:, AXIS_NAMES.index(axis.lower())])
+            return _BODY_AXES[AXIS_NAMES.index(axis.lower())]
         close = difflib.get_close_matches(axis.lower(), AXIS_NAMES, n=1)
         hint = f"did you mean {close[0]!r}? " if close else ""
         fix = hint + "use x, y or z (the body's own axes) or a vector [a, b, c]"
@@ -289,27 +303,38 @@ def rotation_sequence(rotations: Iterable[Any], parent: Any = None) -> Orientati
         axis, angle = item
         turns.append((rotation_axis(axis, field), as_expression(angle, field)))
     base = None if parent is None else as_orientation(parent)
-    matrix = sp.eye(3) if base is None else sp.Matrix(base.matrix)
+    rows = [list(axis) for axis in _BODY_AXES] if base is None else base.matrix.tolist()
+    builder = Builder()  # the products of one turn are the sums of the next
     for axis, angle in turns:
-        matrix = _turned(matrix, axis, angle)
-    return Orientation(sp.ImmutableMatrix(matrix), "rotations", rotations=tuple(turns), parent=base)
+        rows = _turned(rows, axis, angle, builder)
+    return Orientation(sp.ImmutableMatrix(rows), "rotations", rotations=tuple(turns), parent=base)
 
 
-def _turned(matrix: sp.Matrix, axis: Sequence[Any], angle: Any) -> sp.Matrix:
-    """matrix R1(angle) about ``axis``.  About a coordinate axis i only the other two columns
-    change, (j, k) cyclic after i: c col_j + s col_k and -s col_j + c col_k (the product
-    itself, without its multiplications by 0 and 1: a tenth of the time on a bicycle's
+def _turned(
+    rows: list[list[Any]], axis: Sequence[Any], angle: Any, builder: Builder
+) -> list[list[Any]]:
+    """The rows of the matrix times R1(angle) about ``axis``.  About a coordinate axis i only
+    the other two columns change, (j, k) cyclic after i: c col_j + s col_k and
+    -s col_j + c col_k (the product itself, entry by entry, without its multiplications by 0
+    and 1 nor a matrix's bookkeeping, its sums and products made as SymPy makes them without
+    its general evaluation where nothing combines: a tenth of the time on a bicycle's
     fork)."""
     unit = _unit(axis)
     ones = [i for i, e in enumerate(unit) if e == 1]
     if len(ones) != 1 or any(e != 0 for i, e in enumerate(unit) if i != ones[0]):
-        return matrix * _about(unit, angle)
+        return (sp.Matrix(rows) * _about(unit, angle)).tolist()
     j, k = (ones[0] + 1) % 3, (ones[0] + 2) % 3
     c, s = sp.cos(angle), sp.sin(angle)
-    turned = sp.Matrix(matrix)
-    turned[:, j] = matrix[:, j] * c + matrix[:, k] * s
-    turned[:, k] = matrix[:, k] * c - matrix[:, j] * s
+    turned = [list(row) for row in rows]
+    for row, new in zip(rows, turned):
+        new[j] = sympy_sum([_scaled(row[j], c, builder), _scaled(row[k], s, builder)], builder)
+        new[k] = sympy_sum([_scaled(row[k], c, builder), -_scaled(row[j], s, builder)], builder)
     return turned
+
+
+def _scaled(entry: Any, factor: Any, builder: Builder) -> Any:
+    """entry * factor as a matrix's product by a scalar makes it (a zero entry stays 0)."""
+    return sympy_product([entry, factor], builder) if entry != 0 else entry
 
 
 def _norm_squared(w: Any, x: Any, y: Any, z: Any) -> sp.Expr:
@@ -700,15 +725,24 @@ def spatial_angular_velocity(
 
 def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) -> np.ndarray | None:
     """The real numbers of ``matrix`` at ``values``; None if any entry is not finite and real."""
-    exact = {s: sp.Float(v, 30) for s, v in values.items()}
+    entries = [to_sympy(e) for e in matrix]
+    # only the symbols of the entries are made 30-digit numbers (a System's samples give
+    # every coordinate and parameter a value, a body's inertia has a few of them)
+    used = set().union(*(e.free_symbols for e in entries))
+    exact = {s: sp.Float(v, 30) for s, v in values.items() if s in used}
     try:
-        entries = [complex(to_sympy(e).xreplace(exact).evalf(30)) for e in matrix]
+        entries = [complex(_evaluated(e.xreplace(exact))) for e in entries]
     except (TypeError, ValueError, ZeroDivisionError):
         return None
     array = np.array(entries).reshape(matrix.shape)
     if not np.all(np.isfinite(array)) or np.max(np.abs(array.imag)) > 1e-12:
         return None
     return array.real
+
+
+def _evaluated(value: sp.Expr) -> sp.Expr:
+    """``value`` to 30 digits (a Float of them, or 0, as it is already)."""
+    return value if value.is_Float or value is sp.S.Zero else value.evalf(30)
 
 
 def _in_backend(matrix: sp.MatrixBase) -> list[Any] | None:

@@ -6,7 +6,8 @@ from __future__ import annotations
 import math
 import random
 import sys
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
+from types import MappingProxyType
 from typing import Any
 
 import sympy as sp
@@ -24,6 +25,7 @@ from lagrangian.model.elements import ORIGIN
 from lagrangian.model.inertia import Shape, check_inertia
 from lagrangian.model.rotation import Orientation, check_rotation
 from lagrangian.model.transitions import check_transitions
+from lagrangian.symbolic.caches import remembered
 from lagrangian.symbolic.expressions import (
     closest_name,
     distinct_parts,
@@ -428,16 +430,24 @@ def _check_inertia(
                 return
 
 
-def _samples(values: dict) -> list[dict[sp.Symbol, float]]:
+def _samples(values: dict) -> tuple[Mapping[sp.Symbol, float], ...]:
     """A few configurations for the numerical checks: coordinates and t drawn at random in
     (0.3, 1.3), parameters at their defaults (drawn too when they have none)."""
+    return _samples_of(tuple(values["coordinates"]), tuple(values["parameters"].items()))
+
+
+@remembered(maxsize=8)
+def _samples_of(
+    coordinates: tuple[sp.Symbol, ...], parameters: tuple[tuple[sp.Symbol, float | None], ...]
+) -> tuple[Mapping[sp.Symbol, float], ...]:
+    """:func:`_samples`, drawn once for the checks of every body (read-only)."""
     rng = random.Random(SEED)
     samples = []
     for _ in range(PROBES):
-        point = random_values([*values["coordinates"], t, *values["parameters"]], rng)
-        point.update((p, v) for p, v in values["parameters"].items() if v is not None)
-        samples.append(point)
-    return samples
+        point = random_values([*coordinates, t, *(p for p, _ in parameters)], rng)
+        point.update((p, v) for p, v in parameters if v is not None)
+        samples.append(MappingProxyType(point))
+    return tuple(samples)
 
 
 def _check_point_ref(
