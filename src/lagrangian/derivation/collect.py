@@ -56,9 +56,10 @@ def _factor_common(products: list[Any], terms: list[Any] | None = None) -> Any:
                 del common[base]
             elif not (least is ONE and exponent is ONE):  # min(1, 1) is the 1 there already
                 common[base] = min(least, exponent)
-    magnitudes = {abs(number) for number, _ in split}
+    numbers = {number for number, _ in split}  # a few, most of them 1 and -1
+    magnitudes = {abs(number) for number in numbers}
     scale = magnitudes.pop() if len(magnitudes) == 1 else ONE
-    if all(is_negative_number(number) for number, _ in split):
+    if all(is_negative_number(number) for number in numbers):
         scale = -scale
     if not common and scale == 1:
         return se.Add(*(terms or [se.Mul(*factors) for factors in products]))
