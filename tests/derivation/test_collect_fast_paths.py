@@ -174,6 +174,17 @@ def test_factor_common_builds_the_general_routes_expression(products: list[list[
 
 
 @settings(max_examples=300, deadline=None)
+@given(products_st)
+def test_factor_common_of_terms_builds_the_general_routes_expression(
+    products: list[list[Any]],
+) -> None:
+    """Given the terms themselves (a sum with nothing common is summed from them)."""
+    terms = [se.Mul(*p) for p in products]
+    factors = [t.args if t.is_Mul else (t,) for t in terms]
+    assert _same(factor_common(terms), _reference_factor_common(factors))
+
+
+@settings(max_examples=300, deadline=None)
 @given(st.lists(terms_st, min_size=1, max_size=3), st.booleans())
 def test_collect_state_builds_the_general_routes_expression(
     expressions: list[list[Any]], with_sums: bool

@@ -70,6 +70,26 @@ def test_a_long_expression_keeps_its_value(seed: int) -> None:
             assert _value(reduced, values) == pytest.approx(_value(expr, values), rel=1e-9)
 
 
+def test_one_record_of_the_factors_for_many_collections_changes_none_of_them() -> None:
+    """combine_and_collect of long polynomials, short ones and sums with nothing to combine,
+    all with one record of how their factors sort (the equations of one system share it),
+    gives each what it gives alone, structure and all."""
+    state = {a, b, c}
+    x = se.Symbol("x")
+    expressions = [
+        _long_polynomial(4),
+        _long_polynomial(5),
+        m * se.sin(a) * se.cos(b) + k * se.sin(a) ** 2 * se.cos(b) + m * k * se.cos(a) ** 2,
+        m * x * se.sin(a) - k * x * se.sin(a) + m * se.cos(a - b) * (m + k),
+    ]
+    shared: dict[se.Expr, object] = {}
+    for expr in expressions:
+        alone = combine_and_collect(expr, state)
+        remembered = combine_and_collect(expr, state, shared)
+        assert remembered == alone and str(remembered) == str(alone)
+        assert remembered.args == alone.args
+
+
 def test_a_long_multiple_of_sin2_plus_cos2_minus_1_is_zero() -> None:
     """The reduced form is canonical: Q (sin^2 b + cos^2 b - 1) vanishes however long Q."""
     q = _long_polynomial(3)

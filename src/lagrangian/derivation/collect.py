@@ -38,11 +38,13 @@ def factor_common(terms: list[Any]) -> Any:
     """Sum of ``terms`` (products of parameters) with their common factors pulled out."""
     if len(terms) == 1:
         return terms[0]
-    return _factor_common([term.args if term.is_Mul else (term,) for term in terms])
+    return _factor_common([term.args if term.is_Mul else (term,) for term in terms], terms)
 
 
-def _factor_common(products: list[Any]) -> Any:
-    """:func:`factor_common` of products given as the sequences of their factors."""
+def _factor_common(products: list[Any], terms: list[Any] | None = None) -> Any:
+    """:func:`factor_common` of products given as the sequences of their factors (and as the
+    ``terms`` they are the factors of, when the caller has them: a sum with nothing common is
+    then summed from them, not multiplied out again)."""
     if len(products) == 1:
         return se.Mul(*products[0])
     split = [product_powers(factors) for factors in products]
@@ -54,12 +56,13 @@ def _factor_common(products: list[Any]) -> Any:
                 del common[base]
             elif not (least is ONE and exponent is ONE):  # min(1, 1) is the 1 there already
                 common[base] = min(least, exponent)
-    magnitudes = {abs(number) for number, _ in split}
+    numbers = {number for number, _ in split}  # a few, most of them 1 and -1
+    magnitudes = {abs(number) for number in numbers}
     scale = magnitudes.pop() if len(magnitudes) == 1 else ONE
-    if all(is_negative_number(number) for number, _ in split):
+    if all(is_negative_number(number) for number in numbers):
         scale = -scale
     if not common and scale == 1:
-        return se.Add(*[se.Mul(*factors) for factors in products])
+        return se.Add(*(terms or [se.Mul(*factors) for factors in products]))
     outside = scale * se.Mul(*[b**e for b, e in common.items()])
     quotients: dict[Any, Any] = {}  # number / scale, once per number (most are -1 or 1)
     parts = []

@@ -1156,19 +1156,23 @@ def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) ->
         return slope[key]
 
     rates = [next(iter(algebra.convert(v))) for v in asm.q_dot]
+    # the velocity products q_dot_k q_dot_l, the same in every row
+    pairs = [
+        (k, ell, algebra.multiply_keys(rates[k], rates[ell]))
+        for k in range(n)
+        for ell in range(k, n)
+    ]
     half = Fraction(-1, 2)
     result = []
     for j in range(n):
         parts: dict[Key, list[Coefficient]] = defaultdict(list)
-        for k in range(n):
-            for ell in range(k, n):
-                pair = algebra.multiply_keys(rates[k], rates[ell])
-                if k == ell:
-                    algebra.accumulate(parts, d(j, k, k), pair)
-                    algebra.accumulate(parts, d(k, k, j), pair, half)
-                else:
-                    algebra.accumulate(parts, d(j, k, ell), pair)
-                    algebra.accumulate(parts, d(j, ell, k), pair)
-                    algebra.accumulate(parts, d(k, ell, j), pair, -1)
+        for k, ell, pair in pairs:
+            if k == ell:
+                algebra.accumulate(parts, d(j, k, k), pair)
+                algebra.accumulate(parts, d(k, k, j), pair, half)
+            else:
+                algebra.accumulate(parts, d(j, k, ell), pair)
+                algebra.accumulate(parts, d(j, ell, k), pair)
+                algebra.accumulate(parts, d(k, ell, j), pair, -1)
         result.append(algebra.gather(parts))
     return result

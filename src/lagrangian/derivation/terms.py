@@ -92,6 +92,8 @@ class EulerLagrangeTerms:
         self._refactored = False  # whether a sum's factored form differs from it
         self._compressed: dict[Backend, Backend] = {}
         self._factors: dict[Backend, Backend] = {}  # collect_state's sorting of factors
+        # the same for the expressions collected with no sums (none of their symbols in them)
+        self._plain_factors: dict[Backend, Backend] = {}
         # of C q_dot's terms (:meth:`_product_collection`)
         self._coefficients: dict[Backend, tuple[int, Backend | None, Backend | None]] = {}
         self.velocity_potential_forces = self._velocity_potential_forces()
@@ -223,20 +225,20 @@ class EulerLagrangeTerms:
             return expr
         if self.kinetic.grouped:  # 3-D bodies: reduced trigonometric polynomials, no long sums
             # (a compressed step, dL/dq_dot of a Lagrangian with long sums, has its sums back)
-            return combine_and_collect(self.expand_sums(expr), self.state)
+            return combine_and_collect(self.expand_sums(expr), self.state, self._plain_factors)
         return self.tidy_compressed(self.compress(expr))
 
     def _tidy_expanded(self, expr: Backend) -> Backend:
         """:meth:`tidy` of an expression with no sum to keep whole."""
         if not expr.is_Add and not any(arg.is_Add for arg in expr.args):
             return expr
-        return combine_and_collect(expr, self.state)
+        return combine_and_collect(expr, self.state, self._plain_factors)
 
     def tidy_compressed(self, compact: Backend) -> Backend:
         """:meth:`tidy` of an expression whose sums :meth:`compress` has written as symbols
         already (derivatives of a compressed one), with the sums put back."""
         if not self._sums:
-            return combine_and_collect(compact, self.state)
+            return combine_and_collect(compact, self.state, self._plain_factors)
         return collect_state(combined_trig(compact), self.state, self._sums, self._factors)
 
     def compress(self, expr: Backend) -> Backend:
@@ -350,7 +352,7 @@ class EulerLagrangeTerms:
     def collect(self, expr: Backend) -> Backend:
         """The terms of an expression whose trigonometric products are combined already
         grouped by state monomial."""
-        return collect_state(expr, self.state) if expr.is_Add else expr
+        return collect_state(expr, self.state, factors=self._plain_factors) if expr.is_Add else expr
 
     def sympy(self, expr: Backend) -> sp.Expr:
         """``expr`` tidied and in SymPy, with the System's own symbols."""

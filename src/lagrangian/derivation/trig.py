@@ -175,9 +175,11 @@ def size(expr: Any) -> int:
     return int(se.count_ops(expr))
 
 
-def combine_and_collect(expr: Any, state: Any) -> Any:
+def combine_and_collect(expr: Any, state: Any, factors: dict[Any, Any] | None = None) -> Any:
     """:func:`combine_trig`, then the terms grouped by their monomial in ``state`` with the
-    parameter coefficients factored (:func:`lagrangian.derivation.collect.collect_state`).
+    parameter coefficients factored (:func:`lagrangian.derivation.collect.collect_state`;
+    ``factors`` remembers how it sorted each factor across the calls with the same
+    ``state``, as its own ``factors`` does: the equations of a system share their factors).
 
     An expression of more than :data:`LARGE_POLYNOMIAL` terms (the equations of 3-D
     multibody systems) is reduced modulo sin^2 + cos^2 = 1 as a polynomial grouped by
@@ -189,7 +191,7 @@ def combine_and_collect(expr: Any, state: Any) -> Any:
     state = state if isinstance(state, (set, frozenset)) else set(state)
     expanded = _single_trig_expansion(expr, state)
     if expanded is not None:
-        return collect_state(expanded, state)
+        return collect_state(expanded, state, factors=factors)
     algebra = algebra_for(state)
     algebra.limit = NESTED_MONOMIALS
     try:
@@ -199,8 +201,9 @@ def combine_and_collect(expr: Any, state: Any) -> Any:
     finally:
         algebra.limit = None
     if algebra.terms(polynomial) <= LARGE_POLYNOMIAL:
-        return collect_state(combine_trig(expr), state)
-    return collect_state(algebra.grouped(algebra.shortest(polynomial)), state)
+        return collect_state(combine_trig(expr), state, factors=factors)
+    grouped = algebra.grouped(algebra.shortest(polynomial))
+    return collect_state(grouped, state, factors=factors)
 
 
 def _single_trig_expansion(expr: Any, state: set[Any] | frozenset[Any]) -> Any | None:
