@@ -8,7 +8,9 @@ What is compared
     ``lg.derive``'s mass matrix, forcing, Coriolis vector, gravity, generalized forces and
     time terms, and with constraints ``lg.constrained_equations``' constraint Jacobian and
     gamma.  ``srepr`` is SymPy's exact tree: two derivations agree only when they build the
-    same expressions, not merely equal ones.
+    same expressions, not merely equal ones.  The model itself is compared too (``system``:
+    the srepr of every field of the ``System``, its bodies, orientations, inertias,
+    constraints, frames, ...), so a change to how a model is built shows where it starts.
 
 Usage
     python benchmarks/same_equations.py --src OLD/src --out before.json
@@ -29,6 +31,7 @@ import json
 import subprocess
 import sys
 import time
+from collections.abc import Mapping
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -69,6 +72,29 @@ def _environment(src: str) -> dict:
     return {**os.environ, "PYTHONPATH": str(Path(src).resolve())}
 
 
+def system_fingerprint(value: object) -> object:
+    """Every field of ``value`` (a System, and what it holds) as srepr strings, nested."""
+    import dataclasses
+
+    import sympy as sp
+
+    if isinstance(value, (sp.Basic, sp.MatrixBase)):
+        return sp.srepr(value)
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return [
+            type(value).__name__,
+            *(
+                [f.name, system_fingerprint(getattr(value, f.name))]
+                for f in dataclasses.fields(value)
+            ),
+        ]
+    if isinstance(value, Mapping):
+        return ["map", *([system_fingerprint(k), system_fingerprint(v)] for k, v in value.items())]
+    if isinstance(value, (tuple, list)):
+        return [type(value).__name__, *(system_fingerprint(v) for v in value)]
+    return repr(value)
+
+
 def fingerprint(name: str) -> dict:
     """srepr of each derived matrix of model ``name`` (run in the worker process)."""
     import sympy as sp
@@ -83,9 +109,10 @@ def fingerprint(name: str) -> dict:
         system = built if isinstance(built, lg.System) else built[0]
     else:
         system = get(name)()
+    found = {"system": json.dumps(system_fingerprint(system))}
     start = time.perf_counter()
     equations = lg.derive(system)
-    found = {field: sp.srepr(getattr(equations, field)) for field in FIELDS}
+    found.update({field: sp.srepr(getattr(equations, field)) for field in FIELDS})
     if system.constraints:
         constrained = lg.constrained_equations(system)
         found.update({field: sp.srepr(getattr(constrained, field)) for field in CONSTRAINED})
@@ -121,12 +148,12 @@ def compare(before: Path, after: Path) -> int:
                 continue
             differ += 1
             zero = "?"
-            if field in a and field in b and field != "error":
+            if field in a and field in b and field not in ("error", "system"):
                 difference = sp.sympify(a[field]) - sp.sympify(b[field])
                 zero = str(sp.simplify(difference) == sp.zeros(*difference.shape))
             print(f"DIFFER {name}.{field} (difference simplifies to zero: {zero})")
     checked = sum(len(set(v) - {"seconds"}) for v in new.values())
-    print(f"{len(new)} models, {checked} matrices compared, {differ} differ")
+    print(f"{len(new)} models, {checked} matrices and systems compared, {differ} differ")
     return 1 if differ else 0
 
 
