@@ -99,8 +99,8 @@ class SympyView:
             base, exponent = expr.args
             (power, base_count), (root, exponent_count) = map(self._converted, expr.args)
             count = self._within(1 + base_count + exponent_count)
-            if base.is_Add and exponent.is_Number and not exponent.is_Integer:
-                result = build.part(sympy_root(power[EXPR], root[EXPR], base.has(se.I)))
+            if base.is_Add and exponent.is_Rational:
+                result = build.part(sympy_sum_power(power[EXPR], root[EXPR], base.has(se.I)))
             else:
                 result = build.part(sp.Pow(power[EXPR], root[EXPR]))
         elif type(expr) in _TRIG:
@@ -289,17 +289,17 @@ class TreeOperations:
         return count
 
 
-def sympy_root(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) -> sp.Expr:
+def sympy_sum_power(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) -> sp.Expr:
     """``sp.Pow(base, exponent)``, the same expression, for a sum ``base`` and a rational
-    ``exponent`` that is not an integer (a square root), built without SymPy's evaluation
-    when the sum has symbols and no imaginary unit (``imaginary`` False): then
-    ``Add._eval_power`` returns nothing (it changes only a number, or a sum with an
-    imaginary term and an infinite one), but first asks whether either of two terms is
-    infinite, which walks SymPy's assumptions through the whole sum (a steered wheel's
-    tilt: a tenth of the time of making its constraints).
+    ``exponent`` (a square root, a square, a reciprocal), built without SymPy's evaluation
+    when the sum has symbols and no imaginary unit (``imaginary`` False) and the exponent
+    is neither 0 nor 1: then ``Add._eval_power`` returns nothing (it changes only a number,
+    or a sum with an imaginary term and an infinite one), but first asks whether either of
+    two terms is infinite, which walks SymPy's assumptions through the whole sum (a steered
+    wheel's tilt: a tenth of the time of making its constraints).
 
     >>> x, y = sp.symbols("x y")
-    >>> root = sympy_root(1 - (x * y + x) ** 2, sp.Rational(1, 2), imaginary=False)
+    >>> root = sympy_sum_power(1 - (x * y + x) ** 2, sp.Rational(1, 2), imaginary=False)
     >>> sp.srepr(root) == sp.srepr(sp.sqrt(1 - (x * y + x) ** 2))
     True
     """
@@ -307,13 +307,14 @@ def sympy_root(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) -> sp.E
         imaginary
         or type(base) is not sp.Add
         or not exponent.is_Rational
-        or exponent.is_Integer
+        or exponent is sp.S.Zero
+        or exponent is sp.S.One
         or base.is_number is not False
     ):
         return sp.Pow(base, exponent)
-    root = sp.Expr.__new__(sp.Pow, base, exponent)
-    root.is_commutative = base.is_commutative and exponent.is_commutative
-    return root
+    power = sp.Expr.__new__(sp.Pow, base, exponent)
+    power.is_commutative = base.is_commutative and exponent.is_commutative
+    return power
 
 
 def _immutable(rows: int, columns: int, entries: list[sp.Expr]) -> sp.ImmutableMatrix:
@@ -460,6 +461,6 @@ __all__ = [
     "TreeOperations",
     "backend_entries",
     "cycle_collection_paused",
-    "sympy_root",
+    "sympy_sum_power",
     "unevaluated_trig",
 ]
