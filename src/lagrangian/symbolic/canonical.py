@@ -157,33 +157,8 @@ class Builder:
 
     def product(self, parts: Sequence[Part]) -> Part:
         """The Part of ``sp.Mul`` of the parts' expressions (:func:`sympy_product`)."""
-        made = self._of_distinct_bases(parts)
-        if made is None:
-            made = self._canonical_product(parts)
+        made = self._canonical_product(parts)
         return self._general(sp.Mul, parts) if made is None else made
-
-    def _of_distinct_bases(self, parts: Sequence[Part]) -> Part | None:
-        """:meth:`product` of two or more commutative symbols, function values and rational
-        powers of distinct bases, after a rational number other than 0 and 1 or none (a
-        term of a polynomial in sines and cosines, as SymEngine gives it: most products),
-        which Mul.flatten only sorts; None for any other product."""
-        numbered = bool(parts) and parts[0][KIND] == RATIONAL
-        factors = parts[1:] if numbered else parts
-        bases = [p[BASE_HASH] for p in factors]
-        if None in bases:  # a sum made here, whose hash is asked of SymPy only when needed
-            bases = [_base_hash(p) for p in factors]
-        if len(bases) < 2 or None in bases or len(set(bases)) < len(bases):
-            return None
-        try:  # every factor is compared: a missing key raises TypeError
-            ordered = sorted(factors, key=_KEY_OF)
-        except TypeError:
-            return None
-        if not numbered:
-            return self._made_product(None, ordered)
-        value = parts[0][EXPR]
-        if value is sp.S.Zero or value is sp.S.One:
-            return None
-        return self._made_product(parts[0], ordered)
 
     def _canonical_product(self, parts: Sequence[Part]) -> Part | None:
         """:meth:`product`, or None where it needs SymPy's own rules."""
@@ -204,7 +179,11 @@ class Builder:
             return factor
         if value is sp.S.Zero:
             return None
-        return self._made_product(number, [factor])
+        made = sp.Mul._from_args((value, factor[EXPR]), True)
+        keys = (number[KEY], factor[KEY])
+        key = None if None in keys else (_MUL_RANK, "Mul", 2, *keys)
+        rest_hash = hash((factor[HASH],))
+        return (made, key, PRODUCT, None, None, rest_hash, True, (number, factor))
 
     def _distributed(self, number: Part, total: Part) -> Part | None:
         """:meth:`product` of a rational number and a sum, which SymPy's Mul of the two
@@ -286,31 +265,28 @@ class Builder:
         and put the number first, which is all this does when the factors' bases all differ
         (their BASE_HASHes); None when SymPy's own rules are needed."""
         coefficient: Any = sp.S.One
-        factors = []
-        bases: set[int] = set()
+        factors: list[Part] = []
+        bases: list[int] = []
         for p in flat:
-            kind = p[KIND]
-            if kind == RATIONAL:
-                # 1 * a rational number is that number (SymPy makes the same canonical one)
-                coefficient = p[EXPR] if coefficient is sp.S.One else coefficient * p[EXPR]
-                continue
-            if kind in (PLAIN, POWER_RATIONAL):
-                base = p[BASE_HASH]
-            elif kind == SUM:
-                base = _base_hash(p)
-            elif kind == PRODUCT and flat is parts:
-                # a product among the factors (a flipped sine) flattened at once
-                return self._product(self._flat(parts, PRODUCT), parts)
-            else:  # a product among a product's arguments, a power to another exponent, ...
-                return None
-            if base in bases or not p[COMMUTATIVE]:
-                return None
-            bases.add(base)
+            base = p[BASE_HASH]
+            if base is None:  # not a commutative symbol, function value or rational power
+                kind = p[KIND]
+                if kind == RATIONAL:
+                    # 1 * a rational number is that number (SymPy makes the same one)
+                    coefficient = p[EXPR] if coefficient is sp.S.One else coefficient * p[EXPR]
+                    continue
+                if kind == PRODUCT and flat is parts:
+                    # a product among the factors (a flipped sine) flattened at once
+                    return self._product(self._flat(parts, PRODUCT), parts)
+                base = _base_hash(p) if kind == SUM else None
+                if base is None:  # a power to another exponent, a product's product, ...
+                    return None
             factors.append(p)
-        if coefficient is sp.S.Zero or (
-            coefficient is not sp.S.One and len(factors) == 1 and factors[0][KIND] == SUM
-        ):
+            bases.append(base)
+        if len(set(bases)) < len(bases) or coefficient is sp.S.Zero:
             return None
+        if coefficient is not sp.S.One and len(factors) == 1 and factors[0][KIND] == SUM:
+            return None  # SymPy distributes the number
         number = None if coefficient is sp.S.One else self.part(coefficient)
         return self._made_product(number, _sorted(factors))
 

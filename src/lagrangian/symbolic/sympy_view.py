@@ -64,6 +64,12 @@ class SympyView:
         # (first, second) symbols -> first - second; shared by the angles x - y and y - x
         self._differences: dict[tuple[sp.Symbol, sp.Symbol], _Difference] = {}
         self._negatives: dict[sp.Symbol, Part] = {}  # symbol -> -symbol
+        # a backend term of a sum -> its factors converted (itself if not a product), and its
+        # operations
+        self._factors: dict[Backend, tuple[tuple[Part, ...], int]] = {}
+        # (id of a number's Part, id of a term's factors) -> their product converted, and its
+        # operations (the Part and the factors are kept by the memos)
+        self._products: dict[tuple[int, int], tuple[Part, int]] = {}
 
     def __call__(self, expr: Backend) -> sp.Expr:
         known = self._memo.get(expr)
@@ -90,7 +96,7 @@ class SympyView:
         if isinstance(expr, se.Symbol):
             count, result = 0, build.part(self.by_name.get(expr.name) or sp.Symbol(expr.name))
         elif expr.is_Add:
-            parts, count = self._arguments(expr)
+            parts, count = self._terms(expr)
             result = build.sum(parts)
         elif expr.is_Mul:
             parts, count = self._arguments(expr)
@@ -152,6 +158,48 @@ class SympyView:
         get, convert = self._memo.get, self._convert
         parts, counts = zip(*[get(a) or convert(a) for a in expr.args])
         return parts, self._within(len(counts) - 1 + sum(counts))
+
+    def _terms(self, expr: Backend) -> tuple[list[Part], int]:
+        """The arguments of the sum ``expr`` converted, and the operations of ``expr``.
+
+        SymEngine keeps a sum as its constant and a table of terms without their
+        coefficients, and makes each argument that has a coefficient anew for each call of
+        ``expr.args`` (a product of the coefficient and the term's factors), which is then
+        hashed, looked up and converted afresh.  So the terms are read with their
+        coefficients apart (:meth:`_scaled`): a bicycle's sums share the same monomials of
+        inertias and lengths, each with its own number."""
+        get, convert = self._memo.get, self._convert
+        items = iter(expr.as_coefficients_dict().items())
+        _, constant = next(items)  # the constant comes first, under the key 1
+        parts = [] if constant is _ZERO else [(get(constant) or convert(constant))[0]]
+        count = len(parts) - 1
+        for term, coefficient in items:
+            if coefficient is _ONE:
+                known = get(term) or convert(term)
+            else:
+                known = self._scaled(get(coefficient) or convert(coefficient), term)
+            parts.append(known[0])
+            count += 1 + known[1]
+        return parts, self._within(count)
+
+    def _scaled(self, number: tuple[Part, int], term: Backend) -> tuple[Part, int]:
+        """The product of a number and a term converted, with its operations: the product
+        SymEngine makes of the two (the number and the term's factors, in its order), made
+        from the term's factors converted once for all its coefficients, and once per
+        number and term."""
+        factors = self._factors.get(term)
+        if factors is None:
+            if term.is_Mul:
+                factors = self._factors[term] = self._arguments(term)
+            else:
+                part, count = self._memo.get(term) or self._convert(term)
+                factors = self._factors[term] = ((part,), count)
+        pair = (id(number[0]), id(factors[0]))
+        scaled = self._products.get(pair)
+        if scaled is None:
+            made = self._builder.product([number[0], *factors[0]])
+            scaled = self._products[pair] = (made, self._within(1 + factors[1]))
+        return scaled
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs and sign, and Heaviside by a stand-in
@@ -425,6 +473,8 @@ def unevaluated_trig(function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.
 
 
 _MINUS_ONE = se.Integer(-1)
+#: SymEngine's own 0 and 1, which it gives as the same objects every time.
+_ZERO, _ONE = se.S.Zero, se.S.One
 
 
 def _backend_difference(angle: Backend) -> tuple[Backend, Backend] | None:
