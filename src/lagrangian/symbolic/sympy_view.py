@@ -96,8 +96,8 @@ class SympyView:
         if isinstance(expr, se.Symbol):
             count, result = 0, build.part(self.by_name.get(expr.name) or sp.Symbol(expr.name))
         elif expr.is_Add:
-            parts, count = self._terms(expr)
-            result = build.sum(parts)
+            terms, count = self._terms(expr)
+            result = build.sum(terms)
         elif expr.is_Mul:
             parts, count = self._arguments(expr)
             result = build.product(parts)
