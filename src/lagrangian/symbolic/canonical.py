@@ -246,6 +246,8 @@ class Builder:
                     return self._general(sp.Add, parts)
                 return self._sum(self._flat(parts, SUM), parts)
             rest = p[REST_HASH]
+            if rest is None and kind == PRODUCT:  # a product of a sum, made here
+                rest = _rest_hash(p)
             if kind == OTHER or rest in seen or not p[COMMUTATIVE]:
                 return self._general(sp.Add, parts)
             seen.add(rest)
@@ -298,7 +300,12 @@ class Builder:
             return args[0] if args else self.part(sp.S.One)
         made = sp.Mul._from_args([p[EXPR] for p in args], True)
         key = _key(_MUL_RANK, "Mul", args)
-        return (made, key, PRODUCT, None, None, _rest_hash(ordered), True, tuple(args))
+        # the REST_HASH now if it is the hash of known hashes; with a sum among the factors
+        # (whose hash SymPy computes), when the product is met as a term (:func:`_rest_hash`),
+        # which most such are not (a chain's M: each entry a product of a sum of masses)
+        hashes = [p[HASH] for p in ordered]
+        rest_hash = None if None in hashes else hash(tuple(hashes))
+        return (made, key, PRODUCT, None, None, rest_hash, True, tuple(args))
 
 
 def _key(rank: int, name: str, args: Sequence[Part]) -> tuple[Any, ...] | None:
@@ -307,14 +314,13 @@ def _key(rank: int, name: str, args: Sequence[Part]) -> tuple[Any, ...] | None:
     return None if None in keys else (rank, name, len(keys), *keys)
 
 
-def _rest_hash(factors: list[Part]) -> int:
-    """The hash of what a product of ``factors`` and a number is without the number, as a
-    term of a sum (what SymPy's Add compares to combine terms): the hash of the tuple of
-    the factors, as :func:`_describe` reads it off a SymPy product."""
-    hashes = [p[HASH] for p in factors]
-    if None in hashes:  # a sum among the factors, whose hash is asked of SymPy
-        hashes = [_hash(p) for p in factors]
-    return hash(tuple(hashes))
+def _rest_hash(product: Part) -> int:
+    """The hash of what a product made here is without its number, as a term of a sum (what
+    SymPy's Add compares to combine terms): the hash of the tuple of its other factors, as
+    :func:`_describe` reads it off a SymPy product."""
+    args = product[ARGS]
+    rest = args[1:] if args[0][KIND] == RATIONAL else args
+    return hash(tuple([_hash(p) for p in rest]))
 
 
 def _base_hash(part: Part) -> int | None:
