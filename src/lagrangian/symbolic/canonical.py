@@ -38,11 +38,12 @@ from lagrangian.symbolic.objects import sympy_object
 
 #: The fields of a Part, a tuple (the fastest record to read in the conversion's loops):
 #: the expression, its sort key (:data:`UNORDERABLE` when it has none), its kind,
-#: its hash (None for a sum or a product made of a part whose hash is not known), the hash
+#: its hash (None for a sum or a product made here: asked of SymPy when needed), the hash
 #: of its base as a commutative factor that SymPy's products combine with another of the
-#: same base (PLAIN, POWER_RATIONAL, SUM; else None), the hash of what remains of it without
-#: a numeric coefficient as a term (None for a SUM), whether it is commutative, and the
-#: Parts of a sum's or a product's arguments (None until asked for).
+#: same base (PLAIN, POWER_RATIONAL, SUM; else None, and None for a sum made here until
+#: asked), the hash of what remains of it without a numeric coefficient as a term (None for
+#: a SUM, and for a product of a sum made here until it is met as a term), whether it is
+#: commutative, and the Parts of a sum's or a product's arguments (None until asked for).
 EXPR, KEY, KIND, HASH, BASE_HASH, REST_HASH, COMMUTATIVE, ARGS = range(8)
 Part = tuple[Any, ...]
 
@@ -258,7 +259,7 @@ class Builder:
         if len(args) < 2:
             return args[0] if args else self.part(sp.S.Zero)
         made = sp.Add._from_args([p[EXPR] for p in args], True)
-        key = _key(_ADD_RANK, "Add", args)
+        key = _made_key(_ADD_RANK, "Add", args)
         return (made, key, SUM, None, None, None, True, tuple(args))
 
     def _product(self, flat: Sequence[Part], parts: Sequence[Part]) -> Part | None:
@@ -299,7 +300,7 @@ class Builder:
         if len(args) < 2:
             return args[0] if args else self.part(sp.S.One)
         made = sp.Mul._from_args([p[EXPR] for p in args], True)
-        key = _key(_MUL_RANK, "Mul", args)
+        key = _made_key(_MUL_RANK, "Mul", args)
         # the REST_HASH now if it is the hash of known hashes; with a sum among the factors
         # (whose hash SymPy computes), when the product is met as a term (:func:`_rest_hash`),
         # which most such are not (a chain's M: each entry a product of a sum of masses)
@@ -308,7 +309,7 @@ class Builder:
         return (made, key, PRODUCT, None, None, rest_hash, True, tuple(args))
 
 
-def _key(rank: int, name: str, args: Sequence[Part]) -> tuple[Any, ...] | None:
+def _made_key(rank: int, name: str, args: Sequence[Part]) -> tuple[Any, ...] | None:
     """The key of the sum or product (``name``) of ``args`` in SymPy's order, from theirs."""
     keys = [p[KEY] for p in args]
     return None if None in keys else (rank, name, len(keys), *keys)
