@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 import lagrangian as lg
 from lagrangian.derivation.terms import combined_trig, euler_lagrange_terms
 from lagrangian.derivation.trig import combine_trig
+from lagrangian.size_limits import operations
 from lagrangian.symbolic.canonical import (
     Builder,
     CanonicalOrder,
@@ -112,6 +113,46 @@ def test_pendulum_entries_convert_as_sympy_builds_them() -> None:
             assert_identical(terms.view(entry), _general_route(reference, entry))
     for entry in terms.forcing:
         assert_identical(terms.view(entry), _general_route(reference, entry))
+
+
+BACKEND_SYMBOLS = se.symbols("x y z m")
+bx, by, bz, bm = BACKEND_SYMBOLS
+BACKEND_FACTORS = [bx, by, bm, se.sin(bx), se.cos(bx - by), se.sin(by - bx), bx**2]
+BACKEND_FACTORS += [bx + bz, (bx + by) ** 2, se.sqrt(bx + bm), bm ** se.Rational(-1, 2)]
+COEFFICIENTS = [se.Integer(c) for c in (1, -1, 2, -3)] + [se.Rational(1, 2)]
+
+
+@st.composite
+def backend_sums(draw: st.DrawFn) -> list[object]:
+    """Sums of products of a coefficient and factors (SymEngine keeps a sum's terms apart
+    from their coefficients), and of some of the same terms with other coefficients."""
+    terms = draw(
+        st.lists(
+            st.tuples(
+                st.sampled_from(COEFFICIENTS),
+                st.lists(st.sampled_from(BACKEND_FACTORS), min_size=1, max_size=4),
+            ),
+            min_size=1,
+            max_size=6,
+        )
+    )
+    products = [c * se.Mul(*f) for c, f in terms]
+    constant = draw(st.sampled_from([se.Integer(0), se.Integer(3)]))
+    rescaled = draw(st.sampled_from(COEFFICIENTS))
+    return [se.Add(constant, *products), se.Add(*[rescaled * p for p in products])]
+
+
+@settings(deadline=None, max_examples=300)
+@given(backend_sums())
+def test_sums_convert_as_sympy_builds_them_from_symengines_arguments(
+    sums: list[object],
+) -> None:
+    symbols = [sp.Symbol(s.name) for s in BACKEND_SYMBOLS]
+    view = SympyView(symbols)
+    reference = SympyView(symbols)
+    for total in sums:  # the second shares the first's terms, with other coefficients
+        assert_identical(view(total), _general_route(reference, total))
+        assert view.operations(total) == operations(total)
 
 
 def test_chain_equations_tidy_as_combine_trig_does() -> None:

@@ -16,7 +16,7 @@ from lagrangian.model.contact import ContactHeight, NoSlip
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.native import to_symengine
 from lagrangian.symbolic.probe import is_zero
-from lagrangian.symbolic.sympy_view import sympy_root
+from lagrangian.symbolic.sympy_view import sympy_sum_power
 
 x, y, psi, theta, phi, m, r = sp.symbols("x y psi theta phi m r")
 
@@ -52,13 +52,19 @@ def test_the_bicycle_constraints_are_what_sympy_makes_of_their_terms() -> None:
         (1 - (x * y + sp.sin(psi)) ** 2, sp.S.Half),
         (x + y, sp.Rational(-3, 2)),
         (x**2 + y**2, sp.Rational(1, 3)),
+        (x * y + sp.sin(psi), sp.Integer(2)),  # a square, a reciprocal: integer exponents
+        (x + y, sp.Integer(-1)),
+        (1 - (x * y) ** 2, sp.Integer(-3)),
+        (x + y, sp.Integer(1)),  # SymPy's evaluation returns the sum itself
+        (x + y, sp.Integer(0)),
+        (x + sp.I * y, sp.Integer(2)),
         (x + sp.I * y, sp.S.Half),  # an imaginary term: SymPy's evaluation decides
         (2 + sp.sqrt(3), sp.S.Half),  # a number: likewise
         (x + sp.oo, sp.S.Half),
     ],
 )
-def test_a_root_of_a_sum_is_the_power_sympy_makes(base: sp.Expr, exponent: sp.Expr) -> None:
-    root = sympy_root(base, exponent, base.has(sp.I))
+def test_a_power_of_a_sum_is_the_power_sympy_makes(base: sp.Expr, exponent: sp.Expr) -> None:
+    root = sympy_sum_power(base, exponent, base.has(sp.I))
     expected = sp.Pow(base, exponent)
     assert sp.srepr(root) == sp.srepr(expected)
     assert root.is_commutative is expected.is_commutative is True
@@ -68,7 +74,7 @@ def test_a_root_of_a_sum_is_the_power_sympy_makes(base: sp.Expr, exponent: sp.Ex
 
 def test_a_root_is_made_through_sympy_when_its_sum_may_be_imaginary() -> None:
     """Told the sum has an imaginary term, the root is SymPy's own (which may evaluate)."""
-    assert sympy_root(sp.Integer(-4) + x - x, sp.S.Half, imaginary=True) == 2 * sp.I
+    assert sympy_sum_power(sp.Integer(-4) + x - x, sp.S.Half, imaginary=True) == 2 * sp.I
 
 
 def _coin(height: sp.Expr) -> System:

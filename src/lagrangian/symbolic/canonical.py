@@ -32,15 +32,18 @@ from typing import Any
 
 import sympy as sp
 from sympy.core.basic import ordering_of_classes
+from sympy.core.parameters import global_parameters
 
 from lagrangian.symbolic.objects import sympy_object
 
 #: The fields of a Part, a tuple (the fastest record to read in the conversion's loops):
 #: the expression, its sort key (:data:`UNORDERABLE` when it has none), its kind,
-#: its hash (None for a sum or a product), the hash of its base as a factor (PLAIN,
-#: POWER_RATIONAL), the hash of what remains of it without a numeric coefficient as a term
-#: (None for a SUM), whether it is commutative, and the Parts of a sum's or a product's
-#: arguments (None until asked for).
+#: its hash (None for a sum or a product made here: asked of SymPy when needed), the hash
+#: of its base as a commutative factor that SymPy's products combine with another of the
+#: same base (PLAIN, POWER_RATIONAL, SUM; else None, and None for a sum made here until
+#: asked), the hash of what remains of it without a numeric coefficient as a term (None for
+#: a SUM, and for a product of a sum made here until it is met as a term), whether it is
+#: commutative, and the Parts of a sum's or a product's arguments (None until asked for).
 EXPR, KEY, KIND, HASH, BASE_HASH, REST_HASH, COMMUTATIVE, ARGS = range(8)
 Part = tuple[Any, ...]
 
@@ -54,8 +57,9 @@ class Unorderable(Exception):
     """An expression :class:`CanonicalOrder` has no key for."""
 
 
-#: The key of a Part without one (its expression is sorted by ``Basic.compare``).
-UNORDERABLE: tuple[Any, ...] = ()
+#: The key of a Part without one (its expression is sorted by ``Basic.compare``): None,
+#: which no key compares with, so sorting by keys raises TypeError when one is missing.
+UNORDERABLE = None
 
 
 #: Where a class's name stands in SymPy's order of classes; the rest come after, by name.
@@ -139,9 +143,10 @@ class Builder:
             name = type(value).__name__
             key = (_CLASS_RANK.get(name, _UNRANKED), name, 1, key)
         commutative = argument[COMMUTATIVE]
-        return (value, key, PLAIN, value_hash, value_hash, hash((value_hash,)), commutative, None)
+        base_hash = value_hash if commutative else None
+        return (value, key, PLAIN, value_hash, base_hash, hash((value_hash,)), commutative, None)
 
-    def _key(self, expr: sp.Expr) -> tuple[Any, ...]:
+    def _key(self, expr: sp.Expr) -> tuple[Any, ...] | None:
         try:
             return self.order(expr)
         except Unorderable:
@@ -153,28 +158,60 @@ class Builder:
 
     def product(self, parts: Sequence[Part]) -> Part:
         """The Part of ``sp.Mul`` of the parts' expressions (:func:`sympy_product`)."""
+        made = self._canonical_product(parts)
+        return self._general(sp.Mul, parts) if made is None else made
+
+    def _canonical_product(self, parts: Sequence[Part]) -> Part | None:
+        """:meth:`product`, or None where it needs SymPy's own rules."""
         if len(parts) == 2:
             kinds = (parts[0][KIND], parts[1][KIND])
-            if RATIONAL in kinds and (SUM in kinds or PRODUCT in kinds):
-                # SymPy's two-argument rules (a number times a sum is distributed)
-                return self._general(sp.Mul, parts)
             if kinds == (RATIONAL, PLAIN) and parts[1][COMMUTATIVE]:
                 return self._scaled(parts[0], parts[1])
+            if RATIONAL in kinds and SUM in kinds:
+                number, total = parts if kinds[0] == RATIONAL else parts[::-1]
+                return self._distributed(number, total)
         return self._product(parts, parts)
 
-    def _scaled(self, number: Part, factor: Part) -> Part:
+    def _scaled(self, number: Part, factor: Part) -> Part | None:
         """:meth:`product` of a rational number and a commutative symbol or function value
         (a sine whose angle was flipped): the number first, unless it is 0 or 1."""
         value = number[EXPR]
         if value is sp.S.One:
             return factor
         if value is sp.S.Zero:
-            return self._general(sp.Mul, [number, factor])
-        args = (number, factor)
+            return None
         made = sp.Mul._from_args((value, factor[EXPR]), True)
         keys = (number[KEY], factor[KEY])
-        key = UNORDERABLE if UNORDERABLE in keys else (_MUL_RANK, "Mul", 2, *keys)
-        return (made, key, PRODUCT, None, None, None, True, args)
+        key = None if None in keys else (_MUL_RANK, "Mul", 2, *keys)
+        rest_hash = hash((factor[HASH],))
+        return (made, key, PRODUCT, None, None, rest_hash, True, (number, factor))
+
+    def _distributed(self, number: Part, total: Part) -> Part | None:
+        """:meth:`product` of a rational number and a sum, which SymPy's Mul of the two
+        distributes: the sum of the number times each term (``_keep_coeff``: a product's
+        coefficient multiplied, a number times any other term as ``Mul`` makes it).  Each
+        such product and the sum are made as :meth:`product` and :meth:`sum` make them, so
+        what is skipped is SymPy's evaluation of each new term and of their sum (a
+        bicycle's forcing has sums of forty terms negated)."""
+        value = number[EXPR]
+        if value is sp.S.Zero or value is sp.S.One or not total[COMMUTATIVE]:
+            return None
+        if not global_parameters.distribute:
+            return None
+        terms: list[Part] = []
+        for term in self._arguments(total):
+            kind = term[KIND]
+            if kind == RATIONAL:
+                made: Part | None = self.part(value * term[EXPR])
+            elif kind in (PLAIN, POWER_RATIONAL, PRODUCT):
+                pair = (number, term)
+                made = self._product(pair, pair)
+            else:
+                return None
+            if made is None:
+                return None
+            terms.append(made)
+        return self.sum(terms)
 
     def _general(self, constructor: Any, parts: Sequence[Part]) -> Part:
         return self.part(constructor(*[p[EXPR] for p in parts]))
@@ -210,75 +247,89 @@ class Builder:
                     return self._general(sp.Add, parts)
                 return self._sum(self._flat(parts, SUM), parts)
             rest = p[REST_HASH]
-            if rest is None and kind == PRODUCT:  # a product made here, first met as a term
-                rest = _rest_hash(p[ARGS])
+            if rest is None and kind == PRODUCT:  # a product of a sum, made here
+                rest = _rest_hash(p)
             if kind == OTHER or rest in seen or not p[COMMUTATIVE]:
                 return self._general(sp.Add, parts)
             seen.add(rest)
             terms.append(p)
         number = None if coefficient is sp.S.Zero else self.part(coefficient)
-        return self._made(sp.Add, number, terms)
+        ordered = _sorted(terms)
+        args = ordered if number is None else [number, *ordered]
+        if len(args) < 2:
+            return args[0] if args else self.part(sp.S.Zero)
+        made = sp.Add._from_args([p[EXPR] for p in args], True)
+        key = _made_key(_ADD_RANK, "Add", args)
+        return (made, key, SUM, None, None, None, True, tuple(args))
 
-    def _product(self, flat: Sequence[Part], parts: Sequence[Part]) -> Part:
+    def _product(self, flat: Sequence[Part], parts: Sequence[Part]) -> Part | None:
         """:meth:`product` of ``parts``, whose products are flattened in ``flat``
         (``parts`` until one is met).  Mul.flatten would multiply the numbers, sort the rest
         and put the number first, which is all this does when the factors' bases all differ
-        (their BASE_HASHes)."""
+        (their BASE_HASHes); None when SymPy's own rules are needed."""
         coefficient: Any = sp.S.One
         factors: list[Part] = []
-        bases: set[int] = set()
+        bases: list[int] = []
         for p in flat:
-            kind = p[KIND]
-            if kind == RATIONAL:
-                # 1 * a rational number is that number (SymPy makes the same canonical one)
-                coefficient = p[EXPR] if coefficient is sp.S.One else coefficient * p[EXPR]
-                continue
-            if kind in (PLAIN, POWER_RATIONAL):
-                base = p[BASE_HASH]
-            elif kind == SUM:
-                base = _hash(p)
-            elif kind == PRODUCT and flat is parts:
-                # a product among the factors (a flipped sine) flattened at once
-                return self._product(self._flat(parts, PRODUCT), parts)
-            else:  # a product among a product's arguments, a power to another exponent, ...
-                return self._general(sp.Mul, parts)
-            if base in bases or not p[COMMUTATIVE]:
-                return self._general(sp.Mul, parts)
-            bases.add(base)
+            base = p[BASE_HASH]
+            if base is None:  # not a commutative symbol, function value or rational power
+                kind = p[KIND]
+                if kind == RATIONAL:
+                    # 1 * a rational number is that number (SymPy makes the same one)
+                    coefficient = p[EXPR] if coefficient is sp.S.One else coefficient * p[EXPR]
+                    continue
+                if kind == PRODUCT and flat is parts:
+                    # a product among the factors (a flipped sine) flattened at once
+                    return self._product(self._flat(parts, PRODUCT), parts)
+                base = _base_hash(p) if kind == SUM else None
+                if base is None:  # a power to another exponent, a product's product, ...
+                    return None
             factors.append(p)
-        if coefficient is sp.S.Zero or (
-            coefficient is not sp.S.One and len(factors) == 1 and factors[0][KIND] == SUM
-        ):
-            return self._general(sp.Mul, parts)
+            bases.append(base)
+        if len(set(bases)) < len(bases) or coefficient is sp.S.Zero:
+            return None
+        if coefficient is not sp.S.One and len(factors) == 1 and factors[0][KIND] == SUM:
+            return None  # SymPy distributes the number
         number = None if coefficient is sp.S.One else self.part(coefficient)
-        return self._made(sp.Mul, number, factors)
+        return self._made_product(number, _sorted(factors))
 
-    def _made(self, kind: Any, number: Part | None, parts: Sequence[Part]) -> Part:
-        """The Part of ``kind._from_args`` (Add or Mul) of ``parts`` sorted and ``number``
-        (if any) first, as SymPy puts it; its key from theirs."""
-        ordered, keys = _sorted(parts)
+    def _made_product(self, number: Part | None, ordered: list[Part]) -> Part:
+        """The Part of ``Mul._from_args`` of the factors ``ordered`` (in SymPy's order) and
+        ``number`` (if any) first, as SymPy puts it; its key and REST_HASH from theirs."""
         args = ordered if number is None else [number, *ordered]
         if len(args) < 2:
-            return args[0] if args else self.part(kind.identity)
-        made = kind._from_args([p[EXPR] for p in args], True)
-        if keys is None or (number is not None and number[KEY] is UNORDERABLE):
-            key: tuple[Any, ...] = UNORDERABLE
-        else:
-            rank, name = (_ADD_RANK, "Add") if kind is sp.Add else (_MUL_RANK, "Mul")
-            first = () if number is None else (number[KEY],)
-            key = (rank, name, len(args), *first, *keys)
-        if kind is sp.Add:
-            return (made, key, SUM, None, None, None, True, tuple(args))
-        # its REST_HASH is made when it is first met as a term of a sum (most products are
-        # not: M's entries, and the factors of larger products)
-        return (made, key, PRODUCT, None, None, None, True, tuple(args))
+            return args[0] if args else self.part(sp.S.One)
+        made = sp.Mul._from_args([p[EXPR] for p in args], True)
+        key = _made_key(_MUL_RANK, "Mul", args)
+        # the REST_HASH now if it is the hash of known hashes; with a sum among the factors
+        # (whose hash SymPy computes), when the product is met as a term (:func:`_rest_hash`),
+        # which most such are not (a chain's M: each entry a product of a sum of masses)
+        hashes = [p[HASH] for p in ordered]
+        rest_hash = None if None in hashes else hash(tuple(hashes))
+        return (made, key, PRODUCT, None, None, rest_hash, True, tuple(args))
 
 
-def _rest_hash(args: tuple[Part, ...]) -> int:
-    """The hash of what a product made of the Parts ``args`` is without its number, as a
-    term of a sum (what SymPy's Add compares to combine terms)."""
+def _made_key(rank: int, name: str, args: Sequence[Part]) -> tuple[Any, ...] | None:
+    """The key of the sum or product (``name``) of ``args`` in SymPy's order, from theirs."""
+    keys = [p[KEY] for p in args]
+    return None if None in keys else (rank, name, len(keys), *keys)
+
+
+def _rest_hash(product: Part) -> int:
+    """The hash of what a product made here is without its number, as a term of a sum (what
+    SymPy's Add compares to combine terms): the hash of the tuple of its other factors, as
+    :func:`_describe` reads it off a SymPy product."""
+    args = product[ARGS]
     rest = args[1:] if args[0][KIND] == RATIONAL else args
     return hash(tuple([_hash(p) for p in rest]))
+
+
+def _base_hash(part: Part) -> int | None:
+    """The BASE_HASH of ``part``, a commutative sum's own hash when it is not known yet."""
+    known = part[BASE_HASH]
+    if known is None and part[KIND] == SUM and part[COMMUTATIVE]:
+        return _hash(part)
+    return known
 
 
 def _hash(part: Part) -> int:
@@ -286,22 +337,18 @@ def _hash(part: Part) -> int:
     return hash(part[EXPR]) if known is None else known
 
 
-def _sorted(parts: Sequence[Part]) -> tuple[list[Part], list[tuple[Any, ...]] | None]:
-    """``parts`` in SymPy's canonical order, and their keys in that order (None when one has
-    none): sorted by their keys (compared in C), or by ``Basic.compare`` when one has none
-    or two are of unlike content."""
+def _sorted(parts: Sequence[Part]) -> list[Part]:
+    """``parts`` in SymPy's canonical order: sorted by their keys (compared in C), or by
+    ``Basic.compare`` when one has none (with two or more parts sorting by keys then raises
+    TypeError: every part is compared, and a missing key compares with nothing) or two are
+    of unlike content."""
     try:
-        ordered = sorted(parts, key=_KEY_OF)
-    except TypeError:  # two keys of unlike content
-        pass
-    else:
-        keys = [p[KEY] for p in ordered]
-        if UNORDERABLE not in keys:
-            return ordered, keys
-    return sorted(parts, key=lambda p: _CANONICAL_ORDER(p[EXPR])), None
+        return sorted(parts, key=_KEY_OF)
+    except TypeError:
+        return sorted(parts, key=lambda p: _CANONICAL_ORDER(p[EXPR]))
 
 
-def _describe(expr: sp.Expr, key: tuple[Any, ...]) -> Part:
+def _describe(expr: sp.Expr, key: tuple[Any, ...] | None) -> Part:
     """The Part of ``expr`` read from the expression itself, its sort key ``key``."""
     kind = type(expr)
     commutative = expr.is_commutative is True
@@ -309,7 +356,8 @@ def _describe(expr: sp.Expr, key: tuple[Any, ...]) -> Part:
     if expr.is_Rational:
         return (expr, key, RATIONAL, value_hash, None, None, commutative, None)
     if kind is sp.Add:
-        return (expr, key, SUM, value_hash, None, None, commutative, None)
+        base_hash = value_hash if commutative else None
+        return (expr, key, SUM, value_hash, base_hash, None, commutative, None)
     if kind is sp.Mul:
         args = expr.args
         rest = args[1:] if args[0].is_Number else args
@@ -317,11 +365,13 @@ def _describe(expr: sp.Expr, key: tuple[Any, ...]) -> Part:
         return (expr, key, PRODUCT, value_hash, None, rest_hash, commutative, None)
     rest_hash = hash((value_hash,))
     if _is_plain(expr):
-        return (expr, key, PLAIN, value_hash, value_hash, rest_hash, commutative, None)
+        base_hash = value_hash if commutative else None
+        return (expr, key, PLAIN, value_hash, base_hash, rest_hash, commutative, None)
     if kind is sp.Pow and not expr.args[0].is_Number:
         base, exponent = expr.args
         tag = POWER_RATIONAL if exponent.is_Rational else POWER
-        return (expr, key, tag, value_hash, hash(base), rest_hash, commutative, None)
+        base_hash = hash(base) if commutative and tag == POWER_RATIONAL else None
+        return (expr, key, tag, value_hash, base_hash, rest_hash, commutative, None)
     return (expr, key, OTHER, value_hash, None, None, commutative, None)
 
 

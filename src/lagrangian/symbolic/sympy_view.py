@@ -64,6 +64,12 @@ class SympyView:
         # (first, second) symbols -> first - second; shared by the angles x - y and y - x
         self._differences: dict[tuple[sp.Symbol, sp.Symbol], _Difference] = {}
         self._negatives: dict[sp.Symbol, Part] = {}  # symbol -> -symbol
+        # a backend term of a sum -> its factors converted (itself if not a product), and its
+        # operations
+        self._factors: dict[Backend, tuple[tuple[Part, ...], int]] = {}
+        # (id of a number's Part, id of a term's factors) -> their product converted, and its
+        # operations (the Part and the factors are kept by the memos)
+        self._products: dict[tuple[int, int], tuple[Part, int]] = {}
 
     def __call__(self, expr: Backend) -> sp.Expr:
         known = self._memo.get(expr)
@@ -90,8 +96,8 @@ class SympyView:
         if isinstance(expr, se.Symbol):
             count, result = 0, build.part(self.by_name.get(expr.name) or sp.Symbol(expr.name))
         elif expr.is_Add:
-            parts, count = self._arguments(expr)
-            result = build.sum(parts)
+            terms, count = self._terms(expr)
+            result = build.sum(terms)
         elif expr.is_Mul:
             parts, count = self._arguments(expr)
             result = build.product(parts)
@@ -99,8 +105,8 @@ class SympyView:
             base, exponent = expr.args
             (power, base_count), (root, exponent_count) = map(self._converted, expr.args)
             count = self._within(1 + base_count + exponent_count)
-            if base.is_Add and exponent.is_Number and not exponent.is_Integer:
-                result = build.part(sympy_root(power[EXPR], root[EXPR], base.has(se.I)))
+            if base.is_Add and exponent.is_Rational:
+                result = build.part(sympy_sum_power(power[EXPR], root[EXPR], base.has(se.I)))
             else:
                 result = build.part(sp.Pow(power[EXPR], root[EXPR]))
         elif type(expr) in _TRIG:
@@ -152,6 +158,48 @@ class SympyView:
         get, convert = self._memo.get, self._convert
         parts, counts = zip(*[get(a) or convert(a) for a in expr.args])
         return parts, self._within(len(counts) - 1 + sum(counts))
+
+    def _terms(self, expr: Backend) -> tuple[list[Part], int]:
+        """The arguments of the sum ``expr`` converted, and the operations of ``expr``.
+
+        SymEngine keeps a sum as its constant and a table of terms without their
+        coefficients, and makes each argument that has a coefficient anew for each call of
+        ``expr.args`` (a product of the coefficient and the term's factors), which is then
+        hashed, looked up and converted afresh.  So the terms are read with their
+        coefficients apart (:meth:`_scaled`): a bicycle's sums share the same monomials of
+        inertias and lengths, each with its own number."""
+        get, convert = self._memo.get, self._convert
+        items = iter(expr.as_coefficients_dict().items())
+        _, constant = next(items)  # the constant comes first, under the key 1
+        parts = [] if constant is _ZERO else [(get(constant) or convert(constant))[0]]
+        count = len(parts) - 1
+        for term, coefficient in items:
+            if coefficient is _ONE:
+                known = get(term) or convert(term)
+            else:
+                known = self._scaled(get(coefficient) or convert(coefficient), term)
+            parts.append(known[0])
+            count += 1 + known[1]
+        return parts, self._within(count)
+
+    def _scaled(self, number: tuple[Part, int], term: Backend) -> tuple[Part, int]:
+        """The product of a number and a term converted, with its operations: the product
+        SymEngine makes of the two (the number and the term's factors, in its order), made
+        from the term's factors converted once for all its coefficients, and once per
+        number and term."""
+        factors = self._factors.get(term)
+        if factors is None:
+            if term.is_Mul:
+                factors = self._factors[term] = self._arguments(term)
+            else:
+                part, count = self._memo.get(term) or self._convert(term)
+                factors = self._factors[term] = ((part,), count)
+        pair = (id(number[0]), id(factors[0]))
+        scaled = self._products.get(pair)
+        if scaled is None:
+            made = self._builder.product([number[0], *factors[0]])
+            scaled = self._products[pair] = (made, self._within(1 + factors[1]))
+        return scaled
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs and sign, and Heaviside by a stand-in
@@ -289,17 +337,17 @@ class TreeOperations:
         return count
 
 
-def sympy_root(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) -> sp.Expr:
+def sympy_sum_power(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) -> sp.Expr:
     """``sp.Pow(base, exponent)``, the same expression, for a sum ``base`` and a rational
-    ``exponent`` that is not an integer (a square root), built without SymPy's evaluation
-    when the sum has symbols and no imaginary unit (``imaginary`` False): then
-    ``Add._eval_power`` returns nothing (it changes only a number, or a sum with an
-    imaginary term and an infinite one), but first asks whether either of two terms is
-    infinite, which walks SymPy's assumptions through the whole sum (a steered wheel's
-    tilt: a tenth of the time of making its constraints).
+    ``exponent`` (a square root, a square, a reciprocal), built without SymPy's evaluation
+    when the sum has symbols and no imaginary unit (``imaginary`` False) and the exponent
+    is neither 0 nor 1: then ``Add._eval_power`` returns nothing (it changes only a number,
+    or a sum with an imaginary term and an infinite one), but first asks whether either of
+    two terms is infinite, which walks SymPy's assumptions through the whole sum (a steered
+    wheel's tilt: a tenth of the time of making its constraints).
 
     >>> x, y = sp.symbols("x y")
-    >>> root = sympy_root(1 - (x * y + x) ** 2, sp.Rational(1, 2), imaginary=False)
+    >>> root = sympy_sum_power(1 - (x * y + x) ** 2, sp.Rational(1, 2), imaginary=False)
     >>> sp.srepr(root) == sp.srepr(sp.sqrt(1 - (x * y + x) ** 2))
     True
     """
@@ -307,13 +355,14 @@ def sympy_root(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) -> sp.E
         imaginary
         or type(base) is not sp.Add
         or not exponent.is_Rational
-        or exponent.is_Integer
+        or exponent is sp.S.Zero
+        or exponent is sp.S.One
         or base.is_number is not False
     ):
         return sp.Pow(base, exponent)
-    root = sp.Expr.__new__(sp.Pow, base, exponent)
-    root.is_commutative = base.is_commutative and exponent.is_commutative
-    return root
+    power = sp.Expr.__new__(sp.Pow, base, exponent)
+    power.is_commutative = base.is_commutative and exponent.is_commutative
+    return power
 
 
 def _immutable(rows: int, columns: int, entries: list[sp.Expr]) -> sp.ImmutableMatrix:
@@ -424,6 +473,8 @@ def unevaluated_trig(function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.
 
 
 _MINUS_ONE = se.Integer(-1)
+#: SymEngine's own 0 and 1, which it gives as the same objects every time.
+_ZERO, _ONE = se.S.Zero, se.S.One
 
 
 def _backend_difference(angle: Backend) -> tuple[Backend, Backend] | None:
@@ -460,6 +511,6 @@ __all__ = [
     "TreeOperations",
     "backend_entries",
     "cycle_collection_paused",
-    "sympy_root",
+    "sympy_sum_power",
     "unevaluated_trig",
 ]
