@@ -805,14 +805,14 @@ def _degrees(value: sp.Basic, memo: dict[sp.Basic, dict[sp.Basic, int]]) -> dict
     if found is not None:
         return found
     found = {}
-    if isinstance(value, (sp.Add, sp.Mul)):
-        parts = [_degrees(a, memo) for a in value.args]
-        for part in parts:
-            for generator, degree in part.items():
-                if isinstance(value, sp.Add):
-                    found[generator] = max(found.get(generator, 0), degree)
-                else:
-                    found[generator] = found.get(generator, 0) + degree
+    if isinstance(value, sp.Add):
+        for a in value.args:
+            for generator, degree in _degrees(a, memo).items():
+                found[generator] = max(found.get(generator, 0), degree)
+    elif isinstance(value, sp.Mul):
+        for a in value.args:
+            for generator, degree in _degrees(a, memo).items():
+                found[generator] = found.get(generator, 0) + degree
     elif isinstance(value, sp.Pow) and value.exp.is_Integer and value.exp > 0:
         found = {g: d * int(value.exp) for g, d in _degrees(value.base, memo).items()}
     elif not value.is_number:
@@ -1041,6 +1041,9 @@ def parse_expression(
         text = text.replace("\r\n", "\n").replace("\r", "\n")
         body = text.lstrip(" \t\f\n")  # Python refuses leading indentation
         prefix = text[: len(text) - len(body)]
+        declared = _declared_symbol(body, names)
+        if declared is not None:
+            return declared
         if cache is not None:
             cache.use(names)
         value = _Builder(body, names, cache).build(_read(body).body, 1)
@@ -1052,6 +1055,17 @@ def parse_expression(
         )
         problem = Problem(field, refusal.message, refusal.fix, at_line, at_column, source)
         raise ExpressionError(problems=[problem]) from None
+
+
+def _declared_symbol(text: str, names: Mapping[str, sp.Basic]) -> sp.Symbol | None:
+    """The symbol ``text`` names when it is one declared name standing for a symbol (a mass,
+    an inertia, a coordinate: most fields of a model file), else None.  Such a text reads
+    as that symbol and nothing in it can be refused, so it needs no syntax tree and no checks.
+    """
+    if not (text.isascii() and text.isidentifier()) or text[0] == "_" or keyword.iskeyword(text):
+        return None
+    value = names.get(text)
+    return value if isinstance(value, sp.Symbol) else None
 
 
 #: The comparisons a condition may make, by the Python operator that writes them.
