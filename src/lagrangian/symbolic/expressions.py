@@ -490,7 +490,7 @@ class _Builder:
             raise _Refusal(*_OPERATOR_REFUSALS.get(symbol, default), at)
         if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.UAdd, ast.USub)):
             operand = self.build(node.operand, depth + 1)
-            return sp.Mul(sp.S.NegativeOne, operand) if isinstance(node.op, ast.USub) else operand
+            return _negative(operand) if isinstance(node.op, ast.USub) else operand
         if isinstance(node, ast.Call):
             return self._call(node, depth)
         if isinstance(node, ast.Name):
@@ -529,7 +529,7 @@ class _Builder:
             if isinstance(op, ast.Div) and value == sp.S.Zero:
                 self.refuse(operand, "division by zero", "check the denominator")
             if isinstance(op, ast.Sub):
-                value = sp.Mul(sp.S.NegativeOne, value)
+                value = _negative(value)
             terms.append(sp.Pow(value, -1) if isinstance(op, ast.Div) else value)
         self.chain = (node, terms)
         return sp.Add(*terms) if ops[0] is ast.Add else sp.Mul(*terms)
@@ -637,6 +637,18 @@ class _Builder:
         number = _decimal(self.segment(node)) if isinstance(value, float) else _number(value)
         self.spend(_bits(number))
         return number
+
+
+def _negative(value: sp.Expr) -> sp.Expr:
+    """``-value`` as ``Mul(-1, value)`` forms it.  A symbol, or a product of factors that are
+    neither numbers nor products, is negated by SymPy's own negation: its factors are in
+    canonical order already and none merges with -1, so putting -1 in front is the product
+    Mul forms, without sorting and gathering its factors again (ten times faster).  Numbers
+    merge with -1 (-sqrt(2)*sqrt(3) is -sqrt(6)) and products that SymPy left nested are
+    flattened: those are formed by Mul."""
+    if value.is_Symbol or (value.is_Mul and not any(f.is_Mul or f.is_number for f in value.args)):
+        return -value
+    return sp.Mul(sp.S.NegativeOne, value)
 
 
 def _read(text: str) -> ast.Expression:
