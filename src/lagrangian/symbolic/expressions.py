@@ -639,13 +639,16 @@ class _Builder:
         return number
 
 
+@remembered(maxsize=4096)
 def _negative(value: sp.Expr) -> sp.Expr:
     """``-value`` as ``Mul(-1, value)`` forms it.  A symbol, or a product of factors that are
     neither numbers nor products, is negated by SymPy's own negation: its factors are in
     canonical order already and none merges with -1, so putting -1 in front is the product
     Mul forms, without sorting and gathering its factors again (ten times faster).  Numbers
     merge with -1 (-sqrt(2)*sqrt(3) is -sqrt(6)) and products that SymPy left nested are
-    flattened: those are formed by Mul."""
+    flattened: those are formed by Mul.  Remembered, as SymPy remembers Mul's products: a
+    chain's positions negate the same terms again, and the same object is found faster
+    than an equal new one downstream."""
     if value.is_Symbol or (value.is_Mul and not any(f.is_Mul or f.is_number for f in value.args)):
         return -value
     return sp.Mul(sp.S.NegativeOne, value)
