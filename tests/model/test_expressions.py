@@ -15,7 +15,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from lagrangian.errors import ExpressionError, Problem
-from lagrangian.symbolic.expressions import FUNCTIONS, parse_expression, parse_expressions
+from lagrangian.symbolic.expressions import (
+    FUNCTIONS,
+    _negative,
+    parse_expression,
+    parse_expressions,
+)
 
 x, y, theta, m, k, g, l, t = sp.symbols("x y theta m k g l t")
 x_dot, y_dot, theta_dot = sp.symbols("x_dot y_dot theta_dot")
@@ -504,3 +509,36 @@ def test_a_forgotten_coordinate_is_named_as_one() -> None:
     """phi_dot in T without phi among the coordinates: the fix is to add phi there."""
     with pytest.raises(ExpressionError, match="Else add 'phi' to coordinates"):
         parse("sin(theta)**2*phi_dot**2")
+
+
+_q = sp.Symbol("q", negative=True)
+_w = sp.Symbol("w", nonzero=True)
+_a, _b = sp.symbols("a b", commutative=False)
+
+
+@pytest.mark.parametrize(
+    "value",
+    [
+        x,
+        _q,
+        _a,
+        _a * _b,
+        x * sp.sin(theta),
+        -x * sp.cos(theta),
+        2 * x * y,
+        sp.sqrt(2) * x,
+        sp.I * x,
+        sp.Pow(-1, x) * y,
+        sp.Pow(-1, sp.Rational(1, 3)) * x,
+        sp.zoo * x,
+        sp.Mul(sp.sqrt(2), sp.sqrt(3), evaluate=False),
+        sp.Mul(-1, x + y, evaluate=False),
+        sp.Mul(2, x + y, evaluate=False) * theta,
+        sp.Mul(_q, sp.Mul(y, sp.Abs(_w), evaluate=False), evaluate=False),  # a nested product
+        x + y,
+        x**2,
+        sp.Integer(3),
+    ],
+)
+def test_a_negative_is_the_product_mul_forms(value: sp.Expr) -> None:
+    assert sp.srepr(_negative(value)) == sp.srepr(sp.Mul(sp.S.NegativeOne, value))

@@ -7,7 +7,14 @@ import pytest
 import sympy as sp
 
 from lagrangian.errors import ExpressionError
-from lagrangian.symbolic.expressions import MAX_DEPTH, ParseCache, parse_expression
+from lagrangian.symbolic.expressions import (
+    MAX_DEPTH,
+    ParseCache,
+    _Builder,
+    _read,
+    _Refusal,
+    parse_expression,
+)
 
 x, y, z, w, ll = sp.symbols("x y z w l")
 NAMES = {
@@ -116,3 +123,24 @@ def test_a_system_s_symbols_are_made_canonical_wherever_a_part_recurs() -> None:
     assert b == (2 * length * sp.sin(theta), shared + sp.Symbol("q"))  # the positive l is l
     assert system.kinetic == m * sp.Symbol("q_dot") ** 2 / 2
     assert system.particles[0].position == (shared, -length * sp.cos(theta))
+
+
+@pytest.mark.parametrize(
+    "text",
+    ["x", "th3", "  x", "x ", "\nx", "_x", "lambda", "None", "pi", "E", "sin", "é", "unknown", "q"],
+)
+def test_a_text_that_is_one_name_reads_as_its_syntax_tree_does(text: str) -> None:
+    # "q" stands for an expression, "E" overrides the constant: both through the syntax tree
+    names = {**NAMES, "q": x + 1, "E": y}
+    expected: object
+    try:
+        body = text.lstrip()
+        expected = sp.srepr(_Builder(body, names).build(_read(body).body, 1))
+    except _Refusal as refusal:
+        expected = refusal.message
+    for cache in (None, ParseCache()):
+        try:
+            found: object = sp.srepr(parse_expression(text, names, field="f", cache=cache))
+        except ExpressionError as error:
+            found = error.problems[0].message
+        assert found == expected
