@@ -97,6 +97,31 @@ def test_a_long_multiple_of_sin2_plus_cos2_minus_1_is_zero() -> None:
     assert combine_and_collect(q * (se.sin(a) ** 2 + se.cos(a) ** 2 - 1), {a, b, c}) == 0
 
 
+@pytest.mark.parametrize("seed", [6, 7])
+def test_a_reduction_is_the_same_whatever_else_the_monomial_holds(seed: int) -> None:
+    """The powers of sines and cosines of a monomial reduce the same with any other factors
+    (state symbols, velocities, sines to the first power): the reduced monomial times those
+    factors, expanded, in both canonical forms; and the value is kept."""
+    rng = random.Random(seed)
+    x, v = se.symbols("x v")
+    algebra = TrigAlgebra([a, b, x, v])
+    trig = [se.sin(a), se.cos(a), se.sin(b), se.cos(b)]
+    for _ in range(40):
+        part = se.Mul(*[f ** rng.randint(0, 5) for f in trig])
+        others = [x ** rng.randint(0, 2) * v ** rng.randint(0, 2), se.sin(b) * x, m * v**3]
+        alone = algebra.finish(algebra.convert(part))
+        for other in others:
+            whole = algebra.finish(algebra.convert(se.expand(other * part)))
+            expected = se.expand(other * algebra.expression(alone))
+            assert algebra.expression(whole) == expected
+            sine = algebra.expression(algebra.sine_form(whole))
+            if not other.has(se.sin(b)):
+                assert sine == se.expand(other * algebra.expression(algebra.sine_form(alone)))
+            values = {s: rng.uniform(-2, 2) for s in (a, b, x, v, m)}
+            for form in (expected, sine):
+                assert _value(form, values) == pytest.approx(_value(other * part, values))
+
+
 def test_the_expanded_terms_are_bounded_on_the_tree() -> None:
     rng = random.Random(5)
     atoms = [se.sin(a), se.cos(b), m, k, a]

@@ -528,22 +528,46 @@ class TrigAlgebra:
         generators flagged in ``squares``) written as f**(k mod 2) (1 - g**2)**(k // 2).
 
         The terms come in the order of expanding the binomials one after the other in the
-        order of ``exponents`` (the last varying fastest); remembered by that order."""
+        order of ``exponents`` (the last varying fastest).  Only the powers of those f and
+        their partners g change: the terms of that part are remembered by it alone (a few
+        dozen, where the whole monomials, with their velocities and other factors, are
+        thousands), and the other powers are merged into each."""
         squares = self.cosine if squares is None else squares
-        memo_key = (squares is self.sine, *chain.from_iterable(exponents.items()))
+        partner = self.partner
+        touched: list[int] = []  # (i, e, i, e, ...) of every f and g, in exponents' order
+        rest: list[tuple[int, int]] = []
+        for i, e in exponents.items():
+            if not e:
+                continue
+            reduced = squares[i] and e >= 2  # an f**k, or the g of one:
+            if reduced or (exponents.get(partner.get(i, -1), 0) >= 2 and squares[partner[i]]):
+                touched += (i, e)
+            else:
+                rest.append((i, e))
+        terms = self._reduced_part(squares, tuple(touched))
+        if not rest:
+            return terms
+        flat: list[Any] = []
+        for key, n in _monomials(terms):
+            flat += (_key(chain(rest, pairs(key))), n)
+        return tuple(flat)
+
+    def _reduced_part(self, squares: list[bool], touched: Key) -> Terms:
+        """:meth:`_reduced` of the powers ``touched`` (i, e, ...): the ones it changes."""
+        memo_key = (squares is self.sine, *touched)
         known = self._reductions.get(memo_key)
         if known is not None:
             return known
         base: dict[int, int] = {}  # what every term has: the other powers, f**(k mod 2)
         binomials: list[tuple[int, int]] = []  # (g, k // 2) of each f(x)**k
         partner = self.partner
-        for i, e in exponents.items():
+        for i, e in pairs(touched):
             if e >= 2 and squares[i]:
                 half, rest = divmod(e, 2)
                 if rest:
                     base[i] = rest
                 binomials.append((partner[i], half))
-            elif e:
+            else:
                 base[i] = e
         # (powers, factor) of the terms, multiplied out binomial by binomial
         terms = [(base, 1)]
