@@ -144,6 +144,24 @@ def _add_into(result: Poly, made: set[Key], key: Key, c: Coefficient, n: int = 1
             known[k] = get(k, 0) + n * v
 
 
+class Sum:
+    """A polynomial summed in place (:func:`_add_into`): the many products and shares that
+    make an entry of M, a row of C q_dot or a derivative go into one result, with no list of
+    coefficients per monomial summed at the end."""
+
+    __slots__ = ("made", "poly")
+
+    def __init__(self) -> None:
+        self.poly: Poly = {}
+        self.made: set[Key] = set()  # the monomials whose coefficients were made here
+
+    def add(self, p: Poly) -> None:
+        """Add the polynomial ``p`` (its coefficients met once kept, shared)."""
+        poly, made = self.poly, self.made
+        for k, c in p.items():
+            _add_into(poly, made, k, c)
+
+
 def _nonzero(c: Coefficient) -> Coefficient:
     return {k: v for k, v in c.items() if v}
 
@@ -430,35 +448,28 @@ class TrigAlgebra:
         if len(a) == 1 and ONE in a:
             c = a[ONE]
             return {k: _times(c, v) for k, v in b.items()}
-        parts: dict[Key, list[Coefficient]] = defaultdict(list)
-        self.accumulate_product(parts, a, b)
-        return self.gather(parts)
+        product = Sum()
+        self.accumulate_product(product, a, b)
+        return self.gather(product)
 
     def accumulate_product(
-        self,
-        target: dict[Key, list[Coefficient]],
-        a: Poly,
-        b: Poly,
-        weight: Coefficient | None = None,
+        self, target: Sum, a: Poly, b: Poly, weight: Coefficient | None = None
     ) -> None:
-        """Add ``weight`` (a coefficient, 1 when None) * ``a`` * ``b`` to the coefficient
-        lists ``target``: the products of many pairs summed with one :meth:`gather`, as an
-        entry of M sums every body's share, with no polynomial made per pair."""
+        """Add ``weight`` (a coefficient, 1 when None) * ``a`` * ``b`` to ``target``: the
+        products of many pairs summed into one, as an entry of M sums every body's share,
+        with no polynomial made per pair."""
         for ka, ca in a.items():
             self.accumulate(target, b, ka, ca if weight is None else _times(weight, ca))
 
     def accumulate(
-        self,
-        target: dict[Key, list[Coefficient]],
-        p: Poly,
-        factor: Key,
-        scale: Coefficient | Number = 1,
+        self, target: Sum, p: Poly, factor: Key, scale: Coefficient | Number = 1
     ) -> None:
-        """Add ``scale`` (a coefficient or a number) * monomial ``factor`` * ``p`` to the
-        coefficient lists ``target``."""
+        """Add ``scale`` (a coefficient or a number) * monomial ``factor`` * ``p`` to
+        ``target``."""
         known = self._products_by(factor)  # most pairs are known
         coefficient = isinstance(scale, dict)
         plain = not coefficient and scale.__class__ is int and scale == 1
+        result, made = target.poly, target.made
         for k, c in p.items():
             if plain:
                 value = c
@@ -470,15 +481,15 @@ class TrigAlgebra:
             if r is None:
                 r = known[k] = self._made_product(k, factor)
             if not r or r[0].__class__ is int:  # a monomial
-                target[r].append(value)
+                _add_into(result, made, r, value)
                 continue
             for key, n in _monomials(r):
-                target[key].append(value if n == 1 else _scaled(value, n))
+                _add_into(result, made, key, value, n)
 
-    def gather(self, target: dict[Key, list[Coefficient]]) -> Poly:
-        """The polynomial of coefficient lists (see :meth:`accumulate`)."""
-        self._check_size(len(target))
-        return {k: v[0] if len(v) == 1 else _summed(v) for k, v in target.items()}
+    def gather(self, target: Sum) -> Poly:
+        """The polynomial summed in ``target`` (see :meth:`accumulate`)."""
+        self._check_size(len(target.poly))
+        return target.poly
 
     def power(self, p: Poly, exponent: int) -> Poly:
         result: Poly = {ONE: {0: 1}}
@@ -610,7 +621,7 @@ class TrigAlgebra:
         memo = self._derivatives.get(memo_key)
         if memo is not None:
             return memo
-        parts: dict[Key, list[Coefficient]] = defaultdict(list)
+        parts = Sum()
         for i, e in pairs(key):
             if not self.moving[i]:
                 continue
