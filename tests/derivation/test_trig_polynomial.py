@@ -16,7 +16,7 @@ import lagrangian as lg
 from lagrangian.derivation import kinetic
 from lagrangian.derivation.assemble import assemble
 from lagrangian.derivation.trig import combine_and_collect, combine_trig
-from lagrangian.derivation.trig_polynomial import TrigAlgebra, expanded_terms
+from lagrangian.derivation.trig_polynomial import Sum, TrigAlgebra, expanded_terms
 from lagrangian.model import rotation
 from lagrangian.model.rotation import body_angular_velocity, rotation_sequence
 from lagrangian.symbolic.symbols import velocity
@@ -120,6 +120,31 @@ def test_a_reduction_is_the_same_whatever_else_the_monomial_holds(seed: int) -> 
             values = {s: rng.uniform(-2, 2) for s in (a, b, x, v, m)}
             for form in (expected, sine):
                 assert _value(form, values) == pytest.approx(_value(other * part, values))
+
+
+def test_a_sum_in_place_leaves_its_terms_alone() -> None:
+    """Products and polynomials summed into one :class:`Sum` (the coefficients met once
+    kept, shared) give their sum expanded and reduced, and the polynomials they came from are
+    unchanged (a shared coefficient is copied before it is added to)."""
+    x, v = se.symbols("x v")
+    algebra = TrigAlgebra([a, x, v])
+    first = algebra.finish(algebra.convert(m * se.sin(a) * v + k * se.cos(a) * x + m))
+    second = algebra.finish(algebra.convert(k * se.sin(a) * v - m * x * se.cos(a) + 2 * k))
+    before = [{key: dict(c) for key, c in p.items()} for p in (first, second)]
+    total = Sum()
+    total.add(first)
+    total.add(second)
+    algebra.accumulate_product(total, first, second)
+    algebra.accumulate(total, second, next(iter(algebra.convert(v))), 3)
+    expected = se.expand(
+        algebra.expression(first) * (1 + algebra.expression(second))
+        + (1 + 3 * v) * algebra.expression(second)
+    )
+    summed = algebra.expression(algebra.finish(algebra.gather(total)))
+    assert summed == algebra.expression(algebra.finish(algebra.convert(expected)))
+    values = {a: 0.7, x: -1.3, v: 0.4, m: 2.1, k: 0.3}
+    assert _value(summed, values) == pytest.approx(_value(expected, values))
+    assert [first, second] == before
 
 
 def test_the_expanded_terms_are_bounded_on_the_tree() -> None:

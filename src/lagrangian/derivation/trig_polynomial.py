@@ -431,13 +431,10 @@ class TrigAlgebra:
     # -- arithmetic -----------------------------------------------------------------------
 
     def add(self, polys: Iterable[Poly]) -> Poly:
-        result: Poly = {}
-        made: set[Key] = set()
+        total = Sum()
         for p in polys:
-            for k, c in p.items():
-                _add_into(result, made, k, c)
-        self._check_size(len(result))
-        return result
+            total.add(p)
+        return self.gather(total)
 
     def _check_size(self, monomials: int) -> None:
         """Raise :class:`PolynomialTooLarge` for more ``monomials`` than :attr:`limit`."""
