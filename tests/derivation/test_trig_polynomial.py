@@ -16,7 +16,7 @@ import lagrangian as lg
 from lagrangian.derivation import kinetic
 from lagrangian.derivation.assemble import assemble
 from lagrangian.derivation.trig import combine_and_collect, combine_trig
-from lagrangian.derivation.trig_polynomial import TrigAlgebra, expanded_terms
+from lagrangian.derivation.trig_polynomial import Sum, TrigAlgebra, expanded_terms
 from lagrangian.model import rotation
 from lagrangian.model.rotation import body_angular_velocity, rotation_sequence
 from lagrangian.symbolic.symbols import velocity
@@ -95,6 +95,56 @@ def test_a_long_multiple_of_sin2_plus_cos2_minus_1_is_zero() -> None:
     q = _long_polynomial(3)
     assert combine_trig(q * (se.sin(b) ** 2 + se.cos(b) ** 2 - 1)) == 0
     assert combine_and_collect(q * (se.sin(a) ** 2 + se.cos(a) ** 2 - 1), {a, b, c}) == 0
+
+
+@pytest.mark.parametrize("seed", [6, 7])
+def test_a_reduction_is_the_same_whatever_else_the_monomial_holds(seed: int) -> None:
+    """The powers of sines and cosines of a monomial reduce the same with any other factors
+    (state symbols, velocities, sines to the first power): the reduced monomial times those
+    factors, expanded, in both canonical forms; and the value is kept."""
+    rng = random.Random(seed)
+    x, v = se.symbols("x v")
+    algebra = TrigAlgebra([a, b, x, v])
+    trig = [se.sin(a), se.cos(a), se.sin(b), se.cos(b)]
+    for _ in range(40):
+        part = se.Mul(*[f ** rng.randint(0, 5) for f in trig])
+        others = [x ** rng.randint(0, 2) * v ** rng.randint(0, 2), se.sin(b) * x, m * v**3]
+        alone = algebra.finish(algebra.convert(part))
+        for other in others:
+            whole = algebra.finish(algebra.convert(se.expand(other * part)))
+            expected = se.expand(other * algebra.expression(alone))
+            assert algebra.expression(whole) == expected
+            sine = algebra.expression(algebra.sine_form(whole))
+            if not other.has(se.sin(b)):
+                assert sine == se.expand(other * algebra.expression(algebra.sine_form(alone)))
+            values = {s: rng.uniform(-2, 2) for s in (a, b, x, v, m)}
+            for form in (expected, sine):
+                assert _value(form, values) == pytest.approx(_value(other * part, values))
+
+
+def test_a_sum_in_place_leaves_its_terms_alone() -> None:
+    """Products and polynomials summed into one :class:`Sum` (the coefficients met once
+    kept, shared) give their sum expanded and reduced, and the polynomials they came from are
+    unchanged (a shared coefficient is copied before it is added to)."""
+    x, v = se.symbols("x v")
+    algebra = TrigAlgebra([a, x, v])
+    first = algebra.finish(algebra.convert(m * se.sin(a) * v + k * se.cos(a) * x + m))
+    second = algebra.finish(algebra.convert(k * se.sin(a) * v - m * x * se.cos(a) + 2 * k))
+    before = [{key: dict(c) for key, c in p.items()} for p in (first, second)]
+    total = Sum()
+    total.add(first)
+    total.add(second)
+    algebra.accumulate_product(total, first, second)
+    algebra.accumulate(total, second, next(iter(algebra.convert(v))), 3)
+    expected = se.expand(
+        algebra.expression(first) * (1 + algebra.expression(second))
+        + (1 + 3 * v) * algebra.expression(second)
+    )
+    summed = algebra.expression(algebra.finish(algebra.gather(total)))
+    assert summed == algebra.expression(algebra.finish(algebra.convert(expected)))
+    values = {a: 0.7, x: -1.3, v: 0.4, m: 2.1, k: 0.3}
+    assert _value(summed, values) == pytest.approx(_value(expected, values))
+    assert [first, second] == before
 
 
 def test_the_expanded_terms_are_bounded_on_the_tree() -> None:

@@ -15,7 +15,6 @@ is kept apart as the time terms.
 
 from __future__ import annotations
 
-from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -29,10 +28,9 @@ from lagrangian.derivation.coriolis import EntrySplit, VelocityProduct, coriolis
 from lagrangian.derivation.trig import combine_trig, plain_angle
 from lagrangian.derivation.trig_polynomial import (
     ONE,
-    Coefficient,
-    Key,
     Poly,
     PolynomialTooLarge,
+    Sum,
     TrigAlgebra,
     algebra_for,
 )
@@ -909,15 +907,12 @@ def _canonical_form(asm: Assembly, explicit: Matrix, algebra: TrigAlgebra) -> Ki
     if products > NESTED_PRODUCTS:
         raise PolynomialTooLarge(f"{products} products of Jacobian monomials")
     weighted = [(w, _turned(algebra, rows) if len(rows) == 3 else rows) for w, rows in weighted]
-    # every body's share of an entry goes into one list of coefficients per monomial, summed
-    # once (:meth:`TrigAlgebra.gather`): no polynomial per body, row or pair of axes
-    shares: list[list[dict[Key, list[Coefficient]]]] = [
-        [defaultdict(list) for _ in range(n)] for _ in range(n)
-    ]
+    # every body's share of an entry is summed into one polynomial (:class:`Sum`): no
+    # polynomial per body, row or pair of axes
+    shares = [[Sum() for _ in range(n)] for _ in range(n)]
     for j in range(n):
         for k in range(j, n):
-            for key, c in algebra.convert(explicit[j][k]).items():
-                shares[j][k][key].append(c)
+            shares[j][k].add(algebra.convert(explicit[j][k]))
     for weight, rows in weighted:
         _add_gram(algebra, shares, algebra.convert(weight), rows, rows)
     for rotation in asm.rotations:
@@ -1091,13 +1086,13 @@ def _jacobian_row(algebra: TrigAlgebra, x: Backend, q: tuple[Backend, ...]) -> l
 
 def _add_gram(
     algebra: TrigAlgebra,
-    shares: list[list[dict[Key, list[Coefficient]]]],
+    shares: list[list[Sum]],
     weight: Poly,
     first: list[list[Poly]],
     second: list[list[Poly]],
 ) -> None:
     """Add weight * sum_r (first_rj second_rk + second_rj first_rk) (once when ``first`` is
-    ``second``: weight J^T J) to the upper triangle of the entries' coefficient lists."""
+    ``second``: weight J^T J) to the upper triangle of the entries' sums."""
     n = len(shares)
     if not weight:
         return
@@ -1114,18 +1109,17 @@ def _add_gram(
                     algebra.accumulate_product(target, a[j], b[k], scale)
                     continue
                 # a weight that moves (never a mass or an inertia)
-                for key, c in algebra.multiply(weight, algebra.multiply(a[j], b[k])).items():
-                    target[key].append(c)
+                target.add(algebra.multiply(weight, algebra.multiply(a[j], b[k])))
 
 
 def _add_rotation_share(
     algebra: TrigAlgebra,
-    shares: list[list[dict[Key, list[Coefficient]]]],
+    shares: list[list[Sum]],
     rotation: Rotation,
     asm: Assembly,
 ) -> None:
-    """Add J_w^T I J_w (omega_b = J_w q_dot) to the upper triangle of the entries'
-    coefficient lists: I_ab (J_aj J_bk + J_bj J_ak) for a < b, I_aa J_aj J_ak."""
+    """Add J_w^T I J_w (omega_b = J_w q_dot) to the upper triangle of the entries' sums:
+    I_ab (J_aj J_bk + J_bj J_ak) for a < b, I_aa J_aj J_ak."""
     inertia = rotation.inertia
     jac = [
         [algebra.finish(algebra.convert(se.expand(w.diff(v)))) for v in asm.q_dot]
@@ -1165,7 +1159,7 @@ def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) ->
     half = Fraction(-1, 2)
     result = []
     for j in range(n):
-        parts: dict[Key, list[Coefficient]] = defaultdict(list)
+        parts = Sum()
         for k, ell, pair in pairs:
             if k == ell:
                 algebra.accumulate(parts, d(j, k, k), pair)

@@ -144,6 +144,24 @@ def _add_into(result: Poly, made: set[Key], key: Key, c: Coefficient, n: int = 1
             known[k] = get(k, 0) + n * v
 
 
+class Sum:
+    """A polynomial summed in place (:func:`_add_into`): the many products and shares that
+    make an entry of M, a row of C q_dot or a derivative go into one result, with no list of
+    coefficients per monomial summed at the end."""
+
+    __slots__ = ("made", "poly")
+
+    def __init__(self) -> None:
+        self.poly: Poly = {}
+        self.made: set[Key] = set()  # the monomials whose coefficients were made here
+
+    def add(self, p: Poly) -> None:
+        """Add the polynomial ``p`` (its coefficients met once kept, shared)."""
+        poly, made = self.poly, self.made
+        for k, c in p.items():
+            _add_into(poly, made, k, c)
+
+
 def _nonzero(c: Coefficient) -> Coefficient:
     return {k: v for k, v in c.items() if v}
 
@@ -413,13 +431,10 @@ class TrigAlgebra:
     # -- arithmetic -----------------------------------------------------------------------
 
     def add(self, polys: Iterable[Poly]) -> Poly:
-        result: Poly = {}
-        made: set[Key] = set()
+        total = Sum()
         for p in polys:
-            for k, c in p.items():
-                _add_into(result, made, k, c)
-        self._check_size(len(result))
-        return result
+            total.add(p)
+        return self.gather(total)
 
     def _check_size(self, monomials: int) -> None:
         """Raise :class:`PolynomialTooLarge` for more ``monomials`` than :attr:`limit`."""
@@ -430,35 +445,28 @@ class TrigAlgebra:
         if len(a) == 1 and ONE in a:
             c = a[ONE]
             return {k: _times(c, v) for k, v in b.items()}
-        parts: dict[Key, list[Coefficient]] = defaultdict(list)
-        self.accumulate_product(parts, a, b)
-        return self.gather(parts)
+        product = Sum()
+        self.accumulate_product(product, a, b)
+        return self.gather(product)
 
     def accumulate_product(
-        self,
-        target: dict[Key, list[Coefficient]],
-        a: Poly,
-        b: Poly,
-        weight: Coefficient | None = None,
+        self, target: Sum, a: Poly, b: Poly, weight: Coefficient | None = None
     ) -> None:
-        """Add ``weight`` (a coefficient, 1 when None) * ``a`` * ``b`` to the coefficient
-        lists ``target``: the products of many pairs summed with one :meth:`gather`, as an
-        entry of M sums every body's share, with no polynomial made per pair."""
+        """Add ``weight`` (a coefficient, 1 when None) * ``a`` * ``b`` to ``target``: the
+        products of many pairs summed into one, as an entry of M sums every body's share,
+        with no polynomial made per pair."""
         for ka, ca in a.items():
             self.accumulate(target, b, ka, ca if weight is None else _times(weight, ca))
 
     def accumulate(
-        self,
-        target: dict[Key, list[Coefficient]],
-        p: Poly,
-        factor: Key,
-        scale: Coefficient | Number = 1,
+        self, target: Sum, p: Poly, factor: Key, scale: Coefficient | Number = 1
     ) -> None:
-        """Add ``scale`` (a coefficient or a number) * monomial ``factor`` * ``p`` to the
-        coefficient lists ``target``."""
+        """Add ``scale`` (a coefficient or a number) * monomial ``factor`` * ``p`` to
+        ``target``."""
         known = self._products_by(factor)  # most pairs are known
         coefficient = isinstance(scale, dict)
         plain = not coefficient and scale.__class__ is int and scale == 1
+        result, made = target.poly, target.made
         for k, c in p.items():
             if plain:
                 value = c
@@ -470,15 +478,15 @@ class TrigAlgebra:
             if r is None:
                 r = known[k] = self._made_product(k, factor)
             if not r or r[0].__class__ is int:  # a monomial
-                target[r].append(value)
+                _add_into(result, made, r, value)
                 continue
             for key, n in _monomials(r):
-                target[key].append(value if n == 1 else _scaled(value, n))
+                _add_into(result, made, key, value, n)
 
-    def gather(self, target: dict[Key, list[Coefficient]]) -> Poly:
-        """The polynomial of coefficient lists (see :meth:`accumulate`)."""
-        self._check_size(len(target))
-        return {k: v[0] if len(v) == 1 else _summed(v) for k, v in target.items()}
+    def gather(self, target: Sum) -> Poly:
+        """The polynomial summed in ``target`` (see :meth:`accumulate`)."""
+        self._check_size(len(target.poly))
+        return target.poly
 
     def power(self, p: Poly, exponent: int) -> Poly:
         result: Poly = {ONE: {0: 1}}
@@ -528,22 +536,46 @@ class TrigAlgebra:
         generators flagged in ``squares``) written as f**(k mod 2) (1 - g**2)**(k // 2).
 
         The terms come in the order of expanding the binomials one after the other in the
-        order of ``exponents`` (the last varying fastest); remembered by that order."""
+        order of ``exponents`` (the last varying fastest).  Only the powers of those f and
+        their partners g change: the terms of that part are remembered by it alone (a few
+        dozen, where the whole monomials, with their velocities and other factors, are
+        thousands), and the other powers are merged into each."""
         squares = self.cosine if squares is None else squares
-        memo_key = (squares is self.sine, *chain.from_iterable(exponents.items()))
+        partner = self.partner
+        touched: list[int] = []  # (i, e, i, e, ...) of every f and g, in exponents' order
+        rest: list[tuple[int, int]] = []
+        for i, e in exponents.items():
+            if not e:
+                continue
+            reduced = squares[i] and e >= 2  # an f**k, or the g of one:
+            if reduced or (exponents.get(partner.get(i, -1), 0) >= 2 and squares[partner[i]]):
+                touched += (i, e)
+            else:
+                rest.append((i, e))
+        terms = self._reduced_part(squares, tuple(touched))
+        if not rest:
+            return terms
+        flat: list[Any] = []
+        for key, n in _monomials(terms):
+            flat += (_key(chain(rest, pairs(key))), n)
+        return tuple(flat)
+
+    def _reduced_part(self, squares: list[bool], touched: Key) -> Terms:
+        """:meth:`_reduced` of the powers ``touched`` (i, e, ...): the ones it changes."""
+        memo_key = (squares is self.sine, *touched)
         known = self._reductions.get(memo_key)
         if known is not None:
             return known
         base: dict[int, int] = {}  # what every term has: the other powers, f**(k mod 2)
         binomials: list[tuple[int, int]] = []  # (g, k // 2) of each f(x)**k
         partner = self.partner
-        for i, e in exponents.items():
+        for i, e in pairs(touched):
             if e >= 2 and squares[i]:
                 half, rest = divmod(e, 2)
                 if rest:
                     base[i] = rest
                 binomials.append((partner[i], half))
-            elif e:
+            else:
                 base[i] = e
         # (powers, factor) of the terms, multiplied out binomial by binomial
         terms = [(base, 1)]
@@ -586,7 +618,7 @@ class TrigAlgebra:
         memo = self._derivatives.get(memo_key)
         if memo is not None:
             return memo
-        parts: dict[Key, list[Coefficient]] = defaultdict(list)
+        parts = Sum()
         for i, e in pairs(key):
             if not self.moving[i]:
                 continue
