@@ -17,6 +17,7 @@ import sympy as sp
 import lagrangian as lg
 from lagrangian.examples import BENCHMARKS
 from lagrangian.model import Frame, RigidBody, RollingDisc, System, shape
+from lagrangian.model.constraints import _linear
 from lagrangian.model.contact import ContactHeight, NoSlip, contact_point
 from lagrangian.model.rotation import euler_rotation
 from lagrangian.symbolic.symbols import velocity
@@ -152,6 +153,21 @@ def test_a_velocity_constraint_linear_only_once_expanded_is_accepted() -> None:
         constraints=[lg.VelocityConstraint(square)],
     )
     assert system.constraints[0].expression == square
+
+
+def test_the_no_slip_constraints_pass_the_linearity_check_the_system_skips_for_them(
+    bicycle: System,
+) -> None:
+    # linear by construction (NoSlip.linear_by_construction): the check a user's velocity
+    # constraint gets, and SymPy's Hessian in the velocities, find them linear
+    rates = {velocity(q) for q in bicycle.coordinates}
+    slips = [c.expression for c in bicycle.constraints if isinstance(c, NoSlip)]
+    assert len(slips) == 4
+    for expr in slips:
+        used = sorted(expr.free_symbols & rates, key=str)
+        assert used and _linear(expr, used)
+        hessian = sp.hessian(expr, used)
+        assert all(sp.expand(e) == 0 for e in hessian)
 
 
 def test_rotations_relative_to_a_given_matrix_are_still_checked() -> None:

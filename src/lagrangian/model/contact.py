@@ -111,6 +111,12 @@ class NoSlip(VelocityConstraint):
     """A no-slip constraint (one world component of v_C = 0) of a :class:`RollingDisc`."""
 
     contact: str = ""
+    #: Made as the sum of (dp/dq_j + omega_j x (C - p)) q_dot_j and a rate free of velocities
+    #: (:func:`rolling_constraints`), each coefficient a function of q and t (omega is linear
+    #: in the velocities, omega_j its derivative by q_dot_j): linear in the velocities always
+    #: (the body's position and orientation are checked free of velocities, and the System
+    #: replaces any NoSlip it is given by those it makes).
+    linear_by_construction: ClassVar[bool] = True
 
 
 GENERATED = (ContactHeight, NoSlip)
