@@ -316,7 +316,10 @@ def _tidy(expr: Any, length: _HorizontalLength) -> Any:
     if length.closed or not plain.has(length.SYMBOL):
         return plain
     s = length.SYMBOL
-    numerator = _shorter(se.expand(se.expand(plain * s).xreplace({s**2: 1 - length.a_z**2})))
+    # plain is expanded already: s is only distributed over its terms (deep=False), not the
+    # terms expanded again (the same sum: expanding is idempotent)
+    over_s = se.expand(plain * s, deep=False)
+    numerator = _shorter(se.expand(over_s.xreplace({s**2: 1 - length.a_z**2})))
     return numerator / s if _terms(numerator) < _terms(plain) else plain
 
 
