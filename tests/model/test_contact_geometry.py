@@ -12,13 +12,14 @@ import random
 
 import numpy as np
 import pytest
+import symengine as se
 import sympy as sp
 
 import lagrangian as lg
 from lagrangian.examples import BENCHMARKS
 from lagrangian.model import Frame, RigidBody, RollingDisc, System, shape
 from lagrangian.model.constraints import _linear
-from lagrangian.model.contact import ContactHeight, NoSlip, contact_point
+from lagrangian.model.contact import ContactHeight, NoSlip, _HorizontalLength, contact_point
 from lagrangian.model.rotation import euler_rotation
 from lagrangian.symbolic.symbols import velocity
 
@@ -197,3 +198,21 @@ def test_a_rolling_body_whose_position_symengine_cannot_hold_is_refused_by_field
             rigid_bodies=[body],
             rolling=[RollingDisc("wheel", r)],
         )
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_s_distributed_over_an_expanded_sum_is_the_full_expansion(seed: int) -> None:
+    # _tidy multiplies an expanded coefficient by s with se.expand(..., deep=False): the
+    # same sum as expanding everything again, on sums of the kind a steered wheel makes
+    rng = random.Random(seed)
+    s = _HorizontalLength.SYMBOL
+    lean, steer, rF = se.symbols("lean steer rF")
+    a_z = se.sin(lean) * se.cos(steer) + se.cos(lean) * se.sin(steer)
+    factors = [se.sin(lean), se.cos(steer), rF, s, 1 / s, a_z, se.sqrt(1 + lean**2)]
+    terms = [
+        rng.randint(-3, 3) * se.Mul(*rng.choices(factors, k=rng.randint(1, 4))) for _ in range(8)
+    ]
+    plain = se.expand(se.Add(*terms))
+    shallow = se.expand(plain * s, deep=False)
+    assert shallow == se.expand(plain * s)
+    assert str(shallow) == str(se.expand(plain * s))
