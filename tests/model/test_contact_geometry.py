@@ -12,12 +12,14 @@ import random
 
 import numpy as np
 import pytest
+import symengine as se
 import sympy as sp
 
 import lagrangian as lg
 from lagrangian.examples import BENCHMARKS
 from lagrangian.model import Frame, RigidBody, RollingDisc, System, shape
-from lagrangian.model.contact import ContactHeight, NoSlip, contact_point
+from lagrangian.model.constraints import _linear
+from lagrangian.model.contact import ContactHeight, NoSlip, _HorizontalLength, contact_point
 from lagrangian.model.rotation import euler_rotation
 from lagrangian.symbolic.symbols import velocity
 
@@ -154,6 +156,21 @@ def test_a_velocity_constraint_linear_only_once_expanded_is_accepted() -> None:
     assert system.constraints[0].expression == square
 
 
+def test_the_no_slip_constraints_pass_the_linearity_check_the_system_skips_for_them(
+    bicycle: System,
+) -> None:
+    # linear by construction (NoSlip.linear_by_construction): the check a user's velocity
+    # constraint gets, and SymPy's Hessian in the velocities, find them linear
+    rates = {velocity(q) for q in bicycle.coordinates}
+    slips = [c.expression for c in bicycle.constraints if isinstance(c, NoSlip)]
+    assert len(slips) == 4
+    for expr in slips:
+        used = sorted(expr.free_symbols & rates, key=str)
+        assert used and _linear(expr, used)
+        hessian = sp.hessian(expr, used)
+        assert all(sp.expand(e) == 0 for e in hessian)
+
+
 def test_rotations_relative_to_a_given_matrix_are_still_checked() -> None:
     skewed = sp.Matrix([[1, 0, 0], [0, 1, sp.Rational(1, 2)], [0, 0, 1]])
     body = RigidBody("top", m, sp.eye(3), (0, 0, 0), parent="stand", rotations=[("z", psi)])
@@ -181,3 +198,21 @@ def test_a_rolling_body_whose_position_symengine_cannot_hold_is_refused_by_field
             rigid_bodies=[body],
             rolling=[RollingDisc("wheel", r)],
         )
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_s_distributed_over_an_expanded_sum_is_the_full_expansion(seed: int) -> None:
+    # _tidy multiplies an expanded coefficient by s with se.expand(..., deep=False): the
+    # same sum as expanding everything again, on sums of the kind a steered wheel makes
+    rng = random.Random(seed)
+    s = _HorizontalLength.SYMBOL
+    lean, steer, rF = se.symbols("lean steer rF")
+    a_z = se.sin(lean) * se.cos(steer) + se.cos(lean) * se.sin(steer)
+    factors = [se.sin(lean), se.cos(steer), rF, s, 1 / s, a_z, se.sqrt(1 + lean**2)]
+    terms = [
+        rng.randint(-3, 3) * se.Mul(*rng.choices(factors, k=rng.randint(1, 4))) for _ in range(8)
+    ]
+    plain = se.expand(se.Add(*terms))
+    shallow = se.expand(plain * s, deep=False)
+    assert shallow == se.expand(plain * s)
+    assert str(shallow) == str(se.expand(plain * s))

@@ -64,6 +64,8 @@ class VelocityConstraint:
     expression: sp.Expr
     name: str = ""
     kind: ClassVar[str] = "velocity"
+    #: True for constraints made linear in the velocities (their linearity is not checked).
+    linear_by_construction: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "expression", _as_expression(self.expression))
@@ -167,7 +169,7 @@ def _check_one(item: Any, index: int, scope: NameScope, problems: list[Problem])
                     "declare it as one",
                 )
             )
-        elif not _linear(expression, velocities):
+        elif not (item.linear_by_construction or _linear(expression, velocities)):
             problems.append(
                 Problem(
                     field,

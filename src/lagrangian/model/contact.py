@@ -111,6 +111,12 @@ class NoSlip(VelocityConstraint):
     """A no-slip constraint (one world component of v_C = 0) of a :class:`RollingDisc`."""
 
     contact: str = ""
+    #: Made as the sum of (dp/dq_j + omega_j x (C - p)) q_dot_j and a rate free of velocities
+    #: (:func:`rolling_constraints`), each coefficient a function of q and t (omega is linear
+    #: in the velocities, omega_j its derivative by q_dot_j): linear in the velocities always
+    #: (the body's position and orientation are checked free of velocities, and the System
+    #: replaces any NoSlip it is given by those it makes).
+    linear_by_construction: ClassVar[bool] = True
 
 
 GENERATED = (ContactHeight, NoSlip)
@@ -310,7 +316,10 @@ def _tidy(expr: Any, length: _HorizontalLength) -> Any:
     if length.closed or not plain.has(length.SYMBOL):
         return plain
     s = length.SYMBOL
-    numerator = _shorter(se.expand(se.expand(plain * s).xreplace({s**2: 1 - length.a_z**2})))
+    # plain is expanded already: s is only distributed over its terms (deep=False), not the
+    # terms expanded again (the same sum: expanding is idempotent)
+    over_s = se.expand(plain * s, deep=False)
+    numerator = _shorter(se.expand(over_s.xreplace({s**2: 1 - length.a_z**2})))
     return numerator / s if _terms(numerator) < _terms(plain) else plain
 
 
