@@ -16,7 +16,7 @@ import lagrangian as lg
 from lagrangian.derivation import kinetic
 from lagrangian.derivation.assemble import assemble
 from lagrangian.derivation.trig import combine_and_collect, combine_trig
-from lagrangian.derivation.trig_polynomial import Sum, TrigAlgebra, expanded_terms
+from lagrangian.derivation.trig_polynomial import Sum, TrigAlgebra, _spliced, expanded_terms
 from lagrangian.model import rotation
 from lagrangian.model.rotation import body_angular_velocity, rotation_sequence
 from lagrangian.symbolic.symbols import velocity
@@ -120,6 +120,20 @@ def test_a_reduction_is_the_same_whatever_else_the_monomial_holds(seed: int) -> 
             values = {s: rng.uniform(-2, 2) for s in (a, b, x, v, m)}
             for form in (expected, sine):
                 assert _value(form, values) == pytest.approx(_value(other * part, values))
+
+
+def test_a_part_spliced_into_other_powers_is_their_sorted_union() -> None:
+    """The terms of a reduction put into the monomial's other powers by bisection: the
+    pairs of both sorted by generator index, wherever the part's generators fall."""
+    rng = random.Random(11)
+    for _ in range(300):
+        indices = rng.sample(range(12), rng.randint(1, 9))
+        cut = rng.randint(0, len(indices))
+        others = sorted((i, rng.randint(1, 3)) for i in indices[:cut])
+        part = sorted((i, rng.randint(1, 4)) for i in indices[cut:])
+        flat = [tuple(x for pair in pairs for x in pair) for pairs in (others, part)]
+        expected = tuple(x for pair in sorted(others + part) for x in pair)
+        assert _spliced(flat[0], [i for i, _ in others], flat[1]) == expected
 
 
 def test_a_sum_in_place_leaves_its_terms_alone() -> None:

@@ -29,6 +29,7 @@ m
 from __future__ import annotations
 
 import threading
+from bisect import bisect
 from collections import defaultdict
 from collections.abc import Iterable, Iterator
 from fractions import Fraction
@@ -237,6 +238,19 @@ def _merged(a: Key, b: Key, squares: list[bool]) -> Key | None:
                 return None
         out += rest[start:]
     return tuple(out)
+
+
+def _spliced(others: Key, indices: list[int], part: Key) -> Key:
+    """The monomial ``others`` (its generator indices ``indices``) times ``part``, which has
+    none of them: each pair of ``part`` put in at its place, found by bisection (the terms of
+    a reduction share ``others``: one sort for all, not one per term)."""
+    out: Key = ()
+    start = 0
+    for k in range(0, len(part), 2):
+        at = 2 * bisect(indices, part[k])
+        out += others[start:at] + part[k : k + 2]
+        start = at
+    return out + others[start:]
 
 
 def _key(exponents: Iterable[tuple[int, int]]) -> Key:
@@ -555,9 +569,12 @@ class TrigAlgebra:
         terms = self._reduced_part(squares, tuple(touched))
         if not rest:
             return terms
+        rest.sort()
+        others = tuple(chain.from_iterable(rest))
+        indices = [i for i, _ in rest]
         flat: list[Any] = []
         for key, n in _monomials(terms):
-            flat += (_key(chain(rest, pairs(key))), n)
+            flat += (_spliced(others, indices, key), n)
         return tuple(flat)
 
     def _reduced_part(self, squares: list[bool], touched: Key) -> Terms:
