@@ -41,11 +41,10 @@ class InertialPoint:
     position: tuple[Backend, ...]
     inertia: Backend
     angle: Backend | None
-    #: The leading simple rotations of a 3-D body's chain (R = R_1(a_1) R_2(a_2) ... R_m),
-    #: (coordinate axis 0-2, angle) in product order, that its centre moves with: each
-    #: angle a coordinate the position has (:func:`frames_carried`); () when the
-    #: orientation is not known as a chain.
-    carried_by: tuple[tuple[int, Backend], ...] = ()
+    #: A 3-D body's orientation (None for a particle or a planar body): the chain of
+    #: rotations its centre may hang from (:func:`frames_carried`, read only where M is
+    #: built from the Jacobian rows turned into those frames).
+    orientation: Orientation | None = None
 
 
 @dataclass(frozen=True)
@@ -263,17 +262,15 @@ def assemble(system: System) -> Assembly:
             to_backend(p.mass), tuple(vector_to_backend(p.position, terms)), se.Integer(0), None
         )
         for p in system.particles
-    )
-    body_positions = [tuple(vector_to_backend(b.position, terms)) for b in system.rigid_bodies]
-    points += tuple(
+    ) + tuple(
         InertialPoint(
             to_backend(b.mass),
-            position,
+            tuple(vector_to_backend(b.position, terms)),
             to_backend(b.inertia) if b.planar else se.Integer(0),
             to_backend(b.angle) if b.planar else None,
-            () if b.planar else frames_carried(b.orientation, position, q),
+            None if b.planar else b.orientation,
         )
-        for b, position in zip(system.rigid_bodies, body_positions)
+        for b in system.rigid_bodies
     )
     named = _points(system, terms)
     base = Assembly(

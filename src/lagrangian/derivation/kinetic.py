@@ -21,7 +21,7 @@ from fractions import Fraction
 
 import symengine as se
 
-from lagrangian.derivation.assemble import Assembly, Rotation
+from lagrangian.derivation.assemble import Assembly, InertialPoint, Rotation, frames_carried
 from lagrangian.derivation.backend import Backend
 from lagrangian.derivation.collect import collect_state, is_negative_number, product_powers
 from lagrangian.derivation.coriolis import EntrySplit, VelocityProduct, coriolis_products
@@ -895,15 +895,15 @@ def _canonical_form(asm: Assembly, explicit: Matrix, algebra: TrigAlgebra) -> Ki
     """M and C q_dot as reduced polynomials grouped by monomial; None for a small system
     (the entry-by-entry :func:`combine_trig` is cheap there, and reads best)."""
     n = len(asm.q)
-    # (weight, rows of the Jacobian, the frames a point's centre hangs from or None for a
-    # planar body's angle) whose J^T J enter M
-    weighted: list[tuple[Backend, list[list[Poly]], tuple[tuple[int, Backend], ...] | None]] = []
+    # (weight, rows of the Jacobian, the point whose centre they move or None for a planar
+    # body's angle) whose J^T J enter M
+    weighted: list[tuple[Backend, list[list[Poly]], InertialPoint | None]] = []
     for point in asm.points:
         coordinates = point.position
         if point.angle is not None and point.inertia != 0:
             weighted.append((point.inertia, [_jacobian_row(algebra, point.angle, asm.q)], None))
         rows = [_jacobian_row(algebra, x, asm.q) for x in coordinates]
-        weighted.append((point.mass, rows, point.carried_by))
+        weighted.append((point.mass, rows, point))
     products = sum(sum(len(p) for p in row) ** 2 for _, rows, _ in weighted for row in rows)
     if products <= STRUCTURED_PRODUCTS:
         return None
@@ -915,9 +915,9 @@ def _canonical_form(asm: Assembly, explicit: Matrix, algebra: TrigAlgebra) -> Ki
     for j in range(n):
         for k in range(j, n):
             shares[j][k].add(algebra.convert(explicit[j][k]))
-    for weight, rows, carried in weighted:
-        if carried is not None:
-            rows = _point_axes(algebra, rows, carried)
+    for weight, rows, centre in weighted:
+        if centre is not None:
+            rows = _point_axes(algebra, rows, centre, asm.q)
         _add_gram(algebra, shares, algebra.convert(weight), rows, rows)
     for rotation in asm.rotations:
         _add_rotation_share(algebra, shares, rotation, asm)
@@ -1030,10 +1030,11 @@ def _turned(algebra: TrigAlgebra, rows: list[list[Poly]]) -> list[list[Poly]]:
 
 
 def _point_axes(
-    algebra: TrigAlgebra, rows: list[list[Poly]], carried: tuple[tuple[int, Backend], ...]
+    algebra: TrigAlgebra, rows: list[list[Poly]], point: InertialPoint, q: tuple[Backend, ...]
 ) -> list[list[Poly]]:
     """The rows of a point's Jacobian in the axes of the frames it hangs from when they are
     known, else in the axes :func:`_turned` finds (a 3-D point), else as they are."""
+    carried = frames_carried(point.orientation, point.position, q)
     if carried:
         return _carried(algebra, rows, carried)
     return _turned(algebra, rows) if len(rows) == 3 else rows
