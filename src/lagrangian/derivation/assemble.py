@@ -24,7 +24,11 @@ from lagrangian.model import (
     Torque,
     VoltageSource,
 )
-from lagrangian.model.rotation import angular_velocity_terms, spatial_angular_velocity
+from lagrangian.model.rotation import (
+    Orientation,
+    angular_velocity_terms,
+    spatial_angular_velocity,
+)
 from lagrangian.symbolic.symbols import acceleration, t, velocity
 
 
@@ -37,6 +41,10 @@ class InertialPoint:
     position: tuple[Backend, ...]
     inertia: Backend
     angle: Backend | None
+    #: A 3-D body's orientation (None for a particle or a planar body): the chain of
+    #: rotations its centre may hang from (:func:`frames_carried`, read only where M is
+    #: built from the Jacobian rows turned into those frames).
+    orientation: Orientation | None = None
 
 
 @dataclass(frozen=True)
@@ -74,6 +82,37 @@ class Assembly:
 
     def point_velocity(self, position: tuple[Backend, ...]) -> list[Backend]:
         return [self.time_derivative(x) for x in position]
+
+
+def frames_carried(
+    orientation: Orientation | None, position: tuple[Backend, ...], q: tuple[Backend, ...]
+) -> tuple[tuple[int, Backend], ...]:
+    """The leading rotations of ``orientation``'s chain whose angles are coordinates the
+    centre at ``position`` moves with: the frames it hangs from (a bicycle's fork, from the
+    heading, the lean and the rear frame's pitch).  The chain ends at the first rotation
+    the centre does not move with (a wheel's spin about its axle, a constant tilt such as
+    the steer axis'), or about an axis other than a coordinate axis.
+
+    >>> import sympy as sp
+    >>> from lagrangian.model.rotation import rotation_sequence
+    >>> yaw, lean, spin = sp.symbols("yaw lean spin")
+    >>> wheel = rotation_sequence([("z", yaw), ("x", lean), ("y", spin)])
+    >>> q = tuple(to_backend(s) for s in (yaw, lean, spin))
+    >>> r = se.Symbol("r")
+    >>> frames_carried(wheel, (r * se.cos(q[0]), r * se.sin(q[0]), r * se.cos(q[1])), q)
+    ((2, yaw), (0, lean))
+    """
+    if orientation is None:
+        return ()
+    moving = set().union(*(x.free_symbols for x in position)) & set(q)
+    carried = []
+    for unit, angle in orientation.factors():
+        axes = [i for i, e in enumerate(unit) if e != 0]
+        angle = to_backend(angle)
+        if len(axes) != 1 or unit[axes[0]] != 1 or angle not in moving:
+            break
+        carried.append((axes[0], angle))
+    return tuple(carried)
 
 
 def _points(system: System, terms: dict[Any, Backend]) -> dict[str, tuple[Backend, ...]]:
@@ -229,6 +268,7 @@ def assemble(system: System) -> Assembly:
             tuple(vector_to_backend(b.position, terms)),
             to_backend(b.inertia) if b.planar else se.Integer(0),
             to_backend(b.angle) if b.planar else None,
+            None if b.planar else b.orientation,
         )
         for b in system.rigid_bodies
     )

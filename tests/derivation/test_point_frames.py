@@ -1,0 +1,80 @@
+"""The points' Jacobian rows turned into the frames their centres hang from
+(lagrangian.derivation.assemble.frames_carried, kinetic._carried): J^T J is unchanged,
+(R^T J)^T R^T J = J^T J, and the chain is read from the model, never guessed."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+import lagrangian as lg
+from lagrangian.derivation.assemble import assemble, frames_carried
+from lagrangian.derivation.kinetic import _add_gram, _carried, _jacobian_row
+from lagrangian.derivation.trig_polynomial import Sum, algebra_for
+from lagrangian.examples import BENCHMARKS
+from lagrangian.model.rotation import axis_angle, euler_rotation
+
+
+def _gram(algebra, weight, rows, n):
+    """weight J^T J as finished polynomials, upper triangle."""
+    shares = [[Sum() for _ in range(n)] for _ in range(n)]
+    _add_gram(algebra, shares, algebra.convert(weight), rows, rows)
+    return {
+        (j, k): algebra.finish(algebra.gather(shares[j][k])) for j in range(n) for k in range(j, n)
+    }
+
+
+def _monomials(rows):
+    return sum(len(p) for row in rows for p in row)
+
+
+def test_the_bicycles_bodies_hang_from_the_heading_lean_and_pitch() -> None:
+    """The yaml's chains: the rear frame z(yaw) x(lean) y(pitch); the fork and the front
+    wheel continue with the constant tilt y(-lam), where the chain their centres move with
+    ends; the rear wheel's centre (x, y, rR cos(lean)) has no heading."""
+    system = BENCHMARKS["whipple_bicycle"]()
+    asm = assemble(system)
+    yaw, lean, pitch = (s for s in asm.q if str(s) in ("yaw", "lean", "pitch"))
+    carried = {
+        b.name: frames_carried(p.orientation, p.position, asm.q)
+        for b, p in zip(system.rigid_bodies, asm.points)
+    }
+    chain = ((2, yaw), (0, lean), (1, pitch))
+    assert carried == {"rear_wheel": (), "rear_frame": chain, "fork": chain, "front_wheel": chain}
+
+
+def test_the_fork_has_the_same_gram_matrix_in_its_frame_with_fewer_terms() -> None:
+    system = BENCHMARKS["whipple_bicycle"]()
+    asm = assemble(system)
+    algebra = algebra_for([*asm.q, *asm.q_dot, *asm.q_ddot, asm.t])
+    fork = next(p for b, p in zip(system.rigid_bodies, asm.points) if b.name == "fork")
+    world = [_jacobian_row(algebra, x, asm.q) for x in fork.position]
+    turned = _carried(algebra, world, frames_carried(fork.orientation, fork.position, asm.q))
+    assert _monomials(turned) < 0.6 * _monomials(world)
+    n = len(asm.q)
+    assert _gram(algebra, fork.mass, turned, n) == _gram(algebra, fork.mass, world, n)
+
+
+def test_orientations_not_known_as_a_chain_carry_nothing() -> None:
+    """A matrix, an axis that is not a coordinate axis, an angle that is not a coordinate:
+    the rows stay as they were (the chain ends there)."""
+    a, b = lg.coordinates("a b")
+    m, lam = sp.symbols("m lam")
+    centre = (sp.cos(a), sp.sin(a), sp.sin(b))
+    orientations = {
+        "matrix": euler_rotation("ZXZ", (a, b, 0)).matrix,
+        "tilted axis": axis_angle((1, 1, 0), a),
+        "constant first": euler_rotation("ZXZ", (lam, a, b)),
+        "euler": euler_rotation("ZXZ", (a, b, 0)),
+    }
+    system = lg.System(
+        coordinates=[a, b],
+        parameters=[m, lam],
+        rigid_bodies=[
+            lg.RigidBody(name, m, sp.eye(3), centre, orientation=R)
+            for name, R in orientations.items()
+        ],
+    )
+    asm = assemble(system)
+    carried = [frames_carried(p.orientation, p.position, asm.q) for p in asm.points]
+    qa, qb = asm.q
+    assert carried == [(), (), (), ((2, qa), (0, qb))]
