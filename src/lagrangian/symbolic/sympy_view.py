@@ -92,13 +92,15 @@ class SympyView:
         operations; :class:`_PastLimit` before converting a sum, product, power or function
         of more operations than the limit of a sized conversion."""
         known = self._memo.get(hash(expr))
-        if known is None or (known[2] is not expr and not _EQUAL(known[2], expr, _EQ)):
-            return self._unmemoised(expr)
+        if known is None:
+            return self._convert(expr)
+        if known[2] is not expr and not _EQUAL(known[2], expr, _EQ):
+            return self._clashing(expr)
         return known
 
-    def _unmemoised(self, expr: Backend) -> tuple[Part, int, Backend]:
-        """:meth:`_converted` of an expression whose hash is not in the memo, or is there
-        for another expression."""
+    def _clashing(self, expr: Backend) -> tuple[Part, int, Backend]:
+        """:meth:`_converted` of an expression whose hash is in the memo for another
+        expression."""
         return self._clashes.get(expr) or self._convert(expr)
 
     def _convert(self, expr: Backend) -> tuple[Part, int, Backend]:
@@ -168,12 +170,14 @@ class SympyView:
     def _arguments(self, expr: Backend) -> tuple[tuple[Part, ...], int]:
         """The arguments of the sum or product ``expr`` converted (most are met before:
         looked up directly), and the operations of ``expr``."""
-        get, unmemoised = self._memo.get, self._unmemoised
+        get, convert, clashing = self._memo.get, self._convert, self._clashing
         parts, counts = [], 0
         for a in expr.args:  # _converted, inline: a product's factors are most lookups
             known = get(hash(a))
-            if known is None or (known[2] is not a and not _EQUAL(known[2], a, _EQ)):
-                known = unmemoised(a)
+            if known is None:
+                known = convert(a)
+            elif known[2] is not a and not _EQUAL(known[2], a, _EQ):
+                known = clashing(a)
             parts.append(known[0])
             counts += known[1]
         return tuple(parts), self._within(len(parts) - 1 + counts)
@@ -187,7 +191,7 @@ class SympyView:
         hashed, looked up and converted afresh.  So the terms are read with their
         coefficients apart (:meth:`_scaled`): a bicycle's sums share the same monomials of
         inertias and lengths, each with its own number."""
-        get, unmemoised = self._memo.get, self._unmemoised
+        get, convert, clashing = self._memo.get, self._convert, self._clashing
         items = iter(expr.as_coefficients_dict().items())
         _, constant = next(items)  # the constant comes first, under the key 1
         parts = [] if constant is _ZERO else [self._converted(constant)[0]]
@@ -196,10 +200,10 @@ class SympyView:
             # _converted, inline, of the coefficient or the term
             looked_up = term if coefficient is _ONE else coefficient
             known = get(hash(looked_up))
-            if known is None or (
-                known[2] is not looked_up and not _EQUAL(known[2], looked_up, _EQ)
-            ):
-                known = unmemoised(looked_up)
+            if known is None:
+                known = convert(looked_up)
+            elif known[2] is not looked_up and not _EQUAL(known[2], looked_up, _EQ):
+                known = clashing(looked_up)
             part, operations, _ = known
             if coefficient is not _ONE:
                 part, operations = self._scaled(part, term)
