@@ -118,3 +118,14 @@ def test_unflattened_sums_and_products_go_to_sympy() -> None:
     for order in (None, Builder()):
         assert_identical(sympy_sum([nested_sum, sp.Integer(1)], order), sp.Add(nested_sum, 1))
         assert_identical(sympy_product([nested_product, a], order), sp.Mul(nested_product, a))
+
+
+def test_expressions_of_the_same_backend_hash_convert_each_to_itself() -> None:
+    """The view remembers a conversion by the SymEngine hash: two different expressions of
+    the same hash (a clash, set up here by moving one's entry under the other's hash) are
+    each converted to themselves, alone and as arguments."""
+    view = SympyView([x, y])
+    view(to_backend(y))
+    view._memo[hash(to_backend(x))] = view._memo.pop(hash(to_backend(y)))
+    for expr in (x, y, x * y + 2 * x, x, 3 * x * y + x):
+        assert_identical(view(to_backend(expr)), expr)

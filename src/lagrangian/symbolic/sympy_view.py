@@ -49,8 +49,14 @@ class SympyView:
         ``names`` maps further names to any SymPy expression the symbol stands for."""
         self.by_name: dict[str, sp.Expr] = {s.name: s for s in symbols}
         self.by_name.update(names or {})
-        # a backend expression -> (its Part converted, its operations counted over its tree)
-        self._memo: dict[Backend, tuple[Part, int]] = {}
+        # a backend expression's hash -> (its Part converted, its operations counted over its
+        # tree, the expression): SymEngine gives a new wrapper of the same expression on each
+        # ``args``, and a dict keyed by expressions tests the one it finds for equality
+        # through two Python-level ``_sympify`` calls (0.4 us), where comparing the two
+        # directly (:data:`_EQUAL`) takes a third of that; expressions of the same hash that
+        # differ (rare) are kept in ``_clashes``
+        self._memo: dict[int, tuple[Part, int, Backend]] = {}
+        self._clashes: dict[Backend, tuple[Part, int, Backend]] = {}
         # the operations past which a sized conversion stops, per thread (as the size limits
         # themselves: one thread's limit never stops another's conversion of the same view)
         self._sizing = _Sizing()
@@ -72,25 +78,32 @@ class SympyView:
         self._products: dict[tuple[int, int], tuple[Part, int]] = {}
 
     def __call__(self, expr: Backend) -> sp.Expr:
-        known = self._memo.get(expr)
-        return (self._convert(expr) if known is None else known)[0][EXPR]
+        return self._converted(expr)[0][EXPR]
 
     def operations(self, expr: Backend) -> int:
         """The operations of ``expr`` counted over its tree as SymEngine's ``count_ops``
         counts them (:func:`lagrangian.size_limits.operations`), read off its conversion:
         each distinct subexpression is counted once and its count remembered with its
         converted Part (a chain's mass sums m_k + ... + m_n recur in n entries of M each)."""
-        known = self._memo.get(expr)
-        return (self._convert(expr) if known is None else known)[1]
+        return self._converted(expr)[1]
 
-    def _converted(self, expr: Backend) -> tuple[Part, int]:
+    def _converted(self, expr: Backend) -> tuple[Part, int, Backend]:
         """The :data:`~lagrangian.symbolic.canonical.Part` of ``expr`` converted, and its
         operations; :class:`_PastLimit` before converting a sum, product, power or function
         of more operations than the limit of a sized conversion."""
-        known = self._memo.get(expr)
-        return self._convert(expr) if known is None else known
+        known = self._memo.get(hash(expr))
+        if known is None:
+            return self._convert(expr)
+        if known[2] is not expr and not _EQUAL(known[2], expr, _EQ):
+            return self._clashing(expr)
+        return known
 
-    def _convert(self, expr: Backend) -> tuple[Part, int]:
+    def _clashing(self, expr: Backend) -> tuple[Part, int, Backend]:
+        """:meth:`_converted` of an expression whose hash is in the memo for another
+        expression."""
+        return self._clashes.get(expr) or self._convert(expr)
+
+    def _convert(self, expr: Backend) -> tuple[Part, int, Backend]:
         """:meth:`_converted` of an expression not converted yet."""
         build = self._builder
         if isinstance(expr, se.Symbol):
@@ -103,7 +116,7 @@ class SympyView:
             result = build.product(parts)
         elif expr.is_Pow:
             base, exponent = expr.args
-            (power, base_count), (root, exponent_count) = map(self._converted, expr.args)
+            (power, base_count, _), (root, exponent_count, _) = map(self._converted, expr.args)
             count = self._within(1 + base_count + exponent_count)
             if base.is_Add and exponent.is_Rational:
                 result = build.part(sympy_sum_power(power[EXPR], root[EXPR], base.has(se.I)))
@@ -116,7 +129,9 @@ class SympyView:
         else:
             count = self._within(self._tree_operations(expr))
             result = build.part(self._fallback(expr))
-        known = self._memo[expr] = (result, count)
+        known = (result, count, expr)
+        if self._memo.setdefault(hash(expr), known) is not known:
+            self._clashes[expr] = known
         return known
 
     def _within(self, count: int) -> int:
@@ -143,7 +158,7 @@ class SympyView:
 
     def _sized(self, entry: Backend, index: int, named: Callable[[int], str]) -> sp.Expr:
         try:
-            part, count = self._memo.get(entry) or self._convert(entry)
+            part, count, _ = self._converted(entry)
         except _PastLimit:
             # the message gives the whole entry's operations
             check_operations(self._tree_operations(entry), named(index))
@@ -155,9 +170,17 @@ class SympyView:
     def _arguments(self, expr: Backend) -> tuple[tuple[Part, ...], int]:
         """The arguments of the sum or product ``expr`` converted (most are met before:
         looked up directly), and the operations of ``expr``."""
-        get, convert = self._memo.get, self._convert
-        parts, counts = zip(*[get(a) or convert(a) for a in expr.args])
-        return parts, self._within(len(counts) - 1 + sum(counts))
+        get, convert, clashing = self._memo.get, self._convert, self._clashing
+        parts, counts = [], 0
+        for a in expr.args:  # _converted, inline: a product's factors are most lookups
+            known = get(hash(a))
+            if known is None:
+                known = convert(a)
+            elif known[2] is not a and not _EQUAL(known[2], a, _EQ):
+                known = clashing(a)
+            parts.append(known[0])
+            counts += known[1]
+        return tuple(parts), self._within(len(parts) - 1 + counts)
 
     def _terms(self, expr: Backend) -> tuple[list[Part], int]:
         """The arguments of the sum ``expr`` converted, and the operations of ``expr``.
@@ -168,21 +191,27 @@ class SympyView:
         hashed, looked up and converted afresh.  So the terms are read with their
         coefficients apart (:meth:`_scaled`): a bicycle's sums share the same monomials of
         inertias and lengths, each with its own number."""
-        get, convert = self._memo.get, self._convert
+        get, convert, clashing = self._memo.get, self._convert, self._clashing
         items = iter(expr.as_coefficients_dict().items())
         _, constant = next(items)  # the constant comes first, under the key 1
-        parts = [] if constant is _ZERO else [(get(constant) or convert(constant))[0]]
+        parts = [] if constant is _ZERO else [self._converted(constant)[0]]
         count = len(parts) - 1
         for term, coefficient in items:
-            if coefficient is _ONE:
-                known = get(term) or convert(term)
-            else:
-                known = self._scaled(get(coefficient) or convert(coefficient), term)
-            parts.append(known[0])
-            count += 1 + known[1]
+            # _converted, inline, of the coefficient or the term
+            looked_up = term if coefficient is _ONE else coefficient
+            known = get(hash(looked_up))
+            if known is None:
+                known = convert(looked_up)
+            elif known[2] is not looked_up and not _EQUAL(known[2], looked_up, _EQ):
+                known = clashing(looked_up)
+            part, operations, _ = known
+            if coefficient is not _ONE:
+                part, operations = self._scaled(part, term)
+            parts.append(part)
+            count += 1 + operations
         return parts, self._within(count)
 
-    def _scaled(self, number: tuple[Part, int], term: Backend) -> tuple[Part, int]:
+    def _scaled(self, number: Part, term: Backend) -> tuple[Part, int]:
         """The product of a number and a term converted, with its operations: the product
         SymEngine makes of the two (the number and the term's factors, in its order), made
         from the term's factors converted once for all its coefficients, and once per
@@ -192,12 +221,12 @@ class SympyView:
             if term.is_Mul:
                 factors = self._factors[term] = self._arguments(term)
             else:
-                part, count = self._memo.get(term) or self._convert(term)
+                part, count, _ = self._converted(term)
                 factors = self._factors[term] = ((part,), count)
-        pair = (id(number[0]), id(factors[0]))
+        pair = (id(number), id(factors[0]))
         scaled = self._products.get(pair)
         if scaled is None:
-            made = self._builder.product([number[0], *factors[0]])
+            made = self._builder.product([number, *factors[0]])
             scaled = self._products[pair] = (made, self._within(1 + factors[1]))
         return scaled
 
@@ -223,7 +252,7 @@ class SympyView:
             pair = _backend_difference(angle)
             x, y = (None, None) if pair is None else (self(pair[0]), self(pair[1]))
             if not (x is not None and x.is_Symbol and y is not None and y.is_Symbol):
-                argument, count = self._converted(angle)
+                argument, count, _ = self._converted(angle)
                 known = (argument, None, False, count)
             else:
                 first, second, flipped = _ordered(x, y)
@@ -473,6 +502,9 @@ def unevaluated_trig(function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.
 
 
 _MINUS_ONE = se.Integer(-1)
+#: Two SymEngine expressions compared in C++ (``_EQUAL(a, b, _EQ)``): what ``a == b`` calls
+#: after converting both sides with ``_sympify``, which SymEngine expressions need not.
+_EQUAL, _EQ = se.Basic._richcmp_, 2
 #: SymEngine's own 0 and 1, which it gives as the same objects every time.
 _ZERO, _ONE = se.S.Zero, se.S.One
 
