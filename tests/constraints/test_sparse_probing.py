@@ -20,6 +20,7 @@ from lagrangian.constraints.pfaffian import SHARED_BY, acceleration_terms, pfaff
 from lagrangian.constraints.projection import _SparseJacobian
 from lagrangian.derivation.backend import SympyView, to_backend
 from lagrangian.model.contact import CONVERSIONS
+from lagrangian.symbolic.caches import forget_all
 from lagrangian.symbolic.probe import numeric_rank
 from lagrangian.symbolic.symbols import t, velocity
 
@@ -110,6 +111,7 @@ def test_constraints_on_the_same_coordinates_share_one_conversion():
     a constraint whose symbol takes a name another symbol has there gets its own, with its
     own symbol (kappa positive and kappa without assumptions are two symbols of one name);
     after SHARED_BY constraints the next ones share a new conversion."""
+    forget_all()  # the count of shared constraints starts here, whatever ran before
     u, w = sp.symbols("u1:4"), sp.symbols("w1:4")  # coordinates of this test alone
     q = (*u, *w)
     rods = [(u[i] - u[i - 1]) ** 2 + (w[i] - w[i - 1]) ** 2 - 1 for i in (1, 2)]

@@ -48,7 +48,7 @@ from lagrangian.symbolic.expressions import distinct_parts, free_symbols
 from lagrangian.symbolic.native import to_symengine_sharing
 
 TIDY_OPS = 1000  # partial derivatives of a constraint's rate beyond this are not expanded
-CACHED = 512  # constraint expressions whose form and SymEngine image are kept
+CACHED = 512  # constraint expressions whose form is kept, and coordinate tuples' conversions
 ZERO = sp.Integer(0)
 
 
@@ -261,23 +261,8 @@ def acceleration_terms(
         gamma = gamma.xreplace(held) if held else gamma
         # before it is converted: converting and printing cost far more than building it
         check_size(gamma, f"the acceleration term gamma of constraints[{j}]")
-        result.append(form.view(_distributed(gamma)))
+        result.append(form.view(gamma))
     return result
-
-
-def _distributed(expr: Backend) -> Backend:
-    """``expr`` with a rational number times a sum, r (a + b + ...), as the sum r a + r b +
-    ... (the same value): SymPy's product of a number and a sum distributes the number
-    (``Mul.flatten``), SymEngine's keeps it (gamma is -(the rate), the whole sum negated), so
-    converting the product would build the sum, then SymPy the distributed sum again and
-    the sort keys of all its terms (a millisecond for each front-wheel gamma of a bicycle).
-    Given the distributed sum, the conversion builds SymPy's result directly."""
-    if not expr.is_Mul or len(expr.args) != 2:
-        return expr
-    number, terms = expr.args
-    if not number.is_Rational or not terms.is_Add:
-        return expr
-    return se.Add(*[number * term for term in terms.args])
 
 
 def _rate_terms(

@@ -498,7 +498,9 @@ class TrigAlgebra:
                 _add_into(result, made, key, value, n)
 
     def gather(self, target: Sum) -> Poly:
-        """The polynomial summed in ``target`` (see :meth:`accumulate`)."""
+        """The polynomial summed in ``target`` (see :meth:`accumulate`): the sum's own dict,
+        so ``target`` is done with once gathered (adding to it again would change the
+        polynomial handed out, and what was made of it)."""
         self._check_size(len(target.poly))
         return target.poly
 

@@ -104,13 +104,16 @@ def vee(skew: sp.MatrixBase) -> sp.ImmutableMatrix:
 
 def _unit(axis: Sequence[Any]) -> sp.ImmutableMatrix:
     """n / |n| of the axis n (itself when |n|^2 expands to 1)."""
+    axis = tuple(axis)
     try:  # the same few axes recur: each rotation, composed and differentiated, asks again
-        return _remembered_unit(tuple(axis))
+        # the entries' types in the key too: 1 and 1.0 are equal keys but not the same axis
+        return _remembered_unit(axis, tuple(type(a) for a in axis))
     except TypeError:  # an unhashable expression in it
-        return _unit_of(tuple(axis))
+        return _unit_of(axis)
 
 
-def _unit_of(axis: tuple[Any, ...]) -> sp.ImmutableMatrix:
+def _unit_of(axis: tuple[Any, ...], types: tuple[type, ...] = ()) -> sp.ImmutableMatrix:
+    """n / |n| (``types``: the entries' types, a part of the memo's key only)."""
     n = sp.ImmutableMatrix([to_sympy(a) for a in axis])
     length_squared = sp.expand(n.dot(n))
     return n if length_squared == 1 else n / sp.sqrt(length_squared)

@@ -73,9 +73,9 @@ class SympyView:
         # a backend term of a sum -> its factors converted (itself if not a product), and its
         # operations
         self._factors: dict[Backend, tuple[tuple[Part, ...], int]] = {}
-        # (id of a number's Part, id of a term's factors) -> their product converted, and its
-        # operations (the Part and the factors are kept by the memos)
-        self._products: dict[tuple[int, int], tuple[Part, int]] = {}
+        # (id of a number's Part, id of a term's factors) -> their product converted, its
+        # operations, and the Part and the factors themselves (kept alive with their ids)
+        self._products: dict[tuple[int, int], tuple[Part, int, Part, Any]] = {}
 
     def __call__(self, expr: Backend) -> sp.Expr:
         return self._converted(expr)[0][EXPR]
@@ -227,8 +227,10 @@ class SympyView:
         scaled = self._products.get(pair)
         if scaled is None:
             made = self._builder.product([number, *factors[0]])
-            scaled = self._products[pair] = (made, self._within(1 + factors[1]))
-        return scaled
+            # the entry holds the two objects its key names, so their ids cannot be reused
+            # while it lives (another thread may have replaced them in the memos meanwhile)
+            scaled = self._products[pair] = (made, self._within(1 + factors[1]), number, factors)
+        return scaled[0], scaled[1]
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs and sign, and Heaviside by a stand-in
@@ -373,7 +375,9 @@ def sympy_sum_power(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) ->
     is neither 0 nor 1: then ``Add._eval_power`` returns nothing (it changes only a number,
     or a sum with an imaginary term and an infinite one), but first asks whether either of
     two terms is infinite, which walks SymPy's assumptions through the whole sum (a steered
-    wheel's tilt: a tenth of the time of making its constraints).
+    wheel's tilt: a tenth of the time of making its constraints).  A sum with a Float
+    coefficient goes through ``sp.Pow``: SymPy before 1.14 takes the Float out of such a
+    sum raised to a power other than +-1 (``(2.0 + 4 x)**2`` as ``16 (0.5 + x)**2``).
 
     >>> x, y = sp.symbols("x y")
     >>> root = sympy_sum_power(1 - (x * y + x) ** 2, sp.Rational(1, 2), imaginary=False)
@@ -387,6 +391,7 @@ def sympy_sum_power(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) ->
         or exponent is sp.S.Zero
         or exponent is sp.S.One
         or base.is_number is not False
+        or any(term.as_coeff_Mul()[0].is_Float for term in base.args)
     ):
         return sp.Pow(base, exponent)
     power = sp.Expr.__new__(sp.Pow, base, exponent)
