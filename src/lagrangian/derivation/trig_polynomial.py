@@ -35,6 +35,7 @@ from collections.abc import Iterable, Iterator
 from fractions import Fraction
 from itertools import chain
 from math import comb
+from operator import eq
 from typing import Any
 
 import symengine as se
@@ -164,7 +165,9 @@ class Sum:
 
 
 def _nonzero(c: Coefficient) -> Coefficient:
-    return {k: v for k, v in c.items() if v}
+    """``c`` without its zero terms: ``c`` itself when it has none (the common case, tested
+    in C: coefficients are not changed once made)."""
+    return c if all(c.values()) else {k: v for k, v in c.items() if v}
 
 
 def number(expr: Backend) -> Number | None:
@@ -214,6 +217,20 @@ def _merged(a: Key, b: Key, squares: list[bool]) -> Key | None:
     """The product of two monomials merged in index order (both are sorted), or None when
     it has a generator flagged in ``squares`` to a power of 2 or more (it needs reduction):
     the common product, made without a dict and a sort."""
+    if not a or not b or a[-2] < b[0]:  # most: the velocities after the angles
+        joined = a + b
+    elif b[-2] < a[0]:
+        joined = b + a
+    else:
+        return _interleaved(a, b, squares)
+    for k in range(1, len(joined), 2):
+        if joined[k] > 1 and squares[joined[k - 1]]:
+            return None
+    return joined
+
+
+def _interleaved(a: Key, b: Key, squares: list[bool]) -> Key | None:
+    """:func:`_merged` of two monomials whose generators interleave."""
     out: list[int] = []
     i = j = 0
     la, lb = len(a), len(b)
@@ -680,13 +697,18 @@ class TrigAlgebra:
     def sine_form(self, p: Poly) -> Poly:
         """A finished polynomial with every sin^2 x written as 1 - cos^2 x instead (the other
         canonical form)."""
-        result: Poly = {}
-        made: set[Key] = set()
         memo = self._sine_reduced
-        for k, c in p.items():
+        reductions = []
+        for k in p:
             r = memo.get(k)
             if r is None:
                 r = memo[k] = self._sine_reduction(k)
+            reductions.append(r)
+        if all(map(eq, reductions, p)):  # no sine squared: the same polynomial
+            return p
+        result: Poly = {}
+        made: set[Key] = set()
+        for c, r in zip(p.values(), reductions):
             if not r or r[0].__class__ is int:  # the monomial itself: no sine squared
                 _add_into(result, made, r, c)
                 continue
