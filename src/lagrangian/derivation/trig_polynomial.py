@@ -728,10 +728,25 @@ class TrigAlgebra:
         it has no sine squared (remembered by :meth:`sine_form`: the same monomials recur in
         every entry)."""
         sine = self.sine
-        for i, e in pairs(key):  # a loop, not any(...): this runs for every new monomial
-            if e > 1 and sine[i]:
-                return self._reduced(dict(pairs(key)), sine)
-        return key
+        at = -1  # the place of the squared sine
+        for k in range(0, len(key), 2):  # a loop, not any(...): this runs for every monomial
+            if key[k + 1] > 1 and sine[key[k]]:
+                if at >= 0:  # two angles' sines squared
+                    return self._reduced(dict(pairs(key)), sine)
+                at = k
+        if at < 0:
+            return key
+        # the sine's cosine is the next generator (they are registered together), so the
+        # powers that change are one stretch of the monomial, and the terms of their
+        # reduction go where it was
+        end = at + 2
+        if end < len(key) and key[end] == key[at] + 1:
+            end += 2
+        head, tail = key[:at], key[end:]
+        flat: list[Any] = []
+        for part, n in _monomials(self._reduced_part(sine, key[at:end])):
+            flat += (head + part + tail, n)
+        return tuple(flat)
 
     def monomial_expression(self, key: Key) -> Backend:
         memo = self._monomials.get(key)
