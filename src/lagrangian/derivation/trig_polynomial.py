@@ -476,9 +476,26 @@ class TrigAlgebra:
         if len(a) == 1 and ONE in a:
             c = a[ONE]
             return {k: _times(c, v) for k, v in b.items()}
+        if not b:  # a factor that vanishes (a derivative of a constant)
+            return {}
+        if len(a) == 1 and len(b) == 1:  # two factors of a product term: no sum to make
+            for ka, ca in a.items():
+                for kb, cb in b.items():
+                    return self._term_product(ka, ca, kb, cb)
         product = Sum()
         self.accumulate_product(product, a, b)
         return self.gather(product)
+
+    def _term_product(self, ka: Key, ca: Coefficient, kb: Key, cb: Coefficient) -> Poly:
+        """The product of two terms, as :meth:`accumulate` makes it (a reduction's terms
+        are distinct monomials)."""
+        value = _times(ca, cb)
+        r = self._product(kb, ka)
+        if not r or r[0].__class__ is int:
+            return {r: value}
+        result = {key: value if n == 1 else _scaled(value, n) for key, n in _monomials(r)}
+        self._check_size(len(result))
+        return result
 
     def accumulate_product(
         self, target: Sum, a: Poly, b: Poly, weight: Coefficient | None = None
@@ -655,14 +672,16 @@ class TrigAlgebra:
         if memo is not None:
             return memo
         parts = Sum()
-        for i, e in pairs(key):
-            if not self.moving[i]:
+        moving = self.moving
+        for at in range(0, len(key), 2):
+            i, e = key[at], key[at + 1]
+            if not moving[i]:
                 continue
             d = self._gen_derivative(i, symbol)
             if not d:
                 continue
-            rest = _key((j, f - 1 if j == i else f) for j, f in pairs(key) if j != i or f > 1)
-            self.accumulate(parts, d, rest, e)
+            lowered = (i, e - 1) if e > 1 else ()  # the rest stays in index order
+            self.accumulate(parts, d, key[:at] + lowered + key[at + 2 :], e)
         result = self._derivatives[memo_key] = self.gather(parts)
         return result
 
