@@ -213,47 +213,30 @@ def _monomials(terms: Terms) -> Iterator[tuple[Key, int]]:
     return zip(it, it)
 
 
-def _merged(a: Key, b: Key, squares: list[bool]) -> Key | None:
-    """The product of two monomials merged in index order (both are sorted), or None when
-    it has a generator flagged in ``squares`` to a power of 2 or more (it needs reduction):
-    the common product, made without a dict and a sort."""
-    if not a or not b or a[-2] < b[0]:  # most: the velocities after the angles
-        joined = a + b
-    elif b[-2] < a[0]:
-        joined = b + a
-    else:
-        return _interleaved(a, b, squares)
-    for k in range(1, len(joined), 2):
-        if joined[k] > 1 and squares[joined[k - 1]]:
-            return None
-    return joined
-
-
-def _interleaved(a: Key, b: Key, squares: list[bool]) -> Key | None:
-    """:func:`_merged` of two monomials whose generators interleave."""
+def _joined(a: Key, b: Key) -> Key:
+    """The product of two monomials merged in index order (both are sorted), made without a
+    dict and a sort: most are joined end to end (the velocities after the angles)."""
+    if not a or not b or a[-2] < b[0]:
+        return a + b
+    if b[-2] < a[0]:
+        return b + a
     out: list[int] = []
     i = j = 0
     la, lb = len(a), len(b)
     while i < la and j < lb:
         ia, ib = a[i], b[j]
         if ia < ib:
-            index, exponent = ia, a[i + 1]
+            out += a[i : i + 2]
             i += 2
         elif ib < ia:
-            index, exponent = ib, b[j + 1]
+            out += b[j : j + 2]
             j += 2
         else:
-            index, exponent = ia, a[i + 1] + b[j + 1]
+            out += (ia, a[i + 1] + b[j + 1])
             i += 2
             j += 2
-        if exponent > 1 and squares[index]:
-            return None
-        out += (index, exponent)
-    for rest, start in ((a, i), (b, j)):
-        for k in range(start, len(rest), 2):
-            if rest[k + 1] > 1 and squares[rest[k]]:
-                return None
-        out += rest[start:]
+    out += a[i:]
+    out += b[j:]
     return tuple(out)
 
 
@@ -572,10 +555,12 @@ class TrigAlgebra:
         return known
 
     def _made_product(self, a: Key, b: Key) -> Product:
-        """a * b merged, or reduced when it has a cosine squared (where the merge stops)."""
-        merged = _merged(a, b, self.cosine)
-        if merged is not None:
-            return merged
+        """a * b merged, and reduced when it has a cosine squared."""
+        reduced = self._stretch_reduced(_joined(a, b), self.cosine)
+        if reduced is not None:
+            return reduced
+        # two angles' cosines squared: the binomials expanded in the order of a's powers,
+        # then b's
         exponents = dict(pairs(a))
         for i, e in pairs(b):
             exponents[i] = exponents.get(i, 0) + e
@@ -746,24 +731,35 @@ class TrigAlgebra:
         """The monomial ``key`` with every sin^2 x written as 1 - cos^2 x: ``key`` itself when
         it has no sine squared (remembered by :meth:`sine_form`: the same monomials recur in
         every entry)."""
-        sine = self.sine
-        at = -1  # the place of the squared sine
+        reduced = self._stretch_reduced(key, self.sine)
+        return self._reduced(dict(pairs(key)), self.sine) if reduced is None else reduced
+
+    def _stretch_reduced(self, key: Key, squares: list[bool]) -> Product | None:
+        """:meth:`_reduced` of a monomial with at most one f(x)**k, k >= 2 (f flagged in
+        ``squares``): ``key`` itself when it has none, None when it has more than one.
+
+        An angle's sine and cosine are registered together (neighbouring generator indices,
+        see :meth:`_generator`), so the powers that change, f's and its partner's, are one
+        stretch of the sorted monomial, and the terms of their reduction go where the
+        stretch was: no other generator comes between."""
+        at = -1  # the place of f
         for k in range(0, len(key), 2):  # a loop, not any(...): this runs for every monomial
-            if key[k + 1] > 1 and sine[key[k]]:
-                if at >= 0:  # two angles' sines squared
-                    return self._reduced(dict(pairs(key)), sine)
+            if key[k + 1] > 1 and squares[key[k]]:
+                if at >= 0:
+                    return None
                 at = k
         if at < 0:
             return key
-        # the sine's cosine is the next generator (they are registered together), so the
-        # powers that change are one stretch of the monomial, and the terms of their
-        # reduction go where it was
-        end = at + 2
-        if end < len(key) and key[end] == key[at] + 1:
-            end += 2
-        head, tail = key[:at], key[end:]
+        start, end = at, at + 2
+        partner = self.partner[key[at]]
+        if partner > key[at]:
+            if end < len(key) and key[end] == partner:
+                end += 2
+        elif start and key[start - 2] == partner:
+            start -= 2
+        head, tail = key[:start], key[end:]
         flat: list[Any] = []
-        for part, n in _monomials(self._reduced_part(sine, key[at:end])):
+        for part, n in _monomials(self._reduced_part(squares, key[start:end])):
             flat += (head + part + tail, n)
         return tuple(flat)
 
