@@ -79,8 +79,10 @@ def _times(a: Coefficient, b: Coefficient) -> Coefficient:
         a, b = b, a
     if len(a) == 1:
         for ka, na in a.items():
-            if ka == 0 and na.__class__ is int and na == 1:
-                return b
+            if ka == 0:  # a number (a derivative's exponent, a sign): no key to shift
+                if na.__class__ is int and na == 1:
+                    return b
+                return {kb: na * nb for kb, nb in b.items()}
             if len(b) == 1:  # most are (a mass times a length): no comprehension to call
                 for kb, nb in b.items():
                     return {ka + kb: na * nb}
@@ -844,6 +846,8 @@ class TrigAlgebra:
     def shortest(self, p: Poly) -> Poly:
         """The finished polynomial ``p`` or its :meth:`sine_form`, whichever is shorter."""
         other = self.sine_form(p)
+        if other is p:  # no sine squared
+            return p
         return other if self.size(other) < self.size(p) else p
 
     def grouped(self, p: Poly) -> Backend:
