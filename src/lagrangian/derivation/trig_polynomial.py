@@ -281,8 +281,10 @@ class TrigAlgebra:
         #: a * b keyed by b, then a: a product by one monomial runs over the many of a
         #: polynomial, each looked up with no key made of both
         self._products: dict[Key, dict[Key, Product]] = {}
-        self._derivatives: dict[Key, Poly] = {}  # keyed by (*key, symbol)
-        self._gen_derivatives: dict[tuple[int, Backend], Poly] = {}
+        #: derivatives of monomials and of generators (by index, None: not yet taken), by
+        #: symbol: a polynomial's terms are looked up with no key made of monomial and symbol
+        self._derivatives: dict[Backend, dict[Key, Poly]] = {}
+        self._gen_derivatives: dict[Backend, list[Poly | None]] = {}
         self._monomials: dict[Key, Backend] = {}
         self._powers: dict[tuple[int, int], Backend] = {}
         self._factored: dict[tuple[Backend, ...], Backend] = {}
@@ -347,11 +349,11 @@ class TrigAlgebra:
 
     def remembered(self) -> int:
         """The number of memo entries (conversions, products, derivatives)."""
-        memos: tuple[dict[Any, Any], ...] = (self._converted, self._derivatives)
+        memos: tuple[dict[Any, Any], ...] = (self._converted,)
         more = (self._factored, self._factored_parts, self._sine_reduced, self._splits)
         built = (self._coefficients, self._parameter_monomials, self._built, self._reductions)
-        products = sum(map(len, self._products.values()))
-        return products + sum(len(memo) for memo in (*memos, *more, *built))
+        by_key = sum(map(len, chain(self._products.values(), self._derivatives.values())))
+        return by_key + sum(len(memo) for memo in (*memos, *more, *built))
 
     def keep_nested(self, expr: Backend) -> None:
         """Mark ``expr`` as too large to expand: converting it (or an expression that holds
@@ -638,10 +640,16 @@ class TrigAlgebra:
 
     def derivative(self, p: Poly, symbol: Backend) -> Poly:
         """dp/d``symbol`` (``symbol`` a state symbol)."""
+        known = self._derivatives.get(symbol)
+        if known is None:
+            known = self._derivatives[symbol] = {}
         result: Poly = {}
         made: set[Key] = set()
         for k, c in p.items():
-            for key, value in self._key_derivative(k, symbol).items():
+            d = known.get(k)
+            if d is None:
+                d = known[k] = self._key_derivative(k, symbol)
+            for key, value in d.items():
                 _add_into(result, made, key, _times(c, value))
         self._check_size(len(result))
         return result
@@ -654,28 +662,27 @@ class TrigAlgebra:
         return set().union(*(gens[i].free_symbols for i in indices)) & self.state
 
     def _key_derivative(self, key: Key, symbol: Backend) -> Poly:
-        memo_key = (*key, symbol)
-        memo = self._derivatives.get(memo_key)
-        if memo is not None:
-            return memo
+        """The derivative of a monomial (remembered by :meth:`derivative`)."""
+        rates = self._gen_derivatives.get(symbol)
+        if rates is None:
+            rates = self._gen_derivatives[symbol] = []
+        rates += [None] * (len(self.gens) - len(rates))  # the generators registered since
         parts = Sum()
         moving = self.moving
         for at in range(0, len(key), 2):
             i, e = key[at], key[at + 1]
             if not moving[i]:
                 continue
-            d = self._gen_derivative(i, symbol)
+            d = rates[i]
+            if d is None:
+                d = rates[i] = self._gen_derivative(i, symbol)
             if not d:
                 continue
             lowered = (i, e - 1) if e > 1 else ()  # the rest stays in index order
             self.accumulate(parts, d, key[:at] + lowered + key[at + 2 :], e)
-        result = self._derivatives[memo_key] = self.gather(parts)
-        return result
+        return self.gather(parts)
 
     def _gen_derivative(self, i: int, symbol: Backend) -> Poly:
-        memo = self._gen_derivatives.get((i, symbol))
-        if memo is not None:
-            return memo
         gen = self.gens[i]
         if isinstance(gen, se.Symbol):
             result: Poly = {ONE: {0: 1}} if gen == symbol else {}
@@ -685,7 +692,6 @@ class TrigAlgebra:
             result = self.multiply(turned, rate) if rate else {}
         else:
             result = self.convert(se.expand(gen.diff(symbol)))
-        self._gen_derivatives[(i, symbol)] = result
         return result
 
     # -- results --------------------------------------------------------------------------
