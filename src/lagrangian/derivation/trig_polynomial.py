@@ -352,7 +352,7 @@ class TrigAlgebra:
         memos: tuple[dict[Any, Any], ...] = (self._converted,)
         more = (self._factored, self._factored_parts, self._sine_reduced, self._splits)
         built = (self._coefficients, self._parameter_monomials, self._built, self._reductions)
-        by_key = sum(map(len, chain(self._products.values(), self._derivatives.values())))
+        by_key = sum(map(len, self._products.values())) + sum(map(len, self._derivatives.values()))
         return by_key + sum(len(memo) for memo in (*memos, *more, *built))
 
     def keep_nested(self, expr: Backend) -> None:
