@@ -97,19 +97,20 @@ def _times(a: Coefficient, b: Coefficient) -> Coefficient:
 
 def _scaled(c: Coefficient, n: Number) -> Coefficient:
     if n.__class__ is Fraction:
-        return {k: _fraction_times(n, v) for k, v in c.items()}
+        top, bottom = n.numerator, n.denominator  # properties: read once, not per term
+        return {k: _fraction_times(n, top, bottom, v) for k, v in c.items()}
     return {k: n * v for k, v in c.items()}
 
 
-def _fraction_times(n: Fraction, v: Number) -> Number:
-    """n * v, a whole product as an int: the -1/2 of a Christoffel symbol halves even
-    integers, and kept as ints they keep the sums and products made of them on integer
-    arithmetic (a Fraction's costs ten times as much)."""
+def _fraction_times(n: Fraction, top: int, bottom: int, v: Number) -> Number:
+    """n * v (n = top / bottom), a whole product as an int: the -1/2 of a Christoffel
+    symbol halves even integers, and kept as ints they keep the sums and products made of
+    them on integer arithmetic (a Fraction's costs ten times as much)."""
     if v.__class__ is int:
-        numerator = n.numerator * v
-        if numerator % n.denominator:
-            return Fraction(numerator, n.denominator)
-        return numerator // n.denominator
+        numerator = top * v
+        if numerator % bottom:
+            return Fraction(numerator, bottom)
+        return numerator // bottom
     product = n * v
     if product.__class__ is Fraction and product.denominator == 1:
         return product.numerator
