@@ -59,7 +59,7 @@ def _textbook_gram(algebra, weight, first, second, n):
 
 
 def test_the_gram_matrix_with_the_diagonal_products_once_is_the_textbook_sum() -> None:
-    asm, algebra, fork, world, rows = _bicycle()
+    asm, algebra, fork, _, rows = _bicycle()
     n = len(asm.q)
     assert _gram(algebra, fork.mass, rows, rows, n) == _textbook_gram(
         algebra, fork.mass, rows, rows, n

@@ -1242,11 +1242,12 @@ def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) ->
         for k in range(n)
         for ell in range(k, n)
     ]
-    half = Fraction(-1, 2)
+    half: Number = Fraction(-1, 2)
     result = []
     for j in range(n):
         row = Sum()
         for k, ell, pair in pairs:
+            parts: list[tuple[Poly, Number]]
             if k == ell:
                 parts = [(d(j, k, k), 1), (d(k, k, j), half)]
             elif j in (k, ell):  # dM_jl/dq_j - dM_jl/dq_j cancel: dM_jj/dq_l is left
