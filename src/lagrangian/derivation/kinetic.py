@@ -1154,7 +1154,7 @@ def _add_gram(
         for a, b in pairs:
             if a[j] and b[j]:
                 if first is second:
-                    _add_square(algebra, target, a[j], scale)
+                    _add_square(algebra, target, a[j], scale, twice)
                 else:
                     algebra.accumulate_product(target, a[j], b[j], twice)
         for k in range(j + 1, n):
@@ -1164,11 +1164,13 @@ def _add_gram(
                     algebra.accumulate_product(target, a[j], b[k], scale)
 
 
-def _add_square(algebra: TrigAlgebra, target: Sum, p: Poly, weight: Coefficient) -> None:
-    """Add weight * p^2 to ``target``: the square of each monomial once, and each product
-    of two different monomials once, twice its weight (not once each way round)."""
+def _add_square(
+    algebra: TrigAlgebra, target: Sum, p: Poly, weight: Coefficient, twice: Coefficient
+) -> None:
+    """Add ``weight`` * p^2 to ``target``: the square of each monomial once, and each product
+    of two different monomials once, with ``twice`` the weight (not once each way round)."""
     weighted = list(algebra.scale(p, weight).items())
-    doubled = list(algebra.scale(p, algebra.scale({ONE: weight}, 2)[ONE]).items())
+    doubled = list(algebra.scale(p, twice).items())
     for i, (key, c) in enumerate(p.items()):
         algebra.accumulate(target, dict([weighted[i], *doubled[i + 1 :]]), key, c)
 
