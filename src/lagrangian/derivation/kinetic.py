@@ -28,6 +28,9 @@ from lagrangian.derivation.coriolis import EntrySplit, VelocityProduct, coriolis
 from lagrangian.derivation.trig import combine_trig, plain_angle
 from lagrangian.derivation.trig_polynomial import (
     ONE,
+    Coefficient,
+    Key,
+    Number,
     Poly,
     PolynomialTooLarge,
     Sum,
@@ -1089,14 +1092,18 @@ def _turn(
     """Two rows turned in their plane by ``sign`` * ``angle``: (c a + s b, -s a + c b)."""
     c, s = algebra.convert(se.cos(angle)), algebra.convert(sign * se.sin(angle))
     minus_s = algebra.scale(s, -1)
-    one = [
-        algebra.add([algebra.multiply(c, a), algebra.multiply(s, b)]) for a, b in zip(first, second)
-    ]
-    other = [
-        algebra.add([algebra.multiply(minus_s, a), algebra.multiply(c, b)])
-        for a, b in zip(first, second)
-    ]
-    return [algebra.finish(p) for p in one], [algebra.finish(p) for p in other]
+    one = [_combination(algebra, c, a, s, b) for a, b in zip(first, second)]
+    other = [_combination(algebra, minus_s, a, c, b) for a, b in zip(first, second)]
+    return one, other
+
+
+def _combination(algebra: TrigAlgebra, f: Poly, a: Poly, g: Poly, b: Poly) -> Poly:
+    """f a + g b, finished: both products summed into one polynomial (no polynomial made for
+    each product and summed again)."""
+    total = Sum()
+    algebra.accumulate_product(total, f, a)
+    algebra.accumulate_product(total, g, b)
+    return algebra.finish(algebra.gather(total))
 
 
 def _angles(algebra: TrigAlgebra, row: list[Poly]) -> set[Backend]:
@@ -1111,8 +1118,11 @@ def _angles(algebra: TrigAlgebra, row: list[Poly]) -> set[Backend]:
 
 
 def _jacobian_row(algebra: TrigAlgebra, x: Backend, q: tuple[Backend, ...]) -> list[Poly]:
+    """dx/dq of each coordinate, differentiated only by the coordinates x has (a bicycle's
+    centres have 5 of its 8): by any other every monomial's derivative is 0."""
     converted = algebra.convert(x)
-    return [algebra.finish(algebra.derivative(converted, s)) for s in q]
+    moving = algebra.symbols(converted)
+    return [algebra.finish(algebra.derivative(converted, s)) if s in moving else {} for s in q]
 
 
 def _add_gram(
@@ -1123,24 +1133,65 @@ def _add_gram(
     second: list[list[Poly]],
 ) -> None:
     """Add weight * sum_r (first_rj second_rk + second_rj first_rk) (once when ``first`` is
-    ``second``: weight J^T J) to the upper triangle of the entries' sums."""
+    ``second``: weight J^T J) to the upper triangle of the entries' sums.
+
+    On the diagonal the two products of a pair of monomials are one product taken twice
+    (first_rj second_rj and second_rj first_rj; in a square, x_a x_b and x_b x_a): each is
+    formed once, with its weight doubled (:func:`_add_square`); the diagonal holds about half
+    of a bicycle's products."""
     n = len(shares)
     if not weight:
         return
     scale = weight.get(ONE) if len(weight) == 1 else None
+    if scale is None:  # a weight that moves (never a mass or an inertia)
+        _add_moving_gram(algebra, shares, weight, first, second)
+        return
+    pairs = list(zip(first, second))
+    crossed = pairs + ([] if first is second else [(b, a) for a, b in pairs])
+    twice = algebra.scale({ONE: scale}, 2)[ONE]
+    for j in range(n):
+        target = shares[j][j]
+        for a, b in pairs:
+            if a[j] and b[j]:
+                if first is second:
+                    _add_square(algebra, target, a[j], scale, twice)
+                else:
+                    algebra.accumulate_product(target, a[j], b[j], twice)
+        for k in range(j + 1, n):
+            target = shares[j][k]
+            for a, b in crossed:
+                if a[j] and b[k]:
+                    algebra.accumulate_product(target, a[j], b[k], scale)
+
+
+def _add_square(
+    algebra: TrigAlgebra, target: Sum, p: Poly, weight: Coefficient, twice: Coefficient
+) -> None:
+    """Add ``weight`` * p^2 to ``target``: the square of each monomial once, and each product
+    of two different monomials once, with ``twice`` the weight (not once each way round)."""
+    weighted = list(algebra.scale(p, weight).items())
+    doubled = list(algebra.scale(p, twice).items())
+    for i, (key, c) in enumerate(p.items()):
+        algebra.accumulate(target, dict([weighted[i], *doubled[i + 1 :]]), key, c)
+
+
+def _add_moving_gram(
+    algebra: TrigAlgebra,
+    shares: list[list[Sum]],
+    weight: Poly,
+    first: list[list[Poly]],
+    second: list[list[Poly]],
+) -> None:
+    """:func:`_add_gram` for a weight that is a polynomial of the state, each product made
+    and multiplied by it."""
+    n = len(shares)
     pairs = list(zip(first, second))
     pairs += [] if first is second else [(b, a) for a, b in pairs]
     for j in range(n):
         for k in range(j, n):
-            target = shares[j][k]
             for a, b in pairs:
-                if not (a[j] and b[k]):
-                    continue
-                if scale is not None:
-                    algebra.accumulate_product(target, a[j], b[k], scale)
-                    continue
-                # a weight that moves (never a mass or an inertia)
-                target.add(algebra.multiply(weight, algebra.multiply(a[j], b[k])))
+                if a[j] and b[k]:
+                    shares[j][k].add(algebra.multiply(weight, algebra.multiply(a[j], b[k])))
 
 
 def _add_rotation_share(
@@ -1167,7 +1218,12 @@ def _add_rotation_share(
 
 def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) -> list[Poly]:
     """(C q_dot)_j = sum_k (dM_jk/dq_k - dM_kk/dq_j / 2) q_dot_k^2
-    + sum_(k<l) (dM_jk/dq_l + dM_jl/dq_k - dM_kl/dq_j) q_dot_k q_dot_l."""
+    + sum_(k<l) (dM_jk/dq_l + dM_jl/dq_k - dM_kl/dq_j) q_dot_k q_dot_l.
+
+    Where j is k (or l) the last two derivatives are dM_jl/dq_j twice with opposite signs:
+    the symbol is dM_jj/dq_l, taken as it is (2(n - 1) of the n(n + 1)/2 symbols of a row;
+    summed out, they left 286 zero monomials in a bicycle's rows).  The rows are finished:
+    no zero coefficient."""
     n = len(asm.q)
     slope: dict[tuple[int, int, int], Poly] = {}
     # an entry of M has a few of the coordinates (a bicycle's, 3 of 8): the rest give zero
@@ -1177,7 +1233,8 @@ def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) ->
         key = (min(j, k), max(j, k), ell)
         if key not in slope:
             q = asm.q[ell]
-            slope[key] = algebra.derivative(mass[j][k], q) if q in used[key[:2]] else {}
+            held = q in used[key[:2]]
+            slope[key] = algebra.finish(algebra.derivative(mass[j][k], q)) if held else {}
         return slope[key]
 
     rates = [next(iter(algebra.convert(v))) for v in asm.q_dot]
@@ -1187,17 +1244,36 @@ def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) ->
         for k in range(n)
         for ell in range(k, n)
     ]
-    half = Fraction(-1, 2)
+    half: Number = Fraction(-1, 2)
     result = []
     for j in range(n):
-        parts = Sum()
+        row = Sum()
         for k, ell, pair in pairs:
+            parts: list[tuple[Poly, Number]]
             if k == ell:
-                algebra.accumulate(parts, d(j, k, k), pair)
-                algebra.accumulate(parts, d(k, k, j), pair, half)
+                parts = [(d(j, k, k), 1), (d(k, k, j), half)]
+            elif j in (k, ell):  # dM_jl/dq_j - dM_jl/dq_j cancel: dM_jj/dq_l is left
+                parts = [(d(j, j, k + ell - j), 1)]
             else:
-                algebra.accumulate(parts, d(j, k, ell), pair)
-                algebra.accumulate(parts, d(j, ell, k), pair)
-                algebra.accumulate(parts, d(k, ell, j), pair, -1)
-        result.append(algebra.gather(parts))
+                parts = [(d(j, k, ell), 1), (d(j, ell, k), 1), (d(k, ell, j), -1)]
+            _add_symbol(algebra, row, [part for part in parts if part[0]], pair)
+        result.append(algebra.gather(row))
     return result
+
+
+def _add_symbol(
+    algebra: TrigAlgebra, row: Sum, parts: list[tuple[Poly, Number]], pair: Key
+) -> None:
+    """Add the Christoffel symbol sum scale * dM/dq over ``parts``, times the velocity
+    product ``pair``, to ``row``.  The symbol is summed first: its monomials have no
+    velocity, so pair times them are monomials of no other pair, and what cancels in a row
+    cancels within one symbol (a fifth of a bicycle's monomials of C q_dot); so the
+    cancelled monomials are never multiplied by the pair, nor written out as zero terms
+    of the row's expression."""
+    if len(parts) == 1:
+        algebra.accumulate(row, parts[0][0], pair, parts[0][1])
+        return
+    symbol = Sum()
+    for p, scale in parts:
+        symbol.add(p if scale == 1 else algebra.scale(p, scale))
+    algebra.accumulate(row, algebra.finish(algebra.gather(symbol)), pair)
