@@ -92,3 +92,17 @@ def test_sines_and_cosines_of_symbols_are_sympys() -> None:
                 assert_identical(view(3 * backend(angle)), 3 * function(stands_for))
     view = SympyView([])
     assert_identical(view(se.sin(se.Integer(2))), sp.sin(2))
+
+
+def test_numbers_are_those_sympify_makes() -> None:
+    """SymEngine's integers and rationals, made directly, and its other numbers, each the
+    number ``sympify`` makes of it, alone and as a coefficient."""
+    view = SympyView([x])
+    numbers = [se.Integer(n) for n in (0, 1, -1, 2, 10**30)]
+    numbers += [se.Rational(1, 2), se.Rational(-3, 4), se.Rational(-(10**30), 7)]
+    numbers += [se.RealDouble(0.25), se.I, se.Integer(2) + 3 * se.I]
+    for number in numbers:
+        assert_identical(view(number), sp.sympify(number, strict=True))
+        total = number * bx + by
+        expected = sp.Add(*[sp.sympify(a) for a in total.args]) if total.is_Add else y
+        assert_identical(view(total), expected)
