@@ -64,8 +64,8 @@ class SympyView:
         # entry past the size limit (for the message)
         self._tree_operations = TreeOperations()
         self._builder = Builder()
-        # a backend angle -> (the angle converted, its canonical difference or None,
-        # flipped, its operations)
+        # a backend angle -> (the angle converted, its canonical form if SymPy's sine and
+        # cosine leave it as it is (else None), flipped, its operations)
         self._angles: dict[Backend, tuple[Part, _Angle | None, bool, int]] = {}
         # (first, second) symbols -> first - second; shared by the angles x - y and y - x
         self._differences: dict[tuple[sp.Symbol, sp.Symbol], _Angle] = {}
@@ -73,8 +73,8 @@ class SympyView:
         # a backend term of a sum's hash -> its factors converted (itself if not a product),
         # its operations, and the term
         self._factors: dict[int, tuple[Monomial, int, Backend]] = {}
-        # (id of a number's Part, id of a term's factors) -> their product converted, its
-        # operations, and the Part and the factors themselves (kept alive with their ids)
+        # (id of a number's Part, id of a term's Monomial) -> their product converted, its
+        # operations, and the Part and the term's entry of _factors (kept alive with the ids)
         self._products: dict[tuple[int, int], tuple[Part, int, Part, Any]] = {}
 
     def __call__(self, expr: Backend) -> sp.Expr:
@@ -541,8 +541,8 @@ _ZERO, _ONE = se.S.Zero, se.S.One
 
 def _sympy_rational(number: Backend) -> sp.Rational:
     """A SymEngine integer or rational as SymPy, the number ``sympify`` makes of it, made
-    directly (``sympify`` asks SymEngine's ``_sympy_`` through SymPy's converters, four
-    times as long)."""
+    directly (``sympify`` asks SymEngine's ``_sympy_`` through SymPy's converters, two
+    to five times as long)."""
     if number.is_Integer:
         return sp.Integer(int(number))
     return sp.Rational(int(number.p), int(number.q))
