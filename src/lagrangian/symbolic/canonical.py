@@ -28,7 +28,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from functools import cmp_to_key
 from operator import itemgetter
-from typing import Any
+from typing import Any, NamedTuple
 
 import sympy as sp
 from sympy.core.basic import ordering_of_classes
@@ -117,6 +117,19 @@ class CanonicalOrder:
         return key
 
 
+class Monomial(NamedTuple):
+    """The factors of a product without its number (:meth:`Builder.monomial`): as given,
+    and, when SymPy's Mul would only sort them, in SymPy's order (else None), their
+    expressions and keys in that order (the keys None when one is missing) and the
+    REST_HASH of their product."""
+
+    factors: tuple[Part, ...]
+    ordered: tuple[Part, ...] | None
+    expressions: tuple[sp.Expr, ...]
+    keys: tuple[Any, ...] | None
+    rest_hash: int | None
+
+
 class Builder:
     """Makes the :data:`Part` of SymPy expressions (:meth:`part`, remembered per object),
     and sums and products of Parts in SymPy's canonical form (:meth:`sum`,
@@ -160,6 +173,59 @@ class Builder:
         """The Part of ``sp.Mul`` of the parts' expressions (:func:`sympy_product`)."""
         made = self._canonical_product(parts)
         return self._general(sp.Mul, parts) if made is None else made
+
+    def monomial(self, factors: Sequence[Part]) -> Monomial:
+        """The factors of a product without its number, read once for all the numbers it is
+        scaled by (:meth:`scaled`): in SymPy's order with their keys and the product's
+        REST_HASH when they are commutative symbols, function values, rational powers or
+        given sums of distinct bases (what SymPy's Mul only sorts), else as given.  A
+        bicycle's sums share their monomials of sines, cosines and lengths, each term with
+        its own number."""
+        bases = [p[BASE_HASH] for p in factors]
+        if (
+            None in bases
+            or len(set(bases)) < len(bases)
+            or (len(factors) == 1 and factors[0][KIND] == SUM)  # SymPy distributes a number
+        ):
+            return Monomial(tuple(factors), None, (), (), None)
+        ordered = tuple(_sorted(factors))
+        keys = tuple([p[KEY] for p in ordered])
+        return Monomial(
+            tuple(factors),
+            ordered,
+            tuple([p[EXPR] for p in ordered]),
+            None if None in keys else keys,
+            hash(tuple([p[HASH] for p in ordered])),
+        )
+
+    def scaled(self, number: Part, monomial: Monomial) -> Part:
+        """The Part of ``sp.Mul`` of the number of ``number`` and the factors of
+        ``monomial`` (:meth:`product`): the number first, then the ordered factors, when the
+        number is a rational other than 0 and 1."""
+        value = number[EXPR]
+        if (
+            monomial.ordered is None
+            or number[KIND] != RATIONAL
+            or value is sp.S.One
+            or value is sp.S.Zero
+        ):
+            return self.product([number, *monomial.factors])
+        made = sp.Mul._from_args((value, *monomial.expressions), True)
+        keys, key = monomial.keys, number[KEY]
+        if keys is not None and key is not UNORDERABLE:
+            key = (_MUL_RANK, "Mul", len(keys) + 1, key, *keys)
+        else:
+            key = UNORDERABLE
+        return (
+            made,
+            key,
+            PRODUCT,
+            None,
+            None,
+            monomial.rest_hash,
+            True,
+            (number, *monomial.ordered),
+        )
 
     def _canonical_product(self, parts: Sequence[Part]) -> Part | None:
         """:meth:`product`, or None where it needs SymPy's own rules."""

@@ -22,7 +22,7 @@ import sympy as sp
 
 from lagrangian.size_limits import active_operations, check_operations
 from lagrangian.symbolic.caches import IdentityCache
-from lagrangian.symbolic.canonical import EXPR, Builder, Part
+from lagrangian.symbolic.canonical import EXPR, Builder, Monomial, Part
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.nonsmooth import piecewise_smooth
 
@@ -64,17 +64,17 @@ class SympyView:
         # entry past the size limit (for the message)
         self._tree_operations = TreeOperations()
         self._builder = Builder()
-        # a backend angle -> (the angle converted, its canonical difference or None,
-        # flipped, its operations)
-        self._angles: dict[Backend, tuple[Part, _Difference | None, bool, int]] = {}
+        # a backend angle -> (the angle converted, its canonical form if SymPy's sine and
+        # cosine leave it as it is (else None), flipped, its operations)
+        self._angles: dict[Backend, tuple[Part, _Angle | None, bool, int]] = {}
         # (first, second) symbols -> first - second; shared by the angles x - y and y - x
-        self._differences: dict[tuple[sp.Symbol, sp.Symbol], _Difference] = {}
+        self._differences: dict[tuple[sp.Symbol, sp.Symbol], _Angle] = {}
         self._negatives: dict[sp.Symbol, Part] = {}  # symbol -> -symbol
-        # a backend term of a sum -> its factors converted (itself if not a product), and its
-        # operations
-        self._factors: dict[Backend, tuple[tuple[Part, ...], int]] = {}
-        # (id of a number's Part, id of a term's factors) -> their product converted, its
-        # operations, and the Part and the factors themselves (kept alive with their ids)
+        # a backend term of a sum's hash -> its factors converted (itself if not a product),
+        # its operations, and the term
+        self._factors: dict[int, tuple[Monomial, int, Backend]] = {}
+        # (id of a number's Part, id of a term's Monomial) -> their product converted, its
+        # operations, and the Part and the term's entry of _factors (kept alive with the ids)
         self._products: dict[tuple[int, int], tuple[Part, int, Part, Any]] = {}
 
     def __call__(self, expr: Backend) -> sp.Expr:
@@ -124,6 +124,8 @@ class SympyView:
                 result = build.part(sp.Pow(power[EXPR], root[EXPR]))
         elif type(expr) in _TRIG:
             result, count = self._trig(_TRIG[type(expr)], expr.args[0])
+        elif expr.is_Rational:
+            count, result = 0, build.part(_sympy_rational(expr))
         elif expr.is_Number:
             count, result = 0, build.part(to_sympy(expr))
         else:
@@ -214,23 +216,33 @@ class SympyView:
     def _scaled(self, number: Part, term: Backend) -> tuple[Part, int]:
         """The product of a number and a term converted, with its operations: the product
         SymEngine makes of the two (the number and the term's factors, in its order), made
-        from the term's factors converted once for all its coefficients, and once per
-        number and term."""
-        factors = self._factors.get(term)
-        if factors is None:
-            if term.is_Mul:
-                factors = self._factors[term] = self._arguments(term)
-            else:
-                part, count, _ = self._converted(term)
-                factors = self._factors[term] = ((part,), count)
+        from the term's factors converted and ordered once for all its coefficients
+        (:meth:`~lagrangian.symbolic.canonical.Builder.monomial`), and once per number and
+        term."""
+        term_hash = hash(term)  # looked up as in the memo (a term recurs as a new wrapper)
+        factors = self._factors.get(term_hash)
+        if factors is None or not _EQUAL(factors[2], term, _EQ):
+            factors = self._monomial(term)
+            # a term of another term's hash (rare) is read again each time it is met
+            self._factors.setdefault(term_hash, factors)
         pair = (id(number), id(factors[0]))
         scaled = self._products.get(pair)
         if scaled is None:
-            made = self._builder.product([number, *factors[0]])
+            made = self._builder.scaled(number, factors[0])
             # the entry holds the two objects its key names, so their ids cannot be reused
             # while it lives (another thread may have replaced them in the memos meanwhile)
             scaled = self._products[pair] = (made, self._within(1 + factors[1]), number, factors)
         return scaled[0], scaled[1]
+
+    def _monomial(self, term: Backend) -> tuple[Monomial, int, Backend]:
+        """The factors of the term of a sum (itself if it is not a product) converted and
+        read for scaling, the term's operations, and the term."""
+        if term.is_Mul:
+            parts, count = self._arguments(term)
+        else:
+            part, count, _ = self._converted(term)
+            parts = (part,)
+        return self._builder.monomial(parts), count, term
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs and sign, and Heaviside by a stand-in
@@ -247,7 +259,8 @@ class SympyView:
         symbols in SymPy's canonical order (the first symbol positive), made from the two
         symbols directly: the angle as SymEngine orders it is then never converted (an
         n-link chain has n^2/2 such angles, each in a cosine of M and a sine of the
-        forcing)."""
+        forcing).  Of a symbol and of such a difference the value is made without SymPy's
+        evaluation (:func:`unevaluated_trig`), which changes neither."""
         build = self._builder
         known = self._angles.get(angle)  # the sine and the cosine of an angle share it
         if known is None:
@@ -255,7 +268,7 @@ class SympyView:
             x, y = (None, None) if pair is None else (self(pair[0]), self(pair[1]))
             if not (x is not None and x.is_Symbol and y is not None and y.is_Symbol):
                 argument, count, _ = self._converted(angle)
-                known = (argument, None, False, count)
+                known = (argument, _symbol_angle(argument), False, count)
             else:
                 first, second, flipped = _ordered(x, y)
                 difference = self._difference(first, second)
@@ -274,13 +287,13 @@ class SympyView:
             return build.product([build.part(sp.S.NegativeOne), value]), count
         return value, count
 
-    def _difference(self, first: sp.Symbol, second: sp.Symbol) -> _Difference:
+    def _difference(self, first: sp.Symbol, second: sp.Symbol) -> _Angle:
         """first - second (first before second in SymPy's order), made once for both
         orientations of the angle (a chain's forcing has the sines of both)."""
         known = self._differences.get((first, second))
         if known is None:
             made = self._builder.sum([self._builder.part(first), self._negative(second)])
-            known = self._differences[(first, second)] = _Difference(made, {})
+            known = self._differences[(first, second)] = _Angle(made, {})
         return known
 
     def _negative(self, symbol: sp.Symbol) -> Part:
@@ -319,12 +332,24 @@ class SympyView:
         return _remember(converted, [rows[j][k] for j, k in mirrored])
 
 
-class _Difference(NamedTuple):
-    """An angle that is the difference of two symbols, in SymPy's canonical form, and the
-    sine and the cosine of it made so far (by SymPy function)."""
+class _Angle(NamedTuple):
+    """An angle that SymPy's sine and cosine leave as it is: a symbol, or the difference of
+    two symbols in SymPy's canonical form; and the sine and the cosine of it made so far
+    (by SymPy function)."""
 
     part: Part
     values: dict[Callable[..., sp.Expr], Part]
+
+
+def _symbol_angle(argument: Part) -> _Angle | None:
+    """The angle ``argument`` as an :class:`_Angle` if it is a plain symbol not known to be
+    zero: ``sin.eval`` and ``cos.eval`` (SymPy 1.12 to 1.14) return None for it (they change
+    numbers, sums with a multiple of pi, a sign that can be taken out, a multiple of the
+    imaginary unit or of pi, an inverse function's value, and an argument that is zero)."""
+    symbol = argument[EXPR]
+    if type(symbol) is sp.Symbol and symbol.is_zero is not True:
+        return _Angle(argument, {})
+    return None
 
 
 class _Sizing(threading.local):
@@ -512,6 +537,15 @@ _MINUS_ONE = se.Integer(-1)
 _EQUAL, _EQ = se.Basic._richcmp_, 2
 #: SymEngine's own 0 and 1, which it gives as the same objects every time.
 _ZERO, _ONE = se.S.Zero, se.S.One
+
+
+def _sympy_rational(number: Backend) -> sp.Rational:
+    """A SymEngine integer or rational as SymPy, the number ``sympify`` makes of it, made
+    directly (``sympify`` asks SymEngine's ``_sympy_`` through SymPy's converters, two
+    to five times as long)."""
+    if number.is_Integer:
+        return sp.Integer(int(number))
+    return sp.Rational(int(number.p), int(number.q))
 
 
 def _backend_difference(angle: Backend) -> tuple[Backend, Backend] | None:
