@@ -2,10 +2,12 @@
 constraint expressions converted to SymEngine with one memo for consecutive constraints
 against each converted on its own; a velocity constraint at rest with its speed terms left
 out against the whole expression substituted; the projection compiled over the symbols the
-equations involve against the constraints' values at the point it finds."""
+equations involve against the constraints' values at the point it finds; a large gamma
+stopped at the size limit as it is converted, with the count that counting it first gives."""
 
 from __future__ import annotations
 
+import pytest
 import symengine as se
 import sympy as sp
 
@@ -13,6 +15,7 @@ import lagrangian as lg
 from lagrangian.constraints.pfaffian import (
     SHARED_BY,
     _at_rest,
+    _Shared,
     _shared_subexpressions,
     backend,
     fast_state,
@@ -20,7 +23,8 @@ from lagrangian.constraints.pfaffian import (
 )
 from lagrangian.constraints.projection import project
 from lagrangian.derivation.backend import to_backend
-from lagrangian.symbolic.caches import forget_all
+from lagrangian.errors import SizeLimitError
+from lagrangian.size_limits import operations, size_limit
 from lagrangian.symbolic.native import to_symengine_sharing
 from lagrangian.symbolic.symbols import t, velocity
 
@@ -35,14 +39,14 @@ def test_constraints_converted_with_a_shared_memo_are_those_converted_alone():
 
 
 def test_a_new_shared_memo_after_shared_by_constraints():
-    forget_all()  # the count of constraints sharing the memo starts here
-    u = sp.symbols(f"u0:{SHARED_BY + 1}")
-    first = _shared_subexpressions().value
-    for k in range(SHARED_BY):
-        backend(sp.sin(u[k]) + u[k] ** 2)
-    assert _shared_subexpressions().value is first and sp.sin(u[0]) in first
-    backend(sp.sin(u[SHARED_BY]))
-    assert _shared_subexpressions().value is not first
+    shared = _Shared(dict)
+    first = shared.next()
+    assert all(shared.next() is first for _ in range(SHARED_BY - 1))
+    assert shared.next() is not first
+    # backend converts with the memo shared at the time
+    u = sp.Symbol("u_shared_memo")
+    backend(sp.sin(u) + u**2)
+    assert sp.sin(u) in _shared_subexpressions().value
 
 
 def test_at_rest_leaves_out_the_terms_with_a_speed_factor():
@@ -83,3 +87,27 @@ def test_the_projection_compiles_the_symbols_its_equations_involve():
     assert abs(values[x] ** 2 + values[y] ** 2 - 1.5**2) < 1e-8
     assert abs(values[x] - 2 * values[y]) < 1e-8
     assert values[unused] == 7.0 and values[l] == 1.5
+
+
+def test_a_gamma_left_as_built_is_stopped_at_the_size_limit_as_it_is_converted():
+    x, y, th, ph, r = sp.symbols("x y theta phi r")
+    q = (x, y, th, ph)
+    xd, thd, phd = velocity(x), velocity(th), velocity(ph)
+    # partial derivatives past TIDY_OPS: gamma is left as built
+    wobble = (1 + sp.sin(th) * sp.cos(ph) + sp.cos(th + ph) + sp.sin(ph) ** 2) ** 4
+    slip = sp.expand((xd - r * sp.cos(th) * thd + r * sp.sin(ph) * phd) * wobble)
+    system = lg.System(
+        coordinates=q,
+        parameters=[r],
+        particles=[lg.Particle("p", 1, (x, y))],
+        constraints=[lg.VelocityConstraint(slip)],
+    )
+    lg.derive(system)
+    with size_limit(2000), pytest.raises(SizeLimitError) as stopped:
+        lg.constrained_equations(system)
+    message = str(stopped.value)
+    assert "the acceleration term gamma of constraints[0] has " in message
+    assert "more than the size limit of 2,000" in message
+    counted = int(message.split(" has ")[1].split(" operations")[0].replace(",", ""))
+    gamma = lg.constrained_equations(system).gamma  # nothing kept of the refused attempt
+    assert counted > 2000 and abs(counted - operations(gamma[0])) <= 0.01 * counted

@@ -42,6 +42,7 @@ from lagrangian.derivation.trig import combine_trig, size
 from lagrangian.model import VelocityConstraint, t, velocity
 from lagrangian.model.constraints import Constraint
 from lagrangian.model.contact import CONVERSIONS
+from lagrangian.size_limits import check_size
 from lagrangian.symbolic.caches import remembered
 from lagrangian.symbolic.expressions import distinct_parts, free_symbols
 from lagrangian.symbolic.native import to_symengine_sharing
@@ -274,22 +275,28 @@ def acceleration_terms(
     result = []
     for j, form in enumerate(forms):
         terms, held = _rate_terms(form.fast.velocity_expression, variables, rates, base_rates)
-        if all(size(slope) * max(1, size(rate)) <= TIDY_OPS for slope, rate in terms):
+        tidied = all(size(slope) * max(1, size(rate)) <= TIDY_OPS for slope, rate in terms)
+        if tidied:
             rate = se.expand(se.Add(*[combine_trig(slope) * rate for slope, rate in terms]))
             gamma = collect_state(-rate, state)
         else:
             gamma = -se.Add(*[slope * rate for slope, rate in terms])
         gamma = gamma.xreplace(held) if held else gamma
-        # its operations counted as it is converted (the conversion counts them anyway),
-        # stopped before the part past the size limit is: converting and printing cost far
-        # more than building it
-        result.append(form.view.vector([gamma], named=_gamma_name(j))[0])
+        result.append(_converted(form.view, gamma, j, tidied))
     return result
 
 
-def _gamma_name(j: int) -> Callable[[int], str]:
-    """The name of constraint j's acceleration term, for a message."""
-    return lambda _: f"the acceleration term gamma of constraints[{j}]"
+def _converted(view: SympyView, gamma: Backend, j: int, tidied: bool) -> sp.Expr:
+    """Constraint j's ``gamma`` converted, SizeLimitError before converting it past the size
+    limit (converting and printing cost far more than building it).  A tidied gamma is
+    small and counted first; one left as built (a rolling wheel's: thousands of operations)
+    is counted as it is converted, which counts it anyway, and stopped before the part past
+    the limit."""
+    name = f"the acceleration term gamma of constraints[{j}]"
+    if tidied:
+        check_size(gamma, name)
+        return view(gamma)
+    return view.vector([gamma], named=lambda _: name)[0]
 
 
 def _rate_terms(
