@@ -111,3 +111,9 @@ def test_a_gamma_left_as_built_is_stopped_at_the_size_limit_as_it_is_converted()
     counted = int(message.split(" has ")[1].split(" operations")[0].replace(",", ""))
     gamma = lg.constrained_equations(system).gamma  # nothing kept of the refused attempt
     assert counted > 2000 and abs(counted - operations(gamma[0])) <= 0.01 * counted
+
+
+def test_the_projection_takes_a_dummy_by_its_name_as_the_conversion_does():
+    x, d = sp.Symbol("x"), sp.Dummy("d")
+    found = project([x - d], [x], {x: 0.5, d: 0.25})
+    assert found.satisfied and abs(found.values[x] - 0.25) < 1e-12

@@ -91,7 +91,7 @@ def _arguments(equations: Any, start: Mapping[sp.Symbol, float]) -> list[sp.Symb
     take these alone (a bicycle's contact height involves 8 of its 37 coordinates,
     parameters and t, and each argument is renamed, converted and passed at every call)."""
     free = {str(s) for s in equations.free_symbols}
-    return sorted((s for s in start if s.name in free), key=name_of)
+    return sorted((s for s in start if name_of(s) in free), key=name_of)
 
 
 class _SparseJacobian:
