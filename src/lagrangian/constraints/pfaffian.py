@@ -29,9 +29,9 @@ expression and coordinates, since every consumer of a System's constraints asks 
 from __future__ import annotations
 
 import threading
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Generic, TypeVar
 
 import symengine as se
 import sympy as sp
@@ -50,6 +50,7 @@ from lagrangian.symbolic.native import to_symengine_sharing
 TIDY_OPS = 1000  # partial derivatives of a constraint's rate beyond this are not expanded
 CACHED = 512  # constraint expressions whose form is kept, and coordinate tuples' conversions
 ZERO = sp.Integer(0)
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
@@ -125,7 +126,7 @@ def _form(
         slopes = {k: se.expand(c.diff(state.speeds[k])) for k in rolling}
         for k, slope in slopes.items():
             coefficients[k] = view(slope)
-        at_rest = se.expand(c.xreplace({state.speeds[k]: 0 for k in rolling}))
+        at_rest = se.expand(_at_rest(c, [state.speeds[k] for k in rolling]))
         fast = FastForm(c, tuple(slopes.items()), at_rest)
         return PfaffianForm(tuple(coefficients), view(at_rest), expr, view, fast)
     slopes = {k: c.diff(state.coordinates[k]) for k in moving}  # a = dh/dq, b = dh/dt
@@ -135,6 +136,17 @@ def _form(
     rate = se.Add(*[slope * state.speeds[k] for k, slope in slopes.items()], time_slope)
     fast = FastForm(rate, tuple(slopes.items()), time_slope)
     return PfaffianForm(tuple(coefficients), view(time_slope), view(rate), view, fast)
+
+
+def _at_rest(c: Backend, speeds: list[Backend]) -> Backend:
+    """c at ``speeds`` = 0.  A term with one of them among its factors is 0 there and is left
+    out unvisited (substituting walks every part of it: a rolling wheel's no-slip constraint
+    is its coefficients times the speeds, thousands of operations with no speed-free
+    term); the other terms are substituted."""
+    rest = dict.fromkeys(speeds, se.Integer(0))
+    terms = c.args if c.is_Add else (c,)
+    kept = [t for t in terms if not (t.is_Mul and any(f in rest for f in t.args))]
+    return (c if len(kept) == len(terms) else se.Add(*kept)).xreplace(rest)
 
 
 @dataclass(frozen=True)
@@ -167,7 +179,7 @@ def _view(expr: sp.Expr, coordinates: tuple[sp.Symbol, ...], moving: list[int]) 
     symbols = {*free_symbols(expr), *(velocity(coordinates[k]) for k in moving), t}
     shared = _shared_conversion(coordinates)
     with _NAMING:  # checked and named at once: two threads never name a symbol two ways
-        view = shared.next_view()
+        view = shared.next()
         names = view.by_name
         if any(names.get(s.name, s) != s for s in symbols):
             return SympyView(symbols)
@@ -175,32 +187,34 @@ def _view(expr: sp.Expr, coordinates: tuple[sp.Symbol, ...], moving: list[int]) 
     return view
 
 
-#: Constraints whose forms one shared conversion makes at most: what it converts lives as
-#: long as any of their cached forms, so a process that converts constraint after constraint
-#: on the same coordinates (a server's models) keeps a bounded part of it.
+#: Constraints that one shared conversion serves at most: what it converts lives as long as
+#: any of their cached forms (or the conversion is shared), so a process that converts
+#: constraint after constraint (a server's models) keeps a bounded part of it.
 SHARED_BY = 16
 
 
-class _SharedConversion:
-    """The conversion the constraints on some coordinates share, a new one after every
-    :data:`SHARED_BY` constraints."""
+class _Shared(Generic[T]):
+    """What consecutive constraints share (a conversion back to SymPy, or SymPy's
+    subexpressions converted to SymEngine), a new one after every :data:`SHARED_BY`
+    constraints."""
 
-    def __init__(self) -> None:
-        self.view = SympyView([])
+    def __init__(self, make: Callable[[], T]) -> None:
+        self.make = make
+        self.value = make()
         self.constraints = 0
 
-    def next_view(self) -> SympyView:
-        """The conversion of one more constraint."""
-        if self.constraints == SHARED_BY:
-            self.view, self.constraints = SympyView([]), 0
+    def next(self) -> T:
+        """What one more constraint shares."""
+        if self.constraints >= SHARED_BY:  # >=: two threads may both have counted
+            self.value, self.constraints = self.make(), 0
         self.constraints += 1
-        return self.view
+        return self.value
 
 
 @remembered(maxsize=CACHED)
-def _shared_conversion(coordinates: tuple[sp.Symbol, ...]) -> _SharedConversion:
+def _shared_conversion(coordinates: tuple[sp.Symbol, ...]) -> _Shared[SympyView]:
     """The conversion :func:`_view` shares among the constraints on ``coordinates``."""
-    return _SharedConversion()
+    return _Shared(lambda: SympyView([]))
 
 
 _NAMING = threading.Lock()
@@ -217,10 +231,18 @@ def backend(expr: Any) -> Backend:
 
 @remembered(maxsize=CACHED)
 def _cached_backend(expr: Any) -> Backend:
-    # each distinct subexpression converted once: a rolling contact's constraint has the
-    # square root of its axle's tilt in most of its terms (a bicycle's front wheel: 3165
-    # nodes, 188 of them distinct; a tenth of the time)
-    return to_symengine_sharing(expr, {})
+    # each distinct subexpression converted once, for this constraint and the next ones: a
+    # rolling contact's constraint has the square root of its axle's tilt in most of its
+    # terms (a bicycle's front wheel: 3165 nodes, 188 of them distinct; a tenth of the
+    # time), and its other no-slip constraint and its height have those parts too
+    return to_symengine_sharing(expr, _shared_subexpressions().next())
+
+
+@remembered(maxsize=1)
+def _shared_subexpressions() -> _Shared[dict[Any, Backend]]:
+    """SymPy subexpressions -> SymEngine, shared by the conversions of consecutive
+    constraint expressions (:func:`backend`)."""
+    return _Shared(dict)
 
 
 def acceleration_terms(
@@ -253,16 +275,28 @@ def acceleration_terms(
     result = []
     for j, form in enumerate(forms):
         terms, held = _rate_terms(form.fast.velocity_expression, variables, rates, base_rates)
-        if all(size(slope) * max(1, size(rate)) <= TIDY_OPS for slope, rate in terms):
+        tidied = all(size(slope) * max(1, size(rate)) <= TIDY_OPS for slope, rate in terms)
+        if tidied:
             rate = se.expand(se.Add(*[combine_trig(slope) * rate for slope, rate in terms]))
             gamma = collect_state(-rate, state)
         else:
             gamma = -se.Add(*[slope * rate for slope, rate in terms])
         gamma = gamma.xreplace(held) if held else gamma
-        # before it is converted: converting and printing cost far more than building it
-        check_size(gamma, f"the acceleration term gamma of constraints[{j}]")
-        result.append(form.view(gamma))
+        result.append(_converted(form.view, gamma, j, tidied))
     return result
+
+
+def _converted(view: SympyView, gamma: Backend, j: int, tidied: bool) -> sp.Expr:
+    """Constraint j's ``gamma`` converted, SizeLimitError before converting it past the size
+    limit (converting and printing cost far more than building it).  A tidied gamma is
+    small and counted first; one left as built (a rolling wheel's: thousands of operations)
+    is counted as it is converted, which counts it anyway, and stopped before the part past
+    the limit."""
+    name = f"the acceleration term gamma of constraints[{j}]"
+    if tidied:
+        check_size(gamma, name)
+        return view(gamma)
+    return view.vector([gamma], named=lambda _: name)[0]
 
 
 def _rate_terms(

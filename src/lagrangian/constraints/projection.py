@@ -66,10 +66,10 @@ def project(
     from further random starts until one satisfies every equation."""
     if not equations:
         return Projection(dict(start), ())
-    symbols = sorted(set(start) | set(unknowns), key=str)
     # converted once, as the constraints' forms convert them (a rolling wheel's contact
     # height: hundreds of operations), and differentiated in SymEngine (SymPy's diff is slow)
     fast = se.DenseMatrix(len(equations), 1, [backend(e) for e in equations])
+    symbols = _arguments(fast, start)
     residual = PointFunction(fast, symbols)
     slope = _SparseJacobian(list(fast), [to_backend(u) for u in unknowns], symbols)
     rng = random.Random(SEED + 1)
@@ -84,6 +84,14 @@ def project(
         if best is not None and best.satisfied:
             break
     return best or Projection(dict(start), tuple(float("nan") for _ in equations))
+
+
+def _arguments(equations: Any, start: Mapping[sp.Symbol, float]) -> list[sp.Symbol]:
+    """The symbols of ``start`` that ``equations`` involve, by name: the compiled functions
+    take these alone (a bicycle's contact height involves 8 of its 37 coordinates,
+    parameters and t, and each argument is renamed, converted and passed at every call)."""
+    free = {str(s) for s in equations.free_symbols}
+    return sorted((s for s in start if name_of(s) in free), key=name_of)
 
 
 class _SparseJacobian:
