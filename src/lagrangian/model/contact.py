@@ -283,6 +283,7 @@ def _constraints(
     turns = [[se.diff(w, to_symengine(v)) for w in omega] for v in rates]
     turns.append([w.xreplace(at_rest) for w in omega])  # omega_t, of a rheonomic orientation
     variables = [to_symengine(x) for x in (*q, t)]
+    sines = _sine_powers(position[:2], omega, offset, geometry.length)
     slip = []
     # each velocity's coefficient times the velocity, summed in SymEngine and converted
     # once: SymPy's constructors give the same sum of the same products as converting the
@@ -293,7 +294,7 @@ def _constraints(
         terms = []
         for rate, variable, w in zip(fast_rates, variables, turns):
             part = se.diff(position[k], variable) + w[i] * offset[j] - w[j] * offset[i]
-            terms.append(geometry.rooted(_tidy(part, geometry.length)) * rate)
+            terms.append(geometry.rooted(_tidy(part, geometry.length, sines)) * rate)
         slip.append(back(se.Add(*terms)))
     name = disc.contact
     found: list[Any] = []
@@ -307,35 +308,46 @@ def _constraints(
     return tuple(found)
 
 
-def _tidy(expr: Any, length: _HorizontalLength) -> Any:
+def _tidy(expr: Any, length: _HorizontalLength, sines: dict[Any, Any] | None) -> Any:
     """``expr`` expanded and reduced by sin(u)^2 = 1 - cos(u)^2 where that makes it shorter;
     with s as a placeholder also over the common denominator s (s^2 = 1 - a_z^2), where that
     is shorter (the spin's coefficient a x (C - p) is -R (a x e_z) / s so written, not
-    -R (a x e_z) (s + a_z^2 / s))."""
-    plain = _shorter(se.expand(expr))
+    -R (a x e_z) (s + a_z^2 / s)).  ``sines``: every sine power the expansions can hold with
+    its form in cosines (:func:`_sine_powers`), or None to find them in each."""
+    plain = _shorter(se.expand(expr), sines)
     if length.closed or not plain.has(length.SYMBOL):
         return plain
     s = length.SYMBOL
     # plain is expanded already: s is only distributed over its terms (deep=False), not the
     # terms expanded again (the same sum: expanding is idempotent)
     over_s = se.expand(plain * s, deep=False)
-    numerator = _shorter(se.expand(over_s.xreplace({s**2: 1 - length.a_z**2})))
+    numerator = _shorter(se.expand(over_s.xreplace({s**2: 1 - length.a_z**2})), sines)
     return numerator / s if _terms(numerator) < _terms(plain) else plain
 
 
-def _shorter(expr: Any) -> Any:
+def _shorter(expr: Any, sines: dict[Any, Any] | None = None) -> Any:
     """The expanded ``expr`` with each sin(u)^k, k >= 2, written sin(u)^(k mod 2)
     (1 - cos(u)^2)^(k div 2) (a normal form of polynomials in sines and cosines), where that
-    gives fewer terms."""
+    gives fewer terms.  ``sines``: those forms for every sine power ``expr`` can hold (a
+    superset: the powers it does not hold replace nothing), or None to find its powers."""
+    table = _found_sine_powers(expr) if sines is None else sines
+    if not table:
+        return expr
+    written = expr.xreplace(table)
+    if sines is not None and written == expr:  # it holds none of the powers
+        return expr
+    reduced = se.expand(written)
+    return reduced if _terms(reduced) < _terms(expr) else expr
+
+
+def _found_sine_powers(expr: Any) -> dict[Any, Any]:
+    """The sine powers sin(u)^k, k >= 2, in ``expr`` with their forms in cosines."""
     table = {}
     for power in _powers(expr):
         written = _in_cosines(power)
         if written is not None:
             table[power] = written
-    if not table:
-        return expr
-    reduced = se.expand(expr.xreplace(table))
-    return reduced if _terms(reduced) < _terms(expr) else expr
+    return table
 
 
 @remembered(maxsize=SINE_POWERS)
@@ -353,6 +365,70 @@ def _powers(expr: Any) -> list[Any]:
     """The powers in ``expr``, from a walk that enters each shared part once (SymEngine's
     ``atoms`` walks the whole tree)."""
     return [part for part in distinct_parts(expr) if isinstance(part, se.Pow)]
+
+
+def _sine_powers(
+    position: Any, omega: Any, offset: Any, length: _HorizontalLength
+) -> dict[Any, Any] | None:
+    """Every sine power sin(u)^k, k >= 2, that the expanded coefficients of a wheel's no-slip
+    constraints (and their numerators over s) can hold, with its form in cosines: for each
+    angle u, k up to the degree bound below; None when the inputs are not polynomials in
+    sines and cosines of angles free of functions (the powers are then found in each).
+
+    With D_u the total degree in sin(u) and cos(u) together (:func:`_trig_degrees`), a
+    coefficient dp/dq_j + omega_j x (C - p) has D_u <= max(D_u(p), D_u(omega) + D_u(C - p)):
+    d/dq_j keeps D_u (d sin(u) = cos(u) du, du free of sines), as does d/d q_dot_j of omega;
+    expanding never raises it; writing sin^2 as 1 - cos^2 keeps it; a numerator over s gains
+    2 D_u(a_z) where s^2 becomes 1 - a_z^2."""
+    memo: dict[Any, dict[Any, int] | None] = {}
+    parts = [_trig_degrees(e, memo) for e in (*position, *omega, *offset, length.a_z)]
+    if any(found is None for found in parts):
+        return None
+    p, w, c, a_z = parts[:2], parts[2:5], parts[5:8], parts[8]
+    bounds: dict[Any, int] = {}
+    for u in set().union(*parts):  # type: ignore[arg-type]
+        turning = max(d.get(u, 0) for d in w) + max(d.get(u, 0) for d in c)  # type: ignore[union-attr]
+        plain = max(turning, *(d.get(u, 0) for d in p))  # type: ignore[union-attr]
+        bounds[u] = plain + 2 * a_z.get(u, 0)  # type: ignore[union-attr]
+    return {
+        se.sin(u) ** k: _in_cosines(se.sin(u) ** k)
+        for u, bound in bounds.items()
+        for k in range(2, bound + 1)
+    }
+
+
+def _trig_degrees(expr: Any, memo: dict[Any, dict[Any, int] | None]) -> dict[Any, int] | None:
+    """For ``expr`` (SymEngine) a polynomial in sines and cosines of angles free of functions,
+    with coefficients rational in symbols: angle u -> the highest total degree in sin(u) and
+    cos(u) together of a product in its expansion (a bound); None for anything else
+    (``memo``: the parts found before)."""
+    if expr in memo:
+        return memo[expr]
+    found: dict[Any, int] | None = {}
+    if expr.is_Add or expr.is_Mul:
+        for arg in expr.args:
+            degrees = _trig_degrees(arg, memo)
+            if degrees is None or found is None:
+                found = None
+                break
+            for u, d in degrees.items():
+                found[u] = max(found.get(u, 0), d) if expr.is_Add else found.get(u, 0) + d
+    elif expr.is_Pow:
+        base, exponent = expr.args
+        degrees = _trig_degrees(base, memo)
+        if degrees is None or not exponent.is_Number:
+            found = None
+        elif exponent.is_Integer and exponent > 0:
+            found = {u: d * int(exponent) for u, d in degrees.items()}
+        elif degrees:  # a sine under a root or in a denominator
+            found = None
+    elif isinstance(expr, (se.sin, se.cos)):
+        angle = expr.args[0]
+        found = {angle: 1} if _trig_degrees(angle, memo) == {} else None
+    elif not (expr.is_Symbol or expr.is_Number):
+        found = None
+    memo[expr] = found
+    return found
 
 
 def _terms(expr: Any) -> int:

@@ -734,7 +734,7 @@ def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) ->
     used = set().union(*(e.free_symbols for e in entries))
     exact = {s: sp.Float(v, 30) for s, v in values.items() if s in used}
     try:
-        entries = [complex(_evaluated(e.xreplace(exact))) for e in entries]
+        entries = [_complex(_evaluated(e.xreplace(exact))) for e in entries]
     except (TypeError, ValueError, ZeroDivisionError):
         return None
     array = np.array(entries).reshape(matrix.shape)
@@ -746,6 +746,12 @@ def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) ->
 def _evaluated(value: sp.Expr) -> sp.Expr:
     """``value`` to 30 digits (a Float of them, or 0, as it is already)."""
     return value if value.is_Float or value is sp.S.Zero else value.evalf(30)
+
+
+def _complex(value: sp.Expr) -> complex:
+    """``complex(value)``; a Float read as the double nearest to it directly (SymPy's
+    ``complex`` evaluates it to 15 digits first, 53 bits: the same double, rounded once)."""
+    return complex(float(value)) if value.is_Float else complex(value)
 
 
 def _in_backend(matrix: sp.MatrixBase) -> list[Any] | None:
