@@ -1,7 +1,9 @@
 """The sine powers a wheel's no-slip coefficients can hold, bounded from the wheel's inputs
 (lagrangian.model.contact._sine_powers): every power the walk of each expanded coefficient
 finds is in the table, so each coefficient is tidied as by the walk; and inputs that are not
-polynomials in sines and cosines of plain angles leave the walk to find them."""
+polynomials in sines and cosines of plain angles leave the walk to find them.  The turns the
+wheels' angular velocities are composed of (lagrangian.model.rotation._backend_about) are
+Rodrigues' formula entry by entry."""
 
 from __future__ import annotations
 
@@ -13,7 +15,7 @@ import symengine as se
 import sympy as sp
 
 from lagrangian.examples import BENCHMARKS, CATALOG
-from lagrangian.model import RigidBody, RollingDisc, System, contact, shape
+from lagrangian.model import RigidBody, RollingDisc, System, contact, rotation, shape
 from lagrangian.model.contact import (
     _found_sine_powers,
     _HorizontalLength,
@@ -119,3 +121,22 @@ def test_a_wheel_on_a_body_with_other_functions_is_tidied_by_the_walk(
     theta_dot = sp.Symbol("theta_dot")
     assert sp.expand(slip_x.coeff(theta_dot) - k * sp.exp(k * theta)) != 0  # the wheel's roll
     assert slip_x.coeff(theta_dot).has(sp.exp)
+
+
+@pytest.mark.parametrize("axis", [(1, 0, 0), (0, 1, 0), (0, 0, 1), (0, 3, 4), (1, 1, 1)])
+def test_a_turn_about_an_axis_is_rodrigues_formula(axis: tuple[int, int, int]) -> None:
+    # about a coordinate axis the entries are written out; each is the formula's own
+    angle = -lean
+    n = [se.sympify(e) for e in rotation.unit_axis(axis)]
+    cosine, sine = se.cos(angle), se.sin(angle)
+    skew = [[0, -n[2], n[1]], [n[2], 0, -n[0]], [-n[1], n[0], 0]]
+    formula = [
+        [
+            (cosine if i == j else 0) + sine * skew[i][j] + (1 - cosine) * n[i] * n[j]
+            for j in range(3)
+        ]
+        for i in range(3)
+    ]
+    made = rotation._backend_about(n, angle)
+    assert [[str(e) for e in row] for row in made] == [[str(e) for e in row] for row in formula]
+    assert made == formula

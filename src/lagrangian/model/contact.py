@@ -52,7 +52,7 @@ from lagrangian.errors import ModelError, Problem
 from lagrangian.model.constraints import Holonomic, VelocityConstraint
 from lagrangian.model.elements import Force, RigidBody, Torque, as_expression
 from lagrangian.model.inertia import Shape
-from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
+from lagrangian.model.rotation import angular_velocity_terms, rotation_axis, unit_axis
 from lagrangian.model.validation import CONFIGURATION, NameScope
 from lagrangian.symbolic.caches import IdentityCache, remembered
 from lagrangian.symbolic.expressions import distinct_parts, free_symbols
@@ -208,16 +208,15 @@ class _WheelGeometry:
 def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
     """C - p = R d - r_t e_z with d = (a a_z - e_z) / s (the module docstring); a sphere
     (R = 0) has no axle and C - p = -r_t e_z."""
-    tyre = to_symengine(disc.tyre_radius)
+    tyre, radius = to_symengine(disc.tyre_radius), to_symengine(disc.radius)
     below = (se.Integer(0), se.Integer(0), -tyre)
-    if is_zero(disc.radius):
+    if is_zero(radius):  # (in SymEngine: a radius not zero is told at its first point)
         one = se.Integer(1)
         return _WheelGeometry(below, _HorizontalLength(one, one, se.Integer(0)))
     a = _axle_in_world(disc, body)
     s = _length_of(a[2])
     if s.value == 0 or is_zero(s.value if s.closed else s.root):
         return _WheelGeometry(below, s, flat=True)
-    radius = to_symengine(disc.radius)
     inverse = 1 / s.value
     offset = (
         se.expand(radius * a[0] * a[2] * inverse),
@@ -229,8 +228,7 @@ def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
 
 def _axle_in_world(disc: RollingDisc, body: RigidBody) -> tuple[Any, Any, Any]:
     """a = R n / |n|, expanded (SymEngine)."""
-    n = sp.Matrix(_axle(disc, body))
-    n = n / sp.sqrt(sp.expand(n.dot(n)))
+    n = unit_axis(_axle(disc, body))
     R = body.orientation.matrix  # type: ignore[union-attr]
     used = [(k, to_symengine(n[k])) for k in range(3) if n[k] != 0]
     memo: dict[Any, Any] = {}  # the entries of a product of rotations share their parts
@@ -294,8 +292,8 @@ def _constraints(
         terms = []
         for rate, variable, w in zip(fast_rates, variables, turns):
             part = se.diff(position[k], variable) + w[i] * offset[j] - w[j] * offset[i]
-            terms.append(geometry.rooted(_tidy(part, geometry.length, sines)) * rate)
-        slip.append(back(se.Add(*terms)))
+            terms.append(_tidy(part, geometry.length, sines) * rate)
+        slip.append(back(geometry.rooted(se.Add(*terms))))  # s written out once per sum
     name = disc.contact
     found: list[Any] = []
     if height != 0:

@@ -102,8 +102,12 @@ def vee(skew: sp.MatrixBase) -> sp.ImmutableMatrix:
     return sp.ImmutableMatrix([skew[2, 1], skew[0, 2], skew[1, 0]])
 
 
-def _unit(axis: Sequence[Any]) -> sp.ImmutableMatrix:
-    """n / |n| of the axis n (itself when |n|^2 expands to 1)."""
+def unit_axis(axis: Sequence[Any]) -> sp.ImmutableMatrix:
+    """n / |n| of the axis n (itself when |n|^2 expands to 1), remembered per axis.
+
+    >>> unit_axis((0, 3, 4)).T
+    Matrix([[0, 3/5, 4/5]])
+    """
     axis = tuple(axis)
     try:  # the same few axes recur: each rotation, composed and differentiated, asks again
         # the entries' types in the key too: 1 and 1.0 are equal keys but not the same axis
@@ -175,7 +179,7 @@ class Orientation:
             ]
             return tuple(pairs if self.intrinsic else reversed(pairs))
         if self.form == "axis_angle":
-            return ((_unit(self.axis), self.angles[0]),)
+            return ((unit_axis(self.axis), self.angles[0]),)
         if self.form == "rotations":
             inherited = () if self.parent is None else self.parent.factors()
             if self.parent is None or inherited:
@@ -185,7 +189,7 @@ class Orientation:
     def own_factors(self) -> tuple[tuple[sp.ImmutableMatrix, Any], ...]:
         """The simple rotations of a ``"rotations"`` orientation relative to its parent,
         ((unit axis, angle), ...) in product order; () for the other forms."""
-        return tuple((_unit(axis), angle) for axis, angle in self.rotations)
+        return tuple((unit_axis(axis), angle) for axis, angle in self.rotations)
 
     def map(self, function: Callable[[Any], Any]) -> Orientation:
         """The same orientation with ``function`` applied to every expression in it."""
@@ -260,7 +264,7 @@ def axis_angle(axis: Sequence[Any], angle: Any) -> Orientation:
     if all(v == 0 for v in values):
         raise _refuse("axis", "the axis is the zero vector", "give a direction such as [0, 0, 1]")
     angle = as_expression(angle, "angle")
-    return Orientation(_about(_unit(values), angle), "axis_angle", angles=(angle,), axis=values)
+    return Orientation(_about(unit_axis(values), angle), "axis_angle", angles=(angle,), axis=values)
 
 
 def rotation_axis(axis: Any, field: str = "axis") -> tuple[sp.Expr, ...]:
@@ -322,7 +326,7 @@ def _turned(
     and 1 nor a matrix's bookkeeping, its sums and products made as SymPy makes them without
     its general evaluation where nothing combines: a tenth of the time on a bicycle's
     fork)."""
-    unit = _unit(axis)
+    unit = unit_axis(axis)
     ones = [i for i, e in enumerate(unit) if e == 1]
     if len(ones) != 1 or any(e != 0 for i, e in enumerate(unit) if i != ones[0]):
         return (sp.Matrix(rows) * _about(unit, angle)).tolist()
@@ -415,7 +419,7 @@ def _moving_axis(
 ) -> sp.ImmutableMatrix:
     """R = exp(a hat(n)) with a unit axis n(q, t):
     omega_s = a_dot n + sin a n_dot + (1 - cos a) n x n_dot, omega_b the same with - (...)."""
-    n, angle = _unit(orientation.axis), orientation.angles[0]
+    n, angle = unit_axis(orientation.axis), orientation.angles[0]
     n_dot = n.applyfunc(lambda e: _rate(e, coordinates))
     turn = (1 - sp.cos(angle)) * n.cross(n_dot)
     omega = n * _rate(angle, coordinates) + sp.sin(angle) * n_dot + (-turn if body else turn)
@@ -522,18 +526,16 @@ def _composed_backend(
     if parent is not None and inherited is None:
         return None
     w: list[Any] = [se.Integer(0)] * 3
-    turns = [
-        ([to_symengine(e) for e in n], to_symengine(a), _backend_rate(a, q)) for n, a in factors
-    ]
+    turns = [_backend_turn(n, a, q) for n, a in factors]
     if body:
         w = list(inherited or w)
-        for n, a, rate in turns:
-            w = [x + n_i * rate for x, n_i in zip(_times(_backend_about(n, a), w, True), n)]
+        for n, rate, about in turns:
+            w = [x + n_i * rate for x, n_i in zip(_times(about, w, True), n)]
         if tail is not None:
             w = _times([[to_symengine(e) for e in row] for row in tail.tolist()], w, True)
     else:
-        for n, a, rate in reversed(turns):
-            w = [n_i * rate + x for x, n_i in zip(_times(_backend_about(n, a), w), n)]
+        for n, rate, about in reversed(turns):
+            w = [n_i * rate + x for x, n_i in zip(_times(about, w), n)]
         if parent is not None and inherited is not None:
             turned = _times([[to_symengine(e) for e in row] for row in parent.matrix.tolist()], w)
             w = [x + e for x, e in zip(turned, inherited)]
@@ -545,6 +547,8 @@ def _plain_angle(angle: Any) -> bool:
     angle = to_sympy(angle)
     if angle.is_Symbol or angle.is_Rational:
         return True
+    if angle.is_Mul and all(f.is_Symbol or f.is_Rational for f in angle.args):
+        return True  # a rational multiple of a product of symbols: expanded, no function
     return not angle.has(sp.Function, sp.NumberSymbol) and angle == sp.expand(angle)
 
 
@@ -562,21 +566,55 @@ def _plain_constant(entry: Any) -> bool:
     )
 
 
-def _backend_rate(angle: Any, q: Sequence[sp.Symbol]) -> Any:
-    """d angle/dt by the chain rule (:func:`_rate`, an angle of q and t) in SymEngine."""
+def _backend_turn(
+    axis: sp.ImmutableMatrix, angle: Any, q: tuple[sp.Symbol, ...]
+) -> tuple[tuple[Any, ...], Any, tuple[tuple[Any, ...], ...]]:
+    """A turn by ``angle`` about the unit ``axis`` in SymEngine: the axis, the angle's rate
+    (:func:`_backend_rate`) and the rotation matrix (:func:`_backend_about`); remembered, as
+    the frames of a multibody system share their turns (a bicycle's wheels hang from the
+    same yaw, lean and pitch)."""
+    try:
+        return _remembered_turn(axis, angle, q)
+    except TypeError:  # an unhashable expression in it
+        return _made_turn(axis, angle, q)
+
+
+def _made_turn(
+    axis: sp.ImmutableMatrix, angle: Any, q: tuple[sp.Symbol, ...]
+) -> tuple[tuple[Any, ...], Any, tuple[tuple[Any, ...], ...]]:
+    n = [to_symengine(e) for e in axis]
     a = to_symengine(angle)
-    free = a.free_symbols
+    return tuple(n), _backend_rate(a, q), tuple(map(tuple, _backend_about(n, a)))
+
+
+_remembered_turn = remembered(maxsize=REMEMBERED)(_made_turn)
+
+
+def _backend_rate(a: Any, q: Sequence[sp.Symbol]) -> Any:
+    """d a/dt by the chain rule (:func:`_rate`, an angle of q and t) for the SymEngine angle
+    ``a``."""
+    named = {symbol.name for symbol in a.free_symbols}
     rate = a.diff(to_symengine(t))
     for x in q:
-        symbol = to_symengine(x)
-        if symbol in free:
-            rate += a.diff(symbol) * to_symengine(velocity(x))
+        if x.name in named:
+            rate += a.diff(to_symengine(x)) * to_symengine(velocity(x))
     return rate
 
 
 def _backend_about(n: list[Any], angle: Any) -> list[list[Any]]:
-    """:func:`_about` in SymEngine: cos a 1 + sin a hat(n) + (1 - cos a) n n^T."""
+    """:func:`_about` in SymEngine: cos a 1 + sin a hat(n) + (1 - cos a) n n^T; about a
+    coordinate axis i, 1 at (i, i), cos a at (j, j) and (k, k), sin a at (k, j) and -sin a
+    at (j, k) ((i, j, k) cyclic), 0 elsewhere: the same entries, without the sums that
+    cancel to them."""
     c, s = se.cos(angle), se.sin(angle)
+    ones = [i for i, e in enumerate(n) if e == 1]
+    if len(ones) == 1 and all(e == 0 for e in n if e != 1):
+        i = ones[0]
+        j, k = (i + 1) % 3, (i + 2) % 3
+        matrix = [[se.Integer(0)] * 3 for _ in range(3)]
+        matrix[i][i], matrix[j][j], matrix[k][k] = se.Integer(1), c, c
+        matrix[k][j], matrix[j][k] = s, -s
+        return matrix
     skew = [[0, -n[2], n[1]], [n[2], 0, -n[0]], [-n[1], n[0], 0]]
     return [
         [(c if i == j else 0) + s * skew[i][j] + (1 - c) * n[i] * n[j] for j in range(3)]
@@ -584,7 +622,9 @@ def _backend_about(n: list[Any], angle: Any) -> list[list[Any]]:
     ]
 
 
-def _times(matrix: list[list[Any]], vector: list[Any], transposed: bool = False) -> list[Any]:
+def _times(
+    matrix: Sequence[Sequence[Any]], vector: list[Any], transposed: bool = False
+) -> list[Any]:
     """matrix vector (matrix^T vector when ``transposed``), the zero products left out."""
     rows = [list(column) for column in zip(*matrix)] if transposed else matrix
     return [se.Add(*[m * v for m, v in zip(row, vector) if m != 0 and v != 0]) for row in rows]
