@@ -312,15 +312,17 @@ def _tidy(expr: Any, length: _HorizontalLength, sines: dict[Any, Any] | None) ->
     is shorter (the spin's coefficient a x (C - p) is -R (a x e_z) / s so written, not
     -R (a x e_z) (s + a_z^2 / s)).  ``sines``: every sine power the expansions can hold with
     its form in cosines (:func:`_sine_powers`), or None to find them in each."""
-    plain = _shorter(se.expand(expr), sines)
+    plain, plain_terms = _shorter_counted(se.expand(expr), sines)
     if length.closed or not plain.has(length.SYMBOL):
         return plain
     s = length.SYMBOL
     # plain is expanded already: s is only distributed over its terms (deep=False), not the
     # terms expanded again (the same sum: expanding is idempotent)
     over_s = se.expand(plain * s, deep=False)
-    numerator = _shorter(se.expand(over_s.xreplace({s**2: 1 - length.a_z**2})), sines)
-    return numerator / s if _terms(numerator) < _terms(plain) else plain
+    written = se.expand(over_s.xreplace({s**2: 1 - length.a_z**2}))
+    numerator, numerator_terms = _shorter_counted(written, sines)
+    shorter = (numerator_terms or _terms(numerator)) < (plain_terms or _terms(plain))
+    return numerator / s if shorter else plain
 
 
 def _shorter(expr: Any, sines: dict[Any, Any] | None = None) -> Any:
@@ -328,14 +330,20 @@ def _shorter(expr: Any, sines: dict[Any, Any] | None = None) -> Any:
     (1 - cos(u)^2)^(k div 2) (a normal form of polynomials in sines and cosines), where that
     gives fewer terms.  ``sines``: those forms for every sine power ``expr`` can hold (a
     superset: the powers it does not hold replace nothing), or None to find its powers."""
+    return _shorter_counted(expr, sines)[0]
+
+
+def _shorter_counted(expr: Any, sines: dict[Any, Any] | None) -> tuple[Any, int | None]:
+    """:func:`_shorter`, and its number of terms when it was counted (else None)."""
     table = _found_sine_powers(expr) if sines is None else sines
     if not table:
-        return expr
+        return expr, None
     written = expr.xreplace(table)
     if sines is not None and written == expr:  # it holds none of the powers
-        return expr
+        return expr, None
     reduced = se.expand(written)
-    return reduced if _terms(reduced) < _terms(expr) else expr
+    reduced_terms, terms = _terms(reduced), _terms(expr)
+    return (reduced, reduced_terms) if reduced_terms < terms else (expr, terms)
 
 
 def _found_sine_powers(expr: Any) -> dict[Any, Any]:

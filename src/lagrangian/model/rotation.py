@@ -769,14 +769,18 @@ def spatial_angular_velocity(
 def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) -> np.ndarray | None:
     """The real numbers of ``matrix`` at ``values``; None if any entry is not finite and real."""
     entries = [to_sympy(e) for e in matrix]
-    # only the symbols of the entries are made 30-digit numbers (a System's samples give
-    # every coordinate and parameter a value, a body's inertia has a few of them)
-    used = set().union(*(e.free_symbols for e in entries))
-    exact = {s: sp.Float(v, 30) for s, v in values.items() if s in used}
-    try:
-        entries = [_complex(_evaluated(e.xreplace(exact))) for e in entries]
-    except (TypeError, ValueError, ZeroDivisionError):
-        return None
+    read = [_read_off(e, values) for e in entries]
+    if None not in read:  # an inertia given by its moments: parameters, their negatives, 0
+        entries = read
+    else:
+        # only the symbols of the entries are made 30-digit numbers (a System's samples give
+        # every coordinate and parameter a value, a body's inertia has a few of them)
+        used = set().union(*(e.free_symbols for e in entries))
+        exact = {s: sp.Float(v, 30) for s, v in values.items() if s in used}
+        try:
+            entries = [_complex(_evaluated(e.xreplace(exact))) for e in entries]
+        except (TypeError, ValueError, ZeroDivisionError):
+            return None
     array = np.array(entries).reshape(matrix.shape)
     if not np.all(np.isfinite(array)) or np.max(np.abs(array.imag)) > 1e-12:
         return None
@@ -786,6 +790,20 @@ def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) ->
 def _evaluated(value: sp.Expr) -> sp.Expr:
     """``value`` to 30 digits (a Float of them, or 0, as it is already)."""
     return value if value.is_Float or value is sp.S.Zero else value.evalf(30)
+
+
+def _read_off(entry: sp.Expr, values: Mapping[sp.Symbol, float]) -> complex | None:
+    """The value at ``values`` of an entry that is an integer, a symbol given there or its
+    negative, read off exactly: the double its 30-digit evaluation rounds back to (a double
+    is exact in 30 digits, and so is its negative); None for any other entry."""
+    if entry.is_Integer:
+        return complex(int(entry))
+    negative = entry.is_Mul and len(entry.args) == 2 and entry.args[0] is sp.S.NegativeOne
+    symbol = entry.args[1] if negative else entry
+    value = values.get(symbol) if symbol.is_Symbol else None
+    if value is None or type(value) not in (float, int):
+        return None
+    return complex(-float(value) if negative else float(value))
 
 
 def _complex(value: sp.Expr) -> complex:
