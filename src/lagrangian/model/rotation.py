@@ -314,7 +314,9 @@ def rotation_sequence(rotations: Iterable[Any], parent: Any = None) -> Orientati
     builder = Builder()  # the products of one turn are the sums of the next
     for axis, angle in turns:
         rows = _turned(rows, axis, angle, builder)
-    return Orientation(sp.ImmutableMatrix(rows), "rotations", rotations=tuple(turns), parent=base)
+    # the rows are a 3x3 list already: no reading of the constructor's many input forms
+    matrix = sp.ImmutableMatrix._new(3, 3, [e for row in rows for e in row], copy=False)
+    return Orientation(matrix, "rotations", rotations=tuple(turns), parent=base)
 
 
 def _turned(
