@@ -407,18 +407,22 @@ def _trig_degrees(expr: Any, memo: dict[Any, dict[Any, int] | None]) -> dict[Any
     """For ``expr`` (SymEngine) a polynomial in sines and cosines of angles free of functions,
     with coefficients rational in symbols: angle u -> the highest total degree in sin(u) and
     cos(u) together of a product in its expansion (a bound); None for anything else
-    (``memo``: the parts found before)."""
-    if expr in memo:
-        return memo[expr]
-    found: dict[Any, int] | None = {}
+    (``memo``: the parts found before; the dicts are shared, never changed)."""
+    if expr.is_Symbol or expr.is_Number:
+        return _NO_ANGLES
+    found = memo.get(expr, _UNSEEN)
+    if found is not _UNSEEN:
+        return found  # type: ignore[return-value]
+    found = {}
     if expr.is_Add or expr.is_Mul:
+        add = expr.is_Add
         for arg in expr.args:
             degrees = _trig_degrees(arg, memo)
-            if degrees is None or found is None:
+            if degrees is None:
                 found = None
                 break
             for u, d in degrees.items():
-                found[u] = max(found.get(u, 0), d) if expr.is_Add else found.get(u, 0) + d
+                found[u] = max(found.get(u, 0), d) if add else found.get(u, 0) + d
     elif expr.is_Pow:
         base, exponent = expr.args
         degrees = _trig_degrees(base, memo)
@@ -431,10 +435,15 @@ def _trig_degrees(expr: Any, memo: dict[Any, dict[Any, int] | None]) -> dict[Any
     elif isinstance(expr, (se.sin, se.cos)):
         angle = expr.args[0]
         found = {angle: 1} if _trig_degrees(angle, memo) == {} else None
-    elif not (expr.is_Symbol or expr.is_Number):
+    else:
         found = None
     memo[expr] = found
     return found
+
+
+#: The degrees of a symbol or a number (:func:`_trig_degrees`), and of no part found yet.
+_NO_ANGLES: dict[Any, int] = {}
+_UNSEEN = object()
 
 
 def _terms(expr: Any) -> int:
