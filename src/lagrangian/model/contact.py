@@ -42,6 +42,7 @@ v_C = p_dot + omega_s x (C - p) = 0.
 from __future__ import annotations
 
 import difflib
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -145,7 +146,7 @@ def contact_offset(disc: RollingDisc, body: RigidBody) -> sp.ImmutableMatrix:
     Matrix([[-r*sin(psi)*sin(theta), r*sin(theta)*cos(psi), -r*cos(theta)]])
     """
     geometry = _wheel_geometry(disc, body)
-    back = _sympy_view(body, disc)
+    back = _sympy_view([(disc, body)])
     return sp.ImmutableMatrix([back(geometry.rooted(e)) for e in geometry.offset])
 
 
@@ -251,7 +252,7 @@ def _axle(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
 def contact_point(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
     """C = p + r d, the lowest point of the disc's rim (world axes)."""
     geometry = _wheel_geometry(disc, body)
-    back = _sympy_view(body, disc)
+    back = _sympy_view([(disc, body)])
     return tuple(
         back(geometry.rooted(se.expand(to_symengine(p) + e)))
         for p, e in zip(body.position, geometry.offset)
@@ -263,15 +264,21 @@ def rolling_constraints(disc: RollingDisc, body: RigidBody, coordinates: Any) ->
     the x and y components of v_C = p_dot + omega_s x (C - p) = 0, each the sum over the
     velocities of (dp/dq_j + omega_j x (C - p)) q_dot_j (omega_j = d omega_s / d q_dot_j) and
     of the explicit rate dp/dt + omega_t x (C - p)."""
-    return _constraints(disc, body, tuple(coordinates), _wheel_geometry(disc, body))
+    q = tuple(coordinates)
+    back = _sympy_view([(disc, body)], q, [velocity(x) for x in q])
+    return _constraints(disc, body, q, _wheel_geometry(disc, body), back)
 
 
 def _constraints(
-    disc: RollingDisc, body: RigidBody, q: tuple[sp.Symbol, ...], geometry: _WheelGeometry
+    disc: RollingDisc,
+    body: RigidBody,
+    q: tuple[sp.Symbol, ...],
+    geometry: _WheelGeometry,
+    back: SympyView,
 ) -> tuple[Any, ...]:
-    """:func:`rolling_constraints` from the wheel's ``geometry``."""
+    """:func:`rolling_constraints` from the wheel's ``geometry``, converted back by ``back``
+    (:func:`_sympy_view` of the wheel, the coordinates and their rates at least)."""
     rates = [velocity(x) for x in q]
-    back = _sympy_view(body, disc, q, rates)
     memo: dict[Any, Any] = {}  # a steered wheel's centre repeats the fork's offsets
     position = [to_symengine_sharing(e, memo) for e in body.position]
     offset = geometry.offset
@@ -450,15 +457,17 @@ def _terms(expr: Any) -> int:
     return len(expr.args) if expr.is_Add else 1
 
 
-def _sympy_view(body: RigidBody, disc: RollingDisc, *more: Any) -> SympyView:
+def _sympy_view(wheels: Iterable[tuple[RollingDisc, RigidBody]], *more: Any) -> SympyView:
     """SymEngine results back as SymPy with the System's own symbol objects (which may carry
     assumptions SymEngine does not keep), each distinct part once for all the constraints of
-    the disc (the square root of a steered wheel's tilt is in most of their terms), sums and
-    products that are canonical already made without SymPy's general evaluation."""
+    the ``wheels`` (the square root of a steered wheel's tilt is in most of their terms, the
+    sines of the frames they share in both wheels'), sums and products that are canonical
+    already made without SymPy's general evaluation (``more``: further symbols)."""
     symbols: set[sp.Symbol] = {t}
-    matrix = body.orientation.matrix  # type: ignore[union-attr]
-    for value in (*body.position, *matrix, disc.radius, disc.tyre_radius):
-        symbols |= free_symbols(value)  # the entries of a product of rotations share parts
+    for disc, body in wheels:
+        matrix = body.orientation.matrix  # type: ignore[union-attr]
+        for value in (*body.position, *matrix, disc.radius, disc.tyre_radius):
+            symbols |= free_symbols(value)  # the entries of a product of rotations share parts
     for group in more:
         symbols.update(group)
     return SympyView(s for s in symbols if isinstance(s, sp.Symbol))
@@ -473,19 +482,22 @@ def add_rolling_constraints(values: dict[str, Any]) -> list[Problem]:
     bodies = {b.name: b for b in values["rigid_bodies"]}
     scope = NameScope(values)
     made: list[Any] = []
+    q = tuple(values["coordinates"])
+    wheels = [(disc, bodies[disc.body]) for disc in values["rolling"] if _rolls(disc, bodies)]
+    back = _sympy_view(wheels, q, [velocity(x) for x in q])  # one for all: frames shared
     for i, disc in enumerate(values["rolling"]):
         field = f"rolling[{i}]"
-        body = bodies.get(disc.body)
-        if body is None or body.planar or not _spatial(body):
+        if not _rolls(disc, bodies):
             problems.append(_body_problem(disc, field, bodies))
             continue
+        body = bodies[disc.body]
         before = len(problems)
         scope.check(disc.radius, f"{field}.radius", CONFIGURATION, problems)
         scope.check(disc.tyre_radius, f"{field}.tyre_radius", CONFIGURATION, problems)
         if len(problems) > before:
             continue
         try:
-            made += _made_by(disc, body, tuple(values["coordinates"]), field, problems)
+            made += _made_by(disc, body, q, field, problems, back)
         except ModelError as error:
             problems += [Problem(f"{field}.{p.field}", p.message, p.fix) for p in error.problems]
         except se.SympifyError as error:  # a function SymEngine does not know
@@ -496,7 +508,12 @@ def add_rolling_constraints(values: dict[str, Any]) -> list[Problem]:
 
 
 def _made_by(
-    disc: RollingDisc, body: RigidBody, q: tuple[sp.Symbol, ...], field: str, problems: list
+    disc: RollingDisc,
+    body: RigidBody,
+    q: tuple[sp.Symbol, ...],
+    field: str,
+    problems: list,
+    back: SympyView,
 ) -> tuple[Any, ...]:
     """The constraints of ``disc``, or none and a problem when it lies flat."""
     geometry = _wheel_geometry(disc, body)
@@ -505,7 +522,7 @@ def _made_by(
         message = f"the disc of body {disc.body!r} lies flat on the plane"
         problems.append(Problem(field, message, fix))
         return ()
-    return _constraints(disc, body, q, geometry)
+    return _constraints(disc, body, q, geometry, back)
 
 
 def move_contact_forces(values: dict[str, Any]) -> None:
@@ -531,6 +548,12 @@ def move_contact_forces(values: dict[str, Any]) -> None:
         moment = tuple(sp.expand(e) for e in arm.cross(push))
         torques.append(Torque(body.name, moment, force.name or f"{force.at} moment"))
     values["forces"], values["torques"] = tuple(forces), tuple(torques)
+
+
+def _rolls(disc: RollingDisc, bodies: dict[str, RigidBody]) -> bool:
+    """Whether ``disc`` is on a 3-D rigid body of ``bodies`` (else a problem)."""
+    body = bodies.get(disc.body)
+    return body is not None and not body.planar and _spatial(body)
 
 
 def _spatial(body: RigidBody) -> bool:
