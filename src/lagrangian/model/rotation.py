@@ -118,8 +118,9 @@ def unit_axis(axis: Sequence[Any]) -> sp.ImmutableMatrix:
 
 def _unit_of(axis: tuple[Any, ...], types: tuple[type, ...] = ()) -> sp.ImmutableMatrix:
     """n / |n| (``types``: the entries' types, a part of the memo's key only)."""
-    n = sp.ImmutableMatrix([to_sympy(a) for a in axis])
-    length_squared = sp.expand(n.dot(n))
+    entries = [to_sympy(a) for a in axis]
+    n = sp.ImmutableMatrix._new(len(entries), 1, entries, copy=False)
+    length_squared = sp.expand(sp.Add(*[a * a for a in entries]))  # n . n
     return n if length_squared == 1 else n / sp.sqrt(length_squared)
 
 
@@ -287,7 +288,9 @@ def rotation_axis(axis: Any, field: str = "axis") -> tuple[sp.Expr, ...]:
     raise _refuse(field, f"{axis!r} is not an axis", "use x, y, z or a non-zero vector [a, b, c]")
 
 
-def rotation_sequence(rotations: Iterable[Any], parent: Any = None) -> Orientation:
+def rotation_sequence(
+    rotations: Iterable[Any], parent: Any = None, *, builder: Builder | None = None
+) -> Orientation:
     """Simple rotations about body axes, one after another, relative to ``parent`` (an
     Orientation or a 3x3 matrix; the world when None):
 
@@ -297,6 +300,9 @@ def rotation_sequence(rotations: Iterable[Any], parent: Any = None) -> Orientati
     (``"x"``, ``"y"``, ``"z"`` or a vector in those axes), as ``orient_body_fixed`` in
     sympy.physics.mechanics.  The angular velocity is composed, not differentiated:
     omega_s = omega_s(parent) + R_parent sum_k R1..R(k-1) n_k a_k_dot.
+
+    ``builder``: the canonical Builder that made the parent's entries, if any (what it knows
+    of them is not found again: a chain of frames composes each on its parent's).
 
     >>> a, b = sp.symbols("a b")
     >>> rotation_sequence([("z", a), ("x", b)]).matrix == euler_rotation("ZXZ", (a, b, 0)).matrix
@@ -311,7 +317,7 @@ def rotation_sequence(rotations: Iterable[Any], parent: Any = None) -> Orientati
         turns.append((rotation_axis(axis, field), as_expression(angle, field)))
     base = None if parent is None else as_orientation(parent)
     rows = [list(axis) for axis in _BODY_AXES] if base is None else base.matrix.tolist()
-    builder = Builder()  # the products of one turn are the sums of the next
+    builder = builder or Builder()  # the products of one turn are the sums of the next
     for axis, angle in turns:
         rows = _turned(rows, axis, angle, builder)
     # the rows are a 3x3 list already: no reading of the constructor's many input forms
