@@ -42,7 +42,6 @@ v_C = p_dot + omega_s x (C - p) = 0.
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -146,7 +145,7 @@ def contact_offset(disc: RollingDisc, body: RigidBody) -> sp.ImmutableMatrix:
     Matrix([[-r*sin(psi)*sin(theta), r*sin(theta)*cos(psi), -r*cos(theta)]])
     """
     geometry = _wheel_geometry(disc, body)
-    back = _sympy_view([(disc, body)])
+    back = _sympy_view(body, disc)
     return sp.ImmutableMatrix([back(geometry.rooted(e)) for e in geometry.offset])
 
 
@@ -252,7 +251,7 @@ def _axle(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
 def contact_point(disc: RollingDisc, body: RigidBody) -> tuple[sp.Expr, ...]:
     """C = p + r d, the lowest point of the disc's rim (world axes)."""
     geometry = _wheel_geometry(disc, body)
-    back = _sympy_view([(disc, body)])
+    back = _sympy_view(body, disc)
     return tuple(
         back(geometry.rooted(se.expand(to_symengine(p) + e)))
         for p, e in zip(body.position, geometry.offset)
@@ -265,7 +264,7 @@ def rolling_constraints(disc: RollingDisc, body: RigidBody, coordinates: Any) ->
     velocities of (dp/dq_j + omega_j x (C - p)) q_dot_j (omega_j = d omega_s / d q_dot_j) and
     of the explicit rate dp/dt + omega_t x (C - p)."""
     q = tuple(coordinates)
-    back = _sympy_view([(disc, body)], q, [velocity(x) for x in q])
+    back = _sympy_view(body, disc, q, [velocity(x) for x in q])
     return _constraints(disc, body, q, _wheel_geometry(disc, body), back)
 
 
@@ -457,17 +456,16 @@ def _terms(expr: Any) -> int:
     return len(expr.args) if expr.is_Add else 1
 
 
-def _sympy_view(wheels: Iterable[tuple[RollingDisc, RigidBody]], *more: Any) -> SympyView:
-    """SymEngine results back as SymPy with the System's own symbol objects (which may carry
-    assumptions SymEngine does not keep), each distinct part once for all the constraints of
-    the ``wheels`` (the square root of a steered wheel's tilt is in most of their terms, the
-    sines of the frames they share in both wheels'), sums and products that are canonical
-    already made without SymPy's general evaluation (``more``: further symbols)."""
+def _sympy_view(body: RigidBody, disc: RollingDisc, *more: Any) -> SympyView:
+    """SymEngine results back as SymPy with the symbol objects of the body and the disc (which
+    may carry assumptions SymEngine does not keep), each distinct part once for all the
+    constraints of the disc (the square root of a steered wheel's tilt is in most of their
+    terms), sums and products that are canonical already made without SymPy's general
+    evaluation (``more``: further symbols)."""
     symbols: set[sp.Symbol] = {t}
-    for disc, body in wheels:
-        matrix = body.orientation.matrix  # type: ignore[union-attr]
-        for value in (*body.position, *matrix, disc.radius, disc.tyre_radius):
-            symbols |= free_symbols(value)  # the entries of a product of rotations share parts
+    matrix = body.orientation.matrix  # type: ignore[union-attr]
+    for value in (*body.position, *matrix, disc.radius, disc.tyre_radius):
+        symbols |= free_symbols(value)  # the entries of a product of rotations share parts
     for group in more:
         symbols.update(group)
     return SympyView(s for s in symbols if isinstance(s, sp.Symbol))
@@ -483,8 +481,10 @@ def add_rolling_constraints(values: dict[str, Any]) -> list[Problem]:
     scope = NameScope(values)
     made: list[Any] = []
     q = tuple(values["coordinates"])
-    wheels = [(disc, bodies[disc.body]) for disc in values["rolling"] if _rolls(disc, bodies)]
-    back = _sympy_view(wheels, q, [velocity(x) for x in q])  # one for all: frames shared
+    # one conversion for all the wheels (the sines of the frames they share converted once),
+    # with the System's own symbols: its expressions hold no others (canonical objects of
+    # each name; a name not declared is refused by the validator)
+    back = SympyView([t, *q, *values["parameters"], *(velocity(x) for x in q)])
     for i, disc in enumerate(values["rolling"]):
         field = f"rolling[{i}]"
         if not _rolls(disc, bodies):
