@@ -393,15 +393,16 @@ def _sine_powers(
     expanding never raises it; writing sin^2 as 1 - cos^2 keeps it; a numerator over s gains
     2 D_u(a_z) where s^2 becomes 1 - a_z^2."""
     memo: dict[Any, dict[Any, int] | None] = {}
-    parts = [_trig_degrees(e, memo) for e in (*position, *omega, *offset, length.a_z)]
-    if any(found is None for found in parts):
+    found = [_trig_degrees(e, memo) for e in (*position, *omega, *offset, length.a_z)]
+    parts = [degrees for degrees in found if degrees is not None]
+    if len(parts) < len(found):
         return None
     p, w, c, a_z = parts[:2], parts[2:5], parts[5:8], parts[8]
     bounds: dict[Any, int] = {}
-    for u in set().union(*parts):  # type: ignore[arg-type]
-        turning = max(d.get(u, 0) for d in w) + max(d.get(u, 0) for d in c)  # type: ignore[union-attr]
-        plain = max(turning, *(d.get(u, 0) for d in p))  # type: ignore[union-attr]
-        bounds[u] = plain + 2 * a_z.get(u, 0)  # type: ignore[union-attr]
+    for u in set().union(*parts):
+        turning = max(d.get(u, 0) for d in w) + max(d.get(u, 0) for d in c)
+        plain = max(turning, *(d.get(u, 0) for d in p))
+        bounds[u] = plain + 2 * a_z.get(u, 0)
     return {
         se.sin(u) ** k: _in_cosines(se.sin(u) ** k)
         for u, bound in bounds.items()
@@ -416,19 +417,21 @@ def _trig_degrees(expr: Any, memo: dict[Any, dict[Any, int] | None]) -> dict[Any
     (``memo``: the parts found before; the dicts are shared, never changed)."""
     if expr.is_Symbol or expr.is_Number:
         return _NO_ANGLES
-    found = memo.get(expr, _UNSEEN)
-    if found is not _UNSEEN:
-        return found  # type: ignore[return-value]
-    found = {}
+    known = memo.get(expr, _UNSEEN)
+    if known is not _UNSEEN:
+        return known  # type: ignore[return-value]
+    found: dict[Any, int] | None = {}
     if expr.is_Add or expr.is_Mul:
+        merged: dict[Any, int] = {}
         add = expr.is_Add
         for arg in expr.args:
             degrees = _trig_degrees(arg, memo)
             if degrees is None:
-                found = None
-                break
+                memo[expr] = None
+                return None
             for u, d in degrees.items():
-                found[u] = max(found.get(u, 0), d) if add else found.get(u, 0) + d
+                merged[u] = max(merged.get(u, 0), d) if add else merged.get(u, 0) + d
+        found = merged
     elif expr.is_Pow:
         base, exponent = expr.args
         degrees = _trig_degrees(base, memo)
