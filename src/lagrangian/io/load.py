@@ -51,6 +51,7 @@ from lagrangian.io.sections import (
 from lagrangian.io.toml_tree import read_toml
 from lagrangian.io.yaml_tree import MAX_CHARACTERS, read_json, read_yaml
 from lagrangian.model import System
+from lagrangian.symbolic.sympy_view import cycle_collection_paused
 
 FORMATS = ("yaml", "toml", "json")
 SUFFIXES = {".yaml": "yaml", ".yml": "yaml", ".toml": "toml", ".json": "json"}
@@ -133,6 +134,11 @@ def _guess_format(text: str) -> str:
 
 
 def _load_text(text: str, format: str, source: str, default_name: str) -> System:
+    with cycle_collection_paused():  # as the System's own checks (parsing frees no cycles)
+        return _system_of(text, format, source, default_name)
+
+
+def _system_of(text: str, format: str, source: str, default_name: str) -> System:
     document, problems = _read_document(text, format, source)
     fields, system_paths, loads = _read_model(document, problems, default_name)
     try:  # the loads need the bodies' orientations: their paths are known once applied

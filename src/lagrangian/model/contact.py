@@ -52,7 +52,7 @@ from lagrangian.errors import ModelError, Problem
 from lagrangian.model.constraints import Holonomic, VelocityConstraint
 from lagrangian.model.elements import Force, RigidBody, Torque, as_expression
 from lagrangian.model.inertia import Shape
-from lagrangian.model.rotation import angular_velocity_terms, rotation_axis
+from lagrangian.model.rotation import angular_velocity_terms, rotation_axis, unit_axis
 from lagrangian.model.validation import CONFIGURATION, NameScope
 from lagrangian.symbolic.caches import IdentityCache, remembered
 from lagrangian.symbolic.expressions import distinct_parts, free_symbols
@@ -208,16 +208,15 @@ class _WheelGeometry:
 def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
     """C - p = R d - r_t e_z with d = (a a_z - e_z) / s (the module docstring); a sphere
     (R = 0) has no axle and C - p = -r_t e_z."""
-    tyre = to_symengine(disc.tyre_radius)
+    tyre, radius = to_symengine(disc.tyre_radius), to_symengine(disc.radius)
     below = (se.Integer(0), se.Integer(0), -tyre)
-    if is_zero(disc.radius):
+    if is_zero(radius):  # (in SymEngine: a radius not zero is told at its first point)
         one = se.Integer(1)
         return _WheelGeometry(below, _HorizontalLength(one, one, se.Integer(0)))
     a = _axle_in_world(disc, body)
     s = _length_of(a[2])
     if s.value == 0 or is_zero(s.value if s.closed else s.root):
         return _WheelGeometry(below, s, flat=True)
-    radius = to_symengine(disc.radius)
     inverse = 1 / s.value
     offset = (
         se.expand(radius * a[0] * a[2] * inverse),
@@ -229,8 +228,7 @@ def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
 
 def _axle_in_world(disc: RollingDisc, body: RigidBody) -> tuple[Any, Any, Any]:
     """a = R n / |n|, expanded (SymEngine)."""
-    n = sp.Matrix(_axle(disc, body))
-    n = n / sp.sqrt(sp.expand(n.dot(n)))
+    n = unit_axis(_axle(disc, body))
     R = body.orientation.matrix  # type: ignore[union-attr]
     used = [(k, to_symengine(n[k])) for k in range(3) if n[k] != 0]
     memo: dict[Any, Any] = {}  # the entries of a product of rotations share their parts
@@ -265,15 +263,21 @@ def rolling_constraints(disc: RollingDisc, body: RigidBody, coordinates: Any) ->
     the x and y components of v_C = p_dot + omega_s x (C - p) = 0, each the sum over the
     velocities of (dp/dq_j + omega_j x (C - p)) q_dot_j (omega_j = d omega_s / d q_dot_j) and
     of the explicit rate dp/dt + omega_t x (C - p)."""
-    return _constraints(disc, body, tuple(coordinates), _wheel_geometry(disc, body))
+    q = tuple(coordinates)
+    back = _sympy_view(body, disc, q, [velocity(x) for x in q])
+    return _constraints(disc, body, q, _wheel_geometry(disc, body), back)
 
 
 def _constraints(
-    disc: RollingDisc, body: RigidBody, q: tuple[sp.Symbol, ...], geometry: _WheelGeometry
+    disc: RollingDisc,
+    body: RigidBody,
+    q: tuple[sp.Symbol, ...],
+    geometry: _WheelGeometry,
+    back: SympyView,
 ) -> tuple[Any, ...]:
-    """:func:`rolling_constraints` from the wheel's ``geometry``."""
+    """:func:`rolling_constraints` from the wheel's ``geometry``, converted back by ``back``
+    (:func:`_sympy_view` of the wheel, the coordinates and their rates at least)."""
     rates = [velocity(x) for x in q]
-    back = _sympy_view(body, disc, q, rates)
     memo: dict[Any, Any] = {}  # a steered wheel's centre repeats the fork's offsets
     position = [to_symengine_sharing(e, memo) for e in body.position]
     offset = geometry.offset
@@ -283,6 +287,7 @@ def _constraints(
     turns = [[se.diff(w, to_symengine(v)) for w in omega] for v in rates]
     turns.append([w.xreplace(at_rest) for w in omega])  # omega_t, of a rheonomic orientation
     variables = [to_symengine(x) for x in (*q, t)]
+    sines = _sine_powers(position[:2], omega, offset, geometry.length)
     slip = []
     # each velocity's coefficient times the velocity, summed in SymEngine and converted
     # once: SymPy's constructors give the same sum of the same products as converting the
@@ -293,8 +298,8 @@ def _constraints(
         terms = []
         for rate, variable, w in zip(fast_rates, variables, turns):
             part = se.diff(position[k], variable) + w[i] * offset[j] - w[j] * offset[i]
-            terms.append(geometry.rooted(_tidy(part, geometry.length)) * rate)
-        slip.append(back(se.Add(*terms)))
+            terms.append(_tidy(part, geometry.length, sines) * rate)
+        slip.append(back(geometry.rooted(se.Add(*terms))))  # s written out once per sum
     name = disc.contact
     found: list[Any] = []
     if height != 0:
@@ -307,35 +312,54 @@ def _constraints(
     return tuple(found)
 
 
-def _tidy(expr: Any, length: _HorizontalLength) -> Any:
+def _tidy(expr: Any, length: _HorizontalLength, sines: dict[Any, Any] | None) -> Any:
     """``expr`` expanded and reduced by sin(u)^2 = 1 - cos(u)^2 where that makes it shorter;
     with s as a placeholder also over the common denominator s (s^2 = 1 - a_z^2), where that
     is shorter (the spin's coefficient a x (C - p) is -R (a x e_z) / s so written, not
-    -R (a x e_z) (s + a_z^2 / s))."""
-    plain = _shorter(se.expand(expr))
+    -R (a x e_z) (s + a_z^2 / s)).  ``sines``: every sine power the expansions can hold with
+    its form in cosines (:func:`_sine_powers`), or None to find them in each."""
+    plain, plain_terms = _shorter_counted(se.expand(expr), sines)
     if length.closed or not plain.has(length.SYMBOL):
         return plain
     s = length.SYMBOL
     # plain is expanded already: s is only distributed over its terms (deep=False), not the
     # terms expanded again (the same sum: expanding is idempotent)
     over_s = se.expand(plain * s, deep=False)
-    numerator = _shorter(se.expand(over_s.xreplace({s**2: 1 - length.a_z**2})))
-    return numerator / s if _terms(numerator) < _terms(plain) else plain
+    written = se.expand(over_s.xreplace({s**2: 1 - length.a_z**2}))
+    numerator, numerator_terms = _shorter_counted(written, sines)
+    shorter = (numerator_terms or _terms(numerator)) < (plain_terms or _terms(plain))
+    return numerator / s if shorter else plain
 
 
-def _shorter(expr: Any) -> Any:
+def _shorter(expr: Any, sines: dict[Any, Any] | None = None) -> Any:
     """The expanded ``expr`` with each sin(u)^k, k >= 2, written sin(u)^(k mod 2)
     (1 - cos(u)^2)^(k div 2) (a normal form of polynomials in sines and cosines), where that
-    gives fewer terms."""
+    gives fewer terms.  ``sines``: those forms for every sine power ``expr`` can hold (a
+    superset: the powers it does not hold replace nothing), or None to find its powers."""
+    return _shorter_counted(expr, sines)[0]
+
+
+def _shorter_counted(expr: Any, sines: dict[Any, Any] | None) -> tuple[Any, int | None]:
+    """:func:`_shorter`, and its number of terms when it was counted (else None)."""
+    table = _found_sine_powers(expr) if sines is None else sines
+    if not table:
+        return expr, None
+    written = expr.xreplace(table)
+    if sines is not None and written == expr:  # it holds none of the powers
+        return expr, None
+    reduced = se.expand(written)
+    reduced_terms, terms = _terms(reduced), _terms(expr)
+    return (reduced, reduced_terms) if reduced_terms < terms else (expr, terms)
+
+
+def _found_sine_powers(expr: Any) -> dict[Any, Any]:
+    """The sine powers sin(u)^k, k >= 2, in ``expr`` with their forms in cosines."""
     table = {}
     for power in _powers(expr):
         written = _in_cosines(power)
         if written is not None:
             table[power] = written
-    if not table:
-        return expr
-    reduced = se.expand(expr.xreplace(table))
-    return reduced if _terms(reduced) < _terms(expr) else expr
+    return table
 
 
 @remembered(maxsize=SINE_POWERS)
@@ -355,15 +379,92 @@ def _powers(expr: Any) -> list[Any]:
     return [part for part in distinct_parts(expr) if isinstance(part, se.Pow)]
 
 
+def _sine_powers(
+    position: Any, omega: Any, offset: Any, length: _HorizontalLength
+) -> dict[Any, Any] | None:
+    """Every sine power sin(u)^k, k >= 2, that the expanded coefficients of a wheel's no-slip
+    constraints (and their numerators over s) can hold, with its form in cosines: for each
+    angle u, k up to the degree bound below; None when the inputs are not polynomials in
+    sines and cosines of angles free of functions (the powers are then found in each).
+
+    With D_u the total degree in sin(u) and cos(u) together (:func:`_trig_degrees`), a
+    coefficient dp/dq_j + omega_j x (C - p) has D_u <= max(D_u(p), D_u(omega) + D_u(C - p)):
+    d/dq_j keeps D_u (d sin(u) = cos(u) du, du free of sines), as does d/d q_dot_j of omega;
+    expanding never raises it; writing sin^2 as 1 - cos^2 keeps it; a numerator over s gains
+    2 D_u(a_z) where s^2 becomes 1 - a_z^2."""
+    memo: dict[Any, dict[Any, int] | None] = {}
+    found = [_trig_degrees(e, memo) for e in (*position, *omega, *offset, length.a_z)]
+    parts = [degrees for degrees in found if degrees is not None]
+    if len(parts) < len(found):
+        return None
+    p, w, c, a_z = parts[:2], parts[2:5], parts[5:8], parts[8]
+    bounds: dict[Any, int] = {}
+    for u in set().union(*parts):
+        turning = max(d.get(u, 0) for d in w) + max(d.get(u, 0) for d in c)
+        plain = max(turning, *(d.get(u, 0) for d in p))
+        bounds[u] = plain + 2 * a_z.get(u, 0)
+    return {
+        se.sin(u) ** k: _in_cosines(se.sin(u) ** k)
+        for u, bound in bounds.items()
+        for k in range(2, bound + 1)
+    }
+
+
+def _trig_degrees(expr: Any, memo: dict[Any, dict[Any, int] | None]) -> dict[Any, int] | None:
+    """For ``expr`` (SymEngine) a polynomial in sines and cosines of angles free of functions,
+    with coefficients rational in symbols: angle u -> the highest total degree in sin(u) and
+    cos(u) together of a product in its expansion (a bound); None for anything else
+    (``memo``: the parts found before; the dicts are shared, never changed)."""
+    if expr.is_Symbol or expr.is_Number:
+        return _NO_ANGLES
+    known = memo.get(expr, _UNSEEN)
+    if known is not _UNSEEN:
+        return known  # type: ignore[return-value]
+    found: dict[Any, int] | None = {}
+    if expr.is_Add or expr.is_Mul:
+        merged: dict[Any, int] = {}
+        add = expr.is_Add
+        for arg in expr.args:
+            degrees = _trig_degrees(arg, memo)
+            if degrees is None:
+                memo[expr] = None
+                return None
+            for u, d in degrees.items():
+                merged[u] = max(merged.get(u, 0), d) if add else merged.get(u, 0) + d
+        found = merged
+    elif expr.is_Pow:
+        base, exponent = expr.args
+        degrees = _trig_degrees(base, memo)
+        if degrees is None or not exponent.is_Number:
+            found = None
+        elif exponent.is_Integer and exponent > 0:
+            found = {u: d * int(exponent) for u, d in degrees.items()}
+        elif degrees:  # a sine under a root or in a denominator
+            found = None
+    elif isinstance(expr, (se.sin, se.cos)):
+        angle = expr.args[0]
+        found = {angle: 1} if _trig_degrees(angle, memo) == {} else None
+    else:
+        found = None
+    memo[expr] = found
+    return found
+
+
+#: The degrees of a symbol or a number (:func:`_trig_degrees`), and of no part found yet.
+_NO_ANGLES: dict[Any, int] = {}
+_UNSEEN = object()
+
+
 def _terms(expr: Any) -> int:
     return len(expr.args) if expr.is_Add else 1
 
 
 def _sympy_view(body: RigidBody, disc: RollingDisc, *more: Any) -> SympyView:
-    """SymEngine results back as SymPy with the System's own symbol objects (which may carry
-    assumptions SymEngine does not keep), each distinct part once for all the constraints of
-    the disc (the square root of a steered wheel's tilt is in most of their terms), sums and
-    products that are canonical already made without SymPy's general evaluation."""
+    """SymEngine results back as SymPy with the symbol objects of the body and the disc (which
+    may carry assumptions SymEngine does not keep), each distinct part once for all the
+    constraints of the disc (the square root of a steered wheel's tilt is in most of their
+    terms), sums and products that are canonical already made without SymPy's general
+    evaluation (``more``: further symbols)."""
     symbols: set[sp.Symbol] = {t}
     matrix = body.orientation.matrix  # type: ignore[union-attr]
     for value in (*body.position, *matrix, disc.radius, disc.tyre_radius):
@@ -382,19 +483,24 @@ def add_rolling_constraints(values: dict[str, Any]) -> list[Problem]:
     bodies = {b.name: b for b in values["rigid_bodies"]}
     scope = NameScope(values)
     made: list[Any] = []
+    q = tuple(values["coordinates"])
+    # one conversion for all the wheels (the sines of the frames they share converted once),
+    # with the System's own symbols: its expressions hold no others (canonical objects of
+    # each name; a name not declared is refused by the validator)
+    back = SympyView([t, *q, *values["parameters"], *(velocity(x) for x in q)])
     for i, disc in enumerate(values["rolling"]):
         field = f"rolling[{i}]"
-        body = bodies.get(disc.body)
-        if body is None or body.planar or not _spatial(body):
+        if not _rolls(disc, bodies):
             problems.append(_body_problem(disc, field, bodies))
             continue
+        body = bodies[disc.body]
         before = len(problems)
         scope.check(disc.radius, f"{field}.radius", CONFIGURATION, problems)
         scope.check(disc.tyre_radius, f"{field}.tyre_radius", CONFIGURATION, problems)
         if len(problems) > before:
             continue
         try:
-            made += _made_by(disc, body, tuple(values["coordinates"]), field, problems)
+            made += _made_by(disc, body, q, field, problems, back)
         except ModelError as error:
             problems += [Problem(f"{field}.{p.field}", p.message, p.fix) for p in error.problems]
         except se.SympifyError as error:  # a function SymEngine does not know
@@ -405,7 +511,12 @@ def add_rolling_constraints(values: dict[str, Any]) -> list[Problem]:
 
 
 def _made_by(
-    disc: RollingDisc, body: RigidBody, q: tuple[sp.Symbol, ...], field: str, problems: list
+    disc: RollingDisc,
+    body: RigidBody,
+    q: tuple[sp.Symbol, ...],
+    field: str,
+    problems: list,
+    back: SympyView,
 ) -> tuple[Any, ...]:
     """The constraints of ``disc``, or none and a problem when it lies flat."""
     geometry = _wheel_geometry(disc, body)
@@ -414,7 +525,7 @@ def _made_by(
         message = f"the disc of body {disc.body!r} lies flat on the plane"
         problems.append(Problem(field, message, fix))
         return ()
-    return _constraints(disc, body, q, geometry)
+    return _constraints(disc, body, q, geometry, back)
 
 
 def move_contact_forces(values: dict[str, Any]) -> None:
@@ -440,6 +551,12 @@ def move_contact_forces(values: dict[str, Any]) -> None:
         moment = tuple(sp.expand(e) for e in arm.cross(push))
         torques.append(Torque(body.name, moment, force.name or f"{force.at} moment"))
     values["forces"], values["torques"] = tuple(forces), tuple(torques)
+
+
+def _rolls(disc: RollingDisc, bodies: dict[str, RigidBody]) -> bool:
+    """Whether ``disc`` is on a 3-D rigid body of ``bodies`` (else a problem)."""
+    body = bodies.get(disc.body)
+    return body is not None and not body.planar and _spatial(body)
 
 
 def _spatial(body: RigidBody) -> bool:

@@ -30,6 +30,7 @@ from lagrangian.errors import ModelError, Problem
 from lagrangian.model.elements import ORIGIN, as_rotations, orientation_value
 from lagrangian.model.rotation import Orientation, rotation_sequence
 from lagrangian.model.validation import CONFIGURATION, NameScope
+from lagrangian.symbolic.canonical import Builder
 
 
 @dataclass(frozen=True)
@@ -72,6 +73,7 @@ class _Resolver:
             for i, item in enumerate(values[group]):
                 self.nodes.setdefault(item.name, (group, i, item))
         self.scope = NameScope(values)
+        self.builder = Builder()  # each frame's entries are the sums of its children's
         self.done: dict[str, Orientation | None] = {}
         self.stack: list[str] = []
 
@@ -113,7 +115,7 @@ class _Resolver:
         if len(self.problems) > before:
             return None
         try:
-            return rotation_sequence(item.rotations, parent)
+            return rotation_sequence(item.rotations, parent, builder=self.builder)
         except ModelError as error:
             for p in error.problems:
                 message = f"{who}: {p.message}"

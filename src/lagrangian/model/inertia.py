@@ -282,7 +282,15 @@ def _triangle_problem(field: str, subject: str, moments: Sequence[Any]) -> Probl
 def _asymmetric(matrix: sp.Matrix, values: Mapping[sp.Symbol, float]) -> bool:
     """I - I^T is not zero: exactly, or (rounding aside) at ``values`` with the unknowns drawn
     at random (a symmetric tensor is symmetric for every value of its parameters)."""
-    asymmetry = [e for e in (matrix - matrix.T).applyfunc(sp.expand) if e != 0]
+    rows, columns = matrix.shape
+    entries = list(matrix)
+    differences = (
+        sp.expand(entries[i * columns + j] - entries[j * columns + i])
+        for i in range(rows)
+        for j in range(columns)
+        if entries[i * columns + j] != entries[j * columns + i]  # else 0: not built
+    )
+    asymmetry = [e for e in differences if e != 0]
     if not asymmetry:
         return False
     rng = random.Random(len(asymmetry))

@@ -102,8 +102,12 @@ def vee(skew: sp.MatrixBase) -> sp.ImmutableMatrix:
     return sp.ImmutableMatrix([skew[2, 1], skew[0, 2], skew[1, 0]])
 
 
-def _unit(axis: Sequence[Any]) -> sp.ImmutableMatrix:
-    """n / |n| of the axis n (itself when |n|^2 expands to 1)."""
+def unit_axis(axis: Sequence[Any]) -> sp.ImmutableMatrix:
+    """n / |n| of the axis n (itself when |n|^2 expands to 1), remembered per axis.
+
+    >>> unit_axis((0, 3, 4)).T
+    Matrix([[0, 3/5, 4/5]])
+    """
     axis = tuple(axis)
     try:  # the same few axes recur: each rotation, composed and differentiated, asks again
         # the entries' types in the key too: 1 and 1.0 are equal keys but not the same axis
@@ -114,8 +118,9 @@ def _unit(axis: Sequence[Any]) -> sp.ImmutableMatrix:
 
 def _unit_of(axis: tuple[Any, ...], types: tuple[type, ...] = ()) -> sp.ImmutableMatrix:
     """n / |n| (``types``: the entries' types, a part of the memo's key only)."""
-    n = sp.ImmutableMatrix([to_sympy(a) for a in axis])
-    length_squared = sp.expand(n.dot(n))
+    entries = [to_sympy(a) for a in axis]
+    n = sp.ImmutableMatrix._new(len(entries), 1, entries, copy=False)
+    length_squared = sp.expand(sp.Add(*[a * a for a in entries]))  # n . n
     return n if length_squared == 1 else n / sp.sqrt(length_squared)
 
 
@@ -175,7 +180,7 @@ class Orientation:
             ]
             return tuple(pairs if self.intrinsic else reversed(pairs))
         if self.form == "axis_angle":
-            return ((_unit(self.axis), self.angles[0]),)
+            return ((unit_axis(self.axis), self.angles[0]),)
         if self.form == "rotations":
             inherited = () if self.parent is None else self.parent.factors()
             if self.parent is None or inherited:
@@ -185,7 +190,7 @@ class Orientation:
     def own_factors(self) -> tuple[tuple[sp.ImmutableMatrix, Any], ...]:
         """The simple rotations of a ``"rotations"`` orientation relative to its parent,
         ((unit axis, angle), ...) in product order; () for the other forms."""
-        return tuple((_unit(axis), angle) for axis, angle in self.rotations)
+        return tuple((unit_axis(axis), angle) for axis, angle in self.rotations)
 
     def map(self, function: Callable[[Any], Any]) -> Orientation:
         """The same orientation with ``function`` applied to every expression in it."""
@@ -260,7 +265,7 @@ def axis_angle(axis: Sequence[Any], angle: Any) -> Orientation:
     if all(v == 0 for v in values):
         raise _refuse("axis", "the axis is the zero vector", "give a direction such as [0, 0, 1]")
     angle = as_expression(angle, "angle")
-    return Orientation(_about(_unit(values), angle), "axis_angle", angles=(angle,), axis=values)
+    return Orientation(_about(unit_axis(values), angle), "axis_angle", angles=(angle,), axis=values)
 
 
 def rotation_axis(axis: Any, field: str = "axis") -> tuple[sp.Expr, ...]:
@@ -283,7 +288,9 @@ def rotation_axis(axis: Any, field: str = "axis") -> tuple[sp.Expr, ...]:
     raise _refuse(field, f"{axis!r} is not an axis", "use x, y, z or a non-zero vector [a, b, c]")
 
 
-def rotation_sequence(rotations: Iterable[Any], parent: Any = None) -> Orientation:
+def rotation_sequence(
+    rotations: Iterable[Any], parent: Any = None, *, builder: Builder | None = None
+) -> Orientation:
     """Simple rotations about body axes, one after another, relative to ``parent`` (an
     Orientation or a 3x3 matrix; the world when None):
 
@@ -293,6 +300,9 @@ def rotation_sequence(rotations: Iterable[Any], parent: Any = None) -> Orientati
     (``"x"``, ``"y"``, ``"z"`` or a vector in those axes), as ``orient_body_fixed`` in
     sympy.physics.mechanics.  The angular velocity is composed, not differentiated:
     omega_s = omega_s(parent) + R_parent sum_k R1..R(k-1) n_k a_k_dot.
+
+    ``builder``: the canonical Builder that made the parent's entries, if any (what it knows
+    of them is not found again: a chain of frames composes each on its parent's).
 
     >>> a, b = sp.symbols("a b")
     >>> rotation_sequence([("z", a), ("x", b)]).matrix == euler_rotation("ZXZ", (a, b, 0)).matrix
@@ -307,10 +317,12 @@ def rotation_sequence(rotations: Iterable[Any], parent: Any = None) -> Orientati
         turns.append((rotation_axis(axis, field), as_expression(angle, field)))
     base = None if parent is None else as_orientation(parent)
     rows = [list(axis) for axis in _BODY_AXES] if base is None else base.matrix.tolist()
-    builder = Builder()  # the products of one turn are the sums of the next
+    builder = builder or Builder()  # the products of one turn are the sums of the next
     for axis, angle in turns:
         rows = _turned(rows, axis, angle, builder)
-    return Orientation(sp.ImmutableMatrix(rows), "rotations", rotations=tuple(turns), parent=base)
+    # the rows are a 3x3 list already: no reading of the constructor's many input forms
+    matrix = sp.ImmutableMatrix._new(3, 3, [e for row in rows for e in row], copy=False)
+    return Orientation(matrix, "rotations", rotations=tuple(turns), parent=base)
 
 
 def _turned(
@@ -322,7 +334,7 @@ def _turned(
     and 1 nor a matrix's bookkeeping, its sums and products made as SymPy makes them without
     its general evaluation where nothing combines: a tenth of the time on a bicycle's
     fork)."""
-    unit = _unit(axis)
+    unit = unit_axis(axis)
     ones = [i for i, e in enumerate(unit) if e == 1]
     if len(ones) != 1 or any(e != 0 for i, e in enumerate(unit) if i != ones[0]):
         return (sp.Matrix(rows) * _about(unit, angle)).tolist()
@@ -415,7 +427,7 @@ def _moving_axis(
 ) -> sp.ImmutableMatrix:
     """R = exp(a hat(n)) with a unit axis n(q, t):
     omega_s = a_dot n + sin a n_dot + (1 - cos a) n x n_dot, omega_b the same with - (...)."""
-    n, angle = _unit(orientation.axis), orientation.angles[0]
+    n, angle = unit_axis(orientation.axis), orientation.angles[0]
     n_dot = n.applyfunc(lambda e: _rate(e, coordinates))
     turn = (1 - sp.cos(angle)) * n.cross(n_dot)
     omega = n * _rate(angle, coordinates) + sp.sin(angle) * n_dot + (-turn if body else turn)
@@ -522,18 +534,16 @@ def _composed_backend(
     if parent is not None and inherited is None:
         return None
     w: list[Any] = [se.Integer(0)] * 3
-    turns = [
-        ([to_symengine(e) for e in n], to_symengine(a), _backend_rate(a, q)) for n, a in factors
-    ]
+    turns = [_backend_turn(n, a, q) for n, a in factors]
     if body:
         w = list(inherited or w)
-        for n, a, rate in turns:
-            w = [x + n_i * rate for x, n_i in zip(_times(_backend_about(n, a), w, True), n)]
+        for n, rate, about in turns:
+            w = [x + n_i * rate for x, n_i in zip(_times(about, w, True), n)]
         if tail is not None:
             w = _times([[to_symengine(e) for e in row] for row in tail.tolist()], w, True)
     else:
-        for n, a, rate in reversed(turns):
-            w = [n_i * rate + x for x, n_i in zip(_times(_backend_about(n, a), w), n)]
+        for n, rate, about in reversed(turns):
+            w = [n_i * rate + x for x, n_i in zip(_times(about, w), n)]
         if parent is not None and inherited is not None:
             turned = _times([[to_symengine(e) for e in row] for row in parent.matrix.tolist()], w)
             w = [x + e for x, e in zip(turned, inherited)]
@@ -545,6 +555,8 @@ def _plain_angle(angle: Any) -> bool:
     angle = to_sympy(angle)
     if angle.is_Symbol or angle.is_Rational:
         return True
+    if angle.is_Mul and all(f.is_Symbol or f.is_Rational for f in angle.args):
+        return True  # a rational multiple of a product of symbols: expanded, no function
     return not angle.has(sp.Function, sp.NumberSymbol) and angle == sp.expand(angle)
 
 
@@ -562,21 +574,55 @@ def _plain_constant(entry: Any) -> bool:
     )
 
 
-def _backend_rate(angle: Any, q: Sequence[sp.Symbol]) -> Any:
-    """d angle/dt by the chain rule (:func:`_rate`, an angle of q and t) in SymEngine."""
+def _backend_turn(
+    axis: sp.ImmutableMatrix, angle: Any, q: tuple[sp.Symbol, ...]
+) -> tuple[tuple[Any, ...], Any, tuple[tuple[Any, ...], ...]]:
+    """A turn by ``angle`` about the unit ``axis`` in SymEngine: the axis, the angle's rate
+    (:func:`_backend_rate`) and the rotation matrix (:func:`_backend_about`); remembered, as
+    the frames of a multibody system share their turns (a bicycle's wheels hang from the
+    same yaw, lean and pitch)."""
+    try:
+        return _remembered_turn(axis, angle, q)
+    except TypeError:  # an unhashable expression in it
+        return _made_turn(axis, angle, q)
+
+
+def _made_turn(
+    axis: sp.ImmutableMatrix, angle: Any, q: tuple[sp.Symbol, ...]
+) -> tuple[tuple[Any, ...], Any, tuple[tuple[Any, ...], ...]]:
+    n = [to_symengine(e) for e in axis]
     a = to_symengine(angle)
-    free = a.free_symbols
+    return tuple(n), _backend_rate(a, q), tuple(map(tuple, _backend_about(n, a)))
+
+
+_remembered_turn = remembered(maxsize=REMEMBERED)(_made_turn)
+
+
+def _backend_rate(a: Any, q: Sequence[sp.Symbol]) -> Any:
+    """d a/dt by the chain rule (:func:`_rate`, an angle of q and t) for the SymEngine angle
+    ``a``."""
+    named = {symbol.name for symbol in a.free_symbols}
     rate = a.diff(to_symengine(t))
     for x in q:
-        symbol = to_symengine(x)
-        if symbol in free:
-            rate += a.diff(symbol) * to_symengine(velocity(x))
+        if x.name in named:
+            rate += a.diff(to_symengine(x)) * to_symengine(velocity(x))
     return rate
 
 
 def _backend_about(n: list[Any], angle: Any) -> list[list[Any]]:
-    """:func:`_about` in SymEngine: cos a 1 + sin a hat(n) + (1 - cos a) n n^T."""
+    """:func:`_about` in SymEngine: cos a 1 + sin a hat(n) + (1 - cos a) n n^T; about a
+    coordinate axis i, 1 at (i, i), cos a at (j, j) and (k, k), sin a at (k, j) and -sin a
+    at (j, k) ((i, j, k) cyclic), 0 elsewhere: the same entries, without the sums that
+    cancel to them."""
     c, s = se.cos(angle), se.sin(angle)
+    ones = [i for i, e in enumerate(n) if e == 1]
+    if len(ones) == 1 and all(e == 0 for e in n if e != 1):
+        i = ones[0]
+        j, k = (i + 1) % 3, (i + 2) % 3
+        matrix = [[se.Integer(0)] * 3 for _ in range(3)]
+        matrix[i][i], matrix[j][j], matrix[k][k] = se.Integer(1), c, c
+        matrix[k][j], matrix[j][k] = s, -s
+        return matrix
     skew = [[0, -n[2], n[1]], [n[2], 0, -n[0]], [-n[1], n[0], 0]]
     return [
         [(c if i == j else 0) + s * skew[i][j] + (1 - c) * n[i] * n[j] for j in range(3)]
@@ -584,7 +630,9 @@ def _backend_about(n: list[Any], angle: Any) -> list[list[Any]]:
     ]
 
 
-def _times(matrix: list[list[Any]], vector: list[Any], transposed: bool = False) -> list[Any]:
+def _times(
+    matrix: Sequence[Sequence[Any]], vector: list[Any], transposed: bool = False
+) -> list[Any]:
     """matrix vector (matrix^T vector when ``transposed``), the zero products left out."""
     rows = [list(column) for column in zip(*matrix)] if transposed else matrix
     return [se.Add(*[m * v for m, v in zip(row, vector) if m != 0 and v != 0]) for row in rows]
@@ -729,14 +777,18 @@ def spatial_angular_velocity(
 def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) -> np.ndarray | None:
     """The real numbers of ``matrix`` at ``values``; None if any entry is not finite and real."""
     entries = [to_sympy(e) for e in matrix]
-    # only the symbols of the entries are made 30-digit numbers (a System's samples give
-    # every coordinate and parameter a value, a body's inertia has a few of them)
-    used = set().union(*(e.free_symbols for e in entries))
-    exact = {s: sp.Float(v, 30) for s, v in values.items() if s in used}
-    try:
-        entries = [complex(_evaluated(e.xreplace(exact))) for e in entries]
-    except (TypeError, ValueError, ZeroDivisionError):
-        return None
+    read = [_read_off(e, values) for e in entries]
+    if None not in read:  # an inertia given by its moments: parameters, their negatives, 0
+        entries = read
+    else:
+        # only the symbols of the entries are made 30-digit numbers (a System's samples give
+        # every coordinate and parameter a value, a body's inertia has a few of them)
+        used = set().union(*(e.free_symbols for e in entries))
+        exact = {s: sp.Float(v, 30) for s, v in values.items() if s in used}
+        try:
+            entries = [_complex(_evaluated(e.xreplace(exact))) for e in entries]
+        except (TypeError, ValueError, ZeroDivisionError):
+            return None
     array = np.array(entries).reshape(matrix.shape)
     if not np.all(np.isfinite(array)) or np.max(np.abs(array.imag)) > 1e-12:
         return None
@@ -746,6 +798,26 @@ def evaluate_matrix(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) ->
 def _evaluated(value: sp.Expr) -> sp.Expr:
     """``value`` to 30 digits (a Float of them, or 0, as it is already)."""
     return value if value.is_Float or value is sp.S.Zero else value.evalf(30)
+
+
+def _read_off(entry: sp.Expr, values: Mapping[sp.Symbol, float]) -> complex | None:
+    """The value at ``values`` of an entry that is an integer, a symbol given there or its
+    negative, read off exactly: the double its 30-digit evaluation rounds back to (a double
+    is exact in 30 digits, and so is its negative); None for any other entry."""
+    if entry.is_Integer:
+        return complex(int(entry))
+    negative = entry.is_Mul and len(entry.args) == 2 and entry.args[0] is sp.S.NegativeOne
+    symbol = entry.args[1] if negative else entry
+    value = values.get(symbol) if symbol.is_Symbol else None
+    if value is None or type(value) not in (float, int):
+        return None
+    return complex(-float(value) if negative else float(value))
+
+
+def _complex(value: sp.Expr) -> complex:
+    """``complex(value)``; a Float read as the double nearest to it directly (SymPy's
+    ``complex`` evaluates it to 15 digits first, 53 bits: the same double, rounded once)."""
+    return complex(float(value)) if value.is_Float else complex(value)
 
 
 def _in_backend(matrix: sp.MatrixBase) -> list[Any] | None:

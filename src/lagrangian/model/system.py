@@ -40,6 +40,7 @@ from lagrangian.model.transitions import Transition
 from lagrangian.symbolic.expressions import closest_name
 from lagrangian.symbolic.frozen import FrozenMapping
 from lagrangian.symbolic.symbols import acceleration, t, velocity
+from lagrangian.symbolic.sympy_view import cycle_collection_paused
 
 
 @dataclass(frozen=True)
@@ -122,7 +123,11 @@ class System:
         for f in fields(self):
             if f.name in ELEMENT_FIELDS:
                 object.__setattr__(self, f.name, as_tuple(getattr(self, f.name)))
-        for name, value in normalize_system(self).items():
+        # the checks and the rolling contacts make expressions by the thousand and free
+        # none in cycles: Python's collector would walk everything SymPy made at import
+        with cycle_collection_paused():
+            normalized = normalize_system(self)
+        for name, value in normalized.items():
             object.__setattr__(self, name, value)
         named = [*self.coordinates, *self.parameters, t]
         object.__setattr__(self, "units", checked_units(self.units, [s.name for s in named]))

@@ -40,6 +40,8 @@ from sympy.core.function import AppliedUndef
 from lagrangian.errors import ExpressionError, Problem, TimeLimitError, raise_if_problems
 from lagrangian.size_limits import active_operations, raise_advice
 from lagrangian.symbolic.caches import remembered
+from lagrangian.symbolic.canonical import EXPR
+from lagrangian.symbolic.canonical import Builder as CanonicalBuilder
 from lagrangian.symbolic.names import name_problem
 
 MAX_LENGTH = 10_000
@@ -355,6 +357,7 @@ class ParseCache:
         self.harmonics: dict[sp.Basic, int] = {}
         self.bits: dict[sp.Basic, int] = {}
         self.written: dict[sp.Basic, int] = {}
+        self.parts = CanonicalBuilder()
 
     def keep(self, text: str, built: _Built) -> None:
         """Keep the part built from ``text`` while there is room (deeply nested texts repeat
@@ -377,6 +380,10 @@ class _Builder:
         self.budget, self.root_budget = _BUDGET_BITS, _ROOT_BITS
         self.shared = shared
         self.sizes: dict[sp.Basic, int] = {} if shared is None else shared.sizes
+        # sums and products in SymPy's canonical form from what is known of their parts,
+        # without SymPy's general evaluation where nothing combines (the parts known for all
+        # the expressions of a model)
+        self.parts = CanonicalBuilder() if shared is None else shared.parts
         self.deepest = 0  # the deepest level the part being built has reached
         self.chain: tuple[ast.AST, list[sp.Expr]] | None = None  # the last chain's terms
 
@@ -532,7 +539,9 @@ class _Builder:
                 value = _negative(value)
             terms.append(sp.Pow(value, -1) if isinstance(op, ast.Div) else value)
         self.chain = (node, terms)
-        return sp.Add(*terms) if ops[0] is ast.Add else sp.Mul(*terms)
+        parts = self.parts
+        combine = parts.sum if ops[0] is ast.Add else parts.product
+        return combine([parts.part(term) for term in terms])[EXPR]
 
     def _power(self, base: sp.Expr, exponent: sp.Expr) -> sp.Expr:
         """``base**exponent``, refused when a power of numbers would be too costly to compute."""
