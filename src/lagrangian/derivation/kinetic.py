@@ -1142,12 +1142,12 @@ def _add_gram(
     n = len(shares)
     if not weight:
         return
-    scale = weight.get(ONE) if len(weight) == 1 else None
-    if scale is None:  # a weight that moves (never a mass or an inertia)
-        _add_moving_gram(algebra, shares, weight, first, second)
-        return
     pairs = list(zip(first, second))
     crossed = pairs + ([] if first is second else [(b, a) for a, b in pairs])
+    scale = weight.get(ONE) if len(weight) == 1 else None
+    if scale is None:  # a weight that moves (never a mass or an inertia)
+        _add_moving_gram(algebra, shares, weight, crossed)
+        return
     twice = algebra.scale({ONE: scale}, 2)[ONE]
     for j in range(n):
         target = shares[j][j]
@@ -1179,17 +1179,15 @@ def _add_moving_gram(
     algebra: TrigAlgebra,
     shares: list[list[Sum]],
     weight: Poly,
-    first: list[list[Poly]],
-    second: list[list[Poly]],
+    crossed: list[tuple[list[Poly], list[Poly]]],
 ) -> None:
-    """:func:`_add_gram` for a weight that is a polynomial of the state, each product made
-    and multiplied by it."""
+    """:func:`_add_gram` for a weight that is a polynomial of the state, each product of
+    the rows' pairs ``crossed`` (both ways round unless the rows are one) made and
+    multiplied by it."""
     n = len(shares)
-    pairs = list(zip(first, second))
-    pairs += [] if first is second else [(b, a) for a, b in pairs]
     for j in range(n):
         for k in range(j, n):
-            for a, b in pairs:
+            for a, b in crossed:
                 if a[j] and b[k]:
                     shares[j][k].add(algebra.multiply(weight, algebra.multiply(a[j], b[k])))
 
