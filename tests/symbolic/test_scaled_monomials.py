@@ -77,6 +77,10 @@ def test_a_term_of_another_terms_hash_converts_to_itself() -> None:
     for total in (3 * second + by, 5 * first + by, 3 * second + bx):
         expected = sp.Add(*[sp.sympify(a) for a in total.args])
         assert_identical(view(total), expected)
+    # the clashing term's factors read once: its products with a number met again are found
+    products = len(view._products)
+    view(3 * second + 2 * by)  # a sum not met yet, its term met with 3 before
+    assert len(view._products) == products + 1  # 2 * by's alone
 
 
 def test_sines_and_cosines_of_symbols_are_sympys() -> None:

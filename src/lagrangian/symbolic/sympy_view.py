@@ -73,6 +73,8 @@ class SympyView:
         # a backend term of a sum's hash -> its factors converted (itself if not a product),
         # its operations, and the term
         self._factors: dict[int, tuple[Monomial, int, Backend]] = {}
+        # the terms whose hash another term has in _factors (rare), by the terms themselves
+        self._clashing_factors: dict[Backend, tuple[Monomial, int, Backend]] = {}
         # (id of a number's Part, id of a term's Monomial) -> their product converted, its
         # operations, and the Part and the term's entry of _factors (kept alive with the ids)
         self._products: dict[tuple[int, int], tuple[Part, int, Part, Any]] = {}
@@ -221,10 +223,12 @@ class SympyView:
         term."""
         term_hash = hash(term)  # looked up as in the memo (a term recurs as a new wrapper)
         factors = self._factors.get(term_hash)
-        if factors is None or not _EQUAL(factors[2], term, _EQ):
-            factors = self._monomial(term)
-            # a term of another term's hash (rare) is read again each time it is met
-            self._factors.setdefault(term_hash, factors)
+        if factors is None:
+            factors = self._factors[term_hash] = self._monomial(term)
+        elif not _EQUAL(factors[2], term, _EQ):  # a term of another term's hash (rare)
+            factors = self._clashing_factors.get(term) or self._clashing_factors.setdefault(
+                term, self._monomial(term)
+            )
         pair = (id(number), id(factors[0]))
         scaled = self._products.get(pair)
         if scaled is None:
@@ -435,8 +439,11 @@ class _CollectorPause:
     back as it was when the last one ends.  A conversion makes expressions by the hundred
     thousand, and each of the collector's passes walks them all, a fifth of the time of
     converting a 200-link chain's equations, to find nothing: expressions, their sort keys
-    and the memos refer only to their parts, never back.  Any cycle made meanwhile elsewhere
-    is collected by a later collection (:func:`_age_unwalked`).  Counted under a lock, so two
+    and the memos refer only to their parts, never back.  The young generations are collected
+    first: the pause ages whatever is young when it ends (:func:`_age_unwalked`), and the
+    caller's garbage cycles, aged so without being counted, could wait in the oldest
+    generation for a full collection that a loop of models never sets off.  Any cycle made
+    meanwhile elsewhere is collected by a later full collection.  Counted under a lock, so two
     threads that convert at once never leave the collector off."""
 
     def __init__(self) -> None:
@@ -449,6 +456,8 @@ class _CollectorPause:
         with self._lock:
             if self._running == 0:
                 self._resume = gc.isenabled()
+                if self._resume:
+                    gc.collect(1)  # small: at most a few thousand young objects to walk
                 gc.disable()
             self._running += 1
         try:
