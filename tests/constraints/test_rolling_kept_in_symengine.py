@@ -1,8 +1,8 @@
 """Each rolling contact's constraint is kept in SymEngine as it was made
 (lagrangian.model.contact.MADE_IN_SYMENGINE), and the constraints' forms start from it instead
 of converting the SymPy constraint back: it is the expression that conversion gives (equal,
-printed alike) for the built-in models with rolling contacts and for wheels of other shapes and positions,
-and the forms made from it are those made from the conversion (srepr-equal)."""
+printed alike) for the built-in models with rolling contacts and for wheels of other shapes
+and positions, and the forms made from it are those made from the conversion (srepr-equal)."""
 
 from __future__ import annotations
 
