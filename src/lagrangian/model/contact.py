@@ -314,7 +314,7 @@ def _constraints(
         made.append((NoSlip(back(slip[k]), f"{name} slip {axis}", name), slip[k]))
     for constraint, fast in made:
         CONVERSIONS.get(constraint, lambda _: back)
-        MADE_IN_SYMENGINE.get(constraint, lambda _, fast=fast: fast)
+        MADE_IN_SYMENGINE.get(constraint, lambda _: fast)  # noqa: B023 (called at once)
     return tuple(constraint for constraint, _ in made)
 
 
