@@ -142,11 +142,11 @@ class NameScope:
         try:
             while stack:
                 part = stack.pop()
-                if part in seen:
-                    continue
-                if part in fine:
-                    if not enter_fine:
+                if part in fine:  # first: most repeated parts were found fine before
+                    if not enter_fine or part in seen:
                         continue
+                elif part in seen:
+                    continue
                 elif not _fine_alone(part, allowed):
                     return None
                 seen.add(part)
