@@ -41,9 +41,9 @@ from lagrangian.derivation.collect import collect_state
 from lagrangian.derivation.trig import combine_trig, size
 from lagrangian.model import VelocityConstraint, t, velocity
 from lagrangian.model.constraints import Constraint
-from lagrangian.model.contact import CONVERSIONS
+from lagrangian.model.contact import CONVERSIONS, MADE_IN_SYMENGINE
 from lagrangian.size_limits import check_size
-from lagrangian.symbolic.caches import remembered
+from lagrangian.symbolic.caches import RecentCache, remembered
 from lagrangian.symbolic.expressions import distinct_parts, free_symbols
 from lagrangian.symbolic.native import to_symengine_sharing
 
@@ -88,6 +88,9 @@ def pfaffian_form(constraint: Constraint, coordinates: Sequence[sp.Symbol]) -> P
     """The Pfaffian form of ``constraint`` (holonomic and unilateral ones through h_dot)."""
     velocity_level = isinstance(constraint, VelocityConstraint)
     made_by = CONVERSIONS.peek(constraint)
+    made = MADE_IN_SYMENGINE.peek(constraint)
+    if made is not None:  # backend gives it for this expression from now on
+        _CONVERTED.get(constraint.expression, lambda _: made)
     key = (velocity_level, constraint.expression, tuple(coordinates), made_by)
     try:
         return _cached_form(*key)
@@ -220,9 +223,19 @@ def _shared_conversion(coordinates: tuple[sp.Symbol, ...]) -> _Shared[SympyView]
 _NAMING = threading.Lock()
 
 
+#: The SymEngine images of the constraint expressions used last, by the identity of the
+#: expression: a rolling contact's constraint is given the expression it was made from
+#: (:data:`lagrangian.model.contact.MADE_IN_SYMENGINE`, equal to its conversion).
+_CONVERTED: RecentCache[Any, Backend] = RecentCache(CACHED)
+
+
 def backend(expr: Any) -> Backend:
     """The SymEngine image of a constraint expression, converted once (a rolling contact's
     no-slip constraint has thousands of operations and several consumers)."""
+    return _CONVERTED.get(expr, _converted_once)
+
+
+def _converted_once(expr: Any) -> Backend:
     try:
         return _cached_backend(expr)
     except TypeError:

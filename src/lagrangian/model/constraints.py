@@ -153,11 +153,13 @@ def _check_one(item: Any, index: int, scope: NameScope, problems: list[Problem])
     field = f"constraints[{index}].expression"
     who = f"constraint {item.name!r}" if item.name else "the constraint"
     expression = item.expression
-    before = len(problems)
-    scope.check(expression, field, "state", problems)  # names, shape, derivatives
-    if len(problems) > before:
-        return
-    used = free_symbols(expression)
+    used = scope.symbols_if_fine(expression, "state")
+    if used is None:
+        before = len(problems)
+        scope.check(expression, field, "state", problems)  # names, shape, derivatives
+        if len(problems) > before:
+            return
+        used = free_symbols(expression)
     velocities = sorted((s for s in used if s in scope.velocities), key=str)
     if isinstance(item, VelocityConstraint):
         if not velocities:

@@ -71,6 +71,10 @@ WHEEL_SHAPES = ("disc", "ring", "cylinder")
 #: (:mod:`lagrangian.constraints.pfaffian`): the parts they share with the constraint (the
 #: axle's tilt, its square root, the sines and cosines) are converted once.
 CONVERSIONS: IdentityCache[Any, SympyView] = IdentityCache()
+#: Each constraint of a rolling contact in SymEngine, as it was made before its conversion
+#: back to SymPy (the same expression as the SymPy one converted again), which the
+#: constraint's Pfaffian form starts from instead of converting it again.
+MADE_IN_SYMENGINE: IdentityCache[Any, Any] = IdentityCache()
 
 
 @dataclass(frozen=True)
@@ -299,17 +303,19 @@ def _constraints(
         for rate, variable, w in zip(fast_rates, variables, turns):
             part = se.diff(position[k], variable) + w[i] * offset[j] - w[j] * offset[i]
             terms.append(_tidy(part, geometry.length, sines) * rate)
-        slip.append(back(geometry.rooted(se.Add(*terms))))  # s written out once per sum
+        slip.append(geometry.rooted(se.Add(*terms)))  # s written out once per sum
     name = disc.contact
-    found: list[Any] = []
+    made: list[tuple[Any, Any]] = []  # (constraint, its expression in SymEngine)
     if height != 0:
         rooted = geometry.rooted(height)
         if not is_zero(rooted):
-            found.append(ContactHeight(back(rooted), f"{name} height", name))
-    found += [NoSlip(slip[k], f"{name} slip {axis}", name) for k, axis in ((0, "x"), (1, "y"))]
-    for constraint in found:
+            made.append((ContactHeight(back(rooted), f"{name} height", name), rooted))
+    for k, axis in ((0, "x"), (1, "y")):
+        made.append((NoSlip(back(slip[k]), f"{name} slip {axis}", name), slip[k]))
+    for constraint, fast in made:
         CONVERSIONS.get(constraint, lambda _: back)
-    return tuple(found)
+        MADE_IN_SYMENGINE.get(constraint, lambda _: fast)  # noqa: B023 (called at once)
+    return tuple(constraint for constraint, _ in made)
 
 
 def _tidy(expr: Any, length: _HorizontalLength, sines: dict[Any, Any] | None) -> Any:

@@ -121,22 +121,40 @@ class NameScope:
         skips the parts found fine before (each other part is a name allowed for ``kind``, a
         number a double holds, or a sum, product, power or function of such parts); False
         also when the walk cannot tell (the full check then decides)."""
+        return self._fine_parts(value, kind, enter_fine=False) is not None
+
+    def symbols_if_fine(self, value: Any, kind: str) -> set[sp.Basic] | None:
+        """The free symbols of ``value`` when :meth:`check` would find nothing wrong with
+        it, else None: one walk of its parts for both (every other part is a number or a
+        sum, product, power or function of parts, none binding a symbol)."""
+        if not isinstance(value, sp.Expr):
+            return None
+        parts = self._fine_parts(value, kind, enter_fine=True)
+        return None if parts is None else {part for part in parts if part.is_Symbol}
+
+    def _fine_parts(self, value: sp.Expr, kind: str, enter_fine: bool) -> set[sp.Basic] | None:
+        """The distinct parts of ``value`` the walk of :meth:`_is_fine` enters (with
+        ``enter_fine``, the parts found fine before too), or None where it finds a part not
+        fine or cannot tell."""
         allowed, fine = self._scope(kind)
         seen: set[sp.Basic] = set()
         stack = [value]
         try:
             while stack:
                 part = stack.pop()
-                if part in fine or part in seen:
+                if part in fine:  # first: most repeated parts were found fine before
+                    if not enter_fine or part in seen:
+                        continue
+                elif part in seen:
                     continue
-                if not _fine_alone(part, allowed):
-                    return False
+                elif not _fine_alone(part, allowed):
+                    return None
                 seen.add(part)
                 stack.extend(part.args)
         except TypeError:  # an unhashable part
-            return False
+            return None
         fine.update(seen)
-        return True
+        return seen
 
     def _diagnose(self, symbol: Any, field: str, kind: str) -> Problem:
         name = str(symbol)

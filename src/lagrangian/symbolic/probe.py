@@ -53,7 +53,13 @@ MODULES = ["math", "mpmath", "sympy"]
 
 def random_values(symbols: Iterable[sp.Symbol], rng: random.Random) -> dict[sp.Symbol, float]:
     """Values in (0.3, 1.3) for ``symbols``, drawn in a fixed (sorted) order."""
-    return {s: rng.uniform(0.3, 1.3) for s in sorted(symbols, key=str)}
+    return {s: rng.uniform(0.3, 1.3) for s in sorted(symbols, key=_printed)}
+
+
+def _printed(symbol: sp.Basic) -> str:
+    """``str(symbol)``: a plain Symbol's name without SymPy's printer (a Dummy prints with
+    a leading underscore, so anything else is printed)."""
+    return symbol.name if type(symbol) is sp.Symbol else str(symbol)
 
 
 def evaluate(expr: Any, values: Mapping[sp.Symbol, float]) -> float | None:
