@@ -55,3 +55,11 @@ def test_symmetry_is_compared_entry_by_entry(matrix: sp.Matrix, asymmetric: bool
     assert _asymmetric(matrix, values) is asymmetric
     problems = check_inertia(matrix, "I", values)
     assert any("not symmetric" in p.message for p in problems) is asymmetric
+
+
+@pytest.mark.parametrize("shape", [(2, 3), (3, 2)])
+def test_a_tensor_not_square_is_a_problem_named_with_its_shape(shape: tuple[int, int]) -> None:
+    problems = check_inertia(sp.ones(*shape), "rigid_bodies[0].inertia", {})
+    assert [p.field for p in problems] == ["rigid_bodies[0].inertia"]
+    assert f"{shape[0]}x{shape[1]}, not square" in problems[0].message
+    assert "3x3" in problems[0].fix

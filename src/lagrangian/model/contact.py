@@ -214,7 +214,7 @@ def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
     (R = 0) has no axle and C - p = -r_t e_z."""
     tyre, radius = to_symengine(disc.tyre_radius), to_symengine(disc.radius)
     below = (se.Integer(0), se.Integer(0), -tyre)
-    if is_zero(radius):  # (in SymEngine: a radius not zero is told at its first point)
+    if is_zero(disc.radius):  # the user's radius: its symbols' assumptions may decide it
         one = se.Integer(1)
         return _WheelGeometry(below, _HorizontalLength(one, one, se.Integer(0)))
     a = _axle_in_world(disc, body)
@@ -337,16 +337,12 @@ def _tidy(expr: Any, length: _HorizontalLength, sines: dict[Any, Any] | None) ->
     return numerator / s if shorter else plain
 
 
-def _shorter(expr: Any, sines: dict[Any, Any] | None = None) -> Any:
+def _shorter_counted(expr: Any, sines: dict[Any, Any] | None) -> tuple[Any, int | None]:
     """The expanded ``expr`` with each sin(u)^k, k >= 2, written sin(u)^(k mod 2)
     (1 - cos(u)^2)^(k div 2) (a normal form of polynomials in sines and cosines), where that
-    gives fewer terms.  ``sines``: those forms for every sine power ``expr`` can hold (a
-    superset: the powers it does not hold replace nothing), or None to find its powers."""
-    return _shorter_counted(expr, sines)[0]
-
-
-def _shorter_counted(expr: Any, sines: dict[Any, Any] | None) -> tuple[Any, int | None]:
-    """:func:`_shorter`, and its number of terms when it was counted (else None)."""
+    gives fewer terms, and its number of terms when it was counted (else None).  ``sines``:
+    those forms for every sine power ``expr`` can hold (a superset: the powers it does not
+    hold replace nothing), or None to find its powers."""
     table = _found_sine_powers(expr) if sines is None else sines
     if not table:
         return expr, None

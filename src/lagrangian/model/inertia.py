@@ -316,6 +316,10 @@ def check_inertia(
     'the triangle inequality I1 + I2 >= I3'
     """
     matrix = to_matrix(inertia)
+    rows, columns = matrix.shape
+    if rows != columns:
+        fix = "give the tensor as a square matrix (3x3: [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], ...])"
+        return [Problem(field, f"{subject} is {rows}x{columns}, not square", fix)]
     if _asymmetric(matrix, values):
         fix = "an inertia tensor is symmetric: I_xy = I_yx, I_xz = I_zx, I_yz = I_zy"
         return [Problem(field, f"{subject} is not symmetric", fix)]

@@ -121,7 +121,8 @@ def _unit_of(axis: tuple[Any, ...], types: tuple[type, ...] = ()) -> sp.Immutabl
     entries = [to_sympy(a) for a in axis]
     n = sp.ImmutableMatrix._new(len(entries), 1, entries, copy=False)
     length_squared = sp.expand(sp.Add(*[a * a for a in entries]))  # n . n
-    return n if length_squared == 1 else n / sp.sqrt(length_squared)
+    # exactly 1 (SymPy before 1.13 has Float 1.0 == 1: such an axis is divided as it was)
+    return n if length_squared is sp.S.One else n / sp.sqrt(length_squared)
 
 
 _remembered_unit = remembered(maxsize=REMEMBERED)(_unit_of)
