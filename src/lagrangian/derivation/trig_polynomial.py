@@ -649,7 +649,7 @@ class TrigAlgebra:
         for k, c in p.items():
             d = known.get(k)
             if d is None:
-                d = known[k] = self._key_derivative(k, symbol)
+                d = known[k] = self._spliced_derivative(k, symbol, known)
             for key, value in d.items():
                 _add_into(result, made, key, _times(c, value))
         self._check_size(len(result))
@@ -661,6 +661,21 @@ class TrigAlgebra:
         gens, moving = self.gens, self.moving
         indices = {i for key in p for i in key[::2] if moving[i]}
         return set().union(*(gens[i].free_symbols for i in indices)) & self.state
+
+    def _spliced_derivative(self, key: Key, symbol: Backend, known: dict[Key, Poly]) -> Poly:
+        """The derivative of a monomial as that of its state part times its constant part
+        (sines and cosines of constant angles, such as a head-tube angle): M's monomials
+        differ mostly there, so the state part's derivative is remembered in ``known`` and
+        met again (the product reduced, should the derivative hold the constant angles)."""
+        moving, constant = self.split(key)
+        if not constant or not moving:
+            return self._key_derivative(key, symbol)
+        d = known.get(moving)
+        if d is None:
+            d = known[moving] = self._key_derivative(moving, symbol)
+        parts = Sum()
+        self.accumulate(parts, d, constant)
+        return self.gather(parts)
 
     def _key_derivative(self, key: Key, symbol: Backend) -> Poly:
         """The derivative of a monomial (remembered by :meth:`derivative`)."""
