@@ -71,6 +71,7 @@ ONE: Key = ()
 FACTORED_TERMS = 40
 _NESTED: Poly = {(): {}}  # the marker of :meth:`TrigAlgebra.keep_nested`
 _ZERO = se.Integer(0)
+_ONE = se.Integer(1)
 
 
 def _times(a: Coefficient, b: Coefficient) -> Coefficient:
@@ -878,6 +879,39 @@ class TrigAlgebra:
         (:func:`lagrangian.derivation.collect.factor_common`) when it has at most
         :data:`FACTORED_TERMS` terms (a longer one is summed by constant monomial: factoring
         it costs more than the rest of its tidying, and reads no better)."""
+        return self.grouped_terms(p)[0]
+
+    def grouped_terms(self, p: Poly) -> tuple[Backend, list[tuple[Backend, Backend]] | None]:
+        """(:meth:`grouped`, its (state monomial, coefficient) pairs in the order of the
+        sum's terms, as collecting the sum by state monomial would find them): collecting
+        then reads the pairs instead of walking every factor of every term.  A sum
+        coefficient of no state monomial is spread into the sum by SymEngine: its pair
+        comes where its first term does, its terms factored as collecting factors them.
+        The pairs are None where a monomial holds a number (a power of a function that
+        SymEngine writes so): collecting would move the number into the coefficient."""
+        pairs = self._grouped_pairs(p)
+        terms = [k * c for k, c in pairs]
+        result = se.Add(*terms)
+        if any(k.is_Mul and k.args[0].is_Number for k, _ in pairs):
+            return result, None
+        if not pairs:
+            return result, []
+        by_term = dict(zip(terms, pairs))
+        spread = next((c for k, c in pairs if k == 1 and c.is_Add), None)
+        in_order = []
+        for term in result.args if result.is_Add else (result,):
+            pair = by_term.get(term)
+            if pair is not None:
+                in_order.append(pair)
+            elif spread is not None:  # the first term of the spread coefficient
+                in_order.append((_ONE, self._factor(spread.args)))
+                spread = None
+        if len(in_order) != len(pairs):  # a term neither a pair's nor the spread sum's
+            return result, None
+        return result, in_order
+
+    def _grouped_pairs(self, p: Poly) -> list[tuple[Backend, Backend]]:
+        """The (state monomial, coefficient) pairs of :meth:`grouped`, in monomial order."""
         groups: dict[Key, list[tuple[Backend, Backend]]] = defaultdict(list)
         terms: dict[Key, int] = defaultdict(int)
         for k, c in p.items():
@@ -891,8 +925,8 @@ class TrigAlgebra:
                 coefficient = self._factor_parts(parts)
             else:
                 coefficient = se.Add(*[f * c for f, c in parts])
-            result.append(self.monomial_expression(k) * coefficient)
-        return se.Add(*result)
+            result.append((self.monomial_expression(k), coefficient))
+        return result
 
     def _factor_parts(self, parts: list[tuple[Backend, Backend]]) -> Backend:
         """:meth:`_factor` of the terms of sum f c over ``parts`` (constant monomial f,
