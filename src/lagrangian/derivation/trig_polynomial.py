@@ -855,6 +855,20 @@ class TrigAlgebra:
         self._converted.setdefault(result, p)
         return result
 
+    def products_expression(self, parts: list[tuple[Key, Poly]]) -> Backend:
+        """sum monomial * :meth:`expression` of its polynomial over ``parts`` (no two
+        products with a monomial in common: the pairs of velocities of C q_dot's row times
+        their Christoffel symbols), each part's expression made once for all the monomials
+        it multiplies; converting the sum back (in this algebra) gives its polynomial at
+        once, as for :meth:`expression`."""
+        total = Sum()
+        for factor, p in parts:
+            self.accumulate(total, p, factor)
+        expression, monomial = self.expression, self.monomial_expression
+        result = se.Add(*[monomial(factor) * expression(p) for factor, p in parts])
+        self._converted.setdefault(result, self.gather(total))
+        return result
+
     def split(self, key: Key) -> tuple[Key, Key]:
         """(the state part, the constant part) of a monomial."""
         known = self._splits.get(key)
