@@ -893,7 +893,7 @@ class TrigAlgebra:
         (:func:`lagrangian.derivation.collect.factor_common`) when it has at most
         :data:`FACTORED_TERMS` terms (a longer one is summed by constant monomial: factoring
         it costs more than the rest of its tidying, and reads no better)."""
-        return self.grouped_terms(p)[0]
+        return se.Add(*[k * c for k, c in self._grouped_pairs(p)])
 
     def grouped_terms(self, p: Poly) -> tuple[Backend, list[tuple[Backend, Backend]] | None]:
         """(:meth:`grouped`, its (state monomial, coefficient) pairs in the order of the
