@@ -133,6 +133,24 @@ def collect_state(
     return _sum_by_coefficient(pairs, expr if single else None)
 
 
+def collect_pairs(expr: Any, pairs: list[tuple[Any, Any]]) -> Any:
+    """:func:`collect_state` of a sum whose terms are known as (state monomial, coefficient)
+    pairs, a monomial in one term only, in the order of the sum's terms (the sign a shared
+    coefficient takes is that of the first): the terms are not walked factor by factor.
+
+    >>> import symengine as se
+    >>> q, a, b = se.symbols("q a b")
+    >>> pairs = [(se.sin(q), a * b), (se.cos(q), -a * b), (q, a * b)]
+    >>> expr = se.Add(*[k * c for k, c in pairs])
+    >>> collected = collect_pairs(expr, [p for t in expr.args for p in pairs if p[0] * p[1] == t])
+    >>> collected == collect_state(expr, [q]), collected.is_Mul
+    (True, True)
+    """
+    if len(pairs) < SHARED:
+        return expr
+    return _sum_by_coefficient(pairs, expr)
+
+
 def collect_state_with(
     expr: Any,
     monomials: list[tuple[Any, Any, Any]],

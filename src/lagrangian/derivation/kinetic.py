@@ -934,7 +934,10 @@ def _canonical_form(asm: Assembly, explicit: Matrix, algebra: TrigAlgebra) -> Ki
             mass_poly[j][k] = mass_poly[k][j] = algebra.finish(mass_poly[j][k])
             mass[j][k] = mass[k][j] = algebra.grouped(algebra.shortest(mass_poly[j][k]))
     quadratic_t = _quadratic_form(mass, asm.q_dot)
-    coriolis = [algebra.expression(c) for c in _christoffel(algebra, mass_poly, asm)]
+    # each row as sum over pairs q_dot_k q_dot_l times its symbol: the symbols' monomials
+    # recur across rows and pairs, so their expressions are mostly made already
+    symbols = _christoffel_symbols(algebra, mass_poly, asm)
+    coriolis = [algebra.products_expression(row) for row in symbols]
     return KineticForm(mass, coriolis, [se.Integer(0)] * n, quadratic_t, True, grouped=True)
 
 
@@ -1215,13 +1218,27 @@ def _add_rotation_share(
 
 
 def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) -> list[Poly]:
+    """The rows of C q_dot (:func:`_christoffel_symbols`) as polynomials."""
+    rows = []
+    for symbols in _christoffel_symbols(algebra, mass, asm):
+        row = Sum()
+        for pair, symbol in symbols:
+            algebra.accumulate(row, symbol, pair)
+        rows.append(algebra.gather(row))
+    return rows
+
+
+def _christoffel_symbols(
+    algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly
+) -> list[list[tuple[Key, Poly]]]:
     """(C q_dot)_j = sum_k (dM_jk/dq_k - dM_kk/dq_j / 2) q_dot_k^2
-    + sum_(k<l) (dM_jk/dq_l + dM_jl/dq_k - dM_kl/dq_j) q_dot_k q_dot_l.
+    + sum_(k<l) (dM_jk/dq_l + dM_jl/dq_k - dM_kl/dq_j) q_dot_k q_dot_l,
+    row by row as its (velocity pair, Christoffel symbol) pairs, the symbols not zero.
 
     Where j is k (or l) the last two derivatives are dM_jl/dq_j twice with opposite signs:
     the symbol is dM_jj/dq_l, taken as it is (2(n - 1) of the n(n + 1)/2 symbols of a row;
-    summed out, they left 286 zero monomials in a bicycle's rows).  The rows are finished:
-    no zero coefficient."""
+    summed out, they left 286 zero monomials in a bicycle's rows).  The symbols are
+    finished: no zero coefficient."""
     n = len(asm.q)
     slope: dict[tuple[int, int, int], Poly] = {}
     # an entry of M has a few of the coordinates (a bicycle's, 3 of 8): the rest give zero
@@ -1245,7 +1262,7 @@ def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) ->
     half: Number = Fraction(-1, 2)
     result = []
     for j in range(n):
-        row = Sum()
+        row: list[tuple[Key, Poly]] = []
         for k, ell, pair in pairs:
             parts: list[tuple[Poly, Number]]
             if k == ell:
@@ -1254,24 +1271,23 @@ def _christoffel(algebra: TrigAlgebra, mass: list[list[Poly]], asm: Assembly) ->
                 parts = [(d(j, j, k + ell - j), 1)]
             else:
                 parts = [(d(j, k, ell), 1), (d(j, ell, k), 1), (d(k, ell, j), -1)]
-            _add_symbol(algebra, row, [part for part in parts if part[0]], pair)
-        result.append(algebra.gather(row))
+            symbol = _symbol(algebra, [part for part in parts if part[0]])
+            if symbol:
+                row.append((pair, symbol))
+        result.append(row)
     return result
 
 
-def _add_symbol(
-    algebra: TrigAlgebra, row: Sum, parts: list[tuple[Poly, Number]], pair: Key
-) -> None:
-    """Add the Christoffel symbol sum scale * dM/dq over ``parts``, times the velocity
-    product ``pair``, to ``row``.  The symbol is summed first: its monomials have no
-    velocity, so pair times them are monomials of no other pair, and what cancels in a row
-    cancels within one symbol (a fifth of a bicycle's monomials of C q_dot); so the
-    cancelled monomials are never multiplied by the pair, nor written out as zero terms
-    of the row's expression."""
+def _symbol(algebra: TrigAlgebra, parts: list[tuple[Poly, Number]]) -> Poly:
+    """The Christoffel symbol sum scale * dM/dq over ``parts``, summed before it multiplies
+    its velocity pair: its monomials have no velocity, so pair times them are monomials of
+    no other pair, and what cancels in a row cancels within one symbol (a fifth of a
+    bicycle's monomials of C q_dot); so the cancelled monomials are never multiplied by
+    the pair, nor written out as zero terms of the row's expression."""
     if len(parts) == 1:
-        algebra.accumulate(row, parts[0][0], pair, parts[0][1])
-        return
+        p, scale = parts[0]
+        return p if scale == 1 else algebra.scale(p, scale)
     symbol = Sum()
     for p, scale in parts:
         symbol.add(p if scale == 1 else algebra.scale(p, scale))
-    algebra.accumulate(row, algebra.finish(algebra.gather(symbol)), pair)
+    return algebra.finish(algebra.gather(symbol))

@@ -26,7 +26,7 @@ import symengine as se
 import sympy as sp
 
 from lagrangian.derivation.backend import SympyView, to_backend
-from lagrangian.derivation.collect import collect_state
+from lagrangian.derivation.collect import collect_pairs, collect_state
 from lagrangian.derivation.trig_polynomial import (
     FACTORED_TERMS,
     PolynomialTooLarge,
@@ -202,8 +202,10 @@ def combine_and_collect(expr: Any, state: Any, factors: dict[Any, Any] | None = 
         algebra.limit = None
     if algebra.terms(polynomial) <= LARGE_POLYNOMIAL:
         return collect_state(combine_trig(expr), state, factors=factors)
-    grouped = algebra.grouped(algebra.shortest(polynomial))
-    return collect_state(grouped, state, factors=factors)
+    grouped, pairs = algebra.grouped_terms(algebra.shortest(polynomial))
+    if pairs is None:
+        return collect_state(grouped, state, factors=factors)
+    return collect_pairs(grouped, pairs)
 
 
 def _single_trig_expansion(expr: Any, state: set[Any] | frozenset[Any]) -> Any | None:

@@ -71,6 +71,7 @@ ONE: Key = ()
 FACTORED_TERMS = 40
 _NESTED: Poly = {(): {}}  # the marker of :meth:`TrigAlgebra.keep_nested`
 _ZERO = se.Integer(0)
+_ONE = se.Integer(1)
 
 
 def _times(a: Coefficient, b: Coefficient) -> Coefficient:
@@ -649,7 +650,7 @@ class TrigAlgebra:
         for k, c in p.items():
             d = known.get(k)
             if d is None:
-                d = known[k] = self._key_derivative(k, symbol)
+                d = known[k] = self._spliced_derivative(k, symbol, known)
             for key, value in d.items():
                 _add_into(result, made, key, _times(c, value))
         self._check_size(len(result))
@@ -661,6 +662,21 @@ class TrigAlgebra:
         gens, moving = self.gens, self.moving
         indices = {i for key in p for i in key[::2] if moving[i]}
         return set().union(*(gens[i].free_symbols for i in indices)) & self.state
+
+    def _spliced_derivative(self, key: Key, symbol: Backend, known: dict[Key, Poly]) -> Poly:
+        """The derivative of a monomial as that of its state part times its constant part
+        (sines and cosines of constant angles, such as a head-tube angle): M's monomials
+        differ mostly there, so the state part's derivative is remembered in ``known`` and
+        met again (the product reduced, should the derivative hold the constant angles)."""
+        moving, constant = self.split(key)
+        if not constant or not moving:
+            return self._key_derivative(key, symbol)
+        d = known.get(moving)
+        if d is None:
+            d = known[moving] = self._key_derivative(moving, symbol)
+        parts = Sum()
+        self.accumulate(parts, d, constant)
+        return self.gather(parts)
 
     def _key_derivative(self, key: Key, symbol: Backend) -> Poly:
         """The derivative of a monomial (remembered by :meth:`derivative`)."""
@@ -839,6 +855,20 @@ class TrigAlgebra:
         self._converted.setdefault(result, p)
         return result
 
+    def products_expression(self, parts: list[tuple[Key, Poly]]) -> Backend:
+        """sum monomial * :meth:`expression` of its polynomial over ``parts`` (no two
+        products with a monomial in common: the pairs of velocities of C q_dot's row times
+        their Christoffel symbols), each part's expression made once for all the monomials
+        it multiplies; converting the sum back (in this algebra) gives its polynomial at
+        once, as for :meth:`expression`."""
+        total = Sum()
+        for factor, p in parts:
+            self.accumulate(total, p, factor)
+        expression, monomial = self.expression, self.monomial_expression
+        result = se.Add(*[monomial(factor) * expression(p) for factor, p in parts])
+        self._converted.setdefault(result, self.gather(total))
+        return result
+
     def split(self, key: Key) -> tuple[Key, Key]:
         """(the state part, the constant part) of a monomial."""
         known = self._splits.get(key)
@@ -863,6 +893,39 @@ class TrigAlgebra:
         (:func:`lagrangian.derivation.collect.factor_common`) when it has at most
         :data:`FACTORED_TERMS` terms (a longer one is summed by constant monomial: factoring
         it costs more than the rest of its tidying, and reads no better)."""
+        return se.Add(*[k * c for k, c in self._grouped_pairs(p)])
+
+    def grouped_terms(self, p: Poly) -> tuple[Backend, list[tuple[Backend, Backend]] | None]:
+        """(:meth:`grouped`, its (state monomial, coefficient) pairs in the order of the
+        sum's terms, as collecting the sum by state monomial would find them): collecting
+        then reads the pairs instead of walking every factor of every term.  A sum
+        coefficient of no state monomial is spread into the sum by SymEngine: its pair
+        comes where its first term does, its terms factored as collecting factors them.
+        The pairs are None where a monomial holds a number (a power of a function that
+        SymEngine writes so): collecting would move the number into the coefficient."""
+        pairs = self._grouped_pairs(p)
+        terms = [k * c for k, c in pairs]
+        result = se.Add(*terms)
+        if any(k.is_Mul and k.args[0].is_Number for k, _ in pairs):
+            return result, None
+        if not pairs:
+            return result, []
+        by_term = dict(zip(terms, pairs))
+        spread = next((c for k, c in pairs if k == 1 and c.is_Add), None)
+        in_order = []
+        for term in result.args if result.is_Add else (result,):
+            pair = by_term.get(term)
+            if pair is not None:
+                in_order.append(pair)
+            elif spread is not None:  # the first term of the spread coefficient
+                in_order.append((_ONE, self._factor(spread.args)))
+                spread = None
+        if len(in_order) != len(pairs):  # a term neither a pair's nor the spread sum's
+            return result, None
+        return result, in_order
+
+    def _grouped_pairs(self, p: Poly) -> list[tuple[Backend, Backend]]:
+        """The (state monomial, coefficient) pairs of :meth:`grouped`, in monomial order."""
         groups: dict[Key, list[tuple[Backend, Backend]]] = defaultdict(list)
         terms: dict[Key, int] = defaultdict(int)
         for k, c in p.items():
@@ -876,8 +939,8 @@ class TrigAlgebra:
                 coefficient = self._factor_parts(parts)
             else:
                 coefficient = se.Add(*[f * c for f, c in parts])
-            result.append(self.monomial_expression(k) * coefficient)
-        return se.Add(*result)
+            result.append((self.monomial_expression(k), coefficient))
+        return result
 
     def _factor_parts(self, parts: list[tuple[Backend, Backend]]) -> Backend:
         """:meth:`_factor` of the terms of sum f c over ``parts`` (constant monomial f,
