@@ -19,7 +19,7 @@ from lagrangian.constraints.dependence import dependence, generic_point
 from lagrangian.constraints.pfaffian import SHARED_BY, acceleration_terms, pfaffian_form
 from lagrangian.constraints.projection import _SparseJacobian
 from lagrangian.derivation.backend import SympyView, to_backend
-from lagrangian.model.contact import CONVERSIONS
+from lagrangian.model.contact import MADE
 from lagrangian.symbolic.caches import forget_all
 from lagrangian.symbolic.probe import numeric_rank
 from lagrangian.symbolic.symbols import t, velocity
@@ -97,9 +97,9 @@ def test_a_rolling_contacts_forms_go_on_with_the_conversion_that_made_it():
     system = lg.examples.rolling_coin.__wrapped__()  # built anew, not the remembered System
     q = tuple(system.coordinates)
     forms = [pfaffian_form(c, q) for c in system.constraints]
-    made = [CONVERSIONS.peek(c) for c in system.constraints]
-    assert all(view is not None for view in made)
-    assert [f.view for f in forms] == made
+    made = [MADE.peek(c) for c in system.constraints]
+    assert all(m is not None for m in made)
+    assert [f.view for f in forms] == [m.conversion for m in made if m is not None]
     gamma = acceleration_terms(forms, q)
     # the same gamma from a conversion that converted nothing before
     names = {t, *q, *(velocity(s) for s in q), *system.parameters}

@@ -41,7 +41,7 @@ from lagrangian.derivation.collect import collect_state
 from lagrangian.derivation.trig import combine_trig, size
 from lagrangian.model import VelocityConstraint, t, velocity
 from lagrangian.model.constraints import Constraint
-from lagrangian.model.contact import CONVERSIONS, MADE_IN_SYMENGINE
+from lagrangian.model.contact import MADE
 from lagrangian.size_limits import check_size
 from lagrangian.symbolic.caches import RecentCache, remembered
 from lagrangian.symbolic.expressions import distinct_parts, free_symbols
@@ -87,10 +87,11 @@ class PfaffianForm:
 def pfaffian_form(constraint: Constraint, coordinates: Sequence[sp.Symbol]) -> PfaffianForm:
     """The Pfaffian form of ``constraint`` (holonomic and unilateral ones through h_dot)."""
     velocity_level = isinstance(constraint, VelocityConstraint)
-    made_by = CONVERSIONS.peek(constraint)
-    made = MADE_IN_SYMENGINE.peek(constraint)
-    if made is not None:  # backend gives it for this expression from now on
-        _CONVERTED.get(constraint.expression, lambda _: made)
+    made = MADE.peek(constraint)
+    made_by = None
+    if made is not None:  # backend gives its expression for this one from now on
+        made_by = made.conversion
+        _CONVERTED.get(constraint.expression, lambda _: made.expression)
     key = (velocity_level, constraint.expression, tuple(coordinates), made_by)
     try:
         return _cached_form(*key)
@@ -225,7 +226,7 @@ _NAMING = threading.Lock()
 
 #: The SymEngine images of the constraint expressions used last, by the identity of the
 #: expression: a rolling contact's constraint is given the expression it was made from
-#: (:data:`lagrangian.model.contact.MADE_IN_SYMENGINE`, equal to its conversion).
+#: (:data:`lagrangian.model.contact.MADE`, equal to its conversion).
 _CONVERTED: RecentCache[Any, Backend] = RecentCache(CACHED)
 
 

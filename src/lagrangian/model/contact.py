@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import difflib
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import Any, ClassVar, NamedTuple
 
 import symengine as se
 import sympy as sp
@@ -66,15 +66,21 @@ SINE_POWERS = 1024
 #: Shapes whose axis of symmetry is a wheel's axle.
 WHEEL_SHAPES = ("disc", "ring", "cylinder")
 
-#: The conversion back to SymPy that made each constraint of a rolling contact, which the
-#: constraint's Pfaffian form and acceleration term go on with
-#: (:mod:`lagrangian.constraints.pfaffian`): the parts they share with the constraint (the
-#: axle's tilt, its square root, the sines and cosines) are converted once.
-CONVERSIONS: IdentityCache[Any, SympyView] = IdentityCache()
-#: Each constraint of a rolling contact in SymEngine, as it was made before its conversion
-#: back to SymPy (the same expression as the SymPy one converted again), which the
-#: constraint's Pfaffian form starts from instead of converting it again.
-MADE_IN_SYMENGINE: IdentityCache[Any, Any] = IdentityCache()
+
+class Made(NamedTuple):
+    """How a constraint of a rolling contact was made: its expression in SymEngine before
+    the conversion back to SymPy (the same expression as the SymPy one converted again),
+    which the constraint's Pfaffian form starts from instead of converting it again, and that
+    conversion, which the form and the acceleration term go on with
+    (:mod:`lagrangian.constraints.pfaffian`): the parts they share with the constraint (the
+    axle's tilt, its square root, the sines and cosines) are converted once."""
+
+    expression: Any
+    conversion: SympyView
+
+
+#: How each constraint of a rolling contact was made, by the constraint's identity.
+MADE: IdentityCache[Any, Made] = IdentityCache()
 
 
 @dataclass(frozen=True)
@@ -313,8 +319,7 @@ def _constraints(
     for k, axis in ((0, "x"), (1, "y")):
         made.append((NoSlip(back(slip[k]), f"{name} slip {axis}", name), slip[k]))
     for constraint, fast in made:
-        CONVERSIONS.get(constraint, lambda _: back)
-        MADE_IN_SYMENGINE.get(constraint, lambda _: fast)  # noqa: B023 (called at once)
+        MADE.get(constraint, lambda _: Made(fast, back))  # noqa: B023 (called at once)
     return tuple(constraint for constraint, _ in made)
 
 
