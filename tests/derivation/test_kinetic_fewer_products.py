@@ -8,29 +8,16 @@ finished polynomials (the reduced form is canonical: equal polynomials are the s
 from __future__ import annotations
 
 from fractions import Fraction
+from typing import Any
 
 import symengine as se
 
-from lagrangian.derivation.assemble import assemble, frames_carried
 from lagrangian.derivation.kinetic import (
     _add_gram,
-    _carried,
     _christoffel,
-    _jacobian_row,
     _turn,
 )
-from lagrangian.derivation.trig_polynomial import Sum, algebra_for
-from lagrangian.examples import BENCHMARKS
-
-
-def _bicycle():
-    system = BENCHMARKS["whipple_bicycle"]()
-    asm = assemble(system)
-    algebra = algebra_for([*asm.q, *asm.q_dot, *asm.q_ddot, asm.t])
-    fork = next(p for b, p in zip(system.rigid_bodies, asm.points) if b.name == "fork")
-    world = [_jacobian_row(algebra, x, asm.q) for x in fork.position]
-    rows = _carried(algebra, world, frames_carried(fork.orientation, fork.position, asm.q))
-    return asm, algebra, fork, world, rows
+from lagrangian.derivation.trig_polynomial import Sum
 
 
 def _gram(algebra, weight, first, second, n):
@@ -58,8 +45,10 @@ def _textbook_gram(algebra, weight, first, second, n):
     ]
 
 
-def test_the_gram_matrix_with_the_diagonal_products_once_is_the_textbook_sum() -> None:
-    asm, algebra, fork, _, rows = _bicycle()
+def test_the_gram_matrix_with_the_diagonal_products_once_is_the_textbook_sum(
+    bicycle_fork: tuple[Any, ...],
+) -> None:
+    asm, algebra, fork, _, rows = bicycle_fork
     n = len(asm.q)
     assert _gram(algebra, fork.mass, rows, rows, n) == _textbook_gram(
         algebra, fork.mass, rows, rows, n
@@ -88,9 +77,11 @@ def _textbook_coriolis(algebra, mass, asm):
     return rows
 
 
-def test_the_christoffel_rows_are_the_textbook_sum_with_no_zero_term() -> None:
+def test_the_christoffel_rows_are_the_textbook_sum_with_no_zero_term(
+    bicycle_fork: tuple[Any, ...],
+) -> None:
     """M is the bicycle fork's J^T J (entries in lean, pitch and steer)."""
-    asm, algebra, fork, _, rows = _bicycle()
+    asm, algebra, fork, _, rows = bicycle_fork
     n = len(asm.q)
     gram = _gram(algebra, fork.mass, rows, rows, n)
     mass = [[gram[min(j, k)][max(j, k)] for k in range(n)] for j in range(n)]
@@ -100,9 +91,9 @@ def test_the_christoffel_rows_are_the_textbook_sum_with_no_zero_term() -> None:
     assert all(value for row in made for c in row.values() for value in c.values())
 
 
-def test_two_rows_turned_are_the_textbook_combination() -> None:
+def test_two_rows_turned_are_the_textbook_combination(bicycle_fork: tuple[Any, ...]) -> None:
     """(c a + s b, -s a + c b), each product made apart and added."""
-    asm, algebra, _, world, _ = _bicycle()
+    asm, algebra, _, world, _ = bicycle_fork
     yaw = next(s for s in asm.q if str(s) == "yaw")
     c, s = algebra.convert(se.cos(yaw)), algebra.convert(-se.sin(yaw))
     one, other = _turn(algebra, world[0], world[1], yaw, -1)
