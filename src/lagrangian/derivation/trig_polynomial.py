@@ -31,7 +31,7 @@ from __future__ import annotations
 import threading
 from bisect import bisect
 from collections import defaultdict
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from fractions import Fraction
 from itertools import chain
 from math import comb
@@ -211,8 +211,8 @@ def pairs(key: Key) -> Iterator[tuple[int, int]]:
     return zip(it, it)
 
 
-def _monomials(terms: Terms) -> Iterator[tuple[Key, int]]:
-    """The (monomial, integer factor) pairs of :data:`Terms`."""
+def _monomials(terms: Sequence[Any]) -> Iterator[tuple[Key, int]]:
+    """The (monomial, integer factor) pairs of :data:`Terms` (or of a list of them)."""
     it = iter(terms)
     return zip(it, it)
 
@@ -303,6 +303,7 @@ class TrigAlgebra:
         self._coefficients: dict[Backend, Coefficient] = {}  # parameter expressions
         self._parameter_monomials: dict[int, tuple[Backend, bool]] = {}
         self._built: dict[frozenset[tuple[int, Number]], tuple[Backend, int]] = {}
+        self._integers: dict[int, Backend] = {}  # the coefficients' integers in SymEngine
         #: Monomials a product or sum may have before :class:`PolynomialTooLarge` (None: any).
         self.limit: int | None = None
 
@@ -757,7 +758,7 @@ class TrigAlgebra:
         it has no sine squared (remembered by :meth:`sine_form`: the same monomials recur in
         every entry)."""
         reduced = self._stretch_reduced(key, self.sine)
-        return self._reduced(dict(pairs(key)), self.sine) if reduced is None else reduced
+        return self._stretches_reduced(key, self.sine) if reduced is None else reduced
 
     def _stretch_reduced(self, key: Key, squares: list[bool]) -> Product | None:
         """:meth:`_reduced` of a monomial with at most one f(x)**k, k >= 2 (f flagged in
@@ -775,6 +776,41 @@ class TrigAlgebra:
                 at = k
         if at < 0:
             return key
+        start, end = self._stretch(key, at)
+        head, tail = key[:start], key[end:]
+        flat: list[Any] = []
+        for part, n in _monomials(self._reduced_part(squares, key[start:end])):
+            flat += (head + part + tail, n)
+        return tuple(flat)
+
+    def _stretches_reduced(self, key: Key, squares: list[bool]) -> Terms:
+        """:meth:`_reduced` of the powers of ``key`` in its own order (the binomials of its
+        f(x)**k expanded in index order, the first varying slowest): each stretch of an f and
+        its partner reduced on its own (:meth:`_stretch_reduced`, remembered by its powers),
+        the terms of the whole the products of one term of each stretch, the powers between
+        the stretches kept as they are (no dict of powers, no sort, no splice)."""
+        terms: list[Any] = [(), 1]  # (the monomial so far, its factor, ...)
+        done = 0  # the end of the last stretch
+        for at in range(0, len(key), 2):
+            if at < done or key[at + 1] < 2 or not squares[key[at]]:
+                continue
+            start, end = self._stretch(key, at)
+            between = key[done:start]
+            parts = self._reduced_part(squares, key[start:end])
+            grown: list[Any] = []
+            for head, n in _monomials(terms):
+                head += between
+                for part, m in _monomials(parts):
+                    grown += (head + part, n * m)
+            terms, done = grown, end
+        tail = key[done:]
+        for k in range(0, len(terms), 2):
+            terms[k] += tail
+        return tuple(terms)
+
+    def _stretch(self, key: Key, at: int) -> tuple[int, int]:
+        """(start, end) of the powers of the f at ``at`` of ``key`` and of its partner, which
+        neighbours it when present."""
         start, end = at, at + 2
         partner = self.partner[key[at]]
         if partner > key[at]:
@@ -782,11 +818,7 @@ class TrigAlgebra:
                 end += 2
         elif start and key[start - 2] == partner:
             start -= 2
-        head, tail = key[:start], key[end:]
-        flat: list[Any] = []
-        for part, n in _monomials(self._reduced_part(squares, key[start:end])):
-            flat += (head + part + tail, n)
-        return tuple(flat)
+        return start, end
 
     def monomial_expression(self, key: Key) -> Backend:
         memo = self._monomials.get(key)
@@ -836,7 +868,7 @@ class TrigAlgebra:
             for k, n in coefficient.items():
                 if n:
                     monomial, odd = self.parameter_monomial(k)
-                    terms.append(backend_number(n) * monomial)
+                    terms.append(self._number_times(n, monomial))
                     irregular = irregular or odd
             expr = se.Add(*terms)
             if irregular:
@@ -846,6 +878,20 @@ class TrigAlgebra:
                 known = (expr, len(terms) or 1)  # 0 is one term
             self._built[memo_key] = known
         return known
+
+    def _number_times(self, n: Number, monomial: Backend) -> Backend:
+        """``n`` * ``monomial`` as SymEngine forms it: an integer +-1 with no product and no
+        number made (a third of a coefficient's terms), any other integer made once."""
+        if not isinstance(n, int):
+            return backend_number(n) * monomial
+        if n == 1:
+            return monomial
+        if n == -1:
+            return -monomial
+        number = self._integers.get(n)
+        if number is None:
+            number = self._integers[n] = se.Integer(n)
+        return number * monomial
 
     def expression(self, p: Poly) -> Backend:
         """sum monomial * coefficient (each coefficient SymEngine's expanded sum); converting
