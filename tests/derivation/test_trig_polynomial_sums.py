@@ -14,7 +14,7 @@ import symengine as se
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from lagrangian.derivation.trig_polynomial import FACTORED_TERMS, TrigAlgebra
+from lagrangian.derivation.trig_polynomial import FACTORED_TERMS, TrigAlgebra, _add_into, _scaled
 
 x, y, m, a = se.symbols("x y m a")
 ANGLES = (x, y)
@@ -93,3 +93,23 @@ def test_a_coefficient_is_factored_up_to_the_terms_of_its_expansion() -> None:
         rest = algebra.convert(se.expand(m * x * (2 * a + se.Add(*cs[:count]))))
         assert len(algebra.add([root, rest])[(algebra.index[x], 1)]) == count + 2
         assert _grouped_is_factored(algebra, algebra.add([root, rest])) is factored
+
+
+def test_a_term_taken_negated_is_minus_one_times_it() -> None:
+    """The sine form's -cos^2 terms are subtracted, not multiplied by -1: the same numbers of
+    the same types (integers, fractions, floats, signed zeros), added to a new monomial or to
+    one already summed."""
+    numbers = [3, -2, Fraction(5, 7), 0.1, -0.0, 2.5e-17]
+    c = dict(enumerate(numbers))
+    for known in ({}, {(): {0: 1, 3: 0.2, 4: 0.0, 7: Fraction(1, 3)}}):
+        result = copy.deepcopy(known)
+        _add_into(result, set(), (), c, -1)
+        expected = dict(copy.deepcopy(known).get((), {}))
+        for k, v in c.items():
+            expected[k] = expected.get(k, 0) + -1 * v
+        assert result[()] == expected
+        assert [type(v) for v in result[()].values()] == [type(v) for v in expected.values()]
+        assert [math.copysign(1, v) for v in result[()].values()] == [
+            math.copysign(1, v) for v in expected.values()
+        ]
+    assert _scaled(c, -1) == {k: -1 * v for k, v in c.items()}

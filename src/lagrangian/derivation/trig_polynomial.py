@@ -100,6 +100,8 @@ def _scaled(c: Coefficient, n: Number) -> Coefficient:
     if n.__class__ is Fraction:
         top, bottom = n.numerator, n.denominator  # properties: read once, not per term
         return {k: _fraction_times(n, top, bottom, v) for k, v in c.items()}
+    if n.__class__ is int and n == -1:  # the sine form's 1 - cos^2: a negation, no product
+        return {k: -v for k, v in c.items()}
     return {k: n * v for k, v in c.items()}
 
 
@@ -145,6 +147,9 @@ def _add_into(result: Poly, made: set[Key], key: Key, c: Coefficient, n: int = 1
     if n == 1:
         for k, v in c.items():
             known[k] = get(k, 0) + v
+    elif n == -1:  # a + (-1) v is a - v exactly, floats too
+        for k, v in c.items():
+            known[k] = get(k, 0) - v
     else:
         for k, v in c.items():
             known[k] = get(k, 0) + n * v
