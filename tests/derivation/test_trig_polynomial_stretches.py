@@ -1,10 +1,10 @@
 """The short ways of the trigonometric algebra (lagrangian.derivation.trig_polynomial) give
 what its general ways give: products of monomials (joined end to end or merged) are the
-sorted sum of their powers; a single squared cosine (in a product) or sine (in the sine
-form) reduced as one stretch of the monomial gives the terms, in the same order, of the
-reduction through the powers' dict; a derivative lowers one power in place; a product of
-two one-term polynomials is the product summed through a :class:`Sum`; and the sine form
-of a polynomial with no sine squared is that polynomial."""
+sorted sum of their powers; a single squared cosine (in a product), or any number of
+squared sines (in the sine form), reduced stretch by stretch of the monomial gives the terms,
+in the same order, of the reduction through the powers' dict; a derivative lowers one
+power in place; a product of two one-term polynomials is the product summed through a
+:class:`Sum`; and the sine form of a polynomial with no sine squared is that polynomial."""
 
 from __future__ import annotations
 
@@ -56,9 +56,9 @@ def test_products_of_monomials_are_the_sorted_sum_of_their_powers() -> None:
 
 
 def test_a_stretch_reduces_as_the_powers_dict_does() -> None:
-    """Products (cosines squared, their powers in a's order then b's) and sine forms (sines
-    squared), with any other powers about them: the same terms in the same order, and each
-    term's value is the monomial's."""
+    """Products (cosines squared, their powers in a's order then b's) and sine forms (one
+    sine squared or several), with any other powers about them: the same terms in the same
+    order, and each term's value is the monomial's."""
     rng = random.Random(8)
     algebra = _algebra()
     for _ in range(800):
