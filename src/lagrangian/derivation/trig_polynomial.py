@@ -357,9 +357,9 @@ class TrigAlgebra:
 
     def remembered(self) -> int:
         """The number of memo entries (conversions, products, derivatives)."""
-        memos: tuple[dict[Any, Any], ...] = (self._converted,)
+        memos: tuple[dict[Any, Any], ...] = (self._converted, self._reductions)
         more = (self._factored, self._factored_parts, self._sine_reduced, self._splits)
-        built = (self._coefficients, self._parameter_monomials, self._built, self._reductions)
+        built = (self._coefficients, self._parameter_monomials, self._built, self._integers)
         by_key = sum(map(len, self._products.values())) + sum(map(len, self._derivatives.values()))
         return by_key + sum(len(memo) for memo in (*memos, *more, *built))
 
@@ -791,7 +791,7 @@ class TrigAlgebra:
     def _stretches_reduced(self, key: Key, squares: list[bool]) -> Terms:
         """:meth:`_reduced` of the powers of ``key`` in its own order (the binomials of its
         f(x)**k expanded in index order, the first varying slowest): each stretch of an f and
-        its partner reduced on its own (:meth:`_stretch_reduced`, remembered by its powers),
+        its partner reduced on its own (:meth:`_reduced_part`, remembered by its powers),
         the terms of the whole the products of one term of each stretch, the powers between
         the stretches kept as they are (no dict of powers, no sort, no splice)."""
         terms: list[Any] = [(), 1]  # (the monomial so far, its factor, ...)
