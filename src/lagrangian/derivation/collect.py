@@ -9,7 +9,7 @@ l1 l2 (m2/2 + m3) (sin a1 sin a2 + cos a1 cos a2 cos b1 + ...).
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from functools import lru_cache
 from typing import Any
 
@@ -23,7 +23,7 @@ SHARED = 3
 TERM_POWERS = 8192
 
 
-def product_powers(factors: list[Any]) -> tuple[Any, dict[Any, Any]]:
+def product_powers(factors: Sequence[Any]) -> tuple[Any, dict[Any, Any]]:
     """(numeric coefficient, {base: exponent}) of a product of parameters, given as the
     list of its factors."""
     number = ONE
