@@ -14,7 +14,14 @@ import symengine as se
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from lagrangian.derivation.collect import SHARED, _factor_common, collect_state, factor_common
+from lagrangian.derivation.collect import (
+    SHARED,
+    _factor_common,
+    collect_state,
+    factor_common,
+    product_powers,
+    term_powers,
+)
 
 x, y, v, w = se.symbols("x y v w")  # the state
 p, q, r, k = se.symbols("p q r k")  # parameters
@@ -182,6 +189,26 @@ def test_factor_common_of_terms_builds_the_general_routes_expression(
     terms = [se.Mul(*p) for p in products]
     factors = [t.args if t.is_Mul else (t,) for t in terms]
     assert _same(factor_common(terms), _reference_factor_common(factors))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(products_st, min_size=1, max_size=4))
+def test_factor_common_with_remembered_term_powers_builds_the_general_routes_expression(
+    sums: list[list[list[Any]]],
+) -> None:
+    """Terms met again (the same objects, and equal ones made afresh) factor as when first
+    met, and their remembered powers are those of their factors, unchanged by the factoring."""
+    term_powers.cache_clear()
+    for products in sums + sums:
+        terms = [se.Mul(*p) for p in products]
+        factors = [t.args if t.is_Mul else (t,) for t in terms]
+        assert _same(factor_common(terms), _reference_factor_common(factors))
+        assert _same(factor_common([se.Mul(*p) for p in products]), factor_common(terms))
+        for term, own in zip(terms, factors):
+            number, powers = term_powers(term)
+            fresh_number, fresh_powers = product_powers(list(own))
+            assert _same(number, fresh_number)
+            assert powers == fresh_powers
 
 
 @settings(max_examples=300, deadline=None)

@@ -9,7 +9,8 @@ l1 l2 (m2/2 + m3) (sin a1 sin a2 + cos a1 cos a2 cos b1 + ...).
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
+from functools import lru_cache
 from typing import Any
 
 import symengine as se
@@ -18,9 +19,11 @@ ONE = se.Integer(1)  # the one object SymEngine gives for every integer 1
 ZERO = se.Integer(0)
 #: How many monomials must share a coefficient for :func:`collect_state` to sum them under it.
 SHARED = 3
+#: How many terms :func:`term_powers` remembers (a bicycle's coefficients have about 1,200).
+TERM_POWERS = 8192
 
 
-def product_powers(factors: list[Any]) -> tuple[Any, dict[Any, Any]]:
+def product_powers(factors: Sequence[Any]) -> tuple[Any, dict[Any, Any]]:
     """(numeric coefficient, {base: exponent}) of a product of parameters, given as the
     list of its factors."""
     number = ONE
@@ -38,16 +41,34 @@ def factor_common(terms: list[Any]) -> Any:
     """Sum of ``terms`` (products of parameters) with their common factors pulled out."""
     if len(terms) == 1:
         return terms[0]
-    return _factor_common([term.args if term.is_Mul else (term,) for term in terms], terms)
+    return _factored([term_powers(term) for term in terms], terms)
 
 
-def _factor_common(products: list[Any], terms: list[Any] | None = None) -> Any:
-    """:func:`factor_common` of products given as the sequences of their factors (and as the
-    ``terms`` they are the factors of, when the caller has them: a sum with nothing common is
-    then summed from them, not multiplied out again)."""
+@lru_cache(maxsize=TERM_POWERS)
+def term_powers(term: Any) -> tuple[Any, dict[Any, Any]]:
+    """:func:`product_powers` of a term (a product of parameters, or one factor),
+    remembered: the terms of the coefficients :func:`factor_common` factors recur across
+    the entries of M and the rows of the forcing (the bicycle's 2,182 are 1,150 distinct),
+    and reading a SymEngine product's factors and powers costs more than looking it up.
+    The powers are shared: read them, never change them."""
+    return product_powers(term.args if term.is_Mul else (term,))
+
+
+def _factor_common(products: list[Any]) -> Any:
+    """:func:`factor_common` of products given as the sequences of their factors."""
     if len(products) == 1:
         return se.Mul(*products[0])
-    split = [product_powers(factors) for factors in products]
+    return _factored([product_powers(factors) for factors in products], None, products)
+
+
+def _factored(
+    split: list[tuple[Any, dict[Any, Any]]],
+    terms: list[Any] | None,
+    products: list[Any] | None = None,
+) -> Any:
+    """The factored sum of the products whose (number, powers) are ``split``: the
+    ``terms`` themselves, or the ``products`` of factors (a sum with nothing common is
+    summed from the terms, not multiplied out again)."""
     common = dict(split[0][1])
     for _, powers in split[1:]:
         for base, least in list(common.items()):
@@ -56,13 +77,15 @@ def _factor_common(products: list[Any], terms: list[Any] | None = None) -> Any:
                 del common[base]
             elif not (least is ONE and exponent is ONE):  # min(1, 1) is the 1 there already
                 common[base] = min(least, exponent)
+        if not common:  # nothing left to compare with the other products
+            break
     numbers = {number for number, _ in split}  # a few, most of them 1 and -1
     magnitudes = {abs(number) for number in numbers}
     scale = magnitudes.pop() if len(magnitudes) == 1 else ONE
     if all(is_negative_number(number) for number in numbers):
         scale = -scale
     if not common and scale == 1:
-        return se.Add(*(terms or [se.Mul(*factors) for factors in products]))
+        return se.Add(*(terms or [se.Mul(*factors) for factors in products or ()]))
     outside = scale * se.Mul(*[b**e for b, e in common.items()])
     quotients: dict[Any, Any] = {}  # number / scale, once per number (most are -1 or 1)
     parts = []
@@ -70,7 +93,7 @@ def _factor_common(products: list[Any], terms: list[Any] | None = None) -> Any:
         quotient = quotients.get(number)
         if quotient is None:
             quotient = quotients[number] = number / scale
-        parts.append(_times(quotient, _divided(powers, common)))
+        parts.append(_divided(quotient, powers, common))
     return outside * se.Add(*parts)
 
 
@@ -81,19 +104,16 @@ def is_negative_number(number: Any) -> bool:
     return bool(number < ZERO)
 
 
-def _times(number: Any, product: Any) -> Any:
-    """``number * product``; the integer 1 (always the object ONE) changes nothing."""
-    return product if number is ONE else number * product
-
-
-def _divided(powers: dict[Any, Any], common: dict[Any, Any]) -> Any:
-    """The product of base ** (exponent - common exponent) over ``powers``.
+def _divided(number: Any, powers: dict[Any, Any], common: dict[Any, Any]) -> Any:
+    """``number`` times the product of base ** (exponent - common exponent) over
+    ``powers``, made as one product.
 
     A base outside ``common`` is raised to its own exponent (e - 0 is e) and, when that
     is the 1 :func:`product_powers` gives a factor that is no power, left as it is (b ** 1 is b);
     a base whose exponent and common exponent are both that 1 is left out (b ** 0 is 1,
-    which a product leaves out): the same product, without two operations per factor."""
-    factors = []
+    which a product leaves out): the same product, without two operations per factor.  The
+    integer 1 (always the object ONE) is left out as well."""
+    factors = [] if number is ONE else [number]
     for base, exponent in powers.items():
         least = common.get(base)
         if least is None:
