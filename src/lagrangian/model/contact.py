@@ -287,14 +287,14 @@ def _constraints(
 ) -> tuple[Any, ...]:
     """:func:`rolling_constraints` from the wheel's ``geometry``, converted back by ``back``
     (:func:`_sympy_view` of the wheel, the coordinates and their rates at least)."""
-    rates = [velocity(x) for x in q]
+    rates = [to_symengine(velocity(x)) for x in q]
     memo: dict[Any, Any] = {}  # a steered wheel's centre repeats the fork's offsets
     position = [to_symengine_sharing(e, memo) for e in body.position]
     offset = geometry.offset
     height = se.expand(position[2] + offset[2])
     omega = angular_velocity_terms(body.orientation, q, body=False)  # world axes
-    at_rest = {to_symengine(v): 0 for v in rates}
-    turns = [[se.diff(w, to_symengine(v)) for w in omega] for v in rates]
+    at_rest = {v: 0 for v in rates}
+    turns = [[se.diff(w, v) for w in omega] for v in rates]
     turns.append([w.xreplace(at_rest) for w in omega])  # omega_t, of a rheonomic orientation
     variables = [to_symengine(x) for x in (*q, t)]
     sines = _sine_powers(position[:2], omega, offset, geometry.length)
@@ -302,7 +302,7 @@ def _constraints(
     # each velocity's coefficient times the velocity, summed in SymEngine and converted
     # once: SymPy's constructors give the same sum of the same products as converting the
     # coefficients and multiplying and summing them there (no two terms share a velocity)
-    fast_rates = [*(to_symengine(v) for v in rates), se.Integer(1)]
+    fast_rates = [*rates, se.Integer(1)]
     for k in (0, 1):  # the x and y components of omega_j x (C - p): rows of the cross product
         i, j = (k + 1) % 3, (k + 2) % 3
         terms = []
@@ -332,14 +332,21 @@ def _tidy(expr: Any, length: _HorizontalLength, sines: dict[Any, Any] | None) ->
     plain, plain_terms = _shorter_counted(se.expand(expr), sines)
     if length.closed or not plain.has(length.SYMBOL):
         return plain
-    s = length.SYMBOL
-    # plain is expanded already: s is only distributed over its terms (deep=False), not the
-    # terms expanded again (the same sum: expanding is idempotent)
-    over_s = se.expand(plain * s, deep=False)
-    written = se.expand(over_s.xreplace({s**2: 1 - length.a_z**2}))
-    numerator, numerator_terms = _shorter_counted(written, sines)
+    numerator, numerator_terms = _shorter_counted(_over_s(plain, length), sines)
     shorter = (numerator_terms or _terms(numerator)) < (plain_terms or _terms(plain))
-    return numerator / s if shorter else plain
+    return numerator / length.SYMBOL if shorter else plain
+
+
+def _over_s(plain: Any, length: _HorizontalLength) -> Any:
+    """s ``plain``, expanded with s^2 = 1 - a_z^2, for an expanded coefficient of a wheel's
+    constraints: plain = A / s + B + C s, the offset C - p holding s only as 1 / s (its
+    horizontal entries) and as s (its vertical one), and the centre's derivatives and the
+    angular velocity none, so s plain = A + B s + C (1 - a_z^2).  Only C's products are
+    expanded: A and B s are expanded already (the same sum as expanding s plain with s^2
+    replaced, without rebuilding and expanding again the terms that do not change)."""
+    s = length.SYMBOL
+    A, B, C = (plain.coeff(s, k) for k in (-1, 0, 1))
+    return se.Add(A, se.expand(B * s, deep=False), se.expand(C * (1 - length.a_z**2)))
 
 
 def _shorter_counted(expr: Any, sines: dict[Any, Any] | None) -> tuple[Any, int | None]:
