@@ -24,11 +24,13 @@ from lagrangian.model.contact import (
     NoSlip,
     _HorizontalLength,
     _over_s,
+    _plainly_not_zero,
     _wheel_geometry,
     contact_point,
 )
 from lagrangian.model.rotation import angular_velocity_terms, euler_rotation
 from lagrangian.symbolic.native import to_symengine
+from lagrangian.symbolic.probe import is_zero
 from lagrangian.symbolic.symbols import velocity
 
 x, y, z, psi, theta, phi, m, r = sp.symbols("x y z psi theta phi m r")
@@ -254,3 +256,15 @@ def test_the_bicycle_front_wheel_coefficients_over_s_are_the_full_expansion(
             expected = se.expand(se.expand(plain * s).xreplace({s**2: 1 - geometry.length.a_z**2}))
             assert _over_s(plain, geometry.length) == expected
     assert over >= 8
+
+
+def test_what_is_plainly_not_zero_the_probe_finds_not_zero() -> None:
+    # the wheel's geometry asks the probe only where its radius and closed s are not plainly
+    # non-zero; what is plainly so, the probe finds so too, and the rest is left to it
+    lean, rR, lam = se.symbols("lean rR lam")
+    plain = [rR, se.Integer(2), se.Rational(-1, 3), se.cos(lean), se.sin(lean), se.cos(lam)]
+    for expr in plain:
+        assert _plainly_not_zero(expr)
+        assert not is_zero(expr)
+    left = [se.Integer(0), se.sqrt(se.Rational(3, 4)), rR - rR, se.sin(-lam), se.sin(lean) ** 2]
+    assert not any(_plainly_not_zero(expr) for expr in left)

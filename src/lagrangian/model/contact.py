@@ -220,12 +220,15 @@ def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
     (R = 0) has no axle and C - p = -r_t e_z."""
     tyre, radius = to_symengine(disc.tyre_radius), to_symengine(disc.radius)
     below = (se.Integer(0), se.Integer(0), -tyre)
-    if is_zero(disc.radius):  # the user's radius: its symbols' assumptions may decide it
+    # the user's radius probed as given: its symbols' assumptions may decide it
+    if not _plainly_not_zero(radius) and is_zero(disc.radius):
         one = se.Integer(1)
         return _WheelGeometry(below, _HorizontalLength(one, one, se.Integer(0)))
     a = _axle_in_world(disc, body)
     s = _length_of(a[2])
-    if s.value == 0 or is_zero(s.value if s.closed else s.root):
+    if s.value == 0 or (
+        not _plainly_not_zero(s.value) and is_zero(s.value if s.closed else s.root)
+    ):
         return _WheelGeometry(below, s, flat=True)
     inverse = 1 / s.value
     offset = (
@@ -234,6 +237,18 @@ def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
         se.expand(-radius * s.value - tyre),
     )
     return _WheelGeometry(offset, s)
+
+
+def _plainly_not_zero(expr: Any) -> bool:
+    """True for a SymEngine ``expr`` that is not identically zero at sight, as
+    :func:`is_zero`'s probe finds it (a value above zero at its first point): a symbol (a
+    radius rR), a number other than 0, the sine or cosine of an angle holding a symbol (the
+    closed s of a leaning or tilted wheel); False where the probe decides."""
+    if expr.is_Symbol:
+        return True
+    if expr.is_Number:
+        return expr != 0
+    return isinstance(expr, (se.sin, se.cos)) and bool(expr.args[0].free_symbols)
 
 
 def _axle_in_world(disc: RollingDisc, body: RigidBody) -> tuple[Any, Any, Any]:
