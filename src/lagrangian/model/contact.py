@@ -209,6 +209,10 @@ class _WheelGeometry:
     offset: tuple[Any, Any, Any]
     length: _HorizontalLength
     flat: bool = False
+    #: The offset's entries as the products they were expanded from (the offset itself when
+    #: it is not a product), whose degrees in sines and cosines bound the expansion's
+    #: (:func:`_sine_powers`) from a few factors instead of every term.
+    products: tuple[Any, Any, Any] | None = None
 
     def rooted(self, expr: Any) -> Any:
         """``expr`` with s written out."""
@@ -231,12 +235,9 @@ def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
     ):
         return _WheelGeometry(below, s, flat=True)
     inverse = 1 / s.value
-    offset = (
-        se.expand(radius * a[0] * a[2] * inverse),
-        se.expand(radius * a[1] * a[2] * inverse),
-        se.expand(-radius * s.value - tyre),
-    )
-    return _WheelGeometry(offset, s)
+    products = (radius * a[0] * a[2] * inverse, radius * a[1] * a[2] * inverse)
+    offset = (se.expand(products[0]), se.expand(products[1]), se.expand(-radius * s.value - tyre))
+    return _WheelGeometry(offset, s, products=(*products, offset[2]))
 
 
 def _plainly_not_zero(expr: Any) -> bool:
@@ -312,7 +313,7 @@ def _constraints(
     turns = [[se.diff(w, v) for w in omega] for v in rates]
     turns.append([w.xreplace(at_rest) for w in omega])  # omega_t, of a rheonomic orientation
     variables = [to_symengine(x) for x in (*q, t)]
-    sines = _sine_powers(position[:2], omega, offset, geometry.length)
+    sines = _sine_powers(position[:2], omega, geometry)
     slip = []
     # each velocity's coefficient times the velocity, summed in SymEngine and converted
     # once: SymPy's constructors give the same sum of the same products as converting the
@@ -408,9 +409,7 @@ def _powers(expr: Any) -> list[Any]:
     return [part for part in distinct_parts(expr) if isinstance(part, se.Pow)]
 
 
-def _sine_powers(
-    position: Any, omega: Any, offset: Any, length: _HorizontalLength
-) -> dict[Any, Any] | None:
+def _sine_powers(position: Any, omega: Any, geometry: _WheelGeometry) -> dict[Any, Any] | None:
     """Every sine power sin(u)^k, k >= 2, that the expanded coefficients of a wheel's no-slip
     constraints (and their numerators over s) can hold, with its form in cosines: for each
     angle u, k up to the degree bound below; None when the inputs are not polynomials in
@@ -420,9 +419,15 @@ def _sine_powers(
     coefficient dp/dq_j + omega_j x (C - p) has D_u <= max(D_u(p), D_u(omega) + D_u(C - p)):
     d/dq_j keeps D_u (d sin(u) = cos(u) du, du free of sines), as does d/d q_dot_j of omega;
     expanding never raises it; writing sin^2 as 1 - cos^2 keeps it; a numerator over s gains
-    2 D_u(a_z) where s^2 becomes 1 - a_z^2."""
+    2 D_u(a_z) where s^2 becomes 1 - a_z^2.  D_u(C - p) is read off the products the offset
+    was expanded from where it can be (a product's D_u is its factors' sum; expanding never
+    raises it), else off the expanded offset (a product with 1 / cos(u) in it)."""
     memo: dict[Any, dict[Any, int] | None] = {}
-    found = [_trig_degrees(e, memo) for e in (*position, *omega, *offset, length.a_z)]
+    found = [_trig_degrees(e, memo) for e in (*position, *omega)]
+    for product, expanded in zip(geometry.products or geometry.offset, geometry.offset):
+        degrees = _trig_degrees(product, memo)
+        found.append(_trig_degrees(expanded, memo) if degrees is None else degrees)
+    found.append(_trig_degrees(geometry.length.a_z, memo))
     parts = [degrees for degrees in found if degrees is not None]
     if len(parts) < len(found):
         return None
