@@ -19,8 +19,18 @@ import lagrangian as lg
 from lagrangian.examples import BENCHMARKS
 from lagrangian.model import Frame, RigidBody, RollingDisc, System, shape
 from lagrangian.model.constraints import _linear
-from lagrangian.model.contact import ContactHeight, NoSlip, _HorizontalLength, contact_point
-from lagrangian.model.rotation import euler_rotation
+from lagrangian.model.contact import (
+    ContactHeight,
+    NoSlip,
+    _HorizontalLength,
+    _over_s,
+    _plainly_not_zero,
+    _wheel_geometry,
+    contact_point,
+)
+from lagrangian.model.rotation import angular_velocity_terms, euler_rotation
+from lagrangian.symbolic.native import to_symengine
+from lagrangian.symbolic.probe import is_zero
 from lagrangian.symbolic.symbols import velocity
 
 x, y, z, psi, theta, phi, m, r = sp.symbols("x y z psi theta phi m r")
@@ -200,19 +210,61 @@ def test_a_rolling_body_whose_position_symengine_cannot_hold_is_refused_by_field
         )
 
 
-@pytest.mark.parametrize("seed", range(6))
-def test_s_distributed_over_an_expanded_sum_is_the_full_expansion(seed: int) -> None:
-    # _tidy multiplies an expanded coefficient by s with se.expand(..., deep=False): the
-    # same sum as expanding everything again, on sums of the kind a steered wheel makes
+@pytest.mark.parametrize("seed", range(8))
+def test_a_coefficient_over_s_is_the_expansion_with_s_squared_replaced(seed: int) -> None:
+    # _over_s writes s plain as A + B s + C (1 - a_z^2) from plain = A / s + B + C s: the
+    # same expression as s plain expanded with s^2 replaced by 1 - a_z^2 and expanded again,
+    # on expanded sums of the kind a steered wheel makes (s only as 1 / s and s)
     rng = random.Random(seed)
     s = _HorizontalLength.SYMBOL
-    lean, steer, rF = se.symbols("lean steer rF")
-    a_z = se.sin(lean) * se.cos(steer) + se.cos(lean) * se.sin(steer)
-    factors = [se.sin(lean), se.cos(steer), rF, s, 1 / s, a_z, se.sqrt(1 + lean**2)]
+    lean, steer, lam, rF = se.symbols("lean steer lam rF")
+    a_z = se.sin(lean) * se.cos(steer) * se.sin(lam) + se.cos(lean) * se.sin(steer) - rF
+    length = _HorizontalLength(s, se.sqrt(1 - a_z**2), a_z)
+    factors = [se.sin(lean), se.cos(steer), se.sin(lam) ** 2, rF, a_z, se.sqrt(1 + lean**2)]
     terms = [
-        rng.randint(-3, 3) * se.Mul(*rng.choices(factors, k=rng.randint(1, 4))) for _ in range(8)
+        rng.randint(-3, 3) * rng.choice([1, s, 1 / s]) * se.Mul(*rng.choices(factors, k=3))
+        for _ in range(10)
     ]
     plain = se.expand(se.Add(*terms))
-    shallow = se.expand(plain * s, deep=False)
-    assert shallow == se.expand(plain * s)
-    assert str(shallow) == str(se.expand(plain * s))
+    expected = se.expand(se.expand(plain * s).xreplace({s**2: 1 - a_z**2}))
+    assert _over_s(plain, length) == expected
+    assert str(_over_s(plain, length)) == str(expected)
+
+
+def test_the_bicycle_front_wheel_coefficients_over_s_are_the_full_expansion(
+    bicycle: System,
+) -> None:
+    # every coefficient the front wheel's no-slip sums are tidied from, written over s both
+    # ways (the rear wheel leans: its s is cos(lean), no placeholder)
+    body = next(b for b in bicycle.rigid_bodies if b.name == "front_wheel")
+    geometry = _wheel_geometry(RollingDisc("front_wheel", sp.Symbol("rF"), "y"), body)
+    s = _HorizontalLength.SYMBOL
+    assert not geometry.length.closed
+    q = tuple(bicycle.coordinates)
+    omega = angular_velocity_terms(body.orientation, q, body=False)
+    offset = geometry.offset
+    over = 0
+    for v in q:
+        w = [se.diff(e, to_symengine(velocity(v))) for e in omega]
+        for k in (0, 1):
+            i, j = (k + 1) % 3, (k + 2) % 3
+            centre = se.diff(to_symengine(body.position[k]), to_symengine(v))
+            plain = se.expand(centre + w[i] * offset[j] - w[j] * offset[i])
+            if not plain.has(s):
+                continue
+            over += 1
+            expected = se.expand(se.expand(plain * s).xreplace({s**2: 1 - geometry.length.a_z**2}))
+            assert _over_s(plain, geometry.length) == expected
+    assert over >= 8
+
+
+def test_what_is_plainly_not_zero_the_probe_finds_not_zero() -> None:
+    # the wheel's geometry asks the probe only where its radius and closed s are not plainly
+    # non-zero; what is plainly so, the probe finds so too, and the rest is left to it
+    lean, rR, lam = se.symbols("lean rR lam")
+    plain = [rR, se.Integer(2), se.Rational(-1, 3), se.cos(lean), se.sin(lean), se.cos(lam)]
+    for expr in plain:
+        assert _plainly_not_zero(expr)
+        assert not is_zero(expr)
+    left = [se.Integer(0), se.sqrt(se.Rational(3, 4)), rR - rR, se.sin(-lam), se.sin(lean) ** 2]
+    assert not any(_plainly_not_zero(expr) for expr in left)

@@ -22,6 +22,7 @@ from lagrangian.model.contact import (
     _shorter_counted,
     _sine_powers,
     _trig_degrees,
+    _WheelGeometry,
 )
 
 lean, steer, pitch, rF, c = se.symbols("lean steer pitch rF c")
@@ -48,11 +49,16 @@ def test_every_sine_power_of_a_coefficient_is_in_the_bounded_table(seed: int) ->
     angles = [lean, steer, pitch]
     position = [_random_trig_polynomial(rng, angles, 5) for _ in range(2)]
     omega = [_random_trig_polynomial(rng, angles, 3) for _ in range(3)]
-    offset = [se.expand(_random_trig_polynomial(rng, angles, 3) / S) for _ in range(3)]
+    products = [_random_trig_polynomial(rng, angles, 3) / S for _ in range(3)]
+    offset = [se.expand(product) for product in products]
     a_z = se.sin(lean) * se.cos(steer) + se.cos(lean) * se.sin(steer) * se.sin(pitch)
     length = _HorizontalLength(S, se.sqrt(1 - a_z**2), a_z)
-    table = _sine_powers(position, omega, offset, length)
+    # the offset's degrees read off the products it was expanded from, and off itself
+    geometry = _WheelGeometry(tuple(offset), length, products=tuple(products))
+    table = _sine_powers(position, omega, geometry)
     assert table is not None
+    expanded = _sine_powers(position, omega, _WheelGeometry(tuple(offset), length))
+    assert expanded is not None and set(expanded) <= set(table)
     for k, (i, j) in enumerate(((1, 2), (2, 0))):
         for variable in angles:
             part = se.diff(position[k], variable) + omega[i] * offset[j] - omega[j] * offset[i]

@@ -209,6 +209,10 @@ class _WheelGeometry:
     offset: tuple[Any, Any, Any]
     length: _HorizontalLength
     flat: bool = False
+    #: The offset's entries as the products they were expanded from (the offset itself when
+    #: it is not a product), whose degrees in sines and cosines bound the expansion's
+    #: (:func:`_sine_powers`) from a few factors instead of every term.
+    products: tuple[Any, Any, Any] | None = None
 
     def rooted(self, expr: Any) -> Any:
         """``expr`` with s written out."""
@@ -220,20 +224,32 @@ def _wheel_geometry(disc: RollingDisc, body: RigidBody) -> _WheelGeometry:
     (R = 0) has no axle and C - p = -r_t e_z."""
     tyre, radius = to_symengine(disc.tyre_radius), to_symengine(disc.radius)
     below = (se.Integer(0), se.Integer(0), -tyre)
-    if is_zero(disc.radius):  # the user's radius: its symbols' assumptions may decide it
+    # the user's radius probed as given: its symbols' assumptions may decide it
+    if not _plainly_not_zero(radius) and is_zero(disc.radius):
         one = se.Integer(1)
         return _WheelGeometry(below, _HorizontalLength(one, one, se.Integer(0)))
     a = _axle_in_world(disc, body)
     s = _length_of(a[2])
-    if s.value == 0 or is_zero(s.value if s.closed else s.root):
+    if s.value == 0 or (
+        not _plainly_not_zero(s.value) and is_zero(s.value if s.closed else s.root)
+    ):
         return _WheelGeometry(below, s, flat=True)
     inverse = 1 / s.value
-    offset = (
-        se.expand(radius * a[0] * a[2] * inverse),
-        se.expand(radius * a[1] * a[2] * inverse),
-        se.expand(-radius * s.value - tyre),
-    )
-    return _WheelGeometry(offset, s)
+    products = (radius * a[0] * a[2] * inverse, radius * a[1] * a[2] * inverse)
+    offset = (se.expand(products[0]), se.expand(products[1]), se.expand(-radius * s.value - tyre))
+    return _WheelGeometry(offset, s, products=(*products, offset[2]))
+
+
+def _plainly_not_zero(expr: Any) -> bool:
+    """True for a SymEngine ``expr`` that is not identically zero at sight, as
+    :func:`is_zero`'s probe finds it (a value above zero at its first point): a symbol (a
+    radius rR), a number other than 0, the sine or cosine of an angle holding a symbol (the
+    closed s of a leaning or tilted wheel); False where the probe decides."""
+    if expr.is_Symbol:
+        return True
+    if expr.is_Number:
+        return expr != 0
+    return isinstance(expr, (se.sin, se.cos)) and bool(expr.args[0].free_symbols)
 
 
 def _axle_in_world(disc: RollingDisc, body: RigidBody) -> tuple[Any, Any, Any]:
@@ -287,22 +303,22 @@ def _constraints(
 ) -> tuple[Any, ...]:
     """:func:`rolling_constraints` from the wheel's ``geometry``, converted back by ``back``
     (:func:`_sympy_view` of the wheel, the coordinates and their rates at least)."""
-    rates = [velocity(x) for x in q]
+    rates = [to_symengine(velocity(x)) for x in q]
     memo: dict[Any, Any] = {}  # a steered wheel's centre repeats the fork's offsets
     position = [to_symengine_sharing(e, memo) for e in body.position]
     offset = geometry.offset
     height = se.expand(position[2] + offset[2])
     omega = angular_velocity_terms(body.orientation, q, body=False)  # world axes
-    at_rest = {to_symengine(v): 0 for v in rates}
-    turns = [[se.diff(w, to_symengine(v)) for w in omega] for v in rates]
+    at_rest = {v: 0 for v in rates}
+    turns = [[se.diff(w, v) for w in omega] for v in rates]
     turns.append([w.xreplace(at_rest) for w in omega])  # omega_t, of a rheonomic orientation
     variables = [to_symengine(x) for x in (*q, t)]
-    sines = _sine_powers(position[:2], omega, offset, geometry.length)
+    sines = _sine_powers(position[:2], omega, geometry)
     slip = []
     # each velocity's coefficient times the velocity, summed in SymEngine and converted
     # once: SymPy's constructors give the same sum of the same products as converting the
     # coefficients and multiplying and summing them there (no two terms share a velocity)
-    fast_rates = [*(to_symengine(v) for v in rates), se.Integer(1)]
+    fast_rates = [*rates, se.Integer(1)]
     for k in (0, 1):  # the x and y components of omega_j x (C - p): rows of the cross product
         i, j = (k + 1) % 3, (k + 2) % 3
         terms = []
@@ -332,14 +348,21 @@ def _tidy(expr: Any, length: _HorizontalLength, sines: dict[Any, Any] | None) ->
     plain, plain_terms = _shorter_counted(se.expand(expr), sines)
     if length.closed or not plain.has(length.SYMBOL):
         return plain
-    s = length.SYMBOL
-    # plain is expanded already: s is only distributed over its terms (deep=False), not the
-    # terms expanded again (the same sum: expanding is idempotent)
-    over_s = se.expand(plain * s, deep=False)
-    written = se.expand(over_s.xreplace({s**2: 1 - length.a_z**2}))
-    numerator, numerator_terms = _shorter_counted(written, sines)
+    numerator, numerator_terms = _shorter_counted(_over_s(plain, length), sines)
     shorter = (numerator_terms or _terms(numerator)) < (plain_terms or _terms(plain))
-    return numerator / s if shorter else plain
+    return numerator / length.SYMBOL if shorter else plain
+
+
+def _over_s(plain: Any, length: _HorizontalLength) -> Any:
+    """s ``plain``, expanded with s^2 = 1 - a_z^2, for an expanded coefficient of a wheel's
+    constraints: plain = A / s + B + C s, the offset C - p holding s only as 1 / s (its
+    horizontal entries) and as s (its vertical one), and the centre's derivatives and the
+    angular velocity none, so s plain = A + B s + C (1 - a_z^2).  Only C's products are
+    expanded: A and B s are expanded already (the same sum as expanding s plain with s^2
+    replaced, without rebuilding and expanding again the terms that do not change)."""
+    s = length.SYMBOL
+    A, B, C = (plain.coeff(s, k) for k in (-1, 0, 1))
+    return se.Add(A, se.expand(B * s, deep=False), se.expand(C * (1 - length.a_z**2)))
 
 
 def _shorter_counted(expr: Any, sines: dict[Any, Any] | None) -> tuple[Any, int | None]:
@@ -386,9 +409,7 @@ def _powers(expr: Any) -> list[Any]:
     return [part for part in distinct_parts(expr) if isinstance(part, se.Pow)]
 
 
-def _sine_powers(
-    position: Any, omega: Any, offset: Any, length: _HorizontalLength
-) -> dict[Any, Any] | None:
+def _sine_powers(position: Any, omega: Any, geometry: _WheelGeometry) -> dict[Any, Any] | None:
     """Every sine power sin(u)^k, k >= 2, that the expanded coefficients of a wheel's no-slip
     constraints (and their numerators over s) can hold, with its form in cosines: for each
     angle u, k up to the degree bound below; None when the inputs are not polynomials in
@@ -398,9 +419,15 @@ def _sine_powers(
     coefficient dp/dq_j + omega_j x (C - p) has D_u <= max(D_u(p), D_u(omega) + D_u(C - p)):
     d/dq_j keeps D_u (d sin(u) = cos(u) du, du free of sines), as does d/d q_dot_j of omega;
     expanding never raises it; writing sin^2 as 1 - cos^2 keeps it; a numerator over s gains
-    2 D_u(a_z) where s^2 becomes 1 - a_z^2."""
+    2 D_u(a_z) where s^2 becomes 1 - a_z^2.  D_u(C - p) is read off the products the offset
+    was expanded from where it can be (a product's D_u is its factors' sum; expanding never
+    raises it), else off the expanded offset (a product with 1 / cos(u) in it)."""
     memo: dict[Any, dict[Any, int] | None] = {}
-    found = [_trig_degrees(e, memo) for e in (*position, *omega, *offset, length.a_z)]
+    found = [_trig_degrees(e, memo) for e in (*position, *omega)]
+    for product, expanded in zip(geometry.products or geometry.offset, geometry.offset):
+        degrees = _trig_degrees(product, memo)
+        found.append(_trig_degrees(expanded, memo) if degrees is None else degrees)
+    found.append(_trig_degrees(geometry.length.a_z, memo))
     parts = [degrees for degrees in found if degrees is not None]
     if len(parts) < len(found):
         return None

@@ -167,6 +167,8 @@ class RigidBody:
             raise ValueError(f"the planar body {self.name!r} has a scalar moment of inertia")
         if isinstance(self.inertia, Shape):
             return self.inertia.tensor(self.mass)
+        if isinstance(self.inertia, sp.ImmutableMatrix):
+            return self.inertia  # a value: the same matrix, not a copy built again
         return sp.ImmutableMatrix(self.inertia)
 
 

@@ -315,7 +315,8 @@ def check_inertia(
     >>> check_inertia(sp.diag(1, 1, 3), "I", {})[0].message.split(" violate ")[1]
     'the triangle inequality I1 + I2 >= I3'
     """
-    matrix = to_matrix(inertia)
+    # read only: an immutable matrix is checked as it is, not copied
+    matrix = inertia if isinstance(inertia, sp.ImmutableMatrix) else to_matrix(inertia)
     rows, columns = matrix.shape
     if rows != columns:
         fix = "give the tensor as a square matrix (3x3: [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], ...])"
