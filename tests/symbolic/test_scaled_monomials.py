@@ -1,6 +1,6 @@
-"""The conversion's shortcuts for the terms of sums and for sines and cosines of symbols:
-each result the same expression (equal arguments in the same order, srepr-identical) as
-SymPy's own constructors build."""
+"""The conversion's shortcuts for the terms of sums, a number times a sum, powers, and sines
+and cosines of symbols: each result the same expression (equal arguments in the same order,
+srepr-identical) as SymPy's own constructors build."""
 
 from __future__ import annotations
 
@@ -9,8 +9,9 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from lagrangian.size_limits import operations
 from lagrangian.symbolic.canonical import Builder
-from lagrangian.symbolic.sympy_view import SympyView
+from lagrangian.symbolic.sympy_view import SympyView, plain_power
 
 x, y, z = sp.symbols("x y z")
 s = sp.Symbol("s", positive=True)
@@ -110,3 +111,67 @@ def test_numbers_are_those_sympify_makes() -> None:
         total = number * bx + by
         expected = sp.Add(*[sp.sympify(a) for a in total.args]) if total.is_Add else y
         assert_identical(view(total), expected)
+
+
+SUM_TERMS = [bx, bx * by, se.sin(bx) * se.cos(by) ** 2, bz + by, (bx + by) * bz]
+SUM_TERMS += [se.sqrt(bx + bz) * by, se.cos(bx - by) * bx**2]
+
+
+@settings(deadline=None, max_examples=300)
+@given(
+    st.sampled_from([-1, 2, -3, se.Rational(-1, 2), se.Rational(3, 4)]),
+    st.sampled_from([0, 1, -5, se.Rational(1, 3)]),
+    st.lists(
+        st.tuples(st.sampled_from([1, -1, 2, se.Rational(-2, 3)]), st.sampled_from(SUM_TERMS)),
+        min_size=1,
+        max_size=6,
+    ),
+)
+def test_a_rational_times_a_sum_is_sympys_distributed_product(
+    number: object, constant: object, terms: list[tuple[object, object]]
+) -> None:
+    """A rational number times a sum (SymEngine keeps the product, SymPy's Mul distributes
+    the number), each term made from its coefficient times the number: SymPy's Mul of the
+    two converted, and the operations SymEngine counts."""
+    total = se.Add(constant, *[c * t for c, t in terms])
+    product = se.Mul(number, total)
+    view = SympyView([x, y, z])
+    if product.is_Mul:  # else SymEngine made something else of it (a lone term scaled)
+        expected = sp.Mul(*[sp.sympify(a) for a in product.args])
+        assert_identical(view(product), expected)
+        assert view.operations(product) == operations(product)
+    assert_identical(view(total), sp.sympify(total))  # the sum itself, converted after
+
+
+def test_a_number_times_a_sum_with_other_coefficients_is_sympys_product() -> None:
+    """A Float among the coefficients, or a Float number: SymPy's Mul, as before."""
+    view = SympyView([x, y, z])
+    for product in (
+        se.Mul(-1, se.Add(se.RealDouble(0.5) * bx, by)),
+        se.Mul(se.RealDouble(2.5), se.Add(bx, by)),
+    ):
+        expected = sp.Mul(*[sp.sympify(a) for a in product.args])
+        assert_identical(view(product), expected)
+
+
+def test_powers_of_symbols_and_function_values_are_sympys() -> None:
+    """plain_power against sp.Pow for symbols of several assumptions, function values
+    (those whose class changes its powers go through sp.Pow), and every kind of rational
+    exponent."""
+    f = sp.Function("f")
+    bases = [sp.Symbol("a", **kind) for kind in ({}, {"positive": True}, {"negative": True})]
+    bases += [sp.Symbol("n", integer=True), sp.Symbol("c", commutative=False), sp.Dummy("d")]
+    bases += [sp.sin(x), sp.cos(x - y), f(x), sp.exp(x), sp.Abs(x), sp.sign(x), sp.sin(1)]
+    exponents = [sp.Integer(n) for n in (-3, -1, 0, 1, 2, 5)]
+    exponents += [sp.Rational(1, 2), sp.Rational(-3, 2), sp.Rational(2, 3)]
+    for base in bases:
+        for exponent in exponents:
+            made, expected = plain_power(base, exponent), sp.Pow(base, exponent)
+            assert_identical(made, expected)
+            assert made.is_commutative == expected.is_commutative
+
+
+def test_the_view_makes_powers_as_sympy_does() -> None:
+    view = SympyView([x, y])
+    for power in (bx**2, bx ** se.Rational(1, 2), se.sin(bx) ** -3, se.cos(bx - by) ** 2):
+        assert_identical(view(power), sp.sympify(power))

@@ -19,10 +19,11 @@ from typing import Any, NamedTuple
 
 import symengine as se
 import sympy as sp
+from sympy.core.parameters import global_parameters
 
 from lagrangian.size_limits import active_operations, check_operations
 from lagrangian.symbolic.caches import IdentityCache
-from lagrangian.symbolic.canonical import EXPR, Builder, Monomial, Part
+from lagrangian.symbolic.canonical import EXPR, KIND, PLAIN, RATIONAL, Builder, Monomial, Part
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.nonsmooth import piecewise_smooth
 
@@ -114,14 +115,25 @@ class SympyView:
             terms, count = self._terms(expr)
             result = build.sum(terms)
         elif expr.is_Mul:
-            parts, count = self._arguments(expr)
-            result = build.product(parts)
+            factors = expr.args
+            distributed = (
+                self._distributed(*factors)
+                if len(factors) == 2 and factors[1].is_Add and factors[0].is_Rational
+                else None
+            )
+            if distributed is None:
+                parts, count = self._arguments(factors)
+                result = build.product(parts)
+            else:
+                result, count = distributed
         elif expr.is_Pow:
             base, exponent = expr.args
             (power, base_count, _), (root, exponent_count, _) = map(self._converted, expr.args)
             count = self._within(1 + base_count + exponent_count)
             if base.is_Add and exponent.is_Rational:
                 result = build.part(sympy_sum_power(power[EXPR], root[EXPR], base.has(se.I)))
+            elif power[KIND] == PLAIN and root[KIND] == RATIONAL:
+                result = build.part(plain_power(power[EXPR], root[EXPR]))
             else:
                 result = build.part(sp.Pow(power[EXPR], root[EXPR]))
         elif type(expr) in _TRIG:
@@ -171,12 +183,12 @@ class SympyView:
             check_operations(count, named(index))
         return part[EXPR]
 
-    def _arguments(self, expr: Backend) -> tuple[tuple[Part, ...], int]:
-        """The arguments of the sum or product ``expr`` converted (most are met before:
-        looked up directly), and the operations of ``expr``."""
+    def _arguments(self, arguments: tuple[Backend, ...]) -> tuple[tuple[Part, ...], int]:
+        """The ``arguments`` of a product converted (most are met before: looked up
+        directly), and the operations of the product."""
         get, convert, clashing = self._memo.get, self._convert, self._clashing
         parts, counts = [], 0
-        for a in expr.args:  # _converted, inline: a product's factors are most lookups
+        for a in arguments:  # _converted, inline: a product's factors are most lookups
             known = get(hash(a))
             if known is None:
                 known = convert(a)
@@ -215,6 +227,32 @@ class SympyView:
             count += 1 + operations
         return parts, self._within(count)
 
+    def _distributed(self, number: Backend, total: Backend) -> tuple[Part, int] | None:
+        """The rational ``number`` times the sum ``total`` converted, with its operations:
+        SymPy's Mul distributes the number (``_keep_coeff`` of each term), SymEngine keeps
+        the product (a gamma's -(rate)).  Each term is made once, as the number times its
+        coefficient (multiplied in SymEngine) times its factors (:meth:`_scaled`), where
+        converting the sum first made each of its terms and then each again times the
+        number.  None (converted as a product) when a coefficient is not rational, or
+        SymPy's products do not distribute."""
+        coefficients = total.as_coefficients_dict()
+        if not global_parameters.distribute or not all(
+            c.is_Rational for c in coefficients.values()
+        ):
+            return None
+        items = iter(coefficients.items())
+        _, constant = next(items)  # the constant comes first, under the key 1
+        parts = [] if constant is _ZERO else [self._converted(number * constant)[0]]
+        # the operations of number * total as written: one for the product, one between
+        # each two of the sum's arguments, and each term's, with one for its coefficient
+        # unless that is 1 (_scaled counts one for every number)
+        count = len(parts)
+        for term, coefficient in items:
+            part, operations = self._scaled(self._converted(number * coefficient)[0], term)
+            parts.append(part)
+            count += 1 + operations - (coefficient is _ONE)
+        return self._builder.sum(parts), self._within(count)
+
     def _scaled(self, number: Part, term: Backend) -> tuple[Part, int]:
         """The product of a number and a term converted, with its operations: the product
         SymEngine makes of the two (the number and the term's factors, in its order), made
@@ -242,7 +280,7 @@ class SympyView:
         """The factors of the term of a sum (itself if it is not a product) converted and
         read for scaling, the term's operations, and the term."""
         if term.is_Mul:
-            parts, count = self._arguments(term)
+            parts, count = self._arguments(term.args)
         else:
             part, count, _ = self._converted(term)
             parts = (part,)
@@ -406,7 +444,9 @@ def sympy_sum_power(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) ->
     two terms is infinite, which walks SymPy's assumptions through the whole sum (a steered
     wheel's tilt: a tenth of the time of making its constraints).  A sum with a Float
     coefficient goes through ``sp.Pow``: SymPy before 1.14 takes the Float out of such a
-    sum raised to a power other than +-1 (``(2.0 + 4 x)**2`` as ``16 (0.5 + x)**2``).
+    sum raised to a power other than +-1 (``(2.0 + 4 x)**2`` as ``16 (0.5 + x)**2``); a
+    term's number is read as its first argument (what ``as_coeff_Mul`` returns, without the
+    product of the other factors it makes).
 
     >>> x, y = sp.symbols("x y")
     >>> root = sympy_sum_power(1 - (x * y + x) ** 2, sp.Rational(1, 2), imaginary=False)
@@ -420,12 +460,44 @@ def sympy_sum_power(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) ->
         or exponent is sp.S.Zero
         or exponent is sp.S.One
         or base.is_number is not False
-        or any(term.as_coeff_Mul()[0].is_Float for term in base.args)
+        or any((term.args[0] if term.is_Mul else term).is_Float for term in base.args)
     ):
         return sp.Pow(base, exponent)
     power = sp.Expr.__new__(sp.Pow, base, exponent)
     power.is_commutative = base.is_commutative and exponent.is_commutative
     return power
+
+
+def plain_power(base: sp.Expr, exponent: sp.Rational) -> sp.Expr:
+    """``sp.Pow(base, exponent)``, the same expression, for a symbol or a function value
+    ``base`` (a sine, a length) and a rational ``exponent``, built without SymPy's
+    evaluation when the base's class leaves powers to ``Expr._eval_power`` (which returns
+    nothing) and the exponent is neither 0 nor 1: then all that ``Pow.__new__`` does with a
+    base that is not a number is ask ``_eval_power`` (the rules before it are for numeric
+    bases, infinite, zero or unit exponents and non-atomic ones), after looking the call up
+    in SymPy's cache (about 20 us a power, where this takes 2).  The value of any other
+    function (exp, Abs, sign, ...) goes through ``sp.Pow``.
+
+    >>> x = sp.Symbol("x")
+    >>> square = plain_power(sp.sin(x), sp.Integer(2))
+    >>> sp.srepr(square) == sp.srepr(sp.sin(x) ** 2), square.is_commutative
+    (True, True)
+    """
+    if (
+        type(base)._eval_power is not _DEFAULT_POWER
+        or not exponent.is_Rational
+        or exponent is sp.S.Zero
+        or exponent is sp.S.One
+        or base.is_Number
+    ):
+        return sp.Pow(base, exponent)
+    power = sp.Expr.__new__(sp.Pow, base, exponent)
+    power.is_commutative = base.is_commutative and exponent.is_commutative
+    return power
+
+
+#: What ``Pow.__new__`` asks of a base whose class does not change its powers.
+_DEFAULT_POWER = sp.Expr._eval_power
 
 
 def _immutable(rows: int, columns: int, entries: list[sp.Expr]) -> sp.ImmutableMatrix:
@@ -591,6 +663,7 @@ __all__ = [
     "TreeOperations",
     "backend_entries",
     "cycle_collection_paused",
+    "plain_power",
     "sympy_sum_power",
     "unevaluated_trig",
 ]
