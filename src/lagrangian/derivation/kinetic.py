@@ -1152,6 +1152,8 @@ def _add_gram(
         _add_moving_gram(algebra, shares, weight, crossed)
         return
     twice = algebra.scale({ONE: scale}, 2)[ONE]
+    # each row's monomials times the weight once, not once for every entry they meet
+    weighted = [([algebra.scale(p, scale) for p in a], b) for a, b in crossed]
     for j in range(n):
         target = shares[j][j]
         for a, b in pairs:
@@ -1162,9 +1164,9 @@ def _add_gram(
                     algebra.accumulate_product(target, a[j], b[j], twice)
         for k in range(j + 1, n):
             target = shares[j][k]
-            for a, b in crossed:
+            for a, b in weighted:
                 if a[j] and b[k]:
-                    algebra.accumulate_product(target, a[j], b[k], scale)
+                    algebra.accumulate_product(target, a[j], b[k])
 
 
 def _add_square(
@@ -1283,9 +1285,19 @@ def _symbol(algebra: TrigAlgebra, parts: list[tuple[Poly, Number]]) -> Poly:
     its velocity pair: its monomials have no velocity, so pair times them are monomials of
     no other pair, and what cancels in a row cancels within one symbol (a fifth of a
     bicycle's monomials of C q_dot); so the cancelled monomials are never multiplied by
-    the pair, nor written out as zero terms of the row's expression."""
+    the pair, nor written out as zero terms of the row's expression.
+
+    Two parts that are one polynomial are one part with the sum of their scales (0: they
+    cancel): a translation's column of M is a gradient, dM_xk/dq_l = dM_xl/dq_k, so the
+    symbols of a bicycle's rows for yaw, lean, pitch and steer with the pairs of x or y are
+    such differences, and the rows of x and y such sums (24 and 12 of its 51 symbols of two
+    parts; one dict comparison, where summing them formed every term and cancelled it)."""
+    if len(parts) == 2 and parts[0][0] == parts[1][0]:
+        parts = [(parts[0][0], parts[0][1] + parts[1][1])]
     if len(parts) == 1:
         p, scale = parts[0]
+        if scale == 0:
+            return {}
         return p if scale == 1 else algebra.scale(p, scale)
     symbol = Sum()
     for p, scale in parts:
