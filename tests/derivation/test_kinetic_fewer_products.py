@@ -15,9 +15,10 @@ import symengine as se
 from lagrangian.derivation.kinetic import (
     _add_gram,
     _christoffel,
+    _symbol,
     _turn,
 )
-from lagrangian.derivation.trig_polynomial import Sum
+from lagrangian.derivation.trig_polynomial import Sum, TrigAlgebra
 
 
 def _gram(algebra, weight, first, second, n):
@@ -106,3 +107,20 @@ def test_two_rows_turned_are_the_textbook_combination(bicycle_fork: tuple[Any, .
         algebra.finish(algebra.add([algebra.multiply(minus_s, a), algebra.multiply(c, b)]))
         for a, b in zip(world[0], world[1])
     ]
+
+
+def test_a_symbol_of_two_equal_parts_is_their_textbook_sum_with_floats_too() -> None:
+    """Two parts that are one polynomial (the derivatives of a translation's column of M)
+    are taken once with the sum of their scales: the same as adding the scaled parts, exactly,
+    with integer, fraction and float coefficients."""
+    lean, steer, m, c = se.symbols("lean steer m c")
+    algebra = TrigAlgebra([lean, steer])
+    for number in (se.Integer(3), se.Rational(5, 7), se.RealDouble(0.1)):
+        p = algebra.finish(
+            algebra.convert(number * m * se.sin(lean) * se.cos(steer) + c * se.cos(lean) ** 2)
+        )
+        for scales in ((1, 1), (1, -1), (1, Fraction(-1, 2))):
+            parts = [(p, scale) for scale in scales]
+            textbook = algebra.finish(algebra.add([algebra.scale(q, k) for q, k in parts]))
+            assert _symbol(algebra, parts) == textbook
+    assert _symbol(algebra, [(p, 1), (dict(p), -1)]) == {}

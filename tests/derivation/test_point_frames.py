@@ -1,6 +1,8 @@
 """The points' Jacobian rows turned into the frames their centres hang from
 (lagrangian.derivation.assemble.frames_carried, kinetic._carried): J^T J is unchanged,
-(R^T J)^T R^T J = J^T J, and the chain is read from the model, never guessed."""
+(R^T J)^T R^T J = J^T J, and the chain is read from the model, never guessed; each entry
+of J^T J formed in the frame where it has the fewest products (kinetic._entries_by_frame)
+is the entry formed in world axes."""
 
 from __future__ import annotations
 
@@ -10,16 +12,16 @@ import sympy as sp
 
 import lagrangian as lg
 from lagrangian.derivation.assemble import assemble, frames_carried
-from lagrangian.derivation.kinetic import _add_gram
+from lagrangian.derivation.kinetic import _add_gram, _entries_by_frame, _frames
 from lagrangian.derivation.trig_polynomial import Sum
 from lagrangian.examples import BENCHMARKS
 from lagrangian.model.rotation import axis_angle, euler_rotation
 
 
-def _gram(algebra, weight, rows, n):
-    """weight J^T J as finished polynomials, upper triangle."""
+def _gram(algebra, weight, rows, n, entries=None):
+    """weight J^T J as finished polynomials, upper triangle (``entries`` only, when given)."""
     shares = [[Sum() for _ in range(n)] for _ in range(n)]
-    _add_gram(algebra, shares, algebra.convert(weight), rows, rows)
+    _add_gram(algebra, shares, algebra.convert(weight), rows, rows, entries)
     return {
         (j, k): algebra.finish(algebra.gather(shares[j][k])) for j in range(n) for k in range(j, n)
     }
@@ -51,6 +53,38 @@ def test_the_fork_has_the_same_gram_matrix_in_its_frame_with_fewer_terms(
     assert _monomials(turned) < 0.6 * _monomials(world)
     n = len(asm.q)
     assert _gram(algebra, fork.mass, turned, n) == _gram(algebra, fork.mass, world, n)
+
+
+def test_each_entry_formed_in_the_frame_of_its_fewest_products_is_the_world_entry(
+    bicycle_fork: tuple[Any, ...],
+) -> None:
+    """The fork's entries spread over the world axes and the frames of the heading, the
+    lean and the pitch (the translations' entries in world axes, where their column is a
+    unit vector), each once; together they are J^T J formed in world axes, with fewer
+    products than in the last frame alone."""
+    asm, algebra, fork, world, _ = bicycle_fork
+    n = len(asm.q)
+    frames = _frames(algebra, world, frames_carried(fork.orientation, fork.position, asm.q))
+    chosen = _entries_by_frame(frames)
+    assert len(chosen) == 4
+    assert [rows for rows, _ in chosen] == frames
+    every = [entry for _, entries in chosen for entry in entries]
+    assert len(every) == len(set(every))
+    x_row = next(entries for rows, entries in chosen if rows is world)
+    assert (0, 0) in x_row and (1, 1) in x_row  # M_xx = M_yy = m: one product each
+    made = {}
+    for rows, entries in chosen:
+        made.update(
+            {e: p for e, p in _gram(algebra, fork.mass, rows, n, entries).items() if e in entries}
+        )
+    expected = _gram(algebra, fork.mass, world, n)
+    assert {e: p for e, p in made.items() if p} == {e: p for e, p in expected.items() if p}
+
+    def products(rows, entries):
+        return sum(len(row[j]) * len(row[k]) for j, k in entries for row in rows)
+
+    upper = {(j, k) for j in range(n) for k in range(j, n)}
+    assert sum(products(rows, entries) for rows, entries in chosen) < products(frames[-1], upper)
 
 
 def test_orientations_not_known_as_a_chain_carry_nothing() -> None:

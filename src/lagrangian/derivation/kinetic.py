@@ -919,9 +919,9 @@ def _canonical_form(asm: Assembly, explicit: Matrix, algebra: TrigAlgebra) -> Ki
         for k in range(j, n):
             shares[j][k].add(algebra.convert(explicit[j][k]))
     for weight, rows, centre in weighted:
-        if centre is not None:
-            rows = _point_axes(algebra, rows, centre, asm.q)
-        _add_gram(algebra, shares, algebra.convert(weight), rows, rows)
+        frames = [rows] if centre is None else _point_axes(algebra, rows, centre, asm.q)
+        for rows, entries in _entries_by_frame(frames):
+            _add_gram(algebra, shares, algebra.convert(weight), rows, rows, entries)
     for rotation in asm.rotations:
         _add_rotation_share(algebra, shares, rotation, asm)
     mass_poly: list[list[Poly]] = [[{} for _ in range(n)] for _ in range(n)]
@@ -1037,29 +1037,69 @@ def _turned(algebra: TrigAlgebra, rows: list[list[Poly]]) -> list[list[Poly]]:
 
 def _point_axes(
     algebra: TrigAlgebra, rows: list[list[Poly]], point: InertialPoint, q: tuple[Backend, ...]
-) -> list[list[Poly]]:
-    """The rows of a point's Jacobian in the axes of the frames it hangs from when they are
-    known, else in the axes :func:`_turned` finds (a 3-D point), else as they are."""
+) -> list[list[list[Poly]]]:
+    """The rows of a point's Jacobian in world axes, then in the axes of each frame it hangs
+    from when they are known, else in the axes :func:`_turned` finds (a 3-D point), else
+    as they are: J^T J is the same in each, and each entry is formed in the axes where it
+    has the fewest products (:func:`_entries_by_frame`)."""
     carried = frames_carried(point.orientation, point.position, q)
     if carried:
-        return _carried(algebra, rows, carried)
-    return _turned(algebra, rows) if len(rows) == 3 else rows
+        return _frames(algebra, rows, carried)
+    turned = _turned(algebra, rows) if len(rows) == 3 else rows
+    return [rows] if turned is rows else [rows, turned]
 
 
 def _carried(
     algebra: TrigAlgebra, rows: list[list[Poly]], turns: tuple[tuple[int, Backend], ...]
 ) -> list[list[Poly]]:
-    """The rows of a point's Jacobian in the axes of the frames its centre hangs from,
-    (R^T J)^T R^T J = J^T J for R = R_1(a_1) ... R_m(a_m) the leading rotations of its
-    body's chain (:func:`lagrangian.derivation.assemble.frames_carried`): R_i^T turns the
-    two rows across axis i, one rotation after another.  In those axes the centre's velocity
-    has the monomials of its offset in the last frame (a bicycle's fork: 72 in all against
-    107 in axes turned by the heading alone)."""
+    """The rows of a point's Jacobian in the axes of the frames its centre hangs from
+    (the last of :func:`_frames`)."""
+    return _frames(algebra, rows, turns)[-1]
+
+
+def _frames(
+    algebra: TrigAlgebra, rows: list[list[Poly]], turns: tuple[tuple[int, Backend], ...]
+) -> list[list[list[Poly]]]:
+    """The rows of a point's Jacobian in world axes and in the axes of each frame its
+    centre hangs from, (R^T J)^T R^T J = J^T J for R = R_1(a_1) ... R_m(a_m) the leading
+    rotations of its body's chain (:func:`lagrangian.derivation.assemble.frames_carried`):
+    R_i^T turns the two rows across axis i, one rotation after another.  In the last
+    frame the centre's velocity has the monomials of its offset there (a bicycle's fork: 72
+    in all against 107 in axes turned by the heading alone, 176 in world axes)."""
+    frames = [rows]
     for axis, angle in turns:
         j, k = (axis + 1) % 3, (axis + 2) % 3
         rows = list(rows)
         rows[j], rows[k] = _turn(algebra, rows[j], rows[k], angle, 1)
-    return rows
+        frames.append(rows)
+    return frames
+
+
+def _entries_by_frame(
+    frames: list[list[list[Poly]]],
+) -> list[tuple[list[list[Poly]], set[tuple[int, int]]]]:
+    """The rows of each of ``frames`` (one point's Jacobian in several axes) with the
+    entries (j, k), j <= k, of J^T J to form in them: those whose products of monomials,
+    sum_r len(J_rj) len(J_rk), are fewest there (the last frame's when several tie).
+
+    A translation's column is (1, 0, 0) in world axes and R^T (1, 0, 0) in a body's, whose
+    products with the other columns cancel by sin^2 + cos^2 = 1 (M_xx = m from 3 rows of
+    products): a bicycle's entries in x and y are fewest in world axes, the rest in the
+    frames of the heading, the lean or the pitch (12 % fewer products than all in the last
+    frame)."""
+    n = len(frames[0][0])
+    sizes = [[[len(p) for p in row] for row in rows] for rows in frames]
+    chosen: list[set[tuple[int, int]]] = [set() for _ in frames]
+    for j in range(n):
+        for k in range(j, n):
+            costs = [sum(row[j] * row[k] for row in rows) for rows in sizes]
+            best = len(costs) - 1
+            for at in range(best - 1, -1, -1):
+                if costs[at] < costs[best]:
+                    best = at
+            if costs[best]:
+                chosen[best].add((j, k))
+    return [(rows, entries) for rows, entries in zip(frames, chosen) if entries]
 
 
 def _spun_back(
@@ -1134,9 +1174,11 @@ def _add_gram(
     weight: Poly,
     first: list[list[Poly]],
     second: list[list[Poly]],
+    entries: set[tuple[int, int]] | None = None,
 ) -> None:
     """Add weight * sum_r (first_rj second_rk + second_rj first_rk) (once when ``first`` is
-    ``second``: weight J^T J) to the upper triangle of the entries' sums.
+    ``second``: weight J^T J) to the upper triangle of the entries' sums (those of
+    ``entries`` only, when given).
 
     On the diagonal the two products of a pair of monomials are one product taken twice
     (first_rj second_rj and second_rj first_rj; in a square, x_a x_b and x_b x_a): each is
@@ -1145,26 +1187,34 @@ def _add_gram(
     n = len(shares)
     if not weight:
         return
+    if entries is None:
+        entries = {(j, k) for j in range(n) for k in range(j, n)}
     pairs = list(zip(first, second))
     crossed = pairs + ([] if first is second else [(b, a) for a, b in pairs])
     scale = weight.get(ONE) if len(weight) == 1 else None
     if scale is None:  # a weight that moves (never a mass or an inertia)
-        _add_moving_gram(algebra, shares, weight, crossed)
+        _add_moving_gram(algebra, shares, weight, crossed, entries)
         return
     twice = algebra.scale({ONE: scale}, 2)[ONE]
-    for j in range(n):
-        target = shares[j][j]
-        for a, b in pairs:
-            if a[j] and b[j]:
-                if first is second:
-                    _add_square(algebra, target, a[j], scale, twice)
-                else:
-                    algebra.accumulate_product(target, a[j], b[j], twice)
-        for k in range(j + 1, n):
-            target = shares[j][k]
-            for a, b in crossed:
-                if a[j] and b[k]:
-                    algebra.accumulate_product(target, a[j], b[k], scale)
+    # each row's monomials times the weight once, not once for every entry they meet
+    columns = {j for j, k in entries if j != k}
+    weighted = [
+        ([algebra.scale(p, scale) if j in columns else p for j, p in enumerate(a)], b)
+        for a, b in crossed
+    ]
+    for j, k in sorted(entries):
+        target = shares[j][k]
+        if j == k:
+            for a, b in pairs:
+                if a[j] and b[j]:
+                    if first is second:
+                        _add_square(algebra, target, a[j], scale, twice)
+                    else:
+                        algebra.accumulate_product(target, a[j], b[j], twice)
+            continue
+        for a, b in weighted:
+            if a[j] and b[k]:
+                algebra.accumulate_product(target, a[j], b[k])
 
 
 def _add_square(
@@ -1183,16 +1233,15 @@ def _add_moving_gram(
     shares: list[list[Sum]],
     weight: Poly,
     crossed: list[tuple[list[Poly], list[Poly]]],
+    entries: set[tuple[int, int]],
 ) -> None:
     """:func:`_add_gram` for a weight that is a polynomial of the state, each product of
     the rows' pairs ``crossed`` (both ways round unless the rows are one) made and
-    multiplied by it."""
-    n = len(shares)
-    for j in range(n):
-        for k in range(j, n):
-            for a, b in crossed:
-                if a[j] and b[k]:
-                    shares[j][k].add(algebra.multiply(weight, algebra.multiply(a[j], b[k])))
+    multiplied by it, in the ``entries`` (j, k)."""
+    for j, k in sorted(entries):
+        for a, b in crossed:
+            if a[j] and b[k]:
+                shares[j][k].add(algebra.multiply(weight, algebra.multiply(a[j], b[k])))
 
 
 def _add_rotation_share(
@@ -1283,9 +1332,19 @@ def _symbol(algebra: TrigAlgebra, parts: list[tuple[Poly, Number]]) -> Poly:
     its velocity pair: its monomials have no velocity, so pair times them are monomials of
     no other pair, and what cancels in a row cancels within one symbol (a fifth of a
     bicycle's monomials of C q_dot); so the cancelled monomials are never multiplied by
-    the pair, nor written out as zero terms of the row's expression."""
+    the pair, nor written out as zero terms of the row's expression.
+
+    Two parts that are one polynomial are one part with the sum of their scales (0: they
+    cancel): a translation's column of M is a gradient, dM_xk/dq_l = dM_xl/dq_k, so the
+    symbols of a bicycle's rows for yaw, lean, pitch and steer with the pairs of x or y are
+    such differences, and the rows of x and y such sums (24 and 12 of its 51 symbols of two
+    parts; one dict comparison, where summing them formed every term and cancelled it)."""
+    if len(parts) == 2 and parts[0][0] == parts[1][0]:
+        parts = [(parts[0][0], parts[0][1] + parts[1][1])]
     if len(parts) == 1:
         p, scale = parts[0]
+        if scale == 0:
+            return {}
         return p if scale == 1 else algebra.scale(p, scale)
     symbol = Sum()
     for p, scale in parts:
