@@ -59,7 +59,7 @@ def test_a_binary_is_used_only_while_its_source_is_unchanged(tmp_path: Path) -> 
     assert compiled.compiled_binary(MODULE, tmp_path, source) is None  # none compiled
     binary = tmp_path / (compiled.binary_stem(MODULE, source.read_bytes()) + SUFFIX)
     binary.write_bytes(b"")
-    assert compiled.compiled_binary(MODULE, tmp_path, source) == binary
+    assert compiled.compiled_binary(MODULE, tmp_path, source) == str(binary)
     source.write_text("x = 2\n")  # edited since: the binary is another version's
     assert compiled.compiled_binary(MODULE, tmp_path, source) is None
 
@@ -79,7 +79,7 @@ def test_pure_python_is_asked_for_by_the_environment(
 def test_only_the_listed_modules_are_looked_for() -> None:
     assert compiled.CompiledFinder.find_spec("lagrangian.derivation.kinetic") is None
     assert compiled.compiled_binary("lagrangian.derivation.kinetic") is None
-    assert compiled.source_path(MODULE) == Path(lg.__file__).parent / "derivation" / (
+    assert Path(compiled.source_path(MODULE)) == Path(lg.__file__).parent / "derivation" / (
         "trig_polynomial.py"
     )
 
@@ -91,11 +91,11 @@ def test_the_loaded_form_is_the_one_reported() -> None:
     ran = "python" if origin.suffix == ".py" else "compiled"
     assert compiled.modules()[MODULE] == ran
     # the source is the module's file either way (tracebacks, doctests, inspect read it)
-    assert Path(algebra.__file__) == compiled.source_path(MODULE)
+    assert Path(algebra.__file__) == Path(compiled.source_path(MODULE))
     if ran == "compiled":  # the binary of the source beside it, under the module's own name
-        assert origin.parent == compiled.FOLDER
+        assert origin.parent == Path(compiled.FOLDER)
         assert algebra.TrigAlgebra.__module__ == MODULE
-        assert compiled.compiled_binary(MODULE) == origin
+        assert Path(compiled.compiled_binary(MODULE) or "") == origin
 
 
 @pytest.mark.skipif(

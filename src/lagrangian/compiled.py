@@ -23,21 +23,25 @@ True
 
 from __future__ import annotations
 
-import hashlib
 import importlib.machinery
 import importlib.util
 import os
 import sys
-from collections.abc import Sequence
-from pathlib import Path
-from types import ModuleType
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+    from types import ModuleType
+
+# ``import lagrangian`` installs the finder, and the command line starts at once: no hashlib
+# or pathlib until a compiled module is looked for.
 
 #: The modules compiled at install: the term-by-term polynomial arithmetic of the 3-D
 #: derivation.  (Compiling the modules that mostly call SymPy and SymEngine gains nothing:
 #: their time is spent inside those libraries.)
 COMPILED = ("lagrangian.derivation.trig_polynomial",)
 #: The folder of the compiled modules, inside the package.
-FOLDER = Path(__file__).with_name("_compiled")
+FOLDER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_compiled")
 #: The environment variable that runs every module as Python.
 PURE_PYTHON = "LAGRANGIAN_PURE_PYTHON"
 #: Hex digits of the source's SHA-256 in a compiled module's file name.
@@ -47,14 +51,16 @@ DIGEST_DIGITS = 16
 def binary_stem(module: str, source: bytes) -> str:
     """The file name, without the platform's extension suffix, of ``module`` compiled from
     ``source`` (the bytes of its Python file)."""
+    import hashlib
+
     digest = hashlib.sha256(source).hexdigest()[:DIGEST_DIGITS]
     return f"{module.removeprefix('lagrangian.').replace('.', '__')}__{digest}"
 
 
-def source_path(module: str) -> Path:
+def source_path(module: str) -> str:
     """The Python source of ``module`` (one of :data:`COMPILED`) in this package."""
     parts = module.split(".")[1:]
-    return Path(__file__).parent.joinpath(*parts).with_suffix(".py")
+    return os.path.join(os.path.dirname(os.path.abspath(__file__)), *parts) + ".py"
 
 
 def pure_python() -> bool:
@@ -62,18 +68,24 @@ def pure_python() -> bool:
     return os.environ.get(PURE_PYTHON, "") not in ("", "0")
 
 
-def compiled_binary(module: str, folder: Path = FOLDER, source: Path | None = None) -> Path | None:
-    """The compiled file of ``module`` that matches its Python source now, or None (not
-    compiled, compiled from another version of the source, or pure Python asked for)."""
+def compiled_binary(
+    module: str,
+    folder: str | os.PathLike[str] = FOLDER,
+    source: str | os.PathLike[str] | None = None,
+) -> str | None:
+    """The path of the compiled file of ``module`` that matches its Python source now, or
+    None (not compiled, compiled from another version of the source, or pure Python asked
+    for)."""
     if pure_python() or module not in COMPILED:
         return None
     try:
-        text = (source or source_path(module)).read_bytes()
+        with open(source or source_path(module), "rb") as file:
+            text = file.read()
     except OSError:  # no source to vouch for the binary
         return None
     for suffix in importlib.machinery.EXTENSION_SUFFIXES:
-        binary = folder / (binary_stem(module, text) + suffix)
-        if binary.is_file():
+        binary = os.path.join(folder, binary_stem(module, text) + suffix)
+        if os.path.isfile(binary):
             return binary
     return None
 
@@ -83,13 +95,13 @@ class CompiledLoader(importlib.machinery.ExtensionFileLoader):
     bytes, by its digest) as the module's ``__file__``: tracebacks, ``inspect.getsource`` and
     the doctests find that source; ``__spec__.origin`` stays the binary."""
 
-    def __init__(self, fullname: str, binary: Path, source: Path) -> None:
-        super().__init__(fullname, str(binary))
+    def __init__(self, fullname: str, binary: str, source: str) -> None:
+        super().__init__(fullname, binary)
         self.source = source
 
     def exec_module(self, module: ModuleType) -> None:
         super().exec_module(module)
-        module.__file__ = str(self.source)
+        module.__file__ = self.source
 
 
 class CompiledFinder:
