@@ -11,9 +11,12 @@ is compiled.  ``LAGRANGIAN_PURE_PYTHON=1`` compiles nothing.
 from __future__ import annotations
 
 import importlib.util
+import os
+import sys
 from pathlib import Path
 
 from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
 
 HERE = Path(__file__).parent
 SOURCE = HERE / "src"
@@ -44,20 +47,37 @@ def extensions() -> list[Extension]:
         from Cython.Build import cythonize
     except ImportError:
         return []
-    out = []
-    for module in compiled.COMPILED:
-        source = SOURCE.joinpath(*module.split(".")).with_suffix(".py")
-        # the C source is generated under the module's own name (its init function, its
-        # classes' __module__), then built under the name that keeps it apart from the source
-        [generated] = cythonize(
-            [Extension(module, [str(source.relative_to(HERE))])],
+    sources = {
+        module: SOURCE.joinpath(*module.split(".")).with_suffix(".py")
+        for module in compiled.COMPILED
+    }
+    # the C sources are generated under the modules' own names (their init functions, their
+    # classes' __module__), then built under the names that keep them apart from the sources
+    try:
+        generated = cythonize(
+            [Extension(module, [str(path.relative_to(HERE))]) for module, path in sources.items()],
             compiler_directives=DIRECTIVES,
             build_dir="build/cython",
+            nthreads=os.cpu_count() or 1,
             quiet=True,
         )
-        stem = compiled.binary_stem(module, source.read_bytes())
-        out.append(Extension(f"lagrangian._compiled.{stem}", generated.sources, optional=True))
+    except Exception as error:  # a Cython that cannot read the source: it runs as Python
+        print(f"lagrangian: not compiled ({error}); the modules run as Python", file=sys.stderr)
+        return []
+    out = []
+    for ext in generated:
+        stem = compiled.binary_stem(ext.name, sources[ext.name].read_bytes())
+        out.append(Extension(f"lagrangian._compiled.{stem}", ext.sources, optional=True))
     return out
 
 
-setup(ext_modules=extensions())
+class BuildSideBySide(build_ext):
+    """Compiles the extensions in parallel, one per core (each is a large C file)."""
+
+    def finalize_options(self) -> None:
+        super().finalize_options()
+        if not self.parallel:
+            self.parallel = os.cpu_count() or 1
+
+
+setup(ext_modules=extensions(), cmdclass={"build_ext": BuildSideBySide})

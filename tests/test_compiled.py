@@ -3,6 +3,7 @@ source, and giving the same equations as the Python source they were compiled fr
 
 from __future__ import annotations
 
+import importlib
 import importlib.machinery
 import json
 import os
@@ -77,25 +78,26 @@ def test_pure_python_is_asked_for_by_the_environment(
 
 
 def test_only_the_listed_modules_are_looked_for() -> None:
-    assert compiled.CompiledFinder.find_spec("lagrangian.derivation.kinetic") is None
-    assert compiled.compiled_binary("lagrangian.derivation.kinetic") is None
+    assert "lagrangian.derivation.lagrange" not in compiled.COMPILED
+    assert compiled.CompiledFinder.find_spec("lagrangian.derivation.lagrange") is None
+    assert compiled.compiled_binary("lagrangian.derivation.lagrange") is None
     assert Path(compiled.source_path(MODULE)) == Path(lg.__file__).parent / "derivation" / (
         "trig_polynomial.py"
     )
 
 
-def test_the_loaded_form_is_the_one_reported() -> None:
-    import lagrangian.derivation.trig_polynomial as algebra
-
-    origin = Path(algebra.__spec__.origin)
+@pytest.mark.parametrize("name", compiled.COMPILED)
+def test_the_loaded_form_is_the_one_reported(name: str) -> None:
+    module = importlib.import_module(name)
+    origin = Path(module.__spec__.origin)
     ran = "python" if origin.suffix == ".py" else "compiled"
-    assert compiled.modules()[MODULE] == ran
+    assert compiled.modules()[name] == ran
     # the source is the module's file either way (tracebacks, doctests, inspect read it)
-    assert Path(algebra.__file__) == Path(compiled.source_path(MODULE))
+    assert Path(module.__file__) == Path(compiled.source_path(name))
     if ran == "compiled":  # the binary of the source beside it, under the module's own name
         assert origin.parent == Path(compiled.FOLDER)
-        assert algebra.TrigAlgebra.__module__ == MODULE
-        assert Path(compiled.compiled_binary(MODULE) or "") == origin
+        assert module.__name__ == name
+        assert Path(compiled.compiled_binary(name) or "") == origin
 
 
 @pytest.mark.skipif(

@@ -37,9 +37,22 @@ if TYPE_CHECKING:
 # or pathlib until a compiled module is looked for.
 
 #: The modules compiled at install: the term-by-term polynomial arithmetic of the 3-D
-#: derivation.  (Compiling the modules that mostly call SymPy and SymEngine gains nothing:
-#: their time is spent inside those libraries.)
-COMPILED = ("lagrangian.derivation.trig_polynomial",)
+#: derivation, and the walks over expressions whose own Python work (loops, dict lookups,
+#: calls) is a large part of their time: collecting by monomial, the conversion to SymPy
+#: and its canonical order, the safe parser, the rolling contacts, the Pfaffian forms.
+#: (The modules that mostly call SymPy and SymEngine gain nothing: their time is spent
+#: inside those libraries.)
+COMPILED = (
+    "lagrangian.derivation.trig_polynomial",
+    "lagrangian.derivation.collect",
+    "lagrangian.derivation.kinetic",
+    "lagrangian.symbolic.sympy_view",
+    "lagrangian.symbolic.canonical",
+    "lagrangian.symbolic.native",
+    "lagrangian.symbolic.expressions",
+    "lagrangian.model.contact",
+    "lagrangian.constraints.pfaffian",
+)
 #: The folder of the compiled modules, inside the package.
 FOLDER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "_compiled")
 #: The environment variable that runs every module as Python.
