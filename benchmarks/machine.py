@@ -24,3 +24,19 @@ def cpu_model() -> str:
     except OSError:
         pass
     return platform.processor() or "unknown"
+
+
+def compiled_forms() -> str:
+    """How lagrangian's compiled modules run here (``lagrangian.compiled``): "all 9 compiled",
+    "Python (not compiled)", or which are."""
+    try:
+        from lagrangian.compiled import modules
+    except ImportError:
+        return "unknown (lagrangian not importable)"
+    forms = modules()
+    done = [name for name, form in forms.items() if form == "compiled"]
+    if len(done) == len(forms):
+        return f"all {len(forms)} compiled"
+    if not done:
+        return "Python (not compiled)"
+    return f"{len(done)} of {len(forms)} compiled: {', '.join(done)}"

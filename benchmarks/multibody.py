@@ -68,7 +68,7 @@ import sys
 import time
 from pathlib import Path
 
-from machine import cpu_model, package_version
+from machine import compiled_forms, cpu_model, package_version
 
 HERE = Path(__file__).resolve()
 SRC = HERE.parents[1] / "src"
@@ -721,6 +721,7 @@ def record(
             f"- CPU: {cpu_model()} ({os.cpu_count()} cores)",
             f"- python {platform.python_version()}, sympy {package_version('sympy')}, "
             f"symengine {package_version('symengine')}",
+            f"- lagrangian's compiled modules: {compiled_forms()}",
             f"- 1-minute load average at the end: {load:.2f}",
             "",
             f"`{command}`; see the docstring for what is timed.",

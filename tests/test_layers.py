@@ -25,6 +25,7 @@ RANKS = {
     "symbolic": 3,
     "limits": 0,
     "lazy_names": 0,
+    "compiled": 0,
     "size_limits": 0,
     "errors": 0,
 }

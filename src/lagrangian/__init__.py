@@ -21,6 +21,7 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
+from lagrangian import compiled
 from lagrangian.errors import (
     AnalysisError,
     ArgumentError,
@@ -37,6 +38,8 @@ from lagrangian.errors import (
     TimeLimitError,
 )
 from lagrangian.lazy_names import lazy_attribute
+
+compiled.install()  # the modules compiled at install, while they match their source
 
 if TYPE_CHECKING:
     from lagrangian import examples, io, render
