@@ -27,7 +27,7 @@ def cpu_model() -> str:
 
 
 def compiled_forms() -> str:
-    """How lagrangian's compiled modules run here (``lagrangian.compiled``): "all 9 compiled",
+    """How lagrangian's compiled modules run here (``lagrangian.compiled``): "all 8 compiled",
     "Python (not compiled)", or which are."""
     try:
         from lagrangian.compiled import modules

@@ -41,11 +41,13 @@ if TYPE_CHECKING:
 #: calls) is a large part of their time: collecting by monomial, the conversion to SymPy
 #: and its canonical order, the safe parser, the rolling contacts, the Pfaffian forms.
 #: (The modules that mostly call SymPy and SymEngine gain nothing: their time is spent
-#: inside those libraries.)
+#: inside those libraries.)  Cython computes with C integers where both operands are C's:
+#: ``1 << len(bits)`` wraps past 63 bits.  None of these modules shifts or raises a length
+#: or an index; the kinetic form's bit sets of holders (a chain's points) do, so it stays
+#: Python.
 COMPILED = (
     "lagrangian.derivation.trig_polynomial",
     "lagrangian.derivation.collect",
-    "lagrangian.derivation.kinetic",
     "lagrangian.symbolic.sympy_view",
     "lagrangian.symbolic.canonical",
     "lagrangian.symbolic.native",

@@ -87,3 +87,16 @@ def test_pythagoras_with_parameters_in_the_coefficients() -> None:
     algebra = TrigAlgebra(STATE)
     expr = m / k * se.cos(x) ** 2 * (a + 1) + (a * m / k + m / k) * se.sin(x) ** 2
     assert algebra.expression(algebra.finish(algebra.convert(expr))) == se.expand(m / k * (a + 1))
+
+
+def test_an_integer_and_a_float_coefficient_are_built_apart() -> None:
+    """2 and 2.0 are equal dict keys: a coefficient 2.0 built after a coefficient 2 (or the
+    other way round) must still come back a double (an integer), as SymEngine writes it."""
+    for first, second in ((se.Integer(2), se.RealDouble(2.0)), (se.RealDouble(2.0), se.Integer(2))):
+        algebra = TrigAlgebra(STATE)
+        built = [
+            algebra.expression(algebra.finish(algebra.convert(number * m * x)))
+            for number in (first, second)
+        ]
+        assert [type(e.args[0]) for e in built] == [type(first), type(second)]
+        assert built == [se.expand(first * m * x), se.expand(second * m * x)]

@@ -11,9 +11,6 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import Any
 
-import symengine as se
-import sympy as sp
-
 from lagrangian.symbolic.native import to_symengine
 from lagrangian.symbolic.sympy_view import (
     Backend,
@@ -40,23 +37,6 @@ def to_backend(expr: Any) -> Backend:
     return to_symengine(expr)
 
 
-def vector_to_backend(
-    values: Iterable[Any], terms: dict[Any, Backend] | None = None
-) -> list[Backend]:
-    """Each of ``values`` in SymEngine (:func:`to_backend`).  With ``terms``, the terms of a
-    SymPy sum are converted once across calls and remembered there, the sum made of them: the
-    positions of a chain repeat the terms of the points above them (link k's in every point
-    below it), n^2/2 terms for n points, of which n differ."""
-    if terms is None:
-        return [to_symengine(v) for v in values]
-    return [_sum_to_backend(v, terms) if isinstance(v, sp.Add) else to_symengine(v) for v in values]
-
-
-def _sum_to_backend(expr: sp.Add, terms: dict[Any, Backend]) -> Backend:
-    converted = []
-    for term in expr.args:
-        known = terms.get(term)
-        if known is None:
-            known = terms[term] = to_symengine(term)
-        converted.append(known)
-    return se.Add(*converted)
+def vector_to_backend(values: Iterable[Any]) -> list[Backend]:
+    """Each of ``values`` in SymEngine (:func:`to_backend`)."""
+    return [to_symengine(v) for v in values]

@@ -307,8 +307,11 @@ class TrigAlgebra:
         self._irregular: list[bool] = []
         self._coefficients: dict[Backend, Coefficient] = {}  # parameter expressions
         self._parameter_monomials: dict[int, tuple[Backend, bool]] = {}
-        self._built: dict[frozenset[tuple[int, Number]], tuple[Backend, int]] = {}
+        self._built: dict[frozenset[tuple[Any, ...]], tuple[Backend, int]] = {}
         self._integers: dict[int, Backend] = {}  # the coefficients' integers in SymEngine
+        #: Whether a float entered a coefficient: 2 and 2.0 are equal keys of a dict, so the
+        #: memo of built coefficients then keys each number with its type.
+        self._floats = False
         #: Monomials a product or sum may have before :class:`PolynomialTooLarge` (None: any).
         self.limit: int | None = None
 
@@ -418,7 +421,11 @@ class TrigAlgebra:
     def _coefficient(self, expr: Backend) -> Coefficient:
         if expr.is_Number:
             value = number(expr)
-            return self._parameter(expr) if value is None else {0: value}
+            if value is None:
+                return self._parameter(expr)
+            if value.__class__ is float:
+                self._floats = True
+            return {0: value}
         if isinstance(expr, se.Symbol):
             return self._parameter(expr)
         if expr.is_Add:
@@ -866,7 +873,11 @@ class TrigAlgebra:
         """(:meth:`built`, the number of its terms): counted on the coefficient (each packed
         monomial one term of its own), not on the expression (whose arguments SymEngine
         would make into Python objects), unless SymEngine expanded it."""
-        memo_key = frozenset(coefficient.items())
+        memo_key: frozenset[Any]
+        if self._floats:  # {0: 2.0} is built as a double, not as {0: 2}'s integer
+            memo_key = frozenset((k, n, n.__class__) for k, n in coefficient.items())
+        else:
+            memo_key = frozenset(coefficient.items())
         known = self._built.get(memo_key)
         if known is None:
             terms, irregular = [], False
@@ -962,7 +973,7 @@ class TrigAlgebra:
         if not pairs:
             return result, []
         by_term = dict(zip(terms, pairs))
-        spread = next((c for k, c in pairs if k == 1 and c.is_Add), None)
+        spread = next((c for k, c in pairs if c.is_Add and k == _ONE), None)
         in_order = []
         for term in result.args if result.is_Add else (result,):
             pair = by_term.get(term)
