@@ -38,9 +38,8 @@ if TYPE_CHECKING:
 
 #: The modules compiled at install: the term-by-term polynomial arithmetic of the 3-D
 #: derivation, and the walks over expressions whose own Python work (loops, dict lookups,
-#: calls) is a large part of their time: collecting by monomial, the tidying of the
-#: equations, the conversion to SymPy and its canonical order, the safe parser, the checks
-#: of a model, the rotations, the rolling contacts, the Pfaffian and multiplier forms.
+#: calls) is a large part of their time: collecting by monomial, the conversion to SymPy
+#: and its canonical order, the safe parser, the rolling contacts, the Pfaffian forms.
 #: (The modules that mostly call SymPy and SymEngine gain nothing: their time is spent
 #: inside those libraries.)  Cython computes with C integers where both operands are C's:
 #: ``1 << len(bits)`` wraps past 63 bits.  None of these modules shifts or raises a length
@@ -49,11 +48,6 @@ if TYPE_CHECKING:
 COMPILED = (
     "lagrangian.derivation.trig_polynomial",
     "lagrangian.derivation.collect",
-    "lagrangian.derivation.terms",
-    "lagrangian.derivation.trig",
-    "lagrangian.model.rotation",
-    "lagrangian.model.validation",
-    "lagrangian.constraints.multipliers",
     "lagrangian.symbolic.sympy_view",
     "lagrangian.symbolic.canonical",
     "lagrangian.symbolic.native",
