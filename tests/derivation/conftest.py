@@ -7,7 +7,7 @@ from typing import Any, NamedTuple
 import pytest
 
 from lagrangian.derivation.assemble import Assembly, assemble, frames_carried
-from lagrangian.derivation.kinetic import _carried, _jacobian_row
+from lagrangian.derivation.kinetic import _frames, _jacobian_row
 from lagrangian.derivation.trig_polynomial import TrigAlgebra, algebra_for
 from lagrangian.examples import BENCHMARKS
 
@@ -30,5 +30,5 @@ def bicycle_fork() -> Fork:
     algebra = algebra_for([*asm.q, *asm.q_dot, *asm.q_ddot, asm.t])
     fork = next(p for b, p in zip(system.rigid_bodies, asm.points) if b.name == "fork")
     world = [_jacobian_row(algebra, x, asm.q) for x in fork.position]
-    rows = _carried(algebra, world, frames_carried(fork.orientation, fork.position, asm.q))
+    rows = _frames(algebra, world, frames_carried(fork.orientation, fork.position, asm.q))[-1]
     return Fork(asm, algebra, fork, world, rows)

@@ -1,5 +1,5 @@
 """The points' Jacobian rows turned into the frames their centres hang from
-(lagrangian.derivation.assemble.frames_carried, kinetic._carried): J^T J is unchanged,
+(lagrangian.derivation.assemble.frames_carried, kinetic._frames): J^T J is unchanged,
 (R^T J)^T R^T J = J^T J, and the chain is read from the model, never guessed; each entry
 of J^T J formed in the frame where it has the fewest products (kinetic._entries_by_frame)
 is the entry formed in world axes."""

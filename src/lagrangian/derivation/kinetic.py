@@ -1049,14 +1049,6 @@ def _point_axes(
     return [rows] if turned is rows else [rows, turned]
 
 
-def _carried(
-    algebra: TrigAlgebra, rows: list[list[Poly]], turns: tuple[tuple[int, Backend], ...]
-) -> list[list[Poly]]:
-    """The rows of a point's Jacobian in the axes of the frames its centre hangs from
-    (the last of :func:`_frames`)."""
-    return _frames(algebra, rows, turns)[-1]
-
-
 def _frames(
     algebra: TrigAlgebra, rows: list[list[Poly]], turns: tuple[tuple[int, Backend], ...]
 ) -> list[list[list[Poly]]]:

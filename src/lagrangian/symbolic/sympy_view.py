@@ -463,9 +463,7 @@ def sympy_sum_power(base: sp.Expr, exponent: sp.Expr, imaginary: bool = True) ->
         or any((term.args[0] if term.is_Mul else term).is_Float for term in base.args)
     ):
         return sp.Pow(base, exponent)
-    power = sp.Expr.__new__(sp.Pow, base, exponent)
-    power.is_commutative = base.is_commutative and exponent.is_commutative
-    return power
+    return _unevaluated_power(base, exponent)
 
 
 def plain_power(base: sp.Expr, exponent: sp.Rational) -> sp.Expr:
@@ -491,6 +489,11 @@ def plain_power(base: sp.Expr, exponent: sp.Rational) -> sp.Expr:
         or base.is_Number
     ):
         return sp.Pow(base, exponent)
+    return _unevaluated_power(base, exponent)
+
+
+def _unevaluated_power(base: sp.Expr, exponent: sp.Expr) -> sp.Expr:
+    """The power as ``Pow.__new__`` would leave it, made without its evaluation."""
     power = sp.Expr.__new__(sp.Pow, base, exponent)
     power.is_commutative = base.is_commutative and exponent.is_commutative
     return power
