@@ -160,7 +160,8 @@ def _check_one(item: Any, index: int, scope: NameScope, problems: list[Problem])
         if len(problems) > before:
             return
         used = free_symbols(expression)
-    velocities = sorted((s for s in used if s in scope.velocities), key=str)
+    # by name (a velocity is a Symbol: its name is its text, without the printer's cost)
+    velocities = sorted((s for s in used if s in scope.velocities), key=lambda v: v.name)
     if isinstance(item, VelocityConstraint):
         if not velocities:
             problems.append(

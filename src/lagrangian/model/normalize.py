@@ -130,6 +130,8 @@ def _coordinates(raw: Any, problems: list[Problem]) -> tuple[sp.Symbol, ...]:
 def _parameter_value(name: str, value: Any, problems: list[Problem]) -> float | None:
     if value is None:
         return None
+    if type(value) is float and math.isfinite(value):
+        return value + 0.0  # what float(sp.Float(value)) gives (-0.0 too: SymPy has one zero)
     try:
         number = to_sympy(value) if isinstance(value, (int, float, sp.Basic)) else None
     except (TypeError, sp.SympifyError):

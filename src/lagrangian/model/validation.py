@@ -430,19 +430,22 @@ def _check_inertia(
         problems.append(Problem(field, "a 3-D rigid body needs a 3x3 inertia", fix))
         return
     if _entries_checked([body.mass, *entries], field, scope, problems):
-        unknown = {p for p, default in values["parameters"].items() if default is None}
+        parameters = values["parameters"]
         subject = f"the inertia of body {body.name!r}"
-        used = body.inertia_tensor.free_symbols
+        tensor = body.inertia_tensor
+        # the check reads the tensor's own symbols only: each sample is cut to those with a
+        # known value (a parameter without a default is drawn afresh by the check), and one
+        # that gives them the values of one checked already (an inertia of parameters only)
+        # is passed over
+        used = [s for s in tensor.free_symbols if parameters.get(s, 0.0) is not None]
         checked = set()
         for sample in _samples(values):
-            known = {s: v for s, v in sample.items() if s not in unknown}
-            # the check reads the tensor's own symbols only: a sample that gives them the
-            # values of one checked already (an inertia of parameters only) is passed over
-            seen = frozenset((s, v) for s, v in known.items() if s in used)
+            known = {s: sample[s] for s in used if s in sample}
+            seen = frozenset(known.items())
             if seen in checked:
                 continue
             checked.add(seen)
-            found = check_inertia(body.inertia_tensor, field, known, subject)
+            found = check_inertia(tensor, field, known, subject)
             if found:
                 problems.extend(found)
                 return
