@@ -829,11 +829,14 @@ def _in_backend(matrix: sp.MatrixBase) -> list[Any] | None:
         return None
 
 
-def _doubles(entries: list[Any], values: Mapping[sp.Symbol, float]) -> np.ndarray | None:
+def _doubles(
+    entries: list[Any], values: Mapping[sp.Symbol, float], names: set[str]
+) -> np.ndarray | None:
     """A 3x3 matrix's entries (SymEngine) at ``values`` in double precision (ample for a
     test of R^T R = 1 to 1e-9, and a hundred times faster than SymPy's evalf on a product
-    of rotations); None where they are not all finite real numbers."""
-    swap = {to_symengine(s): se.RealDouble(float(v)) for s, v in values.items()}
+    of rotations); None where they are not all finite real numbers.  ``names``: those of the
+    entries' symbols (the values of the others replace nothing)."""
+    swap = {to_symengine(s): se.RealDouble(float(v)) for s, v in values.items() if s.name in names}
     try:
         numbers = [complex(e.xreplace(swap)) for e in entries]
     except (TypeError, ValueError, RuntimeError):
@@ -859,17 +862,24 @@ def check_rotation(
     """
     fix = "give an orthonormal matrix, or build it with euler_rotation, axis_angle or quaternions"
     entries = _in_backend(matrix)
+    names = {s.name for e in entries for s in e.free_symbols} if entries is not None else set()
     for values in samples:
-        R = _doubles(entries, values) if entries is not None else None
+        R = _doubles(entries, values, names) if entries is not None else None
         R = evaluate_matrix(matrix, values) if R is None else R
         if R is None:
             continue
-        used = sorted(matrix.free_symbols & set(values), key=str)
-        where = ", ".join(f"{s} = {values[s]:.4g}" for s in used) or "every configuration"
         defect = float(np.max(np.abs(R.T @ R - np.eye(3))))
         if defect > 1e-9:
             message = f"{subject} is not orthonormal: R^T R - 1 has an entry of {defect:.3g}"
-            return [Problem(field, f"{message} at {where}", fix)]
+            return [Problem(field, f"{message} at {_where(matrix, values)}", fix)]
         if np.linalg.det(R) < 0:
-            return [Problem(field, f"{subject} is a reflection (det R = -1) at {where}", fix)]
+            message = f"{subject} is a reflection (det R = -1) at {_where(matrix, values)}"
+            return [Problem(field, message, fix)]
     return []
+
+
+def _where(matrix: sp.MatrixBase, values: Mapping[sp.Symbol, float]) -> str:
+    """The values of ``matrix``'s symbols at a sample, for a message (its symbols are found
+    only then: a product of rotations is a long walk)."""
+    used = sorted(matrix.free_symbols & set(values), key=str)
+    return ", ".join(f"{s} = {values[s]:.4g}" for s in used) or "every configuration"
