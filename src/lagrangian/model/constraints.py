@@ -29,7 +29,7 @@ import sympy as sp
 from lagrangian.errors import Problem
 from lagrangian.model.elements import as_expression
 from lagrangian.symbolic.expressions import free_symbols
-from lagrangian.symbolic.native import to_symengine
+from lagrangian.symbolic.native import to_symengine, to_symengine_sharing
 
 if TYPE_CHECKING:
     from lagrangian.model.validation import NameScope
@@ -211,8 +211,9 @@ def _linear(expression: sp.Expr, present: list[sp.Symbol]) -> bool:
     hold)."""
     if _pfaffian_at_sight(expression, set(present)):
         return True
-    try:
-        expr, names = to_symengine(expression), [to_symengine(v) for v in present]
+    try:  # each distinct part once: a constraint written as products of rotations repeats them
+        expr = to_symengine_sharing(expression, {})
+        names = [to_symengine(v) for v in present]
         expand: Any = se.expand
     except se.SympifyError:
         expr, names, expand = expression, present, sp.expand
