@@ -159,3 +159,27 @@ def test_a_bad_part_beside_parts_found_fine_is_reported() -> None:
         lg.System(
             coordinates=[x], parameters=[m], particles=[lg.Particle("a", m, (fine, fine + sp.oo))]
         )
+
+
+_PHI, _X_DOT, _Y_DOT = sp.symbols("phi x_dot y_dot")
+_TURN = sp.Matrix([[sp.cos(_PHI), -sp.sin(_PHI)], [sp.sin(_PHI), sp.cos(_PHI)]])
+#: Velocity constraints written as products of rotations, their parts repeated (not sums of
+#: one velocity times a factor: the linearity check differentiates them).
+_PRODUCTS = [
+    (_TURN * _TURN * sp.Matrix([_X_DOT, _Y_DOT]))[0] * (_TURN * _TURN)[0, 1],
+    (_TURN * _TURN * sp.Matrix([_X_DOT, _Y_DOT]))[1] * (_TURN * sp.Matrix([_X_DOT, 1]))[0],
+    ((_TURN * _TURN)[0, 0] + _X_DOT * _TURN[1, 0]) ** 2 + _Y_DOT,
+]
+
+
+@pytest.mark.parametrize("expression", _PRODUCTS)
+def test_a_velocity_constraint_is_linear_as_its_hessian_says(expression: sp.Expr) -> None:
+    """Accepted exactly when SymPy's Hessian in the velocities expands to zero."""
+    x, y = sp.symbols("x y")
+    linear = all(sp.expand(e) == 0 for e in sp.hessian(expression, (_X_DOT, _Y_DOT)))
+    constraint = lg.VelocityConstraint(expression)
+    if linear:
+        lg.System(coordinates=[x, y, _PHI], constraints=[constraint])
+        return
+    with pytest.raises(ModelError, match="is not linear in the velocities"):
+        lg.System(coordinates=[x, y, _PHI], constraints=[constraint])

@@ -102,3 +102,22 @@ def test_the_recent_cache_holds_its_keys_until_they_are_pushed_out() -> None:
     cache.get(Key(), lambda _k: 1)
     gc.collect()
     assert alive() is None
+
+
+@pytest.mark.parametrize(
+    "value", [9.81, 0.1, 1 / 3, -2.5, 0.0, -0.0, 5e-324, 1.7976931348623157e308, 1e-300]
+)
+def test_a_float_default_is_the_double_sympy_reads_it_as(value: float) -> None:
+    """A parameter's float default is kept as float(sp.Float(value)) gives it (one zero,
+    no sign), without forming the SymPy number."""
+    theta, m = sp.symbols("theta m")
+    system = lg.System(coordinates=[theta], parameters={m: value}, kinetic=m * theta**2)
+    kept, read = system.parameters[m], float(sp.Float(value))
+    assert kept == read and str(kept) == str(read)
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf")])
+def test_a_float_default_that_is_not_finite_is_refused(value: float) -> None:
+    theta, m = sp.symbols("theta m")
+    with pytest.raises(lg.ModelError, match=r"parameters\.m: value .* is not a real number"):
+        lg.System(coordinates=[theta], parameters={m: value}, kinetic=m * theta**2)
