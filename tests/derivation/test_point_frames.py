@@ -88,14 +88,16 @@ def test_each_entry_formed_in_the_frame_of_its_fewest_products_is_the_world_entr
 
 
 def test_orientations_not_known_as_a_chain_carry_nothing() -> None:
-    """A matrix, an axis that is not a coordinate axis, an angle that is not a coordinate:
-    the rows stay as they were (the chain ends there)."""
+    """A matrix, an axis that is not a coordinate axis (tilted, or a coordinate axis
+    reversed), an angle that is not a coordinate: the rows stay as they were (the chain ends
+    there)."""
     a, b = lg.coordinates("a b")
     m, lam = sp.symbols("m lam")
     centre = (sp.cos(a), sp.sin(a), sp.sin(b))
     orientations = {
         "matrix": euler_rotation("ZXZ", (a, b, 0)).matrix,
         "tilted axis": axis_angle((1, 1, 0), a),
+        "reversed axis": axis_angle((0, 0, -1), a),
         "constant first": euler_rotation("ZXZ", (lam, a, b)),
         "euler": euler_rotation("ZXZ", (a, b, 0)),
     }
@@ -110,4 +112,4 @@ def test_orientations_not_known_as_a_chain_carry_nothing() -> None:
     asm = assemble(system)
     carried = [frames_carried(p.orientation, p.position, asm.q) for p in asm.points]
     qa, qb = asm.q
-    assert carried == [(), (), (), ((2, qa), (0, qb))]
+    assert carried == [(), (), (), (), ((2, qa), (0, qb))]

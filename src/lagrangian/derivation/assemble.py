@@ -85,6 +85,12 @@ class Assembly:
         return [self.time_derivative(x) for x in position]
 
 
+#: The unit vectors of the coordinate axes -> their index: a rotation's axis is looked up
+#: whole (reading a SymPy matrix entry by entry and comparing each with 0 took most of
+#: :func:`frames_carried`'s time).
+_COORDINATE_AXES = {sp.ImmutableMatrix(sp.eye(3)[:, i]): i for i in range(3)}
+
+
 def frames_carried(
     orientation: Orientation | None, position: tuple[Backend, ...], q: tuple[Backend, ...]
 ) -> tuple[tuple[int, Backend], ...]:
@@ -108,11 +114,13 @@ def frames_carried(
     moving = set().union(*(x.free_symbols for x in position)) & set(q)
     carried = []
     for unit, angle in orientation.factors():
-        axes = [i for i, e in enumerate(unit) if e != 0]
-        angle = to_backend(angle)
-        if len(axes) != 1 or unit[axes[0]] != 1 or angle not in moving:
+        axis = _COORDINATE_AXES.get(unit)
+        if axis is None:
             break
-        carried.append((axes[0], angle))
+        angle = to_backend(angle)
+        if angle not in moving:
+            break
+        carried.append((axis, angle))
     return tuple(carried)
 
 

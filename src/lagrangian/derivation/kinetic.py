@@ -871,14 +871,16 @@ def _structured_form(asm: Assembly, explicit: Matrix) -> KineticForm | None:
     (:mod:`lagrangian.derivation.trig_polynomial`); None for a small or time-dependent one,
     or one without 3-D bodies (planar chains read best in angle differences, which the
     entry-by-entry :func:`combine_trig` finds)."""
-    if (
-        not asm.rotations
-        or any(x.diff(asm.t) != 0 for point in asm.points for x in point.position)
-        or any(
-            w.diff(asm.t) != 0 or w.subs({v: 0 for v in asm.q_dot}) != 0
-            for rotation in asm.rotations
-            for w in rotation.angular_velocity
-        )
+    if not asm.rotations:
+        return None
+    # compared with SymEngine's zero and substituted by one dict of its zeros: Python's 0,
+    # in the comparisons and in a dict made for each component, is converted at each use
+    # (half the time of these checks)
+    t, at_rest = asm.t, {v: _ZERO for v in asm.q_dot}
+    if any(x.diff(t) != _ZERO for point in asm.points for x in point.position) or any(
+        w.diff(t) != _ZERO or w.subs(at_rest) != _ZERO
+        for rotation in asm.rotations
+        for w in rotation.angular_velocity
     ):
         return None
     algebra = algebra_for([*asm.q, *asm.q_dot, *asm.q_ddot, asm.t])
@@ -1281,18 +1283,6 @@ def _christoffel_symbols(
     summed out, they left 286 zero monomials in a bicycle's rows).  The symbols are
     finished: no zero coefficient."""
     n = len(asm.q)
-    slope: dict[tuple[int, int, int], Poly] = {}
-    # an entry of M has a few of the coordinates (a bicycle's, 3 of 8): the rest give zero
-    used = {(j, k): algebra.symbols(mass[j][k]) for j in range(n) for k in range(j, n)}
-
-    def d(j: int, k: int, ell: int) -> Poly:
-        key = (min(j, k), max(j, k), ell)
-        if key not in slope:
-            q = asm.q[ell]
-            held = q in used[key[:2]]
-            slope[key] = algebra.finish(algebra.derivative(mass[j][k], q)) if held else {}
-        return slope[key]
-
     rates = [next(iter(algebra.convert(v))) for v in asm.q_dot]
     # the velocity products q_dot_k q_dot_l, the same in every row
     pairs = [
@@ -1300,23 +1290,49 @@ def _christoffel_symbols(
         for k in range(n)
         for ell in range(k, n)
     ]
+    slopes = _mass_slopes(algebra, mass, asm.q)
     half: Number = Fraction(-1, 2)
     result = []
     for j in range(n):
+        at_j = slopes[j]
         row: list[tuple[Key, Poly]] = []
         for k, ell, pair in pairs:
-            parts: list[tuple[Poly, Number]]
+            parts: tuple[tuple[Poly, Number], ...]
             if k == ell:
-                parts = [(d(j, k, k), 1), (d(k, k, j), half)]
-            elif j in (k, ell):  # dM_jl/dq_j - dM_jl/dq_j cancel: dM_jj/dq_l is left
-                parts = [(d(j, j, k + ell - j), 1)]
+                parts = ((at_j[k][k], 1), (slopes[k][k][j], half))
+            elif j == k:  # dM_jl/dq_j - dM_jl/dq_j cancel: dM_jj/dq_l is left
+                parts = ((at_j[j][ell], 1),)
+            elif j == ell:
+                parts = ((at_j[j][k], 1),)
             else:
-                parts = [(d(j, k, ell), 1), (d(j, ell, k), 1), (d(k, ell, j), -1)]
-            symbol = _symbol(algebra, [part for part in parts if part[0]])
+                parts = ((at_j[k][ell], 1), (at_j[ell][k], 1), (slopes[k][ell][j], -1))
+            nonzero = [part for part in parts if part[0]]
+            if not nonzero:  # most pairs of most rows (a bicycle's: 192 of 288)
+                continue
+            symbol = _symbol(algebra, nonzero)
             if symbol:
                 row.append((pair, symbol))
         result.append(row)
     return result
+
+
+def _mass_slopes(
+    algebra: TrigAlgebra, mass: list[list[Poly]], q: tuple[Backend, ...]
+) -> list[list[list[Poly]]]:
+    """dM_jk/dq_l at [j][k][l] (one list for [j][k] and [k][j]), finished, {} where M_jk
+    does not hold q_l (an entry of a bicycle's M has 3 of the 8 coordinates).  Each is a
+    part of some Christoffel symbol (dM_jk/dq_l is one of row l's, pair (j, k)): made all
+    at once, and read by index in the symbols' loop, not looked up by a key made per read."""
+    n = len(q)
+    slopes: list[list[list[Poly]]] = [[[] for _ in range(n)] for _ in range(n)]
+    for j in range(n):
+        for k in range(j, n):
+            entry = mass[j][k]
+            held = algebra.symbols(entry)
+            slopes[j][k] = slopes[k][j] = [
+                algebra.finish(algebra.derivative(entry, s)) if s in held else {} for s in q
+            ]
+    return slopes
 
 
 def _symbol(algebra: TrigAlgebra, parts: list[tuple[Poly, Number]]) -> Poly:
