@@ -30,17 +30,15 @@ combination of the equality rows is redundant (its multiplier would not be deter
 from __future__ import annotations
 
 import random
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import symengine as se
 import sympy as sp
 
 from lagrangian.constraints.pfaffian import PfaffianForm, pfaffian_form
-from lagrangian.constraints.projection import SATISFIED, project
-from lagrangian.derivation.backend import to_backend
+from lagrangian.constraints.projection import SATISFIED, project, values_at
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import Holonomic, System, Unilateral, t
 from lagrangian.model.constraints import label, statement
@@ -207,38 +205,6 @@ def _jacobian_at(
     numbers = np.zeros((len(forms), n + 1))
     numbers.flat[places] = found
     return numbers[:, :-1], numbers[:, -1:]
-
-
-#: The undefined function whose application holds the expressions :func:`values_at`
-#: substitutes together (SymEngine's substitution leaves an undefined function's arguments
-#: in place and in order).
-_ALL = se.Function("values_at")
-
-
-def values_at(exprs: Sequence[Any], point: Mapping[sp.Symbol, float]) -> np.ndarray | None:
-    """The values of SymEngine expressions at ``point``, by substitution (nothing compiled:
-    for the few points a probe needs, compiling costs more than it saves); None where one is
-    not finite or not real.  ValueError where SymEngine cannot evaluate one.
-
-    All are substituted in one call, as the arguments of one function application
-    (:data:`_ALL`): each substitution copies its whole mapping first (SymEngine keeps it as
-    the start of its memo), so a matrix's entry-by-entry substitution cost the mapping once
-    per entry (a 200-link Cartesian chain's 998 entries over its 802 symbols: 48 ms against
-    2.3); in one call the entries also share the memo (a rolling wheel's coefficients share
-    its axle's tilt).  An entry in SymEngine already is taken as it is (converting it again
-    walks its tree: a rolling wheel's coefficients have thousands of operations)."""
-    if not exprs:
-        return np.zeros(0)
-    values = {to_backend(s): se.RealDouble(v) for s, v in point.items()}
-    entries = [e if isinstance(e, se.Basic) else to_backend(e) for e in exprs]
-    try:
-        substituted = _ALL(*entries).subs(values).args
-        numbers = np.array([complex(e) for e in substituted], dtype=complex)
-    except (RuntimeError, TypeError) as error:
-        raise ValueError(f"SymEngine cannot evaluate an expression: {error}") from error
-    if not np.all(np.isfinite(numbers)) or np.any(np.abs(numbers.imag) > 1e-12):
-        return None
-    return numbers.real
 
 
 def _raise_velocity_inconsistent(system: System, bad: list[int], kept: list[int]) -> None:
