@@ -1,6 +1,8 @@
 """The constraints' values at a point by one substitution of all of them: against each
 expression substituted on its own, against the compiled functions (PointFunction) the
-projection used before, and the compiled fallback where SymEngine cannot evaluate them."""
+projection used before, and the compiled fallback where SymEngine cannot evaluate them; the
+rows of the constraint Jacobian the generic point's projection evaluated, against the
+forms' coefficients evaluated there."""
 
 from __future__ import annotations
 
@@ -12,10 +14,12 @@ import symengine as se
 import sympy as sp
 
 import lagrangian as lg
+from lagrangian.constraints.dependence import _jacobian_at, dependence
 from lagrangian.constraints.pfaffian import backend, pfaffian_form
 from lagrangian.constraints.projection import _arguments, _Equations, project, values_at
 from lagrangian.derivation.backend import to_backend
 from lagrangian.symbolic.probe import PointFunction
+from lagrangian.symbolic.symbols import velocity
 
 
 def test_values_together_are_each_ones_own_substitution():
@@ -77,3 +81,32 @@ def test_what_symengine_cannot_evaluate_is_projected_compiled():
     h, jacobian = at({x: -2.0})
     assert at.substituted is None and at.compiled is not None
     assert h == pytest.approx([1.0]) and jacobian.ravel() == pytest.approx([-1.0])
+
+
+@pytest.mark.parametrize("build", ["whipple_bicycle", "cartesian_chain"])
+def test_the_projected_rows_of_the_jacobian_are_the_forms_values(build):
+    """The rows of A the generic point's projection evaluated last, against every form's
+    coefficients evaluated there."""
+    if build == "cartesian_chain":
+        xs, ys, lengths = sp.symbols("x1:7"), sp.symbols("y1:7"), sp.symbols("l1:7")
+        rods = [
+            lg.Holonomic(
+                (xs[i] - (xs[i - 1] if i else 0)) ** 2
+                + (ys[i] - (ys[i - 1] if i else 0)) ** 2
+                - lengths[i] ** 2
+            )
+            for i in range(6)
+        ]
+        x1, y1 = xs[0], ys[0]
+        system = lg.System(
+            coordinates=[c for pair in zip(xs, ys) for c in pair],
+            parameters=dict.fromkeys(lengths, 1.0),
+            constraints=[*rods, lg.VelocityConstraint(y1 * velocity(x1) - x1 * velocity(y1))],
+        )
+    else:
+        system = lg.examples.whipple_bicycle()
+    found = dependence(system)
+    forms = [pfaffian_form(c, system.coordinates) for c in system.constraints]
+    a, b = _jacobian_at(forms, system.coordinates, found.point)
+    assert np.allclose(found.jacobian, a, rtol=1e-13, atol=1e-13)
+    assert np.array_equal(found.rates, b.ravel())

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import random
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -46,10 +46,13 @@ SATISFIED = 1e-8
 
 @dataclass(frozen=True)
 class Projection:
-    """The best configuration found and the constraints' values (residuals) there."""
+    """The best configuration found, the constraints' values (residuals) there, and their
+    Jacobian dh/dq (a row per equation, a column per unknown) there where the iterations
+    evaluated it (else None)."""
 
     values: dict[sp.Symbol, float]
     residuals: tuple[float, ...]
+    jacobian: np.ndarray | None = field(default=None, compare=False, repr=False)
 
     @property
     def satisfied(self) -> bool:
@@ -221,7 +224,8 @@ def _gauss_newton(
                 break
         else:
             break  # no step reduces |h|: a least-squares minimum
-    return Projection({s: float(v) for s, v in values.items()}, tuple(float(v) for v in h))
+    residuals = tuple(float(v) for v in h)
+    return Projection({s: float(v) for s, v in values.items()}, residuals, jac)
 
 
 def numeric_state(system: System, state: Mapping[Any, float]) -> dict[sp.Symbol, float]:
