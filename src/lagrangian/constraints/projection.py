@@ -105,7 +105,7 @@ class Substitution:
     """SymEngine expressions as a numerical function of a point given by ``symbols``, by
     substitution (nothing compiled: for the few points a probe or a projection needs,
     compiling costs more than it saves: a bicycle's contact height and its three slopes take
-    1.2 ms to compile, and its generic point 9 evaluations); the complex values, ValueError
+    1.2 ms to compile, and its generic point 8 evaluations); the complex values, ValueError
     where SymEngine cannot evaluate one.
 
     All are substituted in one call, as the arguments of one function application
