@@ -17,7 +17,7 @@ import sympy as sp
 import lagrangian as lg
 from lagrangian.constraints.dependence import dependence, generic_point
 from lagrangian.constraints.pfaffian import SHARED_BY, acceleration_terms, pfaffian_form
-from lagrangian.constraints.projection import _SparseJacobian
+from lagrangian.constraints.projection import _Equations
 from lagrangian.derivation.backend import SympyView, to_backend
 from lagrangian.model.contact import MADE
 from lagrangian.symbolic.caches import forget_all
@@ -44,23 +44,21 @@ def _chain(n: int, extra: list[sp.Expr] = ()) -> lg.System:
     )
 
 
-def test_the_projections_jacobian_is_the_whole_jacobian():
+def test_the_projections_residual_and_jacobian_are_the_whole_ones():
     system = _chain(6)
     equations = [to_backend(c.expression) for c in system.constraints]
     unknowns = [to_backend(q) for q in system.coordinates]
     symbols = sorted({*system.coordinates, *system.parameters}, key=str)
-    sparse = _SparseJacobian(equations, unknowns, symbols)
+    at = _Equations(equations, unknowns, symbols)
     whole = se.DenseMatrix(len(equations), 1, equations).jacobian(se.Matrix(unknowns))
     rng = random.Random(7)
     for _ in range(3):
         point = {s: rng.uniform(-2, 2) for s in symbols}
-        expected = np.array(
-            [
-                [float(e.subs({to_backend(s): v for s, v in point.items()})) for e in row]
-                for row in whole.tolist()
-            ]
-        )
-        assert np.allclose(sparse(point), expected, rtol=1e-14, atol=1e-14)
+        values = {to_backend(s): v for s, v in point.items()}
+        expected = np.array([[float(e.subs(values)) for e in row] for row in whole.tolist()])
+        h, jacobian = at(point)
+        assert np.allclose(jacobian, expected, rtol=1e-14, atol=1e-14)
+        assert np.allclose(h, [float(e.subs(values)) for e in equations], rtol=1e-14)
 
 
 def test_independent_rows_decided_at_once_as_row_by_row():

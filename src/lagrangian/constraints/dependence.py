@@ -35,12 +35,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import symengine as se
 import sympy as sp
 
 from lagrangian.constraints.pfaffian import PfaffianForm, pfaffian_form
-from lagrangian.constraints.projection import SATISFIED, project
-from lagrangian.derivation.backend import to_backend
+from lagrangian.constraints.projection import SATISFIED, Projection, project, values_at
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import Holonomic, System, Unilateral, t
 from lagrangian.model.constraints import label, statement
@@ -79,6 +77,12 @@ def generic_point(system: System, active: bool = False) -> dict[sp.Symbol, float
     """Parameters at their defaults (random without one), t random, and the coordinates
     projected onto the holonomic constraints (and unilateral ones as g = 0 when ``active``);
     ConstraintError when no configuration fits."""
+    return _generic_projection(system, active)[1].values
+
+
+def _generic_projection(system: System, active: bool) -> tuple[list[int], Projection]:
+    """:func:`generic_point` as the projection found, and the indices of the constraints
+    projected onto (its rows)."""
     rng = random.Random(SEED)
     point = random_values([*system.coordinates, *system.parameters, t], rng)
     point.update({p: v for p, v in system.parameters.items() if v is not None})
@@ -87,7 +91,7 @@ def generic_point(system: System, active: bool = False) -> dict[sp.Symbol, float
     found = project([c.expression for _, c in holonomic], system.coordinates, point)
     if not found.satisfied:
         _raise_inconsistent(system, holonomic, found.residuals)
-    return found.values
+    return [i for i, _ in holonomic], found
 
 
 def _raise_inconsistent(
@@ -115,10 +119,13 @@ def dependence(system: System, active: bool = False) -> Dependence:
     """Redundant equality constraints at a generic point; ConstraintError if inconsistent.
     With ``active`` the unilateral constraints count as equalities g = 0 (the multiplier form
     treats them as active)."""
-    point = generic_point(system, active)
+    projected, found = _generic_projection(system, active)
+    point = found.values
     coordinates = system.coordinates
     forms: list[PfaffianForm] = [pfaffian_form(c, coordinates) for c in system.constraints]
-    a, b = _jacobian_at(forms, coordinates, point)
+    # the rows a_j = dh_j/dq of the constraints projected onto were evaluated there last
+    known = {} if found.jacobian is None else dict(zip(projected, found.jacobian))
+    a, b = _jacobian_at(forms, coordinates, point, known)
     if a is None or b is None:
         raise ConstraintError(
             "The constraint Jacobian is not defined at a generic configuration; check the "
@@ -181,20 +188,28 @@ def contact_dependence(system: System, found: Dependence) -> tuple[int, ...]:
 
 
 def _jacobian_at(
-    forms: list[PfaffianForm], coordinates: Sequence[sp.Symbol], point: dict[sp.Symbol, float]
+    forms: list[PfaffianForm],
+    coordinates: Sequence[sp.Symbol],
+    point: dict[sp.Symbol, float],
+    known: Mapping[int, np.ndarray] | None = None,
 ) -> tuple[np.ndarray | None, np.ndarray | None]:
     """A and b at ``point`` (None where not finite and real), each form's a_j and b_j
-    evaluated in SymEngine (the images the form was converted from).  What SymEngine cannot
-    evaluate (the derivative of |u| SymPy leaves unevaluated) goes through
+    evaluated in SymEngine (the images the form was converted from), but the rows a_j
+    ``known`` at ``point`` (by form index).  What SymEngine cannot evaluate (the derivative
+    of |u| SymPy leaves unevaluated) goes through
     :class:`~lagrangian.symbolic.probe.PointFunction`."""
     n = len(coordinates)
+    known = known or {}
     # only the entries that can be non-zero are evaluated: a chain's rod involves four of
     # its 2n speeds, and the entries' substitution costs as much for a zero as for a term
     places, entries = [], []
     for j, form in enumerate(forms):
         fast = form.fast
-        places += [j * (n + 1) + k for k, _ in fast.coefficients] + [j * (n + 1) + n]
-        entries += [*(a for _, a in fast.coefficients), fast.time_coefficient]
+        if j not in known:
+            places += [j * (n + 1) + k for k, _ in fast.coefficients]
+            entries += [a for _, a in fast.coefficients]
+        places.append(j * (n + 1) + n)
+        entries.append(fast.time_coefficient)
     try:
         found = values_at(entries, point)
     except ValueError:
@@ -206,30 +221,9 @@ def _jacobian_at(
         return None, None
     numbers = np.zeros((len(forms), n + 1))
     numbers.flat[places] = found
+    for j, row in known.items():
+        numbers[j, :-1] = row
     return numbers[:, :-1], numbers[:, -1:]
-
-
-def values_at(exprs: Sequence[Any], point: Mapping[sp.Symbol, float]) -> np.ndarray | None:
-    """The values of SymEngine expressions at ``point``, one substitution each (nothing
-    compiled: for the few points a probe needs, compiling costs more than it saves); None
-    where one is not finite or not real.  ValueError where SymEngine cannot evaluate one.
-
-    All are substituted as one matrix: a substitution converts its whole mapping first, and
-    a chain of n bodies has n (2n + 1) entries (most of them 0) over 4n + 1 symbols.  An
-    entry in SymEngine already is taken as it is (converting it again walks its tree: a
-    rolling wheel's coefficients have thousands of operations)."""
-    values = {to_backend(s): se.RealDouble(v) for s, v in point.items()}
-    if not exprs:
-        return np.zeros(0)
-    entries = [e if isinstance(e, se.Basic) else to_backend(e) for e in exprs]
-    try:
-        substituted = se.DenseMatrix(len(entries), 1, entries).subs(values)
-        numbers = np.array([complex(e) for e in substituted], dtype=complex)
-    except (RuntimeError, TypeError) as error:
-        raise ValueError(f"SymEngine cannot evaluate an expression: {error}") from error
-    if not np.all(np.isfinite(numbers)) or np.any(np.abs(numbers.imag) > 1e-12):
-        return None
-    return numbers.real
 
 
 def _raise_velocity_inconsistent(system: System, bad: list[int], kept: list[int]) -> None:

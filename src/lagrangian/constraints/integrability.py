@@ -29,7 +29,6 @@ from itertools import combinations
 import numpy as np
 import sympy as sp
 
-from lagrangian.constraints.dependence import values_at
 from lagrangian.constraints.forms import (
     Form,
     describe,
@@ -39,6 +38,7 @@ from lagrangian.constraints.forms import (
     wedge_values,
 )
 from lagrangian.constraints.pfaffian import backend
+from lagrangian.constraints.projection import values_at
 from lagrangian.derivation.backend import to_backend
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.probe import SEED, PointFunction, is_small, is_zero, random_values

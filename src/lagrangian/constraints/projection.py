@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import random
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -46,10 +46,13 @@ SATISFIED = 1e-8
 
 @dataclass(frozen=True)
 class Projection:
-    """The best configuration found and the constraints' values (residuals) there."""
+    """The best configuration found, the constraints' values (residuals) there, and their
+    Jacobian dh/dq (a row per equation, a column per unknown) there where the iterations
+    evaluated it (else None)."""
 
     values: dict[sp.Symbol, float]
     residuals: tuple[float, ...]
+    jacobian: np.ndarray | None = field(default=None, compare=False, repr=False)
 
     @property
     def satisfied(self) -> bool:
@@ -68,17 +71,15 @@ def project(
         return Projection(dict(start), ())
     # converted once, as the constraints' forms convert them (a rolling wheel's contact
     # height: hundreds of operations), and differentiated in SymEngine (SymPy's diff is slow)
-    fast = se.DenseMatrix(len(equations), 1, [backend(e) for e in equations])
-    symbols = _arguments(fast, start)
-    residual = PointFunction(fast, symbols)
-    slope = _SparseJacobian(list(fast), [to_backend(u) for u in unknowns], symbols)
+    fast = [backend(e) for e in equations]
+    at = _Equations(fast, [to_backend(u) for u in unknowns], _arguments(fast, start))
     rng = random.Random(SEED + 1)
     best: Projection | None = None
     for attempt in range(starts):
         values = dict(start)
         if attempt:
             values.update(random_values(unknowns, rng))
-        found = _gauss_newton(residual, slope, unknowns, values)
+        found = _gauss_newton(at, unknowns, values)
         if found is not None and (best is None or _norm(found) < _norm(best)):
             best = found
         if best is not None and best.satisfied:
@@ -86,19 +87,73 @@ def project(
     return best or Projection(dict(start), tuple(float("nan") for _ in equations))
 
 
-def _arguments(equations: Any, start: Mapping[sp.Symbol, float]) -> list[sp.Symbol]:
-    """The symbols of ``start`` that ``equations`` involve, by name: the compiled functions
+def _arguments(equations: list[Any], start: Mapping[sp.Symbol, float]) -> list[sp.Symbol]:
+    """The symbols of ``start`` that ``equations`` involve, by name: the functions of a point
     take these alone (a bicycle's contact height involves 8 of its 37 coordinates,
-    parameters and t, and each argument is renamed, converted and passed at every call)."""
-    free = {str(s) for s in equations.free_symbols}
+    parameters and t, and each argument is converted and passed at every call)."""
+    free = {str(s) for s in _ALL(*equations).free_symbols}
     return sorted((s for s in start if name_of(s) in free), key=name_of)
 
 
-class _SparseJacobian:
-    """dh/dq as a numerical function of a point (:class:`PointFunction`'s values), with only
-    the partial derivatives by the unknowns each equation involves compiled: a chain's rod
-    involves four of its 2n coordinates, and compiling the n x 2n matrix's zeros cost
-    seconds at n = 200."""
+#: The undefined function whose application holds the expressions a :class:`Substitution`
+#: substitutes together (SymEngine's substitution leaves an undefined function's arguments
+#: in place and in order).
+_ALL = se.Function("values_at")
+
+
+class Substitution:
+    """SymEngine expressions as a numerical function of a point given by ``symbols``, by
+    substitution (nothing compiled: for the few points a probe or a projection needs,
+    compiling costs more than it saves: a bicycle's contact height and its three slopes take
+    1.2 ms to compile, and its generic point 8 evaluations); the complex values, ValueError
+    where SymEngine cannot evaluate one.
+
+    All are substituted in one call, as the arguments of one function application
+    (:data:`_ALL`): each substitution copies its whole mapping first (SymEngine keeps it as
+    the start of its memo), so a matrix's entry-by-entry substitution cost the mapping once
+    per entry (a 200-link Cartesian chain's 998 Jacobian entries over its 802 symbols: 48 ms
+    against 2.3); in one call the entries also share the memo (a rolling wheel's
+    coefficients share its axle's tilt)."""
+
+    def __init__(self, exprs: Sequence[Any], symbols: Sequence[sp.Symbol]) -> None:
+        self.symbols = tuple(symbols)
+        self.images = [to_backend(s) for s in self.symbols]
+        self.together = _ALL(*exprs)
+
+    def __call__(self, values: Mapping[sp.Symbol, float]) -> np.ndarray:
+        point = {i: se.RealDouble(values[s]) for s, i in zip(self.symbols, self.images)}
+        try:
+            found = self.together.subs(point).args
+            return np.array([complex(e) for e in found], dtype=complex)
+        except (RuntimeError, TypeError) as error:
+            raise ValueError(f"SymEngine cannot evaluate an expression: {error}") from error
+
+
+def _real(numbers: np.ndarray) -> np.ndarray | None:
+    """``numbers`` as reals; None where one is not finite or not real."""
+    if not np.all(np.isfinite(numbers)) or np.any(np.abs(numbers.imag) > 1e-12):
+        return None
+    return numbers.real
+
+
+def values_at(exprs: Sequence[Any], point: Mapping[sp.Symbol, float]) -> np.ndarray | None:
+    """The values of SymEngine expressions at ``point`` (:class:`Substitution`); None where
+    one is not finite or not real, ValueError where SymEngine cannot evaluate one.  An entry
+    in SymEngine already is taken as it is (converting it again walks its tree: a rolling
+    wheel's coefficients have thousands of operations)."""
+    if not exprs:
+        return np.zeros(0)
+    entries = [e if isinstance(e, se.Basic) else to_backend(e) for e in exprs]
+    return _real(Substitution(entries, list(point))(point))
+
+
+class _Equations:
+    """h(q) and dh/dq at a point, evaluated together (each None where not finite and real),
+    with only the partial derivatives by the unknowns each equation involves taken: a
+    chain's rod involves four of its 2n coordinates, and compiling the n x 2n matrix's
+    zeros cost seconds at n = 200.  By one :class:`Substitution`, or, from the first point
+    SymEngine cannot evaluate them at on (the derivative of |u| SymPy leaves unevaluated),
+    each compiled by :class:`PointFunction`."""
 
     def __init__(self, equations: list[Any], unknowns: list[Any], symbols: list[sp.Symbol]):
         self.shape = (len(equations), len(unknowns))
@@ -110,14 +165,38 @@ class _SparseJacobian:
                 if u in free:
                     self.places.append(i * len(unknowns) + k)
                     slopes.append(h.diff(u))
-        self.slopes = PointFunction(se.DenseMatrix(len(slopes), 1, slopes), symbols)
+        self.parts = (equations, slopes)
+        self.symbols = symbols
+        self.substituted: Substitution | None = Substitution([*equations, *slopes], symbols)
+        self.compiled: tuple[PointFunction, PointFunction] | None = None
 
-    def __call__(self, values: Mapping[sp.Symbol, float]) -> np.ndarray | None:
-        found = self.slopes(values)
-        if found is None:
+    def __call__(
+        self, values: Mapping[sp.Symbol, float]
+    ) -> tuple[np.ndarray | None, np.ndarray | None]:
+        if self.substituted is not None:
+            try:
+                numbers = self.substituted(values)
+            except ValueError:
+                self.substituted = None
+            else:
+                m = self.shape[0]
+                return _real(numbers[:m]), self._jacobian(_real(numbers[m:]))
+        if self.compiled is None:
+            self.compiled = (self._compiled(self.parts[0]), self._compiled(self.parts[1]))
+        h, slopes = (part(values) for part in self.compiled)
+        return (
+            None if h is None else h.ravel(),
+            self._jacobian(None if slopes is None else slopes.ravel()),
+        )
+
+    def _compiled(self, exprs: list[Any]) -> PointFunction:
+        return PointFunction(se.DenseMatrix(len(exprs), 1, exprs), self.symbols)
+
+    def _jacobian(self, slopes: np.ndarray | None) -> np.ndarray | None:
+        if slopes is None:
             return None
         numbers = np.zeros(self.shape)
-        numbers.flat[self.places] = found.ravel()
+        numbers.flat[self.places] = slopes
         return numbers
 
 
@@ -126,17 +205,12 @@ def _norm(projection: Projection) -> float:
 
 
 def _gauss_newton(
-    residual: PointFunction,
-    slope: _SparseJacobian,
-    unknowns: Sequence[sp.Symbol],
-    values: dict[sp.Symbol, float],
+    at: _Equations, unknowns: Sequence[sp.Symbol], values: dict[sp.Symbol, float]
 ) -> Projection | None:
-    h = residual(values)
+    h, jac = at(values)
     if h is None:
         return None
-    h = h.ravel()
     for _ in range(60):
-        jac = slope(values)
         if jac is None or np.linalg.norm(h) < 1e-13:
             break
         step = np.linalg.lstsq(jac, -h, rcond=None)[0]
@@ -144,13 +218,14 @@ def _gauss_newton(
             trial = dict(values)
             for s, ds in zip(unknowns, step):
                 trial[s] += damping * ds
-            h_trial = residual(trial)
+            h_trial, jac_trial = at(trial)
             if h_trial is not None and np.linalg.norm(h_trial) < np.linalg.norm(h):
-                values, h = trial, h_trial.ravel()
+                values, h, jac = trial, h_trial, jac_trial
                 break
         else:
             break  # no step reduces |h|: a least-squares minimum
-    return Projection({s: float(v) for s, v in values.items()}, tuple(float(v) for v in h))
+    residuals = tuple(float(v) for v in h)
+    return Projection({s: float(v) for s, v in values.items()}, residuals, jac)
 
 
 def numeric_state(system: System, state: Mapping[Any, float]) -> dict[sp.Symbol, float]:
