@@ -2,8 +2,8 @@
 (:meth:`TrigAlgebra._factored_products`: the constant monomial's and each term's, side by
 side) must be the expression :func:`collect.factor_common` makes of the products
 multiplied out: on the parts the bicycle's derivation groups, on random polynomials with
-constant angles, numbers, irregular parameter factors and a constant generator SymEngine
-merges with another, and on parts whose products SymEngine would combine."""
+constant angles, numbers (doubles too), irregular parameter factors and a constant
+generator SymEngine merges with another, and on parts whose products SymEngine would combine."""
 
 from __future__ import annotations
 
@@ -32,6 +32,7 @@ CONSTANT = [
     se.sqrt(a),
     se.Integer(3),
     se.Rational(-1, 2),
+    se.RealDouble(2.0),
 ]
 
 

@@ -296,6 +296,11 @@ class TrigAlgebra:
         self._factored: dict[frozenset[Backend] | tuple[Backend, ...], Backend] = {}
         self._factored_parts: dict[frozenset[Any] | tuple[Any, ...], Backend] = {}
         self._numbers_in_front: dict[Backend, bool] = {}  # see :meth:`_numbered`
+        self._coefficient_terms: dict[Backend, tuple[tuple[Backend, ...], list[Any]]] = {}
+        #: the coefficient each built expression with no irregular factor was made from
+        self._built_from: dict[Backend, Coefficient] = {}
+        self._parameter_powers: dict[int, dict[Backend, Backend]] = {}
+        self._constant_powers: dict[Backend, tuple[Backend, dict[Backend, Backend]]] = {}
         self._sine_reduced: dict[Key, Product] = {}
         self._reductions: dict[tuple[Any, ...], Terms] = {}
         self._splits: dict[Key, tuple[Key, Key]] = {}
@@ -361,9 +366,10 @@ class TrigAlgebra:
     def remembered(self) -> int:
         """The number of memo entries (conversions, products, derivatives)."""
         memos: tuple[dict[Any, Any], ...] = (self._converted, self._reductions)
-        factored = (self._factored, self._factored_parts, self._numbers_in_front)
-        more = (*factored, self._sine_reduced, self._splits)
+        factored = (self._factored, self._factored_parts, self._coefficient_terms)
+        more = (*factored, self._numbers_in_front, self._sine_reduced, self._splits)
         built = (self._coefficients, self._parameter_monomials, self._built, self._integers)
+        built += (self._built_from, self._parameter_powers, self._constant_powers)
         by_key = sum(map(len, self._products.values())) + sum(map(len, self._derivatives.values()))
         return by_key + sum(len(memo) for memo in (*memos, *more, *built))
 
@@ -852,6 +858,7 @@ class TrigAlgebra:
         known = self._parameter_monomials.get(packed)
         if known is None:
             factors, irregular, index, rest = [], False, 0, packed
+            powers: dict[Backend, Backend] = {}  # base -> exponent, as a product's factors
             while rest:
                 exponent = rest & _FIELD
                 if exponent > _FIELD >> 1:
@@ -859,9 +866,11 @@ class TrigAlgebra:
                 rest = (rest - exponent) >> BITS
                 if exponent:
                     factors.append(self.parameters[index] ** exponent)
+                    powers[self.parameters[index]] = se.Integer(exponent)
                     irregular = irregular or self._irregular[index]
                 index += 1
             known = self._parameter_monomials[packed] = (se.Mul(*factors), irregular)
+            self._parameter_powers[packed] = powers
         return known
 
     def built(self, coefficient: Coefficient) -> Backend:
@@ -893,6 +902,8 @@ class TrigAlgebra:
                 known = (expr, _count(expr))
             else:
                 known = (expr, len(terms) or 1)  # 0 is one term
+                if terms:
+                    self._built_from[expr] = coefficient
             self._built[memo_key] = known
         return known
 
@@ -1040,26 +1051,64 @@ class TrigAlgebra:
 
     def _factored_products(self, parts: list[tuple[Backend, Backend]]) -> Backend:
         """:meth:`_factor` of the terms f t (t a term of c) over ``parts``, their numbers
-        and powers read off f's and t's, which recur (:func:`collect.term_powers`), instead
-        of off each product made anew: f is a product of powers of generators and t of
-        parameters, so the product's powers are the two sets side by side.  Where f has a
+        and powers read off f's and t's, which recur (:meth:`_monomial_powers`,
+        :meth:`_term_powers`), instead of off each product made anew: f is a product of
+        powers of generators and t of parameters, so the product's powers are the two sets
+        side by side.  Where f has a
         number or a base of t (SymEngine could combine them), or c is 0, the products are
         made and factored as they are."""
         split: list[tuple[Backend, dict[Backend, Backend]]] = []
         products: list[tuple[Backend, Backend]] = []
         for f, c in parts:
-            f_number, f_powers = term_powers(f)
+            f_number, f_powers = self._monomial_powers(f)
             if f_number is not _ONE or (c.is_Number and c == _ZERO):
                 return self._factor([f * t for f, c in parts for t in _terms_of(c)])
-            for t in _terms_of(c):
-                number, powers = term_powers(t)
+            terms, splits = self._term_powers(c)
+            for number, powers in splits:
                 if not f_powers.keys().isdisjoint(powers):
                     return self._factor([f * t for f, c in parts for t in _terms_of(c)])
                 merged = dict(powers)
                 merged.update(f_powers)
                 split.append((number, merged))
-                products.append((f, t))
+            products += [(f, t) for t in terms]  # the same terms, in SymEngine's order
         return factor_products(split, products)
+
+    def _term_powers(self, coefficient: Backend) -> tuple[tuple[Backend, ...], list[Any]]:
+        """(the terms, :func:`collect.term_powers` of each, in their own order) of a built
+        coefficient, remembered by the coefficient (one of :meth:`built`'s, met again as the
+        same object): its terms are read once, not made anew (SymEngine makes a Python
+        object of each, a new product for each with a number) and looked up by value."""
+        known = self._coefficient_terms.get(coefficient)
+        if known is None:
+            terms = _terms_of(coefficient)
+            made = self._built_from.get(coefficient)
+            if made is None:  # irregular factors: SymEngine's own terms read
+                splits = [term_powers(t) for t in terms]
+            else:
+                splits = [self._term_split(k, n) for k, n in made.items() if n]
+            known = self._coefficient_terms[coefficient] = (terms, splits)
+        return known
+
+    def _monomial_powers(self, monomial: Backend) -> tuple[Backend, dict[Backend, Backend]]:
+        """:func:`collect.term_powers` of a constant monomial's expression, its bases the
+        algebra's own generators where they are ones (found by identity while factoring),
+        remembered."""
+        known = self._constant_powers.get(monomial)
+        if known is None:
+            number, powers = term_powers(monomial)
+            gens, index = self.gens, self.index
+            own = {gens[index[b]] if b in index else b: e for b, e in powers.items()}
+            known = self._constant_powers[monomial] = (number, own)
+        return known
+
+    def _term_split(self, packed: int, n: Number) -> tuple[Backend, dict[Backend, Backend]]:
+        """:func:`collect.term_powers` of the term n * (packed parameter monomial) of a
+        coefficient with no irregular factor (:meth:`_built_terms` makes it so: the number
+        first, each parameter a factor of its own), read off the packed monomial: its bases
+        are the algebra's own parameter symbols, so looking them up while factoring finds
+        them by identity, without comparing SymEngine objects."""
+        number = _ONE if n.__class__ is int and n == 1 else backend_number(n)
+        return number, self._parameter_powers[packed]
 
     def _factor(self, terms: Sequence[Backend]) -> Backend:
         """:func:`factor_common` of ``terms``, remembered: the same coefficient recurs in the
