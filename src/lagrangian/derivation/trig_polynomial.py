@@ -297,8 +297,9 @@ class TrigAlgebra:
         self._factored_parts: dict[frozenset[Any] | tuple[Any, ...], Backend] = {}
         self._numbers_in_front: dict[Backend, bool] = {}  # see :meth:`_numbered`
         self._coefficient_terms: dict[Backend, tuple[tuple[Backend, ...], list[Any]]] = {}
-        #: the coefficient each built expression with no irregular factor was made from
-        self._built_from: dict[Backend, Coefficient] = {}
+        #: the terms (the memo key of :meth:`_built_terms`) each built expression with no
+        #: irregular factor was made from
+        self._built_from: dict[Backend, frozenset[tuple[Any, ...]]] = {}
         self._parameter_powers: dict[int, dict[Backend, Backend]] = {}
         self._constant_powers: dict[Backend, tuple[Backend, dict[Backend, Backend]]] = {}
         self._sine_reduced: dict[Key, Product] = {}
@@ -903,7 +904,7 @@ class TrigAlgebra:
             else:
                 known = (expr, len(terms) or 1)  # 0 is one term
                 if terms:
-                    self._built_from[expr] = coefficient
+                    self._built_from[expr] = memo_key  # its (packed, number, ...) terms
             self._built[memo_key] = known
         return known
 
@@ -1054,9 +1055,8 @@ class TrigAlgebra:
         and powers read off f's and t's, which recur (:meth:`_monomial_powers`,
         :meth:`_term_powers`), instead of off each product made anew: f is a product of
         powers of generators and t of parameters, so the product's powers are the two sets
-        side by side.  Where f has a
-        number or a base of t (SymEngine could combine them), or c is 0, the products are
-        made and factored as they are."""
+        side by side.  Where f has a number or a base of t (SymEngine could combine them),
+        or c is 0, the products are made and factored as they are."""
         split: list[tuple[Backend, dict[Backend, Backend]]] = []
         products: list[tuple[Backend, Backend]] = []
         for f, c in parts:
@@ -1085,7 +1085,7 @@ class TrigAlgebra:
             if made is None:  # irregular factors: SymEngine's own terms read
                 splits = [term_powers(t) for t in terms]
             else:
-                splits = [self._term_split(k, n) for k, n in made.items() if n]
+                splits = [self._term_split(term[0], term[1]) for term in made if term[1]]
             known = self._coefficient_terms[coefficient] = (terms, splits)
         return known
 
