@@ -370,9 +370,9 @@ class TrigAlgebra:
         factored = (self._factored, self._factored_parts, self._coefficient_terms)
         more = (*factored, self._numbers_in_front, self._sine_reduced, self._splits)
         built = (self._coefficients, self._parameter_monomials, self._built, self._integers)
-        built += (self._built_from, self._parameter_powers, self._constant_powers)
+        split = (self._built_from, self._parameter_powers, self._constant_powers)
         by_key = sum(map(len, self._products.values())) + sum(map(len, self._derivatives.values()))
-        return by_key + sum(len(memo) for memo in (*memos, *more, *built))
+        return by_key + sum(len(memo) for memo in (*memos, *more, *built, *split))
 
     def keep_nested(self, expr: Backend) -> None:
         """Mark ``expr`` as too large to expand: converting it (or an expression that holds
