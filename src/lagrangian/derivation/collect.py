@@ -54,6 +54,23 @@ def term_powers(term: Any) -> tuple[Any, dict[Any, Any]]:
     return product_powers(term.args if term.is_Mul else (term,))
 
 
+def factor_products(split: list[tuple[Any, dict[Any, Any]]], products: list[Any]) -> Any:
+    """:func:`factor_common` of the terms made as the products of the factors in
+    ``products``, their (number, powers) given as ``split`` (as :func:`product_powers` of
+    each term's factors would find them): a term is multiplied out only if nothing is
+    common to pull out of the sum.
+
+    >>> import symengine as se
+    >>> a, b, c = se.symbols("a b c")
+    >>> split = [(se.Integer(2), {a: ONE, b: ONE}), (ONE, {a: ONE, c: ONE})]
+    >>> factor_products(split, [(2 * a, b), (a, c)]) == factor_common([2 * a * b, a * c])
+    True
+    """
+    if len(products) == 1:
+        return se.Mul(*products[0])
+    return _factored(split, None, products)
+
+
 def _factor_common(products: list[Any]) -> Any:
     """:func:`factor_common` of products given as the sequences of their factors."""
     if len(products) == 1:

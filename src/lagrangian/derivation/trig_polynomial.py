@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import threading
 from bisect import bisect
-from collections import defaultdict
 from collections.abc import Iterable, Iterator, Sequence
 from fractions import Fraction
 from itertools import chain
@@ -40,7 +39,7 @@ from typing import Any
 
 import symengine as se
 
-from lagrangian.derivation.collect import factor_common
+from lagrangian.derivation.collect import factor_common, factor_products, term_powers
 
 Backend = Any  # a symengine expression
 #: A monomial: (index, exponent, index, exponent, ...), the indices ascending.  Flat, not a
@@ -294,8 +293,15 @@ class TrigAlgebra:
         self._gen_derivatives: dict[Backend, list[Poly | None]] = {}
         self._monomials: dict[Key, Backend] = {}
         self._powers: dict[tuple[int, int], Backend] = {}
-        self._factored: dict[tuple[Backend, ...], Backend] = {}
-        self._factored_parts: dict[tuple[tuple[Backend, Backend], ...], Backend] = {}
+        self._factored: dict[frozenset[Backend] | tuple[Backend, ...], Backend] = {}
+        self._factored_parts: dict[frozenset[Any] | tuple[Any, ...], Backend] = {}
+        self._numbers_in_front: dict[Backend, bool] = {}  # see :meth:`_numbered`
+        self._coefficient_terms: dict[Backend, tuple[tuple[Backend, ...], list[Any]]] = {}
+        #: the terms (the memo key of :meth:`_built_terms`) each built expression with no
+        #: irregular factor was made from
+        self._built_from: dict[Backend, frozenset[tuple[Any, ...]]] = {}
+        self._parameter_powers: dict[int, dict[Backend, Backend]] = {}
+        self._constant_powers: dict[Backend, tuple[Backend, dict[Backend, Backend]]] = {}
         self._sine_reduced: dict[Key, Product] = {}
         self._reductions: dict[tuple[Any, ...], Terms] = {}
         self._splits: dict[Key, tuple[Key, Key]] = {}
@@ -361,10 +367,12 @@ class TrigAlgebra:
     def remembered(self) -> int:
         """The number of memo entries (conversions, products, derivatives)."""
         memos: tuple[dict[Any, Any], ...] = (self._converted, self._reductions)
-        more = (self._factored, self._factored_parts, self._sine_reduced, self._splits)
+        factored = (self._factored, self._factored_parts, self._coefficient_terms)
+        more = (*factored, self._numbers_in_front, self._sine_reduced, self._splits)
         built = (self._coefficients, self._parameter_monomials, self._built, self._integers)
+        split = (self._built_from, self._parameter_powers, self._constant_powers)
         by_key = sum(map(len, self._products.values())) + sum(map(len, self._derivatives.values()))
-        return by_key + sum(len(memo) for memo in (*memos, *more, *built))
+        return by_key + sum(len(memo) for memo in (*memos, *more, *built, *split))
 
     def keep_nested(self, expr: Backend) -> None:
         """Mark ``expr`` as too large to expand: converting it (or an expression that holds
@@ -851,6 +859,7 @@ class TrigAlgebra:
         known = self._parameter_monomials.get(packed)
         if known is None:
             factors, irregular, index, rest = [], False, 0, packed
+            powers: dict[Backend, Backend] = {}  # base -> exponent, as a product's factors
             while rest:
                 exponent = rest & _FIELD
                 if exponent > _FIELD >> 1:
@@ -858,9 +867,11 @@ class TrigAlgebra:
                 rest = (rest - exponent) >> BITS
                 if exponent:
                     factors.append(self.parameters[index] ** exponent)
+                    powers[self.parameters[index]] = se.Integer(exponent)
                     irregular = irregular or self._irregular[index]
                 index += 1
             known = self._parameter_monomials[packed] = (se.Mul(*factors), irregular)
+            self._parameter_powers[packed] = powers
         return known
 
     def built(self, coefficient: Coefficient) -> Backend:
@@ -892,6 +903,8 @@ class TrigAlgebra:
                 known = (expr, _count(expr))
             else:
                 known = (expr, len(terms) or 1)  # 0 is one term
+                if terms:
+                    self._built_from[expr] = memo_key  # its (packed, number, ...) terms
             self._built[memo_key] = known
         return known
 
@@ -935,10 +948,13 @@ class TrigAlgebra:
         """(the state part, the constant part) of a monomial."""
         known = self._splits.get(key)
         if known is None:
+            flags = self.moving  # read once, not per power
             moving: list[int] = []
             constant: list[int] = []
-            for i, e in pairs(key):
-                (moving if self.moving[i] else constant).extend((i, e))
+            for at in range(0, len(key), 2):
+                part = moving if flags[key[at]] else constant
+                part.append(key[at])  # no (index, exponent) tuple made per power
+                part.append(key[at + 1])
             known = self._splits[key] = (tuple(moving), tuple(constant))
         return known
 
@@ -968,12 +984,15 @@ class TrigAlgebra:
         pairs = self._grouped_pairs(p)
         terms = [k * c for k, c in pairs]
         result = se.Add(*terms)
-        if any(k.is_Mul and k.args[0].is_Number for k, _ in pairs):
-            return result, None
+        spread = None
+        for k, c in pairs:
+            if self._numbered(k):
+                return result, None
+            if spread is None and c.is_Add and k == _ONE:
+                spread = c
         if not pairs:
             return result, []
         by_term = dict(zip(terms, pairs))
-        spread = next((c for k, c in pairs if c.is_Add and k == _ONE), None)
         in_order = []
         for term in result.args if result.is_Add else (result,):
             pair = by_term.get(term)
@@ -986,22 +1005,38 @@ class TrigAlgebra:
             return result, None
         return result, in_order
 
+    def _numbered(self, monomial: Backend) -> bool:
+        """Whether SymEngine wrote the state monomial ``monomial`` (an expression of
+        :meth:`monomial_expression`) with a number in front, remembered: reading a
+        product's factors makes a Python object of each, and the same monomials recur in
+        every row."""
+        known = self._numbers_in_front.get(monomial)
+        if known is None:
+            known = self._numbers_in_front[monomial] = bool(
+                monomial.is_Mul and monomial.args[0].is_Number
+            )
+        return known
+
     def _grouped_pairs(self, p: Poly) -> list[tuple[Backend, Backend]]:
         """The (state monomial, coefficient) pairs of :meth:`grouped`, in monomial order."""
-        groups: dict[Key, list[tuple[Backend, Backend]]] = defaultdict(list)
-        terms: dict[Key, int] = defaultdict(int)
+        groups: dict[Key, list[Any]] = {}  # state monomial -> [its terms, its parts]
+        split, built_terms, monomial = self.split, self._built_terms, self.monomial_expression
         for k, c in p.items():
-            moving, constant = self.split(k)
-            built, count = self._built_terms(c)
-            groups[moving].append((self.monomial_expression(constant), built))
-            terms[moving] += count
+            moving, constant = split(k)
+            built, count = built_terms(c)
+            group = groups.get(moving)  # one look-up per monomial, no defaultdict
+            if group is None:
+                groups[moving] = [count, [(monomial(constant), built)]]
+            else:
+                group[0] += count
+                group[1].append((monomial(constant), built))
         result = []
-        for k, parts in groups.items():
-            if terms[k] <= FACTORED_TERMS:
+        for k, (count, parts) in groups.items():
+            if count <= FACTORED_TERMS:
                 coefficient = self._factor_parts(parts)
             else:
                 coefficient = se.Add(*[f * c for f, c in parts])
-            result.append((self.monomial_expression(k), coefficient))
+            result.append((monomial(k), coefficient))
         return result
 
     def _factor_parts(self, parts: list[tuple[Backend, Backend]]) -> Backend:
@@ -1009,18 +1044,77 @@ class TrigAlgebra:
         expanded coefficient c), remembered by the parts: the same parts recur in the
         entries of M, in C q_dot and in the forcing, and making their terms (a product per
         term, the terms of each sum) costs more than factoring them."""
-        key = tuple(sorted(parts, key=hash))
+        key = _unordered(parts)
         known = self._factored_parts.get(key)
         if known is None:
-            terms = tuple(f * t for f, c in parts for t in (c.args if c.is_Add else (c,)))
-            known = self._factored_parts[key] = self._factor(terms)
+            known = self._factored_parts[key] = self._factored_products(parts)
         return known
 
-    def _factor(self, terms: tuple[Backend, ...]) -> Backend:
+    def _factored_products(self, parts: list[tuple[Backend, Backend]]) -> Backend:
+        """:meth:`_factor` of the terms f t (t a term of c) over ``parts``, their numbers
+        and powers read off f's and t's, which recur (:meth:`_monomial_powers`,
+        :meth:`_term_powers`), instead of off each product made anew: f is a product of
+        powers of generators and t of parameters, so the product's powers are the two sets
+        side by side.  Where f has a number or a base of t (SymEngine could combine them),
+        or c is 0, the products are made and factored as they are."""
+        split: list[tuple[Backend, dict[Backend, Backend]]] = []
+        products: list[tuple[Backend, Backend]] = []
+        for f, c in parts:
+            f_number, f_powers = self._monomial_powers(f)
+            if f_number is not _ONE or (c.is_Number and c == _ZERO):
+                return self._factor([f * t for f, c in parts for t in _terms_of(c)])
+            terms, splits = self._term_powers(c)
+            for number, powers in splits:
+                if not f_powers.keys().isdisjoint(powers):
+                    return self._factor([f * t for f, c in parts for t in _terms_of(c)])
+                merged = dict(powers)
+                merged.update(f_powers)
+                split.append((number, merged))
+            products += [(f, t) for t in terms]  # the same terms, in SymEngine's order
+        return factor_products(split, products)
+
+    def _term_powers(self, coefficient: Backend) -> tuple[tuple[Backend, ...], list[Any]]:
+        """(the terms, :func:`collect.term_powers` of each, in their own order) of a built
+        coefficient, remembered by the coefficient (one of :meth:`built`'s, met again as the
+        same object): its terms are read once, not made anew (SymEngine makes a Python
+        object of each, a new product for each with a number) and looked up by value."""
+        known = self._coefficient_terms.get(coefficient)
+        if known is None:
+            terms = _terms_of(coefficient)
+            made = self._built_from.get(coefficient)
+            if made is None:  # irregular factors: SymEngine's own terms read
+                splits = [term_powers(t) for t in terms]
+            else:
+                splits = [self._term_split(term[0], term[1]) for term in made if term[1]]
+            known = self._coefficient_terms[coefficient] = (terms, splits)
+        return known
+
+    def _monomial_powers(self, monomial: Backend) -> tuple[Backend, dict[Backend, Backend]]:
+        """:func:`collect.term_powers` of a constant monomial's expression, its bases the
+        algebra's own generators where they are ones (found by identity while factoring),
+        remembered."""
+        known = self._constant_powers.get(monomial)
+        if known is None:
+            number, powers = term_powers(monomial)
+            gens, index = self.gens, self.index
+            own = {gens[index[b]] if b in index else b: e for b, e in powers.items()}
+            known = self._constant_powers[monomial] = (number, own)
+        return known
+
+    def _term_split(self, packed: int, n: Number) -> tuple[Backend, dict[Backend, Backend]]:
+        """:func:`collect.term_powers` of the term n * (packed parameter monomial) of a
+        coefficient with no irregular factor (:meth:`_built_terms` makes it so: the number
+        first, each parameter a factor of its own), read off the packed monomial: its bases
+        are the algebra's own parameter symbols, so looking them up while factoring finds
+        them by identity, without comparing SymEngine objects."""
+        number = _ONE if n.__class__ is int and n == 1 else backend_number(n)
+        return number, self._parameter_powers[packed]
+
+    def _factor(self, terms: Sequence[Backend]) -> Backend:
         """:func:`factor_common` of ``terms``, remembered: the same coefficient recurs in the
         entries of M, in C q_dot and in the forcing (a bicycle's 510 coefficients are 129),
         its terms in any order (the factored sum does not depend on it)."""
-        key = tuple(sorted(terms, key=hash))
+        key = _unordered(terms)
         known = self._factored.get(key)
         if known is None:
             known = self._factored[key] = factor_common(list(terms))
@@ -1032,7 +1126,25 @@ class TrigAlgebra:
 
     def size(self, p: Poly) -> int:
         """A size for choosing between forms: terms of the coefficients plus factors."""
-        return sum(len(c) + sum(k[1::2]) for k, c in p.items())
+        total = 0
+        for k, c in p.items():  # a loop: a generator costs more than its sums here
+            total += len(c)
+            for at in range(1, len(k), 2):
+                total += k[at]
+        return total
+
+
+def _unordered(items: Sequence[Any]) -> frozenset[Any] | tuple[Any, ...]:
+    """A memo key of distinct ``items`` in any order: their frozenset (each item hashed
+    once, where a tuple sorted by hash hashes each again when looked up); their tuple
+    sorted by hash should two be equal (a set would lose one)."""
+    key = frozenset(items)
+    return key if len(key) == len(items) else tuple(sorted(items, key=hash))
+
+
+def _terms_of(coefficient: Backend) -> tuple[Backend, ...]:
+    """The terms of an expanded SymEngine coefficient (itself when it is no sum)."""
+    return coefficient.args if coefficient.is_Add else (coefficient,)
 
 
 def _count(coefficient: Backend) -> int:
