@@ -76,9 +76,6 @@ _NAMED = (sp.Symbol, sp.Dummy)
 #: sort them by).
 _CANONICAL_ORDER = cmp_to_key(sp.Basic.compare)
 _KEY_OF = itemgetter(KEY)
-#: The fields of Parts read in C (a field named by a module constant is read through
-#: Python's generic indexing in the compiled module).
-_EXPR_OF, _HASH_OF, _BASE_OF = itemgetter(EXPR), itemgetter(HASH), itemgetter(BASE_HASH)
 #: SymPy's 0 and 1 and its sum and product classes, read once (each ``sp.S.One`` is two
 #: attribute lookups in the conversion's loops).
 _ZERO, _ONE = sp.S.Zero, sp.S.One
@@ -195,7 +192,7 @@ class Builder:
         given sums of distinct bases (what SymPy's Mul only sorts), else as given.  A
         bicycle's sums share their monomials of sines, cosines and lengths, each term with
         its own number."""
-        bases = list(map(_BASE_OF, factors))
+        bases = [p[BASE_HASH] for p in factors]
         if (
             None in bases
             or len(set(bases)) < len(bases)
@@ -203,13 +200,13 @@ class Builder:
         ):
             return Monomial(tuple(factors), None, (), (), None)
         ordered = tuple(_sorted(factors))
-        keys = tuple(map(_KEY_OF, ordered))
+        keys = tuple([p[KEY] for p in ordered])
         return Monomial(
             tuple(factors),
             ordered,
-            tuple(map(_EXPR_OF, ordered)),
+            tuple([p[EXPR] for p in ordered]),
             None if None in keys else keys,
-            hash(tuple(map(_HASH_OF, ordered))),
+            hash(tuple([p[HASH] for p in ordered])),
         )
 
     def scaled(self, number: Part, monomial: Monomial) -> Part:
@@ -339,7 +336,7 @@ class Builder:
         args = ordered if number is None else [number, *ordered]
         if len(args) < 2:
             return args[0] if args else self.part(_ZERO)
-        made = _NEW(_ADD, *map(_EXPR_OF, args))
+        made = _NEW(_ADD, *[p[EXPR] for p in args])
         made.is_commutative = True
         key = _made_key(_ADD_RANK, "Add", args)
         return (made, key, SUM, None, None, None, True, tuple(args))
@@ -374,7 +371,7 @@ class Builder:
                 return None  # a power to another exponent, a product's product, ...
             factors.append(p)
             bases.append(base)
-        if sums and sum(map(_has_sum_base, factors)) > 1:
+        if sums and _sum_bases(factors) > 1:
             bases.extend(map(_hash, sums))
         if len(set(bases)) < len(bases) or coefficient is _ZERO:
             return None
@@ -389,20 +386,20 @@ class Builder:
         args = ordered if number is None else [number, *ordered]
         if len(args) < 2:
             return args[0] if args else self.part(_ONE)
-        made = _NEW(_MUL, *map(_EXPR_OF, args))
+        made = _NEW(_MUL, *[p[EXPR] for p in args])
         made.is_commutative = True
         key = _made_key(_MUL_RANK, "Mul", args)
         # the REST_HASH now if it is the hash of known hashes; with a sum among the factors
         # (whose hash SymPy computes), when the product is met as a term (:func:`_rest_hash`),
         # which most such are not (a chain's M: each entry a product of a sum of masses)
-        hashes = list(map(_HASH_OF, ordered))
+        hashes = [p[HASH] for p in ordered]
         rest_hash = None if None in hashes else hash(tuple(hashes))
         return (made, key, PRODUCT, None, None, rest_hash, True, tuple(args))
 
 
 def _made_key(rank: int, name: str, args: Sequence[Part]) -> tuple[Any, ...] | None:
     """The key of the sum or product (``name``) of ``args`` in SymPy's order, from theirs."""
-    keys = list(map(_KEY_OF, args))
+    keys = [p[KEY] for p in args]
     return None if None in keys else (rank, name, len(keys), *keys)
 
 
@@ -415,11 +412,15 @@ def _rest_hash(product: Part) -> int:
     return hash(tuple([_hash(p) for p in rest]))
 
 
-def _has_sum_base(factor: Part) -> bool:
-    """Whether ``factor`` is a sum or a power of a sum (whose base SymPy's Mul compares with
-    the other factors')."""
-    kind = factor[KIND]
-    return kind == SUM or (kind in (POWER_RATIONAL, POWER) and isinstance(factor[EXPR].base, _ADD))
+def _sum_bases(factors: list[Part]) -> int:
+    """How many of ``factors`` are sums or powers of sums (whose bases SymPy's Mul compares
+    with the other factors')."""
+    count = 0
+    for p in factors:
+        kind = p[KIND]
+        if kind == SUM or (kind == POWER_RATIONAL and isinstance(p[EXPR].base, _ADD)):
+            count += 1
+    return count
 
 
 def _apart(of_sums: list[Part], terms: list[Part], seen: set[int]) -> bool:
