@@ -25,6 +25,7 @@ True
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 from functools import cmp_to_key
 from operator import itemgetter
@@ -75,6 +76,10 @@ _NAMED = (sp.Symbol, sp.Dummy)
 #: sort them by).
 _CANONICAL_ORDER = cmp_to_key(sp.Basic.compare)
 _KEY_OF = itemgetter(KEY)
+#: SymPy's 0 and 1 and its sum and product classes, read once (each ``sp.S.One`` is two
+#: attribute lookups in the conversion's loops).
+_ZERO, _ONE = sp.S.Zero, sp.S.One
+_ADD, _MUL = sp.Add, sp.Mul
 #: A sum or a product of two or more commutative arguments in SymPy's order made as
 #: ``AssocOp._from_args(args, True)`` makes it (SymPy 1.12 to 1.14): ``Basic.__new__`` of the
 #: class and the arguments, then ``is_commutative`` set, which the caller does.  Called
@@ -178,7 +183,7 @@ class Builder:
     def product(self, parts: Sequence[Part]) -> Part:
         """The Part of ``sp.Mul`` of the parts' expressions (:func:`sympy_product`)."""
         made = self._canonical_product(parts)
-        return self._general(sp.Mul, parts) if made is None else made
+        return self._general(_MUL, parts) if made is None else made
 
     def monomial(self, factors: Sequence[Part]) -> Monomial:
         """The factors of a product without its number, read once for all the numbers it is
@@ -209,14 +214,9 @@ class Builder:
         ``monomial`` (:meth:`product`): the number first, then the ordered factors, when the
         number is a rational other than 0 and 1."""
         value = number[EXPR]
-        if (
-            monomial.ordered is None
-            or number[KIND] != RATIONAL
-            or value is sp.S.One
-            or value is sp.S.Zero
-        ):
+        if monomial.ordered is None or number[KIND] != RATIONAL or value is _ONE or value is _ZERO:
             return self.product([number, *monomial.factors])
-        made = _NEW(sp.Mul, value, *monomial.expressions)
+        made = _NEW(_MUL, value, *monomial.expressions)
         made.is_commutative = True
         keys, key = monomial.keys, number[KEY]
         if keys is not None and key is not UNORDERABLE:
@@ -249,11 +249,11 @@ class Builder:
         """:meth:`product` of a rational number and a commutative symbol or function value
         (a sine whose angle was flipped): the number first, unless it is 0 or 1."""
         value = number[EXPR]
-        if value is sp.S.One:
+        if value is _ONE:
             return factor
-        if value is sp.S.Zero:
+        if value is _ZERO:
             return None
-        made = _NEW(sp.Mul, value, factor[EXPR])
+        made = _NEW(_MUL, value, factor[EXPR])
         made.is_commutative = True
         keys = (number[KEY], factor[KEY])
         key = None if None in keys else (_MUL_RANK, "Mul", 2, *keys)
@@ -268,7 +268,7 @@ class Builder:
         what is skipped is SymPy's evaluation of each new term and of their sum (a
         bicycle's forcing has sums of forty terms negated)."""
         value = number[EXPR]
-        if value is sp.S.Zero or value is sp.S.One or not total[COMMUTATIVE]:
+        if value is _ZERO or value is _ONE or not total[COMMUTATIVE]:
             return None
         if not global_parameters.distribute:
             return None
@@ -306,33 +306,37 @@ class Builder:
         """:meth:`sum` of ``parts``, whose sums are flattened in ``flat`` (``parts`` until
         one is met).  Add.flatten would sum the numbers, sort the rest and put the number
         first, which is all this does when no two terms have the same part without their
-        numeric coefficients (their REST_HASHes all differ)."""
-        coefficient: Any = sp.S.Zero
+        numeric coefficients (their REST_HASHes all differ; the products of a sum made here
+        are compared apart, :func:`_apart`)."""
+        coefficient: Any = _ZERO
         terms: list[Part] = []
         seen: set[int] = set()
+        of_sums: list[Part] = []
         for p in flat:
-            kind = p[KIND]
+            expr, _, kind, _, _, rest, commutative, _ = p
             if kind == RATIONAL:
                 # 0 + a rational number is that number (SymPy makes the same canonical one)
-                coefficient = p[EXPR] if coefficient is sp.S.Zero else coefficient + p[EXPR]
+                coefficient = expr if coefficient is _ZERO else coefficient + expr
                 continue
             if kind == SUM:
                 if flat is not parts:  # a sum among a sum's arguments: SymPy never makes one
-                    return self._general(sp.Add, parts)
+                    return self._general(_ADD, parts)
                 return self._sum(self._flat(parts, SUM), parts)
-            rest = p[REST_HASH]
-            if rest is None and kind == PRODUCT:  # a product of a sum, made here
-                rest = _rest_hash(p)
-            if kind == OTHER or rest in seen or not p[COMMUTATIVE]:
-                return self._general(sp.Add, parts)
-            seen.add(rest)
+            if rest is None and kind == PRODUCT and commutative:  # a product of a sum, made here
+                of_sums.append(p)
+            elif kind == OTHER or rest in seen or not commutative:
+                return self._general(_ADD, parts)
+            else:
+                seen.add(rest)
             terms.append(p)
-        number = None if coefficient is sp.S.Zero else self.part(coefficient)
+        if of_sums and not _apart(of_sums, terms, seen):
+            return self._general(_ADD, parts)
+        number = None if coefficient is _ZERO else self.part(coefficient)
         ordered = _sorted(terms)
         args = ordered if number is None else [number, *ordered]
         if len(args) < 2:
-            return args[0] if args else self.part(sp.S.Zero)
-        made = _NEW(sp.Add, *[p[EXPR] for p in args])
+            return args[0] if args else self.part(_ZERO)
+        made = _NEW(_ADD, *[p[EXPR] for p in args])
         made.is_commutative = True
         key = _made_key(_ADD_RANK, "Add", args)
         return (made, key, SUM, None, None, None, True, tuple(args))
@@ -342,30 +346,38 @@ class Builder:
         (``parts`` until one is met).  Mul.flatten would multiply the numbers, sort the rest
         and put the number first, which is all this does when the factors' bases all differ
         (their BASE_HASHes); None when SymPy's own rules are needed."""
-        coefficient: Any = sp.S.One
+        coefficient: Any = _ONE
         factors: list[Part] = []
         bases: list[int] = []
+        # the commutative sums made here among the factors: a sum's base is itself, so it can
+        # be another factor's base only if that is a sum or a power of a sum; else its SymPy
+        # hash (Python-level, over the whole sum) is not needed to tell the bases apart
+        sums: list[Part] = []
         for p in flat:
             base = p[BASE_HASH]
             if base is None:  # not a commutative symbol, function value or rational power
                 kind = p[KIND]
                 if kind == RATIONAL:
                     # 1 * a rational number is that number (SymPy makes the same one)
-                    coefficient = p[EXPR] if coefficient is sp.S.One else coefficient * p[EXPR]
+                    coefficient = p[EXPR] if coefficient is _ONE else coefficient * p[EXPR]
                     continue
                 if kind == PRODUCT and flat is parts:
                     # a product among the factors (a flipped sine) flattened at once
                     return self._product(self._flat(parts, PRODUCT), parts)
-                base = _base_hash(p) if kind == SUM else None
-                if base is None:  # a power to another exponent, a product's product, ...
-                    return None
+                if kind == SUM and p[COMMUTATIVE]:
+                    sums.append(p)  # its base compared below, if it can meet another
+                    factors.append(p)
+                    continue
+                return None  # a power to another exponent, a product's product, ...
             factors.append(p)
             bases.append(base)
-        if len(set(bases)) < len(bases) or coefficient is sp.S.Zero:
+        if sums and _sum_bases(factors) > 1:
+            bases.extend(map(_hash, sums))
+        if len(set(bases)) < len(bases) or coefficient is _ZERO:
             return None
-        if coefficient is not sp.S.One and len(factors) == 1 and factors[0][KIND] == SUM:
+        if coefficient is not _ONE and len(factors) == 1 and factors[0][KIND] == SUM:
             return None  # SymPy distributes the number
-        number = None if coefficient is sp.S.One else self.part(coefficient)
+        number = None if coefficient is _ONE else self.part(coefficient)
         return self._made_product(number, _sorted(factors))
 
     def _made_product(self, number: Part | None, ordered: list[Part]) -> Part:
@@ -373,8 +385,8 @@ class Builder:
         ``number`` (if any) first, as SymPy puts it; its key and REST_HASH from theirs."""
         args = ordered if number is None else [number, *ordered]
         if len(args) < 2:
-            return args[0] if args else self.part(sp.S.One)
-        made = _NEW(sp.Mul, *[p[EXPR] for p in args])
+            return args[0] if args else self.part(_ONE)
+        made = _NEW(_MUL, *[p[EXPR] for p in args])
         made.is_commutative = True
         key = _made_key(_MUL_RANK, "Mul", args)
         # the REST_HASH now if it is the hash of known hashes; with a sum among the factors
@@ -400,12 +412,57 @@ def _rest_hash(product: Part) -> int:
     return hash(tuple([_hash(p) for p in rest]))
 
 
-def _base_hash(part: Part) -> int | None:
-    """The BASE_HASH of ``part``, a commutative sum's own hash when it is not known yet."""
-    known = part[BASE_HASH]
-    if known is None and part[KIND] == SUM and part[COMMUTATIVE]:
-        return _hash(part)
-    return known
+def _sum_bases(factors: list[Part]) -> int:
+    """How many of ``factors`` are sums or powers of sums (whose bases SymPy's Mul compares
+    with the other factors')."""
+    count = 0
+    for p in factors:
+        kind = p[KIND]
+        if kind == SUM or (kind == POWER_RATIONAL and isinstance(p[EXPR].base, _ADD)):
+            count += 1
+    return count
+
+
+def _apart(of_sums: list[Part], terms: list[Part], seen: set[int]) -> bool:
+    """Whether no product of a sum made here among ``of_sums`` (whose REST_HASH is not known)
+    has the part without its number of another of ``terms`` (SymPy's Add would combine
+    them); ``seen`` holds the REST_HASHes of the other terms.
+
+    Two such parts are equal only if both have a sum among their factors and equal factors
+    elsewhere.  So when no other term has a sum among its factors, a product of ``of_sums``
+    whose other factors differ from those of the rest of ``of_sums`` combines with none,
+    and the SymPy hash of its sums (a Python-level walk over each whole sum) is not needed:
+    the REST_HASHes are computed and compared only for the products that meet others."""
+    others = [p for p in terms if p[REST_HASH] is not None]
+    meeting = of_sums
+    if not any(map(_has_sum_factor, others)):
+        partial = list(map(_rest_without_sums, of_sums))
+        counts = Counter(partial)
+        meeting = [p for p, h in zip(of_sums, partial) if counts[h] > 1]
+    for p in meeting:
+        rest = _rest_hash(p)
+        if rest in seen:
+            return False
+        seen.add(rest)
+    return True
+
+
+def _has_sum_factor(term: Part) -> bool:
+    """Whether the term ``term`` is a product with a sum among its factors."""
+    if term[KIND] != PRODUCT:
+        return False
+    args = term[ARGS]
+    if args is None:
+        return any(isinstance(a, _ADD) for a in term[EXPR].args)
+    return any(a[KIND] == SUM for a in args)
+
+
+def _rest_without_sums(product: Part) -> int:
+    """The hash of the factors of a product made here, its number and its sums left out:
+    equal for two products whose parts without their numbers are equal."""
+    args = product[ARGS]
+    rest = args[1:] if args[0][KIND] == RATIONAL else args
+    return hash(tuple([None if p[KIND] == SUM else p[HASH] for p in rest]))
 
 
 def _hash(part: Part) -> int:

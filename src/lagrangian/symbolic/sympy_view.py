@@ -109,16 +109,15 @@ class SympyView:
     def _convert(self, expr: Backend) -> tuple[Part, int, Backend]:
         """:meth:`_converted` of an expression not converted yet."""
         build = self._builder
-        if isinstance(expr, se.Symbol):
-            count, result = 0, build.part(self.by_name.get(expr.name) or sp.Symbol(expr.name))
-        elif expr.is_Add:
+        kind = type(expr)  # read once: SymEngine's ``is_Add``... are properties
+        if kind is _ADD:
             terms, count = self._terms(expr)
             result = build.sum(terms)
-        elif expr.is_Mul:
+        elif kind is _MUL:
             factors = expr.args
             distributed = (
                 self._distributed(*factors)
-                if len(factors) == 2 and factors[1].is_Add and factors[0].is_Rational
+                if len(factors) == 2 and type(factors[1]) is _ADD and factors[0].is_Rational
                 else None
             )
             if distributed is None:
@@ -126,18 +125,20 @@ class SympyView:
                 result = build.product(parts)
             else:
                 result, count = distributed
-        elif expr.is_Pow:
-            base, exponent = expr.args
-            (power, base_count, _), (root, exponent_count, _) = map(self._converted, expr.args)
+        elif kind is _POW:
+            base, exponent = arguments = expr.args
+            (power, base_count, _), (root, exponent_count, _) = map(self._converted, arguments)
             count = self._within(1 + base_count + exponent_count)
-            if base.is_Add and exponent.is_Rational:
+            if type(base) is _ADD and exponent.is_Rational:
                 result = build.part(sympy_sum_power(power[EXPR], root[EXPR], base.has(se.I)))
             elif power[KIND] == PLAIN and root[KIND] == RATIONAL:
                 result = build.part(plain_power(power[EXPR], root[EXPR]))
             else:
                 result = build.part(sp.Pow(power[EXPR], root[EXPR]))
-        elif type(expr) in _TRIG:
-            result, count = self._trig(_TRIG[type(expr)], expr.args[0])
+        elif isinstance(expr, se.Symbol):
+            count, result = 0, build.part(self.by_name.get(expr.name) or sp.Symbol(expr.name))
+        elif kind in _TRIG:
+            result, count = self._trig(_TRIG[kind], expr.args[0])
         elif expr.is_Rational:
             count, result = 0, build.part(_sympy_rational(expr))
         elif expr.is_Number:
@@ -279,7 +280,7 @@ class SympyView:
     def _monomial(self, term: Backend) -> tuple[Monomial, int, Backend]:
         """The factors of the term of a sum (itself if it is not a product) converted and
         read for scaling, the term's operations, and the term."""
-        if term.is_Mul:
+        if type(term) is _MUL:
             parts, count = self._arguments(term.args)
         else:
             part, count, _ = self._converted(term)
@@ -616,6 +617,9 @@ def unevaluated_trig(function: Callable[..., sp.Expr], argument: sp.Expr) -> sp.
 
 
 _MINUS_ONE = se.Integer(-1)
+#: SymEngine's classes of sums, products and powers (every such expression is of exactly
+#: one of them).
+_ADD, _MUL, _POW = se.Add, se.Mul, se.Pow
 #: Two SymEngine expressions compared in C++ (``_EQUAL(a, b, _EQ)``): what ``a == b`` calls
 #: after converting both sides with ``_sympify``, which SymEngine expressions need not.
 _EQUAL, _EQ = se.Basic._richcmp_, 2
