@@ -37,7 +37,14 @@ from lagrangian.errors import ConstraintError, Fix, Problem, raise_if_problems
 from lagrangian.model import Holonomic, System, Unilateral, VelocityConstraint, t, velocity
 from lagrangian.model.constraints import label, statement
 from lagrangian.model.system import require_system
-from lagrangian.symbolic.probe import SEED, PointFunction, random_values
+from lagrangian.symbolic.probe import (
+    SEED,
+    PointFunction,
+    Substitution,
+    random_values,
+    real_values,
+    together,
+)
 from lagrangian.symbolic.symbols import name_of
 
 #: Largest |h| of a configuration that satisfies the constraints.
@@ -91,49 +98,8 @@ def _arguments(equations: list[Any], start: Mapping[sp.Symbol, float]) -> list[s
     """The symbols of ``start`` that ``equations`` involve, by name: the functions of a point
     take these alone (a bicycle's contact height involves 8 of its 37 coordinates,
     parameters and t, and each argument is converted and passed at every call)."""
-    free = {str(s) for s in _ALL(*equations).free_symbols}
+    free = {str(s) for s in together(equations).free_symbols}
     return sorted((s for s in start if name_of(s) in free), key=name_of)
-
-
-#: The undefined function whose application holds the expressions a :class:`Substitution`
-#: substitutes together (SymEngine's substitution leaves an undefined function's arguments
-#: in place and in order).
-_ALL = se.Function("values_at")
-
-
-class Substitution:
-    """SymEngine expressions as a numerical function of a point given by ``symbols``, by
-    substitution (nothing compiled: for the few points a probe or a projection needs,
-    compiling costs more than it saves: a bicycle's contact height and its three slopes take
-    1.2 ms to compile, and its generic point 8 evaluations); the complex values, ValueError
-    where SymEngine cannot evaluate one.
-
-    All are substituted in one call, as the arguments of one function application
-    (:data:`_ALL`): each substitution copies its whole mapping first (SymEngine keeps it as
-    the start of its memo), so a matrix's entry-by-entry substitution cost the mapping once
-    per entry (a 200-link Cartesian chain's 998 Jacobian entries over its 802 symbols: 48 ms
-    against 2.3); in one call the entries also share the memo (a rolling wheel's
-    coefficients share its axle's tilt)."""
-
-    def __init__(self, exprs: Sequence[Any], symbols: Sequence[sp.Symbol]) -> None:
-        self.symbols = tuple(symbols)
-        self.images = [to_backend(s) for s in self.symbols]
-        self.together = _ALL(*exprs)
-
-    def __call__(self, values: Mapping[sp.Symbol, float]) -> np.ndarray:
-        point = {i: se.RealDouble(values[s]) for s, i in zip(self.symbols, self.images)}
-        try:
-            found = self.together.subs(point).args
-            return np.array([complex(e) for e in found], dtype=complex)
-        except (RuntimeError, TypeError) as error:
-            raise ValueError(f"SymEngine cannot evaluate an expression: {error}") from error
-
-
-def _real(numbers: np.ndarray) -> np.ndarray | None:
-    """``numbers`` as reals; None where one is not finite or not real."""
-    if not np.all(np.isfinite(numbers)) or np.any(np.abs(numbers.imag) > 1e-12):
-        return None
-    return numbers.real
 
 
 def values_at(exprs: Sequence[Any], point: Mapping[sp.Symbol, float]) -> np.ndarray | None:
@@ -144,7 +110,7 @@ def values_at(exprs: Sequence[Any], point: Mapping[sp.Symbol, float]) -> np.ndar
     if not exprs:
         return np.zeros(0)
     entries = [e if isinstance(e, se.Basic) else to_backend(e) for e in exprs]
-    return _real(Substitution(entries, list(point))(point))
+    return real_values(Substitution(entries, list(point))(point))
 
 
 class _Equations:
@@ -180,7 +146,7 @@ class _Equations:
                 self.substituted = None
             else:
                 m = self.shape[0]
-                return _real(numbers[:m]), self._jacobian(_real(numbers[m:]))
+                return real_values(numbers[:m]), self._jacobian(real_values(numbers[m:]))
         if self.compiled is None:
             self.compiled = (self._compiled(self.parts[0]), self._compiled(self.parts[1]))
         h, slopes = (part(values) for part in self.compiled)
