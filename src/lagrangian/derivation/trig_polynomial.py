@@ -976,10 +976,7 @@ class TrigAlgebra:
     def grouped_terms(self, p: Poly) -> tuple[Backend, list[tuple[Backend, Backend]] | None]:
         """(:meth:`grouped`, its (state monomial, coefficient) pairs in the order of the
         sum's terms, as collecting the sum by state monomial would find them): collecting
-        then reads the pairs instead of walking every factor of every term.  The order
-        matters to collecting only through the sign it gives a sum coefficient whose
-        negative is another's: with no such two, and every pair's term one of the sum's,
-        the pairs come in monomial order, the sum's terms not looked up.  A sum
+        then reads the pairs instead of walking every factor of every term.  A sum
         coefficient of no state monomial is spread into the sum by SymEngine: its pair
         comes where its first term does, its terms factored as collecting factors them.
         The pairs are None where a monomial holds a number (a power of a function that
@@ -988,23 +985,13 @@ class TrigAlgebra:
         terms = [k * c for k, c in pairs]
         result = se.Add(*terms)
         spread = None
-        sums: set[Backend] = set()
         for k, c in pairs:
             if self._numbered(k):
                 return result, None
-            if c.is_Add:
-                if spread is None and k == _ONE:
-                    spread = c
-                sums.add(c)
+            if spread is None and c.is_Add and k == _ONE:
+                spread = c
         if not pairs:
             return result, []
-        if (
-            spread is None
-            and result.is_Add
-            and len(result.args) == len(pairs)  # no two terms merged, none vanished
-            and _none_opposite(sums, pairs)
-        ):
-            return result, pairs
         by_term = dict(zip(terms, pairs))
         in_order = []
         for term in result.args if result.is_Add else (result,):
@@ -1153,16 +1140,6 @@ def _unordered(items: Sequence[Any]) -> frozenset[Any] | tuple[Any, ...]:
     sorted by hash should two be equal (a set would lose one)."""
     key = frozenset(items)
     return key if len(key) == len(items) else tuple(sorted(items, key=hash))
-
-
-def _none_opposite(sums: set[Backend], pairs: list[tuple[Backend, Backend]]) -> bool:
-    """Whether the negative of no sum coefficient of ``sums`` is a coefficient of
-    ``pairs`` (SymEngine writes -(a - b) as a product, never as the sum -a + b, so in
-    practice none is)."""
-    if not sums:
-        return True
-    coefficients = {c for _, c in pairs}
-    return all(-c not in coefficients for c in sums)
 
 
 def _terms_of(coefficient: Backend) -> tuple[Backend, ...]:
