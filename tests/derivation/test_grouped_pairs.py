@@ -50,6 +50,23 @@ def test_random_polynomials() -> None:
     assert read > 250  # most come with their pairs
 
 
+def test_opposite_sum_coefficients() -> None:
+    """Sum coefficients whose negatives are others' (a - b and -a + b; SymEngine writes
+    -(a - b) as a product, so collecting shares neither under the other, in any order)."""
+    rng = random.Random(7)
+    sums = [a - b, b - a, a * m - b, b - a * m, m - a + b]
+    algebra = TrigAlgebra(STATE)
+    opposite = 0
+    for _ in range(100):
+        monomials = rng.sample([*MOVING, u1 * u2, q2 * u1, se.sin(q1) * u2], rng.randint(3, 9))
+        expr = se.expand(se.Add(*[k * rng.choice(sums) for k in monomials]))
+        p = algebra.shortest(algebra.finish(algebra.convert(expr)))
+        coefficients = {c for _, c in algebra._grouped_pairs(p) if c.is_Add}
+        opposite += any(se.expand(-c) in coefficients for c in coefficients)
+        assert _check(algebra, p, STATE)
+    assert opposite > 50
+
+
 def test_bicycle_forcing(monkeypatch) -> None:
     """Every polynomial the bicycle's tidying groups, collected both ways."""
     seen = []
