@@ -175,3 +175,38 @@ def test_the_view_makes_powers_as_sympy_does() -> None:
     view = SympyView([x, y])
     for power in (bx**2, bx ** se.Rational(1, 2), se.sin(bx) ** -3, se.cos(bx - by) ** 2):
         assert_identical(view(power), sp.sympify(power))
+
+
+PRODUCTS = [
+    bx * by,
+    se.sin(bx) * se.cos(by) ** 2 * bz,
+    se.sin(by - bx) * bz,  # SymPy's sine of the flipped angle: a product with -1 in it
+    (bx + by) * bz,
+    (bx + by) * (by + bz) * bx,
+    se.sqrt(bx + bz) * by,
+]
+
+
+@settings(deadline=None, max_examples=200)
+@given(
+    st.lists(
+        st.tuples(
+            st.booleans(), st.sampled_from([2, -1, se.Rational(1, 3)]), st.sampled_from(PRODUCTS)
+        ),
+        min_size=1,
+        max_size=6,
+    )
+)
+def test_products_met_alone_and_as_terms_convert_as_sympy_builds_them(
+    uses: list[tuple[bool, object, object]],
+) -> None:
+    """A product converted alone and read as a term of sums with numbers, in any order with
+    one view (each reuses the other's factors), is each time SymPy's expression of it, with
+    the operations SymEngine counts."""
+    view = SympyView([x, y, z])
+    for alone, number, product in uses:
+        expr = product if alone else se.Add(number * product, bz)
+        expected = sp.Add(*[sp.sympify(a) for a in expr.args]) if not alone else None
+        expected = sp.Mul(*[sp.sympify(a) for a in expr.args]) if alone else expected
+        assert_identical(view(expr), expected)
+        assert view.operations(expr) == operations(expr)

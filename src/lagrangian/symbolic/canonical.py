@@ -209,6 +209,13 @@ class Builder:
             hash(tuple([p[HASH] for p in ordered])),
         )
 
+    def unscaled(self, monomial: Monomial) -> Part:
+        """The Part of ``sp.Mul`` of the factors of ``monomial`` (:meth:`product`), in the
+        order :meth:`monomial` found, where SymPy's Mul would only sort them."""
+        if monomial.ordered is None:
+            return self.product(monomial.factors)
+        return self._made_product(None, list(monomial.ordered))
+
     def scaled(self, number: Part, monomial: Monomial) -> Part:
         """The Part of ``sp.Mul`` of the number of ``number`` and the factors of
         ``monomial`` (:meth:`product`): the number first, then the ordered factors, when the

@@ -23,7 +23,17 @@ from sympy.core.parameters import global_parameters
 
 from lagrangian.size_limits import active_operations, check_operations
 from lagrangian.symbolic.caches import IdentityCache
-from lagrangian.symbolic.canonical import EXPR, KIND, PLAIN, RATIONAL, Builder, Monomial, Part
+from lagrangian.symbolic.canonical import (
+    ARGS,
+    EXPR,
+    KIND,
+    PLAIN,
+    PRODUCT,
+    RATIONAL,
+    Builder,
+    Monomial,
+    Part,
+)
 from lagrangian.symbolic.conversion import to_sympy
 from lagrangian.symbolic.nonsmooth import piecewise_smooth
 
@@ -114,17 +124,11 @@ class SympyView:
             terms, count = self._terms(expr)
             result = build.sum(terms)
         elif kind is _MUL:
-            factors = expr.args
-            distributed = (
-                self._distributed(*factors)
-                if len(factors) == 2 and type(factors[1]) is _ADD and factors[0].is_Rational
-                else None
-            )
-            if distributed is None:
-                parts, count = self._arguments(factors)
-                result = build.product(parts)
+            term = self._factors.get(hash(expr))  # met before as a term of a sum
+            if term is not None and _EQUAL(term[2], expr, _EQ):
+                result, count = build.unscaled(term[0]), self._within(term[1])
             else:
-                result, count = distributed
+                result, count = self._product(expr.args)
         elif kind is _POW:
             base, exponent = arguments = expr.args
             (power, base_count, _), (root, exponent_count, _) = map(self._converted, arguments)
@@ -150,6 +154,15 @@ class SympyView:
         if self._memo.setdefault(hash(expr), known) is not known:
             self._clashes[expr] = known
         return known
+
+    def _product(self, factors: tuple[Backend, ...]) -> tuple[Part, int]:
+        """The product of the backend ``factors`` converted, and its operations."""
+        if len(factors) == 2 and type(factors[1]) is _ADD and factors[0].is_Rational:
+            distributed = self._distributed(*factors)
+            if distributed is not None:
+                return distributed
+        parts, count = self._arguments(factors)
+        return self._builder.product(parts), count
 
     def _within(self, count: int) -> int:
         """``count``, checked against the limit of a sized conversion."""
@@ -281,11 +294,24 @@ class SympyView:
         """The factors of the term of a sum (itself if it is not a product) converted and
         read for scaling, the term's operations, and the term."""
         if type(term) is _MUL:
-            parts, count = self._arguments(term.args)
+            parts, count = self._factors_of(term)
         else:
             part, count, _ = self._converted(term)
             parts = (part,)
         return self._builder.monomial(parts), count, term
+
+    def _factors_of(self, product: Backend) -> tuple[tuple[Part, ...], int]:
+        """The factors of a product without a number converted, and its operations: the
+        arguments of its Part if it was converted before as a product of them in SymPy's
+        order (a term of one sum recurs with a coefficient in another), else read off
+        SymEngine (whose ``args`` makes each factor anew, as a new Python object)."""
+        known = self._memo.get(hash(product))
+        if known is not None and _EQUAL(known[2], product, _EQ):
+            part, count, _ = known
+            args = part[ARGS]
+            if part[KIND] == PRODUCT and args is not None and args[0][KIND] != RATIONAL:
+                return args, self._within(count)
+        return self._arguments(product.args)
 
     def _fallback(self, expr: Backend) -> sp.Expr:
         # SymEngine knows only SymPy's complex Abs and sign, and Heaviside by a stand-in
