@@ -61,7 +61,7 @@ def test_values_at_substitutes_all_entries_as_each_alone() -> None:
     an entry not real at the point gives None, and no entries give an empty array."""
     import symengine as se
 
-    from lagrangian.constraints.dependence import values_at
+    from lagrangian.symbolic.probe import values_at
 
     a, b = sp.symbols("a b")
     entries = [se.Integer(0), se.sympify(a * b), se.sin(se.Symbol("a")) + 3, se.Integer(2)]

@@ -16,9 +16,9 @@ import sympy as sp
 import lagrangian as lg
 from lagrangian.constraints.dependence import _jacobian_at, dependence
 from lagrangian.constraints.pfaffian import backend, pfaffian_form
-from lagrangian.constraints.projection import _arguments, _Equations, project, values_at
+from lagrangian.constraints.projection import _arguments, _Equations, project
 from lagrangian.derivation.backend import to_backend
-from lagrangian.symbolic.probe import PointFunction
+from lagrangian.symbolic.probe import PointFunction, values_at
 from lagrangian.symbolic.symbols import velocity
 
 

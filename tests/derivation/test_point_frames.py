@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import symengine as se
 import sympy as sp
 
 import lagrangian as lg
@@ -15,7 +16,7 @@ from lagrangian.derivation.assemble import assemble, frames_carried
 from lagrangian.derivation.kinetic import _add_gram, _entries_by_frame, _frames
 from lagrangian.derivation.trig_polynomial import Sum
 from lagrangian.examples import BENCHMARKS
-from lagrangian.model.rotation import axis_angle, euler_rotation
+from lagrangian.model.rotation import axis_angle, euler_rotation, unit_axis
 
 
 def _gram(algebra, weight, rows, n, entries=None):
@@ -113,3 +114,22 @@ def test_orientations_not_known_as_a_chain_carry_nothing() -> None:
     carried = [frames_carried(p.orientation, p.position, asm.q) for p in asm.points]
     qa, qb = asm.q
     assert carried == [(), (), (), (), ((2, qa), (0, qb))]
+
+
+def test_an_axis_given_in_floats_is_carried_as_sympy_compares_it() -> None:
+    """(0, 0, 1.0) is the z axis exactly where SymPy takes Float 1.0 as equal to 1 (before
+    SymPy 1.13, which also hashes the two apart: the whole-axis look-up misses it and the
+    entry-by-entry comparison decides).  The model's constructors give exact axes; an
+    orientation that hands over its floats is taken as the comparison says."""
+    unit = unit_axis((0, 0, 1.0))
+    assert unit[2].is_Float  # the float kept: this is the case the look-up misses
+
+    class FloatAxis:
+        def factors(self) -> tuple[tuple[sp.ImmutableMatrix, Any], ...]:
+            return ((unit, sp.Symbol("q0")),)
+
+    q = se.symbols("q0 q1")
+    r = se.Symbol("r")
+    centre = (r * se.cos(q[0]), r * se.sin(q[0]), r * se.cos(q[1]))
+    expected = ((2, q[0]),) if unit[2] == 1 else ()
+    assert frames_carried(FloatAxis(), centre, q) == expected  # type: ignore[arg-type]

@@ -38,11 +38,11 @@ import numpy as np
 import sympy as sp
 
 from lagrangian.constraints.pfaffian import PfaffianForm, pfaffian_form
-from lagrangian.constraints.projection import SATISFIED, Projection, project, values_at
+from lagrangian.constraints.projection import SATISFIED, Projection, project
 from lagrangian.errors import ConstraintError, Problem, raise_if_problems
 from lagrangian.model import Holonomic, System, Unilateral, t
 from lagrangian.model.constraints import label, statement
-from lagrangian.symbolic.probe import SEED, PointFunction, numeric_rank, random_values
+from lagrangian.symbolic.probe import SEED, PointFunction, numeric_rank, random_values, values_at
 
 
 @dataclass(frozen=True)

@@ -38,10 +38,16 @@ from lagrangian.constraints.forms import (
     wedge_values,
 )
 from lagrangian.constraints.pfaffian import backend
-from lagrangian.constraints.projection import values_at
 from lagrangian.derivation.backend import to_backend
 from lagrangian.symbolic.conversion import to_sympy
-from lagrangian.symbolic.probe import SEED, PointFunction, is_small, is_zero, random_values
+from lagrangian.symbolic.probe import (
+    SEED,
+    PointFunction,
+    is_small,
+    is_zero,
+    random_values,
+    values_at,
+)
 
 #: Forms with a coefficient of more operations are decided at random points, not by symbolic
 #: wedge products (whose expansion grows as the product of the coefficients' sizes: a

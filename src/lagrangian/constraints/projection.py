@@ -102,17 +102,6 @@ def _arguments(equations: list[Any], start: Mapping[sp.Symbol, float]) -> list[s
     return sorted((s for s in start if name_of(s) in free), key=name_of)
 
 
-def values_at(exprs: Sequence[Any], point: Mapping[sp.Symbol, float]) -> np.ndarray | None:
-    """The values of SymEngine expressions at ``point`` (:class:`Substitution`); None where
-    one is not finite or not real, ValueError where SymEngine cannot evaluate one.  An entry
-    in SymEngine already is taken as it is (converting it again walks its tree: a rolling
-    wheel's coefficients have thousands of operations)."""
-    if not exprs:
-        return np.zeros(0)
-    entries = [e if isinstance(e, se.Basic) else to_backend(e) for e in exprs]
-    return real_values(Substitution(entries, list(point))(point))
-
-
 class _Equations:
     """h(q) and dh/dq at a point, evaluated together (each None where not finite and real),
     with only the partial derivatives by the unknowns each equation involves taken: a

@@ -116,12 +116,22 @@ def frames_carried(
     for unit, angle in orientation.factors():
         axis = _COORDINATE_AXES.get(unit)
         if axis is None:
+            axis = _axis_equal(unit)
+        if axis is None:
             break
         angle = to_backend(angle)
         if angle not in moving:
             break
         carried.append((axis, angle))
     return tuple(carried)
+
+
+def _axis_equal(unit: Any) -> int | None:
+    """The coordinate axis ``unit`` equals entry by entry, where the whole was not found: an
+    axis given in floats (SymPy before 1.13 takes Float 1.0 as equal to 1 but hashes it
+    apart, so the look-up misses what the comparison finds)."""
+    axes = [i for i, e in enumerate(unit) if e != 0]
+    return axes[0] if len(axes) == 1 and unit[axes[0]] == 1 else None
 
 
 def _position(position: Any, shared: dict[Any, Backend]) -> tuple[Backend, ...]:

@@ -36,6 +36,7 @@ import numpy as np
 import symengine as se
 import sympy as sp
 
+from lagrangian.symbolic.native import to_symengine
 from lagrangian.symbolic.nonsmooth import piecewise_smooth
 from lagrangian.symbolic.objects import sympy_object
 
@@ -240,6 +241,17 @@ class Substitution:
             return np.array([complex(e) for e in found], dtype=complex)
         except (RuntimeError, TypeError) as error:
             raise ValueError(f"SymEngine cannot evaluate an expression: {error}") from error
+
+
+def values_at(exprs: Sequence[Any], point: Mapping[sp.Symbol, float]) -> np.ndarray | None:
+    """The values of SymEngine expressions at ``point`` (:class:`Substitution`); None where
+    one is not finite or not real, ValueError where SymEngine cannot evaluate one.  An entry
+    in SymEngine already is taken as it is (converting it again walks its tree: a rolling
+    wheel's coefficients have thousands of operations)."""
+    if not exprs:
+        return np.zeros(0)
+    entries = [e if isinstance(e, se.Basic) else to_symengine(e) for e in exprs]
+    return real_values(Substitution(entries, list(point))(point))
 
 
 def real_values(numbers: np.ndarray) -> np.ndarray | None:
